@@ -1,0 +1,43 @@
+"""robkin: exact conversion between serial-robot kinematic representations, and kinematics on top.
+
+Conventions (used everywhere in the package):
+
+- Angles in radians, lengths in metres (or any consistent unit).
+- Hub: the Global Joint Description (GJD), n + 1 poses (4, 4) in the robot base frame at q = 0:
+  J_1..J_n with z along joint i's axis in its positive direction, and the tool J_{n+1}.
+  One joint vector q means the same configuration in every representation.
+- Standard DH row (a, d, alpha, theta): A_i = Rz(theta) Tz(d) Tx(a) Rx(alpha); joint i moves about/along
+  z_{i-1}; theta (revolute) or d (prismatic) is the value at q = 0 and the joint adds q_i.
+- Modified (Craig) DH row (a, d, alpha, theta) = (a_{i-1}, d_i, alpha_{i-1}, theta_i):
+  A_i = Rx(alpha) Tx(a) Rz(theta) Tz(d).
+- PoE screws (w, v): revolute (w, -w x p), prismatic (0, v). Space: T = exp([S1]q1)...exp([Sn]qn) M;
+  body: T = M exp([B1]q1)...exp([Bn]qn).
+- RPY is URDF's: R = Rz(yaw) Ry(pitch) Rx(roll); a row is (roll, pitch, yaw, x, y, z); an RPY-XYZ table
+  has n + 2 rows (world->base, one per joint, joint n->tool).
+- FK is the tool pose in the robot base frame; a world->base transform is kept but not part of FK.
+- A joint with ``flip`` moves opposite to its frame's z axis in DH, modified DH and RPY-XYZ tables.
+"""
+
+from __future__ import annotations
+
+from .errors import ConditioningWarning, InputError, ProjectionWarning, RobkinError
+from .robot import Joint, Robot
+from .representations import (DHTable, MDHTable, PoE, RPYTable, dh_from_robot, mdh_from_robot,
+                              poe_from_robot, robot_from_dh, robot_from_gjd, robot_from_mdh,
+                              robot_from_poe, robot_from_rpy, rpy_from_robot)
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Joint", "Robot", "DHTable", "MDHTable", "PoE", "RPYTable",
+    "dh_from_robot", "mdh_from_robot", "poe_from_robot", "rpy_from_robot",
+    "robot_from_dh", "robot_from_mdh", "robot_from_poe", "robot_from_rpy", "robot_from_gjd",
+    "RobkinError", "InputError", "ProjectionWarning", "ConditioningWarning", "load", "__version__",
+]
+
+
+def load(path, base_link: str | None = None, tip_link: str | None = None) -> Robot:
+    """Load a robot from a robot document (.yaml/.yml/.json) or a URDF file (.urdf)."""
+    from .io import load as _load
+
+    return _load(path, base_link=base_link, tip_link=tip_link)

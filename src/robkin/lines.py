@@ -1,0 +1,100 @@
+"""Line geometry for joint axes: closest points, common normal, and how two axes relate.
+
+A line is a point ``p`` (3,) on it and a unit direction ``u`` (3,). Tolerances are relative: angles
+are dimensionless, and distances are compared against ``LENGTH_TOL * scale`` where ``scale`` is the
+size of the robot (its largest frame-origin distance from the base), so the same robot in metres or in
+millimetres is classified the same way.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = [
+    "ANGLE_TOL", "LENGTH_TOL", "AxisRelation", "CommonNormal",
+    "closest_points", "common_normal", "classify", "point_line_foot",
+]
+
+#: sin of the angle below which two axes are treated as parallel. Exactly parallel axes computed
+#: through a chain of rotations differ by ~1e-15; for nearly parallel axes the common normal's feet
+#: are ~(offset / angle) away, and their rounding error grows like eps * offset / angle, while treating
+#: the axes as parallel errs by ~angle * offset. The two errors cross at angle ~ sqrt(eps) ~ 1.5e-8,
+#: which is the threshold: whichever way an axis pair falls, the error stays below ~1.5e-8 * offset.
+ANGLE_TOL = 1.5e-8
+
+#: distance (relative to the robot's scale) below which two axes are treated as meeting. The only
+#: effect of meeting is the choice of the sign of x (and, for parallel axes, coincidence), so a
+#: tight value near rounding noise of a chain of products (~1e-15 relative) with margin is right.
+LENGTH_TOL = 1e-10
+
+
+class AxisRelation(str, enum.Enum):
+    """How joint axis i relates to joint axis i-1 (directions matter: anti- means opposite)."""
+
+    SKEW = "skew"
+    PARALLEL = "parallel"
+    ANTI_PARALLEL = "anti-parallel"
+    COINCIDENT = "coincident"
+    ANTI_COINCIDENT = "anti-coincident"
+    INTERSECTING = "intersecting"
+
+
+@dataclass(frozen=True)
+class CommonNormal:
+    """Closest points of two lines: ``c1`` on line 1, ``c2`` on line 2, parameters t1, t2, distance."""
+
+    c1: np.ndarray
+    c2: np.ndarray
+    t1: float
+    t2: float
+    distance: float
+
+
+def point_line_foot(point: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Foot of the perpendicular from ``point`` onto the line (p, u) with unit u."""
+    return p + np.dot(point - p, u) * u
+
+
+def closest_points(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarray) -> CommonNormal:
+    """Closest points of two non-parallel lines (unit directions).
+
+    Solves the 2x2 normal equations of min |p1 + t1 u1 - p2 - t2 u2|; the caller guarantees the lines
+    are not parallel (sin angle >= ANGLE_TOL), so the determinant 1 - (u1.u2)^2 is >= ANGLE_TOL^2.
+    """
+    w = p1 - p2
+    b = float(np.dot(u1, u2))
+    d1, d2 = float(np.dot(u1, w)), float(np.dot(u2, w))
+    # |u1 x u2|^2 is computed directly rather than as 1 - b^2 to keep relative accuracy at small angles.
+    det = float(np.dot(np.cross(u1, u2), np.cross(u1, u2)))
+    t1 = (b * d2 - d1) / det
+    t2 = (d2 - b * d1) / det
+    c1, c2 = p1 + t1 * u1, p2 + t2 * u2
+    return CommonNormal(c1, c2, t1, t2, float(np.linalg.norm(c2 - c1)))
+
+
+def common_normal(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarray,
+                  *, origin: np.ndarray | None = None) -> CommonNormal:
+    """Common normal of two lines. For parallel lines it is the one through ``origin`` (default p1)."""
+    if np.linalg.norm(np.cross(u1, u2)) < ANGLE_TOL:
+        start = point_line_foot(p1 if origin is None else origin, p1, u1)
+        foot = point_line_foot(start, p2, u2)
+        return CommonNormal(start, foot, float(np.dot(start - p1, u1)), float(np.dot(foot - p2, u2)),
+                            float(np.linalg.norm(foot - start)))
+    return closest_points(p1, u1, p2, u2)
+
+
+def classify(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarray, scale: float = 1.0
+             ) -> AxisRelation:
+    """Relation of line 2 to line 1, with the tolerances documented at the top of this module."""
+    parallel = np.linalg.norm(np.cross(u1, u2)) < ANGLE_TOL
+    same_sense = np.dot(u1, u2) > 0
+    dist = common_normal(p1, u1, p2, u2).distance
+    meet = dist <= LENGTH_TOL * max(scale, 1e-300)
+    if parallel:
+        if meet:
+            return AxisRelation.COINCIDENT if same_sense else AxisRelation.ANTI_COINCIDENT
+        return AxisRelation.PARALLEL if same_sense else AxisRelation.ANTI_PARALLEL
+    return AxisRelation.INTERSECTING if meet else AxisRelation.SKEW

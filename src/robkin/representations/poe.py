@@ -1,0 +1,163 @@
+"""Product of Exponentials (space and body frame), to and from the GJD hub.
+
+Screws are (w, v) as in Modern Robotics: revolute (w, -w x p) with |w| = 1, prismatic (0, v) with
+|v| = 1. Space frame: T(q) = exp([S_1] q_1) ... exp([S_n] q_n) M. Body frame:
+T(q) = M exp([B_1] q_1) ... exp([B_n] q_n) with B_i = Ad_{M^-1} S_i.
+
+PoE -> GJD places frames on the screw axes by the DH rules (``frames.common_normal_frame``).
+A prismatic screw has no position: its axis is placed through the previous joint frame's origin
+(the robot base origin for joint 1). FK does not depend on that choice, but a DH table derived from
+the PoE may differ from the one the PoE came from (the paper's Table III).
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .. import se3
+from ..errors import InputError, ProjectionWarning
+from ..robot import EXACT_TOL, PROJECTION_TOL, Joint, Robot, check_pose, check_q
+from .frames import common_normal_frame
+
+__all__ = ["PoE", "poe_from_robot", "robot_from_poe", "check_screws"]
+
+Frame = Literal["space", "body"]
+
+
+def check_screws(screws: ArrayLike, joints: tuple[Joint, ...], field_name: str = "poe.screws",
+                 *, warn: bool = True) -> np.ndarray:
+    """Validate unit screws (n, 6) against joint types; project near-valid ones with a warning.
+
+    Revolute: |w| = 1 and w . v = 0 (no pitch). Prismatic: w = 0 and |v| = 1. Within PROJECTION_TOL
+    (relative: |w . v| is compared with |v|) the screw is projected onto the nearest valid one.
+    """
+    try:
+        S = np.array(screws, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{field_name}: expected rows of 6 numbers (wx, wy, wz, vx, vy, vz)") from None
+    n = len(joints)
+    if S.ndim != 2 or S.shape[1] != 6:
+        raise InputError(f"{field_name}: expected rows of 6 numbers (wx, wy, wz, vx, vy, vz), got shape {S.shape}")
+    if S.shape[0] != n:
+        raise InputError(f"{field_name}: expected {n} screws (one per joint), got {S.shape[0]}")
+    out = S.copy()
+    for i, (s, joint) in enumerate(zip(S, joints)):
+        where = f"{field_name}[{i}] (joint '{joint.name}', {joint.type})"
+        if not np.all(np.isfinite(s)):
+            raise InputError(f"{where}: contains NaN or infinity")
+        w, v = s[:3], s[3:]
+        fixes = []
+        if joint.revolute:
+            k = np.linalg.norm(w)
+            if abs(k - 1.0) > PROJECTION_TOL:
+                raise InputError(f"{where}: w must be a unit vector (|w| = {k:.4g}); a revolute screw is "
+                                 f"(w, -w x p) with |w| = 1")
+            if abs(k - 1.0) > EXACT_TOL:
+                fixes.append(f"|w| = {k:.6g} normalised")
+            w, v = w / k, v / k
+            pitch = float(np.dot(w, v))
+            if abs(pitch) > PROJECTION_TOL * max(np.linalg.norm(v), 1e-300) and abs(pitch) > EXACT_TOL:
+                raise InputError(f"{where}: w . v = {pitch:.4g} is not 0; a revolute joint has no pitch "
+                                 f"(v = -w x p)")
+            if abs(pitch) > EXACT_TOL:
+                fixes.append(f"pitch w.v = {pitch:.3g} removed")
+            v = v - pitch * w
+        else:
+            kw = np.linalg.norm(w)
+            if kw > PROJECTION_TOL:
+                raise InputError(f"{where}: w must be 0 for a prismatic joint (|w| = {kw:.4g})")
+            if kw > EXACT_TOL:
+                fixes.append(f"|w| = {kw:.3g} set to 0")
+            w = np.zeros(3)
+            k = np.linalg.norm(v)
+            if abs(k - 1.0) > PROJECTION_TOL:
+                raise InputError(f"{where}: v must be a unit vector (|v| = {k:.4g}) for a prismatic joint")
+            if abs(k - 1.0) > EXACT_TOL:
+                fixes.append(f"|v| = {k:.6g} normalised")
+            v = v / k
+        if fixes and warn:
+            warnings.warn(f"{where}: {'; '.join(fixes)}", ProjectionWarning, stacklevel=3)
+        out[i] = np.concatenate([w, v])
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class PoE:
+    """Product of Exponentials: home tool pose M (4, 4) and unit screws (n, 6) in ``frame``."""
+
+    M: np.ndarray
+    screws: np.ndarray
+    joints: tuple[Joint, ...]
+    frame: Frame = "space"
+
+    def __post_init__(self) -> None:
+        if self.frame not in ("space", "body"):
+            raise InputError(f"poe.frame: '{self.frame}' is not one of space, body")
+        section = "poe" if self.frame == "space" else "poe_body"
+        object.__setattr__(self, "joints", tuple(self.joints))
+        object.__setattr__(self, "M", check_pose(self.M, f"{section}.M"))
+        object.__setattr__(self, "screws", check_screws(self.screws, self.joints, f"{section}.screws"))
+
+    @property
+    def n(self) -> int:
+        return len(self.joints)
+
+    def space_screws(self) -> np.ndarray:
+        """Screws in the space frame (n, 6)."""
+        if self.frame == "space":
+            return self.screws
+        return self.screws @ se3.adjoint(self.M).T
+
+    def body_screws(self) -> np.ndarray:
+        """Screws in the body (tool) frame (n, 6)."""
+        if self.frame == "body":
+            return self.screws
+        return self.screws @ se3.adjoint(se3.inv(self.M)).T
+
+    def to_frame(self, frame: Frame) -> "PoE":
+        """The same PoE with screws expressed in the other frame (via the adjoint of M)."""
+        S = self.space_screws() if frame == "space" else self.body_screws()
+        return PoE(self.M, S, self.joints, frame)
+
+    def fk(self, q: ArrayLike) -> np.ndarray:
+        """Tool pose from the exponentials: q (n,) -> (4, 4), (N, n) -> (N, 4, 4)."""
+        Q = check_q(q, self.n)
+        E = se3.exp_twist(self.screws, Q)  # (..., n, 4, 4)
+        T = np.broadcast_to(np.eye(4), Q.shape[:-1] + (4, 4))
+        for i in range(self.n):
+            T = T @ E[..., i, :, :]
+        return T @ self.M if self.frame == "space" else self.M @ T
+
+    def to_robot(self, name: str | None = None) -> Robot:
+        return robot_from_poe(self, name=name)
+
+
+def robot_from_poe(poe: PoE, name: str | None = None) -> Robot:
+    """GJD from a PoE: DH-style frames on the screw axes (prismatic axes through the previous origin)."""
+    S = poe.space_screws()
+    # Scale for tolerances: the robot's size from M and the axis points closest to the origin.
+    pts = np.cross(S[:, :3], S[:, 3:])
+    scale = float(max(np.linalg.norm(poe.M[:3, 3]), np.linalg.norm(pts, axis=1).max(), 0.0)) or 1.0
+    frames = np.empty((poe.n + 1, 4, 4))
+    prev = np.eye(4)
+    for i, joint in enumerate(poe.joints):
+        w, v = S[i, :3], S[i, 3:]
+        if joint.revolute:
+            u, p = w, np.cross(w, v)  # w x v = foot of the axis from the origin
+        else:
+            u, p = v, prev[:3, 3]
+        prev = common_normal_frame(prev[:3, 3], prev[:3, 2], p, u, on="b", prev=prev, scale=scale)
+        frames[i] = prev
+    frames[-1] = poe.M
+    return Robot(frames, poe.joints, name=name)
+
+
+def poe_from_robot(robot: Robot, frame: Frame = "space") -> PoE:
+    """PoE of a robot: M = J_{n+1}, screws from the GJD axes (space frame, or body via the adjoint)."""
+    poe = PoE(robot.tool, robot.screws(), robot.joints, "space")
+    return poe if frame == "space" else poe.to_frame("body")

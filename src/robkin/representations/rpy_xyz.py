@@ -1,0 +1,102 @@
+"""RPY-XYZ tables (the URDF origin convention), to and from the GJD hub.
+
+A row is (roll, pitch, yaw, x, y, z) for the transform Trans(x, y, z) Rz(yaw) Ry(pitch) Rx(roll).
+The table has n + 2 rows: row 0 is world -> robot base, row i (1..n) the partial transform from the
+previous joint frame (the robot base for i = 1) to joint i's frame, whose local z the joint moves
+about/along, and row n + 1 joint n's frame -> tool.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .. import se3
+from ..errors import InputError
+from ..robot import Joint, Robot, check_q
+from .dh import flip_frame
+
+__all__ = ["RPYTable", "rpy_from_robot", "robot_from_rpy", "pose_from_row", "row_from_pose"]
+
+COLUMNS = ("roll", "pitch", "yaw", "x", "y", "z")
+
+
+def pose_from_row(row: ArrayLike) -> np.ndarray:
+    """(..., 6) rows (roll, pitch, yaw, x, y, z) -> (..., 4, 4) poses."""
+    row = np.asarray(row, dtype=float)
+    return se3.homogeneous(se3.matrix_from_rpy(row[..., :3]), row[..., 3:])
+
+
+def row_from_pose(T: ArrayLike) -> np.ndarray:
+    """(..., 4, 4) poses -> (..., 6) rows (roll, pitch, yaw, x, y, z)."""
+    T = np.asarray(T, dtype=float)
+    return np.concatenate([se3.rpy_from_matrix(T[..., :3, :3]), T[..., :3, 3]], axis=-1)
+
+
+@dataclass(frozen=True, eq=False)
+class RPYTable:
+    """RPY-XYZ table: rows (n + 2, 6)."""
+
+    rows: np.ndarray
+    joints: tuple[Joint, ...]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "joints", tuple(self.joints))
+        n = len(self.joints)
+        try:
+            R = np.array(self.rows, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError("rpy_xyz.rows: expected rows of 6 numbers (roll, pitch, yaw, x, y, z)") from None
+        if R.ndim != 2 or R.shape[1] != 6:
+            raise InputError(f"rpy_xyz.rows: expected rows of 6 numbers (roll, pitch, yaw, x, y, z), "
+                             f"got shape {R.shape}")
+        if R.shape[0] != n + 2:
+            raise InputError(f"rpy_xyz.rows: expected n + 2 = {n + 2} rows (world->base, one per joint, "
+                             f"joint {n}->tool), got {R.shape[0]}")
+        bad = np.argwhere(~np.isfinite(R))
+        if bad.size:
+            i, j = bad[0]
+            raise InputError(f"rpy_xyz.rows[{i}].{COLUMNS[j]}: must be a finite number")
+        object.__setattr__(self, "rows", R)
+
+    @property
+    def n(self) -> int:
+        return len(self.joints)
+
+    @property
+    def world(self) -> np.ndarray:
+        return pose_from_row(self.rows[0])
+
+    def fk(self, q: ArrayLike) -> np.ndarray:
+        """Tool pose in the robot base frame: q (n,) -> (4, 4), (N, n) -> (N, 4, 4)."""
+        Q = check_q(q, self.n)
+        P = pose_from_row(self.rows[1:])
+        T = np.broadcast_to(np.eye(4), Q.shape[:-1] + (4, 4))
+        for i, joint in enumerate(self.joints):
+            qi = -Q[..., i] if joint.flip else Q[..., i]
+            Z = se3.rot_z(qi) if joint.revolute else se3.trans(0.0, 0.0, qi)
+            T = T @ P[i] @ Z
+        return T @ P[-1]
+
+    def to_robot(self, name: str | None = None) -> Robot:
+        return robot_from_rpy(self, name=name)
+
+
+def robot_from_rpy(table: RPYTable, name: str | None = None) -> Robot:
+    P = pose_from_row(table.rows)
+    frames = np.empty((table.n + 1, 4, 4))
+    T = np.eye(4)
+    for i, joint in enumerate(table.joints):
+        T = T @ P[i + 1]
+        frames[i] = flip_frame(T, joint.flip)
+    frames[-1] = T @ P[-1]
+    return Robot(frames, table.joints, world=P[0], name=name)
+
+
+def rpy_from_robot(robot: Robot) -> RPYTable:
+    F = [flip_frame(robot.frames[i], j.flip) for i, j in enumerate(robot.joints)]
+    chain = [np.eye(4)] + F + [robot.tool]
+    rel = [robot.world] + [se3.inv(chain[i]) @ chain[i + 1] for i in range(robot.n + 1)]
+    return RPYTable(row_from_pose(np.stack(rel)), robot.joints)

@@ -1,0 +1,332 @@
+"""The hub: a robot as its Global Joint Description (GJD) plus joint specifications.
+
+For n joints at the home configuration (q = 0) the GJD is n + 1 poses in the robot base frame:
+J_1..J_n, whose z axis is joint i's axis pointing in the joint's positive direction, and J_{n+1}, the
+tool. Every representation converts to and from this hub, and forward kinematics of any of them at the
+same q gives the same tool pose.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+from typing import Iterable, Literal, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .errors import InputError, ProjectionWarning
+from . import se3
+
+__all__ = ["Joint", "Robot", "JOINT_TYPES", "check_pose", "check_q"]
+
+JointType = Literal["revolute", "prismatic"]
+JOINT_TYPES: tuple[str, ...] = ("revolute", "prismatic")
+
+#: An input rotation farther than this (Frobenius norm) from SO(3), or a unit vector whose norm is
+#: farther than this from 1, is an error; closer than this it is projected with a warning. 1e-2 admits
+#: matrices typed with 3 decimals (error up to ~sqrt(9) * 5e-4 ~ 1.5e-3, plus cross-terms) with margin,
+#: while anything visibly wrong (a typo in one entry of 0.1) is still refused.
+PROJECTION_TOL = 1e-2
+#: Below this the input is taken as valid as it is (rounding noise of float64 products); between this
+#: and PROJECTION_TOL it is projected and a warning names the field.
+EXACT_TOL = 1e-9
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One joint: name, type, optional limits (rad or length units) and Corke's ``flip`` flag.
+
+    ``flip`` means the joint moves opposite to the z axis of its frame in frame-based representations
+    (DH, modified DH, RPY-XYZ). The GJD and PoE always use the positive direction, so for them flip
+    only decides how frame-based tables are written.
+    """
+
+    name: str
+    type: JointType = "revolute"
+    lower: float | None = None
+    upper: float | None = None
+    flip: bool = False
+
+    def __post_init__(self) -> None:
+        if self.type not in JOINT_TYPES:
+            raise InputError(f"joint '{self.name}': type '{self.type}' is not one of {', '.join(JOINT_TYPES)}")
+        for bound in ("lower", "upper"):
+            v = getattr(self, bound)
+            if v is not None and math.isnan(v):
+                raise InputError(f"joint '{self.name}': limits.{bound} is NaN")
+        if self.lower is not None and self.upper is not None and self.lower > self.upper:
+            raise InputError(f"joint '{self.name}': limits.lower {self.lower} > limits.upper {self.upper}")
+
+    @property
+    def revolute(self) -> bool:
+        return self.type == "revolute"
+
+
+def default_joints(types: Iterable[str]) -> tuple[Joint, ...]:
+    """Joints named joint1..jointN with the given types."""
+    return tuple(Joint(f"joint{i + 1}", t) for i, t in enumerate(types))  # type: ignore[arg-type]
+
+
+def check_pose(T: ArrayLike, field_name: str, *, warn: bool = True) -> np.ndarray:
+    """Validate and normalise one 4x4 rigid transform.
+
+    Returns a float array whose rotation block is exactly orthonormal (projected if the input was
+    within PROJECTION_TOL, with a ProjectionWarning naming ``field_name``). Raises InputError otherwise.
+    """
+    import warnings
+
+    try:
+        A = np.array(T, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{field_name}: expected a 4x4 matrix of numbers") from None
+    if A.shape == (3, 4):
+        A = np.vstack([A, [0.0, 0.0, 0.0, 1.0]])
+    if A.shape != (4, 4):
+        raise InputError(f"{field_name}: expected a 4x4 matrix, got shape {A.shape}")
+    if not np.all(np.isfinite(A)):
+        raise InputError(f"{field_name}: contains NaN or infinity")
+    if np.max(np.abs(A[3] - [0, 0, 0, 1])) > EXACT_TOL:
+        raise InputError(f"{field_name}: last row must be [0, 0, 0, 1], got {A[3].tolist()}")
+    A[3] = [0.0, 0.0, 0.0, 1.0]
+    err = float(se3.rotation_error(A[:3, :3]))
+    if err > PROJECTION_TOL:
+        what = "has det <= 0 (a reflection)" if not np.isfinite(err) else f"is {err:.3g} from a rotation"
+        raise InputError(f"{field_name}: rotation block {what}; a rotation matrix is needed "
+                         f"(tolerance {PROJECTION_TOL})")
+    if err > EXACT_TOL:
+        if warn:
+            warnings.warn(f"{field_name}: rotation block is {err:.2g} from orthonormal; projected onto "
+                          f"the nearest rotation", ProjectionWarning, stacklevel=3)
+        A[:3, :3] = se3.nearest_rotation(A[:3, :3])
+    return A
+
+
+def check_q(q: ArrayLike, n: int) -> np.ndarray:
+    """Joint values as float array (n,) or (N, n); InputError for wrong shapes or non-finite values."""
+    try:
+        Q = np.asarray(q, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"q: expected {n} numbers") from None
+    if Q.ndim == 0 or Q.shape[-1] != n or Q.ndim > 2:
+        raise InputError(f"q: expected shape ({n},) or (N, {n}), got {Q.shape}")
+    if not np.all(np.isfinite(Q)):
+        raise InputError("q: contains NaN or infinity")
+    return Q
+
+
+@dataclass(frozen=True, eq=False)
+class Robot:
+    """A serial robot: GJD frames (n+1, 4, 4) in the base frame at q = 0, and its joints.
+
+    Parameters
+    ----------
+    frames : (n+1, 4, 4) array
+        J_1..J_n (z = joint axis, positive direction) and the tool J_{n+1}, in the robot base frame.
+    joints : sequence of Joint
+        One per joint, base to tip.
+    world : (4, 4) array, optional
+        World -> robot base transform. Kept and written out (RPY row 0, URDF world joint), but not
+        part of forward kinematics, which is always in the robot base frame.
+    name : str, optional
+    """
+
+    frames: np.ndarray
+    joints: tuple[Joint, ...]
+    world: np.ndarray = field(default_factory=lambda: np.eye(4))
+    name: str | None = None
+
+    def __post_init__(self) -> None:
+        frames = np.array(self.frames, dtype=float)
+        joints = tuple(self.joints)
+        if frames.ndim != 3 or frames.shape[1:] != (4, 4):
+            raise InputError(f"gjd.frames: expected n+1 4x4 matrices, got shape {frames.shape}")
+        n = len(joints)
+        if n < 1:
+            raise InputError("joints: a robot needs at least one joint")
+        if frames.shape[0] != n + 1:
+            raise InputError(f"gjd.frames: expected {n + 1} frames for {n} joints, got {frames.shape[0]}")
+        names = [j.name for j in joints]
+        dup = {x for x in names if names.count(x) > 1}
+        if dup:
+            raise InputError(f"joints: duplicate joint name(s) {', '.join(sorted(dup))}")
+        checked = np.stack([check_pose(F, f"gjd.frames[{i}]") for i, F in enumerate(frames)])
+        world = check_pose(self.world, "world")
+        checked.setflags(write=False)
+        world.setflags(write=False)
+        object.__setattr__(self, "frames", checked)
+        object.__setattr__(self, "joints", joints)
+        object.__setattr__(self, "world", world)
+
+    # ------------------------------------------------------------------ structure
+    @property
+    def n(self) -> int:
+        """Number of joints."""
+        return len(self.joints)
+
+    @property
+    def tool(self) -> np.ndarray:
+        """Tool pose J_{n+1} at q = 0, (4, 4)."""
+        return self.frames[-1]
+
+    @property
+    def types(self) -> tuple[str, ...]:
+        return tuple(j.type for j in self.joints)
+
+    @cached_property
+    def revolute(self) -> np.ndarray:
+        """Boolean mask (n,) of revolute joints."""
+        m = np.array([j.revolute for j in self.joints])
+        m.setflags(write=False)
+        return m
+
+    @property
+    def axes(self) -> np.ndarray:
+        """Joint axis directions (n, 3), positive direction, in the base frame at q = 0."""
+        return self.frames[:-1, :3, 2]
+
+    @property
+    def points(self) -> np.ndarray:
+        """A point on each joint axis (the GJD frame origins), (n, 3)."""
+        return self.frames[:-1, :3, 3]
+
+    @cached_property
+    def scale(self) -> float:
+        """Characteristic length: the largest distance of a frame origin from the base (1 if all zero)."""
+        s = float(np.max(np.linalg.norm(self.frames[:, :3, 3], axis=1)))
+        return s if s > 0 else 1.0
+
+    @property
+    def limits(self) -> np.ndarray:
+        """Joint limits (n, 2), -inf/+inf where none are given."""
+        return np.array([[-np.inf if j.lower is None else j.lower, np.inf if j.upper is None else j.upper]
+                         for j in self.joints])
+
+    def screws(self) -> np.ndarray:
+        """Space-frame unit screws (n, 6) ordered (w, v): revolute (z, -z x p), prismatic (0, z)."""
+        z, p = self.axes, self.points
+        S = np.zeros((self.n, 6))
+        S[self.revolute, :3] = z[self.revolute]
+        S[self.revolute, 3:] = -np.cross(z[self.revolute], p[self.revolute])
+        S[~self.revolute, 3:] = z[~self.revolute]
+        return S
+
+    def replace(self, **changes) -> "Robot":
+        """A copy with some fields changed (frames, joints, world, name)."""
+        return replace(self, **changes)
+
+    # ------------------------------------------------------------------ kinematics
+    @cached_property
+    def _local(self) -> np.ndarray:
+        """Fixed transforms L (n+1, 4, 4): T(q) = L_1 Z_1(q_1) L_2 ... L_n Z_n(q_n) L_{n+1}.
+
+        L_1 = J_1 and L_i = J_{i-1}^-1 J_i, because exp([S_i] q) = J_i Z(q) J_i^-1 with Z a rotation
+        about (or translation along) z.
+        """
+        F = self.frames
+        L = np.empty_like(F)
+        L[0] = F[0]
+        L[1:] = se3.inv(F[:-1]) @ F[1:]
+        L.setflags(write=False)
+        return L
+
+    def fk(self, q: ArrayLike) -> np.ndarray:
+        """Tool pose in the base frame: q (n,) -> (4, 4), or a batch (N, n) -> (N, 4, 4)."""
+        Q = check_q(q, self.n)
+        if Q.ndim == 1:
+            return self._fk_one(Q)
+        return self._fk_batch(Q)
+
+    def _joint_motions(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """cos, sin and slide of every joint for q (..., n): revolute (cos q, sin q, 0), prismatic (1, 0, q)."""
+        rev = self.revolute
+        c = np.where(rev, np.cos(Q), 1.0)
+        s = np.where(rev, np.sin(Q), 0.0)
+        t = np.where(rev, 0.0, Q)
+        return c, s, t
+
+    def _fk_one(self, q: np.ndarray) -> np.ndarray:
+        # All joints at once: A_i = L_i Z_i(q_i) mixes columns 0/1 (rotation about z) or adds to
+        # column 3 (slide along z); then one 4x4 product per joint.
+        L = self._local
+        c, s, t = self._joint_motions(q)
+        A = L.copy()
+        x, y, z = L[:-1, :, 0], L[:-1, :, 1], L[:-1, :, 2]
+        A[:-1, :, 0] = c[:, None] * x + s[:, None] * y
+        A[:-1, :, 1] = c[:, None] * y - s[:, None] * x
+        A[:-1, :, 3] = L[:-1, :, 3] + t[:, None] * z
+        T = A[0]
+        for i in range(1, self.n + 1):
+            T = T @ A[i]
+        return T
+
+    def _fk_batch(self, Q: np.ndarray) -> np.ndarray:
+        # The pose is kept as F = [R | p] (N, 3, 4). Right-multiplying by a fixed 4x4 is one GEMM on
+        # (3N, 4) rows; a joint motion only mixes two columns (revolute) or adds to the last one.
+        N = Q.shape[0]
+        L = self._local
+        c, s, t = self._joint_motions(Q)
+        F = np.broadcast_to(L[0, :3], (N, 3, 4)).copy()
+        for i in range(self.n):
+            if self.revolute[i]:
+                x = F[:, :, 0].copy()
+                ci, si = c[:, i, None], s[:, i, None]
+                F[:, :, 0] = ci * x + si * F[:, :, 1]
+                F[:, :, 1] = ci * F[:, :, 1] - si * x
+            else:
+                F[:, :, 3] += t[:, i, None] * F[:, :, 2]
+            F = (F.reshape(-1, 4) @ L[i + 1]).reshape(N, 3, 4)
+        out = np.empty((N, 4, 4))
+        out[:, :3] = F
+        out[:, 3] = (0.0, 0.0, 0.0, 1.0)
+        return out
+
+    def frames_at(self, q: ArrayLike) -> np.ndarray:
+        """All GJD frames moved to configuration q: (n,) -> (n+1, 4, 4), (N, n) -> (N, n+1, 4, 4).
+
+        Frame i is joint i's frame *after* its own motion, so frame n+1 is the tool pose fk(q).
+        Joint i's axis at q is the z axis of frame i before its motion, which has the same z axis.
+        """
+        Q = check_q(q, self.n)
+        single = Q.ndim == 1
+        Q2 = np.atleast_2d(Q)
+        N = Q2.shape[0]
+        L = self._local
+        c, s, t = self._joint_motions(Q2)
+        out = np.empty((N, self.n + 1, 4, 4))
+        T = np.broadcast_to(L[0], (N, 4, 4)).copy()
+        for i in range(self.n):
+            Z = np.broadcast_to(np.eye(4), (N, 4, 4)).copy()
+            Z[:, 0, 0] = Z[:, 1, 1] = c[:, i]
+            Z[:, 0, 1], Z[:, 1, 0] = -s[:, i], s[:, i]
+            Z[:, 2, 3] = t[:, i]
+            out[:, i] = T @ Z
+            T = out[:, i] @ L[i + 1]
+        out[:, self.n] = T
+        return out[0] if single else out
+
+    # ------------------------------------------------------------------ conveniences
+    def random_q(self, size: int | None = None, rng: np.random.Generator | int | None = None,
+                 default_range: float = math.pi) -> np.ndarray:
+        """Random joint values within limits (uniform); unlimited joints use +-default_range."""
+        rng = np.random.default_rng(rng)
+        lim = self.limits
+        lo = np.where(np.isfinite(lim[:, 0]), lim[:, 0], -default_range)
+        hi = np.where(np.isfinite(lim[:, 1]), lim[:, 1], default_range)
+        shape = (self.n,) if size is None else (size, self.n)
+        return rng.uniform(lo, hi, size=shape)
+
+    def __repr__(self) -> str:
+        kinds = "".join("R" if j.revolute else "P" for j in self.joints)
+        return f"Robot(name={self.name!r}, n={self.n}, joints={kinds})"
+
+
+def robot_from_frames(frames: Sequence[ArrayLike], types: Sequence[str] | None = None,
+                      joints: Sequence[Joint] | None = None, **kw) -> Robot:
+    """Robot from GJD frames and either joint types or Joint objects."""
+    if joints is None:
+        if types is None:
+            raise InputError("joints: give joint types or Joint objects")
+        joints = default_joints(types)
+    return Robot(np.asarray(frames, dtype=float), tuple(joints), **kw)

@@ -1,0 +1,196 @@
+"""Small SE(3)/SO(3) helpers on plain numpy arrays.
+
+Every function accepts a single element or a batch with leading dimensions: a pose is ``(..., 4, 4)``,
+a rotation ``(..., 3, 3)``, an angle ``(...)``. Angles are radians, lengths any consistent unit.
+
+Hand-written rather than taken from a library: the kernels here are a dozen lines each, sit on the hot
+path of batch forward kinematics, and must broadcast over arbitrary batch shapes without per-element
+Python calls (``scipy.spatial.transform.Rotation`` covers rotations only and its batch API allocates
+objects; pytransform3d is not vectorised over batches for most functions).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "rot_x", "rot_y", "rot_z", "trans", "homogeneous", "inv", "skew",
+    "matrix_from_rpy", "rpy_from_matrix", "exp_twist", "adjoint", "log_rotation",
+    "nearest_rotation", "rotation_error", "dh_matrix", "mdh_matrix",
+]
+
+Array = NDArray[np.float64]
+
+
+def _axis_rotation(angle: ArrayLike, i: int, j: int) -> Array:
+    """Rotation by ``angle`` in the (i, j) coordinate plane as (..., 4, 4)."""
+    angle = np.asarray(angle, dtype=float)
+    c, s = np.cos(angle), np.sin(angle)
+    out = np.zeros(angle.shape + (4, 4))
+    out[..., 0, 0] = out[..., 1, 1] = out[..., 2, 2] = out[..., 3, 3] = 1.0
+    out[..., i, i] = c
+    out[..., j, j] = c
+    out[..., i, j] = -s
+    out[..., j, i] = s
+    return out
+
+
+def rot_x(angle: ArrayLike) -> Array:
+    """Homogeneous rotation about x, shape (..., 4, 4)."""
+    return _axis_rotation(angle, 1, 2)
+
+
+def rot_y(angle: ArrayLike) -> Array:
+    """Homogeneous rotation about y, shape (..., 4, 4)."""
+    return _axis_rotation(angle, 2, 0)
+
+
+def rot_z(angle: ArrayLike) -> Array:
+    """Homogeneous rotation about z, shape (..., 4, 4)."""
+    return _axis_rotation(angle, 0, 1)
+
+
+def trans(x: ArrayLike = 0.0, y: ArrayLike = 0.0, z: ArrayLike = 0.0) -> Array:
+    """Homogeneous translation, shape (..., 4, 4) broadcast over x, y, z."""
+    x, y, z = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (x, y, z)))
+    out = np.zeros(x.shape + (4, 4))
+    out[..., 0, 0] = out[..., 1, 1] = out[..., 2, 2] = out[..., 3, 3] = 1.0
+    out[..., 0, 3], out[..., 1, 3], out[..., 2, 3] = x, y, z
+    return out
+
+
+def homogeneous(R: ArrayLike, p: ArrayLike) -> Array:
+    """Pose from rotation (..., 3, 3) and translation (..., 3) -> (..., 4, 4)."""
+    R = np.asarray(R, dtype=float)
+    p = np.asarray(p, dtype=float)
+    shape = np.broadcast_shapes(R.shape[:-2], p.shape[:-1])
+    out = np.zeros(shape + (4, 4))
+    out[..., :3, :3] = R
+    out[..., :3, 3] = p
+    out[..., 3, 3] = 1.0
+    return out
+
+
+def inv(T: ArrayLike) -> Array:
+    """Inverse of rigid transforms (..., 4, 4), using R^T rather than a general inverse."""
+    T = np.asarray(T, dtype=float)
+    Rt = np.swapaxes(T[..., :3, :3], -1, -2)
+    return homogeneous(Rt, -np.einsum("...ij,...j->...i", Rt, T[..., :3, 3]))
+
+
+def skew(w: ArrayLike) -> Array:
+    """Skew-symmetric matrix [w] of (..., 3) vectors -> (..., 3, 3), so that [w] v = w x v."""
+    w = np.asarray(w, dtype=float)
+    out = np.zeros(w.shape[:-1] + (3, 3))
+    out[..., 0, 1], out[..., 0, 2] = -w[..., 2], w[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = w[..., 2], -w[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -w[..., 1], w[..., 0]
+    return out
+
+
+def matrix_from_rpy(rpy: ArrayLike) -> Array:
+    """Rotation R = Rz(yaw) Ry(pitch) Rx(roll) (the URDF convention) from (..., 3) -> (..., 3, 3)."""
+    rpy = np.asarray(rpy, dtype=float)
+    r, p, y = rpy[..., 0], rpy[..., 1], rpy[..., 2]
+    return (rot_z(y) @ rot_y(p) @ rot_x(r))[..., :3, :3]
+
+
+def rpy_from_matrix(R: ArrayLike) -> Array:
+    """(roll, pitch, yaw) with R = Rz(yaw) Ry(pitch) Rx(roll), from (..., 3, 3) -> (..., 3).
+
+    pitch is in [-pi/2, pi/2]. At gimbal lock (|pitch| = pi/2) roll is set to 0 and yaw carries the
+    whole rotation about the common axis, which still reproduces R exactly.
+    """
+    R = np.asarray(R, dtype=float)
+    # pitch from -R20 via atan2 with the norm of the first column: accurate near +-pi/2, unlike asin.
+    cos_pitch = np.hypot(R[..., 0, 0], R[..., 1, 0])
+    pitch = np.arctan2(-R[..., 2, 0], cos_pitch)
+    # 1e-10: below this cos(pitch) the roll/yaw split is numerically meaningless (relative rounding of
+    # entries ~1e-16 divided by cos(pitch) would exceed 1e-6 rad); the locked formula is exact there.
+    locked = cos_pitch < 1e-10
+    roll = np.where(locked, 0.0, np.arctan2(R[..., 2, 1], R[..., 2, 2]))
+    yaw_free = np.arctan2(R[..., 1, 0], R[..., 0, 0])
+    # gimbal lock: R = Rz(yaw) Ry(+-pi/2); yaw from the (0,1)/(1,1) entries
+    yaw_locked = np.arctan2(-R[..., 0, 1], R[..., 1, 1])
+    yaw = np.where(locked, yaw_locked, yaw_free)
+    return np.stack([roll, pitch, yaw], axis=-1)
+
+
+def exp_twist(S: ArrayLike, q: ArrayLike) -> Array:
+    """Matrix exponential exp([S] q) of unit screws S = (w, v) (..., 6) times q (...) -> (..., 4, 4).
+
+    Revolute screws have |w| = 1, prismatic ones w = 0 and |v| = 1 (Modern Robotics, eq. 3.88).
+    """
+    S = np.asarray(S, dtype=float)
+    q = np.asarray(q, dtype=float)
+    w, v = S[..., :3], S[..., 3:]
+    W = skew(w)
+    W2 = W @ W
+    s, c = np.sin(q)[..., None, None], np.cos(q)[..., None, None]
+    qq = q[..., None, None]
+    eye = np.eye(3)
+    R = eye + s * W + (1 - c) * W2
+    G = eye * qq + (1 - c) * W + (qq - s) * W2
+    # for a prismatic screw W = 0, so R = I and G = q I: exp = translation by v q
+    return homogeneous(R, np.einsum("...ij,...j->...i", G, v))
+
+
+def adjoint(T: ArrayLike) -> Array:
+    """Adjoint Ad_T (..., 6, 6) of T (..., 4, 4) acting on twists ordered (w, v)."""
+    T = np.asarray(T, dtype=float)
+    R, p = T[..., :3, :3], T[..., :3, 3]
+    out = np.zeros(T.shape[:-2] + (6, 6))
+    out[..., :3, :3] = R
+    out[..., 3:, 3:] = R
+    out[..., 3:, :3] = skew(p) @ R
+    return out
+
+
+def log_rotation(R: ArrayLike) -> Array:
+    """Rotation vector (axis * angle, angle in [0, pi]) of (..., 3, 3) -> (..., 3)."""
+    from scipy.spatial.transform import Rotation  # lazy: scipy import costs ~100 ms
+
+    R = np.asarray(R, dtype=float)
+    flat = R.reshape(-1, 3, 3)
+    return Rotation.from_matrix(flat).as_rotvec().reshape(R.shape[:-2] + (3,))
+
+
+def nearest_rotation(M: ArrayLike) -> Array:
+    """The rotation closest to M in the Frobenius norm (SVD projection), (..., 3, 3)."""
+    M = np.asarray(M, dtype=float)
+    U, _, Vt = np.linalg.svd(M)
+    D = np.ones(M.shape[:-1])
+    D[..., -1] = np.sign(np.linalg.det(U @ Vt))
+    return (U * D[..., None, :]) @ Vt
+
+
+def rotation_error(M: ArrayLike) -> Array:
+    """Frobenius distance from M (..., 3, 3) to the nearest rotation; inf if det(M) <= 0."""
+    M = np.asarray(M, dtype=float)
+    err = np.linalg.norm(M - nearest_rotation(M), axis=(-2, -1))
+    return np.where(np.linalg.det(M) > 0, err, np.inf)
+
+
+def dh_matrix(a: ArrayLike, d: ArrayLike, alpha: ArrayLike, theta: ArrayLike) -> Array:
+    """Standard DH link transform Rz(theta) Tz(d) Tx(a) Rx(alpha), broadcast -> (..., 4, 4)."""
+    a, d, alpha, theta = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (a, d, alpha, theta)))
+    ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha), np.sin(alpha)
+    out = np.zeros(a.shape + (4, 4))
+    out[..., 0, :] = np.stack([ct, -st * ca, st * sa, a * ct], -1)
+    out[..., 1, :] = np.stack([st, ct * ca, -ct * sa, a * st], -1)
+    out[..., 2, 1], out[..., 2, 2], out[..., 2, 3] = sa, ca, d
+    out[..., 3, 3] = 1.0
+    return out
+
+
+def mdh_matrix(a: ArrayLike, d: ArrayLike, alpha: ArrayLike, theta: ArrayLike) -> Array:
+    """Modified (Craig) DH link transform Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i) -> (..., 4, 4)."""
+    a, d, alpha, theta = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (a, d, alpha, theta)))
+    ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha), np.sin(alpha)
+    out = np.zeros(a.shape + (4, 4))
+    out[..., 0, :] = np.stack([ct, -st, np.zeros_like(ct), a], -1)
+    out[..., 1, :] = np.stack([st * ca, ct * ca, -sa, -sa * d], -1)
+    out[..., 2, :] = np.stack([st * sa, ct * sa, ca, ca * d], -1)
+    out[..., 3, 3] = 1.0
+    return out
