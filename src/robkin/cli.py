@@ -1,0 +1,82 @@
+"""Command line: ``robkin COMMAND ...``. A thin layer over the library.
+
+Each command lives in ``robkin.commands.<name>`` and provides ``register(subparsers)`` (adds its
+parser, with help text and examples) and ``run(args) -> int``. Command modules import heavy
+dependencies inside ``run`` so that ``robkin --help`` and simple conversions start fast.
+
+Exit status: 0 success; 2 bad input (one line on stderr naming the file, field or joint; nothing
+written); 1 a bug (traceback).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+import warnings
+from typing import Sequence
+
+#: command name -> module under robkin.commands; order is the order shown in --help
+COMMANDS = ("convert", "fk", "ik", "check", "info", "estimate", "plot", "gui", "demo")
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports usage errors as one line with exit status 2 (its default) to stderr."""
+
+    def error(self, message: str):  # type: ignore[override]
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from . import __version__
+
+    parser = _Parser(
+        prog="robkin",
+        description="Convert serial-robot kinematics between DH, modified DH, PoE, RPY-XYZ, GJD and URDF "
+                    "exactly, and compute with them (FK, IK, Jacobians, structure estimation).",
+        epilog="Run 'robkin COMMAND --help' for a command's options and examples.",
+    )
+    parser.add_argument("--version", action="version", version=f"robkin {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name in COMMANDS:
+        try:
+            module = importlib.import_module(f"robkin.commands.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name == f"robkin.commands.{name}":
+                continue  # command not built yet
+            raise
+        p = module.register(sub)
+        p.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point; returns the exit status (testable without a subprocess)."""
+    from .errors import InputError
+
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "_run", None):
+        parser.print_help(sys.stderr)
+        return 2
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        warnings.formatwarning = _one_line_warning  # type: ignore[assignment]
+        try:
+            return int(args._run(args) or 0)
+        except InputError as exc:
+            print(f"robkin: error: {exc}", file=sys.stderr)
+            return 2
+        except KeyboardInterrupt:
+            print("robkin: interrupted", file=sys.stderr)
+            return 130
+        except BrokenPipeError:
+            return 0
+
+
+def _one_line_warning(message, category, filename, lineno, line=None) -> str:
+    return f"robkin: warning: {message}\n"
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

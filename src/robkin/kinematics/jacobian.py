@@ -1,0 +1,89 @@
+"""Geometric Jacobians and manipulability measures, for one configuration or a batch.
+
+Three forms, all 6 x n:
+
+- ``jacobian_space``: columns are the joint screws at q in the base (space) frame, ordered (w, v);
+  the spatial twist of the tool is J_s(q) dq (Modern Robotics, eq. 5.11).
+- ``jacobian_body``: the same in the tool frame, J_b = Ad_{T^-1} J_s.
+- ``jacobian_geometric``: the form most people expect, [v; w] with v the linear velocity of the tool
+  origin and w the angular velocity, both in the base frame.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .. import se3
+from ..robot import Robot, check_q
+
+__all__ = ["jacobian_space", "jacobian_body", "jacobian_geometric", "manipulability",
+           "singular_values"]
+
+
+def _axes_at(robot: Robot, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Joint axis directions z (..., n, 3), axis points p (..., n, 3) and tool poses (..., 4, 4) at q."""
+    F = robot.frames_at(q)
+    return F[..., :-1, :3, 2], F[..., :-1, :3, 3], F[..., -1, :, :]
+
+
+def jacobian_space(robot: Robot, q: ArrayLike) -> np.ndarray:
+    """Space Jacobian (6, n) for q (n,), or (N, 6, n) for q (N, n); rows (w, v)."""
+    Q = check_q(q, robot.n)
+    z, p, _ = _axes_at(robot, Q)
+    return _screw_columns(robot, z, p)
+
+
+def _screw_columns(robot: Robot, z: np.ndarray, p: np.ndarray) -> np.ndarray:
+    rev = robot.revolute
+    w = np.where(rev[:, None], z, 0.0)
+    v = np.where(rev[:, None], -np.cross(z, p), z)
+    return np.swapaxes(np.concatenate([w, v], axis=-1), -1, -2)
+
+
+def jacobian_body(robot: Robot, q: ArrayLike) -> np.ndarray:
+    """Body Jacobian (6, n) or (N, 6, n): the space Jacobian seen from the tool frame; rows (w, v)."""
+    Q = check_q(q, robot.n)
+    z, p, T = _axes_at(robot, Q)
+    return se3.adjoint(se3.inv(T)) @ _screw_columns(robot, z, p)
+
+
+def jacobian_geometric(robot: Robot, q: ArrayLike) -> np.ndarray:
+    """Base-frame geometric Jacobian (6, n) or (N, 6, n), rows [v; w] at the tool origin."""
+    Q = check_q(q, robot.n)
+    z, p, T = _axes_at(robot, Q)
+    rev = robot.revolute
+    tool = T[..., None, :3, 3]
+    v = np.where(rev[:, None], np.cross(z, tool - p), z)
+    w = np.where(rev[:, None], z, 0.0)
+    return np.swapaxes(np.concatenate([v, w], axis=-1), -1, -2)
+
+
+def singular_values(J: ArrayLike) -> np.ndarray:
+    """Singular values (..., min(m, n)) in descending order."""
+    return np.linalg.svd(np.asarray(J, dtype=float), compute_uv=False)
+
+
+def manipulability(robot: Robot, q: ArrayLike, kind: str = "translational") -> np.ndarray | float:
+    """Yoshikawa's manipulability of the geometric Jacobian at the tool origin.
+
+    Parameters
+    ----------
+    kind : {'translational', 'rotational', 'full'}
+        Rows used: v (3 x n), w (3 x n) or both (6 x n).
+
+    Returns
+    -------
+    float or (N,) array
+        The product of the singular values of the selected rows: sqrt(det(J J^T)) when n >= rows,
+        and sqrt(det(J^T J)) otherwise (the volume of the image of the unit ball within its span).
+    """
+    J = jacobian_geometric(robot, q)
+    rows = {"translational": slice(0, 3), "rotational": slice(3, 6), "full": slice(0, 6)}
+    if kind not in rows:
+        from ..errors import InputError
+
+        raise InputError(f"manipulability kind '{kind}' is not one of {', '.join(rows)}")
+    s = singular_values(J[..., rows[kind], :])
+    out = np.prod(s, axis=-1)
+    return float(out) if np.ndim(out) == 0 else out
