@@ -1,0 +1,364 @@
+"""The robot document (YAML or JSON): reading, validating, cross-checking and writing.
+
+Schema (DESIGN.md): ``robkin: 1``, optional ``name``, ``joints`` (one entry per joint: name, type
+revolute|prismatic, optional limits {lower, upper} and flip), and at least one representation section:
+``gjd``, ``dh``, ``mdh``, ``rpy_xyz``, ``poe``, ``poe_body``. Rows may be objects with named keys or
+lists in column order; numbers may be arithmetic strings such as "-pi/2". A ``dh`` table with n + 1
+rows and no ``base`` is the conversion paper's layout: its first row is the fixed base row.
+
+If a document holds several sections they must describe the same robot; otherwise an InputError names
+the sections that disagree.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+
+from .. import se3
+from ..errors import InputError
+from ..representations import DHTable, MDHTable, PoE, RPYTable
+from ..representations.gjd import robot_from_gjd
+from ..robot import JOINT_TYPES, Joint, Robot
+from .numbers import matrix, number, number_list
+
+__all__ = ["SECTIONS", "read_document", "parse_document", "read_sections", "document_from_robot",
+           "dump", "same_robot"]
+
+#: Representation sections, in the order that decides which one defines the GJD when several are given.
+SECTIONS = ("gjd", "dh", "mdh", "rpy_xyz", "poe", "poe_body")
+DOC_VERSION = 1
+_DH_KEYS = ("a", "d", "alpha", "theta")
+_RPY_KEYS = ("roll", "pitch", "yaw", "x", "y", "z")
+#: Largest input file read (a robot document is a few kB; this stops accidental huge inputs early).
+MAX_BYTES = 16 * 1024 * 1024
+#: Sections agree if their tool poses agree to this (rotation entries; positions relative to the
+#: robot's size) at home and at a few fixed configurations: loose enough for documents written by
+#: other tools with 6-7 significant digits, tight enough to catch any real difference of a joint.
+AGREE_TOL = 1e-6
+
+
+# ---------------------------------------------------------------------------------------- reading
+def read_document(path: str | os.PathLike) -> Robot:
+    """Read a robot document (.yaml, .yml or .json) into a Robot; InputError names file and field."""
+    text, fmt = _read_text(path)
+    return parse_document(text, fmt, source=str(path))
+
+
+def _read_text(path: str | os.PathLike) -> tuple[str, str]:
+    p = Path(path)
+    ext = p.suffix.lower()
+    fmt = {".yaml": "yaml", ".yml": "yaml", ".json": "json"}.get(ext)
+    if fmt is None:
+        raise InputError(f"{p}: unknown extension '{ext}'; a robot document is .yaml, .yml or .json")
+    try:
+        size = p.stat().st_size
+        if size > MAX_BYTES:
+            raise InputError(f"{p}: file is {size} bytes; a robot document is at most {MAX_BYTES}")
+        with open(p, "rb") as fh:
+            data = fh.read()
+    except FileNotFoundError:
+        raise InputError(f"{p}: no such file") from None
+    except IsADirectoryError:
+        raise InputError(f"{p}: is a folder, not a file") from None
+    except PermissionError:
+        raise InputError(f"{p}: permission denied") from None
+    except OSError as exc:
+        raise InputError(f"{p}: cannot read ({exc.strerror or exc})") from None
+    try:
+        return data.decode("utf-8-sig"), fmt
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{p}: not UTF-8 text (byte {exc.start})") from None
+
+
+def _parse_text(text: str, fmt: str, source: str) -> Any:
+    if fmt == "json":
+        try:
+            return json.loads(text, parse_constant=lambda c: float("nan"))
+        except json.JSONDecodeError as exc:
+            raise InputError(f"not valid JSON (line {exc.lineno}, column {exc.colno}): {exc.msg}",
+                             source=source) from None
+        except RecursionError:
+            raise InputError("JSON nested too deeply", source=source) from None
+    import yaml  # lazy: PyYAML import is ~20 ms
+
+    try:
+        return yaml.safe_load(text)
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark
+        where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark else ""
+        raise InputError(f"not valid YAML{where}: {exc.problem or exc}", source=source) from None
+    except (yaml.YAMLError, RecursionError) as exc:
+        raise InputError(f"not valid YAML: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}",
+                         source=source) from None
+
+
+def parse_document(text: str, fmt: str = "yaml", source: str = "<document>") -> Robot:
+    """Parse document text (fmt 'yaml' or 'json') into a Robot."""
+    data = _parse_text(text, fmt, source)
+    try:
+        sections, joints, name = _sections(data)
+        return _robot_from_sections(sections, joints, name)
+    except InputError as exc:
+        raise exc.in_source(source) from None
+
+
+def read_sections(path: str | os.PathLike) -> dict[str, Robot]:
+    """Each representation section of a document as its own Robot (for comparing them)."""
+    text, fmt = _read_text(path)
+    data = _parse_text(text, fmt, str(path))
+    try:
+        sections, joints, name = _sections(data)
+        return {key: _robot_of(key, value, joints, name) for key, value in sections.items()}
+    except InputError as exc:
+        raise exc.in_source(str(path)) from None
+
+
+def _sections(data: Any) -> tuple[dict[str, Any], tuple[Joint, ...], str | None]:
+    if data is None:
+        raise InputError("document is empty; it needs 'joints' and a representation section "
+                         f"({', '.join(SECTIONS)})")
+    if not isinstance(data, Mapping):
+        raise InputError(f"document must be a mapping with 'joints' and a representation section, "
+                         f"got {type(data).__name__}")
+    version = data.get("robkin", DOC_VERSION)
+    if version != DOC_VERSION:
+        raise InputError(f"robkin: document version {version!r} is not supported (this is version {DOC_VERSION})")
+    known = set(SECTIONS) | {"robkin", "name", "joints", "metrics", "world"}
+    unknown = sorted(str(k) for k in data if k not in known)
+    if unknown:
+        raise InputError(f"unknown key(s) {', '.join(unknown)}; known: {', '.join(sorted(known))}")
+    name = data.get("name")
+    if name is not None and not isinstance(name, (str, int, float)):
+        raise InputError("name: expected a string")
+    joints = _joints(data.get("joints"))
+    sections = {k: data[k] for k in SECTIONS if k in data and data[k] is not None}
+    if not sections:
+        raise InputError(f"no representation section; give at least one of {', '.join(SECTIONS)}")
+    return sections, joints, None if name is None else str(name)
+
+
+def _joints(value: Any) -> tuple[Joint, ...]:
+    if value is None:
+        raise InputError("joints: missing; list one entry per joint, e.g. {name: joint1, type: revolute}")
+    if not isinstance(value, list) or not value:
+        raise InputError("joints: expected a non-empty list of {name, type, limits, flip} entries")
+    out = []
+    for i, entry in enumerate(value):
+        where = f"joints[{i}]"
+        if isinstance(entry, str):
+            entry = {"type": entry}
+        if not isinstance(entry, Mapping):
+            raise InputError(f"{where}: expected a mapping like {{name: joint{i + 1}, type: revolute}}")
+        extra = sorted(str(k) for k in entry if k not in ("name", "type", "limits", "flip"))
+        if extra:
+            raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; known: name, type, limits, flip")
+        name = str(entry.get("name", f"joint{i + 1}"))
+        jtype = entry.get("type")
+        if jtype is None:
+            raise InputError(f"{where} ('{name}').type: missing; one of {', '.join(JOINT_TYPES)}")
+        jtype = str(jtype).lower()
+        if jtype == "continuous":
+            jtype = "revolute"
+        if jtype not in JOINT_TYPES:
+            raise InputError(f"{where} ('{name}').type: '{entry.get('type')}' is not one of {', '.join(JOINT_TYPES)}")
+        flip = entry.get("flip", False)
+        if not isinstance(flip, bool):
+            raise InputError(f"{where} ('{name}').flip: expected true or false, got {flip!r}")
+        lower = upper = None
+        limits = entry.get("limits")
+        if limits is not None:
+            if not isinstance(limits, Mapping):
+                raise InputError(f"{where} ('{name}').limits: expected {{lower: ..., upper: ...}}")
+            bad = sorted(str(k) for k in limits if k not in ("lower", "upper"))
+            if bad:
+                raise InputError(f"{where} ('{name}').limits: unknown key(s) {', '.join(bad)}; known: lower, upper")
+            if limits.get("lower") is not None:
+                lower = number(limits["lower"], f"{where} ('{name}').limits.lower")
+            if limits.get("upper") is not None:
+                upper = number(limits["upper"], f"{where} ('{name}').limits.upper")
+        out.append(Joint(name, jtype, lower, upper, flip))  # type: ignore[arg-type]
+    return tuple(out)
+
+
+def _mapping(value: Any, key: str, allowed: tuple[str, ...]) -> Mapping:
+    if not isinstance(value, Mapping):
+        raise InputError(f"{key}: expected a mapping with {', '.join(allowed)}")
+    extra = sorted(str(k) for k in value if k not in allowed)
+    if extra:
+        raise InputError(f"{key}: unknown key(s) {', '.join(extra)}; known: {', '.join(allowed)}")
+    return value
+
+
+def _rows(value: Any, key: str, columns: tuple[str, ...]) -> list[list[float]]:
+    if not isinstance(value, list) or not value:
+        raise InputError(f"{key}: expected a list of rows ({', '.join(columns)})")
+    rows = []
+    for i, row in enumerate(value):
+        where = f"{key}[{i}]"
+        if isinstance(row, Mapping):
+            missing = [c for c in columns if c not in row]
+            extra = sorted(str(k) for k in row if k not in columns)
+            if missing or extra:
+                raise InputError(f"{where}: expected keys {', '.join(columns)}"
+                                 + (f"; missing {', '.join(missing)}" if missing else "")
+                                 + (f"; unknown {', '.join(extra)}" if extra else ""))
+            rows.append([number(row[c], f"{where}.{c}") for c in columns])
+        else:
+            rows.append(number_list(row, where, len(columns)))
+    return rows
+
+
+def _pose(section: Mapping, key: str, prefix: str) -> np.ndarray:
+    if section.get(key) is None:
+        return np.eye(4)
+    return np.array(matrix(section[key], f"{prefix}.{key}"))
+
+
+def _robot_of(key: str, value: Any, joints: tuple[Joint, ...], name: str | None) -> Robot:
+    n = len(joints)
+    if key in ("dh", "mdh"):
+        sec = _mapping(value, key, ("base", "rows", "tool"))
+        rows = _rows(sec.get("rows"), f"{key}.rows", _DH_KEYS)
+        base = _pose(sec, "base", key)
+        if key == "dh" and len(rows) == n + 1 and sec.get("base") is None:
+            base = se3.dh_matrix(*rows[0])  # the paper's layout: row 0 is a fixed base row
+            rows = rows[1:]
+        cls = DHTable if key == "dh" else MDHTable
+        return cls(np.array(rows), joints, base=base, tool=_pose(sec, "tool", key)).to_robot(name)
+    if key in ("poe", "poe_body"):
+        sec = _mapping(value, key, ("frame", "M", "screws"))
+        frame = sec.get("frame", "space" if key == "poe" else "body")
+        if frame not in ("space", "body"):
+            raise InputError(f"{key}.frame: '{frame}' is not one of space, body")
+        if sec.get("M") is None:
+            raise InputError(f"{key}.M: missing; the 4x4 home pose of the tool")
+        screws = sec.get("screws")
+        if not isinstance(screws, list):
+            raise InputError(f"{key}.screws: expected a list of [wx, wy, wz, vx, vy, vz], one per joint")
+        S = [number_list(s, f"{key}.screws[{i}]", 6) for i, s in enumerate(screws)]
+        return PoE(np.array(matrix(sec["M"], f"{key}.M")), np.array(S).reshape(-1, 6), joints,
+                   frame).to_robot(name)
+    if key == "rpy_xyz":
+        sec = _mapping(value, key, ("rows",))
+        return RPYTable(np.array(_rows(sec.get("rows"), "rpy_xyz.rows", _RPY_KEYS)), joints).to_robot(name)
+    if key == "gjd":
+        sec = _mapping(value, key, ("frames",))
+        frames = sec.get("frames")
+        if not isinstance(frames, list):
+            raise InputError(f"gjd.frames: expected a list of n + 1 = {n + 1} 4x4 matrices")
+        return robot_from_gjd([matrix(F, f"gjd.frames[{i}]") for i, F in enumerate(frames)], joints, name)
+    raise InputError(f"unknown section '{key}'")  # pragma: no cover - keys come from SECTIONS
+
+
+def _robot_from_sections(sections: dict[str, Any], joints: tuple[Joint, ...], name: str | None) -> Robot:
+    robots = {key: _robot_of(key, value, joints, name) for key, value in sections.items()}
+    keys = list(robots)
+    primary = robots[keys[0]]
+    for other in keys[1:]:
+        diff = same_robot(primary, robots[other])
+        if diff is not None:
+            raise InputError(f"sections {keys[0]} and {other} describe different robots ({diff}); "
+                             f"remove one or make them agree")
+    if "rpy_xyz" in robots and keys[0] != "rpy_xyz":
+        primary = primary.replace(world=robots["rpy_xyz"].world)
+    return primary
+
+
+def same_robot(a: Robot, b: Robot, tol: float = AGREE_TOL) -> str | None:
+    """None if two robots have the same FK (checked at home and fixed configurations), else why not."""
+    if a.n != b.n:
+        return f"{a.n} vs {b.n} joints"
+    if a.types != b.types:
+        return f"joint types {a.types} vs {b.types}"
+    rng = np.random.default_rng(20260101)  # fixed: the check is deterministic
+    Q = np.vstack([np.zeros(a.n), rng.uniform(-1.0, 1.0, size=(6, a.n))])
+    Ta, Tb = a.fk(Q), b.fk(Q)
+    scale = max(a.scale, b.scale)
+    rot = np.abs(Ta[:, :3, :3] - Tb[:, :3, :3]).max(axis=(1, 2))
+    pos = np.linalg.norm(Ta[:, :3, 3] - Tb[:, :3, 3], axis=1) / scale
+    bad = np.nonzero((rot > tol) | (pos > tol))[0]
+    if bad.size == 0:
+        return None
+    k = int(bad[0])
+    where = "at q = 0" if k == 0 else f"at q = [{', '.join(f'{v:.3g}' for v in Q[k])}]"
+    return f"tool poses differ {where}: position by {pos[k] * scale:.3g}, rotation by {rot[k]:.3g}"
+
+
+# ---------------------------------------------------------------------------------------- writing
+def _clean(x: float) -> float:
+    """Plain float for output; -0.0 becomes 0.0 so tables do not show a meaningless sign."""
+    x = float(x)
+    return 0.0 if x == 0.0 else x
+
+
+def _mat(T: np.ndarray) -> list[list[float]]:
+    return [[_clean(v) for v in row] for row in np.asarray(T)]
+
+
+def _joint_entry(j: Joint) -> dict[str, Any]:
+    entry: dict[str, Any] = {"name": j.name, "type": j.type}
+    if j.lower is not None or j.upper is not None:
+        entry["limits"] = {k: _clean(v) for k, v in (("lower", j.lower), ("upper", j.upper)) if v is not None}
+    if j.flip:
+        entry["flip"] = True
+    return entry
+
+
+def document_from_robot(robot: Robot, sections: tuple[str, ...] = SECTIONS) -> dict[str, Any]:
+    """A robot document (dict) with ``joints`` and the requested sections (default: all)."""
+    from ..representations import dh_from_robot, mdh_from_robot, poe_from_robot, rpy_from_robot
+
+    doc: dict[str, Any] = {"robkin": DOC_VERSION}
+    if robot.name:
+        doc["name"] = robot.name
+    doc["joints"] = [_joint_entry(j) for j in robot.joints]
+    for key in sections:
+        if key == "dh":
+            t = dh_from_robot(robot)
+            doc["dh"] = {"base": _mat(t.base), "rows": _named_rows(t.rows, _DH_KEYS), "tool": _mat(t.tool)}
+        elif key == "mdh":
+            t = mdh_from_robot(robot)
+            doc["mdh"] = {"base": _mat(t.base), "rows": _named_rows(t.rows, _DH_KEYS), "tool": _mat(t.tool)}
+        elif key in ("poe", "poe_body"):
+            p = poe_from_robot(robot, "space" if key == "poe" else "body")
+            doc[key] = {"frame": p.frame, "M": _mat(p.M), "screws": _mat(p.screws)}
+        elif key == "rpy_xyz":
+            doc["rpy_xyz"] = {"rows": _named_rows(rpy_from_robot(robot).rows, _RPY_KEYS)}
+        elif key == "gjd":
+            doc["gjd"] = {"frames": [_mat(F) for F in robot.frames]}
+        else:
+            raise InputError(f"unknown section '{key}'; one of {', '.join(SECTIONS)}")
+    return doc
+
+
+def _named_rows(rows: np.ndarray, keys: tuple[str, ...]) -> list[dict[str, float]]:
+    return [{k: _clean(v) for k, v in zip(keys, row)} for row in rows]
+
+
+def dump(doc: Mapping[str, Any], fmt: str = "yaml") -> str:
+    """Serialise a document as 'yaml' (flow-style rows and matrices) or 'json' (indented)."""
+    if fmt == "json":
+        return json.dumps(doc, indent=2, allow_nan=False) + "\n"
+    if fmt != "yaml":
+        raise InputError(f"format '{fmt}' is not one of yaml, json")
+    import yaml
+
+    class _Dumper(yaml.SafeDumper):
+        pass
+
+    def _repr_float(dumper: yaml.SafeDumper, value: float):
+        # repr: the shortest string that reads back to the same float (full precision). YAML 1.1
+        # resolves "1e-17" as a string, so the mantissa gets a ".0" ("1.0e-17").
+        text = repr(value) if math.isfinite(value) else ".nan"
+        if "e" in text and "." not in text:
+            text = text.replace("e", ".0e")
+        return dumper.represent_scalar("tag:yaml.org,2002:float", text)
+
+    _Dumper.add_representer(float, _repr_float)
+    return yaml.dump(dict(doc), Dumper=_Dumper, sort_keys=False, default_flow_style=None, width=120)

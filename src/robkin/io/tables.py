@@ -1,0 +1,107 @@
+"""Readable plain-text tables of every representation, for a terminal or a log.
+
+Plain text (no colour library) so that output is the same in a pipe, a file and a terminal, and the
+CLI does not pay a rich-text import for a table of a few rows.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from ..robot import Robot
+
+__all__ = ["FORMATS", "fmt_num", "text_table", "matrix_text", "render"]
+
+#: Representation names accepted by ``render`` (and the CLI's --to), with a one-line description.
+FORMATS = {
+    "dh": "standard Denavit-Hartenberg table (+ base and residual tool)",
+    "mdh": "modified (Craig) Denavit-Hartenberg table (+ base and tool)",
+    "poe": "Product of Exponentials, space frame (M and screws)",
+    "poe-body": "Product of Exponentials, body frame (M and screws)",
+    "rpy-xyz": "RPY-XYZ table, n+2 rows (world->base, joints, tool)",
+    "gjd": "Global Joint Description: n+1 frames in the base frame at q = 0",
+}
+
+
+def fmt_num(x: float, digits: int = 6) -> str:
+    """A number for humans: up to ``digits`` significant digits, no '-0', no noise below 1e-12."""
+    x = float(x)
+    if abs(x) < 1e-12:  # rounding noise of exact zeros computed through products
+        return "0"
+    return f"{x:.{digits}g}"
+
+
+def text_table(headers: Sequence[str], rows: Sequence[Sequence[object]], title: str | None = None) -> str:
+    """Columns aligned on the widest cell; numbers right-aligned, text left-aligned."""
+    cells = [[c if isinstance(c, str) else fmt_num(c) for c in row] for row in rows]
+    widths = [max(len(h), *(len(r[i]) for r in cells)) if cells else len(h) for i, h in enumerate(headers)]
+    numeric = [all(not isinstance(row[i], str) for row in rows) for i in range(len(headers))]
+
+    def line(items: Sequence[str]) -> str:
+        return "  ".join(s.rjust(w) if num else s.ljust(w) for s, w, num in zip(items, widths, numeric)).rstrip()
+
+    out = [title] if title else []
+    out.append(line(list(headers)))
+    out.append("  ".join("-" * w for w in widths))
+    out.extend(line(r) for r in cells)
+    return "\n".join(out)
+
+
+def matrix_text(T: np.ndarray, name: str) -> str:
+    """A matrix as '<name>: identity' or an aligned block."""
+    T = np.asarray(T)
+    if T.shape == (4, 4) and np.allclose(T, np.eye(4), atol=1e-12, rtol=0):
+        return f"{name}: identity"
+    body = text_table([""] * T.shape[1], [list(r) for r in T]).splitlines()[2:]
+    return "\n".join([f"{name}:"] + ["  " + b for b in body])
+
+
+def _joint_cols(robot: Robot) -> list[list[object]]:
+    return [[str(i + 1), j.name, j.type + (" (flip)" if j.flip else "")] for i, j in enumerate(robot.joints)]
+
+
+def render(robot: Robot, fmt: str, layout: str = "robkin") -> str:
+    """The robot in representation ``fmt`` (a key of FORMATS) as readable text.
+
+    ``layout='paper'`` prints a DH table in the conversion paper's n+1-row layout (row 0 is the fixed
+    base row) when the base is one DH row.
+    """
+    from ..representations import dh_from_robot, mdh_from_robot, poe_from_robot, rpy_from_robot
+
+    title = f"{robot.name or 'robot'}: {FORMATS[fmt]}"
+    jc = _joint_cols(robot)
+    if fmt in ("dh", "mdh"):
+        t = dh_from_robot(robot) if fmt == "dh" else mdh_from_robot(robot)
+        heads = ["i", "joint", "type", "a", "d", "alpha", "theta"] if fmt == "dh" else \
+            ["i", "joint", "type", "a(i-1)", "d", "alpha(i-1)", "theta"]
+        rows = [c + list(r) for c, r in zip(jc, t.rows)]
+        parts = []
+        base_row = t.base_row() if fmt == "dh" and layout == "paper" else None
+        if base_row is not None:
+            rows = [["0", "(base)", "fixed"] + list(base_row)] + rows
+        parts.append(text_table(heads, rows, title))
+        parts.append("theta (revolute) and d (prismatic) are the values at q = 0; joint i adds q_i"
+                     + (" (subtracts, if flipped)" if any(j.flip for j in robot.joints) else "") + ".")
+        if base_row is None:
+            parts.append(matrix_text(t.base, "base"))
+        parts.append(matrix_text(t.tool, "tool" if fmt == "mdh" else "tool (residual T_t)"))
+        return "\n".join(parts)
+    if fmt in ("poe", "poe-body"):
+        p = poe_from_robot(robot, "space" if fmt == "poe" else "body")
+        heads = ["i", "joint", "type", "wx", "wy", "wz", "vx", "vy", "vz"]
+        table = text_table(heads, [c + list(s) for c, s in zip(jc, p.screws)], title)
+        return "\n".join([matrix_text(p.M, "M"), table])
+    if fmt == "rpy-xyz":
+        rows = rpy_from_robot(robot).rows
+        labels = [["0", "world->base", ""]] + jc + [[str(robot.n + 1), "tool", ""]]
+        return text_table(["row", "frame", "type", "roll", "pitch", "yaw", "x", "y", "z"],
+                          [lab + list(r) for lab, r in zip(labels, rows)], title)
+    if fmt == "gjd":
+        parts = [title]
+        for i, F in enumerate(robot.frames):
+            label = f"J{i + 1} ({robot.joints[i].name}, {robot.joints[i].type})" if i < robot.n else f"J{i + 1} (tool)"
+            parts.append(matrix_text(F, label))
+        return "\n".join(parts)
+    raise ValueError(f"unknown format {fmt}")  # pragma: no cover - callers validate
