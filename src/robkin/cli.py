@@ -18,6 +18,8 @@ from typing import Sequence
 
 #: command name -> module under robkin.commands; order is the order shown in --help
 COMMANDS = ("convert", "fk", "ik", "check", "info", "estimate", "plot", "gui", "demo")
+#: options whose value may start with '-' (a negative number): '--q -1,2' is read as '--q=-1,2'
+NUMBER_OPTIONS = ("--q", "--pose", "--base")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -54,8 +56,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; returns the exit status (testable without a subprocess)."""
     from .errors import InputError
 
+    from .commands._common import number_option_fix
+
     parser = build_parser()
-    args = parser.parse_args(argv)
+    argv = list(sys.argv[1:] if argv is None else argv)
+    args = parser.parse_args(number_option_fix(argv, NUMBER_OPTIONS))
     if not getattr(args, "_run", None):
         parser.print_help(sys.stderr)
         return 2

@@ -292,9 +292,16 @@ def same_robot(a: Robot, b: Robot, tol: float = AGREE_TOL) -> str | None:
 
 # ---------------------------------------------------------------------------------------- writing
 def _clean(x: float) -> float:
-    """Plain float for output; -0.0 becomes 0.0 so tables do not show a meaningless sign."""
+    """Plain float for output, at 15 significant digits.
+
+    15 digits keep the value to 5e-16 relative (far below the 1e-9 FK agreement robkin promises)
+    while dropping the last-bit noise of products such as cos(pi/2) = 6.1e-17 or 0.1 + 0.2; values
+    below 1e-15 are such noise around an exact zero and are written as 0 (without a sign).
+    """
     x = float(x)
-    return 0.0 if x == 0.0 else x
+    if abs(x) < 1e-15:
+        return 0.0
+    return float(f"{x:.15g}")
 
 
 def _mat(T: np.ndarray) -> list[list[float]]:

@@ -91,8 +91,8 @@ def render(robot: Robot, fmt: str, layout: str = "robkin") -> str:
     if fmt in ("poe", "poe-body"):
         p = poe_from_robot(robot, "space" if fmt == "poe" else "body")
         heads = ["i", "joint", "type", "wx", "wy", "wz", "vx", "vy", "vz"]
-        table = text_table(heads, [c + list(s) for c, s in zip(jc, p.screws)], title)
-        return "\n".join([matrix_text(p.M, "M"), table])
+        table = text_table(heads, [c + list(s) for c, s in zip(jc, p.screws)])
+        return "\n".join([title, table, matrix_text(p.M, "M")])
     if fmt == "rpy-xyz":
         rows = rpy_from_robot(robot).rows
         labels = [["0", "world->base", ""]] + jc + [[str(robot.n + 1), "tool", ""]]

@@ -125,13 +125,22 @@ def _any_perpendicular(u: np.ndarray) -> np.ndarray:
     return v / np.linalg.norm(v)
 
 
+def tidy_angle(angle: float) -> float:
+    """An angle in (-pi, pi]: -pi (and values within rounding noise of it) become +pi, -0.0 becomes 0."""
+    # 1e-12: atan2 of entries that are exactly 0 up to rounding returns +-pi for the same geometry;
+    # print one of them. The FK effect of the change is below 1e-12 rad.
+    if angle <= -math.pi + 1e-12:
+        return math.pi
+    return angle + 0.0
+
+
 def dh_params_between(prev: np.ndarray, frame: np.ndarray) -> tuple[float, float, float, float]:
     """(a, d, alpha, theta) with prev^-1 frame = Rz(theta) Tz(d) Tx(a) Rx(alpha) (exact if it is DH)."""
     T = se3.inv(prev) @ frame
     theta = math.atan2(T[1, 0], T[0, 0])
     alpha = math.atan2(T[2, 1], T[2, 2])
     a = T[0, 3] * math.cos(theta) + T[1, 3] * math.sin(theta)
-    return a, float(T[2, 3]), alpha, theta
+    return a, float(T[2, 3]), tidy_angle(alpha), tidy_angle(theta)
 
 
 def mdh_params_between(prev: np.ndarray, frame: np.ndarray) -> tuple[float, float, float, float]:
@@ -140,7 +149,7 @@ def mdh_params_between(prev: np.ndarray, frame: np.ndarray) -> tuple[float, floa
     alpha = math.atan2(-T[1, 2], T[2, 2])
     theta = math.atan2(-T[0, 1], T[0, 0])
     d = -T[1, 3] * math.sin(alpha) + T[2, 3] * math.cos(alpha)
-    return float(T[0, 3]), d, alpha, theta
+    return float(T[0, 3]), d, tidy_angle(alpha), tidy_angle(theta)
 
 
 def approx_dh_params(prev: np.ndarray, target: np.ndarray) -> tuple[float, float, float, float]:

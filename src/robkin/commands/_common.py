@@ -1,0 +1,80 @@
+"""Argument helpers shared by the commands: input loading, joint vectors, poses, output files."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ..errors import InputError
+from ..io.numbers import number_list
+
+if TYPE_CHECKING:  # pragma: no cover
+    import numpy as np
+
+    from ..robot import Robot
+
+__all__ = ["add_input", "load_input", "parse_q", "parse_pose", "number_option_fix", "EXAMPLES_DIR"]
+
+EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "examples"
+
+
+def add_input(p: argparse.ArgumentParser, many: bool = False) -> None:
+    """INPUT argument(s) plus the URDF chain selectors."""
+    p.add_argument("input", nargs="+" if many else None, metavar="INPUT",
+                   help="robot document (.yaml/.yml/.json) or URDF (.urdf)" + (" (one or more)" if many else ""))
+    p.add_argument("--base-link", metavar="LINK", help="URDF: first link of the serial chain")
+    p.add_argument("--tip-link", metavar="LINK", help="URDF: last link of the serial chain (the tool)")
+
+
+def load_input(path: str, args: argparse.Namespace) -> "Robot":
+    from ..io import load
+
+    return load(path, base_link=getattr(args, "base_link", None), tip_link=getattr(args, "tip_link", None))
+
+
+def parse_q(text: str, n: int, option: str = "--q") -> "np.ndarray":
+    """Joint values 'q1,q2,...' (numbers or expressions like pi/2) for a robot with n joints."""
+    import numpy as np
+
+    values = number_list(text, option)
+    if len(values) != n:
+        raise InputError(f"{option}: the robot has {n} joints, got {len(values)} values")
+    return np.array(values)
+
+
+def parse_pose(text: str, option: str = "--pose") -> "np.ndarray":
+    """A pose from 'x,y,z,roll,pitch,yaw' (URDF rpy, radians) or 16 numbers (row-major 4x4)."""
+    import numpy as np
+
+    from .. import se3
+    from ..robot import check_pose
+
+    values = number_list(text, option)
+    if len(values) == 6:
+        T = se3.homogeneous(se3.matrix_from_rpy(values[3:]), values[:3])
+    elif len(values) == 16:
+        T = np.array(values).reshape(4, 4)
+    else:
+        raise InputError(f"{option}: expected 6 numbers x,y,z,roll,pitch,yaw or 16 numbers (row-major 4x4), "
+                         f"got {len(values)}")
+    return check_pose(T, option)
+
+
+def number_option_fix(argv: list[str], options: tuple[str, ...]) -> list[str]:
+    """Join '--q -0.5,1' into '--q=-0.5,1' so that argparse does not take '-0.5,1' for an option."""
+    out: list[str] = []
+    i = 0
+    while i < len(argv):
+        a = argv[i]
+        if a in options and i + 1 < len(argv) and _looks_numeric(argv[i + 1]):
+            out.append(f"{a}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(a)
+        i += 1
+    return out
+
+
+def _looks_numeric(s: str) -> bool:
+    return len(s) > 1 and s[0] == "-" and (s[1].isdigit() or s[1] == "." or s[1:3].lower() == "pi")
