@@ -66,7 +66,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     with warnings.catch_warnings():
         warnings.simplefilter("default")
-        warnings.formatwarning = _one_line_warning  # type: ignore[assignment]
+        warnings.showwarning = _show_warning_one_line
         try:
             return int(args._run(args) or 0)
         except InputError as exc:
@@ -79,8 +79,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 0
 
 
-def _one_line_warning(message, category, filename, lineno, line=None) -> str:
-    return f"robkin: warning: {message}\n"
+def _show_warning_one_line(message, category, filename, lineno, file=None, line=None) -> None:
+    """Warnings (e.g. an input projected onto a valid value) as one line on stderr, no source line."""
+    print(f"robkin: warning: {message}", file=sys.stderr if file is None else file)
 
 
 if __name__ == "__main__":  # pragma: no cover
