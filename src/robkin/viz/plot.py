@@ -79,10 +79,7 @@ def plot_scenes(scenes: Sequence[Scene], *, frames: bool = False, view: tuple[fl
     own link style. When several scenes are given, the subtitle states by how much their tool poses
     and joint axes disagree (0 up to rounding for representations of one robot).
     """
-    import matplotlib
-
-    if matplotlib.get_backend().lower() not in ("agg", "svg", "pdf", "cairo") and not os.environ.get("DISPLAY"):
-        matplotlib.use("Agg")  # no screen: render off-screen instead of failing
+    # A bare Figure (no pyplot) renders off-screen with any backend and never opens a window.
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
 
@@ -171,14 +168,14 @@ def save_figure(fig: "Figure", path: str | os.PathLike, *, caption: str = "") ->
         raise InputError(f"{p}: unknown picture format '{ext or '(none)'}'; one of {', '.join(PICTURE_FORMATS)}")
     if ext == ".html":
         buf = io.StringIO()
-        fig.savefig(buf, format="svg")
+        with _reproducible():
+            fig.savefig(buf, format="svg", metadata=_metadata(".svg"))
         write_text_atomic(p, _html_page(buf.getvalue(), caption))
         return p
     folder = check_writable_dir(p)
     fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=ext, dir=folder)
     try:
-        with os.fdopen(fd, "wb") as fh:
-            # SVG: keep text as text (searchable, smaller); a fixed hash salt makes the file reproducible.
+        with os.fdopen(fd, "wb") as fh, _reproducible():
             fig.savefig(fh, format=ext[1:], dpi=150, metadata=_metadata(ext))
         os.replace(tmp, p)
     except BaseException:
@@ -188,6 +185,13 @@ def save_figure(fig: "Figure", path: str | os.PathLike, *, caption: str = "") ->
             pass
         raise
     return p
+
+
+def _reproducible():
+    """Fixed SVG id salt, so that regenerating an unchanged picture gives identical bytes."""
+    import matplotlib
+
+    return matplotlib.rc_context({"svg.hashsalt": "robkin"})
 
 
 def _metadata(ext: str) -> dict:

@@ -1,0 +1,107 @@
+"""``robkin plot``: pictures of a robot's structure, or of estimation metrics."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ..errors import InputError
+from ._common import add_input, load_input, parse_q
+
+HELP = "draw a robot (joint axes blue, tool pink), representations overlaid, or estimation metrics"
+EPILOG = """\
+examples:
+  robkin plot rrpr.yaml -o rrpr.png
+  robkin plot rrpr.yaml --q 3*pi/4,-pi/4,0.3,-3*pi/4 --overlay dh,poe -o rrpr_q.svg
+  robkin plot ur5.urdf --tip-link tool0 --frames -o ur5.png
+  robkin plot original.yaml converted.yaml -o both.png     (several robots in one picture)
+  robkin plot --metrics pose1_A.yaml pose1_B.yaml pose1_C.yaml pose1_D.yaml -o metrics.png
+
+--overlay draws the robot rebuilt from each listed representation (gjd, dh, mdh, poe, poe-body,
+rpy-xyz): link lines go through each one's frame origins, so they differ, while joint axes and the
+tool frame coincide; the title states by how much they disagree (rounding only, for one robot).
+-o takes .png, .svg, .pdf or .html (the SVG in a page); without -o the picture is written to
+INPUT's name with .png in the current folder.
+With --metrics, each INPUT is an estimation result document; its metrics object (or, if absent,
+metrics computed at q = 0) is drawn as the estimation paper's bar and log plots. Results named
+<group>_<type> (pose1_A.yaml, or name: pose1-A) are grouped per pose, one bar per type.
+"""
+
+
+def register(subparsers) -> argparse.ArgumentParser:
+    p = subparsers.add_parser("plot", help=HELP, description=HELP.capitalize() + ".", epilog=EPILOG,
+                              formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_input(p, many=True)
+    p.add_argument("--q", metavar="Q1,Q2,...",
+                   help="joint values (rad / length units; expressions like 3*pi/4 allowed); default home")
+    p.add_argument("--overlay", metavar="REPS", default="",
+                   help="comma-separated representations to overlay: gjd, dh, mdh, poe, poe-body, rpy-xyz")
+    p.add_argument("--frames", action="store_true", help="also draw every joint frame (RGB triads)")
+    p.add_argument("--view", metavar="ELEV,AZIM", default="25,-60", help="camera angles in degrees (default 25,-60)")
+    p.add_argument("--title", help="picture title (default: robot name and q)")
+    p.add_argument("--metrics", action="store_true",
+                   help="INPUTs are estimation results: plot length and manipulability (bar and log plots)")
+    p.add_argument("-o", "--output", metavar="OUT", help="output picture: .png, .svg, .pdf or .html")
+    return p
+
+
+def run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from ..io.numbers import number_list
+
+    out = Path(args.output) if args.output else Path(Path(args.input[0]).stem + ".png")
+    from ..viz.plot import PICTURE_FORMATS
+
+    if out.suffix.lower() not in PICTURE_FORMATS:  # before any work: nothing is written on bad input
+        raise InputError(f"-o {out}: unknown picture format '{out.suffix or '(none)'}'; "
+                         f"one of {', '.join(PICTURE_FORMATS)}")
+    if args.metrics:
+        if args.q or args.overlay or args.frames:
+            raise InputError("--metrics: --q, --overlay and --frames apply to robot pictures, not metrics")
+        from ..viz.metrics import plot_metrics, read_metrics
+
+        fig = plot_metrics([read_metrics(path) for path in args.input], title=args.title)
+        caption = ""
+    else:
+        fig, caption = _robot_figure(args, number_list(args.view, "--view", 2))
+    from ..viz.plot import save_figure
+
+    save_figure(fig, out, caption=caption)
+    print(f"wrote {out}", file=sys.stderr)
+    return 0
+
+
+def _robot_figure(args: argparse.Namespace, view: list[float]):
+    from pathlib import Path
+
+    import numpy as np
+
+    from ..viz.plot import plot_robot, plot_scenes
+    from ..viz.scene import REPRESENTATIONS, build_scene
+
+    overlay = [r.strip() for r in args.overlay.split(",") if r.strip()]
+    for r in overlay:
+        if r not in REPRESENTATIONS:
+            raise InputError(f"--overlay: unknown representation '{r}'; one of {', '.join(REPRESENTATIONS)}")
+    robots = [load_input(path, args) for path in args.input]
+    q = parse_q(args.q, robots[0].n) if args.q else None
+    if len(robots) == 1:
+        fig = plot_robot(robots[0], q, overlay or ("gjd",), frames=args.frames, view=tuple(view), title=args.title)
+        robot = robots[0]
+    else:
+        if overlay:
+            raise InputError("--overlay: give one INPUT to overlay its representations, or several INPUTs "
+                             "without --overlay")
+        for path, r in zip(args.input[1:], robots[1:]):
+            if r.n != robots[0].n:
+                raise InputError(f"{path}: has {r.n} joints, {args.input[0]} has {robots[0].n}; "
+                                 f"robots drawn together must share q")
+        scenes = [build_scene(r, q, label=Path(path).name) for path, r in zip(args.input, robots)]
+        robot = robots[0]
+        where = "home (q = 0)" if q is None else f"q = {np.round(q, 4).tolist()}"
+        title = args.title or f"{len(robots)} robots at {where}"
+        fig = plot_scenes(scenes, frames=args.frames, view=tuple(view), title=title)
+    T = robot.fk(np.zeros(robot.n) if q is None else q)
+    caption = "tool pose T (robot base frame):\n" + "\n".join(" ".join(f"{v: .6f}" for v in row) for row in T)
+    return fig, caption
