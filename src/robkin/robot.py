@@ -193,8 +193,15 @@ class Robot:
 
     @cached_property
     def scale(self) -> float:
-        """Characteristic length: the largest distance of a frame origin from the base (1 if all zero)."""
-        s = float(np.max(np.linalg.norm(self.frames[:, :3, 3], axis=1)))
+        """Characteristic length for relative tolerances (1 if everything passes through the origin).
+
+        The largest of the tool's distance from the base and each joint axis's distance from the base
+        origin. Axis distances, not frame-origin distances: a frame may sit far along its axis (the
+        common normal of nearly parallel axes) without the robot being any bigger.
+        """
+        p, z = self.points, self.axes
+        feet = p - np.einsum("ij,ij->i", p, z)[:, None] * z
+        s = float(max(np.linalg.norm(self.tool[:3, 3]), np.linalg.norm(feet, axis=1).max()))
         return s if s > 0 else 1.0
 
     @property

@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike
 from .. import se3
 from ..errors import InputError
 from ..robot import Joint, Robot, check_pose, check_q
-from .frames import approx_dh_params, is_identity, common_normal_frame, dh_params_between, satisfies_normal
+from .frames import approx_dh_params, is_identity, warn_if_far, common_normal_frame, dh_params_between, satisfies_normal
 
 __all__ = ["DHTable", "dh_from_robot", "robot_from_dh", "check_dh_rows", "flip_frame"]
 
@@ -131,6 +131,7 @@ def dh_frames(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     for i in range(n):
         F[i] = common_normal_frame(prev[:3, 3], prev[:3, 2], cand[i, :3, 3], cand[i, :3, 2],
                                    on="b", prev=prev, scale=scale, keep=cand[i])
+        warn_if_far(F[i], scale, f"dh: frame {{{i}}} (joint {i + 1}, '{robot.joints[i].name}')")
         prev = F[i]
     tool = robot.tool
     if satisfies_normal(tool, prev[:3, 3], prev[:3, 2], scale):

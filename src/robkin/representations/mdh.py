@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike
 from .. import se3
 from ..robot import Joint, Robot, check_pose, check_q
 from .dh import check_dh_rows, flip_frame
-from .frames import common_normal_frame, mdh_params_between
+from .frames import common_normal_frame, mdh_params_between, warn_if_far
 
 __all__ = ["MDHTable", "mdh_from_robot", "robot_from_mdh"]
 
@@ -90,8 +90,8 @@ def mdh_from_robot(robot: Robot) -> MDHTable:
     for i in range(n - 1):
         M.append(common_normal_frame(cand[i, :3, 3], cand[i, :3, 2], cand[i + 1, :3, 3], cand[i + 1, :3, 2],
                                      on="a", prev=M[-1], scale=scale, keep=cand[i]))
-    # Frame {n}: free about its axis; keep the given one, moved to where frame {n-1}'s x meets the axis
-    # is not needed (d_n absorbs the offset).
+        warn_if_far(M[-1], scale, f"mdh: frame {{{i + 1}}} (joint {i + 1}, '{robot.joints[i].name}')")
+    # Frame {n}: its x axis is free (no next axis), so the given joint frame is kept as it is.
     M.append(cand[n - 1])
     rows = np.array([mdh_params_between(M[i], M[i + 1]) for i in range(n)])
     A = se3.mdh_matrix(*rows.T)
