@@ -64,6 +64,14 @@ def closest_points(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarra
     Solves the 2x2 normal equations of min |p1 + t1 u1 - p2 - t2 u2|; the caller guarantees the lines
     are not parallel (sin angle >= ANGLE_TOL), so the determinant 1 - (u1.u2)^2 is >= ANGLE_TOL^2.
     """
+    # Re-anchor line 1 at the foot of p2 first. Without this, a p1 far along line 1 (a DH frame placed
+    # on the far foot of a previous, nearly parallel pair sits ~offset/sin away) enters the normal
+    # equations as dot products of size |p1 - p2|, whose rounding eps |p1 - p2| is divided by sin^2:
+    # the feet then slide along the lines by ~eps |p1 - p2| / sin^2, and the x axis through them misses
+    # the other line by that times sin. Re-anchored, w is perpendicular to u1 and only as long as the
+    # distance of p2 from line 1, so the miss is back to ~eps * offset / sin (see ANGLE_TOL).
+    s = float(np.dot(p2 - p1, u1))
+    p1 = p1 + s * u1
     w = p1 - p2
     b = float(np.dot(u1, u2))
     d1, d2 = float(np.dot(u1, w)), float(np.dot(u2, w))
@@ -72,6 +80,7 @@ def closest_points(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarra
     t1 = (b * d2 - d1) / det
     t2 = (d2 - b * d1) / det
     c1, c2 = p1 + t1 * u1, p2 + t2 * u2
+    t1 += s  # back to a parameter along line 1 from the caller's p1
     return CommonNormal(c1, c2, t1, t2, float(np.linalg.norm(c2 - c1)))
 
 
