@@ -1,0 +1,313 @@
+"""The browser GUI: its JSON API, its server, and the page driven for real in headless Chromium.
+
+References are independent of the code under test: forward kinematics written out by hand from the
+conversion paper's Table I (with DESIGN.md's errata), and pinocchio for the downloaded URDF.
+The browser test needs the ``playwright`` package and a Chromium binary (Debian's ``chromium``);
+without them it is skipped with the reason.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import urllib.error
+import urllib.request
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import robkin
+from robkin.cli import main
+from robkin.viz import gui_api
+from robkin.viz.gui import make_server
+
+EXAMPLES = Path(robkin.__file__).parent / "examples"
+RRPR_TEXT = (EXAMPLES / "rrpr.yaml").read_text()
+PI = math.pi
+TABLE_I = [(0, 0.2, -PI / 2, 0), (0.3, 0, 0, -PI / 2), (0.2, 0, PI, PI / 2), (0.1, 0, 0, 0)]
+PRISMATIC = [False, False, True, False]
+#: Exact up to float rounding of a few 4x4 products of metre-scale numbers.
+EXACT = 1e-12
+DOCS = Path(__file__).resolve().parent.parent / "docs"
+
+
+def dh(a, d, alpha, theta):
+    ct, st, ca, sa = math.cos(theta), math.sin(theta), math.cos(alpha), math.sin(alpha)
+    return np.array([[ct, -st * ca, st * sa, a * ct], [st, ct * ca, -ct * sa, a * st], [0, sa, ca, d], [0, 0, 0, 1]])
+
+
+def rrpr_fk(q):
+    """Tool pose of the RRPR robot from Table I, by hand."""
+    T = np.eye(4)
+    for (a, d, alpha, theta), prism, qi in zip(TABLE_I, PRISMATIC, q):
+        T = T @ (dh(a, d + qi, alpha, theta) if prism else dh(a, d, alpha, theta + qi))
+    return T
+
+
+def pinocchio_tool(urdf_text: str, q) -> np.ndarray:
+    """Pose of the URDF's last link at q, computed by pinocchio (an independent URDF reader)."""
+    pin = pytest.importorskip("pinocchio")
+    model = pin.buildModelFromXML(urdf_text)
+    data = model.createData()
+    config = pin.neutral(model)
+    assert model.njoints - 1 == len(q)
+    for joint, value in zip(model.joints[1:], q):  # joints in chain order, base to tip
+        if joint.nq == 2:  # continuous joint (no limits): pinocchio stores (cos q, sin q)
+            config[joint.idx_q:joint.idx_q + 2] = math.cos(value), math.sin(value)
+        else:
+            config[joint.idx_q] = value
+    pin.framesForwardKinematics(model, data, config)
+    tool = model.getFrameId("tool")
+    return data.oMf[tool].homogeneous
+
+
+# ------------------------------------------------------------------------------ the API, no browser
+def test_describe_rrpr_at_q():
+    q = [3 * PI / 4, -PI / 4, 0.3, -3 * PI / 4]
+    res = gui_api.describe(RRPR_TEXT, "auto", q)
+    np.testing.assert_allclose(res["T"], rrpr_fk(q), atol=EXACT)
+    assert [j["type"] for j in res["joints"]] == ["revolute", "revolute", "prismatic", "revolute"]
+    assert {"dh", "mdh", "poe", "poe_body", "rpy_xyz", "gjd"} <= set(res["document"])
+    # eq. (11) of the paper: the space screws
+    S = [[0, 0, 1, 0, 0, 0], [0, 1, 0, -0.2, 0, 0], [0, 0, 0, 0, 1, 0], [0, -1, 0, 0.5, 0, -0.2]]
+    np.testing.assert_allclose(res["document"]["poe"]["screws"], S, atol=EXACT)
+    json.dumps(res, allow_nan=False)  # what the server sends must be valid JSON
+
+
+def test_describe_projects_rounded_input_and_reports_it():
+    res = gui_api.describe((EXAMPLES / "arbitrary_3r.yaml").read_text())
+    assert any("projected" in w or "normalised" in w for w in res["warnings"])
+
+
+@pytest.mark.parametrize("text, fmt, message", [
+    ("", "auto", "input: empty"),
+    ("robkin: 1\njoints: [{name: a, type: revolute}]\ndh: {rows: [[0.1, 0, 0]]}\n", "auto", "dh.rows[0]"),
+    ("robkin: 1\njoints: [{name: a, type: hinge}]\ndh: {rows: [[0.1, 0, 0, 0]]}\n", "auto", "hinge"),
+    ("joints: [", "auto", "not valid YAML"),
+    ("<robot name='x'><link name='a'/>", "auto", "input: not well-formed XML"),
+    ("robkin: 1", "urdf", "urdf: expected XML"),
+    ("x", "toml", "format: 'toml' is not one of"),
+])
+def test_bad_input_is_an_input_error(text, fmt, message):
+    with pytest.raises(robkin.InputError, match=None) as err:
+        gui_api.describe(text, fmt)
+    assert message.lower() in str(err.value).lower()
+
+
+def test_export_urdf_matches_pinocchio_and_document_round_trips():
+    q = [0.4, -1.1, 0.25, 2.0]
+    name, mime, urdf = gui_api.export(RRPR_TEXT, "auto", "urdf")
+    assert name == "rrpr.urdf" and mime == "application/xml"
+    np.testing.assert_allclose(pinocchio_tool(urdf, q), rrpr_fk(q), atol=1e-9)  # 1e-9: URDF text round trip
+    for to in ("yaml", "json", "dh", "mdh", "poe", "poe-body", "rpy-xyz", "gjd"):
+        name, _, content = gui_api.export(RRPR_TEXT, "auto", to)
+        from robkin.io.document import parse_document
+
+        robot = parse_document(content, "json" if to == "json" else "yaml")
+        np.testing.assert_allclose(robot.fk(q), rrpr_fk(q), atol=EXACT, err_msg=to)
+    with pytest.raises(robkin.InputError, match="download: 'xls'"):
+        gui_api.export(RRPR_TEXT, "auto", "xls")
+
+
+@pytest.fixture()
+def server():
+    srv = make_server(port=0, text=RRPR_TEXT, fmt="yaml")
+    srv.serve_in_thread()
+    yield srv
+    srv.shutdown()
+    srv.server_close()
+
+
+def _post(url, payload, headers=None):
+    req = urllib.request.Request(url, data=json.dumps(payload).encode(), method="POST",
+                                 headers={"Content-Type": "application/json", **(headers or {})})
+    with urllib.request.urlopen(req, timeout=10) as r:
+        return json.loads(r.read())
+
+
+def test_server_answers_errors_in_json_and_keeps_serving(server):
+    bad = _post(server.url + "api/describe", {"text": "robkin: 1\njoints: 3\n"})
+    assert bad["ok"] is False and "joints" in bad["error"]
+    good = _post(server.url + "api/describe", {"text": RRPR_TEXT, "q": [0, 0, 0, 0]})
+    assert good["ok"] is True
+    np.testing.assert_allclose(good["T"], rrpr_fk([0, 0, 0, 0]), atol=EXACT)
+    wrong_q = _post(server.url + "api/describe", {"text": RRPR_TEXT, "q": [0, 0]})
+    assert wrong_q["ok"] is False and "q: expected 4 numbers" in wrong_q["error"]
+    lenient = _post(server.url + "api/describe", {"text": RRPR_TEXT, "q": [0, 0], "strict_q": False})
+    assert lenient["ok"] is True and lenient["q"] == [0, 0, 0, 0]
+    assert server.url.startswith("http://127.0.0.1:")
+
+
+def test_server_refuses_foreign_hosts_and_paths(server):
+    req = urllib.request.Request(server.url, headers={"Host": "attacker.example"})
+    with pytest.raises(urllib.error.HTTPError) as err:
+        urllib.request.urlopen(req, timeout=10)
+    assert err.value.code == 403
+    for path in ("static/../gui.py", "static/%2e%2e/gui.py", "etc/passwd", "static/.hidden.js"):
+        with pytest.raises(urllib.error.HTTPError) as err:
+            urllib.request.urlopen(server.url + path, timeout=10)
+        assert err.value.code == 404, path
+    with pytest.raises(urllib.error.HTTPError) as err:
+        _post(server.url + "api/describe", "not an object")
+    assert err.value.code == 400
+    with urllib.request.urlopen(server.url + "api/start", timeout=10) as r:
+        start = json.loads(r.read())
+    assert start["text"] == RRPR_TEXT and "rrpr" in start["examples"]
+
+
+def test_cli_gui_serves_then_stops():
+    """`robkin gui --port 0` in a subprocess: prints its address, serves the page, stops on SIGINT."""
+    import signal
+
+    proc = subprocess.Popen([sys.executable, "-m", "robkin.cli", "gui", str(EXAMPLES / "rrpr.yaml"), "--port", "0"],
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        line = proc.stderr.readline()
+        assert "serving on http://127.0.0.1:" in line
+        url = line.split("serving on ")[1].split()[0]
+        with urllib.request.urlopen(url, timeout=10) as r:
+            assert b"<canvas id=\"view\"" in r.read()
+        proc.send_signal(signal.SIGINT)
+        assert proc.wait(timeout=10) == 0
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+
+
+def test_cli_gui_bad_input(tmp_path, capsys):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("robkin: 1\njoints: []\n")
+    assert main(["gui", str(bad), "--port", "0"]) == 2
+    err = capsys.readouterr().err
+    assert str(bad) in err and err.count("\n") == 1
+    assert main(["gui", "--port", "70000"]) == 2
+
+
+# ------------------------------------------------------------------------------ the page, in Chromium
+CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                  "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+
+
+def _chromium() -> str | None:
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+@pytest.fixture()
+def page(server):
+    sync_api = pytest.importorskip("playwright.sync_api", reason="the browser test needs the playwright package")
+    exe = _chromium()
+    if exe is None:
+        pytest.skip("no Chromium installed (apt-get install chromium); the browser test needs one")
+    with sync_api.sync_playwright() as pw, tempfile.TemporaryDirectory() as profile:
+        ctx = pw.chromium.launch_persistent_context(profile, executable_path=exe, headless=True, args=CHROMIUM_FLAGS,
+                                                    accept_downloads=True, viewport={"width": 1500, "height": 950})
+        pg = ctx.new_page()
+        errors: list[str] = []
+        pg.on("pageerror", lambda e: errors.append(str(e)))
+        pg.goto(server.url)
+        pg.wait_for_selector("body[data-state=ready]", timeout=15000)
+        yield pg
+        ctx.close()
+        assert not errors, f"JavaScript errors in the page: {errors}"
+
+
+def _wait_update(pg, before: int) -> None:
+    # A function, not a string: the page's Content-Security-Policy forbids eval of strings.
+    pg.wait_for_function("(n) => Number(document.body.dataset.updates) > n && document.body.dataset.state != 'busy'",
+                         arg=before, timeout=15000)
+
+
+def _updates(pg) -> int:
+    return int(pg.get_attribute("body", "data-updates"))
+
+
+def _pose(pg) -> np.ndarray:
+    T = np.eye(4)
+    for cell in pg.query_selector_all("#pose-table td[data-rc]"):
+        r, c = map(int, cell.get_attribute("data-rc").split(","))
+        T[r, c] = float(cell.get_attribute("title"))  # the title holds the full-precision number
+    return T
+
+
+def test_browser_load_move_check_download(page, tmp_path):
+    pg = page
+    # The robot given on the command line is shown: Table I in the DH table, eq. (11) in the PoE table.
+    dh_cells = [c.inner_text() for c in pg.query_selector_all("#table-dh tr:nth-child(2) td")]
+    assert dh_cells[1:] == ["0.0000", "0.2000", "-1.5708", "0.0000"]
+    assert len(pg.query_selector_all("#sliders input[type=range]")) == 4
+    np.testing.assert_allclose(_pose(pg), rrpr_fk([0, 0, 0, 0]), atol=EXACT)
+
+    # Move joint 1's slider with the mouse: click at 3/4 of its track.
+    before = _updates(pg)
+    box = pg.query_selector("#q0").bounding_box()
+    pg.mouse.click(box["x"] + 0.75 * box["width"], box["y"] + box["height"] / 2)
+    _wait_update(pg, before)
+    q = [float(pg.input_value(f"#q{i}")) for i in range(4)]
+    # the slider moved; the others stayed at 0 (up to the slider's step grid rounding, ~1e-16)
+    assert 0.5 < q[0] < 2.5 and np.allclose(q[1:], 0, atol=1e-12)
+    np.testing.assert_allclose(_pose(pg), rrpr_fk(q), atol=EXACT)
+    # and the prismatic joint with the keyboard
+    before = _updates(pg)
+    pg.focus("#q2")
+    for _ in range(40):
+        pg.keyboard.press("ArrowRight")
+    _wait_update(pg, before)
+    pg.wait_for_function("() => document.body.dataset.state == 'ready'")
+    q = [float(pg.input_value(f"#q{i}")) for i in range(4)]
+    assert q[2] > 0
+    np.testing.assert_allclose(_pose(pg), rrpr_fk(q), atol=EXACT)
+
+    # Bad input: a message in the page, no crash; fixing it brings the robot back.
+    before = _updates(pg)
+    pg.fill("#robot-text", RRPR_TEXT.replace("type: prismatic", "type: slider"))
+    pg.wait_for_selector("#error:not([hidden])", timeout=15000)
+    assert "slider" in pg.inner_text("#error") and "prismatic" in pg.inner_text("#error")
+    pg.fill("#robot-text", RRPR_TEXT)
+    _wait_update(pg, before)
+    assert pg.is_hidden("#error")
+
+    # Paste another robot (the arbitrary 3R): sliders and tables follow, warnings are shown.
+    before = _updates(pg)
+    pg.select_option("#example", "arbitrary_3r")
+    _wait_update(pg, before)
+    assert len(pg.query_selector_all("#sliders input[type=range]")) == 3
+    assert "projected" in pg.inner_text("#warnings")
+    assert len(pg.query_selector_all("#table-rpy_xyz tr")) == 1 + 3 + 2
+
+    # Downloads: the URDF agrees with pinocchio, the YAML document reads back to the same robot.
+    pg.select_option("#example", "rrpr")
+    _wait_update(pg, _updates(pg))
+    with pg.expect_download() as dl:
+        pg.click("#dl-urdf")
+    urdf_path = tmp_path / dl.value.suggested_filename
+    dl.value.save_as(urdf_path)
+    assert urdf_path.name == "rrpr.urdf"
+    qt = [0.3, -0.7, 0.15, 1.2]
+    np.testing.assert_allclose(pinocchio_tool(urdf_path.read_text(), qt), rrpr_fk(qt), atol=1e-9)
+    with pg.expect_download() as dl:
+        pg.click("#dl-yaml")
+    yaml_path = tmp_path / dl.value.suggested_filename
+    dl.value.save_as(yaml_path)
+    np.testing.assert_allclose(robkin.load(yaml_path).fk(qt), rrpr_fk(qt), atol=EXACT)
+
+    # A screenshot at the paper's Fig. 2 configuration (for docs/ when ROBKIN_UPDATE_DOCS=1).
+    before = _updates(pg)
+    pg.evaluate("""(q) => q.forEach((v, i) => { const s = document.getElementById('q' + i);
+                                                s.value = String(v); s.dispatchEvent(new Event('input')); })""",
+                [3 * PI / 4, -PI / 4, 0.3, -3 * PI / 4])
+    _wait_update(pg, before)
+    pg.wait_for_function("() => document.body.dataset.state == 'ready'")
+    shot = (DOCS if os.environ.get("ROBKIN_UPDATE_DOCS") == "1" else tmp_path) / "gui.png"
+    pg.screenshot(path=str(shot), full_page=True)
+    assert shot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
