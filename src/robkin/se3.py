@@ -99,21 +99,26 @@ def matrix_from_rpy(rpy: ArrayLike) -> Array:
 def rpy_from_matrix(R: ArrayLike) -> Array:
     """(roll, pitch, yaw) with R = Rz(yaw) Ry(pitch) Rx(roll), from (..., 3, 3) -> (..., 3).
 
-    pitch is in [-pi/2, pi/2]. At gimbal lock (|pitch| = pi/2) roll is set to 0 and yaw carries the
-    whole rotation about the common axis, which still reproduces R exactly.
+    pitch is in [-pi/2, pi/2]. At gimbal lock (|pitch| = pi/2 to rounding) roll is set to 0 and yaw
+    carries the whole rotation about the common axis. At every pitch the angles rebuild R to rounding.
     """
     R = np.asarray(R, dtype=float)
     # pitch from -R20 via atan2 with the norm of the first column: accurate near +-pi/2, unlike asin.
     cos_pitch = np.hypot(R[..., 0, 0], R[..., 1, 0])
     pitch = np.arctan2(-R[..., 2, 0], cos_pitch)
-    # 1e-10: below this cos(pitch) the roll/yaw split is numerically meaningless (relative rounding of
-    # entries ~1e-16 divided by cos(pitch) would exceed 1e-6 rad); the locked formula is exact there.
-    locked = cos_pitch < 1e-10
+    # Gimbal lock: roll is set to 0 and yaw carries the rotation about the common axis. Setting roll
+    # to 0 costs an error ~cos(pitch) in the rebuilt R, so the lock is taken only where that is
+    # rounding noise (4 eps); everywhere else the general formulas below reproduce R to rounding.
+    locked = cos_pitch < 4 * np.finfo(float).eps
     roll = np.where(locked, 0.0, np.arctan2(R[..., 2, 1], R[..., 2, 2]))
-    yaw_free = np.arctan2(R[..., 1, 0], R[..., 0, 0])
-    # gimbal lock: R = Rz(yaw) Ry(+-pi/2); yaw from the (0,1)/(1,1) entries
-    yaw_locked = np.arctan2(-R[..., 0, 1], R[..., 1, 1])
-    yaw = np.where(locked, yaw_locked, yaw_free)
+    # yaw from what is left once roll and pitch are undone, Rz(yaw) = R Rx(roll)^T Ry(pitch)^T, rather
+    # than from R's first column: near gimbal lock roll carries an error ~eps / cos(pitch), and a yaw
+    # read independently would not compensate it (R rebuilt from the angles was off by ~1e-7 at
+    # cos(pitch) = 1e-9). Read from the residual, yaw absorbs the roll error about the near-common
+    # axis, and the angles reproduce R to rounding at every pitch.
+    undo = np.swapaxes((rot_y(pitch) @ rot_x(roll))[..., :3, :3], -1, -2)
+    Rz = R @ undo
+    yaw = np.arctan2(Rz[..., 1, 0], Rz[..., 0, 0])
     return np.stack([roll, pitch, yaw], axis=-1)
 
 
