@@ -208,3 +208,49 @@ def test_metrics_bad_value(tmp_path, capsys):
                  "metrics: {length: -1, manipulability_translational: 0, manipulability_rotational: 0}\n")
     assert main(["plot", "--metrics", str(p), "-o", str(tmp_path / "m.png")]) == 2
     assert "metrics.length: expected a number >= 0" in capsys.readouterr().err
+
+
+def _ur5_urdf() -> Path:
+    import glob
+    import sys
+
+    found = glob.glob(str(Path(sys.prefix) / "lib" / "python*" / "site-packages" / "cmeel.prefix" / "share" /
+                          "example-robot-data" / "robots" / "ur_description" / "urdf" / "ur5_robot.urdf"))
+    if not found:
+        pytest.skip("example-robot-data (test extra) is not installed")
+    return Path(found[0])
+
+
+def test_real_urdf_arm_drawn_where_pinocchio_puts_it():
+    """UR5 from example-robot-data: drawn joint axes and tool agree with pinocchio's FK."""
+    pin = pytest.importorskip("pinocchio")
+    path = _ur5_urdf()
+    robot = robkin.load(path, tip_link="tool0")
+    q = np.array([0.0, -PI / 2, PI / 2, -PI / 2, -PI / 2, 0.0]) + np.array([0.3, 0.2, -0.1, 0.4, 0.5, -0.6])
+    model = pin.buildModelFromUrdf(str(path))
+    data = model.createData()
+    config = pin.neutral(model)
+    for name, value in zip([j.name for j in robot.joints], q):
+        joint = model.joints[model.getJointId(name)]
+        if joint.nq == 2:  # continuous joint: (cos q, sin q)
+            config[joint.idx_q:joint.idx_q + 2] = math.cos(value), math.sin(value)
+        else:
+            config[joint.idx_q] = value
+    pin.framesForwardKinematics(model, data, config)
+    base = data.oMf[model.getFrameId("base_link")].homogeneous
+    tool = np.linalg.inv(base) @ data.oMf[model.getFrameId("tool0")].homogeneous
+    for s in overlay_scenes(robot, q, ["gjd", "dh", "poe"]):
+        # 1e-9: both read the URDF's decimal text but compose the transforms in different orders
+        np.testing.assert_allclose(s.tool, tool, atol=1e-9, err_msg=s.label)
+    # Joint axes as the URDF states them (read here with ElementTree), placed by pinocchio's FK.
+    axes = {j.get("name"): np.array(j.find("axis").get("xyz").split(), dtype=float)
+            for j in ET.parse(path).getroot().iter("joint") if j.find("axis") is not None}
+    scene = build_scene(robot, q)
+    for i, joint in enumerate(robot.joints):
+        M = np.linalg.inv(base) @ data.oMi[model.getJointId(joint.name)].homogeneous
+        z = M[:3, :3] @ axes[joint.name]
+        assert np.linalg.norm(np.cross(scene.axis_dirs[i], z)) < 1e-9 and scene.axis_dirs[i] @ z > 0, joint.name
+        d = scene.axis_points[i] - M[:3, 3]
+        assert np.linalg.norm(d - np.dot(d, z) * z) < 1e-9, joint.name  # a point of the same line
+    fig = plot_robot(robot, q, overlay=["gjd", "dh"])
+    assert "tool poses differ by" in fig.axes[0].get_title()

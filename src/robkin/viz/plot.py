@@ -56,7 +56,7 @@ def plot_robot(robot: Robot, q: ArrayLike | None = None, overlay: Sequence[str] 
         Defaults to the robot's name and q.
     """
     scenes = overlay_scenes(robot, q, list(overlay) or ["gjd"])
-    if len(scenes) == 1 and scenes[0].label == "GJD":
+    if len(scenes) == 1 and list(overlay) in ([], ["gjd"]):
         scenes = [_relabel(scenes[0], robot.name or "robot")]
     return plot_scenes(scenes, frames=frames, view=view, title=title or _default_title(robot.name, scenes[0].q))
 

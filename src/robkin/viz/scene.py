@@ -54,7 +54,7 @@ def _rpy(robot: Robot):
 #: Representation name (as on the command line) -> (label, converter robot -> representation object).
 #: "gjd" is the robot itself (for a URDF, its joint frames).
 REPRESENTATIONS: dict[str, tuple[str, Callable[[Robot], object] | None]] = {
-    "gjd": ("GJD", None),
+    "gjd": ("as given (GJD frames)", None),
     "dh": ("DH", _dh),
     "mdh": ("modified DH", _mdh),
     "poe": ("DH rebuilt from PoE (space)", _poe),
