@@ -1,18 +1,22 @@
-"""Readable plain-text tables of every representation, for a terminal or a log.
+"""Readable tables of every representation, for a terminal or a log.
 
-Plain text (no colour library) so that output is the same in a pipe, a file and a terminal, and the
-CLI does not pay a rich-text import for a table of a few rows.
+``render`` gives plain text (the same in a pipe, a file and a test). ``show`` prints the same content
+as rich tables when stdout is a terminal and the optional ``rich`` package is installed (imported
+lazily, only then), and as the plain text otherwise. ``NO_COLOR`` or ``ROBKIN_PLAIN`` in the
+environment force plain text.
 """
 
 from __future__ import annotations
 
-from typing import Sequence
+import os
+import sys
+from typing import Sequence, Union
 
 import numpy as np
 
 from ..robot import Robot
 
-__all__ = ["FORMATS", "fmt_num", "text_table", "matrix_text", "render"]
+__all__ = ["FORMATS", "fmt_num", "text_table", "matrix_text", "render", "show", "show_table", "use_rich"]
 
 #: Representation names accepted by ``render`` (and the CLI's --to), with a one-line description.
 FORMATS = {
@@ -62,10 +66,14 @@ def _joint_cols(robot: Robot) -> list[list[object]]:
     return [[str(i + 1), j.name, j.type + (" (flip)" if j.flip else "")] for i, j in enumerate(robot.joints)]
 
 
-def render(robot: Robot, fmt: str, layout: str = "robkin") -> str:
-    """The robot in representation ``fmt`` (a key of FORMATS) as readable text.
+#: One piece of output: a table (title, headers, rows) or a line of text / a matrix block.
+Block = Union[tuple[str | None, Sequence[str], Sequence[Sequence[object]]], str]
 
-    ``layout='paper'`` prints a DH table in the conversion paper's n+1-row layout (row 0 is the fixed
+
+def blocks(robot: Robot, fmt: str, layout: str = "robkin") -> list[Block]:
+    """The robot in representation ``fmt`` (a key of FORMATS) as tables and text lines.
+
+    ``layout='paper'`` puts a DH table in the conversion paper's n+1-row layout (row 0 is the fixed
     base row) when the base is one DH row.
     """
     from ..representations import dh_from_robot, mdh_from_robot, poe_from_robot, rpy_from_robot
@@ -77,31 +85,85 @@ def render(robot: Robot, fmt: str, layout: str = "robkin") -> str:
         heads = ["i", "joint", "type", "a", "d", "alpha", "theta"] if fmt == "dh" else \
             ["i", "joint", "type", "a(i-1)", "d", "alpha(i-1)", "theta"]
         rows = [c + list(r) for c, r in zip(jc, t.rows)]
-        parts = []
         base_row = t.base_row() if fmt == "dh" and layout == "paper" else None
         if base_row is not None:
             rows = [["0", "(base)", "fixed"] + list(base_row)] + rows
-        parts.append(text_table(heads, rows, title))
-        parts.append("theta (revolute) and d (prismatic) are the values at q = 0; joint i adds q_i"
-                     + (" (subtracts, if flipped)" if any(j.flip for j in robot.joints) else "") + ".")
+        out: list[Block] = [(title, heads, rows)]
+        out.append("theta (revolute) and d (prismatic) are the values at q = 0; joint i adds q_i"
+                   + (" (subtracts, if flipped)" if any(j.flip for j in robot.joints) else "") + ".")
         if base_row is None:
-            parts.append(matrix_text(t.base, "base"))
-        parts.append(matrix_text(t.tool, "tool" if fmt == "mdh" else "tool (residual T_t)"))
-        return "\n".join(parts)
+            out.append(matrix_text(t.base, "base"))
+        out.append(matrix_text(t.tool, "tool" if fmt == "mdh" else "tool (residual T_t)"))
+        return out
     if fmt in ("poe", "poe-body"):
         p = poe_from_robot(robot, "space" if fmt == "poe" else "body")
         heads = ["i", "joint", "type", "wx", "wy", "wz", "vx", "vy", "vz"]
-        table = text_table(heads, [c + list(s) for c, s in zip(jc, p.screws)])
-        return "\n".join([title, table, matrix_text(p.M, "M")])
+        return [(title, heads, [c + list(s) for c, s in zip(jc, p.screws)]), matrix_text(p.M, "M")]
     if fmt == "rpy-xyz":
         rows = rpy_from_robot(robot).rows
         labels = [["0", "world->base", ""]] + jc + [[str(robot.n + 1), "tool", ""]]
-        return text_table(["row", "frame", "type", "roll", "pitch", "yaw", "x", "y", "z"],
-                          [lab + list(r) for lab, r in zip(labels, rows)], title)
+        return [(title, ["row", "frame", "type", "roll", "pitch", "yaw", "x", "y", "z"],
+                 [lab + list(r) for lab, r in zip(labels, rows)])]
     if fmt == "gjd":
-        parts = [title]
+        parts: list[Block] = [title]
         for i, F in enumerate(robot.frames):
             label = f"J{i + 1} ({robot.joints[i].name}, {robot.joints[i].type})" if i < robot.n else f"J{i + 1} (tool)"
             parts.append(matrix_text(F, label))
-        return "\n".join(parts)
+        return parts
     raise ValueError(f"unknown format {fmt}")  # pragma: no cover - callers validate
+
+
+def render(robot: Robot, fmt: str, layout: str = "robkin") -> str:
+    """The robot in representation ``fmt`` (a key of FORMATS) as plain text (see ``blocks``)."""
+    return "\n".join(b if isinstance(b, str) else text_table(b[1], b[2], b[0]) for b in blocks(robot, fmt, layout))
+
+
+def use_rich(stream=None) -> bool:
+    """Rich tables only on a terminal, with rich installed, and not disabled by the environment."""
+    stream = sys.stdout if stream is None else stream
+    if os.environ.get("NO_COLOR") or os.environ.get("ROBKIN_PLAIN"):
+        return False
+    try:
+        if not stream.isatty():
+            return False
+    except (AttributeError, ValueError):
+        return False
+    import importlib.util
+
+    return importlib.util.find_spec("rich") is not None
+
+
+def show_blocks(items: Sequence[Block], stream=None) -> None:
+    """Print tables and text: rich on a terminal (see ``use_rich``), plain text otherwise."""
+    stream = sys.stdout if stream is None else stream
+    if not use_rich(stream):
+        for b in items:
+            print(b if isinstance(b, str) else text_table(b[1], b[2], b[0]), file=stream)
+        return
+    from rich.console import Console  # lazy: ~40 ms, only for a terminal
+    from rich.table import Table
+
+    console = Console(file=stream, highlight=False)
+    for b in items:
+        if isinstance(b, str):
+            console.print(b, markup=False)
+            continue
+        title, headers, rows = b
+        numeric = [bool(rows) and all(not isinstance(r[i], str) for r in rows) for i in range(len(headers))]
+        table = Table(title=title, title_justify="left", header_style="bold")
+        for h, num in zip(headers, numeric):
+            table.add_column(h, justify="right" if num else "left")
+        for r in rows:
+            table.add_row(*[c if isinstance(c, str) else fmt_num(c) for c in r])
+        console.print(table)
+
+
+def show(robot: Robot, fmt: str, layout: str = "robkin", stream=None) -> None:
+    """Print the robot in representation ``fmt``: rich tables on a terminal, plain text otherwise."""
+    show_blocks(blocks(robot, fmt, layout), stream)
+
+
+def show_table(headers: Sequence[str], rows: Sequence[Sequence[object]], title: str | None = None,
+               stream=None) -> None:
+    """Print one table: rich on a terminal, plain text otherwise."""
+    show_blocks([(title, headers, rows)], stream)

@@ -1,0 +1,107 @@
+"""robkin info: a robot's joints (types, limits, axes) and how each axis relates to the one before."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+
+from ._common import add_input, load_input
+
+EPILOG = """\
+For each joint: type, limits, the axis direction and a point on it (in the robot base frame at q = 0),
+and how the axis relates to the previous one (the base z axis for joint 1): skew, parallel,
+anti-parallel, coincident, anti-coincident or intersecting, with the angle and distance between them.
+A prismatic joint is a direction, not a line: next to one, only parallel / anti-parallel / not
+parallel and the angle are given.
+
+examples:
+  robkin info rrpr.yaml
+  robkin info panda.urdf --tip-link panda_hand_tcp
+  robkin info ur5.urdf --tip-link tool0 --json
+"""
+
+
+def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    p = sub.add_parser("info", help="joint table: types, limits, axes and how they relate",
+                       description="Describe a robot: joints, types, limits, axis directions and the relation "
+                                   "of each axis to the previous one.",
+                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_input(p)
+    p.add_argument("--json", action="store_true", help="print the description as JSON")
+    return p
+
+
+def describe(robot) -> dict:
+    """JSON-ready description of a robot: joints with axes and relations, tool and world poses."""
+    import numpy as np
+
+    from .. import se3
+    from ..lines import ANGLE_TOL, classify, common_normal
+
+    z_prev, p_prev, line_prev = np.array([0.0, 0.0, 1.0]), np.zeros(3), True
+    joints = []
+    for i, j in enumerate(robot.joints):
+        z, p = robot.axes[i], robot.points[i]
+        if j.revolute:
+            p = p - np.dot(p, z) * z  # the point of the axis closest to the base origin
+        angle = math.degrees(math.acos(float(np.clip(np.dot(z_prev, z), -1.0, 1.0))))
+        dist: float | None = None
+        if j.revolute and line_prev:
+            rel = classify(p_prev, z_prev, p, z, robot.scale).value
+            dist = _c(common_normal(p_prev, z_prev, p, z).distance)
+        else:
+            # a prismatic joint is a direction: only the angle between the axes means something
+            sin = float(np.linalg.norm(np.cross(z_prev, z)))
+            rel = ("parallel" if np.dot(z_prev, z) > 0 else "anti-parallel") if sin < ANGLE_TOL else "not parallel"
+        joints.append({"index": i + 1, "name": j.name, "type": j.type,
+                       "lower": j.lower, "upper": j.upper, "flip": j.flip,
+                       "axis": _clean(z), "point": _clean(p) if j.revolute else None, "relation": rel,
+                       "angle_deg": _c(angle), "distance": dist})
+        z_prev, p_prev, line_prev = z, p, j.revolute
+    tool = robot.tool
+    return {"name": robot.name, "n": robot.n, "types": "".join("R" if j.revolute else "P" for j in robot.joints),
+            "scale": robot.scale, "joints": joints,
+            "tool": {"position": _clean(tool[:3, 3]), "rpy": _clean(se3.rpy_from_matrix(tool[:3, :3])),
+                     "matrix": [_clean(r) for r in tool]},
+            "world": [_clean(r) for r in robot.world]}
+
+
+def _c(x: float) -> float:
+    # below 1e-12 is rounding noise of products (robot sizes ~1e-3..1e3): print an exact 0
+    return 0.0 if abs(x) < 1e-12 else float(x)
+
+
+def _clean(v) -> list[float]:
+    return [_c(x) for x in v]
+
+
+def run(args: argparse.Namespace) -> int:
+    robot = load_input(args.input, args)
+    d = describe(robot)
+    if args.json:
+        print(json.dumps(d, indent=2, allow_nan=False))
+        return 0
+    import numpy as np
+
+    from ..io.tables import fmt_num, matrix_text, show_blocks
+
+    def lim(x):
+        return "-" if x is None else fmt_num(x)
+
+    def vec(v):
+        return " ".join(fmt_num(x, 4) for x in v)
+
+    rows = [[str(j["index"]), j["name"], j["type"] + (" (flip)" if j["flip"] else ""), lim(j["lower"]),
+             lim(j["upper"]), vec(j["axis"]), vec(j["point"]) if j["type"] == "revolute" else "(direction only)",
+             j["relation"], j["angle_deg"], "-" if j["distance"] is None else j["distance"]]
+            for j in d["joints"]]
+    title = (f"{robot.name or args.input}: {robot.n} joints ({d['types']}), size {fmt_num(robot.scale, 4)}; "
+             f"axes in the base frame at q = 0, relation to the previous axis (joint 1: base z)")
+    items = [(title, ["i", "joint", "type", "lower", "upper", "axis", "point on axis", "relation",
+                      "angle deg", "distance"], rows),
+             "tool at q = 0: position " + vec(d["tool"]["position"]) + ", rpy " + vec(d["tool"]["rpy"])]
+    if not np.allclose(robot.world, np.eye(4), atol=1e-12, rtol=0):
+        items.append(matrix_text(robot.world, "world -> base"))
+    show_blocks(items)
+    return 0

@@ -1,0 +1,157 @@
+"""robkin check / robkin.equivalence.compare: same robot, same mechanism under a joint mapping, or not.
+
+Every diagnosis is verified independently by FK: a reported mapping q_A = sign * q_B + offset must
+make T_A(sign * q + offset) equal T_B(q) at random q, and a reported difference must make FK differ.
+The vendor case uses Universal Robots' published DH parameters of the UR5 against the ROS URDF.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+
+import numpy as np
+import pytest
+
+from robkin import DHTable, Joint, Robot, dh_from_robot, se3
+from robkin.cli import main
+from robkin.equivalence import compare
+from robkin.io.urdf import robot_from_urdf
+from test_urdf import ROBOTS_DIR, robot_file
+
+UR5_URDF = "ur_description/urdf/ur5_robot.urdf"
+
+#: Universal Robots' published DH parameters of the UR5 (a, d, alpha, theta), metres and radians.
+UR5_VENDOR_DH = f"""robkin: 1
+name: ur5-vendor
+joints: [revolute, revolute, revolute, revolute, revolute, revolute]
+dh:
+  rows:
+    - {{a: 0, d: 0.089159, alpha: pi/2, theta: 0}}
+    - {{a: -0.425, d: 0, alpha: 0, theta: 0}}
+    - {{a: -0.39225, d: 0, alpha: 0, theta: 0}}
+    - {{a: 0, d: 0.10915, alpha: pi/2, theta: 0}}
+    - {{a: 0, d: 0.09465, alpha: -pi/2, theta: 0}}
+    - {{a: 0, d: 0.0823, alpha: 0, theta: 0}}
+"""
+
+
+def fk_mapping_error(a: Robot, b: Robot, signs, offsets, seed: int = 0) -> float:
+    rng = np.random.default_rng(seed)
+    Q = rng.uniform(-np.pi, np.pi, size=(32, a.n))
+    return float(np.abs(a.fk(Q * np.asarray(signs) + np.asarray(offsets)) - b.fk(Q)).max())
+
+
+@pytest.fixture(scope="module")
+def ur5() -> Robot:
+    return robot_from_urdf(robot_file(UR5_URDF), tip_link="tool0")
+
+
+def test_conversion_is_the_same_robot(ur5):
+    for other in (dh_from_robot(ur5).to_robot(), ur5):
+        c = compare(ur5, other)
+        assert c.same and c.equivalent and c.first_difference is None
+        assert [j.status for j in c.joints] == ["same"] * 6
+        assert c.max_fk_error < 1e-12
+
+
+def test_theta_offset_is_found_on_the_right_joint(ur5):
+    dh = dh_from_robot(ur5)
+    for k, delta in ((0, 0.4), (2, 0.3), (5, -1.1)):  # first, middle and last joint (last: via the tool)
+        rows = dh.rows.copy()
+        rows[k, 3] += delta
+        other = DHTable(rows, dh.joints, dh.base, dh.tool).to_robot()
+        c = compare(ur5, other)
+        assert not c.same and c.equivalent
+        assert [j.index for j in c.joints if j.status != "same"] == [k]
+        # DH theta = theta0 + q: B at q equals A at q + delta
+        assert c.joints[k].status == "offset" and c.joints[k].offset == pytest.approx(delta, abs=1e-9)
+        assert fk_mapping_error(ur5, other, [j.sign for j in c.joints], [j.offset for j in c.joints]) < 1e-12
+        assert f"joint {k + 1}" in c.first_difference and "zero offset" in c.first_difference
+
+
+def test_reversed_joint_is_a_sign(ur5):
+    dh = dh_from_robot(ur5)
+    joints = list(dh.joints)
+    joints[1] = Joint(joints[1].name, flip=True)
+    other = DHTable(dh.rows, joints, dh.base, dh.tool).to_robot()
+    c = compare(ur5, other)
+    assert c.equivalent and not c.same
+    assert [j.status for j in c.joints] == ["same", "sign", "same", "same", "same", "same"]
+    assert fk_mapping_error(ur5, other, [j.sign for j in c.joints], [0] * 6) < 1e-12
+
+
+@pytest.mark.parametrize("column, amount, expect", [(0, 0.01, "axis position differs: parallel axes pointing "
+                                                                 "the same way, 0.01 apart"),
+                                                      (2, 0.1, "axis direction differs by 5.73 deg")])
+def test_moved_axis_names_the_first_joint_and_how(ur5, column, amount, expect):
+    dh = dh_from_robot(ur5)
+    rows = dh.rows.copy()
+    rows[3, column] += amount  # row 4 places joint 5's axis (standard DH: z_4)
+    c = compare(ur5, DHTable(rows, dh.joints, dh.base, dh.tool).to_robot())
+    assert not c.same and not c.equivalent
+    assert c.joints[4].status == "differs" and expect in c.joints[4].detail
+    assert c.first_difference.startswith("joint 5 ('wrist_2_joint' / 'wrist_2_joint')")
+    assert c.max_fk_error > 1e-3  # and FK really differs
+
+
+def test_prismatic_axis_position_does_not_matter():
+    # PoE cannot carry a prismatic axis position: two robots whose slider frames sit at different
+    # points along/around the same direction are the same robot
+    frames = np.stack([np.eye(4), se3.trans(0.3, 0.2, 0.5) @ se3.rot_x(0.4), se3.trans(1, 0, 0)])
+    a = Robot(frames, (Joint("r"), Joint("p", "prismatic")))
+    moved = frames.copy()
+    moved[1] = se3.trans(-0.7, 0.9, 0.1) @ moved[1]
+    b = Robot(moved, a.joints)
+    assert compare(a, b).same
+    np.testing.assert_allclose(a.fk([0.3, 0.2]), b.fk([0.3, 0.2]), atol=1e-15)
+
+
+def test_type_and_count_mismatch():
+    F = np.stack([np.eye(4), se3.trans(0, 0, 1), se3.trans(0, 0, 2)])
+    a = Robot(F, (Joint("a"), Joint("b")))
+    b = Robot(F, (Joint("a"), Joint("b", "prismatic")))
+    c = compare(a, b)
+    assert not c.equivalent and "type revolute in A, prismatic in B" in c.first_difference
+    c = compare(a, Robot(F[[0, 2]], (Joint("a"),)))
+    assert not c.equivalent and c.first_difference == "joint counts differ: A has 2, B has 1"
+
+
+def test_tool_difference_when_all_axes_match(ur5):
+    c = compare(ur5, ur5.replace(frames=np.concatenate([ur5.frames[:-1], [ur5.tool @ se3.trans(0, 0, 0.02)]])))
+    assert not c.equivalent and c.tool.startswith("differs: position by 0.02")
+
+
+def test_vendor_dh_against_ros_urdf(tmp_path, capsys):
+    """UR's published DH vs the ROS URDF: same mechanism; the URDF's base_link is turned by pi about
+    joint 1's axis, which is indistinguishable from a zero offset of pi on joint 1."""
+    vendor = tmp_path / "ur5_vendor.yaml"
+    vendor.write_text(UR5_VENDOR_DH)
+    urdf = robot_file(UR5_URDF)
+    status = main(["check", str(vendor), urdf, "--tip-link", "tool0", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert status == 1 and out["equivalent"] and not out["same"]
+    assert [j["status"] for j in out["joints"]] == ["offset"] + ["same"] * 5
+    assert abs(abs(out["joints"][0]["offset"]) - np.pi) < 1e-9
+    # the published numbers are given to 1e-6 m and the URDF's pi/2 to 11 decimals
+    assert out["max_fk_error"] < 1e-9
+
+
+def test_cli_exit_codes_and_text(tmp_path, capsys):
+    urdf = robot_file(UR5_URDF)
+    out = tmp_path / "ur5_dh.yaml"
+    assert main(["convert", urdf, "--tip-link", "tool0", "--to", "dh", "-o", str(out)]) == 0
+    capsys.readouterr()
+    assert main(["check", urdf, str(out), "--tip-link", "tool0"]) == 0
+    text = capsys.readouterr().out
+    assert "verdict: same robot" in text and "shoulder_pan_joint" in text
+    assert main(["check", urdf, str(out), "--tip-link", "wrist_3_link"]) == 1
+    assert "verdict: different robots: tool" in capsys.readouterr().out
+    assert main(["check", urdf, str(out), "--tol", "-1"]) == 2
+    assert "--tol" in capsys.readouterr().err
+
+
+def test_check_help_has_examples(capsys):
+    with pytest.raises(SystemExit):
+        main(["check", "--help"])
+    assert "examples:" in capsys.readouterr().out
