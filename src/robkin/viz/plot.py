@@ -174,7 +174,10 @@ def save_figure(fig: "Figure", path: str | os.PathLike, *, caption: str = "") ->
         return p
     folder = check_writable_dir(p)
     fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=ext, dir=folder)
+    umask = os.umask(0)
+    os.umask(umask)
     try:
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes the file private (0600); a picture is an ordinary file
         with os.fdopen(fd, "wb") as fh, _reproducible():
             fig.savefig(fh, format=ext[1:], dpi=150, metadata=_metadata(ext))
         os.replace(tmp, p)
