@@ -183,17 +183,22 @@ def approx_dh_params(prev: np.ndarray, target: np.ndarray) -> tuple[float, float
     """
     o0, x0, y0, z0 = prev[:3, 3], prev[:3, 0], prev[:3, 1], prev[:3, 2]
     o1, x1, y1, z1 = target[:3, 3], target[:3, 0], target[:3, 1], target[:3, 2]
+    # Each sign test is a tie when the tested dot product is 0 (e.g. x1 in the x0-z0 plane); ties go
+    # to + with a margin of KEEP_TOL (relative), so that rounding noise (~1e-15) of a round trip through
+    # the GJD cannot flip the sign and a written table reads back as the same table. (A reachable
+    # target with |theta| < KEEP_TOL may get +|theta|: the residual tool absorbs the 2e-12.)
+    reach = float(np.linalg.norm(o1 - o0))
     theta = math.atan2(np.linalg.norm(np.cross(x0, x1)), np.dot(x0, x1))
-    if np.dot(y0, x1) < 0:
+    if np.dot(y0, x1) < -KEEP_TOL:
         theta = -theta
     alpha = math.atan2(np.linalg.norm(np.cross(z0, z1)), np.dot(z0, z1))
-    if np.dot(y1, z0) < 0:
+    if np.dot(y1, z0) < -KEEP_TOL:
         alpha = -alpha
     d = _line_distance(o0, x0, o1, x1)
-    if np.dot(o1 - o0, z0) < 0:
+    if np.dot(o1 - o0, z0) < -KEEP_TOL * reach:
         d = -d
     a = _line_distance(o0, z0, o1, z1)
-    if np.dot(o1 - o0, x1) < 0:
+    if np.dot(o1 - o0, x1) < -KEEP_TOL * reach:
         a = -a
     return a, d, alpha, theta
 
