@@ -11,7 +11,10 @@ from ._common import add_input, load_input
 
 #: --to FORMAT -> document section written for it (None: a whole document or another file type)
 SECTION_OF = {"dh": "dh", "mdh": "mdh", "poe": "poe", "poe-body": "poe_body", "rpy-xyz": "rpy_xyz",
-              "gjd": "gjd", "json": None, "yaml": None, "urdf": None}
+              "gjd": "gjd", "json": None, "yaml": None, "urdf": None, "mjcf": None}
+#: Output file extensions accepted for each format (the first is used for batch output names).
+EXTENSIONS = {"urdf": (".urdf",), "mjcf": (".xml", ".mjcf"), "json": (".json",), "yaml": (".yaml", ".yml")}
+DOC_EXTENSIONS = (".yaml", ".yml", ".json")
 
 EPILOG = """\
 formats:
@@ -19,17 +22,25 @@ formats:
   poe       Product of Exponentials, space frame            poe-body  PoE, body frame
   rpy-xyz   RPY-XYZ table, n+2 rows (URDF convention)       gjd       Global Joint Description frames
   json/yaml a robot document with every section             urdf      a URDF file
+  mjcf      a MuJoCo model (MJCF), tool as site 'tool'
 
-Without -o a readable table (or the document/URDF text) goes to stdout. With -o FILE a robot document
+Without -o a readable table (or the document/URDF/MJCF text) goes to stdout; --json prints the
+robot document with the chosen section as JSON instead of a table. With -o FILE a robot document
 (.yaml/.yml/.json) holding the joints and the chosen section is written (or the whole document for
-json/yaml, or the URDF). Several inputs need -o DIR; every input is read and converted first, and
-files are written only if all of them succeed.
+json/yaml, or the URDF/MJCF). Several inputs need -o DIR; every input is read and converted first,
+and files are written only if all of them succeed. Output goes to a temporary file renamed into
+place, so a failed run never leaves a partial or clobbered file.
+
+Joint variables are the same in every output: q_i means the same configuration in the DH table, the
+PoE and the URDF it came from (same sign, same zero); a note on stderr says so for URDF input.
 
 examples:
   robkin convert rrpr.yaml --to poe
   robkin convert rrpr.yaml --to dh --layout paper
-  robkin convert ur5.urdf --to dh -o ur5_dh.yaml
-  robkin convert robot.yaml --to json -o robot.json
+  robkin convert ur5.urdf --tip-link tool0 --to dh -o ur5_dh.yaml
+  robkin convert panda.urdf --tip-link panda_hand_tcp --to mdh --json
+  robkin convert robot.yaml --to urdf -o robot.urdf
+  robkin convert robot.yaml --to mjcf -o robot.xml
   robkin convert a.yaml b.yaml c.urdf --to yaml -o converted/
 """
 
@@ -43,6 +54,8 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--to", required=True, choices=list(SECTION_OF), metavar="FORMAT",
                    help="output representation: " + ", ".join(SECTION_OF))
     p.add_argument("-o", "--output", metavar="OUT", help="output file, or folder for several inputs")
+    p.add_argument("--json", action="store_true",
+                   help="print the robot document with the chosen section as JSON (instead of a table)")
     p.add_argument("--layout", choices=["robkin", "paper"], default="robkin",
                    help="DH table layout on stdout: 'paper' prints the base as row 0 (n+1 rows)")
     return p
@@ -56,6 +69,10 @@ def _render_file(robot, fmt: str, out_ext: str) -> str:
         from ..io.urdf import urdf_from_robot
 
         return urdf_from_robot(robot)
+    if fmt == "mjcf":
+        from ..io.mjcf import mjcf_from_robot
+
+        return mjcf_from_robot(robot)
     section = SECTION_OF[fmt]
     doc = document_from_robot(robot) if section is None else document_from_robot(robot, (section,))
     doc_fmt = "json" if (fmt == "json" or out_ext == ".json") and fmt != "yaml" else "yaml"
@@ -63,7 +80,30 @@ def _render_file(robot, fmt: str, out_ext: str) -> str:
 
 
 def _out_ext(fmt: str) -> str:
-    return {"urdf": ".urdf", "json": ".json"}.get(fmt, ".yaml")
+    return EXTENSIONS.get(fmt, (".yaml",))[0]
+
+
+def _check_ext(out: Path, fmt: str) -> None:
+    """The output file's extension must fit the format (a URDF in 'x.yaml' would mislead every reader)."""
+    ok = EXTENSIONS.get(fmt, DOC_EXTENSIONS)
+    if out.suffix.lower() not in ok:
+        raise InputError(f"{out}: --to {fmt} writes a {' or '.join(ok)} file; name the output accordingly")
+
+
+def _mapping_note(path: str, robot, fmt: str) -> str | None:
+    """For URDF input: the joint variables of the output are the URDF joint positions."""
+    from ..io import URDF_EXTENSIONS
+
+    if Path(path).suffix.lower() not in URDF_EXTENSIONS or fmt in ("urdf", "mjcf", "json", "yaml"):
+        return None
+    names = ", ".join(j.name for j in robot.joints[:3]) + (", ..." if robot.n > 3 else "")
+    note = (f"joint variables: q_i in this {fmt} output is the URDF position of joint i ({names}), "
+            f"with the same sign and the same zero")
+    flipped = [j.name for j in robot.joints if j.flip]
+    if flipped and fmt in ("dh", "mdh", "rpy-xyz"):
+        note += (f"; joint(s) {', '.join(flipped)} point against their frame's z (flip: true), so the table "
+                 f"subtracts q there")
+    return note
 
 
 def run(args: argparse.Namespace) -> int:
@@ -71,6 +111,9 @@ def run(args: argparse.Namespace) -> int:
 
     inputs: list[str] = args.input
     fmt: str = args.to
+    if args.json and (args.output or fmt in ("urdf", "mjcf", "yaml")):
+        raise InputError(f"--json prints a table format as JSON to stdout; it does not combine with "
+                         f"{'-o' if args.output else '--to ' + fmt}")
     if len(inputs) > 1:
         if not args.output:
             raise InputError("several inputs need -o DIR (a folder for the converted files)")
@@ -81,25 +124,35 @@ def run(args: argparse.Namespace) -> int:
         dup = {str(t) for t in targets if targets.count(t) > 1}
         if dup:
             raise InputError(f"several inputs would write the same file(s): {', '.join(sorted(dup))}")
-        texts = [_render_file(load_input(i, args), fmt, _out_ext(fmt)) for i in inputs]
         check_writable_dir(targets[0])
+        texts = []
+        for i in inputs:
+            robot = load_input(i, args)
+            texts.append(_render_file(robot, fmt, _out_ext(fmt)))
         for target, text in zip(targets, texts):
             write_text_atomic(target, text)
         print(f"wrote {len(targets)} files to {out_dir}", file=sys.stderr)
         return 0
     robot = load_input(inputs[0], args)
+    note = _mapping_note(inputs[0], robot, fmt)
     if args.output:
         out = Path(args.output)
         if out.is_dir():
             out = out / (Path(inputs[0]).stem + _out_ext(fmt))
+        _check_ext(out, fmt)
         text = _render_file(robot, fmt, out.suffix.lower())
         write_text_atomic(out, text)
         print(f"wrote {out}", file=sys.stderr)
+        if note:
+            print(f"robkin: note: {note}", file=sys.stderr)
+        return 0
+    if args.json:
+        sys.stdout.write(_render_file(robot, fmt if SECTION_OF[fmt] else "json", ".json"))
         return 0
     if SECTION_OF[fmt] is None:
         sys.stdout.write(_render_file(robot, fmt, ".json" if fmt == "json" else ".yaml"))
         return 0
-    from ..io.tables import render
+    from ..io.tables import blocks, show_blocks
 
-    print(render(robot, fmt, layout=args.layout))
+    show_blocks(blocks(robot, fmt, layout=args.layout) + ([f"note: {note}"] if note else []))
     return 0

@@ -152,7 +152,7 @@ def show_blocks(items: Sequence[Block], stream=None) -> None:
         numeric = [bool(rows) and all(not isinstance(r[i], str) for r in rows) for i in range(len(headers))]
         table = Table(title=title, title_justify="left", header_style="bold")
         for h, num in zip(headers, numeric):
-            table.add_column(h, justify="right" if num else "left")
+            table.add_column(h, justify="right" if num else "left", overflow="fold")
         for r in rows:
             table.add_row(*[c if isinstance(c, str) else fmt_num(c) for c in r])
         console.print(table)
