@@ -115,6 +115,32 @@ def test_export_urdf_matches_pinocchio_and_document_round_trips():
         gui_api.export(RRPR_TEXT, "auto", "xls")
 
 
+def test_describe_pasted_urdf_chain_matches_pinocchio():
+    """A pasted URDF tree with base/tip links picked: the tool pose is pinocchio's."""
+    import glob
+
+    found = glob.glob(os.path.join(sys.prefix, "lib", "python*", "site-packages", "cmeel.prefix", "share",
+                                   "example-robot-data", "robots", "panda_description", "urdf", "panda.urdf"))
+    if not found:
+        pytest.skip("example-robot-data (test extra) is not installed")
+    pin = pytest.importorskip("pinocchio")
+    text = Path(found[0]).read_text()
+    q = [0.1, -0.7, 0.2, -2.2, 0.3, 1.5, 0.6]
+    res = gui_api.describe(text, "auto", q, base_link="panda_link0", tip_link="panda_link8")
+    assert res["n"] == 7 and res["joints"][0]["lower"] is not None  # the Panda's joints have limits
+    model = pin.buildModelFromUrdf(found[0])
+    data = model.createData()
+    config = pin.neutral(model)
+    for name, value in zip([j["name"] for j in res["joints"]], q):
+        config[model.joints[model.getJointId(name)].idx_q] = value
+    pin.framesForwardKinematics(model, data, config)
+    base = data.oMf[model.getFrameId("panda_link0")].homogeneous
+    tool = np.linalg.inv(base) @ data.oMf[model.getFrameId("panda_link8")].homogeneous
+    np.testing.assert_allclose(res["T"], tool, atol=1e-9)  # 1e-9: both parse the URDF's decimal text
+    with pytest.raises(robkin.InputError, match="no_such_link"):
+        gui_api.describe(text, "urdf", None, tip_link="no_such_link")
+
+
 @pytest.fixture()
 def server():
     srv = make_server(port=0, text=RRPR_TEXT, fmt="yaml")
