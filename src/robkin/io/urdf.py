@@ -37,8 +37,8 @@ from .. import se3
 from ..errors import InputError, ProjectionWarning
 from ..robot import Joint, Robot
 
-__all__ = ["robot_from_urdf", "urdf_from_robot", "parse_urdf", "UrdfModel", "UrdfJoint",
-           "axis_frame"]
+__all__ = ["robot_from_urdf", "robot_from_model", "urdf_from_robot", "parse_urdf", "parse_urdf_text",
+           "UrdfModel", "UrdfJoint", "axis_frame"]
 
 #: Largest URDF read. Vendor URDFs of whole humanoids are ~1 MB; this stops accidental huge inputs.
 MAX_BYTES = 64 * 1024 * 1024
@@ -52,6 +52,10 @@ AXIS_ZERO_TOL = 1e-9
 #: so a missing limit is written as +-NO_LIMIT and a limit at least this large is read as none. No real
 #: joint travels 1e10 m or rad; the value is finite in float32 too (MuJoCo's limits).
 NO_LIMIT = 1e10
+#: Largest magnitude accepted for an origin or axis number. Norms square their inputs, so numbers
+#: near 1e154 would overflow float64 in robot size and tolerance computations; 1e100 leaves margin
+#: and is still absurd for any length unit.
+MAX_ABS = 1e100
 SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 UNSUPPORTED_TYPES = ("floating", "planar")
 
@@ -184,6 +188,8 @@ def _floats(text: str | None, count: int, where: str, default: Iterable[float]) 
         raise InputError(f"{where}: '{text}' has {len(values)} numbers; expected {count}")
     if not all(math.isfinite(v) for v in values):
         raise InputError(f"{where}: '{text}' contains NaN or infinity; expected {count} finite numbers")
+    if any(abs(v) > MAX_ABS for v in values):
+        raise InputError(f"{where}: '{text}' has a number beyond +-{MAX_ABS:g}; no robot is that large")
     return np.array(values)
 
 
@@ -239,6 +245,11 @@ def parse_urdf(source: str | os.PathLike) -> UrdfModel:
     each link has at most one parent joint; one root link; no cycles. Messages name file, joint, link.
     """
     text, src = _read_source(source)
+    return parse_urdf_text(text, src)
+
+
+def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
+    """``parse_urdf`` of URDF text; ``src`` names it in messages."""
     root = _parse_xml(text, src)
     if root.tag != "robot":
         raise InputError(f"{src}: root element is <{root.tag}>; a URDF has <robot>")
@@ -389,7 +400,12 @@ def robot_from_urdf(source: str | os.PathLike, base_link: str | None = None, tip
         GJD frames (n+1, 4, 4) in the base link frame (lengths in the file's unit, normally metres),
         joints with the URDF names and limits, ``world`` = root link -> base link at q = 0.
     """
-    model = parse_urdf(source)
+    return robot_from_model(parse_urdf(source), base_link, tip_link, name=name)
+
+
+def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: str | None = None,
+                     *, name: str | None = None) -> Robot:
+    """``robot_from_urdf`` of an already parsed URDF (see ``parse_urdf_text`` for text input)."""
     src = model.source
     base, path, world = _chain(model, base_link, tip_link)
     frames: list[np.ndarray] = []
