@@ -322,8 +322,16 @@ def test_browser_load_move_check_download(page, tmp_path):
     assert len(pg.query_selector_all("#table-rpy_xyz tr")) == 1 + 3 + 2
 
     # Downloads: the URDF agrees with pinocchio, the YAML document reads back to the same robot.
-    pg.select_option("#example", "rrpr")
-    _wait_update(pg, _updates(pg))
+    # Load a file (the RRPR robot as a JSON document): the format follows the file's extension.
+    from robkin.io.document import document_from_robot, dump
+
+    json_file = tmp_path / "rrpr_in.json"
+    json_file.write_text(dump(document_from_robot(robkin.load(EXAMPLES / "rrpr.yaml"), ("poe",)), "json"))
+    before = _updates(pg)
+    pg.set_input_files("#file", str(json_file))
+    _wait_update(pg, before)
+    assert pg.input_value("#format") == "json" and pg.is_hidden("#error")
+    assert len(pg.query_selector_all("#sliders input[type=range]")) == 4
     with pg.expect_download() as dl:
         pg.click("#dl-urdf")
     urdf_path = tmp_path / dl.value.suggested_filename

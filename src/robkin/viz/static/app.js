@@ -86,8 +86,8 @@ function showError(message) {
 
 function fmt(x, digits = 4) {
   if (x === null || x === undefined) return "";
-  const v = Math.abs(x) < 5e-13 ? 0 : x;
-  return v.toFixed(digits);
+  const s = x.toFixed(digits);
+  return /^-0\.0*$/.test(s) ? s.slice(1) : s;  // a rounding-size negative shows as 0, not -0
 }
 
 function el(tag, attrs = {}, ...kids) {
