@@ -345,7 +345,10 @@ def test_browser_load_move_check_download(page, tmp_path):
     dl.value.save_as(yaml_path)
     np.testing.assert_allclose(robkin.load(yaml_path).fk(qt), rrpr_fk(qt), atol=EXACT)
 
-    # A screenshot at the paper's Fig. 2 configuration (for docs/ when ROBKIN_UPDATE_DOCS=1).
+    # A screenshot of Table I's robot at the paper's Fig. 2 configuration (docs/ if ROBKIN_UPDATE_DOCS=1).
+    before = _updates(pg)
+    pg.select_option("#example", "rrpr")
+    _wait_update(pg, before)
     before = _updates(pg)
     pg.evaluate("""(q) => q.forEach((v, i) => { const s = document.getElementById('q' + i);
                                                 s.value = String(v); s.dispatchEvent(new Event('input')); })""",

@@ -335,6 +335,7 @@ async function start() {
     if (!ex.value) return;
     $("robot-text").value = init.examples[ex.value];
     $("format").value = "auto";
+    $("file").value = "";
     edited();
   });
   if (init.text) {
