@@ -110,6 +110,8 @@ def test_figure_draws_the_scene_with_paper_colours_and_equal_axes(rrpr):
         assert np.linalg.norm(np.cross(d / np.linalg.norm(d), z)) < EXACT and np.dot(d, z) > 0
     pink = [c for c in ax.collections if to_hex(c.get_edgecolor()[0]) == TOOL_PINK]
     assert len(pink) == 3 * 2  # x, y, z arrows of the tool, for both descriptions
+    # frames=True: an x, y, z arrow per joint frame per description, plus the tool and base triads
+    assert len(ax.collections) == 3 * (2 * rrpr.n + 2 + 1)
     spans = [np.diff(lim)[0] for lim in (ax.get_xlim(), ax.get_ylim(), ax.get_zlim())]
     np.testing.assert_allclose(spans, spans[0], rtol=1e-12)
     assert "tool poses differ by" in ax.get_title()
