@@ -23,8 +23,6 @@ examples:
 
 
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
-    from ..equivalence import DEFAULT_TOL
-
     p = sub.add_parser("check", help="are two descriptions the same robot? (exit 0 if yes)",
                        description="Compare two robot descriptions joint by joint: are they the same robot, "
                                    "and if not, which joint differs first and how.",
@@ -33,8 +31,8 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("b", metavar="B", help="second robot")
     p.add_argument("--base-link", metavar="LINK", help="URDF input(s): first link of the serial chain")
     p.add_argument("--tip-link", metavar="LINK", help="URDF input(s): last link of the serial chain (the tool)")
-    p.add_argument("--tol", type=float, default=DEFAULT_TOL,
-                   help=f"relative tolerance on angles (rad) and lengths / robot size (default {DEFAULT_TOL:g})")
+    p.add_argument("--tol", type=float, default=1e-6,  # = equivalence.DEFAULT_TOL (not imported: startup time)
+                   help="relative tolerance on angles (rad) and lengths / robot size (default 1e-06)")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
     return p
 

@@ -11,9 +11,9 @@ placeholders so that the model compiles; they carry no physical meaning.
 from __future__ import annotations
 
 import numpy as np
-from xml.sax.saxutils import quoteattr
 
 from .. import se3
+from .xmltext import quoteattr
 from ..robot import Robot
 
 __all__ = ["mjcf_from_robot", "quat_from_matrix"]

@@ -29,11 +29,11 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Iterable
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
 from .. import se3
+from .xmltext import quoteattr
 from ..errors import InputError, ProjectionWarning
 from ..robot import Joint, Robot
 
