@@ -166,3 +166,18 @@ def test_frame_from_zx_and_is_identity():
     assert not is_identity(se3.trans(1e-13, 0, 0), 1e-3)  # relative to the robot's size
     assert not is_identity(se3.rot_z(1e-9), 1.0)
     assert math.isclose(dh_params_between(np.eye(4), np.eye(4))[3], 0.0)
+
+
+def test_frame_from_zx_is_a_rotation_even_when_x_is_nearly_along_z():
+    """Regression: x given ~1e-13 off z (a common-normal direction that is rounding noise, between
+    coincident axes far from the base) left x . z ~ 1e-3 after one Gram-Schmidt pass; the frame was
+    then no rotation and DH rows read from it broke FK by 1e-4 of the robot size."""
+    rng = np.random.default_rng(3)
+    worst = 0.0
+    for _ in range(100):
+        z = unit(rng.normal(size=3))
+        x = 2429.0 * z + 1e-10 * unit(np.cross(z, rng.normal(size=3)))  # far point minus far point
+        F = frame_from_zx(np.zeros(3), z, x)
+        worst = max(worst, np.abs(F[:3, :3].T @ F[:3, :3] - np.eye(3)).max())
+        np.testing.assert_allclose(F[:3, 2], z, atol=EXACT)
+    assert worst < 1e-15  # a few roundings of unit-size numbers

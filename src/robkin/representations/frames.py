@@ -63,8 +63,13 @@ def warn_if_far(frame: np.ndarray, scale: float, what: str) -> None:
 def frame_from_zx(origin: np.ndarray, z: np.ndarray, x: np.ndarray) -> np.ndarray:
     """Pose (4, 4) with the given origin, unit z, and x (made exactly orthogonal to z and unit)."""
     z = z / np.linalg.norm(z)
-    x = x - np.dot(x, z) * z
-    x = x / np.linalg.norm(x)
+    # Gram-Schmidt twice: when the given x is nearly along z (e.g. a common-normal direction that is
+    # rounding noise, between coincident axes classified as parallel far from the base), one pass
+    # leaves x . z ~ eps |x| / |x_perp| (seen: 5.6e-10) and the frame is not a rotation; the second
+    # pass brings it back to rounding noise ("twice is enough", Parlett).
+    for _ in range(2):
+        x = x - np.dot(x, z) * z
+        x = x / np.linalg.norm(x)
     return se3.homogeneous(np.column_stack([x, np.cross(z, x), z]), origin)
 
 
