@@ -313,6 +313,15 @@ class Robot:
         out[:, self.n] = T
         return out[0] if single else out
 
+    def ik(self, T: ArrayLike, **options):
+        """Inverse kinematics for a target (4, 4) or targets (N, 4, 4): see ``robkin.kinematics.ik.ik``.
+
+        Returns an ``IKResult`` with ``.q``, ``.success`` and the errors reached.
+        """
+        from .kinematics.ik import ik
+
+        return ik(self, T, **options)
+
     # ------------------------------------------------------------------ conveniences
     def random_q(self, size: int | None = None, rng: np.random.Generator | int | None = None,
                  default_range: float = math.pi) -> np.ndarray:

@@ -18,7 +18,7 @@ from .. import se3
 from ..robot import Robot, check_q
 
 __all__ = ["jacobian_space", "jacobian_body", "jacobian_geometric", "manipulability",
-           "singular_values"]
+           "singular_values", "inverse_condition_number", "min_singular_value", "measures"]
 
 
 def _axes_at(robot: Robot, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -64,11 +64,31 @@ def singular_values(J: ArrayLike) -> np.ndarray:
     return np.linalg.svd(np.asarray(J, dtype=float), compute_uv=False)
 
 
+#: rows of the geometric Jacobian [v; w] each measure looks at
+_ROWS = {"translational": slice(0, 3), "rotational": slice(3, 6), "full": slice(0, 6)}
+
+
+def _selected_singular_values(robot: Robot, q: ArrayLike, kind: str) -> np.ndarray:
+    if kind not in _ROWS:
+        from ..errors import InputError
+
+        raise InputError(f"manipulability kind '{kind}' is not one of {', '.join(_ROWS)}")
+    J = jacobian_geometric(robot, q)
+    return singular_values(J[..., _ROWS[kind], :])
+
+
+def _scalar(x: np.ndarray) -> np.ndarray | float:
+    return float(x) if np.ndim(x) == 0 else x
+
+
 def manipulability(robot: Robot, q: ArrayLike, kind: str = "translational") -> np.ndarray | float:
     """Yoshikawa's manipulability of the geometric Jacobian at the tool origin.
 
     Parameters
     ----------
+    robot : Robot
+    q : (n,) or (N, n) array
+        Joint values (radians / length units).
     kind : {'translational', 'rotational', 'full'}
         Rows used: v (3 x n), w (3 x n) or both (6 x n).
 
@@ -77,13 +97,40 @@ def manipulability(robot: Robot, q: ArrayLike, kind: str = "translational") -> n
     float or (N,) array
         The product of the singular values of the selected rows: sqrt(det(J J^T)) when n >= rows,
         and sqrt(det(J^T J)) otherwise (the volume of the image of the unit ball within its span).
+        Units: length^3 (translational), 1 (rotational), length^3 (full, mixed rows).
     """
-    J = jacobian_geometric(robot, q)
-    rows = {"translational": slice(0, 3), "rotational": slice(3, 6), "full": slice(0, 6)}
-    if kind not in rows:
-        from ..errors import InputError
+    return _scalar(np.prod(_selected_singular_values(robot, q, kind), axis=-1))
 
-        raise InputError(f"manipulability kind '{kind}' is not one of {', '.join(rows)}")
-    s = singular_values(J[..., rows[kind], :])
-    out = np.prod(s, axis=-1)
-    return float(out) if np.ndim(out) == 0 else out
+
+def inverse_condition_number(robot: Robot, q: ArrayLike, kind: str = "translational") -> np.ndarray | float:
+    """sigma_min / sigma_max of the selected rows of the geometric Jacobian, in [0, 1].
+
+    1 is isotropic, 0 singular. For ``kind='full'`` the rows mix length and angle units, so the value
+    depends on the length unit (the measure is most meaningful per kind). Shapes as ``manipulability``.
+    Only the first min(rows, n) singular values exist: an arm with fewer joints than selected rows is
+    measured within the span of its Jacobian.
+    """
+    s = _selected_singular_values(robot, q, kind)
+    smax = s[..., 0]
+    return _scalar(np.where(smax > 0, s[..., -1] / np.where(smax > 0, smax, 1.0), 0.0))
+
+
+def min_singular_value(robot: Robot, q: ArrayLike, kind: str = "translational") -> np.ndarray | float:
+    """Smallest singular value of the selected rows of the geometric Jacobian (0 at a singularity).
+
+    Units: length per radian (translational rows of revolute joints), 1 (rotational). Shapes as
+    ``manipulability``.
+    """
+    return _scalar(_selected_singular_values(robot, q, kind)[..., -1])
+
+
+def measures(robot: Robot, q: ArrayLike) -> dict[str, np.ndarray | float]:
+    """All measures at q: Yoshikawa manipulability (translational, rotational, full), inverse
+    condition number and minimum singular value (translational and rotational)."""
+    out: dict[str, np.ndarray | float] = {}
+    for kind in _ROWS:
+        out[f"manipulability_{kind}"] = manipulability(robot, q, kind)
+    for kind in ("translational", "rotational"):
+        out[f"inverse_condition_{kind}"] = inverse_condition_number(robot, q, kind)
+        out[f"min_singular_value_{kind}"] = min_singular_value(robot, q, kind)
+    return out

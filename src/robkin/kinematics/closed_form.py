@@ -1,0 +1,75 @@
+"""Closed-form IK: the common result type and the detection of which solver fits a robot.
+
+A closed-form solver is built from a Robot by ``detect`` (None when the geometry does not fit) and
+returns *every* solution branch for a batch of targets. Detection looks at the GJD (joint axes at
+q = 0), so it works the same whatever representation the robot was read from.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Protocol
+
+import numpy as np
+
+from ..robot import Robot
+
+__all__ = ["Branches", "ClosedFormSolver", "closed_form_solver", "DETECT_ANGLE_TOL", "DETECT_LENGTH_TOL"]
+
+#: Axes count as parallel when the sine of their angle is below this, and as meeting when their
+#: distance is below DETECT_LENGTH_TOL * robot size. Both 1e-9: far above the rounding of exact
+#: geometry (~1e-15) and far below real offsets; a near-fit (a URDF typed with 1.5708 for pi/2) is
+#: not taken, so it falls back to the numeric solver instead of giving answers ~1e-5 off.
+DETECT_ANGLE_TOL = 1e-9
+DETECT_LENGTH_TOL = 1e-9
+
+
+@dataclass
+class Branches:
+    """All solution branches of a batch of targets.
+
+    Attributes
+    ----------
+    q : (N, S, n) array
+        S candidate configurations per target (revolute angles wrapped into the limits).
+    valid : (N, S) bool array
+        Branches that exist geometrically and respect the joint limits.
+    reason : list of str
+        Per target, why no branch is valid ('' when one is).
+    """
+
+    q: np.ndarray
+    valid: np.ndarray
+    reason: list[str]
+
+
+class ClosedFormSolver(Protocol):
+    name: str
+
+    def solve(self, targets: np.ndarray, q_ref: np.ndarray) -> Branches:
+        """All branches for targets (N, 4, 4), preferring q_ref (N, n) where a joint is free."""
+
+
+def closed_form_solver(robot: Robot) -> ClosedFormSolver | None:
+    """The closed-form solver that fits the robot's geometry, or None."""
+    from .analytic6r import SphericalWrist6R
+    from .scara import ScaraSolver
+
+    for cls in (ScaraSolver, SphericalWrist6R):
+        solver = cls.detect(robot)
+        if solver is not None:
+            return solver
+    return None
+
+
+def first_reason(reasons: list[tuple[np.ndarray, str | Callable[[int], str]]], n_targets: int) -> list[str]:
+    """Per target, the first message whose mask (N,) is True ('' where none is).
+
+    A message is a string or a function of the target index (for messages that quote numbers).
+    """
+    out = [""] * n_targets
+    for mask, text in reasons:
+        for i in np.flatnonzero(mask):
+            if not out[i]:
+                out[i] = text if isinstance(text, str) else text(int(i))
+    return out

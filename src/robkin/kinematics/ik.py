@@ -1,0 +1,302 @@
+"""Inverse kinematics: closed form where the geometry allows, vectorised Levenberg-Marquardt otherwise.
+
+``ik(robot, T)`` takes one target (4, 4) or a batch (N, 4, 4) of tool poses in the robot base frame
+and returns an :class:`IKResult`. Every answer is checked by an independent forward kinematics
+(``Robot.fk``) before it is called a success: ``success`` is True only if the pose is reached to
+``tol_position`` (length units) and ``tol_orientation`` (radians) over the masked components, with
+every joint within its limits.
+
+Methods:
+
+- ``'analytic'``: closed-form, all solutions (``kinematics.scara`` for SCARA-type arms,
+  ``kinematics.analytic6r`` for 6R arms with parallel axes 2, 3 and a spherical wrist). Full poses
+  only.
+- ``'numeric'``: damped least squares / Levenberg-Marquardt (``kinematics.lm``) with joint limits,
+  masks and random restarts, vectorised across targets.
+- ``'auto'`` (default): the closed form when one fits the robot and the mask is the full pose, else
+  numeric; targets whose closed-form branches fail the forward-kinematics check (near-degenerate
+  numerics) are retried numerically.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..errors import InputError
+from ..robot import Robot
+from .closed_form import closed_form_solver
+from .limits import wrap_into_limits, within_limits
+from .lm import LMSettings, solve_lm
+from .pose_error import check_mask, check_targets, masked_errors, residual
+
+__all__ = ["IKResult", "ik", "METHODS"]
+
+METHODS = ("auto", "analytic", "numeric")
+
+#: Two solutions of one target are the same when no joint differs by more than this (radians, or
+#: lengths relative to the robot's size): far above the ~1e-12 spread of one solution reached
+#: along different branches or restarts, far below any real difference between branches.
+SAME_SOLUTION_TOL = 1e-6
+
+
+@dataclass(frozen=True)
+class IKResult:
+    """Outcome of :func:`ik`. Scalars for one target, arrays over targets (leading N) for a batch.
+
+    Attributes
+    ----------
+    q : (n,) or (N, n) array
+        The solution nearest to ``q0`` where ``success``. Where not: for the numeric method the best
+        configuration found (smallest residual), for the closed form NaN (no configuration exists).
+    success : bool or (N,) bool array
+        Reached to the tolerances over the masked components, with every joint within limits.
+    iterations : int or (N,) int array
+        Levenberg-Marquardt iterations over all attempts (0 for the closed form).
+    attempts : int or (N,) int array
+        Starts used: 1 + random restarts (1 for the closed form).
+    position_error : float or (N,) array
+        |p_d - p| over the masked x, y, z components (length units; inf where q is NaN).
+    orientation_error : float or (N,) array
+        |log(R_d R^T)| over the masked components (radians; inf where q is NaN).
+    method : str
+        'scara', 'spherical-wrist-6r' (closed forms) or 'numeric'.
+    message : str or list of str
+        Why a target failed ('' where it succeeded).
+    solutions : (S, n) array, list of (S_i, n) arrays, or None
+        With ``all_solutions=True``: every distinct solution found, nearest to q0 first.
+    """
+
+    q: np.ndarray
+    success: np.ndarray | bool
+    iterations: np.ndarray | int
+    attempts: np.ndarray | int
+    position_error: np.ndarray | float
+    orientation_error: np.ndarray | float
+    method: str
+    message: list[str] | str
+    solutions: list[np.ndarray] | np.ndarray | None = None
+
+
+def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
+       method: str = "auto", all_solutions: bool = False, tol_position: float = 1e-9,
+       tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 20,
+       rng: np.random.Generator | int | None = 0) -> IKResult:
+    """Joint values that put the tool at T.
+
+    Parameters
+    ----------
+    robot : Robot
+    T : (4, 4) or (N, 4, 4) array
+        Target tool poses in the robot base frame.
+    q0 : (n,) or (N, n) array, optional
+        Preferred configuration: the numeric start, and the tie-break among closed-form solutions
+        (and for their free joints, e.g. the SCARA's redundant vertical pair). Default: zero, clipped
+        into the limits.
+    mask : 'pose' (default), 'position', or 6 values 0/1 for (x, y, z, rx, ry, rz)
+        Residual components that must match (base frame). Anything but the full pose is numeric.
+    method : 'auto', 'analytic' or 'numeric'
+    all_solutions : bool
+        Also return every distinct solution: all closed-form branches, or for the numeric method the
+        distinct solutions reached from 1 + ``restarts`` starts run side by side (not guaranteed to
+        be all of them).
+    tol_position : float
+        Length units (metres for metre robots).
+    tol_orientation : float
+        Radians.
+    max_iterations : int
+        Numeric: iterations per attempt before a random restart.
+    restarts : int
+        Numeric: random restarts per target after the first attempt.
+    rng : Generator, int seed or None
+        Source of random restarts; the default seed 0 makes results reproducible.
+
+    Returns
+    -------
+    IKResult
+    """
+    targets, single = check_targets(T)
+    N, n = len(targets), robot.n
+    m = check_mask(mask)
+    if method not in METHODS:
+        raise InputError(f"method: '{method}' is not one of {', '.join(METHODS)}")
+    for name, v in (("tol_position", tol_position), ("tol_orientation", tol_orientation)):
+        if not (np.isfinite(v) and v > 0):
+            raise InputError(f"{name}: must be a positive number, got {v}")
+    if int(max_iterations) < 1 or int(restarts) < 0:
+        raise InputError(f"max_iterations must be >= 1 and restarts >= 0, got {max_iterations}, {restarts}")
+    q_ref = _start(robot, q0, N)
+    rng = np.random.default_rng(rng)
+    settings = LMSettings(tol_position=float(tol_position), tol_orientation=float(tol_orientation),
+                          max_iterations=int(max_iterations), restarts=int(restarts))
+
+    solver = None
+    if method != "numeric":
+        solver = closed_form_solver(robot) if m.all() else None
+        if solver is None and method == "analytic":
+            why = "the mask is not the full pose" if not m.all() else \
+                "no closed-form solver fits this robot (SCARA-type, or 6R with axes 2 || 3 and a spherical wrist)"
+            raise InputError(f"method 'analytic': {why}; use method 'numeric'")
+
+    iters = np.zeros(N, int)
+    attempts = np.ones(N, int)
+    if solver is not None:
+        out = _closed_form(robot, solver, targets, q_ref, settings, all_solutions)
+        used = solver.name
+        if method == "auto" and out.retry.any():
+            r = np.flatnonzero(out.retry)
+            sub = _numeric(robot, targets[r], q_ref[r], m, settings, rng, all_solutions)
+            out.q[r], out.success[r] = sub.q, sub.success
+            iters[r], attempts[r] = sub.iterations, sub.attempts
+            for j, i in enumerate(r):
+                out.reasons[i] = sub.reasons[j]
+                if all_solutions:
+                    out.solutions[i] = sub.solutions[j]
+    else:
+        out = _numeric(robot, targets, q_ref, m, settings, rng, all_solutions)
+        iters, attempts = out.iterations, out.attempts
+        used = "numeric"
+
+    ep, eo = _errors(robot, out.q, targets, m)
+    sols = out.solutions
+    return IKResult(
+        q=out.q[0] if single else out.q,
+        success=bool(out.success[0]) if single else out.success,
+        iterations=int(iters[0]) if single else iters,
+        attempts=int(attempts[0]) if single else attempts,
+        position_error=float(ep[0]) if single else ep,
+        orientation_error=float(eo[0]) if single else eo,
+        method=used,
+        message=out.reasons[0] if single else out.reasons,
+        solutions=None if sols is None else (sols[0] if single else sols),
+    )
+
+
+@dataclass
+class _Found:
+    """Internal per-batch outcome of one method."""
+
+    q: np.ndarray                       # (N, n)
+    success: np.ndarray                 # (N,) bool
+    reasons: list[str]
+    iterations: np.ndarray              # (N,) int
+    attempts: np.ndarray                # (N,) int
+    solutions: list[np.ndarray] | None  # per target (S_i, n), with all_solutions
+    retry: np.ndarray                   # (N,) bool: closed-form trouble, worth a numeric try
+
+
+def _start(robot: Robot, q0: ArrayLike | None, N: int) -> np.ndarray:
+    """Preferred configurations (N, n), clipped into the limits."""
+    from ..robot import check_q
+
+    lim = robot.limits
+    if q0 is None:
+        Q = np.zeros((N, robot.n))
+    else:
+        Q = check_q(q0, robot.n)
+        if Q.ndim == 1:
+            Q = np.broadcast_to(Q, (N, robot.n))
+        elif Q.shape[0] != N:
+            raise InputError(f"q0: expected shape ({robot.n},) or ({N}, {robot.n}) for {N} targets, "
+                             f"got {Q.shape}")
+    return np.clip(Q, lim[:, 0], lim[:, 1])
+
+
+def _verify(robot: Robot, Q: np.ndarray, targets: np.ndarray, mask: np.ndarray,
+            settings: LMSettings) -> np.ndarray:
+    """(...) bool: configurations Q (..., n) reach their targets (...) within tolerance and limits."""
+    flat = Q.reshape(-1, robot.n)
+    finite = np.isfinite(flat).all(axis=1)
+    T = robot.fk(np.where(finite[:, None], flat, 0.0))
+    e = residual(T, targets.reshape(-1, 4, 4))
+    ep, eo = masked_errors(e, mask)
+    ok = finite & (ep <= settings.tol_position) & (eo <= settings.tol_orientation) \
+        & within_limits(flat, robot.limits)
+    return ok.reshape(Q.shape[:-1])
+
+
+def _errors(robot: Robot, q: np.ndarray, targets: np.ndarray, mask: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray]:
+    finite = np.isfinite(q).all(axis=1)
+    e = residual(robot.fk(np.where(finite[:, None], q, 0.0)), targets)
+    ep, eo = masked_errors(e, mask)
+    return np.where(finite, ep, np.inf), np.where(finite, eo, np.inf)
+
+
+def _distinct_sorted(Q: np.ndarray, ref: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """Rows of Q (k, n) without near-duplicates, sorted by distance to ref (n,)."""
+    if len(Q) == 0:
+        return Q.reshape(0, ref.shape[-1])
+    Q = Q[np.argsort(np.linalg.norm((Q - ref) / scale, axis=1), kind="stable")]
+    keep: list[np.ndarray] = []
+    for row in Q:
+        if all(np.max(np.abs(row - k) / scale) > SAME_SOLUTION_TOL for k in keep):
+            keep.append(row)
+    return np.array(keep)
+
+
+def _joint_scale(robot: Robot) -> np.ndarray:
+    """Per-joint unit for comparing solutions: 1 rad for revolute, the robot size for prismatic."""
+    return np.where(robot.revolute, 1.0, robot.scale)
+
+
+def _closed_form(robot: Robot, solver, targets: np.ndarray, q_ref: np.ndarray, settings: LMSettings,
+                 all_solutions: bool) -> _Found:
+    """Verified closed-form solutions: the one nearest q_ref per target (and all, if asked)."""
+    N, n = q_ref.shape
+    branches = solver.solve(targets, q_ref)
+    S = branches.q.shape[1]
+    reached = _verify(robot, branches.q, np.repeat(targets[:, None], S, axis=1), np.ones(6), settings)
+    valid = branches.valid & reached
+    scale = _joint_scale(robot)
+    dist = np.where(valid, np.linalg.norm((branches.q - q_ref[:, None]) / scale, axis=-1), np.inf)
+    success = valid.any(axis=1)
+    q = np.where(success[:, None], branches.q[np.arange(N), np.argmin(dist, axis=1)], np.nan)
+    reasons = list(branches.reason)
+    retry = ~success & branches.valid.any(axis=1)
+    for i in np.flatnonzero(retry):
+        reasons[i] = "closed-form solutions failed the forward-kinematics check (near a singularity)"
+    sols = [_distinct_sorted(branches.q[i][valid[i]], q_ref[i], scale) for i in range(N)] \
+        if all_solutions else None
+    return _Found(q, success, reasons, np.zeros(N, int), np.ones(N, int), sols, retry)
+
+
+def _numeric(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndarray,
+             settings: LMSettings, rng: np.random.Generator, all_solutions: bool) -> _Found:
+    """Numeric solutions; where a target fails, q is the best configuration found."""
+    N, n = q_ref.shape
+    lim = robot.limits
+    scale = _joint_scale(robot)
+    sols = None
+    if all_solutions:
+        # 1 + restarts starts per target side by side, each one attempt; keep every distinct success
+        K = 1 + settings.restarts
+        span = np.where(robot.revolute, np.pi, robot.scale)
+        lo = np.where(np.isfinite(lim[:, 0]), lim[:, 0], -span)
+        hi = np.where(np.isfinite(lim[:, 1]), lim[:, 1], span)
+        starts = rng.uniform(lo, hi, size=(N, K, n))
+        starts[:, 0] = q_ref
+        one = LMSettings(**{**settings.__dict__, "restarts": 0})
+        out = solve_lm(robot, np.repeat(targets, K, axis=0), starts.reshape(N * K, n), mask, one, rng)
+        Q, _ = wrap_into_limits(out.q.reshape(N, K, n), lim, robot.revolute, q_ref[:, None])
+        ok = _verify(robot, Q, np.repeat(targets[:, None], K, axis=1), mask, settings)
+        sols = [_distinct_sorted(Q[i][ok[i]], q_ref[i], scale) for i in range(N)]
+        iters = out.iterations.reshape(N, K).sum(axis=1)
+        attempts = np.full(N, K)
+        E = np.linalg.norm(residual(robot.fk(Q.reshape(-1, n)), np.repeat(targets, K, axis=0)) * mask,
+                           axis=1).reshape(N, K)
+        success = ok.any(axis=1)
+        best = Q[np.arange(N), np.argmin(E, axis=1)]
+        q = np.where(success[:, None], np.array([s[0] if len(s) else np.zeros(n) for s in sols]), best)
+    else:
+        out = solve_lm(robot, targets, q_ref, mask, settings, rng)
+        q, _ = wrap_into_limits(out.q, lim, robot.revolute, q_ref)
+        success = _verify(robot, q, targets, mask, settings)
+        iters, attempts = out.iterations, out.attempts
+    reasons = [""] * N
+    for i in np.flatnonzero(~success):
+        reasons[i] = (f"no solution found from {attempts[i]} start(s) (the target may be unreachable, "
+                      f"or need more restarts)")
+    return _Found(q, success, reasons, iters, attempts, sols, np.zeros(N, bool))

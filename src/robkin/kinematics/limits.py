@@ -1,0 +1,51 @@
+"""Joint limits for IK solutions: choosing the 2*pi turn of a revolute joint, and limit checks."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["wrap_into_limits", "within_limits", "LIMIT_TOL"]
+
+#: Slack on limit checks: a solution computed on a limit (clipped there, or a closed-form angle equal
+#: to it) may differ from it by rounding of a few ulps of 2*pi; 1e-12 covers that and nothing more.
+LIMIT_TOL = 1e-12
+
+
+def wrap_into_limits(Q: np.ndarray, limits: np.ndarray, revolute: np.ndarray,
+                     q_ref: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Revolute values shifted by multiples of 2*pi into their limits, nearest to q_ref.
+
+    Parameters
+    ----------
+    Q : (..., n) array
+        Joint values (radians for revolute joints, lengths for prismatic ones).
+    limits : (n, 2) array
+        Lower and upper limits, -inf/+inf where none.
+    revolute : (n,) bool array
+    q_ref : (..., n) array, optional
+        Preferred values (default 0): among the turns within the limits, the one nearest to q_ref.
+
+    Returns
+    -------
+    Q_wrapped : (..., n) array
+        The same poses; revolute joints moved by whole turns. Unlimited revolute joints end up within
+        pi of q_ref.
+    ok : (...) bool array
+        Whether every joint is within its limits (prismatic joints are only checked).
+    """
+    Q = np.asarray(Q, dtype=float)
+    ref = np.zeros_like(Q) if q_ref is None else np.broadcast_to(q_ref, Q.shape)
+    lo, hi = limits[:, 0], limits[:, 1]
+    two_pi = 2.0 * np.pi
+    with np.errstate(invalid="ignore"):
+        k_lo = np.ceil((lo - LIMIT_TOL - Q) / two_pi)     # -inf where unlimited
+        k_hi = np.floor((hi + LIMIT_TOL - Q) / two_pi)    # +inf where unlimited
+    k = np.clip(np.round((ref - Q) / two_pi), k_lo, k_hi)
+    out = np.where(revolute, Q + k * two_pi, Q)
+    ok = within_limits(out, limits)
+    return out, ok
+
+
+def within_limits(Q: np.ndarray, limits: np.ndarray) -> np.ndarray:
+    """(...) bool: every joint of Q (..., n) within [lower, upper] up to LIMIT_TOL."""
+    return np.all((Q >= limits[:, 0] - LIMIT_TOL) & (Q <= limits[:, 1] + LIMIT_TOL), axis=-1)
