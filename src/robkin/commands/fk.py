@@ -15,6 +15,7 @@ examples:
   robkin fk rrpr.yaml --q 3*pi/4,-pi/4,0.3,-3*pi/4
   robkin fk rrpr.yaml --q -0.5,0,0.1,0 --json
   robkin fk ur5.urdf --q 0,0,0,0,0,0 --json
+  robkin fk scara.yaml --q 0,0.3,0.5,0,1 --jacobian --manipulability
 """
 
 
@@ -25,6 +26,12 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     add_input(p)
     p.add_argument("--q", required=True, metavar="Q1,Q2,...", help="joint values, one per joint")
     p.add_argument("--json", action="store_true", help='print {"T": 4x4} as JSON')
+    p.add_argument("--jacobian", action="store_true",
+                   help='also the geometric Jacobian [v; w] (6 x n, base frame, at the tool origin); '
+                        'JSON key "J"')
+    p.add_argument("--manipulability", action="store_true",
+                   help="also Yoshikawa's manipulability (translational, rotational, full), inverse "
+                        'condition number and minimum singular value; JSON key "manipulability"')
     return p
 
 
@@ -35,11 +42,40 @@ def run(args: argparse.Namespace) -> int:
     robot = load_input(args.input, args)
     q = parse_q(args.q, robot.n)
     T = robot.fk(q)
+    extra = _jacobian_extras(robot, q, args)
     if args.json:
-        print(json.dumps({"T": [[float(v) + 0.0 for v in row] for row in T]}))
+        out = {"T": [[float(v) + 0.0 for v in row] for row in T]}
+        if "J" in extra:
+            out["J"] = [[float(v) + 0.0 for v in row] for row in extra["J"]]
+        if "manipulability" in extra:
+            out["manipulability"] = {k: float(v) for k, v in extra["manipulability"].items()}
+        print(json.dumps(out))
         return 0
     rpy = se3.rpy_from_matrix(T[:3, :3])
     print(matrix_text(T, "T (tool in base frame)"))
     print("position: " + ", ".join(fmt_num(v) for v in T[:3, 3]))
     print("rpy:      " + ", ".join(fmt_num(v) for v in rpy) + "  (roll, pitch, yaw; R = Rz Ry Rx)")
+    if "J" in extra:
+        from ..io.tables import text_table
+
+        rows = [[name] + [fmt_num(v) for v in row] for name, row in zip(("vx", "vy", "vz", "wx", "wy", "wz"),
+                                                                          extra["J"])]
+        print(text_table([""] + [j.name for j in robot.joints], rows,
+                         title="J (geometric, base frame, at the tool origin)"))
+    for key, value in extra.get("manipulability", {}).items():
+        print(f"{key}: {fmt_num(value)}")
     return 0
+
+
+def _jacobian_extras(robot, q, args: argparse.Namespace) -> dict:
+    """The Jacobian and manipulability measures asked for by --jacobian / --manipulability."""
+    out: dict = {}
+    if args.jacobian:
+        from ..kinematics.jacobian import jacobian_geometric
+
+        out["J"] = jacobian_geometric(robot, q)
+    if args.manipulability:
+        from ..kinematics.jacobian import measures
+
+        out["manipulability"] = measures(robot, q)
+    return out
