@@ -181,3 +181,18 @@ def test_frame_from_zx_is_a_rotation_even_when_x_is_nearly_along_z():
         worst = max(worst, np.abs(F[:3, :3].T @ F[:3, :3] - np.eye(3)).max())
         np.testing.assert_allclose(F[:3, 2], z, atol=EXACT)
     assert worst < 1e-15  # a few roundings of unit-size numbers
+
+
+@pytest.mark.parametrize("unit_length", [1e-3, 1.0, 1e3])
+def test_parallel_axes_choose_the_same_x_in_any_length_unit(unit_length):
+    """Regression: the sign test of x between parallel axes took the unnormalised normal, so its tie
+    margin (on a cosine) was in length units: axes 1e-9 m off a tie got one sign in m, the other in mm."""
+    prev = np.eye(4)
+    for offset in (-1e-9, -1e-10, 1e-10, 0.0, -1e-6):
+        p_b = np.array([offset, 1.0, 0.0]) * unit_length  # parallel to z, nearly along prev's y
+        F = common_normal_frame(np.zeros(3), np.array([0.0, 0, 1]), p_b, np.array([0.0, 0, 1]), on="b",
+                                prev=prev, scale=unit_length)
+        reference = common_normal_frame(np.zeros(3), np.array([0.0, 0, 1]), p_b / unit_length,
+                                        np.array([0.0, 0, 1]), on="b", prev=prev, scale=1.0)
+        np.testing.assert_allclose(F[:3, :3], reference[:3, :3], atol=EXACT)
+        np.testing.assert_allclose(F[:3, 3], reference[:3, 3] * unit_length, atol=EXACT * unit_length)

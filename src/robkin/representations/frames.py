@@ -127,7 +127,10 @@ def common_normal_frame(p_a: np.ndarray, u_a: np.ndarray, p_b: np.ndarray, u_b: 
         return frame_from_zx(origin, u_self, x)
     if rel in (AxisRelation.PARALLEL, AxisRelation.ANTI_PARALLEL):
         foot_b = point_line_foot(anchor, p_b, u_b)
-        x = _choose_sign(foot_b - anchor, x_prev, y_ref)
+        normal = foot_b - anchor  # nonzero: the lines do not meet
+        # unit before the sign test: its tie margin is on a cosine, and an unnormalised normal made
+        # the choice depend on the length unit (the same robot in mm got the other sign)
+        x = _choose_sign(normal / np.linalg.norm(normal), x_prev, y_ref)
         return frame_from_zx(anchor if on == "a" else foot_b, u_self, x)
     cn = closest_points(p_a, u_a, p_b, u_b)
     x = np.cross(u_a, u_b)
