@@ -53,8 +53,8 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="position tolerance in length units (default 1e-9)")
     p.add_argument("--tol-orientation", type=float, default=1e-9, metavar="RAD",
                    help="orientation tolerance in radians (default 1e-9)")
-    p.add_argument("--restarts", type=int, default=20, metavar="N",
-                   help="numeric: random restarts after the first attempt (default 20)")
+    p.add_argument("--restarts", type=int, default=50, metavar="N",
+                   help="numeric: random restarts after the first attempt (default 50)")
     p.add_argument("--seed", type=int, default=0, help="numeric: random seed (default 0)")
     return p
 

@@ -82,7 +82,7 @@ class IKResult:
 
 def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
        method: str = "auto", all_solutions: bool = False, tol_position: float = 1e-9,
-       tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 20,
+       tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 50,
        rng: np.random.Generator | int | None = 0) -> IKResult:
     """Joint values that put the tool at T.
 
