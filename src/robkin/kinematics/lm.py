@@ -1,17 +1,21 @@
 """Vectorised Levenberg-Marquardt inverse kinematics: many targets solved at once.
 
-Every array carries the targets in its leading axis, so one iteration costs one batched forward pass,
-one batched Jacobian and one batched ``np.linalg.solve`` on (N, n, n) damped normal equations for
-all targets still unsolved. Targets leave the active set as they converge; targets whose attempt
-stalls (or runs out of iterations) restart from a random configuration within the joint limits.
+Every array carries the targets (rows) in its leading axis, so one iteration costs one batched forward
+pass with Jacobian (``chain_kernel``, batch-last layout, in cache-sized chunks) and one batched
+``np.linalg.solve`` of 6 x 6 (or n x n for n < 6) damped normal equations, for all rows still active -
+no Python loop over targets. Rows leave as their target converges; attempts that are going nowhere
+restart from a random configuration within the limits (see ``LMSettings`` for the rules).
 
 Method (Madsen, Nielsen & Tingleff, *Methods for non-linear least squares problems*, 2004, sec. 3.2):
 minimise E(q) = 1/2 |W e(q)|^2, with e the base-frame pose residual (position scaled by the robot's
 size so that the problem is unit-free, orientation a rotation vector) and W the component mask. A
 step h solves (J^T J + mu I) h = J^T e with J the geometric Jacobian; it is accepted when E falls,
-and mu follows the gain ratio of actual to predicted decrease (Nielsen's update). Joint limits are
-kept by projecting every trial configuration onto the limit box; the predicted decrease is computed
-for the projected step, so the gain ratio stays honest at the limits.
+and mu follows the gain ratio of actual to predicted decrease (Nielsen's update).
+
+Joint limits: a joint already on a limit and pushed past it is frozen for that step and the step is
+solved again without it; the trial is then projected onto the limits (revolute joints whose range
+spans a full turn are turned back by 2 pi instead, which changes no pose). The predicted decrease is
+that of the step actually taken, so the gain ratio stays honest at the limits.
 """
 
 from __future__ import annotations
@@ -140,8 +144,9 @@ def fk_batch(robot: Robot, Q: np.ndarray) -> np.ndarray:
     speed for large N). Used to check closed-form solutions, which never go through this kernel."""
     N = Q.shape[0]
     out = np.empty((N, 4, 4))
+    L = local_transforms(robot)
     for a in range(0, N, _CHUNK):
-        F = chain_kernel(local_transforms(robot), robot.revolute, Q[a:a + _CHUNK])[0]
+        F = chain_kernel(L, robot.revolute, Q[a:a + _CHUNK])[0]
         out[a:a + _CHUNK, :3] = np.moveaxis(F, -1, 0).swapaxes(1, 2)
     out[:, 3] = (0.0, 0.0, 0.0, 1.0)
     return out
