@@ -188,6 +188,23 @@ def test_metrics_read_and_drawn(tmp_path):
     assert ET.parse(out).getroot().tag.endswith("svg")
 
 
+def test_metrics_grouping_prefers_file_names_and_never_stacks_bars(tmp_path):
+    from robkin.viz.metrics import plot_metrics
+
+    doc = {"robkin": 1, "name": "estimate-A", "joints": [{"name": "j1", "type": "revolute"}],
+           "dh": {"rows": [[0, 0.5, 0, 0]]},
+           "metrics": {"length": 1.0, "manipulability_translational": 0.1, "manipulability_rotational": 0.2}}
+    for stem in ("pose1_A", "pose2_A", "other"):
+        (tmp_path / f"{stem}.json").write_text(json.dumps(doc))
+    e1, e2, e3 = (read_metrics(tmp_path / f"{s}.json") for s in ("pose1_A", "pose2_A", "other"))
+    assert (e1.group, e1.series, e2.group) == ("pose1", "A", "pose2")
+    assert (e3.group, e3.series) == ("estimate", "A")  # no pattern in the file name: the document name
+    # the same place twice: one bar each, side by side
+    fig = plot_metrics([e1, e1])
+    xs = sorted(p.get_x() for p in fig.axes[0].patches)
+    assert len(xs) == 2 and xs[1] - xs[0] > fig.axes[0].patches[0].get_width() * 0.9
+
+
 def test_metrics_computed_when_absent():
     """RRPR without a metrics object: length from Table I (eq. 48), manipulability by finite differences."""
     entry = read_metrics(RRPR)

@@ -2,8 +2,9 @@
 
 The paper compares the structures it estimates by arm length (a bar plot, its Fig. 11) and by
 Yoshikawa's manipulability for translation and rotation (a logarithmic plot, its Fig. 12). Here each
-result document is one bar; results named ``<group>_<type>`` (e.g. ``pose1_A.yaml`` or a document
-``name: pose1-A``) are grouped like the paper: one group per pose, one bar per type.
+result document is one bar; results whose file (or else document) name is ``<group>_<type>`` (e.g.
+``pose1_A.yaml``, or ``name: pose1-A``) are grouped like the paper: one group per pose, one bar per
+type. If two results would take the same place, every result gets its own bar instead.
 
 A document without a ``metrics`` object gets them computed: length L = sum_i sqrt(a_i^2 + d_i^2) over
 its standard DH rows (the paper's eq. 48) and the manipulabilities at q = 0.
@@ -67,7 +68,7 @@ def read_metrics(path: str | Path) -> MetricEntry:
     data: Any = _parse_text(text, fmt, str(path))
     if not isinstance(data, dict):
         raise InputError(f"{path}: expected a robot document (a mapping with joints and a section)")
-    label = str(data.get("name") or Path(path).stem)
+    stem, name = Path(path).stem, str(data.get("name") or "")
     raw = data.get("metrics")
     if raw is None:
         values = metrics_of_robot(parse_document(text, fmt, source=str(path)))
@@ -80,9 +81,13 @@ def read_metrics(path: str | Path) -> MetricEntry:
             values[key] = float(v)
     else:
         raise InputError(f"{path}: metrics: expected a mapping with {', '.join(METRIC_KEYS)}")
-    m = _GROUPED.match(label)
-    group, series = (m["group"], m["series"].upper()) if m else ("", label)
-    return MetricEntry(label, group, series, **values)
+    # The file name first (pose1_A.yaml), then the document name (pose1-A): estimates written by one
+    # tool often share a generic name, while their files are named by the user.
+    for label in (stem, name):
+        m = _GROUPED.match(label)
+        if m:
+            return MetricEntry(label, m["group"], m["series"].upper(), **values)
+    return MetricEntry(stem, "", stem, **values)
 
 
 def plot_metrics(entries: Sequence[MetricEntry], title: str | None = None) -> "Figure":
@@ -95,6 +100,11 @@ def plot_metrics(entries: Sequence[MetricEntry], title: str | None = None) -> "F
 
     if not entries:
         raise InputError("plot --metrics: give at least one result document")
+    keys = [(e.group, e.series) for e in entries]
+    if len(set(keys)) < len(keys):  # e.g. two pose1_A files from different folders: one bar each
+        entries = [MetricEntry(f"{e.label} ({i + 1})", "", f"{e.label} ({i + 1})", e.length,
+                               e.manipulability_translational, e.manipulability_rotational)
+                   for i, e in enumerate(entries)]
     groups = list(dict.fromkeys(e.group for e in entries))
     series = list(dict.fromkeys(e.series for e in entries))
     width = 0.8 / len(series)
