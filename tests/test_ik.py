@@ -15,7 +15,7 @@ import robkin
 from robkin import se3
 from robkin.cli import main
 from robkin.errors import InputError
-from robkin.kinematics.analytic6r import SphericalWrist6R
+from robkin.kinematics.analytic6r import SphericalWrist6R, ThreeParallel6R
 from robkin.kinematics.closed_form import closed_form_solver
 from robkin.kinematics.pose_error import log_rotation_batch
 from robkin.representations import mdh_from_robot, poe_from_robot, rpy_from_robot
@@ -71,8 +71,8 @@ def pin_fk(model, robot: robkin.Robot, q: np.ndarray, frame: str) -> np.ndarray:
 
 
 # ------------------------------------------------------------------------------------------ real arms
-@pytest.mark.parametrize("name, method", [("ur5", "auto"), ("panda", "auto"), ("xarm7", "auto"),
-                                          ("kinova", "auto"), ("kinova", "numeric")])
+@pytest.mark.parametrize("name, method", [("ur5", "auto"), ("ur5", "numeric"), ("panda", "auto"),
+                                          ("xarm7", "auto"), ("kinova", "auto"), ("kinova", "numeric")])
 def test_random_reachable_targets_on_real_arms(name, method):
     robot, model, tip = load_arm(name)
     N = 300
@@ -90,8 +90,8 @@ def test_random_reachable_targets_on_real_arms(name, method):
     # the errors the result reports are the true ones (within rounding), successes within tolerance
     assert np.all(res.position_error[res.success] <= 1e-9)
     assert np.all(res.orientation_error[res.success] <= 1e-9)
-    if name == "kinova" and method == "auto":
-        assert res.method == "spherical-wrist-6r"
+    expected = {"kinova": "spherical-wrist-6r", "ur5": "three-parallel-6r"}.get(name, "numeric")
+    assert res.method == (expected if method == "auto" else "numeric")
 
 
 def test_position_only_and_partial_masks_on_panda():
@@ -111,16 +111,39 @@ def test_position_only_and_partial_masks_on_panda():
     assert np.abs(rv[res.success, 2]).max() <= 1e-9
 
 
-def test_numeric_all_solutions_on_ur5():
+def test_ur5_closed_form_and_numeric_find_the_same_solutions():
     robot, model, tip = load_arm("ur5")
-    T = robot.fk([0.3, -1.2, 1.4, -0.5, 1.1, 0.2])
-    res = robot.ik(T, all_solutions=True, restarts=40)
-    assert res.success and len(res.solutions) >= 4
-    for q in res.solutions:
+    assert isinstance(closed_form_solver(robot), ThreeParallel6R)
+    Q = robot.random_q(8, rng=21)
+    targets = robot.fk(Q)
+    closed = robot.ik(targets, all_solutions=True)
+    numeric = robot.ik(targets, all_solutions=True, method="numeric", restarts=60)
+    assert closed.success.all() and numeric.success.all()
+    for T, a, b in zip(targets, closed.solutions, numeric.solutions):
+        for q in a:
+            assert np.abs(pin_fk(model, robot, q, tip) - T).max() <= CHECK
+        # every numeric solution is a closed-form one and (with 61 starts) the other way round
+        assert all(any(same_angles(q, s) for s in a) for q in b)
+        assert all(any(same_angles(q, s) for s in b) for q in a)
+        # distinct: no two closer than the de-duplication tolerance
+        d = np.abs(a[:, None] - a[None]).max(axis=-1)
+        assert np.all(d[~np.eye(len(d), dtype=bool)] > 1e-6)
+
+
+def test_ur5_wrist_singular_targets():
+    # q5 = 0 lines axis 6 up with axes 2-4: phi and q6 trade off, and only some splits reach
+    robot, model, tip = load_arm("ur5")
+    Q = robot.random_q(300, rng=22)
+    Q[::2, 4] = 0.0
+    Q[1::4, 4] = 1e-9
+    targets = robot.fk(Q)
+    res = robot.ik(targets)
+    assert res.success.all()
+    for q, T in zip(res.q, targets):
         assert np.abs(pin_fk(model, robot, q, tip) - T).max() <= CHECK
-    # distinct: no two closer than the de-duplication tolerance
-    d = np.abs(res.solutions[:, None] - res.solutions[None]).max(axis=-1)
-    assert np.all(d[~np.eye(len(d), dtype=bool)] > 1e-6)
+    # the closed form alone never calls such a target unreachable: it solves it or says it is unsure
+    alone = robot.ik(targets, method="analytic")
+    assert all("reach" not in m for m in alone.message)
 
 
 # ---------------------------------------------------------------------------- closed-form 6R arms
@@ -165,11 +188,20 @@ def test_puma_has_eight_solutions_and_numeric_finds_no_others():
         assert any(same_angles(q, s) for s in res.solutions[0])
 
 
+def ur5_dh() -> robkin.Robot:
+    """UR5 from its published standard DH parameters, joint limits +-2 pi."""
+    rows = [[0, 0.089159, np.pi / 2, 0], [-0.425, 0, 0, 0], [-0.39225, 0, 0, 0], [0, 0.10915, np.pi / 2, 0],
+            [0, 0.09465, -np.pi / 2, 0], [0, 0.0823, 0, 0]]
+    joints = tuple(Joint(f"j{i + 1}", "revolute", -2 * np.pi, 2 * np.pi) for i in range(6))
+    return robkin.DHTable(rows, joints).to_robot(name="ur5-dh")
+
+
+@pytest.mark.parametrize("make, kind", [(kr16, SphericalWrist6R), (ur5_dh, ThreeParallel6R)])
 @pytest.mark.parametrize("convert", [mdh_from_robot, lambda r: poe_from_robot(r, "body"), rpy_from_robot])
-def test_closed_form_detected_from_any_representation(convert):
-    robot = kr16()
+def test_closed_form_detected_from_any_representation(convert, make, kind):
+    robot = make()
     other = convert(robot).to_robot()
-    assert isinstance(closed_form_solver(other), SphericalWrist6R)
+    assert isinstance(closed_form_solver(robot), kind) and isinstance(closed_form_solver(other), kind)
     targets = robot.fk(robot.random_q(30, rng=15))
     a, b = robot.ik(targets, all_solutions=True), other.ik(targets, all_solutions=True)
     assert a.success.all() and b.success.all()
@@ -298,7 +330,7 @@ def test_bad_targets_are_input_errors():
         robot.ik(np.eye(4), method="analytic", mask="position")
 
 
-def test_cli_ik_numeric_and_bad_input(capsys, tmp_path):
+def test_cli_ik_on_ur5_and_bad_input(capsys):
     path = arm_file("ur5")
     T = robkin.load(path, tip_link="tool0").fk([0.3, -1.2, 1.4, -0.5, 1.1, 0.2])
     pose = ",".join(repr(float(v)) for v in T.ravel())
@@ -315,9 +347,13 @@ def test_cli_ik_numeric_and_bad_input(capsys, tmp_path):
     assert main(["ik", path, "--tip-link", "tool0", "--pose", "0.3,0.1,0.2,0,0,0", "--mask", "1,1"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--mask" in err
-    assert main(["ik", path, "--tip-link", "tool0", "--pose", "9,0,0,0,0,0", "--restarts", "2"]) == 0
+    assert main(["ik", path, "--tip-link", "tool0", "--pose", "9,0,0,0,0,0", "--restarts", "2",
+                 "--method", "numeric"]) == 0
     captured = capsys.readouterr()
     assert captured.out == "" and "no solution found from 3 start(s)" in captured.err
+    assert main(["ik", path, "--tip-link", "tool0", "--pose", "9,0,0,0,0,0"]) == 0
+    captured = capsys.readouterr()
+    assert captured.out == "" and "three-parallel-6r): out of reach" in captured.err
 
 
 def test_cli_fk_jacobian_and_manipulability(capsys):

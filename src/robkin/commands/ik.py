@@ -13,9 +13,10 @@ The pose is the tool frame in the robot base frame: x,y,z,roll,pitch,yaw (URDF r
 16 numbers (a row-major 4x4). Expressions such as pi/2 are accepted.
 
 The solver is closed-form where the geometry allows - SCARA-type arms (all axes parallel: both elbow
-solutions; redundant vertical joints split nearest to --q0), and 6R arms with axes 2 || 3 and a
-spherical wrist (up to 8 solutions) - and Levenberg-Marquardt with joint limits and random restarts
-otherwise. Every solution printed is checked by forward kinematics to the tolerances.
+solutions; redundant vertical joints split nearest to --q0), 6R arms with axes 2 || 3 and a spherical
+wrist (KUKA, ABB, Fanuc type) and 6R arms with axes 2 || 3 || 4 (Universal Robots type), up to 8
+solutions - and Levenberg-Marquardt with joint limits and random restarts otherwise. Every solution
+printed is checked by forward kinematics to the tolerances.
 
 A pose with no solution is not an error: the output has no solutions, the reason goes to stderr
 (one line), and the exit status is 0. Exit status 2 means bad input (file, pose, options).

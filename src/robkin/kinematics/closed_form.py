@@ -36,11 +36,15 @@ class Branches:
         Branches that exist geometrically and respect the joint limits.
     reason : list of str
         Per target, why no branch is valid ('' when one is).
+    uncertain : (N,) bool array, optional
+        Targets at a singularity where a free joint took its preferred value and no branch came out:
+        other values might work, so "no solution" is not proven (``ik`` retries them numerically).
     """
 
     q: np.ndarray
     valid: np.ndarray
     reason: list[str]
+    uncertain: np.ndarray | None = None
 
 
 class ClosedFormSolver(Protocol):
@@ -52,10 +56,10 @@ class ClosedFormSolver(Protocol):
 
 def closed_form_solver(robot: Robot) -> ClosedFormSolver | None:
     """The closed-form solver that fits the robot's geometry, or None."""
-    from .analytic6r import SphericalWrist6R
+    from .analytic6r import SphericalWrist6R, ThreeParallel6R
     from .scara import ScaraSolver
 
-    for cls in (ScaraSolver, SphericalWrist6R):
+    for cls in (ScaraSolver, SphericalWrist6R, ThreeParallel6R):
         solver = cls.detect(robot)
         if solver is not None:
             return solver

@@ -9,13 +9,13 @@ every joint within its limits.
 Methods:
 
 - ``'analytic'``: closed-form, all solutions (``kinematics.scara`` for SCARA-type arms,
-  ``kinematics.analytic6r`` for 6R arms with parallel axes 2, 3 and a spherical wrist). Full poses
-  only.
+  ``kinematics.analytic6r`` for 6R arms with parallel axes 2, 3 and a spherical wrist, and for 6R
+  arms of the Universal Robots type: axes 2, 3, 4 parallel, axes 5, 6 meeting). Full poses only.
 - ``'numeric'``: damped least squares / Levenberg-Marquardt (``kinematics.lm``) with joint limits,
   masks and random restarts, vectorised across targets.
 - ``'auto'`` (default): the closed form when one fits the robot and the mask is the full pose, else
-  numeric; targets whose closed-form branches fail the forward-kinematics check (near-degenerate
-  numerics) are retried numerically.
+  numeric; targets whose closed-form branches fail the forward-kinematics check, or that sit on a
+  singularity where the closed form could not settle a free joint, are retried numerically.
 """
 
 from __future__ import annotations
@@ -62,7 +62,8 @@ class IKResult:
     orientation_error : float or (N,) array
         |log(R_d R^T)| over the masked components (radians; inf where q is NaN).
     method : str
-        'scara', 'spherical-wrist-6r' (closed forms) or 'numeric'.
+        'scara', 'spherical-wrist-6r', 'three-parallel-6r' (closed forms; targets the closed form
+        could not settle are retried numerically in 'auto') or 'numeric'.
     message : str or list of str
         Why a target failed ('' where it succeeded).
     solutions : (S, n) array, list of (S_i, n) arrays, or None
@@ -137,7 +138,8 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         solver = closed_form_solver(robot) if m.all() else None
         if solver is None and method == "analytic":
             why = "the mask is not the full pose" if not m.all() else \
-                "no closed-form solver fits this robot (SCARA-type, or 6R with axes 2 || 3 and a spherical wrist)"
+                ("no closed-form solver fits this robot (SCARA-type; 6R with axes 2 || 3 and a spherical "
+                 "wrist; or 6R with axes 2 || 3 || 4 and axes 5, 6 meeting)")
             raise InputError(f"method 'analytic': {why}; use method 'numeric'")
 
     iters = np.zeros(N, int)
@@ -264,6 +266,8 @@ def _closed_form(robot: Robot, solver, targets: np.ndarray, q_ref: np.ndarray, s
     retry = ~success & branches.valid.any(axis=1)
     for i in np.flatnonzero(retry):
         reasons[i] = "closed-form solutions failed the forward-kinematics check (near a singularity)"
+    if branches.uncertain is not None:
+        retry |= ~success & branches.uncertain
     sols = [_distinct_sorted(branches.q[i][valid[i]], q_ref[i], scale) for i in range(N)] \
         if all_solutions else None
     return _Found(q, success, reasons, np.zeros(N, int), np.ones(N, int), sols, retry)
