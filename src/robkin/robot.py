@@ -202,6 +202,13 @@ class Robot:
         p, z = self.points, self.axes
         feet = p - np.einsum("ij,ij->i", p, z)[:, None] * z
         s = float(max(np.linalg.norm(self.tool[:3, 3]), np.linalg.norm(feet, axis=1).max()))
+        # Every axis through the base origin and the tool at it, up to rounding (a robot along one
+        # line: coincident axes offset only along them): the axis distances are rounding noise
+        # (seen: 1e-28) and say nothing about size, while the frame origins along the axes do.
+        # 1e-9: far above the rounding of coordinates (~1e-16 relative), far below any real offset.
+        origins = float(np.linalg.norm(self.frames[:, :3, 3], axis=1).max())
+        if s <= 1e-9 * origins:
+            s = origins
         return s if s > 0 else 1.0
 
     @property
