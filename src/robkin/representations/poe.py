@@ -5,9 +5,9 @@ Screws are (w, v) as in Modern Robotics: revolute (w, -w x p) with |w| = 1, pris
 T(q) = M exp([B_1] q_1) ... exp([B_n] q_n) with B_i = Ad_{M^-1} S_i.
 
 PoE -> GJD places frames on the screw axes by the DH rules (``frames.common_normal_frame``).
-A prismatic screw has no position: its axis is placed through the previous joint frame's origin
-(the robot base origin for joint 1). FK does not depend on that choice, but a DH table derived from
-the PoE may differ from the one the PoE came from (the paper's Table III).
+A prismatic screw has no position: its axis is placed through the point of the previous axis
+(the paper's q_i = q_{i-1}; the robot base origin for joint 1). FK does not depend on that choice,
+but a DH table derived from the PoE may differ from the one the PoE came from (the paper's Table III).
 """
 
 from __future__ import annotations
@@ -34,7 +34,8 @@ def check_screws(screws: ArrayLike, joints: tuple[Joint, ...], field_name: str =
     """Validate unit screws (n, 6) against joint types; project near-valid ones with a warning.
 
     Revolute: |w| = 1 and w . v = 0 (no pitch). Prismatic: w = 0 and |v| = 1. Within PROJECTION_TOL
-    (relative: |w . v| is compared with |v|) the screw is projected onto the nearest valid one.
+    (relative: |w . v| is compared with the largest revolute |v|, the robot's size) the screw is
+    projected onto the nearest valid one.
     """
     try:
         S = np.array(screws, dtype=float)
@@ -46,6 +47,11 @@ def check_screws(screws: ArrayLike, joints: tuple[Joint, ...], field_name: str =
     if S.shape[0] != n:
         raise InputError(f"{field_name}: expected {n} screws (one per joint), got {S.shape[0]}")
     out = S.copy()
+    # The pitch tolerance is relative to the robot's size (the farthest revolute axis from the
+    # origin, |v| = distance): relative to each screw's own |v| it refused an axis passing 10 um from
+    # the origin typed to the um, where rounding is 5 % of that |v| but 1e-3 of the robot.
+    finite = np.all(np.isfinite(S), axis=1) & np.array([j.revolute for j in joints])
+    size = float(np.linalg.norm(S[finite, 3:], axis=1).max()) if finite.any() else 0.0
     for i, (s, joint) in enumerate(zip(S, joints)):
         where = f"{field_name}[{i}] (joint '{joint.name}', {joint.type})"
         if not np.all(np.isfinite(s)):
@@ -61,7 +67,7 @@ def check_screws(screws: ArrayLike, joints: tuple[Joint, ...], field_name: str =
                 fixes.append(f"|w| = {k:.6g} normalised")
             w, v = w / k, v / k
             pitch = float(np.dot(w, v))
-            if abs(pitch) > PROJECTION_TOL * max(np.linalg.norm(v), 1e-300) and abs(pitch) > EXACT_TOL:
+            if abs(pitch) > PROJECTION_TOL * max(np.linalg.norm(v), size, 1e-300) and abs(pitch) > EXACT_TOL:
                 raise InputError(f"{where}: w . v = {pitch:.4g} is not 0; a revolute joint has no pitch "
                                  f"(v = -w x p)")
             if abs(pitch) > EXACT_TOL:
@@ -138,19 +144,24 @@ class PoE:
 
 
 def robot_from_poe(poe: PoE, name: str | None = None) -> Robot:
-    """GJD from a PoE: DH-style frames on the screw axes (prismatic axes through the previous origin)."""
+    """GJD from a PoE: DH-style frames on the screw axes (prismatic axes through the previous axis point)."""
     S = poe.space_screws()
     # Scale for tolerances: the robot's size from M and the axis points closest to the origin.
     pts = np.cross(S[:, :3], S[:, 3:])
     scale = float(max(np.linalg.norm(poe.M[:3, 3]), np.linalg.norm(pts, axis=1).max(), 0.0)) or 1.0
     frames = np.empty((poe.n + 1, 4, 4))
     prev = np.eye(4)
+    p = np.zeros(3)  # the point of the previous axis (the base origin before joint 1)
     for i, joint in enumerate(poe.joints):
         w, v = S[i, :3], S[i, 3:]
         if joint.revolute:
             u, p = w, np.cross(w, v)  # w x v = foot of the axis from the origin
         else:
-            u, p = v, prev[:3, 3]
+            # the paper's q_i = q_{i-1}: through the previous axis's point, which lies near the robot.
+            # Not through the previous DH frame's origin: after nearly parallel axes that frame may sit
+            # ~offset / sin away, and a next axis nearly parallel to this one would put the following
+            # frame ~offset / sin^2 away, where FK loses eps times that (seen: 1e-4 of the robot size).
+            u = v
         prev = common_normal_frame(prev[:3, 3], prev[:3, 2], p, u, on="b", prev=prev, scale=scale)
         frames[i] = prev
     frames[-1] = poe.M
