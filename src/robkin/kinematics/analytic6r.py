@@ -31,10 +31,14 @@ from ..robot import Robot
 from .closed_form import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, Branches, first_reason
 from .limits import wrap_into_limits
 from .scara import _perpendicular
-from .subproblems import (DEGENERATE, angle_about, cos_sin_equation, planar_two_link, rotation_about,
-                          two_axes)
+from .subproblems import angle_about, cos_sin_equation, planar_two_link, rotation_about, two_axes
 
-__all__ = ["SphericalWrist6R", "ThreeParallel6R", "wrist_centre"]
+__all__ = ["SphericalWrist6R", "ThreeParallel6R", "wrist_centre", "NEAR_SINGULAR"]
+
+#: Within this (relative) distance of a singularity - the wrist point on axis 1, axis 6 along the
+#: parallel axes - the closed form's angles are only known to ~sqrt(eps) (arccos near +-1): a target
+#: left without a branch there is flagged uncertain (``ik`` retries it numerically), not unreachable.
+NEAR_SINGULAR = 1e-6
 
 
 def wrist_centre(points: np.ndarray, axes: np.ndarray) -> tuple[np.ndarray, float]:
@@ -145,8 +149,12 @@ class SphericalWrist6R:
         valid = geometric & in_limits
 
         none = ~valid.any(axis=1)
+        # wrist centre (nearly) on axis 1: q1 is free or ill-determined; not proven unreachable
+        uncertain = none & (np.hypot(A, B) / self.robot.scale < NEAR_SINGULAR)
         la, lb = abs(self.a), abs(self.b)
         reasons = first_reason([
+            (uncertain, "singular target (wrist centre on axis 1): no solution found with the "
+                        "preferred joint 1 angle"),
             (none & ~ok1.any(axis=1), "out of reach: no turn of joint 1 brings the wrist centre into "
                                       "the plane of joints 2 and 3"),
             (none & ~(ok1[:, :, None] & ok23).any(axis=(1, 2)),
@@ -155,7 +163,7 @@ class SphericalWrist6R:
             (none & ~geometric.any(axis=1), "the wrist cannot reach the target orientation"),
             (none & geometric.any(axis=1), "solutions exist but violate the joint limits"),
         ], N)
-        return Branches(Q, valid, reasons)
+        return Branches(Q, valid, reasons, uncertain)
 
 
 class ThreeParallel6R:
@@ -280,10 +288,9 @@ class ThreeParallel6R:
         # Wrist singularity (axis 6 along u): phi and q6 trade off, but the point on axis 4 - and with
         # it the reach of joints 2-3 - depends on the split. Take the preferred phi if it reaches, else
         # the reaching phi nearest to it on a 1-degree grid (any reaching phi is an exact solution).
-        # Near it q5 is known only to ~sqrt(eps) (an arccos near +-1), which leaves phi ill-determined
-        # too: within 1e-6 of the singularity phi is searched like this, and targets still without
-        # a branch are flagged uncertain (``ik`` then tries them numerically) rather than unreachable.
-        free = np.linalg.norm(a5 - np.multiply.outer(a5 @ u, u), axis=-1) < 1e-6
+        # Near it q5 is known only to ~sqrt(eps), which leaves phi ill-determined too: within
+        # NEAR_SINGULAR phi is searched like this, and targets still without a branch are flagged.
+        free = np.linalg.norm(a5 - np.multiply.outer(a5 @ u, u), axis=-1) < NEAR_SINGULAR
         for i in np.argwhere(free & ~ok23.any(axis=-1)):
             i = tuple(i)
             steps = np.arange(1, 181)
@@ -310,7 +317,7 @@ class ThreeParallel6R:
 
         none = ~valid.any(axis=1)
         # free joints set to preferred values (wrist point on axis 1; axis 6 along u): not proven
-        q1_free = np.hypot(A, B) / scale < DEGENERATE
+        q1_free = np.hypot(A, B) / scale < NEAR_SINGULAR
         uncertain = none & (q1_free | free.any(axis=(1, 2)))
         la, lb = abs(self.a), abs(self.b)
         reasons = first_reason([
