@@ -1,0 +1,129 @@
+"""Forward kinematics against an independent peer: pinocchio, fed URDF strings written here.
+
+Each random chain is written as URDF text (joint origins with xyz/rpy, arbitrary unit axes, revolute
+and prismatic joints, a fixed tool joint) and loaded with ``pinocchio.buildModelFromXML``. The same
+robot is built in robkin by composing the URDF transforms by hand (not with robkin's URDF reader,
+tested elsewhere), and both FKs are compared at random q, then again after converting the robot to
+every representation.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import robkin
+from robkin import se3
+from robkin.robot import Joint, Robot
+
+pin = pytest.importorskip("pinocchio")
+
+#: pinocchio and robkin both compose ~n 4x4 products in float64: rounding noise, with margin; the
+#: same 1e-9 (relative to the robot's size) that robkin promises between its own representations
+FK_TOL = 1e-9
+
+
+def _f(x: float) -> str:
+    return repr(float(x))  # shortest exact round-trip text of a float64
+
+
+def chain_urdf(origins: list[tuple[np.ndarray, np.ndarray]], axes: list[np.ndarray], types: list[str],
+               tool: tuple[np.ndarray, np.ndarray]) -> str:
+    """URDF text of a serial chain base -> link1 -> ... -> linkN -> tool."""
+    parts = ['<?xml version="1.0"?>', '<robot name="drawn">', '  <link name="base"/>']
+    parent = "base"
+    for i, ((rpy, xyz), axis, kind) in enumerate(zip(origins, axes, types), start=1):
+        limits = '<limit lower="-4" upper="4" effort="1" velocity="1"/>'
+        parts += [f'  <link name="link{i}"/>',
+                  f'  <joint name="joint{i}" type="{kind}">',
+                  f'    <parent link="{parent}"/><child link="link{i}"/>',
+                  f'    <origin xyz="{" ".join(map(_f, xyz))}" rpy="{" ".join(map(_f, rpy))}"/>',
+                  f'    <axis xyz="{" ".join(map(_f, axis))}"/>',
+                  f'    {limits}',
+                  '  </joint>']
+        parent = f"link{i}"
+    rpy, xyz = tool
+    parts += ['  <link name="tool"/>',
+              '  <joint name="tool_joint" type="fixed">',
+              f'    <parent link="{parent}"/><child link="tool"/>',
+              f'    <origin xyz="{" ".join(map(_f, xyz))}" rpy="{" ".join(map(_f, rpy))}"/>',
+              '  </joint>', '</robot>']
+    return "\n".join(parts)
+
+
+def robot_by_hand(origins, axes, types, tool) -> Robot:
+    """The GJD of the URDF chain: J_i = (product of the origins up to joint i) @ (a frame whose z is
+    the joint axis), tool = product of all origins. URDF joints move about/along their axis in the
+    joint frame, so any rotation taking z to the axis gives a valid GJD frame."""
+    T = np.eye(4)
+    frames = []
+    for (rpy, xyz), axis in zip(origins, axes):
+        T = T @ se3.homogeneous(se3.matrix_from_rpy(rpy), xyz)
+        z = axis / np.linalg.norm(axis)
+        x = np.cross(z, [0.3, -0.5, 0.7])
+        x /= np.linalg.norm(x)
+        frames.append(T @ se3.homogeneous(np.column_stack([x, np.cross(z, x), z]), np.zeros(3)))
+    rpy, xyz = tool
+    frames.append(T @ se3.homogeneous(se3.matrix_from_rpy(rpy), xyz))
+    joints = tuple(Joint(f"joint{i + 1}", kind) for i, kind in enumerate(types))
+    return Robot(np.array(frames), joints)
+
+
+def pinocchio_fk(model, data, tool_id: int, q: np.ndarray) -> np.ndarray:
+    pin.framesForwardKinematics(model, data, q)
+    return data.oMf[tool_id].homogeneous
+
+
+def random_chain(rng: np.random.Generator, n: int, unit: float):
+    origins = [(rng.uniform(-np.pi, np.pi, 3), rng.uniform(-1, 1, 3) * unit) for _ in range(n)]
+    axes = []
+    for _ in range(n):
+        kind = rng.integers(3)
+        if kind == 0:  # a coordinate axis, either sign (the common URDF case)
+            a = np.zeros(3)
+            a[rng.integers(3)] = rng.choice([-1.0, 1.0])
+        else:  # tilted
+            a = rng.normal(size=3)
+            a /= np.linalg.norm(a)
+        axes.append(a)
+    types = [str(rng.choice(["revolute", "prismatic"])) for _ in range(n)]
+    tool = (rng.uniform(-np.pi, np.pi, 3), rng.uniform(-1, 1, 3) * unit)
+    return origins, axes, types, tool
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 8), unit=st.sampled_from([1e-3, 1.0, 1e3]))
+def test_fk_matches_pinocchio_on_random_urdf_chains(seed: int, n: int, unit: float):
+    rng = np.random.default_rng(seed)
+    origins, axes, types, tool = random_chain(rng, n, unit)
+    model = pin.buildModelFromXML(chain_urdf(origins, axes, types, tool))
+    assert model.nq == n  # one configuration variable per joint, in chain order
+    data = model.createData()
+    tool_id = model.getFrameId("tool")
+    robot = robot_by_hand(origins, axes, types, tool)
+    Q = rng.uniform(-3, 3, size=(6, n)) * np.where(robot.revolute, 1.0, unit)
+    expected = np.stack([pinocchio_fk(model, data, tool_id, q) for q in Q])
+    scale = max(robot.scale, float(np.abs(expected[:, :3, 3]).max()))
+    for got in (robot.fk(Q), np.stack([robot.fk(q) for q in Q])):
+        np.testing.assert_allclose(got[:, :3, :3], expected[:, :3, :3], atol=FK_TOL)
+        np.testing.assert_allclose(got[:, :3, 3], expected[:, :3, 3], atol=FK_TOL * scale)
+    # and through every representation robkin writes
+    reps = [robkin.dh_from_robot(robot), robkin.mdh_from_robot(robot), robkin.poe_from_robot(robot, "space"),
+            robkin.poe_from_robot(robot, "body"), robkin.rpy_from_robot(robot)]
+    for rep in reps:
+        got = rep.fk(Q)
+        np.testing.assert_allclose(got[:, :3, :3], expected[:, :3, :3], atol=FK_TOL, err_msg=type(rep).__name__)
+        np.testing.assert_allclose(got[:, :3, 3], expected[:, :3, 3], atol=FK_TOL * scale,
+                                   err_msg=type(rep).__name__)
+
+
+def test_zero_configuration_is_the_tool_pose():
+    rng = np.random.default_rng(5)
+    origins, axes, types, tool = random_chain(rng, 6, 1.0)
+    model = pin.buildModelFromXML(chain_urdf(origins, axes, types, tool))
+    data = model.createData()
+    robot = robot_by_hand(origins, axes, types, tool)
+    np.testing.assert_allclose(pinocchio_fk(model, data, model.getFrameId("tool"), np.zeros(6)), robot.tool,
+                               atol=1e-12)
