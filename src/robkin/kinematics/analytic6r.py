@@ -31,7 +31,7 @@ from ..robot import Robot
 from .closed_form import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, Branches, first_reason
 from .limits import wrap_into_limits
 from .scara import _perpendicular
-from .subproblems import angle_about, cos_sin_equation, planar_two_link, rotation_about, two_axes
+from .subproblems import angle_about, cos_sin_equation, cross, planar_two_link, rotation_about, two_axes
 
 __all__ = ["SphericalWrist6R", "ThreeParallel6R", "wrist_centre", "NEAR_SINGULAR"]
 
@@ -65,7 +65,7 @@ class SphericalWrist6R:
         self.k = float(self.n2 @ w0)                 # the plane joints 2-3 keep the wrist centre in
         self.sigma3 = float(np.sign(z[2] @ self.n2))
         e1 = _perpendicular(self.n2)
-        self.e1, self.e2 = e1, np.cross(self.n2, e1)
+        self.e1, self.e2 = e1, cross(self.n2, e1)
         C2, C3, W = (self._complex(x) for x in (c[1], c[2], w0))
         self.C2, self.a, self.b = C2, C3 - C2, W - C3
         M = robot.tool
@@ -86,7 +86,7 @@ class SphericalWrist6R:
         tol_len = DETECT_LENGTH_TOL * robot.scale
 
         def sin_angle(i: int, j: int) -> float:
-            return float(np.linalg.norm(np.cross(z[i], z[j])))
+            return float(np.linalg.norm(cross(z[i], z[j])))
 
         if sin_angle(1, 2) > DETECT_ANGLE_TOL:
             return None
@@ -116,7 +116,7 @@ class SphericalWrist6R:
         zr = r @ z[0]
         nz = float(n2 @ z[0])
         A = r @ n2 - zr * nz
-        B = -(np.cross(z[0], r) @ n2)
+        B = -(cross(z[0], r) @ n2)
         K = self.k - float(n2 @ c[0]) - zr * nz
         q1, ok1 = cos_sin_equation(A / self.robot.scale, B / self.robot.scale, K / self.robot.scale,
                                    free=q_ref[:, 0])                              # (N, 2)
@@ -195,7 +195,7 @@ class ThreeParallel6R:
         self.u = z[1]
         self.sigma = np.sign(z[1:4] @ self.u)                    # senses of axes 2-4 along u
         e1 = _perpendicular(self.u)
-        self.e1, self.e2 = e1, np.cross(self.u, e1)
+        self.e1, self.e2 = e1, cross(self.u, e1)
         C2, C3, C4 = (self._complex(x) for x in (c[1], c[2], c[3]))
         self.C2, self.a, self.b = C2, C3 - C2, C4 - C3
         M = robot.tool
@@ -216,7 +216,7 @@ class ThreeParallel6R:
         tol_len = DETECT_LENGTH_TOL * robot.scale
 
         def sin_angle(i: int, j: int) -> float:
-            return float(np.linalg.norm(np.cross(z[i], z[j])))
+            return float(np.linalg.norm(cross(z[i], z[j])))
 
         if sin_angle(1, 2) > DETECT_ANGLE_TOL or sin_angle(1, 3) > DETECT_ANGLE_TOL:
             return None
@@ -259,7 +259,7 @@ class ThreeParallel6R:
         zr = r @ z[0]
         nz = float(u @ z[0])
         A = r @ u - zr * nz
-        B = -(np.cross(z[0], r) @ u)
+        B = -(cross(z[0], r) @ u)
         K = float(u @ self.w) - float(u @ c[0]) - zr * nz
         q1, ok1 = cos_sin_equation(A / scale, B / scale, K / scale, free=q_ref[:, 0])      # (N, 2)
         R1 = rotation_about(z[0], q1)                                                     # (N, 2, 3, 3)
@@ -270,7 +270,7 @@ class ThreeParallel6R:
         z6t = Rt @ g                                                                      # (N, 3)
         lhs = np.einsum("nsji,nj->nsi", R1, z6t) @ u                                      # (N, 2)
         zg, uz = float(z[4] @ g), float(u @ z[4])
-        q5, ok5 = cos_sin_equation(np.full_like(lhs, u @ g - zg * uz), np.full_like(lhs, u @ np.cross(z[4], g)),
+        q5, ok5 = cos_sin_equation(np.full_like(lhs, u @ g - zg * uz), np.full_like(lhs, u @ cross(z[4], g)),
                                    lhs - zg * uz, free=q_ref[:, None, 4])                 # (N, 2, 2)
 
         # 3. phi (joints 2-4 about u) and q6 from W = R1^T R_d R_M^T = Rot(u, phi) R5 R6

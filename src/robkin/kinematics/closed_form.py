@@ -7,6 +7,7 @@ q = 0), so it works the same whatever representation the robot was read from.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 from typing import Callable, Protocol
 
@@ -54,16 +55,24 @@ class ClosedFormSolver(Protocol):
         """All branches for targets (N, 4, 4), preferring q_ref (N, n) where a joint is free."""
 
 
+#: detection result per Robot (robots are immutable), so repeated single-target calls detect once
+_SOLVERS: "weakref.WeakKeyDictionary[Robot, ClosedFormSolver | None]" = weakref.WeakKeyDictionary()
+
+
 def closed_form_solver(robot: Robot) -> ClosedFormSolver | None:
     """The closed-form solver that fits the robot's geometry, or None."""
+    if robot in _SOLVERS:
+        return _SOLVERS[robot]
     from .analytic6r import SphericalWrist6R, ThreeParallel6R
     from .scara import ScaraSolver
 
+    found = None
     for cls in (ScaraSolver, SphericalWrist6R, ThreeParallel6R):
-        solver = cls.detect(robot)
-        if solver is not None:
-            return solver
-    return None
+        found = cls.detect(robot)
+        if found is not None:
+            break
+    _SOLVERS[robot] = found
+    return found
 
 
 def first_reason(reasons: list[tuple[np.ndarray, str | Callable[[int], str]]], n_targets: int) -> list[str]:

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["rotation_about", "angle_about", "two_axes", "cos_sin_equation", "planar_two_link",
+__all__ = ["cross", "rotation_about", "angle_about", "two_axes", "cos_sin_equation", "planar_two_link",
            "COS_SLACK", "DEGENERATE"]
 
 #: A cosine beyond +-1 by less than this is rounding of a boundary case (a stretched arm, a tangent
@@ -25,6 +25,14 @@ COS_SLACK = 1e-9
 #: mean a direction is undefined (a point on the rotation axis): the angle is free and the caller's
 #: preferred value is used. 1e-12 is ~1e4 ulps: rounding of exact coincidences stays below it.
 DEGENERATE = 1e-12
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a x b over the last axis (broadcast): np.cross without its axis juggling (~5x faster on the
+    small arrays of a single target)."""
+    a1, a2, a3 = a[..., 0], a[..., 1], a[..., 2]
+    b1, b2, b3 = b[..., 0], b[..., 1], b[..., 2]
+    return np.stack([a2 * b3 - a3 * b2, a3 * b1 - a1 * b3, a1 * b2 - a2 * b1], axis=-1)
 
 
 def rotation_about(axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
@@ -56,7 +64,7 @@ def angle_about(axis: np.ndarray, p: np.ndarray, q: np.ndarray, free: np.ndarray
     """
     pp = p - axis * np.sum(axis * p, axis=-1, keepdims=True)
     qq = q - axis * np.sum(axis * q, axis=-1, keepdims=True)
-    sin_part = np.sum(axis * np.cross(pp, qq), axis=-1)
+    sin_part = np.sum(axis * cross(pp, qq), axis=-1)
     cos_part = np.sum(pp * qq, axis=-1)
     on_axis = np.linalg.norm(pp, axis=-1) * np.linalg.norm(qq, axis=-1) < DEGENERATE
     return np.where(on_axis, free, np.arctan2(sin_part, cos_part))
@@ -71,18 +79,18 @@ def two_axes(w1: np.ndarray, w2: np.ndarray, p: np.ndarray, q: np.ndarray,
     on w1 (a wrist singularity) x1 is free and ``free1`` is used.
     """
     b = np.sum(w1 * w2, axis=-1)[..., None]
-    cross = np.cross(w1, w2)
+    w12 = cross(w1, w2)
     denom = b * b - 1.0
     w2p = np.sum(w2 * p, axis=-1)[..., None]
     w1q = np.sum(w1 * q, axis=-1)[..., None]
     alpha = (b * w2p - w1q) / denom
     beta = (b * w1q - w2p) / denom
     pn2 = np.sum(p * p, axis=-1)[..., None]
-    g2 = (pn2 - alpha * alpha - beta * beta - 2.0 * alpha * beta * b) / np.sum(cross * cross, axis=-1)[..., None]
+    g2 = (pn2 - alpha * alpha - beta * beta - 2.0 * alpha * beta * b) / np.sum(w12 * w12, axis=-1)[..., None]
     valid = g2 >= -COS_SLACK
     gamma = np.sqrt(np.maximum(g2, 0.0)) * np.array([1.0, -1.0])          # (..., 2)
     c = (alpha[..., None] * w1[..., None, :] + beta[..., None] * w2[..., None, :]
-         + gamma[..., None] * cross[..., None, :])                              # (..., 2, 3)
+         + gamma[..., None] * w12[..., None, :])                              # (..., 2, 3)
     x2 = angle_about(w2[..., None, :], p[..., None, :], c)
     x1 = angle_about(w1[..., None, :], c, q[..., None, :], np.asarray(free1)[..., None]
                      if np.ndim(free1) else free1)
