@@ -1,0 +1,12 @@
+"""Computing with a robot: Jacobians and manipulability, inverse kinematics.
+
+- ``jacobian``: space, body and base-frame geometric Jacobians; Yoshikawa manipulability, inverse
+  condition number, minimum singular value (one configuration or a batch).
+- ``ik``: ``ik(robot, T)`` (also ``Robot.ik``) - closed form where the geometry allows, else the
+  vectorised Levenberg-Marquardt solver of ``lm``; every answer checked by forward kinematics.
+- ``scara``, ``analytic6r``: the closed forms (SCARA-type arms; 6R arms with a spherical wrist or
+  of the Universal Robots type), found by ``closed_form.closed_form_solver`` from the joint axes.
+- ``lm``, ``pose_error``, ``limits``, ``subproblems``: the pieces they are built from.
+
+Submodules are imported on use, so ``import robkin`` stays light.
+"""
