@@ -366,7 +366,7 @@ def random_start(task: Task, n: int, rng: np.random.Generator | int | None = Non
 
 # ------------------------------------------------------------------------------------ synthesize
 def synthesize(task: Task, n: int, start: str | np.ndarray = "D", cost: str = "length",
-               rng: np.random.Generator | int | None = None, max_iter: int = 200) -> SynthesisResult:
+               rng: np.random.Generator | int | None = None, max_iter: int = 1000) -> SynthesisResult:
     """Optimise the DH parameters of n revolute joints for ``task`` from one start.
 
     Three least-squares phases (scipy ``least_squares``, trust-region reflective, analytic Jacobians):
@@ -475,7 +475,7 @@ def _design(task: Task, model: _Model, z: np.ndarray, label: str):
 
 def synthesize_multistart(task: Task, n: int, starts: Sequence[str] = KINDS + ("random",) * 4,
                           cost: str = "length", rng: np.random.Generator | int | None = None,
-                          max_iter: int = 200) -> tuple[SynthesisResult | None, list[SynthesisResult]]:
+                          max_iter: int = 1000) -> tuple[SynthesisResult | None, list[SynthesisResult]]:
     """Run ``synthesize`` from every start; return (best converged result or None, all results)."""
     rng = np.random.default_rng(rng)
     results = [synthesize(task, n, s, cost, rng, max_iter) for s in starts]

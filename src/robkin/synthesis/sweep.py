@@ -37,7 +37,7 @@ class Job:
     start: str
     cost: str = "length"
     seed: int = 0
-    max_iter: int = 400
+    max_iter: int = 1000
     reach: str = "pose"
 
 
@@ -63,7 +63,7 @@ def random_task_poses(rng: np.random.Generator, count: int = 3, step: float = 0.
 
 
 def make_jobs(tasks: Sequence[np.ndarray], n: int, starts: Sequence[str], cost: str = "length",
-              seed: int = 0, max_iter: int = 400, reach: str = "pose") -> list[Job]:
+              seed: int = 0, max_iter: int = 1000, reach: str = "pose") -> list[Job]:
     """Every (task, start) pair; random starts get distinct seeds derived from ``seed``."""
     jobs = []
     for t, poses in enumerate(tasks):

@@ -1,0 +1,210 @@
+"""robkin estimate: an initial kinematic structure (types A-D) that reaches a pose, optionally optimised."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from ..errors import InputError
+from ._common import parse_pose
+
+EPILOG = """\
+Types (Huczala et al. 2021): A nearest distance and B joints on a Bezier curve reach the position;
+C common perpendicular and D Bezier + common perpendicular reach the full pose. The DH table carries
+the theta offsets with which q = 0 reaches the target. Metrics at q = 0: length sum sqrt(a^2 + d^2)
+and Yoshikawa manipulability (translational, rotational).
+
+--pose/--base: x,y,z,roll,pitch,yaw (URDF rpy, radians) or 16 numbers (row-major 4x4).
+--optimize then optimises the DH parameters so that every --pose is reached at the least cost,
+starting from the estimate (with --type all: from A-D and 4 random starts, the best is kept).
+
+examples:
+  robkin estimate --pose 0.4,0.6,0.7,0,3.1416,1.5708 --joints 4 --type D -o d.yaml
+  robkin estimate --pose -1,0.9,0.8,2.8,-1.04,-3.0 --joints 4 --type all
+  robkin estimate --pose -1,0.9,0.8,2.8,-1.04,-3.0 --joints 4 --type all -o results/ --plot cmp.png
+  robkin estimate --pose 1,0,0.5,0,1.57,0 --pose 0.9,0.3,0.5,0,1.57,0.3 --joints 6 --type D \\
+      --optimize length -o designed.yaml
+"""
+
+TYPES = ("A", "B", "C", "D", "ALL")
+
+
+def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    p = sub.add_parser("estimate", help="initial structure (types A-D) reaching a pose; optional synthesis",
+                       description="Estimate a serial structure of N revolute joints whose home "
+                                   "configuration reaches a target pose (estimation types A-D), and "
+                                   "optionally optimise it for several poses.",
+                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--pose", required=True, action="append", metavar="POSE",
+                   help="target TCP pose in the world frame; repeat for several poses (with --optimize)")
+    p.add_argument("--joints", required=True, type=int, metavar="N", help="number of joints (>= 3)")
+    p.add_argument("--type", default="D", type=str.upper, choices=TYPES, metavar="A|B|C|D|all",
+                   help="estimation type, or all four side by side (default D)")
+    p.add_argument("--base", metavar="POSE", help="robot base frame in the world frame (default identity)")
+    p.add_argument("-o", "--output", metavar="OUT",
+                   help="output robot document (.yaml/.yml/.json); with --type all a folder for A-D")
+    p.add_argument("--format", choices=("yaml", "json"),
+                   help="document format for a folder output (default yaml; files use their suffix)")
+    p.add_argument("--optimize", choices=("length", "manipulability"), metavar="COST",
+                   help="optimise the DH parameters for all --pose at least COST (length|manipulability)")
+    p.add_argument("--reach", choices=("pose", "position"), default="pose",
+                   help="what --optimize must reach (default pose)")
+    p.add_argument("--seed", type=int, default=0, help="random-start seed for --optimize with --type all")
+    p.add_argument("--plot", metavar="FILE", help="with --type all: bar plots of the metrics (.png/.svg/.pdf)")
+    p.add_argument("--json", action="store_true", help="print the metrics (and optimisation) as JSON")
+    return p
+
+
+def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from ..synthesis.estimate import estimate_all
+
+    poses = [parse_pose(text, "--pose") for text in args.pose]
+    base = parse_pose(args.base, "--base") if args.base else None
+    if args.joints < 3:
+        raise InputError(f"--joints: need at least 3 joints, got {args.joints}")
+    if len(poses) > 1 and not args.optimize:
+        raise InputError("--pose: several poses need --optimize (an estimate targets one pose)")
+    kinds = ("A", "B", "C", "D") if args.type == "ALL" else (args.type,)
+    outputs = _output_paths(args, kinds)
+    if args.plot and args.type != "ALL":
+        raise InputError("--plot: only with --type all (it compares the four estimates)")
+    if args.plot:
+        _check_plot_path(args.plot)
+
+    estimates = estimate_all(poses[0], args.joints, base, kinds)
+    for k, e in estimates.items():
+        for note in e.notes:
+            print(f"robkin: note: type {k}: {note}", file=sys_stderr())
+    results = {k: (e.robot, e.metrics, e.rows) for k, e in estimates.items()}
+    opt_summary = None
+    if args.optimize:
+        results, opt_summary = _optimise(args, poses, base, estimates)
+
+    if args.json:
+        out = {k: dict(m.as_dict(), type=k) for k, (_, m, _) in results.items()}
+        if opt_summary is not None:
+            out["optimization"] = opt_summary
+        print(json.dumps(out, indent=2))
+    else:
+        _print_text(results, estimates, opt_summary)
+    for k, path in outputs.items():
+        _write(results[k][0], results[k][1], path, args.format)
+    if args.plot:
+        _plot(estimates, args.plot)
+    return 0
+
+
+def sys_stderr():
+    import sys
+
+    return sys.stderr
+
+
+def _output_paths(args: argparse.Namespace, kinds: tuple[str, ...]) -> dict[str, Path]:
+    """Where each result goes; checked before any work so that bad paths fail fast (nothing written)."""
+    from ..io.atomic import check_writable_dir
+
+    if not args.output:
+        return {}
+    out = Path(args.output)
+    if args.optimize and len(kinds) > 1:
+        kinds = ("best",)
+    if len(kinds) == 1:
+        if out.suffix.lower() not in (".yaml", ".yml", ".json"):
+            raise InputError(f"{out}: output must end in .yaml, .yml or .json")
+        check_writable_dir(out)
+        return {kinds[0] if kinds[0] != "best" else "best": out}
+    if out.exists() and not out.is_dir():
+        raise InputError(f"{out}: with --type all, -o names a folder (A-D are written into it)")
+    if not out.exists():
+        parent = out.parent if str(out.parent) else Path(".")
+        if not parent.is_dir():
+            raise InputError(f"{out}: folder {parent} does not exist")
+        out.mkdir()
+    suffix = ".json" if args.format == "json" else ".yaml"
+    paths = {k: out / f"estimate_{k}{suffix}" for k in kinds}
+    for p in paths.values():
+        check_writable_dir(p)
+    return paths
+
+
+def _check_plot_path(path: str) -> None:
+    from ..io.atomic import check_writable_dir
+
+    if Path(path).suffix.lower() not in (".png", ".svg", ".pdf"):
+        raise InputError(f"--plot {path}: picture must end in .png, .svg or .pdf")
+    check_writable_dir(path)
+
+
+def _optimise(args, poses, base, estimates):
+    """Synthesis for all poses from the chosen estimate (or A-D + 4 random, keeping the best)."""
+    import numpy as np
+
+    from ..synthesis.metrics import structure_metrics
+    from ..synthesis.optimize import make_task, synthesize
+
+    task = make_task(np.stack(poses), base, reach=args.reach)
+    starts = list(estimates) + (["random"] * 4 if len(estimates) > 1 else [])
+    rng = np.random.default_rng(args.seed)
+    runs = [synthesize(task, args.joints, s, args.optimize, rng=rng) for s in starts]
+    ok = [r for r in runs if r.converged] or [r for r in runs if r.reaches]
+    if not ok:
+        raise InputError("--optimize: no start reached every --pose with "
+                         f"{args.joints} joints; try more joints or poses closer together")
+    best = min(ok, key=lambda r: r.cost)
+    key = "best" if len(estimates) > 1 else next(iter(estimates))
+    metrics = structure_metrics(best.robot, best.table.rows)
+    summary = {"cost": args.optimize, "chosen_start": best.start,
+               "runs": [r.summary() for r in runs]}
+    return {key: (best.robot, metrics, best.table.rows)}, summary
+
+
+def _print_text(results, estimates, opt_summary) -> None:
+    from ..io.tables import fmt_num, text_table
+
+    headers = ["type", "reaches", "length", "manip. transl.", "manip. rot."]
+    rows = []
+    for k, (_, m, _) in results.items():
+        reach = estimates[k].reaches if opt_summary is None else "all poses"
+        rows.append([k, reach, m.length, m.manipulability_translational, m.manipulability_rotational])
+    if len(results) > 1:
+        print(text_table(headers, rows, title="estimates (metrics at q = 0)"))
+        print()
+    for k, (_, m, dh_rows) in results.items():
+        title = f"type {k}: DH rows (theta at q = 0 reaches the target)" if opt_summary is None else \
+            f"optimised for {opt_summary['cost']} (start {opt_summary['chosen_start']}): DH rows, q = 0 " \
+            "reaches the first pose"
+        print(text_table(["joint", "a", "d", "alpha", "theta"],
+                         [[str(i + 1), *r] for i, r in enumerate(dh_rows)], title=title))
+        if len(results) == 1:
+            print(f"length {fmt_num(m.length)}, manipulability translational "
+                  f"{fmt_num(m.manipulability_translational)}, rotational {fmt_num(m.manipulability_rotational)}")
+        print()
+    if opt_summary:
+        print(text_table(["start", "converged", "cost", "length", "evaluations"],
+                         [[r["start"], "yes" if r["converged"] else "no", r["cost"], r["length"], r["evaluations"]]
+                          for r in opt_summary["runs"]], title="optimisation runs"))
+
+
+def _write(robot, metrics, path: Path, fmt: str | None) -> None:
+    from ..io.atomic import write_text_atomic
+    from ..io.document import document_from_robot, dump
+
+    doc = document_from_robot(robot)
+    doc["metrics"] = metrics.as_dict()
+    kind = "json" if path.suffix.lower() == ".json" else "yaml"
+    write_text_atomic(path, dump(doc, kind))
+
+
+def _plot(estimates, path: str) -> None:
+    try:
+        from ..viz.metrics import MetricEntry, plot_metrics
+        from ..viz.plot import save_figure
+    except ImportError as exc:
+        raise InputError(f"--plot: pictures need matplotlib (pip install 'robkin[plot]'): {exc}") from None
+    entries = [MetricEntry(f"type {k}", "target", k, e.metrics.length, e.metrics.manipulability_translational,
+                           e.metrics.manipulability_rotational) for k, e in estimates.items()]
+    save_figure(plot_metrics(entries, title="estimates A-D"), path)
