@@ -276,11 +276,15 @@ def solve_lm(robot: Robot, targets: np.ndarray, q0: np.ndarray, mask: np.ndarray
             converged[rows.idx[done]] = True
             out_q[rows.idx[done]] = rows.Q[done]
         solved = converged[rows.idx]                  # this row's target is solved (maybe by a sibling)
+        # the early give-up rules apply while a target has used at most half its attempts: after
+        # that every attempt runs its full course, for geometries where convergence is slower than
+        # on the arms the rules were tuned on (e.g. long prismatic travel)
+        hasty = attempts[rows.idx] <= (settings.restarts + 1) // 2
         stuck = ~solved & ((rows.it_attempt >= settings.max_iterations) | rows.stalled
                            | (rows.mu > settings.mu_stuck * rows.A_diag_max)
-                           | ((rows.it_attempt >= settings.check_iteration) & (rows.E > settings.check_E)))
+                           | (hasty & (rows.it_attempt >= settings.check_iteration) & (rows.E > settings.check_E)))
         if limited:
-            early = np.flatnonzero(~solved & (rows.it_attempt == settings.limit_check_iteration)
+            early = np.flatnonzero(~solved & hasty & (rows.it_attempt == settings.limit_check_iteration)
                                    & (rows.E > settings.limit_check_E))
             if early.size:
                 Qe = rows.Q[early]
