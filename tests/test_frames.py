@@ -196,3 +196,19 @@ def test_parallel_axes_choose_the_same_x_in_any_length_unit(unit_length):
                                         np.array([0.0, 0, 1]), on="b", prev=prev, scale=1.0)
         np.testing.assert_allclose(F[:3, :3], reference[:3, :3], atol=EXACT)
         np.testing.assert_allclose(F[:3, 3], reference[:3, 3] * unit_length, atol=EXACT * unit_length)
+
+
+def test_approx_dh_params_length_signs_do_not_depend_on_rounding_noise():
+    """Regression: the tie margin of the d and a signs was relative to |o1 - o0|, so a target 1e-13
+    from the last frame (1e-3 from the base) had d = +-1e-13 decided by 1e-19 of rounding noise."""
+    prev = se3.rot_z(-np.pi / 2) @ se3.rot_x(np.pi)
+    prev[:3, 3] = [-8.414709848078966e-04, -4.596976941318603e-04, 0.0]
+    rows = []
+    for noise in (0.0, 1e-19, -1e-19):
+        # same orientation, 1e-13 off along prev's y: the x lines are 1e-13 apart (|d| = 1e-13) and
+        # the sign of d, from (o1 - o0) . z0 = 0, is a tie
+        target = prev @ se3.trans(0.0, 1e-13, 0.0)
+        target[2, 3] += noise
+        rows.append(approx_dh_params(prev, target))
+    assert abs(rows[0][1]) == pytest.approx(1e-13, rel=1e-3)
+    np.testing.assert_allclose(rows, np.broadcast_to(rows[0], (3, 4)), atol=1e-18)

@@ -195,7 +195,9 @@ def approx_dh_params(prev: np.ndarray, target: np.ndarray) -> tuple[float, float
     # to + with a margin of KEEP_TOL (relative), so that rounding noise (~1e-15) of a round trip through
     # the GJD cannot flip the sign and a written table reads back as the same table. (A reachable
     # target with |theta| < KEEP_TOL may get +|theta|: the residual tool absorbs the 2e-12.)
-    reach = float(np.linalg.norm(o1 - o0))
+    # lengths: the noise of o1 - o0 is eps times the coordinates, not times |o1 - o0| (a tool 1e-13
+    # from the last frame, 1e-3 from the base, had its d sign flipped by 1e-19 of noise)
+    reach = float(max(np.linalg.norm(o1 - o0), np.linalg.norm(o0), np.linalg.norm(o1)))
     theta = math.atan2(np.linalg.norm(np.cross(x0, x1)), np.dot(x0, x1))
     if np.dot(y0, x1) < -KEEP_TOL:
         theta = -theta
