@@ -56,7 +56,7 @@ class IKResult:
     iterations : int or (N,) int array
         Levenberg-Marquardt iterations over all attempts (0 for the closed form).
     attempts : int or (N,) int array
-        Starts used: 1 + random restarts (1 for the closed form).
+        Starts used: 1 + random restarts, including those run side by side (1 for the closed form).
     position_error : float or (N,) array
         |p_d - p| over the masked x, y, z components (length units; inf where q is NaN).
     orientation_error : float or (N,) array

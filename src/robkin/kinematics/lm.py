@@ -75,7 +75,8 @@ class LMSettings:
     #: iterations, still far (E = |W e|^2 / 2 above ``limit_check_E``: an error above ~14 % of the
     #: robot's size or ~0.14 rad) with a joint against a limit - where almost every failing attempt
     #: ends; after ``check_iteration``, not close (E above ``check_E``, ~0.45 % or ~0.0045 rad) - LM
-    #: converges fast once near, so converging attempts are almost all closer by then.
+    #: converges fast once near, so converging attempts are almost all closer by then. Both apply to
+    #: a target's first half of attempts only; later ones run their full course.
     limit_check_iteration: int = 5
     limit_check_E: float = 1e-2
     check_iteration: int = 15
