@@ -260,40 +260,73 @@ class Robot:
         t = np.where(rev, 0.0, Q)
         return c, s, t
 
+    @cached_property
+    def _fk_parts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool]:
+        """B, C, S, P (n, 4, 4) with L_i Z_i(q) = B_i + cos(q) C_i + sin(q) S_i + q P_i, and whether
+        any joint is prismatic (P is then not all zero).
+
+        A revolute Z mixes columns 0 and 1 of L_i (x -> c x + s y, y -> c y - s x); a prismatic Z
+        adds q z to column 3. Precomputed once, so FK needs no per-joint branching or masking (the
+        cos/sin of a prismatic q multiply zero matrices).
+        """
+        L = self._local[:-1]
+        rev, pri = self.revolute, ~self.revolute
+        B, C, S, P = L.copy(), np.zeros_like(L), np.zeros_like(L), np.zeros_like(L)
+        B[rev, :, :2] = 0.0
+        C[rev, :, 0], C[rev, :, 1] = L[rev, :, 0], L[rev, :, 1]
+        S[rev, :, 0], S[rev, :, 1] = L[rev, :, 1], -L[rev, :, 0]
+        P[pri, :, 3] = L[pri, :, 2]
+        for part in (B, C, S, P):
+            part.setflags(write=False)
+        return B, C, S, P, bool(pri.any())
+
     def _fk_one(self, q: np.ndarray) -> np.ndarray:
-        # All joints at once: A_i = L_i Z_i(q_i) mixes columns 0/1 (rotation about z) or adds to
-        # column 3 (slide along z); then one 4x4 product per joint.
-        L = self._local
-        c, s, t = self._joint_motions(q)
-        A = L.copy()
-        x, y, z = L[:-1, :, 0], L[:-1, :, 1], L[:-1, :, 2]
-        A[:-1, :, 0] = c[:, None] * x + s[:, None] * y
-        A[:-1, :, 1] = c[:, None] * y - s[:, None] * x
-        A[:-1, :, 3] = L[:-1, :, 3] + t[:, None] * z
+        # All link transforms at once, A_i = L_i Z_i(q_i), in a few whole-array operations, then
+        # their product. At this size the cost is Python-call overhead, not arithmetic: np.dot on
+        # 4x4 costs about half of the @ operator (measured), and no per-joint branching remains.
+        B, C, S, P, prismatic = self._fk_parts
+        A = B + np.cos(q)[:, None, None] * C + np.sin(q)[:, None, None] * S
+        if prismatic:
+            A += q[:, None, None] * P
         T = A[0]
-        for i in range(1, self.n + 1):
-            T = T @ A[i]
-        return T
+        for i in range(1, self.n):
+            T = np.dot(T, A[i])
+        return np.dot(T, self._local[-1])
+
+    #: configurations per block of batch FK: the block's pose columns (4 x 3 x 1024 doubles, 96 kB)
+    #: stay in cache through all joints. Measured on a 7-joint arm (a shared, noisy machine): whole
+    #: batches of 1e5 ran ~3x slower per configuration than 1e3; blocks of 2048 ~1.4x slower than
+    #: 1024; 512 no faster.
+    _FK_BLOCK = 1024
 
     def _fk_batch(self, Q: np.ndarray) -> np.ndarray:
-        # The pose is kept as F = [R | p] (N, 3, 4). Right-multiplying by a fixed 4x4 is one GEMM on
-        # (3N, 4) rows; a joint motion only mixes two columns (revolute) or adds to the last one.
+        # The poses are kept column-major, F[k] = column k of [R | p] for every configuration, shape
+        # (4, m, 3), so that every operation runs on contiguous memory: right-multiplying by a fixed
+        # 4x4 is one GEMM L^T (4, 4) @ F (4, 3m), and a joint motion mixes two columns (revolute) or
+        # adds to the last one (prismatic). Joint values are taken per block and transposed, so the
+        # per-joint factors are contiguous too.
         N = Q.shape[0]
         L = self._local
-        c, s, t = self._joint_motions(Q)
-        F = np.broadcast_to(L[0, :3], (N, 3, 4)).copy()
-        for i in range(self.n):
-            if self.revolute[i]:
-                x = F[:, :, 0].copy()
-                ci, si = c[:, i, None], s[:, i, None]
-                F[:, :, 0] = ci * x + si * F[:, :, 1]
-                F[:, :, 1] = ci * F[:, :, 1] - si * x
-            else:
-                F[:, :, 3] += t[:, i, None] * F[:, :, 2]
-            F = (F.reshape(-1, 4) @ L[i + 1]).reshape(N, 3, 4)
         out = np.empty((N, 4, 4))
-        out[:, :3] = F
         out[:, 3] = (0.0, 0.0, 0.0, 1.0)
+        first = np.ascontiguousarray(L[0, :3].T)[:, None, :]  # (4, 1, 3)
+        for start in range(0, N, self._FK_BLOCK):
+            stop = min(N, start + self._FK_BLOCK)
+            m = stop - start
+            Qb = np.ascontiguousarray(Q[start:stop].T)[:, :, None]  # (n, m, 1)
+            c, s = np.cos(Qb), np.sin(Qb)
+            F = np.repeat(first, m, axis=1)  # (4, m, 3)
+            for i in range(self.n):
+                if self.revolute[i]:
+                    x = F[0] * c[i]
+                    x += F[1] * s[i]
+                    F[1] *= c[i]
+                    F[1] -= F[0] * s[i]
+                    F[0] = x
+                else:
+                    F[3] += Qb[i] * F[2]
+                F = (L[i + 1].T @ F.reshape(4, -1)).reshape(4, m, 3)
+            out[start:stop, :3] = F.transpose(1, 2, 0)
         return out
 
     def frames_at(self, q: ArrayLike) -> np.ndarray:
