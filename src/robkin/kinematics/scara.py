@@ -131,6 +131,8 @@ class ScaraSolver:
         h = (pd - p_M) @ u
         qp = split_travel(h, np.broadcast_to(self.s, (N, len(self.pidx))), q_ref[:, self.pidx],
                           lim[self.pidx, 0], lim[self.pidx, 1])
+        # the split meets h exactly unless the limits cut it short; a shortfall within rounding of
+        # the robot's size (COS_SLACK relative) is still a solution, and FK checks it afterwards
         vert_ok = np.abs(qp @ self.s - h) <= COS_SLACK * robot.scale
 
         # planar chain: the first two revolute joints bring the wrist point (or tool origin) there
