@@ -29,7 +29,7 @@ from ..errors import InputError
 from ..robot import Robot
 from .closed_form import closed_form_solver
 from .limits import wrap_into_limits, within_limits
-from .lm import LMSettings, fk_batch, solve_lm
+from .lm import LMSettings, solve_lm
 from .pose_error import check_mask, check_targets, masked_errors, residual
 
 __all__ = ["IKResult", "ik", "METHODS"]
@@ -207,14 +207,14 @@ def _start(robot: Robot, q0: ArrayLike | None, N: int) -> np.ndarray:
 
 
 def _verify(robot: Robot, Q: np.ndarray, targets: np.ndarray, mask: np.ndarray,
-            settings: LMSettings, fk=None) -> np.ndarray:
+            settings: LMSettings) -> np.ndarray:
     """(...) bool: configurations Q (..., n) reach their targets (...) within tolerance and limits.
 
-    ``fk`` (default ``Robot.fk``) must be a forward kinematics the solution did not come from.
+    Checked with ``Robot.fk``, which neither the closed forms nor the LM kernel use.
     """
     flat = Q.reshape(-1, robot.n)
     finite = np.isfinite(flat).all(axis=1)
-    T = (fk or robot.fk)(np.where(finite[:, None], flat, 0.0))
+    T = robot.fk(np.where(finite[:, None], flat, 0.0))
     e = residual(T, targets.reshape(-1, 4, 4))
     ep, eo = masked_errors(e, mask)
     ok = finite & (ep <= settings.tol_position) & (eo <= settings.tol_orientation) \
@@ -253,10 +253,7 @@ def _closed_form(robot: Robot, solver, targets: np.ndarray, q_ref: np.ndarray, s
     N, n = q_ref.shape
     branches = solver.solve(targets, q_ref)
     S = branches.q.shape[1]
-    # checked with the batch-last kernel of the numeric solver (the closed forms never use it): ~3x
-    # faster than Robot.fk for the S branches of every target
-    reached = _verify(robot, branches.q, np.repeat(targets[:, None], S, axis=1), np.ones(6), settings,
-                      fk=lambda Q: fk_batch(robot, Q))
+    reached = _verify(robot, branches.q, np.repeat(targets[:, None], S, axis=1), np.ones(6), settings)
     valid = branches.valid & reached
     scale = _joint_scale(robot)
     dist = np.where(valid, np.linalg.norm((branches.q - q_ref[:, None]) / scale, axis=-1), np.inf)
