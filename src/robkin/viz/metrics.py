@@ -18,7 +18,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Sequence
 
-import numpy as np
 
 from ..errors import InputError
 
@@ -49,15 +48,15 @@ class MetricEntry:
 
 
 def metrics_of_robot(robot: "Robot") -> dict[str, float]:
-    """The paper's metrics of a robot at q = 0: DH arm length and both manipulabilities."""
-    from ..kinematics.jacobian import manipulability
-    from ..representations import dh_from_robot
+    """The paper's metrics of a robot at q = 0, as ``robkin estimate`` computes them.
 
-    rows = dh_from_robot(robot).rows
-    q0 = np.zeros(robot.n)
-    return {"length": float(np.sum(np.hypot(rows[:, 0], rows[:, 1]))),
-            "manipulability_translational": float(manipulability(robot, q0, "translational")),
-            "manipulability_rotational": float(manipulability(robot, q0, "rotational"))}
+    Length from the robot's standard DH rows (eq. 48); manipulabilities of the geometric Jacobian,
+    0 when it is rank-deficient (see ``robkin.synthesis.metrics``).
+    """
+    from ..representations import dh_from_robot
+    from ..synthesis.metrics import structure_metrics
+
+    return structure_metrics(robot, dh_from_robot(robot).rows).as_dict()
 
 
 def read_metrics(path: str | Path) -> MetricEntry:
