@@ -23,8 +23,10 @@ demo: $(VENV)/.core
 test: $(VENV)/.test
 	$(PY) -m pytest -q
 
+# Benchmarks compare against peers in the same run (pinocchio; the Robotics Toolbox where it installs).
 bench: $(VENV)/.test
-	$(PY) benchmarks/bench_fk.py
+	$(PIP) install -e '.[test,bench]'
+	for b in benchmarks/bench_*.py; do echo "== $$b"; $(PY) $$b || exit 1; done
 
 clean:
 	rm -rf $(VENV) build src/*.egg-info .pytest_cache .hypothesis
