@@ -18,7 +18,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Sequence
 
-
 from ..errors import InputError
 
 if TYPE_CHECKING:  # pragma: no cover
