@@ -145,6 +145,7 @@ def _equal_limits(ax, pts: np.ndarray) -> None:
     """Equal scaling on x, y, z: a cube around all drawn points with a 5 % margin."""
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     centre = (lo + hi) / 2
+    # 1e-9: a positive extent even if everything drawn is one point (matplotlib refuses equal limits)
     half = max(float(np.max(hi - lo)) / 2 * 1.05, 1e-9)
     ax.set_xlim(centre[0] - half, centre[0] + half)
     ax.set_ylim(centre[1] - half, centre[1] + half)

@@ -195,6 +195,7 @@ function fitView(res) {
   const hi = [0, 1, 2].map((k) => Math.max(...pts.map((p) => p[k])));
   state.view.center = lo.map((v, k) => (v + hi[k]) / 2);
   // Big enough for the robot at home and most of its reach (about scale from the base) when it moves.
+  // (1e-9 keeps the projection finite for a robot drawn as a single point.)
   state.view.radius = Math.max(res.scale * 0.8, ...hi.map((v, k) => (v - lo[k]) * 0.6), 1e-9);
 }
 
@@ -231,7 +232,8 @@ function draw() {
   const add = (p, d, k) => [p[0] + k * d[0], p[1] + k * d[1], p[2] + k * d[2]];
   // ground grid on the base x-y plane
   const R = state.view.radius, step = Math.pow(10, Math.floor(Math.log10(R)));
-  for (let x = -Math.ceil(R / step) * step; x <= R + 1e-12; x += step) {
+  // (1e-12: include the last grid line despite the rounding of the repeated additions)
+  for (let x = -Math.ceil(R / step) * step; x <= R + 1e-12 * R; x += step) {
     line([x, -R, 0], [x, R, 0], COLORS.grid, 1); line([-R, x, 0], [R, x, 0], COLORS.grid, 1);
   }
   const triad = (T, color, names) => {
