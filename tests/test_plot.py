@@ -273,3 +273,11 @@ def test_real_urdf_arm_drawn_where_pinocchio_puts_it():
         assert np.linalg.norm(d - np.dot(d, z) * z) < 1e-9, joint.name  # a point of the same line
     fig = plot_robot(robot, q, overlay=["gjd", "dh"])
     assert "tool poses differ by" in fig.axes[0].get_title()
+
+
+def test_missing_matplotlib_is_one_clear_line(monkeypatch, capsys, tmp_path):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "matplotlib", None)  # as if not installed
+    assert main(["plot", str(RRPR), "-o", str(tmp_path / "x.png")]) == 2
+    assert "pip install 'robkin[plot]'" in capsys.readouterr().err

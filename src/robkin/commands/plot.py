@@ -56,6 +56,10 @@ def run(args: argparse.Namespace) -> int:
     if out.suffix.lower() not in PICTURE_FORMATS:  # before any work: nothing is written on bad input
         raise InputError(f"-o {out}: unknown picture format '{out.suffix or '(none)'}'; "
                          f"one of {', '.join(PICTURE_FORMATS)}")
+    try:
+        import matplotlib  # noqa: F401 - only to say clearly what is missing
+    except ImportError:
+        raise InputError("plot: pictures need matplotlib (pip install 'robkin[plot]')") from None
     if args.metrics:
         if args.q or args.overlay or args.frames:
             raise InputError("--metrics: --q, --overlay and --frames apply to robot pictures, not metrics")
