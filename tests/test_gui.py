@@ -100,6 +100,33 @@ def test_bad_input_is_an_input_error(text, fmt, message):
     assert message.lower() in str(err.value).lower()
 
 
+def test_pasted_bare_tables_are_the_papers_robot():
+    """Table I pasted as DH rows and Table II as RPY-XYZ rows: both are the RRPR robot (hand FK)."""
+    table_i = """# Table I of the conversion paper, with the errata
+    0    0.2  -pi/2  0
+    0.3  0    0      -pi/2
+    0.2  0    pi     pi/2   P
+    0.1, 0,   0,     0
+    """
+    table_ii = """-0 0 0 0 0 0
+    0 0 0 0 0 0
+    -pi/2 0 0 0 0 0.2
+    0 0 -pi/2 0 -0.3 0  P
+    pi 0 pi/2 0 0.2 0
+    0 0 0 0.1 0 0"""
+    q = [0.7, -1.2, 0.15, 2.1]
+    for text, fmt in ((table_i, "dh-rows"), (table_ii, "rpy-rows")):
+        res = gui_api.describe(text, fmt, q)
+        assert [j["type"] for j in res["joints"]] == ["revolute", "revolute", "prismatic", "revolute"]
+        np.testing.assert_allclose(res["T"], rrpr_fk(q), atol=EXACT, err_msg=fmt)
+    with pytest.raises(robkin.InputError, match="line 2: expected 4 numbers"):
+        gui_api.describe("0 0.2 0 0\n0 1 2\n", "dh-rows")
+    with pytest.raises(robkin.InputError, match="line 1: cannot read 'x'"):
+        gui_api.describe("x 0 0 0", "mdh-rows")
+    with pytest.raises(robkin.InputError, match="at least 3"):
+        gui_api.describe("0 0 0 0 0 0", "rpy-rows")
+
+
 def test_export_urdf_matches_pinocchio_and_document_round_trips():
     q = [0.4, -1.1, 0.25, 2.0]
     name, mime, urdf = gui_api.export(RRPR_TEXT, "auto", "urdf")

@@ -19,7 +19,7 @@ from ..robot import Robot
 
 __all__ = ["INPUT_FORMATS", "EXPORTS", "parse_robot", "describe", "export", "MAX_TEXT"]
 
-INPUT_FORMATS = ("auto", "yaml", "json", "urdf")
+INPUT_FORMATS = ("auto", "yaml", "json", "urdf", "dh-rows", "mdh-rows", "rpy-rows")
 #: Download name -> (document sections or None for URDF / the full document, file suffix, MIME type).
 EXPORTS: dict[str, tuple[tuple[str, ...] | None, str, str]] = {
     "yaml": (None, ".yaml", "application/yaml"),
@@ -53,8 +53,9 @@ def parse_robot(text: str, fmt: str = "auto", base_link: str | None = None, tip_
     ----------
     text : str
         The robot as typed or pasted.
-    fmt : {'auto', 'yaml', 'json', 'urdf'}
-        'auto' takes text starting with '<' as URDF and with '{' as JSON, else YAML.
+    fmt : {'auto', 'yaml', 'json', 'urdf', 'dh-rows', 'mdh-rows', 'rpy-rows'}
+        'auto' takes text starting with '<' as URDF and with '{' as JSON, else YAML. The '-rows'
+        formats are bare tables, one row per line (see ``robkin.viz.table_text``).
     base_link, tip_link : str, optional
         URDF only: the serial chain to take from a tree.
     source : str
@@ -87,6 +88,15 @@ def parse_robot(text: str, fmt: str = "auto", base_link: str | None = None, tip_
                 raise InputError("base/tip link: apply to URDF input only")
             from ..io.document import parse_document
 
+            if kind.endswith("-rows"):
+                import json
+
+                from .table_text import document_from_table
+
+                try:
+                    text, kind = json.dumps(document_from_table(text, kind)), "json"
+                except InputError as exc:
+                    raise exc.in_source(source) from None
             robot = parse_document(text, kind, source=source)
     return robot, [str(w.message) for w in caught if issubclass(w.category, Warning)]
 
