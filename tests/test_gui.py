@@ -352,6 +352,16 @@ def test_browser_load_move_check_download(page, tmp_path):
     _wait_update(pg, before)
     assert pg.is_hidden("#error")
 
+    # A bare DH table pasted from the paper (Table I), with its format chosen in the page.
+    before = _updates(pg)
+    pg.select_option("#format", "dh-rows")
+    pg.fill("#robot-text", "0 0.2 -pi/2 0\n0.3 0 0 -pi/2\n0.2 0 pi pi/2 P\n0.1 0 0 0\n")
+    _wait_update(pg, before)
+    pg.wait_for_function("() => document.body.dataset.state == 'ready'")
+    q = [float(pg.input_value(f"#q{i}")) for i in range(4)]
+    np.testing.assert_allclose(_pose(pg), rrpr_fk(q), atol=EXACT)
+    assert "(P)" in pg.inner_text("#sliders")
+
     # Paste another robot (the arbitrary 3R): sliders and tables follow, warnings are shown.
     before = _updates(pg)
     pg.select_option("#example", "arbitrary_3r")
