@@ -62,7 +62,9 @@ def plot_robot(robot: Robot, q: ArrayLike | None = None, overlay: Sequence[str] 
 
 
 def _relabel(scene: Scene, label: str) -> Scene:
-    return Scene(**{**scene.__dict__, "label": label})
+    from dataclasses import replace
+
+    return replace(scene, label=label)
 
 
 def _default_title(name: str | None, q: np.ndarray) -> str:

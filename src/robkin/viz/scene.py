@@ -14,7 +14,7 @@ the tool pose must coincide; :func:`overlay_scenes` measures by how much they do
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable, Sequence
 
 import numpy as np
@@ -179,7 +179,7 @@ def overlay_scenes(robot: Robot, q: ArrayLike | None, representations: Sequence[
 def _with_tool(scene: Scene, tool: np.ndarray) -> Scene:
     links = scene.links.copy()
     links[-1] = tool[:3, 3]
-    return Scene(**{**scene.__dict__, "tool": tool, "links": links})
+    return replace(scene, tool=tool, links=links)
 
 
 def disagreement(scenes: Sequence[Scene]) -> tuple[float, float, float]:
