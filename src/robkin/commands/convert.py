@@ -90,6 +90,18 @@ def _check_ext(out: Path, fmt: str) -> None:
         raise InputError(f"{out}: --to {fmt} writes a {' or '.join(ok)} file; name the output accordingly")
 
 
+def _check_path(path: Path) -> None:
+    """InputError for an output path the system refuses outright (e.g. a name too long): pathlib's
+    is_dir() and the writer would otherwise raise a bare OSError."""
+    for p in (path, path.parent):
+        try:
+            p.stat()
+        except FileNotFoundError:
+            pass
+        except OSError as exc:
+            raise InputError(f"{path}: cannot write ({exc.strerror or exc})") from None
+
+
 def _mapping_note(path: str, robot, fmt: str) -> str | None:
     """For URDF input: the joint variables of the output are the URDF joint positions."""
     from ..io import URDF_EXTENSIONS
@@ -118,9 +130,12 @@ def run(args: argparse.Namespace) -> int:
         if not args.output:
             raise InputError("several inputs need -o DIR (a folder for the converted files)")
         out_dir = Path(args.output)
+        _check_path(out_dir)
         if not out_dir.is_dir():
             raise InputError(f"{out_dir}: not a folder; with several inputs -o names an existing folder")
         targets = [out_dir / (Path(i).stem + _out_ext(fmt)) for i in inputs]
+        for t in targets:
+            _check_path(t)
         dup = {str(t) for t in targets if targets.count(t) > 1}
         if dup:
             raise InputError(f"several inputs would write the same file(s): {', '.join(sorted(dup))}")
@@ -137,8 +152,10 @@ def run(args: argparse.Namespace) -> int:
     note = _mapping_note(inputs[0], robot, fmt)
     if args.output:
         out = Path(args.output)
+        _check_path(out)
         if out.is_dir():
             out = out / (Path(inputs[0]).stem + _out_ext(fmt))
+            _check_path(out)
         _check_ext(out, fmt)
         text = _render_file(robot, fmt, out.suffix.lower())
         write_text_atomic(out, text)
