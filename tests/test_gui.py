@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -98,6 +99,24 @@ def test_bad_input_is_an_input_error(text, fmt, message):
     with pytest.raises(robkin.InputError, match=None) as err:
         gui_api.describe(text, fmt)
     assert message.lower() in str(err.value).lower()
+
+
+def test_overlays_agree_with_the_robot():
+    """DH, MDH, DH-from-PoE and RPY-XYZ overlays of the RRPR robot at Fig. 2's q: same tool, same axes."""
+    q = [3 * PI / 4, -PI / 4, 0.3, -3 * PI / 4]
+    res = gui_api.describe(RRPR_TEXT, q=q, overlay=["dh", "mdh", "poe", "rpy-xyz"])
+    assert [o["label"] for o in res["overlays"]][2] == "DH rebuilt from PoE (space)"
+    assert max(res["agreement"].values()) < EXACT
+    for o in res["overlays"]:
+        np.testing.assert_allclose(o["tool"], rrpr_fk(q), atol=EXACT, err_msg=o["label"])
+    # the PoE-rebuilt chain has other link points (the paper's Table III), the DH one the same
+    assert np.allclose(res["overlays"][0]["links"], res["scene"]["links"], atol=EXACT)
+    assert not np.allclose(res["overlays"][2]["links"], res["scene"]["links"], atol=1e-3)
+    assert gui_api.describe(RRPR_TEXT)["overlays"] == []
+    with pytest.raises(robkin.InputError, match="unknown representation 'xyz'"):
+        gui_api.describe(RRPR_TEXT, overlay=["xyz"])
+    with pytest.raises(robkin.InputError, match="overlay: expected a list"):
+        gui_api.describe(RRPR_TEXT, overlay="dh")
 
 
 def test_pasted_bare_tables_are_the_papers_robot():
@@ -362,6 +381,21 @@ def test_browser_load_move_check_download(page, tmp_path):
     np.testing.assert_allclose(_pose(pg), rrpr_fk(q), atol=EXACT)
     assert "(P)" in pg.inner_text("#sliders")
 
+    # Overlay the DH table rebuilt from PoE: drawn, and the page states that it agrees.
+    before = _updates(pg)
+    pg.check("#ov-poe")
+    _wait_update(pg, before)
+    pg.wait_for_function("() => document.body.dataset.state == 'ready'")
+    text = pg.inner_text("#agreement")
+    assert "DH rebuilt from PoE (space)" in text
+    diffs = [float(x) for x in re.findall(r"by (\S+?) \(position\), (\S+?) \(rotation\); joint axes by (\S+?)\.$",
+                                            text)[0]]
+    assert max(diffs) < EXACT
+    before = _updates(pg)
+    pg.uncheck("#ov-poe")
+    _wait_update(pg, before)
+    assert pg.is_hidden("#agreement")
+
     # Paste another robot (the arbitrary 3R): sliders and tables follow, warnings are shown.
     before = _updates(pg)
     pg.select_option("#example", "arbitrary_3r")
@@ -394,9 +428,13 @@ def test_browser_load_move_check_download(page, tmp_path):
     dl.value.save_as(yaml_path)
     np.testing.assert_allclose(robkin.load(yaml_path).fk(qt), rrpr_fk(qt), atol=EXACT)
 
-    # A screenshot of Table I's robot at the paper's Fig. 2 configuration (docs/ if ROBKIN_UPDATE_DOCS=1).
+    # A screenshot of Table I's robot at the paper's Fig. 2 configuration with the DH table rebuilt
+    # from PoE overlaid, like the paper's Fig. 2 (docs/ if ROBKIN_UPDATE_DOCS=1).
     before = _updates(pg)
     pg.select_option("#example", "rrpr")
+    _wait_update(pg, before)
+    before = _updates(pg)
+    pg.check("#ov-poe")
     _wait_update(pg, before)
     before = _updates(pg)
     pg.evaluate("""(q) => q.forEach((v, i) => { const s = document.getElementById('q' + i);

@@ -6,7 +6,7 @@ representation, downloads) and a JSON API over :mod:`robkin.viz.gui_api`:
 
 ``GET /api/start``
     The robot text given on the command line (if any) and the bundled examples.
-``POST /api/describe`` ``{text, fmt, q, base_link, tip_link}``
+``POST /api/describe`` ``{text, fmt, q, strict_q, overlay, base_link, tip_link}``
     ``{"ok": true, ...describe()}`` or ``{"ok": false, "error": "one line"}``.
 ``POST /api/export`` ``{text, fmt, to, base_link, tip_link}``
     ``{"ok": true, "filename", "mime", "content"}`` or ``{"ok": false, "error"}``.
@@ -164,7 +164,7 @@ class _Handler(BaseHTTPRequestHandler):
         try:
             if path == "/api/describe":
                 return {"ok": True, **gui_api.describe(q=req.get("q"), strict_q=req.get("strict_q") is not False,
-                                                       **args)}
+                                                       overlay=req.get("overlay"), **args)}
             filename, mime, content = gui_api.export(to=str(req.get("to", "")), **args)
             return {"ok": True, "filename": filename, "mime": mime, "content": content}
         except InputError as exc:

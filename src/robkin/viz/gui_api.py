@@ -120,7 +120,7 @@ def _finite(x: float | None) -> float | None:
 
 
 def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None = None,
-             tip_link: str | None = None, strict_q: bool = True) -> dict[str, Any]:
+             tip_link: str | None = None, strict_q: bool = True, overlay: Any = None) -> dict[str, Any]:
     """Everything the page shows for a robot at q: joints, all representations, URDF, pose, geometry.
 
     Returns a JSON-ready dict: ``name``, ``n``, ``joints`` (name, type, lower, upper, flip), ``scale``,
@@ -129,7 +129,9 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
     (tool pose as roll, pitch, yaw, x, y, z), ``scene`` (geometry to draw, see ``Scene.to_json``) and
     ``warnings`` (inputs projected onto valid values). With ``strict_q`` false, a q of the wrong
     length (the user edited the robot into one with another joint count) means home instead of an
-    error.
+    error. ``overlay`` lists representations (``robkin.viz.scene.REPRESENTATIONS``) to rebuild the robot
+    from and draw on top: their scenes come back as ``overlays`` and by how much they and the robot
+    disagree as ``agreement`` {position, rotation, axes} (rounding-size for a correct conversion).
     """
     from .. import se3
     from ..io.document import document_from_robot
@@ -143,6 +145,8 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
         doc = document_from_robot(robot)
     notes += [str(w.message) for w in caught]
     urdf, urdf_error = _urdf_text(robot)
+    scene = build_scene(robot, Q)
+    overlays, agreement = _overlays(robot, Q, scene, overlay)
     return {
         "name": robot.name or "",
         "n": robot.n,
@@ -155,9 +159,25 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
         "urdf_error": urdf_error,
         "T": T.tolist(),
         "rpy_xyz": np.concatenate([se3.rpy_from_matrix(T[:3, :3]), T[:3, 3]]).tolist(),
-        "scene": build_scene(robot, Q).to_json(),
+        "scene": scene.to_json(),
+        "overlays": overlays,
+        "agreement": agreement,
         "warnings": notes,
     }
+
+
+def _overlays(robot: Robot, Q: np.ndarray, scene: Any, overlay: Any) -> tuple[list[dict], dict | None]:
+    from .scene import REPRESENTATIONS, disagreement, overlay_scenes
+
+    if not overlay:
+        return [], None
+    if not isinstance(overlay, (list, tuple)) or not all(isinstance(r, str) for r in overlay):
+        raise InputError(f"overlay: expected a list of names from {', '.join(REPRESENTATIONS)}")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # conversion notes are shown once, with the tables
+        scenes = overlay_scenes(robot, Q, list(overlay))
+    pos, rot, axes = disagreement([scene, *scenes])
+    return [s.to_json() for s in scenes], {"position": pos, "rotation": rot, "axes": axes}
 
 
 def _urdf_text(robot: Robot) -> tuple[str | None, str | None]:

@@ -5,6 +5,8 @@
 
 const $ = (id) => document.getElementById(id);
 const COLORS = { link: "#3a3a3a", axis: "#1f4fe0", tool: "#ff3fa4", base: "#000000", grid: "#e4e4e4" };
+// Link colours of overlaid representations (as in the matplotlib pictures).
+const OVERLAY_COLORS = ["#f28e2b", "#2ca02c", "#9467bd", "#8c564b"];
 // Lengths drawn relative to the robot's size (same fractions as the matplotlib pictures).
 const AXIS_BACK = 0.12, AXIS_FRONT = 0.22, TRIAD = 0.16;
 
@@ -28,13 +30,17 @@ function inputs() {
            base_link: $("base-link").value.trim(), tip_link: $("tip-link").value.trim() };
 }
 
+function overlayList() {
+  return Array.from(document.querySelectorAll("#overlay input:checked")).map((c) => c.value);
+}
+
 function currentQ() {
   return Array.from(document.querySelectorAll("#sliders input[type=range]")).map((s) => parseFloat(s.value));
 }
 
 // Ask for the robot at q; while a request is in flight only the latest wish is kept.
 function refresh(textChanged) {
-  const body = { ...inputs(), q: state.robot ? currentQ() : null, strict_q: !textChanged };
+  const body = { ...inputs(), q: state.robot ? currentQ() : null, strict_q: !textChanged, overlay: overlayList() };
   if (state.inflight) { state.pending = body; return; }
   send(body);
 }
@@ -68,6 +74,7 @@ function apply(res, body) {
   state.robot = res;
   $("robot-name").textContent = (res.name || "robot") + " — " + res.n + " joints";
   showPose(res);
+  showAgreement(res);
   if (state.tablesText !== body.text + "\u0000" + body.fmt + body.base_link + "\u0000" + body.tip_link) {
     state.tablesText = body.text + "\u0000" + body.fmt + body.base_link + "\u0000" + body.tip_link;
     showTables(res);
@@ -173,6 +180,21 @@ function showTables(res) {
   $("tables").replaceChildren(...parts);
 }
 
+function showAgreement(res) {
+  const a = $("agreement");
+  a.hidden = !res.agreement;
+  if (!res.agreement) { a.textContent = ""; return; }
+  const e = (x) => x.toExponential(1);
+  const names = res.overlays.map((o, k) => {
+    const span = el("span", { class: "ov-name", text: "– – " + o.label });
+    span.style.color = OVERLAY_COLORS[k % OVERLAY_COLORS.length];  // CSSOM: allowed by the page's CSP
+    return span;
+  });
+  a.replaceChildren(...names.flatMap((n, k) => (k ? [", ", n] : [n])),
+    " vs. the robot as given: tool poses differ by " + e(res.agreement.position) + " (position), " +
+    e(res.agreement.rotation) + " (rotation); joint axes by " + e(res.agreement.axes) + ".");
+}
+
 function showPose(res) {
   const t = $("pose-table");
   t.replaceChildren();
@@ -245,6 +267,14 @@ function draw() {
     }
   };
   triad([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]], COLORS.base, ["x0", "y0", "z0"]);
+  // overlaid representations first, dashed, so the robot as given stays on top
+  res.overlays.forEach((o, k) => {
+    const color = OVERLAY_COLORS[k % OVERLAY_COLORS.length];
+    for (let i = 1; i < o.links.length; i++) line(o.links[i - 1], o.links[i], color, 3, [7, 4]);
+    o.axis_points.forEach((p, i) => {
+      line(add(p, o.axis_dirs[i], -AXIS_BACK * L), add(p, o.axis_dirs[i], AXIS_FRONT * L), COLORS.axis, 1.2, [3, 3]);
+    });
+  });
   // links
   g.lineJoin = "round"; g.lineCap = "round";
   const pts = sc.links.map(P);
@@ -329,6 +359,7 @@ async function start() {
       s.value = "0"; s.dispatchEvent(new Event("input"));
     });
   });
+  document.querySelectorAll("#overlay input").forEach((c) => c.addEventListener("change", () => refresh(false)));
   document.querySelectorAll("[data-download]").forEach((b) => b.addEventListener("click", () => download(b.dataset.download)));
   const init = await fetch("/api/start").then((r) => r.json());
   const ex = $("example");
