@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from pathlib import Path
 
 from ..errors import InputError
@@ -20,11 +21,13 @@ and Yoshikawa manipulability (translational, rotational).
 starting from the estimate (with --type all: from A-D and 4 random starts, the best is kept).
 
 examples:
-  robkin estimate --pose 0.4,0.6,0.7,0,3.1416,1.5708 --joints 4 --type D -o d.yaml
-  robkin estimate --pose -1,0.9,0.8,2.8,-1.04,-3.0 --joints 4 --type all
-  robkin estimate --pose -1,0.9,0.8,2.8,-1.04,-3.0 --joints 4 --type all -o results/ --plot cmp.png
-  robkin estimate --pose 1,0,0.5,0,1.57,0 --pose 0.9,0.3,0.5,0,1.57,0.3 --joints 6 --type D \\
-      --optimize length -o designed.yaml
+  # the estimation paper's Pose(1), (3) and all four types side by side
+  robkin estimate --pose -1,0.9,0.8,-3.08232,-1.04169,-3.01168 --joints 4 --type all
+  robkin estimate --pose 0.4,0.6,0.7,pi,0,pi/2 --joints 4 --type D -o pose3_D.yaml
+  robkin estimate --pose -1,0.9,0.8,-3.08232,-1.04169,-3.01168 --joints 5 --type all -o results/ --plot cmp.png
+  # synthesis for three poses, from A-D and 4 random starts, best design kept
+  robkin estimate --pose 0.8,0.2,0.5,0,1.57,0 --pose 0.8,0.4,0.5,0,1.57,0.3 --pose 0.7,0.5,0.6,0,1.4,0.5 \
+      --joints 6 --type all --optimize manipulability -o design.yaml
 """
 
 TYPES = ("A", "B", "C", "D", "ALL")
@@ -57,8 +60,6 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 
 def run(args: argparse.Namespace) -> int:
-    import numpy as np
-
     from ..synthesis.estimate import estimate_all
 
     poses = [parse_pose(text, "--pose") for text in args.pose]
@@ -77,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
     estimates = estimate_all(poses[0], args.joints, base, kinds)
     for k, e in estimates.items():
         for note in e.notes:
-            print(f"robkin: note: type {k}: {note}", file=sys_stderr())
+            print(f"robkin: note: type {k}: {note}", file=sys.stderr)
     results = {k: (e.robot, e.metrics, e.rows) for k, e in estimates.items()}
     opt_summary = None
     if args.optimize:
@@ -95,12 +96,6 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         _plot(estimates, args.plot)
     return 0
-
-
-def sys_stderr():
-    import sys
-
-    return sys.stderr
 
 
 def _output_paths(args: argparse.Namespace, kinds: tuple[str, ...]) -> dict[str, Path]:

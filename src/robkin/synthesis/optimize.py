@@ -38,7 +38,7 @@ from .. import se3
 from ..errors import InputError
 from ..representations.dh import DHTable
 from ..robot import Robot, check_pose, default_joints
-from .estimate import KINDS, MIN_JOINTS, Estimate, estimate
+from .estimate import KINDS, MIN_JOINTS, estimate
 from .metrics import link_length
 
 __all__ = ["Task", "make_task", "SynthesisResult", "synthesize", "synthesize_multistart", "COSTS",
