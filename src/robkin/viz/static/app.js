@@ -38,9 +38,11 @@ function currentQ() {
   return Array.from(document.querySelectorAll("#sliders input[type=range]")).map((s) => parseFloat(s.value));
 }
 
-// Ask for the robot at q; while a request is in flight only the latest wish is kept.
-function refresh(textChanged) {
-  const body = { ...inputs(), q: state.robot ? currentQ() : null, strict_q: !textChanged, overlay: overlayList() };
+// Ask for the robot at q; while a request is in flight only the latest wish is kept. The sliders'
+// q may belong to the robot before an edit changed its joint count: then the server answers at home
+// (strict_q false) instead of with an error.
+function refresh() {
+  const body = { ...inputs(), q: state.robot ? currentQ() : null, strict_q: false, overlay: overlayList() };
   if (state.inflight) { state.pending = body; return; }
   send(body);
 }
@@ -121,7 +123,7 @@ function buildSliders(res) {
     out.textContent = fmt(parseFloat(s.value), 3) + (prismatic ? "" : " rad");
     s.addEventListener("input", () => {
       out.textContent = fmt(parseFloat(s.value), 3) + (prismatic ? "" : " rad");
-      refresh(false);
+      refresh();
     });
     box.append(el("div", { class: "slider" }, el("span", { class: "jname", title: j.name + " (" + j.type + ")",
       text: j.name + (prismatic ? " (P)" : " (R)") }), s, out));
@@ -341,7 +343,7 @@ function showUrdfFields() {
 async function start() {
   setupView();
   let timer = null;
-  const edited = () => { showUrdfFields(); clearTimeout(timer); timer = setTimeout(() => refresh(true), 250); };
+  const edited = () => { showUrdfFields(); clearTimeout(timer); timer = setTimeout(() => refresh(), 250); };
   $("robot-text").addEventListener("input", edited);
   $("format").addEventListener("change", edited);
   $("base-link").addEventListener("input", edited);
@@ -359,7 +361,7 @@ async function start() {
       s.value = "0"; s.dispatchEvent(new Event("input"));
     });
   });
-  document.querySelectorAll("#overlay input").forEach((c) => c.addEventListener("change", () => refresh(false)));
+  document.querySelectorAll("#overlay input").forEach((c) => c.addEventListener("change", () => refresh()));
   document.querySelectorAll("[data-download]").forEach((b) => b.addEventListener("click", () => download(b.dataset.download)));
   const init = await fetch("/api/start").then((r) => r.json());
   const ex = $("example");
@@ -380,7 +382,7 @@ async function start() {
     if (first) { ex.value = first; $("robot-text").value = init.examples[first]; }
   }
   showUrdfFields();
-  refresh(true);
+  refresh();
 }
 
 document.addEventListener("DOMContentLoaded", start);
