@@ -102,6 +102,9 @@ CASES = [
          _leg("u.urdf"), "u.urdf: joint 'j2': unknown type 'ball'"),
     Case("entity expansion bomb", {"bomb.urdf": BOMB}, _leg("bomb.urdf"), "bomb.urdf: refused XML construct"),
     Case("external entity", {"xxe.urdf": EXTERNAL}, _leg("xxe.urdf"), "xxe.urdf: refused XML construct"),
+    Case("unexpanded xacro in a .urdf", {"x.urdf": '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+                                                   '<xacro:property name="L" value="1"/><link name="a"/></robot>'},
+         _leg("x.urdf"), "contains xacro macros; give the file a .xacro extension"),
     Case("root is not <robot>", {"r.urdf": "<model><link name='a'/></model>"}, _leg("r.urdf"),
          "root element is <model>"),
     Case("cycle of joints", {"cyc.urdf": urdf_with(

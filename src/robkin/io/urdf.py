@@ -251,6 +251,9 @@ def parse_urdf(source: str | os.PathLike) -> UrdfModel:
 def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
     """``parse_urdf`` of URDF text; ``src`` names it in messages."""
     root = _parse_xml(text, src)
+    if any(isinstance(el.tag, str) and el.tag.startswith("{http://www.ros.org/wiki/xacro}") for el in root.iter()):
+        raise InputError(f"{src}: contains xacro macros; give the file a .xacro extension (robkin expands it "
+                         f"with the 'xacro' package) or expand it first: xacro {Path(src).name} > robot.urdf")
     if root.tag != "robot":
         raise InputError(f"{src}: root element is <{root.tag}>; a URDF has <robot>")
     links = []
