@@ -31,6 +31,7 @@ def mujoco_pose(model, data, q: np.ndarray, *, site: str | None = None, body: st
 
 
 @pytest.mark.filterwarnings("ignore::robkin.ConditioningWarning")
+@pytest.mark.filterwarnings("ignore:.*held at 0:UserWarning")
 @pytest.mark.parametrize("rel, base, tip", CASES, ids=[c[0].split("/")[-1] + ":" + str(c[2]) for c in CASES])
 def test_mjcf_of_vendor_urdf_matches_pinocchio_of_the_original(rel, base, tip):
     path = robot_file(rel)

@@ -325,8 +325,9 @@ def _chain(model: UrdfModel, base_link: str | None, tip_link: str | None
     if tip_link is None:
         leaves = model.leaves(base_link)
         if len(leaves) != 1:
+            shown = ", ".join(leaves[:24]) + (f", ... ({len(leaves) - 24} more)" if len(leaves) > 24 else "")
             raise InputError(f"{src}: the links below '{base_link}' form a tree with {len(leaves)} leaf links; "
-                             f"pick the chain's end with --tip-link, one of: {', '.join(leaves)}")
+                             f"pick the chain's end with --tip-link, one of: {shown}")
         tip_link = leaves[0]
     path: list[UrdfJoint] = []
     link = tip_link
