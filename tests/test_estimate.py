@@ -303,6 +303,9 @@ def test_cli_writes_document_with_metrics(tmp_path, capsys):
     np.testing.assert_allclose(robot.fk(np.zeros(4)), POSES[1], atol=1e-12)
     est = estimate(POSES[1], 4, "D")
     assert doc["metrics"]["length"] == pytest.approx(est.metrics.length, rel=1e-12)
+    # the document's dh section is the estimate's own table (its frames already satisfy DH)
+    written = np.array([[r[k] for k in ("a", "d", "alpha", "theta")] for r in doc["dh"]["rows"]])
+    np.testing.assert_allclose(written, est.rows, atol=1e-12)
 
 
 def test_cli_all_table_json_and_folder(tmp_path, capsys):
