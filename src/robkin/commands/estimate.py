@@ -144,7 +144,16 @@ def _optimise(args, poses, base, estimates):
     task = make_task(np.stack(poses), base, reach=args.reach)
     starts = list(estimates) + (["random"] * 4 if len(estimates) > 1 else [])
     rng = np.random.default_rng(args.seed)
-    runs = [synthesize(task, args.joints, s, args.optimize, rng=rng) for s in starts]
+    from ..synthesis.sweep import progress_bar
+
+    bar = progress_bar(len(starts), desc="optimising", enabled=len(starts) > 1 and sys.stderr.isatty())
+    runs = []
+    try:
+        for s in starts:
+            runs.append(synthesize(task, args.joints, s, args.optimize, rng=rng))
+            bar.update(1)
+    finally:
+        bar.close()
     ok = [r for r in runs if r.converged] or [r for r in runs if r.reaches]
     if not ok:
         raise InputError("--optimize: no start reached every --pose with "
