@@ -58,7 +58,9 @@ class GuiServer(ThreadingHTTPServer):
 
     def serve_in_thread(self) -> threading.Thread:
         """Serve in a daemon thread (for tests and notebooks); stop with ``shutdown()``."""
-        t = threading.Thread(target=self.serve_forever, name="robkin-gui", daemon=True)
+        # poll every 50 ms (default 0.5 s) so that shutdown() returns quickly
+        t = threading.Thread(target=self.serve_forever, kwargs={"poll_interval": 0.05}, name="robkin-gui",
+                             daemon=True)
         t.start()
         return t
 
