@@ -217,3 +217,37 @@ def test_a_moved_axis_is_never_called_the_same(a, data):
     if not c.equivalent:
         first = next(j for j in c.joints if j.status == "differs") if any(j.status == "differs" for j in c.joints) else None
         assert first is None or first.index <= k
+
+
+#: Franka Emika's published modified-DH parameters of the Panda (Craig convention), flange 0.107 m.
+PANDA_FRANKA_MDH = """robkin: 1
+name: panda-franka-mdh
+joints: [revolute, revolute, revolute, revolute, revolute, revolute, revolute]
+mdh:
+  rows:
+    - {a: 0, d: 0.333, alpha: 0, theta: 0}
+    - {a: 0, d: 0, alpha: -pi/2, theta: 0}
+    - {a: 0, d: 0.316, alpha: pi/2, theta: 0}
+    - {a: 0.0825, d: 0, alpha: pi/2, theta: 0}
+    - {a: -0.0825, d: 0.384, alpha: -pi/2, theta: 0}
+    - {a: 0, d: 0, alpha: pi/2, theta: 0}
+    - {a: 0.088, d: 0, alpha: pi/2, theta: 0}
+  tool: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0.107], [0, 0, 0, 1]]
+"""
+
+
+def test_franka_published_mdh_is_the_panda_urdf(tmp_path, capsys):
+    doc = tmp_path / "panda_mdh.yaml"
+    doc.write_text(PANDA_FRANKA_MDH)
+    urdf = robot_file("panda_description/urdf/panda.urdf")
+    assert main(["check", str(doc), urdf, "--tip-link", "panda_link8"]) == 0
+    assert "verdict: same robot" in capsys.readouterr().out
+    # a sign typo in alpha_4 (row 5) reverses joint 5's axis on the same line: a sign difference
+    # there, and everything beyond it is misplaced: joint 6 is the first real difference
+    doc.write_text(PANDA_FRANKA_MDH.replace("{a: -0.0825, d: 0.384, alpha: -pi/2", "{a: -0.0825, d: 0.384, alpha: pi/2"))
+    assert main(["check", str(doc), urdf, "--tip-link", "panda_link8", "--json"]) == 1
+    out = json.loads(capsys.readouterr().out)
+    assert not out["equivalent"]
+    assert [j["status"] for j in out["joints"]] == ["same"] * 4 + ["sign", "differs", "unchecked"]
+    assert out["first_difference"].startswith("joint 6 ('joint6' / 'panda_joint6'): axis position differs: "
+                                              "parallel axes pointing opposite ways")
