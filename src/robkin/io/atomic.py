@@ -7,11 +7,13 @@ from __future__ import annotations
 
 import os
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
+from typing import IO, Iterator
 
 from ..errors import InputError
 
-__all__ = ["write_text_atomic", "check_writable_dir"]
+__all__ = ["write_text_atomic", "atomic_file", "check_writable_dir"]
 
 
 def check_writable_dir(path: str | os.PathLike) -> Path:
@@ -27,23 +29,41 @@ def check_writable_dir(path: str | os.PathLike) -> Path:
     return folder
 
 
-def write_text_atomic(path: str | os.PathLike, text: str) -> None:
-    """Write ``text`` to ``path`` atomically (temporary file + rename); InputError if impossible."""
+def _current_umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+@contextmanager
+def atomic_file(path: str | os.PathLike, binary: bool = False) -> Iterator[IO]:
+    """A file handle whose content replaces ``path`` only if the ``with`` block completes.
+
+    The file gets ordinary permissions (0666 less the umask), not mkstemp's private 0600.
+    """
     folder = check_writable_dir(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{Path(path).name}.", suffix=".tmp", dir=folder)
     try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
-            fh.write(text)
+        os.chmod(tmp, 0o666 & ~_current_umask())
+        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8", "newline": "\n"})) as fh:
+            yield fh
         os.replace(tmp, path)
     except OSError as exc:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
+        _remove(tmp)
         raise InputError(f"{path}: cannot write ({exc.strerror or exc})") from None
     except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
+        _remove(tmp)
         raise
+
+
+def _remove(tmp: str) -> None:
+    try:
+        os.unlink(tmp)
+    except OSError:
+        pass
+
+
+def write_text_atomic(path: str | os.PathLike, text: str) -> None:
+    """Write ``text`` to ``path`` atomically (temporary file + rename); InputError if impossible."""
+    with atomic_file(path) as fh:
+        fh.write(text)

@@ -28,7 +28,7 @@ from ..robot import JOINT_TYPES, Joint, Robot
 from .numbers import matrix, number, number_list
 
 __all__ = ["SECTIONS", "read_document", "parse_document", "read_sections", "document_from_robot",
-           "dump", "same_robot"]
+           "dump", "same_robot", "read_text", "parse_text"]
 
 #: Representation sections, in the order that decides which one defines the GJD when several are given.
 SECTIONS = ("gjd", "dh", "mdh", "rpy_xyz", "poe", "poe_body")
@@ -46,11 +46,12 @@ AGREE_TOL = 1e-6
 # ---------------------------------------------------------------------------------------- reading
 def read_document(path: str | os.PathLike) -> Robot:
     """Read a robot document (.yaml, .yml or .json) into a Robot; InputError names file and field."""
-    text, fmt = _read_text(path)
+    text, fmt = read_text(path)
     return parse_document(text, fmt, source=str(path))
 
 
-def _read_text(path: str | os.PathLike) -> tuple[str, str]:
+def read_text(path: str | os.PathLike) -> tuple[str, str]:
+    """The text of a document file and its format ('yaml' or 'json'); InputError names the problem."""
     p = Path(path)
     ext = p.suffix.lower()
     fmt = {".yaml": "yaml", ".yml": "yaml", ".json": "json"}.get(ext)
@@ -76,7 +77,8 @@ def _read_text(path: str | os.PathLike) -> tuple[str, str]:
         raise InputError(f"{p}: not UTF-8 text (byte {exc.start})") from None
 
 
-def _parse_text(text: str, fmt: str, source: str) -> Any:
+def parse_text(text: str, fmt: str, source: str) -> Any:
+    """Plain data (dicts, lists, numbers) from YAML or JSON text; InputError with line and column."""
     if fmt == "json":
         try:
             return json.loads(text, parse_constant=lambda c: float("nan"))
@@ -100,7 +102,7 @@ def _parse_text(text: str, fmt: str, source: str) -> Any:
 
 def parse_document(text: str, fmt: str = "yaml", source: str = "<document>") -> Robot:
     """Parse document text (fmt 'yaml' or 'json') into a Robot."""
-    data = _parse_text(text, fmt, source)
+    data = parse_text(text, fmt, source)
     try:
         sections, joints, name = _sections(data)
         return _robot_from_sections(sections, joints, name)
@@ -110,8 +112,8 @@ def parse_document(text: str, fmt: str = "yaml", source: str = "<document>") -> 
 
 def read_sections(path: str | os.PathLike) -> dict[str, Robot]:
     """Each representation section of a document as its own Robot (for comparing them)."""
-    text, fmt = _read_text(path)
-    data = _parse_text(text, fmt, str(path))
+    text, fmt = read_text(path)
+    data = parse_text(text, fmt, str(path))
     try:
         sections, joints, name = _sections(data)
         return {key: _robot_of(key, value, joints, name) for key, value in sections.items()}

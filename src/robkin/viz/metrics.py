@@ -60,10 +60,10 @@ def metrics_of_robot(robot: "Robot") -> dict[str, float]:
 
 def read_metrics(path: str | Path) -> MetricEntry:
     """Metrics of one result document: its ``metrics`` object, or computed from its robot."""
-    from ..io.document import _parse_text, _read_text, parse_document
+    from ..io.document import parse_text, read_text, parse_document
 
-    text, fmt = _read_text(path)
-    data: Any = _parse_text(text, fmt, str(path))
+    text, fmt = read_text(path)
+    data: Any = parse_text(text, fmt, str(path))
     if not isinstance(data, dict):
         raise InputError(f"{path}: expected a robot document (a mapping with joints and a section)")
     stem, name = Path(path).stem, str(data.get("name") or "")

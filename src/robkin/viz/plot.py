@@ -161,9 +161,8 @@ def save_figure(fig: "Figure", path: str | os.PathLike, *, caption: str = "") ->
     Returns the path written. InputError for an unknown extension or an unwritable folder.
     """
     import io
-    import tempfile
 
-    from ..io.atomic import check_writable_dir, write_text_atomic
+    from ..io.atomic import atomic_file, write_text_atomic
 
     p = Path(path)
     ext = p.suffix.lower()
@@ -175,21 +174,8 @@ def save_figure(fig: "Figure", path: str | os.PathLike, *, caption: str = "") ->
             fig.savefig(buf, format="svg", metadata=_metadata(".svg"))
         write_text_atomic(p, _html_page(buf.getvalue(), caption))
         return p
-    folder = check_writable_dir(p)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=ext, dir=folder)
-    umask = os.umask(0)
-    os.umask(umask)
-    try:
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes the file private (0600); a picture is an ordinary file
-        with os.fdopen(fd, "wb") as fh, _reproducible():
-            fig.savefig(fh, format=ext[1:], dpi=150, metadata=_metadata(ext))
-        os.replace(tmp, p)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    with atomic_file(p, binary=True) as fh, _reproducible():
+        fig.savefig(fh, format=ext[1:], dpi=150, metadata=_metadata(ext))
     return p
 
 
