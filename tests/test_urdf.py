@@ -298,11 +298,14 @@ def test_parse_urdf_lists_tree():
 
 
 def test_export_names_do_not_collide_with_joint_names():
-    robot = Robot(np.stack([np.eye(4), se3.trans(0, 0, 1)]), (Joint("tool"),), name="x")
+    F = np.stack([np.eye(4), se3.trans(0, 0, 1), se3.trans(0, 1, 1)])
+    robot = Robot(F, (Joint("tool"), Joint("base_fixed")), name="x")
     text = urdf_from_robot(robot)
     model = pin.buildModelFromXML(text)
-    assert model.existFrame("tool_link")
-    np.testing.assert_allclose(pin_fk(model, robot, np.array([0.3]), "tool_link"), robot.fk([0.3]), atol=1e-15)
+    assert model.existFrame("tool_") and model.existFrame("base_fixed_")
+    back = robot_from_urdf(text, tip_link="tool_")
+    assert [j.name for j in back.joints] == ["tool", "base_fixed"]
+    np.testing.assert_allclose(pin_fk(model, robot, np.array([0.3, -1]), "tool_"), robot.fk([0.3, -1]), atol=1e-15)
 
 
 def test_exported_urdf_loads_in_yourdfpy_with_same_fk(tmp_path):

@@ -451,21 +451,24 @@ def _origin(T: np.ndarray) -> str:
             f'rpy="{" ".join(_num(v) for v in rpy)}"/>')
 
 
-def _unique_names(robot: Robot) -> tuple[str, str, list[str], str]:
-    """Link names world, base, link1..n, tool, suffixed if a joint already uses one (one namespace
-    in pinocchio, which turns both links and joints into frames)."""
+def _unique_names(robot: Robot) -> tuple[str, str, list[str], str, str, str]:
+    """Names of the links world, base, link1..n, tool and of the two fixed joints, suffixed where a
+    robot joint already uses one (pinocchio turns links and joints into frames of one namespace)."""
     taken = {j.name for j in robot.joints}
 
     def free(s: str) -> str:
         out = s
         while out in taken:
-            out += "_link"
+            out += "_"
         taken.add(out)
         return out
 
-    world, base = free("world"), free("base")
+    # the root link keeps the name 'world' whatever the joints are called: readers (robkin's
+    # included) recognise a fixed 'world' root as the world->base transform
+    world, base = "world", free("base")
     links = [free(f"link{i + 1}") for i in range(robot.n)]
-    return world, base, links, free("tool")
+    tool = free("tool")
+    return world, base, links, tool, free(base + "_fixed"), free(tool + "_fixed")
 
 
 def urdf_from_robot(robot: Robot) -> str:
@@ -480,7 +483,7 @@ def urdf_from_robot(robot: Robot) -> str:
     from .. import __version__
     from ..representations.dh import flip_frame
 
-    world, base, links, tool = _unique_names(robot)
+    world, base, links, tool, base_joint, tool_joint = _unique_names(robot)
     D = [flip_frame(robot.frames[i], j.flip) for i, j in enumerate(robot.joints)]
     out = ['<?xml version="1.0"?>',
            f"<!-- written by robkin {__version__}: kinematics only (no meshes, no inertias) -->",
@@ -490,7 +493,7 @@ def urdf_from_robot(robot: Robot) -> str:
            '  <mujoco><compiler fusestatic="false" boundmass="1e-06" boundinertia="1e-12"/></mujoco>',
            f"  <link name={quoteattr(world)}/>",
            f"  <link name={quoteattr(base)}/>",
-           f"  <joint name={quoteattr(base + '_fixed')} type=\"fixed\">",
+           f"  <joint name={quoteattr(base_joint)} type=\"fixed\">",
            f"    <parent link={quoteattr(world)}/>",
            f"    <child link={quoteattr(base)}/>",
            f"    {_origin(robot.world)}",
@@ -513,7 +516,7 @@ def urdf_from_robot(robot: Robot) -> str:
         out.append("  </joint>")
         prev_name, prev = links[i], D[i]
     out += [f"  <link name={quoteattr(tool)}/>",
-            f"  <joint name={quoteattr(tool + '_fixed')} type=\"fixed\">",
+            f"  <joint name={quoteattr(tool_joint)} type=\"fixed\">",
             f"    <parent link={quoteattr(prev_name)}/>",
             f"    <child link={quoteattr(tool)}/>",
             f"    {_origin(se3.inv(prev) @ robot.tool)}",
