@@ -119,19 +119,25 @@ def common_normal_frame(p_a: np.ndarray, u_a: np.ndarray, p_b: np.ndarray, u_b: 
     anchor = point_line_foot(prev[:3, 3], p_a, u_a) if on == "b" else _x_line_on(prev, p_a, u_a)
     y_ref = np.cross(u_a, x_prev)
     rel = classify(p_a, u_a, p_b, u_b, scale)
+    if rel in (AxisRelation.PARALLEL, AxisRelation.ANTI_PARALLEL):
+        foot_b = point_line_foot(anchor, p_b, u_b)
+        normal = foot_b - anchor
+        dist = float(np.linalg.norm(normal))
+        # Measured from the anchor rather than from p_a, the lines may still meet to rounding (seen:
+        # normal exactly 0, and a NaN frame, when the robot's scale was 1e-6 of its frame offsets):
+        # then they are coincident.
+        if dist > LENGTH_TOL * scale:
+            # unit before the sign test: its tie margin is on a cosine, and an unnormalised normal
+            # made the choice depend on the length unit (the same robot in mm got the other sign)
+            x = _choose_sign(normal / dist, x_prev, y_ref)
+            return frame_from_zx(anchor if on == "a" else foot_b, u_self, x)
+        rel = AxisRelation.COINCIDENT
     if rel in (AxisRelation.COINCIDENT, AxisRelation.ANTI_COINCIDENT):
         x = x_prev - np.dot(x_prev, u_self) * u_self
         if np.linalg.norm(x) < 1e-6:  # prev x along the axis (cannot happen for a valid chain)
             x = _any_perpendicular(u_self)
         origin = anchor if on == "a" else point_line_foot(anchor, p_b, u_b)
         return frame_from_zx(origin, u_self, x)
-    if rel in (AxisRelation.PARALLEL, AxisRelation.ANTI_PARALLEL):
-        foot_b = point_line_foot(anchor, p_b, u_b)
-        normal = foot_b - anchor  # nonzero: the lines do not meet
-        # unit before the sign test: its tie margin is on a cosine, and an unnormalised normal made
-        # the choice depend on the length unit (the same robot in mm got the other sign)
-        x = _choose_sign(normal / np.linalg.norm(normal), x_prev, y_ref)
-        return frame_from_zx(anchor if on == "a" else foot_b, u_self, x)
     cn = closest_points(p_a, u_a, p_b, u_b)
     x = np.cross(u_a, u_b)
     x = _choose_sign(x / np.linalg.norm(x), x_prev, y_ref)
