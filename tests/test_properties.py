@@ -244,8 +244,11 @@ def test_written_dh_tables_are_fixed_points(spec: RobotSpec):
     # last frame's, which amplifies the rounding of the round trip by 1 / sin of that angle.
     frames, _ = dh_frames(robot)
     kappa = last_row_conditioning(frames[-1], robot.tool)
-    assert_tables_equal(dh2.rows[-1:], dh.rows[-1:], robot.scale, tol=EXACT * kappa)
-    assert_poses_close(dh2.tool, dh.tool, robot.scale, tol=EXACT * kappa, what="dh tool")
+    if np.isfinite(kappa):
+        assert_tables_equal(dh2.rows[-1:], dh.rows[-1:], robot.scale, tol=EXACT * kappa)
+        assert_poses_close(dh2.tool, dh.tool, robot.scale, tol=EXACT * kappa, what="dh tool")
+    # whatever the last row, the table ends at the tool
+    assert_poses_close(dh2.fk(np.zeros(robot.n)), robot.tool, robot.scale, tol=1e-10, what="dh fk(0)")
     mdh = robkin.mdh_from_robot(robot)
     mdh2 = robkin.mdh_from_robot(mdh.to_robot())
     assert_tables_equal(mdh2.rows, mdh.rows, robot.scale)
@@ -260,10 +263,17 @@ def assert_tables_equal(rows: np.ndarray, expected: np.ndarray, scale: float, to
 
 
 def last_row_conditioning(prev: np.ndarray, target: np.ndarray) -> float:
-    """1 + 1 / sin of the x-x and z-z angles between two frames (where not treated as parallel)."""
+    """1 + 1 / sin of the x-x and z-z angles between two frames (where not treated as parallel).
+
+    inf when an angle is within a factor 2 of ANGLE_TOL: the last row's d (or a) is the distance of
+    two lines taken as parallel below ANGLE_TOL and as crossing above it, and rounding noise decides
+    on which side of the threshold an angle that sits on it falls (hypothesis finds such angles).
+    """
     kappa = 1.0
     for k in (0, 2):
         sin = float(np.linalg.norm(np.cross(prev[:3, k], target[:3, k])))
+        if ANGLE_TOL / 2 <= sin <= 2 * ANGLE_TOL:
+            return np.inf
         if sin >= ANGLE_TOL:
             kappa += 1.0 / sin
     return kappa
