@@ -132,7 +132,7 @@ def run_sweep(jobs: Iterable[Job], workers: int | None = None, scheduler: Any = 
     try:
         if scheduler is not None:
             return _run_dask(jobs, scheduler, bar)
-        workers = os.cpu_count() or 1 if workers is None else int(workers)
+        workers = (os.cpu_count() or 1) if workers is None else int(workers)
         if workers < 1:
             raise InputError(f"workers: need at least 1, got {workers}")
         if workers == 1 or len(jobs) <= 1:
