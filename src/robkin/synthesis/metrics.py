@@ -70,10 +70,10 @@ def structure_metrics(robot: Robot, rows: ArrayLike, q: ArrayLike | None = None)
 
 def yoshikawa(robot: Robot, q: ArrayLike, kind: str) -> float:
     """Yoshikawa manipulability (``kinematics.jacobian.manipulability``), 0 when rank-deficient."""
-    from ..kinematics.jacobian import jacobian_geometric, manipulability, singular_values
+    from ..kinematics.jacobian import jacobian_geometric, singular_values
 
     rows = slice(0, 3) if kind == "translational" else slice(3, 6)
     s = singular_values(jacobian_geometric(robot, q)[rows])
     if s.size == 0 or s[-1] <= RANK_TOL * s[0]:
         return 0.0
-    return float(manipulability(robot, q, kind))
+    return float(np.prod(s))  # Yoshikawa's measure: the product of the singular values
