@@ -44,6 +44,10 @@ EPS = float(np.finfo(float).eps)
 
 REPRESENTATIONS = ("gjd", "dh", "mdh", "poe", "poe_body", "rpy")
 
+# Nearly parallel axes (rounded inputs) make the DH/MDH writers warn, as documented; here that is
+# expected, and the accuracy it warns about is what the tolerances above account for.
+pytestmark = pytest.mark.filterwarnings("ignore::robkin.errors.ConditioningWarning")
+
 SETTINGS = dict(deadline=None, print_blob=True,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 #: ROBKIN_PROPERTY_SCALE=20 multiplies every example count, for a deep search before a release.
@@ -227,7 +231,10 @@ def test_round_trips_through_the_hub_keep_the_joint_axes(spec: RobotSpec):
             if rep.startswith("poe") and not joint.revolute:
                 np.testing.assert_allclose(u1, u0, atol=EXACT, err_msg=f"{rep} joint {i + 1} direction")
             else:
-                assert same_line(p0, u0, p1, u1, robot.scale), f"{rep}: joint {i + 1} axis moved"
+                # a given frame that meets the DH convention to KEEP_TOL is kept as it is; what it
+                # misses by (<= KEEP_TOL in rotation) tilts the axes after it, once per joint at most
+                assert same_line(p0, u0, p1, u1, robot.scale, tol=EXACT + robot.n * KEEP_TOL), \
+                    f"{rep}: joint {i + 1} axis moved"
 
 
 @settings(max_examples=60 * SCALE, **SETTINGS)
