@@ -209,6 +209,11 @@ class Robot:
         origins = float(np.linalg.norm(self.frames[:, :3, 3], axis=1).max())
         if s <= 1e-9 * origins:
             s = origins
+        # Conversions compute with the frame origins, so tolerances must stay above their rounding
+        # (eps times their size): the scale is never below 1/1000 of the farthest origin. Only 1/1000,
+        # because a frame may sit far along its axis (the common normal of nearly parallel axes)
+        # without the robot being any bigger, and tolerances that large would be too loose for it.
+        s = max(s, 1e-3 * origins)
         return s if s > 0 else 1.0
 
     @property
