@@ -101,13 +101,26 @@ class Comparison:
 
 
 # --------------------------------------------------------------------------------------- helpers
-def _scaled(S: np.ndarray, scale: float) -> np.ndarray:
-    """Screw (w, v) with v divided by the robot size, so both halves are dimensionless."""
-    return np.concatenate([S[:3], S[3:] / scale])
+def _scaled(S: np.ndarray, scale: float, slide: bool) -> np.ndarray:
+    """A screw (or a change of one) in dimensionless units: a revolute screw (w, v) has v = -w x p,
+    a length, divided by the robot size; a prismatic screw (0, v) is a direction, kept as it is."""
+    return S.copy() if slide else np.concatenate([S[:3], S[3:] / scale])
+
+
+def _is_slide(S: np.ndarray) -> bool:
+    """A unit screw with w = 0 (|w| is 0 or 1 for the screws compared here)."""
+    return bool(np.linalg.norm(S[:3]) < 0.5)
 
 
 def _screw_error(Sa: np.ndarray, Sb: np.ndarray, scale: float) -> float:
-    return float(np.abs(_scaled(Sa, scale) - _scaled(Sb, scale)).max())
+    slide = _is_slide(Sa)
+    return float(np.abs(_scaled(Sa, scale, slide) - _scaled(Sb, scale, slide)).max())
+
+
+def _effect(S_open: np.ndarray, open_slide: bool, Si: np.ndarray, scale: float) -> np.ndarray:
+    """How axis Si changes per natural step of an open joint (1 rad, or one robot size of slide),
+    in Si's dimensionless units: the Lie bracket [S_open, Si], scaled."""
+    return _scaled(_bracket(S_open, Si), scale, _is_slide(Si)) * (scale if open_slide else 1.0)
 
 
 def _pose_difference(Ta: np.ndarray, Tb: np.ndarray) -> tuple[float, float]:
@@ -282,17 +295,19 @@ def _offset_candidates(pending: np.ndarray, Sa: np.ndarray, Sb: np.ndarray, scal
     a perpendicular axis reverses a line), which is why the caller searches over the candidates.
     Returns (d, sign, residual), best first.
     """
+    slide = _is_slide(Sa)
+
     def moved(d: float) -> np.ndarray:
-        return _scaled(se3.adjoint(se3.exp_twist(pending, d)) @ Sa, scale)
+        return _scaled(se3.adjoint(se3.exp_twist(pending, d)) @ Sa, scale, slide)
 
     s0, s_half, s_pi = moved(0.0), moved(math.pi / 2), moved(math.pi)
     c0, c1 = (s0 + s_pi) / 2, (s0 - s_pi) / 2
     C = np.column_stack([c1, s_half - c0])
     out = []
     for sign in (1, -1):
-        x = np.linalg.lstsq(C, sign * _scaled(Sb, scale) - c0, rcond=None)[0]
+        x = np.linalg.lstsq(C, sign * _scaled(Sb, scale, slide) - c0, rcond=None)[0]
         d = math.atan2(x[1], x[0])
-        out.append((d, sign, float(np.abs(moved(d) - sign * _scaled(Sb, scale)).max())))
+        out.append((d, sign, float(np.abs(moved(d) - sign * _scaled(Sb, scale, slide)).max())))
     return sorted(out, key=lambda c: c[2])
 
 
@@ -397,7 +412,8 @@ class _Walk:
         Sa = se3.adjoint(st.G) @ self.SA[i]
         Sb = self.SB[i]
         open_screws = self._open_screws(st, st.pending)
-        movers = [p for p, S in zip(st.pending, open_screws) if np.abs(_scaled(_bracket(S, Sa), scale)).max() > tol]
+        movers = [p for p, S in zip(st.pending, open_screws)
+                  if np.abs(_effect(S, not a.joints[p].revolute, Sa, scale)).max() > tol]
         # options: (offset changes of open joints, sign, the open joints now determined)
         options: list[tuple[dict[int, float], int, set[int]]] = []
         explained = ""
@@ -416,7 +432,7 @@ class _Walk:
                 sols = []
                 for sign in (1, -1):
                     def residual(x, sign=sign):
-                        return _scaled(se3.adjoint(_motion(screws, x)) @ Sa - sign * Sb, scale)
+                        return _scaled(se3.adjoint(_motion(screws, x)) @ Sa - sign * Sb, scale, not ja.revolute)
                     # rotations are fixed by the solve; slides stay open unless the axes placed so
                     # far pin them down (``_advance`` checks the rank)
                     sols += [(x, sign, fixed_now) for x, _ in self._solutions(st, movers, residual)]
@@ -454,7 +470,7 @@ class _Walk:
             # movers left open (slides only partly fixed by axis i): later changes of their offsets
             # must not move axis i; the rows are the derivatives of axis i along each of them
             moved = replace(st, G=G)
-            rows = np.array([_scaled(_bracket(S, Si), scale) for S in self._open_screws(moved, kept)]).T
+            rows = np.array([_effect(S, True, Si, scale) for S in self._open_screws(moved, kept)]).T
             constraints = constraints + ((tuple(kept), rows),)
             stacked = self._extra_rows(replace(st, constraints=constraints), kept)
             if np.linalg.matrix_rank(stacked, tol=1e-9 * max(1.0, float(np.abs(stacked).max()))) == len(kept):
