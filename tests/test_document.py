@@ -143,3 +143,22 @@ def test_unknown_extension_and_missing_file(tmp_path):
         robkin.load(tmp_path / "robot.txt")
     with pytest.raises(InputError, match="no such file"):
         robkin.load(tmp_path / "missing.yaml")
+
+
+def test_world_transform_survives_a_dh_only_document(tmp_path):
+    from robkin import se3
+
+    robot = read_document(EXAMPLES_DIR / "rrpr.yaml")
+    W = se3.trans(1.0, 2.0, 0.5) @ se3.rot_z(0.3)
+    moved = robot.replace(world=W)
+    doc = document_from_robot(moved, ("dh",))
+    path = tmp_path / "w.yaml"
+    path.write_text(dump(doc, "yaml"))
+    back = read_document(path)
+    np.testing.assert_allclose(back.world, W, atol=1e-15)
+    np.testing.assert_allclose(back.fk(RRPR_Q), robot.fk(RRPR_Q), atol=1e-12)  # world is not in FK
+    # both world and rpy_xyz given: they must agree
+    full = document_from_robot(moved)
+    full["world"][0][3] = 9.0
+    with pytest.raises(InputError, match="world and rpy_xyz"):
+        parse_document(dump(full, "json"), "json")

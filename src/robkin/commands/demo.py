@@ -12,11 +12,24 @@ EXAMPLES = ("rrpr.yaml", "arbitrary_3r.yaml")
 DEMO_Q = {"rrpr": [3 * np.pi / 4, -np.pi / 4, 0.3, -3 * np.pi / 4]}
 
 
+EPILOG = """\
+The 3R robot's numbers were printed with 3 decimals in the paper: expect warnings that its M and
+screws were projected onto the nearest valid values.
+
+examples:
+  robkin demo
+  robkin demo | less
+  robkin convert {examples}/rrpr.yaml --to poe     # one of the demo's robots, one representation
+"""
+
+
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     return sub.add_parser("demo", help="show the paper's examples in every representation",
                           description="Convert the conversion paper's RRPR and arbitrary 3R robots (bundled "
                                       f"in {EXAMPLES_DIR}) into every representation and check that forward "
-                                      "kinematics agrees.")
+                                      "kinematics agrees.",
+                          epilog=EPILOG.format(examples=EXAMPLES_DIR),
+                          formatter_class=argparse.RawDescriptionHelpFormatter)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -20,10 +20,13 @@ def check_writable_dir(path: str | os.PathLike) -> Path:
     """The folder an output file goes into; InputError if it does not exist or is not writable."""
     p = Path(path)
     folder = p.parent if str(p.parent) else Path(".")
-    if p.is_dir():
-        raise InputError(f"{p}: is a folder; give a file name for the output")
-    if not folder.is_dir():
-        raise InputError(f"{p}: folder {folder} does not exist")
+    try:
+        if p.is_dir():
+            raise InputError(f"{p}: is a folder; give a file name for the output")
+        if not folder.is_dir():
+            raise InputError(f"{p}: folder {folder} does not exist")
+    except OSError as exc:  # e.g. a name longer than the file system allows
+        raise InputError(f"{p}: cannot write there ({exc.strerror or exc})") from None
     if not os.access(folder, os.W_OK):
         raise InputError(f"{p}: folder {folder} is not writable")
     return folder

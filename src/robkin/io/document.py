@@ -2,7 +2,8 @@
 
 Schema (DESIGN.md): ``robkin: 1``, optional ``name``, ``joints`` (one entry per joint: name, type
 revolute|prismatic, optional limits {lower, upper} and flip), and at least one representation section:
-``gjd``, ``dh``, ``mdh``, ``rpy_xyz``, ``poe``, ``poe_body``. Rows may be objects with named keys or
+``gjd``, ``dh``, ``mdh``, ``rpy_xyz``, ``poe``, ``poe_body``; optionally ``world``, the world -> robot
+base transform (4x4; also row 0 of ``rpy_xyz``), kept and written out but not part of FK. Rows may be objects with named keys or
 lists in column order; numbers may be arithmetic strings such as "-pi/2". A ``dh`` table with n + 1
 rows and no ``base`` is the conversion paper's layout: its first row is the fixed base row.
 
@@ -24,7 +25,7 @@ from .. import se3
 from ..errors import InputError
 from ..representations import DHTable, MDHTable, PoE, RPYTable
 from ..representations.gjd import robot_from_gjd
-from ..robot import JOINT_TYPES, Joint, Robot
+from ..robot import JOINT_TYPES, Joint, Robot, check_pose
 from .numbers import matrix, number, number_list
 
 __all__ = ["SECTIONS", "read_document", "parse_document", "read_sections", "document_from_robot",
@@ -116,6 +117,7 @@ def read_sections(path: str | os.PathLike) -> dict[str, Robot]:
     data = parse_text(text, fmt, str(path))
     try:
         sections, joints, name = _sections(data)
+        sections.pop("world", None)
         return {key: _robot_of(key, value, joints, name) for key, value in sections.items()}
     except InputError as exc:
         raise exc.in_source(str(path)) from None
@@ -142,6 +144,8 @@ def _sections(data: Any) -> tuple[dict[str, Any], tuple[Joint, ...], str | None]
     sections = {k: data[k] for k in SECTIONS if k in data and data[k] is not None}
     if not sections:
         raise InputError(f"no representation section; give at least one of {', '.join(SECTIONS)}")
+    if data.get("world") is not None:
+        sections["world"] = data["world"]
     return sections, joints, None if name is None else str(name)
 
 
@@ -259,6 +263,7 @@ def _robot_of(key: str, value: Any, joints: tuple[Joint, ...], name: str | None)
 
 
 def _robot_from_sections(sections: dict[str, Any], joints: tuple[Joint, ...], name: str | None) -> Robot:
+    world = sections.pop("world", None)
     robots = {key: _robot_of(key, value, joints, name) for key, value in sections.items()}
     keys = list(robots)
     primary = robots[keys[0]]
@@ -269,6 +274,12 @@ def _robot_from_sections(sections: dict[str, Any], joints: tuple[Joint, ...], na
                              f"remove one or make them agree")
     if "rpy_xyz" in robots and keys[0] != "rpy_xyz":
         primary = primary.replace(world=robots["rpy_xyz"].world)
+    if world is not None:
+        W = check_pose(matrix(world, "world"), "world")
+        if "rpy_xyz" in robots and not np.allclose(W, robots["rpy_xyz"].world, atol=AGREE_TOL * primary.scale):
+            raise InputError("world and rpy_xyz.rows[0] give different world->base transforms; "
+                             "remove one or make them agree")
+        primary = primary.replace(world=W)
     return primary
 
 
@@ -327,6 +338,8 @@ def document_from_robot(robot: Robot, sections: tuple[str, ...] = SECTIONS) -> d
     if robot.name:
         doc["name"] = robot.name
     doc["joints"] = [_joint_entry(j) for j in robot.joints]
+    if not np.allclose(robot.world, np.eye(4), rtol=0, atol=1e-15):
+        doc["world"] = _mat(robot.world)  # world -> robot base: kept, but not part of FK
     for key in sections:
         if key == "dh":
             t = dh_from_robot(robot)
