@@ -180,7 +180,7 @@ def angles_close(a, b, tol: float = EXACT) -> bool:
 
 
 # ----------------------------------------------------------------------------- every pair
-@settings(max_examples=120 * SCALE, **SETTINGS)
+@settings(max_examples=250 * SCALE, **SETTINGS)
 @given(spec=robot_specs(), src=st.sampled_from(REPRESENTATIONS), round_input=st.booleans(),
        seed=st.integers(0, 2**32 - 1))
 def test_every_representation_converts_to_every_other(spec: RobotSpec, src: str, round_input: bool,
@@ -232,7 +232,7 @@ def test_fk_at_zero_is_the_tool_and_joint_motion_is_about_the_axis(spec: RobotSp
 
 
 # ----------------------------------------------------------------------------- round trips
-@settings(max_examples=80 * SCALE, **SETTINGS)
+@settings(max_examples=150 * SCALE, **SETTINGS)
 @given(spec=robot_specs())
 def test_round_trips_through_the_hub_keep_the_joint_axes(spec: RobotSpec):
     """robot -> X -> GJD keeps every joint axis line (PoE: prismatic axes keep only their direction)."""
