@@ -23,6 +23,9 @@ __all__ = [
 #: are ~(offset / angle) away, and their rounding error grows like eps * offset / angle, while treating
 #: the axes as parallel errs by ~angle * offset. The two errors cross at angle ~ sqrt(eps) ~ 1.5e-8,
 #: which is the threshold: whichever way an axis pair falls, the error stays below ~1.5e-8 * offset.
+#: Treated as parallel, a DH/MDH row also tilts its axis by ~angle (< 1.5e-8 rad): for axes within
+#: that band of parallel, DH tables reproduce FK to ~1.5e-8 relative, not to rounding (GJD, PoE and
+#: RPY-XYZ are unaffected: they never place a frame from a pair of axes).
 ANGLE_TOL = 1.5e-8
 
 #: distance (relative to the robot's scale) below which two axes are treated as meeting. The only
