@@ -10,89 +10,29 @@ a DH table is its frames {0}..{n-1} plus the tool.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from typing import Callable, ClassVar
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from .. import se3
-from ..errors import InputError
-from ..robot import Joint, Robot, check_pose, check_q
-from .frames import approx_dh_params, is_identity, warn_if_far, common_normal_frame, dh_params_between, satisfies_normal
+from ..robot import Robot
+from .frames import approx_dh_params, common_normal_frame, dh_params_between, satisfies_normal, warn_if_far
+from .link_table import COLUMNS, LinkTable, check_dh_rows, flip_frame, residual_tool
 
-__all__ = ["DHTable", "dh_from_robot", "robot_from_dh", "check_dh_rows", "flip_frame"]
-
-COLUMNS = ("a", "d", "alpha", "theta")
-_FLIP = se3.rot_x(np.pi)
-
-
-def flip_frame(frame: np.ndarray, flip: bool) -> np.ndarray:
-    """A joint frame turned by pi about x when the joint moves against its frame's z (``flip``)."""
-    return frame @ _FLIP if flip else frame
-
-
-def check_dh_rows(rows: ArrayLike, n: int | None = None, field_name: str = "dh.rows") -> np.ndarray:
-    """Validate a DH/MDH table as an (n, 4) float array of (a, d, alpha, theta)."""
-    try:
-        R = np.array(rows, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{field_name}: expected rows of 4 numbers (a, d, alpha, theta)") from None
-    if R.ndim != 2 or R.shape[1] != 4:
-        raise InputError(f"{field_name}: expected rows of 4 numbers (a, d, alpha, theta), got shape {R.shape}")
-    if n is not None and R.shape[0] != n:
-        raise InputError(f"{field_name}: expected {n} rows (one per joint), got {R.shape[0]}")
-    bad = np.argwhere(~np.isfinite(R))
-    if bad.size:
-        i, j = bad[0]
-        raise InputError(f"{field_name}[{i}].{COLUMNS[j]}: must be a finite number")
-    return R
+__all__ = ["DHTable", "dh_from_robot", "robot_from_dh", "check_dh_rows", "flip_frame", "COLUMNS"]
 
 
 @dataclass(frozen=True, eq=False)
-class DHTable:
+class DHTable(LinkTable):
     """A standard DH description: rows (n, 4) of (a, d, alpha, theta), base and tool (4, 4).
 
     ``tool`` is the residual T_t of the conversion paper when the tool is not DH-expressible
     (identity when it is).
     """
 
-    rows: np.ndarray
-    joints: tuple[Joint, ...]
-    base: np.ndarray = field(default_factory=lambda: np.eye(4))
-    tool: np.ndarray = field(default_factory=lambda: np.eye(4))
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "joints", tuple(self.joints))
-        object.__setattr__(self, "rows", check_dh_rows(self.rows, len(self.joints)))
-        object.__setattr__(self, "base", check_pose(self.base, "dh.base"))
-        object.__setattr__(self, "tool", check_pose(self.tool, "dh.tool"))
-
-    @property
-    def n(self) -> int:
-        return len(self.joints)
-
-    def _signed(self) -> tuple[np.ndarray, np.ndarray]:
-        rev = np.array([j.revolute for j in self.joints])
-        sign = np.array([-1.0 if j.flip else 1.0 for j in self.joints])
-        return rev, sign
-
-    def link_transforms(self, q: ArrayLike) -> np.ndarray:
-        """A_i(q_i) for q (..., n) -> (..., n, 4, 4)."""
-        Q = np.asarray(q, dtype=float)
-        rev, sign = self._signed()
-        a, d, alpha, theta = self.rows.T
-        theta_q = theta + np.where(rev, sign * Q, 0.0)
-        d_q = d + np.where(rev, 0.0, sign * Q)
-        return se3.dh_matrix(a, d_q, alpha, theta_q)
-
-    def fk(self, q: ArrayLike) -> np.ndarray:
-        """Tool pose: q (n,) -> (4, 4) or (N, n) -> (N, 4, 4), evaluated from the table itself."""
-        Q = check_q(q, self.n)
-        A = self.link_transforms(Q)
-        T = np.broadcast_to(self.base, Q.shape[:-1] + (4, 4))
-        for i in range(self.n):
-            T = T @ A[..., i, :, :]
-        return T @ self.tool
+    SECTION: ClassVar[str] = "dh"
+    link_matrix: ClassVar[Callable[..., np.ndarray]] = staticmethod(se3.dh_matrix)
 
     def base_row(self, tol: float = 1e-9) -> tuple[float, float, float, float] | None:
         """The base as a fixed DH row (the paper's n+1-row layout), or None if it is not one."""
@@ -146,12 +86,5 @@ def dh_from_robot(robot: Robot) -> DHTable:
     F, last = dh_frames(robot)
     chain = list(F) + [last]
     rows = np.array([dh_params_between(chain[i], chain[i + 1]) for i in range(robot.n)])
-    # Re-read the frames from the rows so that base * rows * tool reproduces the GJD tool exactly.
-    A = se3.dh_matrix(*rows.T)
-    T = F[0]
-    for i in range(robot.n):
-        T = T @ A[i]
-    tool = se3.inv(T) @ robot.tool
-    if is_identity(tool, robot.scale):
-        tool = np.eye(4)  # DH-expressible tool: the residual is rounding noise
+    tool = residual_tool(F[0], rows, se3.dh_matrix, robot.tool, robot.scale)
     return DHTable(rows, robot.joints, base=F[0], tool=tool)

@@ -8,54 +8,25 @@ extension the conversion paper names as future work; it follows from the same hu
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from typing import Callable, ClassVar
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from .. import se3
-from ..robot import Joint, Robot, check_pose, check_q
-from .dh import check_dh_rows, flip_frame
+from ..robot import Robot
 from .frames import common_normal_frame, mdh_params_between, warn_if_far
+from .link_table import LinkTable, flip_frame, residual_tool
 
 __all__ = ["MDHTable", "mdh_from_robot", "robot_from_mdh"]
 
 
 @dataclass(frozen=True, eq=False)
-class MDHTable:
+class MDHTable(LinkTable):
     """A modified DH description: rows (n, 4) of (a_{i-1}, d_i, alpha_{i-1}, theta_i), base, tool."""
 
-    rows: np.ndarray
-    joints: tuple[Joint, ...]
-    base: np.ndarray = field(default_factory=lambda: np.eye(4))
-    tool: np.ndarray = field(default_factory=lambda: np.eye(4))
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "joints", tuple(self.joints))
-        object.__setattr__(self, "rows", check_dh_rows(self.rows, len(self.joints), "mdh.rows"))
-        object.__setattr__(self, "base", check_pose(self.base, "mdh.base"))
-        object.__setattr__(self, "tool", check_pose(self.tool, "mdh.tool"))
-
-    @property
-    def n(self) -> int:
-        return len(self.joints)
-
-    def link_transforms(self, q: ArrayLike) -> np.ndarray:
-        """A_i(q_i) for q (..., n) -> (..., n, 4, 4)."""
-        Q = np.asarray(q, dtype=float)
-        rev = np.array([j.revolute for j in self.joints])
-        sign = np.array([-1.0 if j.flip else 1.0 for j in self.joints])
-        a, d, alpha, theta = self.rows.T
-        return se3.mdh_matrix(a, d + np.where(rev, 0.0, sign * Q), alpha, theta + np.where(rev, sign * Q, 0.0))
-
-    def fk(self, q: ArrayLike) -> np.ndarray:
-        """Tool pose: q (n,) -> (4, 4) or (N, n) -> (N, 4, 4), evaluated from the table itself."""
-        Q = check_q(q, self.n)
-        A = self.link_transforms(Q)
-        T = np.broadcast_to(self.base, Q.shape[:-1] + (4, 4))
-        for i in range(self.n):
-            T = T @ A[..., i, :, :]
-        return T @ self.tool
+    SECTION: ClassVar[str] = "mdh"
+    link_matrix: ClassVar[Callable[..., np.ndarray]] = staticmethod(se3.mdh_matrix)
 
     def to_robot(self, name: str | None = None) -> Robot:
         return robot_from_mdh(self, name=name)
@@ -94,9 +65,5 @@ def mdh_from_robot(robot: Robot) -> MDHTable:
     # Frame {n}: its x axis is free (no next axis), so the given joint frame is kept as it is.
     M.append(cand[n - 1])
     rows = np.array([mdh_params_between(M[i], M[i + 1]) for i in range(n)])
-    A = se3.mdh_matrix(*rows.T)
-    T = M[0]
-    for i in range(n):
-        T = T @ A[i]
-    tool = se3.inv(T) @ robot.tool
+    tool = residual_tool(M[0], rows, se3.mdh_matrix, robot.tool, robot.scale)
     return MDHTable(rows, robot.joints, base=M[0], tool=tool)

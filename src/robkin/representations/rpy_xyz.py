@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike
 from .. import se3
 from ..errors import InputError
 from ..robot import Joint, Robot, check_q
-from .dh import flip_frame
+from .link_table import flip_frame
 
 __all__ = ["RPYTable", "rpy_from_robot", "robot_from_rpy", "pose_from_row", "row_from_pose"]
 
