@@ -26,6 +26,7 @@ from ..errors import InputError
 from ..representations import DHTable, MDHTable, PoE, RPYTable
 from ..representations.gjd import robot_from_gjd
 from ..robot import JOINT_TYPES, Joint, Robot, check_pose
+from .files import read_text_file
 from .numbers import matrix, number, number_list
 
 __all__ = ["SECTIONS", "read_document", "parse_document", "read_sections", "document_from_robot",
@@ -58,24 +59,7 @@ def read_text(path: str | os.PathLike) -> tuple[str, str]:
     fmt = {".yaml": "yaml", ".yml": "yaml", ".json": "json"}.get(ext)
     if fmt is None:
         raise InputError(f"{p}: unknown extension '{ext}'; a robot document is .yaml, .yml or .json")
-    try:
-        size = p.stat().st_size
-        if size > MAX_BYTES:
-            raise InputError(f"{p}: file is {size} bytes; a robot document is at most {MAX_BYTES}")
-        with open(p, "rb") as fh:
-            data = fh.read()
-    except FileNotFoundError:
-        raise InputError(f"{p}: no such file") from None
-    except IsADirectoryError:
-        raise InputError(f"{p}: is a folder, not a file") from None
-    except PermissionError:
-        raise InputError(f"{p}: permission denied") from None
-    except OSError as exc:
-        raise InputError(f"{p}: cannot read ({exc.strerror or exc})") from None
-    try:
-        return data.decode("utf-8-sig"), fmt
-    except UnicodeDecodeError as exc:
-        raise InputError(f"{p}: not UTF-8 text (byte {exc.start})") from None
+    return read_text_file(p, MAX_BYTES, "a robot document"), fmt
 
 
 def parse_text(text: str, fmt: str, source: str) -> Any:

@@ -33,6 +33,7 @@ from typing import Iterable
 import numpy as np
 
 from .. import se3
+from .files import read_text_file
 from .xmltext import quoteattr
 from ..errors import InputError, ProjectionWarning
 from ..robot import Joint, Robot
@@ -118,25 +119,10 @@ def _read_source(source: str | os.PathLike) -> tuple[str, str]:
     p = Path(source)
     if p.suffix.lower() == ".xacro":
         return _expand_xacro(p), str(p)
-    try:
-        size = p.stat().st_size
-        if size > MAX_BYTES:
-            raise InputError(f"{p}: file is {size} bytes; a URDF is at most {MAX_BYTES}")
-        data = p.read_bytes()
-    except FileNotFoundError:
-        raise InputError(f"{p}: no such file") from None
-    except IsADirectoryError:
-        raise InputError(f"{p}: is a folder, not a file") from None
-    except PermissionError:
-        raise InputError(f"{p}: permission denied") from None
-    except OSError as exc:
-        raise InputError(f"{p}: cannot read ({exc.strerror or exc})") from None
-    if not data.strip():
+    text = read_text_file(p, MAX_BYTES, "a URDF")
+    if not text.strip():
         raise InputError(f"{p}: file is empty; expected a URDF <robot> element")
-    try:
-        return data.decode("utf-8-sig"), str(p)
-    except UnicodeDecodeError as exc:
-        raise InputError(f"{p}: not UTF-8 text (byte {exc.start})") from None
+    return text, str(p)
 
 
 def _expand_xacro(path: Path) -> str:
