@@ -19,7 +19,7 @@ from robkin.cli import main
 from robkin.errors import InputError
 from robkin.kinematics.analytic6r import SphericalWrist6R, ThreeParallel6R
 from robkin.kinematics.closed_form import closed_form_solver
-from robkin.kinematics.pose_error import log_rotation_batch
+from robkin.se3 import log_rotation as log_rotation_batch
 from robkin.representations import mdh_from_robot, poe_from_robot, rpy_from_robot
 from robkin.robot import Joint, default_joints
 

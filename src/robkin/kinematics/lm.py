@@ -27,7 +27,7 @@ import numpy as np
 from .. import se3
 from ..robot import Robot
 from .limits import LIMIT_TOL
-from .pose_error import _NEAR_PI_COS, _SMALL_ANGLE, log_rotation_batch
+from ..se3 import _NEAR_PI_COS, _SMALL_ANGLE, log_rotation
 
 __all__ = ["LMSettings", "LMOutcome", "solve_lm", "chain_kernel"]
 
@@ -189,7 +189,7 @@ class _Problem:
 
 
 def _log_rotation_last(M: np.ndarray) -> np.ndarray:
-    """Rotation vectors (3, k) of rotations M (3, 3, k) (batch last); see ``log_rotation_batch``."""
+    """Rotation vectors (3, k) of rotations M (3, 3, k) (batch last); see ``se3.log_rotation``."""
     v = 0.5 * np.stack([M[2, 1] - M[1, 2], M[0, 2] - M[2, 0], M[1, 0] - M[0, 1]])
     c = 0.5 * (M[0, 0] + M[1, 1] + M[2, 2] - 1.0)
     s = np.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
@@ -199,7 +199,7 @@ def _log_rotation_last(M: np.ndarray) -> np.ndarray:
     out = factor * v
     near_pi = np.flatnonzero(c < _NEAR_PI_COS)
     if near_pi.size:                   # the general routine for the columns near pi
-        out[:, near_pi] = log_rotation_batch(np.moveaxis(M[:, :, near_pi], -1, 0)).T
+        out[:, near_pi] = log_rotation(np.moveaxis(M[:, :, near_pi], -1, 0)).T
     return out
 
 

@@ -1,4 +1,4 @@
-"""Pose residuals for inverse kinematics: batched rotation log, target checks and error masks.
+"""Pose residuals for inverse kinematics: residual vectors, target checks and error masks.
 
 The residual of a current pose T towards a target T_d is the 6-vector (e_p, e_o) in the robot base
 frame: e_p = p_d - p (length units) and e_o = log(R_d R^T) (a rotation vector, radians). A *mask*
@@ -12,9 +12,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
+from ..se3 import log_rotation
 from ..robot import check_pose
 
-__all__ = ["log_rotation_batch", "residual", "check_targets", "check_mask", "masked_errors",
+__all__ = ["residual", "check_targets", "check_mask", "masked_errors",
            "MASKS"]
 
 #: named masks over the residual components (x, y, z, rx, ry, rz)
@@ -23,48 +24,11 @@ MASKS: dict[str, tuple[float, ...]] = {
     "position": (1.0, 1.0, 1.0, 0.0, 0.0, 0.0),
 }
 
-#: Below this angle theta/sin(theta) is replaced by its series 1 + theta^2/6: the series error
-#: (theta^4 * 7/360 ~ 2e-18 at 1e-4) is far below rounding, and the direct quotient loses digits there.
-_SMALL_ANGLE = 1e-4
-#: Beyond this cosine (angle within ~0.14 rad of pi) the axis is taken from the symmetric part of R,
-#: because sin(theta) -> 0 makes the skew part lose relative accuracy (error ~ eps / sin(theta)).
-_NEAR_PI_COS = -0.99
-
-
-def log_rotation_batch(R: ArrayLike) -> np.ndarray:
-    """Rotation vectors (axis * angle, angle in [0, pi]) of rotations (..., 3, 3) -> (..., 3).
-
-    Vectorised without scipy (which builds Rotation objects per call) because this sits inside the IK
-    loop. Accurate to ~1e-15 rad over the whole range, including angles near 0 and near pi.
-    """
-    R = np.asarray(R, dtype=float)
-    v = 0.5 * np.stack([R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0],
-                        R[..., 1, 0] - R[..., 0, 1]], axis=-1)  # sin(theta) * axis
-    s = np.linalg.norm(v, axis=-1)
-    c = np.clip(0.5 * (R[..., 0, 0] + R[..., 1, 1] + R[..., 2, 2] - 1.0), -1.0, 1.0)
-    theta = np.arctan2(s, c)
-    small = theta < _SMALL_ANGLE
-    factor = np.where(small, 1.0 + theta * theta / 6.0, theta / np.where(small, 1.0, s))
-    out = factor[..., None] * v
-    near_pi = c < _NEAR_PI_COS
-    if np.any(near_pi):
-        Rn, cn, vn, tn = R[near_pi], c[near_pi], v[near_pi], theta[near_pi]
-        # (R + R^T)/2 - cos(theta) I = (1 - cos(theta)) a a^T: take the column with the largest diagonal
-        B = 0.5 * (Rn + np.swapaxes(Rn, -1, -2)) - cn[:, None, None] * np.eye(3)
-        k = np.argmax(np.diagonal(B, axis1=-2, axis2=-1), axis=-1)
-        col = B[np.arange(len(k)), :, k]
-        axis = col / np.linalg.norm(col, axis=-1, keepdims=True)
-        # the symmetric part fixes the axis up to sign; the skew part (sin(theta) a) fixes the sign
-        sign = np.where(np.einsum("ij,ij->i", axis, vn) < 0, -1.0, 1.0)
-        out[near_pi] = (sign * tn)[:, None] * axis
-    return out
-
-
 def residual(T: np.ndarray, T_target: np.ndarray) -> np.ndarray:
     """Residual (..., 6) = (p_d - p, log(R_d R^T)) of poses T towards targets, both (..., 4, 4) or (..., 3, 4)."""
     e = np.empty(np.broadcast_shapes(T.shape[:-2], T_target.shape[:-2]) + (6,))
     e[..., :3] = T_target[..., :3, 3] - T[..., :3, 3]
-    e[..., 3:] = log_rotation_batch(T_target[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2))
+    e[..., 3:] = log_rotation(T_target[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2))
     return e
 
 

@@ -215,7 +215,7 @@ class _Model:
     def _residual(self, p: np.ndarray, Rt: np.ndarray) -> np.ndarray:
         r = [p - self.target_p]
         if self.pose:
-            r.append(_rotvec(Rt @ np.swapaxes(self.target_R, -1, -2)))
+            r.append(se3.log_rotation(Rt @ np.swapaxes(self.target_R, -1, -2)))
         return np.concatenate(r, axis=1)  # (K, m)
 
     def jacobian(self, z: np.ndarray) -> np.ndarray:
@@ -238,7 +238,7 @@ class _Model:
         for k in range(K):
             J[k, :3, 3 * n + k * n:3 * n + (k + 1) * n] = dp_theta[k].T
         if self.pose:
-            phi = _rotvec(Rt @ np.swapaxes(self.target_R, -1, -2))
+            phi = se3.log_rotation(Rt @ np.swapaxes(self.target_R, -1, -2))
             Jl = _left_jacobian_inverse(phi)  # (K, 3, 3): d phi = Jl^-1 w
             w_alpha = Jl @ np.swapaxes(xs, 1, 2)  # (K, 3, n)
             w_theta = Jl @ np.swapaxes(z_prev, 1, 2)
@@ -246,11 +246,6 @@ class _Model:
             for k in range(K):
                 J[k, 3:, 3 * n + k * n:3 * n + (k + 1) * n] = w_theta[k]
         return J.reshape(K * m, -1)
-
-
-def _rotvec(R: np.ndarray) -> np.ndarray:
-    """Rotation vectors (K, 3) of rotations (K, 3, 3) (angle in [0, pi])."""
-    return se3.log_rotation(R)
 
 
 def _left_jacobian_inverse(phi: np.ndarray) -> np.ndarray:
@@ -460,7 +455,7 @@ def _reach_errors(task: Task, robot: Robot, q: np.ndarray) -> tuple[float, float
     if task.reach != "pose":
         return pos, 0.0
     rel = T[:, :3, :3] @ np.swapaxes(task.poses[:, :3, :3], 1, 2)
-    return pos, float(np.max(np.linalg.norm(_rotvec(rel), axis=1)))
+    return pos, float(np.max(np.linalg.norm(se3.log_rotation(rel), axis=1)))
 
 
 def _design(task: Task, model: _Model, z: np.ndarray, label: str):
