@@ -15,7 +15,7 @@ import numpy as np
 
 __all__ = [
     "ANGLE_TOL", "LENGTH_TOL", "AxisRelation", "CommonNormal",
-    "closest_points", "common_normal", "classify", "point_line_foot",
+    "closest_points", "common_normal", "classify", "point_line_foot", "perpendicular",
 ]
 
 #: sin of the angle below which two axes are treated as parallel. Exactly parallel axes computed
@@ -54,6 +54,15 @@ class CommonNormal:
     t1: float
     t2: float
     distance: float
+
+
+def perpendicular(u: np.ndarray) -> np.ndarray:
+    """A unit vector normal to unit u, built from the coordinate axis least aligned with u."""
+    k = int(np.argmin(np.abs(u)))
+    e = np.zeros(3)
+    e[k] = 1.0
+    x = e - np.dot(e, u) * u
+    return x / np.linalg.norm(x)
 
 
 def point_line_foot(point: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:

@@ -27,10 +27,10 @@ from __future__ import annotations
 import numpy as np
 
 from .. import se3
+from ..lines import perpendicular
 from ..robot import Robot
 from .closed_form import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, Branches, first_reason
 from .limits import wrap_into_limits
-from .scara import _perpendicular
 from .subproblems import angle_about, cos_sin_equation, cross, planar_two_link, rotation_about, two_axes
 
 __all__ = ["SphericalWrist6R", "ThreeParallel6R", "wrist_centre", "NEAR_SINGULAR"]
@@ -64,14 +64,14 @@ class SphericalWrist6R:
         self.n2 = z[1]
         self.k = float(self.n2 @ w0)                 # the plane joints 2-3 keep the wrist centre in
         self.sigma3 = float(np.sign(z[2] @ self.n2))
-        e1 = _perpendicular(self.n2)
+        e1 = perpendicular(self.n2)
         self.e1, self.e2 = e1, cross(self.n2, e1)
         C2, C3, W = (self._complex(x) for x in (c[1], c[2], w0))
         self.C2, self.a, self.b = C2, C3 - C2, W - C3
         M = robot.tool
         self.w_tool = (se3.inv(M) @ np.append(w0, 1.0))[:3]  # wrist centre in tool coordinates
         self.R_M = M[:3, :3]
-        x6 = _perpendicular(z[5])
+        x6 = perpendicular(z[5])
         self.x6 = x6                                   # any direction normal to axis 6
 
     def _complex(self, x: np.ndarray) -> np.ndarray:
@@ -194,7 +194,7 @@ class ThreeParallel6R:
         self.z, self.c, self.w = z, c, w
         self.u = z[1]
         self.sigma = np.sign(z[1:4] @ self.u)                    # senses of axes 2-4 along u
-        e1 = _perpendicular(self.u)
+        e1 = perpendicular(self.u)
         self.e1, self.e2 = e1, cross(self.u, e1)
         C2, C3, C4 = (self._complex(x) for x in (c[1], c[2], c[3]))
         self.C2, self.a, self.b = C2, C3 - C2, C4 - C3
@@ -202,7 +202,7 @@ class ThreeParallel6R:
         self.M_inv = se3.inv(M)
         self.w_tool = (self.M_inv @ np.append(w, 1.0))[:3]
         self.R_M = M[:3, :3]
-        self.x6 = _perpendicular(z[5])
+        self.x6 = perpendicular(z[5])
 
     def _complex(self, x: np.ndarray) -> np.ndarray:
         return x @ self.e1 + 1j * (x @ self.e2)

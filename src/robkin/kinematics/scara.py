@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import se3
+from ..lines import perpendicular
 from ..robot import Robot
 from .closed_form import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, Branches, first_reason
 from .limits import wrap_into_limits
@@ -78,7 +79,7 @@ class ScaraSolver:
         self.pidx = np.flatnonzero(~robot.revolute)
         self.sigma = np.sign(z[self.ridx] @ u)                  # revolute sense along u (+-1)
         self.s = z[self.pidx] @ u                               # prismatic sense along u (+-1)
-        e1 = _perpendicular(u)
+        e1 = perpendicular(u)
         self.e1, self.e2 = e1, np.cross(u, e1)
         C = self._complex(c[self.ridx])
         M = robot.tool
@@ -172,15 +173,6 @@ class ScaraSolver:
             (none & geometric.any(axis=1), "solutions exist but violate the joint limits"),
         ], N)
         return Branches(Q, valid, reasons)
-
-
-def _perpendicular(u: np.ndarray) -> np.ndarray:
-    """A unit vector normal to unit u (built from the coordinate axis least aligned with u)."""
-    k = int(np.argmin(np.abs(u)))
-    e = np.zeros(3)
-    e[k] = 1.0
-    x = e - np.dot(e, u) * u
-    return x / np.linalg.norm(x)
 
 
 def _vec(v: np.ndarray) -> str:

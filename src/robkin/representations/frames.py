@@ -22,7 +22,8 @@ import math
 
 import numpy as np
 
-from ..lines import ANGLE_TOL, LENGTH_TOL, AxisRelation, classify, closest_points, point_line_foot
+from ..lines import (ANGLE_TOL, LENGTH_TOL, AxisRelation, classify, closest_points, perpendicular,
+                     point_line_foot)
 from .. import se3
 
 __all__ = ["common_normal_frame", "frame_from_zx", "satisfies_normal", "dh_params_between",
@@ -135,7 +136,7 @@ def common_normal_frame(p_a: np.ndarray, u_a: np.ndarray, p_b: np.ndarray, u_b: 
     if rel in (AxisRelation.COINCIDENT, AxisRelation.ANTI_COINCIDENT):
         x = x_prev - np.dot(x_prev, u_self) * u_self
         if np.linalg.norm(x) < 1e-6:  # prev x along the axis (cannot happen for a valid chain)
-            x = _any_perpendicular(u_self)
+            x = perpendicular(u_self)
         origin = anchor if on == "a" else point_line_foot(anchor, p_b, u_b)
         return frame_from_zx(origin, u_self, x)
     cn = closest_points(p_a, u_a, p_b, u_b)
@@ -150,12 +151,6 @@ def _x_line_on(prev: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:
     if np.linalg.norm(np.cross(x, u)) < ANGLE_TOL:
         return point_line_foot(o, p, u)
     return closest_points(o, x, p, u).c2
-
-
-def _any_perpendicular(u: np.ndarray) -> np.ndarray:
-    e = np.eye(3)[int(np.argmin(np.abs(u)))]
-    v = np.cross(u, e)
-    return v / np.linalg.norm(v)
 
 
 def tidy_angle(angle: float) -> float:
