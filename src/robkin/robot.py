@@ -14,7 +14,7 @@ from functools import cached_property
 from typing import Iterable, Literal, Sequence
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
 from .errors import InputError, ProjectionWarning
 from . import se3

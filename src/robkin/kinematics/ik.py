@@ -119,7 +119,7 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
     IKResult
     """
     targets, single = check_targets(T)
-    N, n = len(targets), robot.n
+    N = len(targets)
     m = check_mask(mask)
     if method not in METHODS:
         raise InputError(f"method: '{method}' is not one of {', '.join(METHODS)}")
