@@ -52,7 +52,31 @@ def wrist_centre(points: np.ndarray, axes: np.ndarray) -> tuple[np.ndarray, floa
     return x, float(dist.max())
 
 
-class SphericalWrist6R:
+class _Closed6R:
+    """What both 6R families share: the plane of the parallel axes as complex numbers, and the first
+    detection steps (six revolute joints, axis angles, the length tolerance)."""
+
+    e1: np.ndarray
+    e2: np.ndarray
+
+    def _complex(self, x: np.ndarray) -> np.ndarray:
+        """Points (..., 3) as complex coordinates in the plane spanned by e1, e2."""
+        return x @ self.e1 + 1j * (x @ self.e2)
+
+    @staticmethod
+    def _six_revolute(robot: Robot):
+        """(z, c, length tolerance, sin of the angle between axes i and j) for a 6R robot, else None."""
+        if robot.n != 6 or not robot.revolute.all():
+            return None
+        z, c = robot.axes, robot.points
+
+        def sin_angle(i: int, j: int) -> float:
+            return float(np.linalg.norm(cross(z[i], z[j])))
+
+        return z, c, DETECT_LENGTH_TOL * robot.scale, sin_angle
+
+
+class SphericalWrist6R(_Closed6R):
     """All closed-form solutions of a 6R arm with axes 2 || 3 and a spherical wrist."""
 
     name = "spherical-wrist-6r"
@@ -74,20 +98,13 @@ class SphericalWrist6R:
         x6 = perpendicular(z[5])
         self.x6 = x6                                   # any direction normal to axis 6
 
-    def _complex(self, x: np.ndarray) -> np.ndarray:
-        return x @ self.e1 + 1j * (x @ self.e2)
-
     @classmethod
     def detect(cls, robot: Robot) -> "SphericalWrist6R | None":
         """A solver if the robot is 6R with axes 2 || 3 (distinct), axis 1 not || 2, axes 4-6 meeting."""
-        if robot.n != 6 or not robot.revolute.all():
+        six = cls._six_revolute(robot)
+        if six is None:
             return None
-        z, c = robot.axes, robot.points
-        tol_len = DETECT_LENGTH_TOL * robot.scale
-
-        def sin_angle(i: int, j: int) -> float:
-            return float(np.linalg.norm(cross(z[i], z[j])))
-
+        z, c, tol_len, sin_angle = six
         if sin_angle(1, 2) > DETECT_ANGLE_TOL:
             return None
         if sin_angle(0, 1) <= DETECT_ANGLE_TOL or sin_angle(3, 4) <= DETECT_ANGLE_TOL \
@@ -166,7 +183,7 @@ class SphericalWrist6R:
         return Branches(Q, valid, reasons, uncertain)
 
 
-class ThreeParallel6R:
+class ThreeParallel6R(_Closed6R):
     """All closed-form solutions of a 6R arm with axes 2, 3, 4 parallel and axes 5, 6 meeting.
 
     The Universal Robots geometry (UR3/5/10/e, and the cobots built like them). Up to 8 solutions:
@@ -204,20 +221,13 @@ class ThreeParallel6R:
         self.R_M = M[:3, :3]
         self.x6 = perpendicular(z[5])
 
-    def _complex(self, x: np.ndarray) -> np.ndarray:
-        return x @ self.e1 + 1j * (x @ self.e2)
-
     @classmethod
     def detect(cls, robot: Robot) -> "ThreeParallel6R | None":
         """A solver if the robot is 6R, axes 2 || 3 || 4 (distinct), axes 1 and 5 not || 2, 5 and 6 meet."""
-        if robot.n != 6 or not robot.revolute.all():
+        six = cls._six_revolute(robot)
+        if six is None:
             return None
-        z, c = robot.axes, robot.points
-        tol_len = DETECT_LENGTH_TOL * robot.scale
-
-        def sin_angle(i: int, j: int) -> float:
-            return float(np.linalg.norm(cross(z[i], z[j])))
-
+        z, c, tol_len, sin_angle = six
         if sin_angle(1, 2) > DETECT_ANGLE_TOL or sin_angle(1, 3) > DETECT_ANGLE_TOL:
             return None
         if min(sin_angle(0, 1), sin_angle(4, 1), sin_angle(4, 5)) <= DETECT_ANGLE_TOL:
