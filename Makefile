@@ -6,9 +6,12 @@ VENV   ?= .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip --disable-pip-version-check -q
 
-.PHONY: demo test bench clean
+.PHONY: demo test bench ext clean
 
-$(VENV)/.core: pyproject.toml
+# The compiled core (src/robkin/compiled/*.pyx) is built by pip with the machine's C compiler.
+CORE_SOURCES := pyproject.toml setup.py $(wildcard src/robkin/compiled/*.pyx src/robkin/compiled/*.pxd)
+
+$(VENV)/.core: $(CORE_SOURCES)
 	$(PYTHON) -m venv $(VENV)
 	$(PIP) install -e .
 	touch $@
@@ -28,5 +31,9 @@ bench: $(VENV)/.test
 	$(PIP) install -e '.[test,bench]'
 	for b in benchmarks/bench_*.py; do echo "== $$b"; $(PY) $$b || exit 1; done
 
+# Rebuild the compiled core in place after editing a .pyx (pip install -e . does the same, slower).
+ext: $(VENV)/.core
+	$(PY) setup.py -q build_ext --inplace
+
 clean:
-	rm -rf $(VENV) build src/*.egg-info .pytest_cache .hypothesis
+	rm -rf $(VENV) build src/*.egg-info .pytest_cache .hypothesis src/robkin/compiled/*.c src/robkin/compiled/*.so
