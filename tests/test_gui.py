@@ -1,7 +1,7 @@
 """The browser GUI: its JSON API, its server, and the page driven for real in headless Chromium.
 
 References are independent of the code under test: forward kinematics written out by hand from the
-conversion paper's Table I (with DESIGN.md's errata), and pinocchio for the downloaded URDF.
+conversion paper's Table I (with the errata in docs/conventions.md), and pinocchio for the downloaded URDF.
 The browser test needs the ``playwright`` package and a Chromium binary (Debian's ``chromium``);
 without them it is skipped with the reason.
 """

@@ -1,5 +1,5 @@
-"""The two worked examples of the conversion paper (papers/robkin-conversion-preprint.md, Section 3),
-with the errata listed in DESIGN.md.
+"""The two worked examples of the conversion paper (Huczala, Kot and Pfurner,
+ICCMA 2022, Section 3), with the errata listed in docs/conventions.md.
 
 The expected numbers are the paper's (eqs. 10-14, Tables II-IV), typed in here. Where FK at a q is
 checked against something other than robkin, the reference is the product of matrix exponentials of
@@ -231,7 +231,7 @@ def dh_with_flipped_x(rows: np.ndarray, flips: tuple[int, ...]) -> np.ndarray:
     """The same frames with x_i reversed where flips[i] = -1 (i = frames {0}..{n-1}; the last frame,
     which meets the residual tool, is not flipped). Reversing x_i turns row i (into frame i) by
     theta + pi, negates a_i and alpha_i, and turns row i + 1 by theta + pi: both tables describe the
-    same axes, the choice DESIGN.md documents as 'Table IV's signs differ'."""
+    same axes, the choice docs/conventions.md documents as 'Table IV's signs differ'."""
     out = rows.copy()
     s = list(flips) + [1]
     for i in range(len(rows)):

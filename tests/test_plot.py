@@ -1,6 +1,6 @@
 """Pictures (robkin plot): the drawn geometry against the conversion paper and independent FK.
 
-References: the RRPR robot's Table I (with DESIGN.md's errata) and eq. (10), the altered Table III
+References: the RRPR robot's Table I (with the errata in docs/conventions.md) and eq. (10), the altered Table III
 (DH rebuilt from PoE), and forward kinematics / finite-difference Jacobians written out here with
 plain numpy, independently of robkin's own code.
 """

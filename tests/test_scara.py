@@ -1,4 +1,4 @@
-"""The 5-DOF inverted SCARA of scara-5dof-dh-geometric-ik.md and closed-form IK of SCARA-type arms.
+"""The 5-DOF inverted SCARA of Jimenez-Nixon et al. (LACCEI) and closed-form IK of SCARA-type arms.
 
 References: the paper's own forward model (its DH matrix, eq. (2), chained as in its MATLAB function
 of Fig. 2, written out here independently of robkin), its validation run (Fig. 3) and its elbow

@@ -367,6 +367,58 @@ class Robot:
 
         return ik(self, T, **options)
 
+    def jacobian(self, q: ArrayLike, frame: str = "base") -> np.ndarray:
+        """Jacobian at q (n,) -> (6, n), or at q (N, n) -> (N, 6, n).
+
+        Parameters
+        ----------
+        q : (n,) or (N, n) array
+            Joint values (radians for revolute joints, length units for prismatic ones).
+        frame : {'base', 'tool', 'space', 'body'}
+            - ``'base'`` (default): rows [v; w], the linear velocity of the tool origin and the angular
+              velocity, both in base-frame axes (Robotics Toolbox ``jacob0``, pinocchio
+              ``LOCAL_WORLD_ALIGNED``).
+            - ``'tool'``: the same [v; w] in tool-frame axes (``jacobe``, pinocchio ``LOCAL``).
+            - ``'space'``: the space Jacobian of Modern Robotics, rows (w, v), the twist in the base frame.
+            - ``'body'``: the body Jacobian of Modern Robotics, rows (w, v), the twist in the tool frame.
+
+        Returns
+        -------
+        (6, n) or (N, 6, n) array
+            Columns per joint; v rows in length units per joint unit, w rows in radians per joint unit.
+        """
+        from .kinematics import jacobian as jac
+
+        if frame == "base":
+            return jac.jacobian_geometric(self, q)
+        if frame == "space":
+            return jac.jacobian_space(self, q)
+        if frame in ("body", "tool"):
+            J = jac.jacobian_body(self, q)
+            # the body twist's v is the velocity of the tool origin in tool axes: [v; w] is (w, v) swapped
+            return J if frame == "body" else J[..., _V_THEN_W, :]
+        raise InputError(f"frame: '{frame}' is not one of base, tool, space, body")
+
+    def manipulability(self, q: ArrayLike, kind: str = "translational") -> np.ndarray | float:
+        """Yoshikawa's manipulability at q (n,) -> float, or at q (N, n) -> (N,) array.
+
+        Parameters
+        ----------
+        q : (n,) or (N, n) array
+            Joint values.
+        kind : {'translational', 'rotational', 'full'}
+            Rows of the base-frame Jacobian [v; w] used: v (length^3), w (dimensionless) or both.
+
+        Returns
+        -------
+        float or (N,) array
+            The product of the singular values of the selected rows (0 at a singularity); see
+            ``robkin.kinematics.jacobian.manipulability``.
+        """
+        from .kinematics.jacobian import manipulability
+
+        return manipulability(self, q, kind)
+
     # ------------------------------------------------------------------ conveniences
     def random_q(self, size: int | None = None, rng: np.random.Generator | int | None = None,
                  default_range: float = math.pi) -> np.ndarray:
@@ -381,6 +433,10 @@ class Robot:
     def __repr__(self) -> str:
         kinds = "".join("R" if j.revolute else "P" for j in self.joints)
         return f"Robot(name={self.name!r}, n={self.n}, joints={kinds})"
+
+
+#: row order that turns a (w, v) twist into [v; w]
+_V_THEN_W = [3, 4, 5, 0, 1, 2]
 
 
 def robot_from_frames(frames: Sequence[ArrayLike], types: Sequence[str] | None = None,

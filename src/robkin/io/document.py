@@ -1,6 +1,6 @@
 """The robot document (YAML or JSON): reading, validating, cross-checking and writing.
 
-Schema (DESIGN.md): ``robkin: 1``, optional ``name``, ``joints`` (one entry per joint: name, type
+Schema (docs/conventions.md): ``robkin: 1``, optional ``name``, ``joints`` (one entry per joint: name, type
 revolute|prismatic, optional limits {lower, upper} and flip), and at least one representation section:
 ``gjd``, ``dh``, ``mdh``, ``rpy_xyz``, ``poe``, ``poe_body``; optionally ``world``, the world -> robot
 base transform (4x4; also row 0 of ``rpy_xyz``), kept and written out but not part of FK. Rows may be objects with named keys or

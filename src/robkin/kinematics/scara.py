@@ -3,7 +3,7 @@
 Fits any robot (from any representation) whose joint axes are all parallel or anti-parallel to one
 direction u, with two or three revolute joints (a planar two-link core, plus an optional wrist
 rotation) and any number of prismatic joints along u - the 5-DOF inverted SCARA of
-``scara-5dof-dh-geometric-ik.md`` (P R R R P, both prismatic joints flipped) among them.
+Jimenez-Nixon et al.'s 5-DOF inverted SCARA paper (P R R R P, both prismatic joints flipped) among them.
 
 The geometry, in the space-frame product of exponentials T(q) = prod_i exp([S_i] q_i) M:
 

@@ -1,0 +1,92 @@
+"""The Robot methods a user reaches first: ``robot.jacobian(q, frame=...)`` and
+``robot.manipulability(q, kind=...)``, checked against pinocchio on a real arm and against the planar
+two-link arm's closed form (Yoshikawa: l1 l2 |sin q2|)."""
+
+from __future__ import annotations
+
+import glob
+import os
+import sys
+
+import numpy as np
+import pytest
+
+import robkin
+from robkin.errors import InputError
+from robkin.robot import default_joints
+
+ROBOTS_DIR = (glob.glob(os.path.join(sys.prefix, "lib", "python*", "site-packages", "cmeel.prefix", "share",
+                                     "example-robot-data", "robots")) or [""])[0]
+
+
+def planar_2r(l1: float = 1.0, l2: float = 0.5) -> robkin.Robot:
+    M = np.eye(4)
+    M[0, 3] = l1 + l2
+    screws = np.array([[0, 0, 1, 0, 0, 0], [0, 0, 1, 0, -l1, 0]], dtype=float)
+    return robkin.PoE(M, screws, default_joints(["revolute"] * 2)).to_robot()
+
+
+def test_manipulability_is_l1_l2_sin_q2_for_one_q_and_a_batch():
+    robot = planar_2r()
+    assert robot.manipulability([0.3, 0.7]) == pytest.approx(0.5 * abs(np.sin(0.7)), rel=1e-12)
+    Q = np.array([[0.1, 0.2], [0.0, -1.2], [2.0, 0.0]])
+    np.testing.assert_allclose(robot.manipulability(Q), 0.5 * np.abs(np.sin(Q[:, 1])), rtol=1e-12, atol=1e-15)
+    # the rotational rows of a planar arm are (0, 0, 1) per joint: singular values sqrt(2) and 0
+    assert robot.manipulability([0.3, 0.7], kind="rotational") == pytest.approx(0.0, abs=1e-15)
+
+
+def test_planar_jacobian_in_every_frame():
+    robot = planar_2r()
+    q = np.array([np.pi / 2, 0.0])     # arm along +y: the tool at (0, 1.5)
+    J = robot.jacobian(q)
+    # v = w x (p_tool - p_axis): joint 1 at the origin, joint 2 at (0, 1)
+    np.testing.assert_allclose(J[:3], [[-1.5, -0.5], [0, 0], [0, 0]], atol=1e-15)
+    np.testing.assert_allclose(J[3:], [[0, 0], [0, 0], [1, 1]], atol=1e-15)
+    # tool axes are the base axes turned by pi/2 about z: base -x is tool +y... -(-x) -> tool y = -x_base
+    np.testing.assert_allclose(robot.jacobian(q, "tool")[:3], [[0, 0], [1.5, 0.5], [0, 0]], atol=1e-15)
+    # space Jacobian (w, v): v = -w x p_axis (the velocity of the point at the base origin)
+    np.testing.assert_allclose(robot.jacobian(q, "space"), [[0, 0], [0, 0], [1, 1], [0, 1], [0, 0], [0, 0]],
+                               atol=1e-15)
+    np.testing.assert_allclose(robot.jacobian(q, "body"), robot.jacobian(q, "tool")[[3, 4, 5, 0, 1, 2]])
+    assert robot.jacobian(np.zeros((3, 2)), "space").shape == (3, 6, 2)
+
+
+def test_unknown_frame_and_kind_name_the_choices():
+    robot = planar_2r()
+    with pytest.raises(InputError, match="frame: 'world' is not one of base, tool, space, body"):
+        robot.jacobian([0, 0], frame="world")
+    with pytest.raises(InputError, match="translational"):
+        robot.manipulability([0, 0], kind="linear")
+
+
+pin = pytest.importorskip("pinocchio")
+
+
+def test_jacobian_frames_match_pinocchio_on_the_panda():
+    path = os.path.join(ROBOTS_DIR, "panda_description/urdf/panda.urdf")
+    if not os.path.isfile(path):
+        pytest.skip("example-robot-data's panda.urdf is not installed")
+    tip = "panda_hand_tcp"
+    robot = robkin.load(path, tip_link=tip)
+    model = pin.buildModelFromUrdf(path)
+    data = model.createData()
+    fid = model.getFrameId(tip)
+    swap = np.r_[3:6, 0:3]   # pinocchio's rows are (v, w)
+    for q in robot.random_q(3, rng=11):
+        qp = pin.neutral(model)
+        cols = []
+        for joint, value in zip(robot.joints, q):
+            jm = model.joints[model.getJointId(joint.name)]
+            qp[jm.idx_q] = value
+            cols.append(jm.idx_v)
+        pin.computeJointJacobians(model, data, qp)
+        pin.updateFramePlacements(model, data)
+        pj = {ref: pin.getFrameJacobian(model, data, fid, ref)[:, cols]
+              for ref in (pin.LOCAL_WORLD_ALIGNED, pin.LOCAL, pin.WORLD)}
+        # 1e-12: both are exact formulas in double precision on the same ~1 m geometry
+        np.testing.assert_allclose(robot.jacobian(q), pj[pin.LOCAL_WORLD_ALIGNED], atol=1e-12)
+        np.testing.assert_allclose(robot.jacobian(q, "tool"), pj[pin.LOCAL], atol=1e-12)
+        np.testing.assert_allclose(robot.jacobian(q, "space"), pj[pin.WORLD][swap], atol=1e-12)
+        np.testing.assert_allclose(robot.jacobian(q, "body"), pj[pin.LOCAL][swap], atol=1e-12)
+        Jv = pj[pin.LOCAL_WORLD_ALIGNED][:3]
+        assert robot.manipulability(q) == pytest.approx(np.sqrt(np.linalg.det(Jv @ Jv.T)), rel=1e-9)
