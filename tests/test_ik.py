@@ -392,7 +392,7 @@ def test_cli_fk_jacobian_and_manipulability(capsys):
     out = json.loads(capsys.readouterr().out)
     assert np.allclose(out["J"], jacobian_geometric(robot, q), atol=1e-15)
     assert out["manipulability"]["manipulability_translational"] == pytest.approx(manipulability(robot, q))
-    assert set(out) == {"T", "J", "manipulability"}
+    assert set(out) == {"T", "position", "rpy", "quaternion", "joints", "q", "J", "manipulability"}
     assert main(["fk", path, "--tip-link", "tool0", "--q", ",".join(map(str, q)), "--jacobian"]) == 0
     text = capsys.readouterr().out
     assert "J (geometric" in text and "shoulder_pan_joint" in text

@@ -225,7 +225,8 @@ def test_cli_ik_on_the_example(capsys):
     # unreachable: not an error; empty solutions, the reason on stderr, status 0
     assert main(["ik", str(EXAMPLE), "--pose", "40,0,0,0,0,0", "--json"]) == 0
     captured = capsys.readouterr()
-    assert json.loads(captured.out) == {"solutions": []}
+    out = json.loads(captured.out)
+    assert out["solutions"] == [] and out["success"] is False and "out of reach" in out["reason"]
     assert captured.err.count("\n") == 1 and "out of reach" in captured.err
 
     assert main(["ik", str(EXAMPLE), "--pose", "10,5,-2,0,0,0.5"]) == 0

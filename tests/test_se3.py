@@ -245,3 +245,21 @@ def test_mdh_matrix_is_the_product_of_its_four_motions():
     a, d, alpha, theta = rng.uniform(-2, 2, size=(4, 10))
     expected = se3.rot_x(alpha) @ se3.trans(a, 0, 0) @ se3.rot_z(theta) @ se3.trans(0, 0, d)
     np.testing.assert_allclose(se3.mdh_matrix(a, d, alpha, theta), expected, atol=EXACT)
+
+
+def test_quaternion_from_matrix_matches_scipy():
+    """(w, x, y, z), w >= 0, against scipy's Rotation, including the four branches of the method
+    (trace largest, and each diagonal entry largest: rotations by pi about x, y, z)."""
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(5)
+    R = np.concatenate([Rotation.random(200, random_state=rng).as_matrix(),
+                        [se3.rot_x(np.pi)[:3, :3], se3.rot_y(np.pi - 1e-9)[:3, :3], se3.rot_z(-np.pi)[:3, :3],
+                         np.eye(3)]])
+    xyzw = Rotation.from_matrix(R).as_quat()
+    expected = np.where(xyzw[:, 3:] < 0, -xyzw, xyzw)[:, [3, 0, 1, 2]]
+    got = se3.quaternion_from_matrix(R)
+    # Shepperd's method is accurate to rounding in every component (no square root of a small number)
+    np.testing.assert_allclose(got, expected, atol=1e-15)
+    np.testing.assert_allclose(se3.quaternion_from_matrix(R[3]), got[3])
+    assert np.all(got[:, 0] >= 0)

@@ -72,7 +72,7 @@ def test_batch_convert_of_urdfs_and_documents(tmp_path, capsys):
         r0, r1 = robot_from_urdf(src), robot_from_urdf(str(outdir / name))
         Q = sample_q(r0, 5, seed=6)
         np.testing.assert_allclose(r1.world @ r1.fk(Q), r0.world @ r0.fk(Q), atol=1e-12)
-    assert "wrote 2 files" in capsys.readouterr().err
+    assert capsys.readouterr().err.splitlines() == [f"wrote {outdir / 'tilted.urdf'}", f"wrote {outdir / 'xarm7.urdf'}"]
 
 
 def test_convert_json_flag_prints_the_section(capsys):

@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "rot_x", "rot_y", "rot_z", "trans", "homogeneous", "inv", "skew",
-    "matrix_from_rpy", "rpy_from_matrix", "exp_twist", "adjoint", "log_rotation",
+    "matrix_from_rpy", "rpy_from_matrix", "quaternion_from_matrix", "exp_twist", "adjoint", "log_rotation",
     "nearest_rotation", "rotation_error", "dh_matrix", "mdh_matrix",
 ]
 
@@ -120,6 +120,29 @@ def rpy_from_matrix(R: ArrayLike) -> Array:
     Rz = R @ undo
     yaw = np.arctan2(Rz[..., 1, 0], Rz[..., 0, 0])
     return np.stack([roll, pitch, yaw], axis=-1)
+
+
+def quaternion_from_matrix(R: ArrayLike) -> Array:
+    """Unit quaternion (w, x, y, z) with w >= 0 of a rotation (..., 3, 3) -> (..., 4).
+
+    Shepperd's method: the largest of |w|, |x|, |y|, |z| comes from a square root of a sum of diagonal
+    terms (at least 1/2 of the norm, so no cancellation), the others from off-diagonal sums divided by
+    it; every component is then accurate to rounding. Of the two quaternions of R, the one with w >= 0.
+    """
+    R = np.asarray(R, dtype=float)
+    r00, r11, r22 = R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]
+    diag = np.stack([r00 + r11 + r22, r00 - r11 - r22, r11 - r00 - r22, r22 - r00 - r11], axis=-1)
+    k = np.argmax(diag, axis=-1)[..., None]
+    s = 2.0 * np.sqrt(1.0 + np.take_along_axis(diag, k, axis=-1))[..., 0]  # 4 * the largest component, >= 2
+    a, b = R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0]     # 4 w x, 4 w y
+    c, d = R[..., 1, 0] - R[..., 0, 1], R[..., 0, 1] + R[..., 1, 0]     # 4 w z, 4 x y
+    e, f = R[..., 0, 2] + R[..., 2, 0], R[..., 1, 2] + R[..., 2, 1]     # 4 x z, 4 y z
+    q4 = np.stack([np.stack([s * s / 4, a, b, c], axis=-1),             # 4 * largest * (w, x, y, z)
+                   np.stack([a, s * s / 4, d, e], axis=-1),
+                   np.stack([b, d, s * s / 4, f], axis=-1),
+                   np.stack([c, e, f, s * s / 4], axis=-1)], axis=-2)
+    quat = np.take_along_axis(q4, k[..., None], axis=-2)[..., 0, :] / s[..., None]
+    return np.where(quat[..., :1] < 0, -quat, quat)
 
 
 def exp_twist(S: ArrayLike, q: ArrayLike) -> Array:

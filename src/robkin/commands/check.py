@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 
 EPILOG = """\
@@ -49,7 +48,9 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         d = result.to_dict()
         d["a"], d["b"] = args.a, args.b
-        print(json.dumps(d, indent=2, allow_nan=False, default=_jsonable))
+        from ._output import print_json
+
+        print_json(d)
     else:
         from ..io.tables import show_table
 
@@ -78,8 +79,3 @@ def _load(path: str, args: argparse.Namespace):
         return load(path, base_link=args.base_link, tip_link=args.tip_link)
     return load(path)
 
-
-def _jsonable(x):
-    if isinstance(x, float) and not math.isfinite(x):
-        return None
-    return float(x)

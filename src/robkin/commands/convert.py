@@ -8,6 +8,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ._common import add_input, load_input
+from ._output import wrote
 
 #: --to FORMAT -> document section written for it (None: a whole document or another file type)
 SECTION_OF = {"dh": "dh", "mdh": "mdh", "poe": "poe", "poe-body": "poe_body", "rpy-xyz": "rpy_xyz",
@@ -146,7 +147,7 @@ def run(args: argparse.Namespace) -> int:
             texts.append(_render_file(robot, fmt, _out_ext(fmt)))
         for target, text in zip(targets, texts):
             write_text_atomic(target, text)
-        print(f"wrote {len(targets)} files to {out_dir}", file=sys.stderr)
+            wrote(target)
         return 0
     robot = load_input(inputs[0], args)
     note = _mapping_note(inputs[0], robot, fmt)
@@ -159,7 +160,7 @@ def run(args: argparse.Namespace) -> int:
         _check_ext(out, fmt)
         text = _render_file(robot, fmt, out.suffix.lower())
         write_text_atomic(out, text)
-        print(f"wrote {out}", file=sys.stderr)
+        wrote(out)
         if note:
             print(f"robkin: note: {note}", file=sys.stderr)
         return 0

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
+from typing import Any
 
 from ..errors import InputError
 from ._common import parse_pose
@@ -85,17 +85,29 @@ def run(args: argparse.Namespace) -> int:
         results, opt_summary = _optimise(args, poses, base, estimates)
 
     if args.json:
-        out = {k: dict(m.as_dict(), type=k) for k, (_, m, _) in results.items()}
+        from ._output import print_json
+
+        out: dict[str, Any] = {k: dict(m.as_dict(), type=k, dh=_dh_json(rows))
+                               for k, (_, m, rows) in results.items()}
         if opt_summary is not None:
             out["optimization"] = opt_summary
-        print(json.dumps(out, indent=2))
+        print_json(out)
     else:
         _print_text(results, estimates, opt_summary)
+    from ._output import wrote
+
     for k, path in outputs.items():
         _write(results[k][0], results[k][1], path, args.format)
+        wrote(path)
     if args.plot:
         _plot(estimates, args.plot)
+        wrote(args.plot)
     return 0
+
+
+def _dh_json(rows: Any) -> dict[str, Any]:
+    """The DH table of an estimate, rows as named columns (theta at q = 0 reaches the target)."""
+    return {"rows": [dict(zip(("a", "d", "alpha", "theta"), map(float, r))) for r in rows]}
 
 
 def _output_paths(args: argparse.Namespace, kinds: tuple[str, ...]) -> dict[str, Path]:
@@ -146,7 +158,7 @@ def _optimise(args, poses, base, estimates):
     rng = np.random.default_rng(args.seed)
     from ..synthesis.sweep import progress_bar
 
-    bar = progress_bar(len(starts), desc="optimising", enabled=len(starts) > 1 and sys.stderr.isatty())
+    bar = progress_bar(len(starts), desc="optimising", enabled=sys.stderr.isatty())
     runs = []
     try:
         for s in starts:

@@ -3,9 +3,15 @@
 from __future__ import annotations
 
 import argparse
-import json
+
+from typing import TYPE_CHECKING, Any
 
 from ._common import add_input, load_input, parse_q
+
+if TYPE_CHECKING:  # pragma: no cover
+    import numpy as np
+
+    from ..robot import Robot
 
 EPILOG = """\
 The pose is the tool frame in the robot base frame (a world->base transform is not applied).
@@ -25,7 +31,9 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     add_input(p)
     p.add_argument("--q", required=True, metavar="Q1,Q2,...", help="joint values, one per joint")
-    p.add_argument("--json", action="store_true", help='print {"T": 4x4} as JSON')
+    p.add_argument("--json", action="store_true",
+                   help='print JSON: "T" (4x4), "position", "rpy", "quaternion" {w, x, y, z}, "joints" '
+                        'and "q"')
     p.add_argument("--jacobian", action="store_true",
                    help='also the geometric Jacobian [v; w] (6 x n, base frame, at the tool origin); '
                         'JSON key "J"')
@@ -38,20 +46,19 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 def run(args: argparse.Namespace) -> int:
     from .. import se3
     from ..io.tables import fmt_num, matrix_text
+    from ._output import joint_names, print_json, warn_outside_limits
 
     robot = load_input(args.input, args)
     q = parse_q(args.q, robot.n)
+    warn_outside_limits(robot, q)
     T = robot.fk(q)
+    rpy = se3.rpy_from_matrix(T[:3, :3])
     extra = _jacobian_extras(robot, q, args)
     if args.json:
-        out = {"T": [[float(v) + 0.0 for v in row] for row in T]}
-        if "J" in extra:
-            out["J"] = [[float(v) + 0.0 for v in row] for row in extra["J"]]
-        if "manipulability" in extra:
-            out["manipulability"] = {k: float(v) for k, v in extra["manipulability"].items()}
-        print(json.dumps(out))
+        w, x, y, z = se3.quaternion_from_matrix(T[:3, :3])
+        print_json({"T": T, "position": T[:3, 3], "rpy": rpy, "quaternion": {"w": w, "x": x, "y": y, "z": z},
+                    "joints": joint_names(robot), "q": q, **extra})
         return 0
-    rpy = se3.rpy_from_matrix(T[:3, :3])
     print(matrix_text(T, "T (tool in base frame)"))
     print("position: " + ", ".join(fmt_num(v) for v in T[:3, 3]))
     print("rpy:      " + ", ".join(fmt_num(v) for v in rpy) + "  (roll, pitch, yaw; R = Rz Ry Rx)")
@@ -60,20 +67,17 @@ def run(args: argparse.Namespace) -> int:
 
         rows = [[name] + [fmt_num(v) for v in row] for name, row in zip(("vx", "vy", "vz", "wx", "wy", "wz"),
                                                                           extra["J"])]
-        print(text_table([""] + [j.name for j in robot.joints], rows,
-                         title="J (geometric, base frame, at the tool origin)"))
+        print(text_table([""] + joint_names(robot), rows, title="J (geometric, base frame, at the tool origin)"))
     for key, value in extra.get("manipulability", {}).items():
         print(f"{key}: {fmt_num(value)}")
     return 0
 
 
-def _jacobian_extras(robot, q, args: argparse.Namespace) -> dict:
+def _jacobian_extras(robot: "Robot", q: "np.ndarray", args: argparse.Namespace) -> dict[str, Any]:
     """The Jacobian and manipulability measures asked for by --jacobian / --manipulability."""
-    out: dict = {}
+    out: dict[str, Any] = {}
     if args.jacobian:
-        from ..kinematics.jacobian import jacobian_geometric
-
-        out["J"] = jacobian_geometric(robot, q)
+        out["J"] = robot.jacobian(q)
     if args.manipulability:
         from ..kinematics.jacobian import measures
 

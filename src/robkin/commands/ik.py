@@ -3,10 +3,15 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
+from typing import TYPE_CHECKING
 
 from ._common import add_input, load_input, parse_pose, parse_q
+
+if TYPE_CHECKING:  # pragma: no cover
+    import numpy as np
+
+    from ..robot import Robot
 
 EPILOG = """\
 The pose is the tool frame in the robot base frame: x,y,z,roll,pitch,yaw (URDF rpy, radians) or
@@ -41,7 +46,9 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--all", action="store_true",
                    help="every distinct solution (closed form: all branches; numeric: those found from "
                         "1 + RESTARTS starts)")
-    p.add_argument("--json", action="store_true", help='print {"solutions": [{"q": [...]}, ...]}')
+    p.add_argument("--json", action="store_true",
+                   help='print {"solutions": [{"q": [...], "position_error": ..., "orientation_error": ...}], '
+                        '"joints": [...], "method": ..., "success": ..., "reason": ...}')
     p.add_argument("--q0", metavar="Q1,Q2,...",
                    help="preferred configuration: numeric start and tie-break (default: zeros)")
     mask = p.add_mutually_exclusive_group()
@@ -84,10 +91,27 @@ def run(args: argparse.Namespace) -> int:
         solutions = np.empty((0, robot.n))
         print(f"robkin: ik: no solution ({result.method}): {result.message}", file=sys.stderr)
     if args.json:
-        print(json.dumps({"solutions": [{"q": [float(v) + 0.0 for v in q]} for q in solutions]}))
+        from ._output import joint_names, print_json
+
+        errors = [_residuals(robot, q, T) for q in solutions]
+        print_json({"solutions": [{"q": q, "position_error": e[0], "orientation_error": e[1]}
+                                  for q, e in zip(solutions, errors)],
+                    "joints": joint_names(robot), "method": result.method, "success": bool(result.success),
+                    "reason": None if result.success else result.message})
         return 0
     names = [j.name for j in robot.joints]
     rows = [[str(i + 1)] + [fmt_num(v) for v in q] for i, q in enumerate(solutions)]
     if rows:
         print(text_table(["#"] + names, rows, title=f"IK solutions ({result.method}, nearest to q0 first)"))
     return 0
+
+
+def _residuals(robot: "Robot", q: "np.ndarray", T: "np.ndarray") -> tuple[float, float]:
+    """Position error |p_T - p(q)| (length units) and orientation error |log(R_T R(q)^T)| (radians)."""
+    import numpy as np
+
+    from .. import se3
+
+    F = robot.fk(q)
+    angle = np.linalg.norm(se3.log_rotation(T[:3, :3] @ F[:3, :3].T))
+    return float(np.linalg.norm(T[:3, 3] - F[:3, 3])), float(angle)

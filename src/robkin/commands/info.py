@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 
 from ._common import add_input, load_input
@@ -80,7 +79,9 @@ def run(args: argparse.Namespace) -> int:
     robot = load_input(args.input, args)
     d = describe(robot)
     if args.json:
-        print(json.dumps(d, indent=2, allow_nan=False))
+        from ._output import print_json
+
+        print_json(d)
         return 0
     import numpy as np
 

@@ -7,6 +7,7 @@ import sys
 
 from ..errors import InputError
 from ._common import add_input, load_input, parse_q
+from ._output import warn_outside_limits, wrote
 
 HELP = "draw a robot (joint axes blue, tool pink), representations overlaid, or estimation metrics"
 EPILOG = """\
@@ -72,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
     from ..viz.plot import save_figure
 
     save_figure(fig, out, caption=caption)
-    print(f"wrote {out}", file=sys.stderr)
+    wrote(out)
     return 0
 
 
@@ -90,6 +91,8 @@ def _robot_figure(args: argparse.Namespace, view: list[float]):
             raise InputError(f"--overlay: unknown representation '{r}'; one of {', '.join(REPRESENTATIONS)}")
     robots = [load_input(path, args) for path in args.input]
     q = parse_q(args.q, robots[0].n) if args.q else None
+    for r in robots:
+        warn_outside_limits(r, np.zeros(r.n) if q is None else q, "--q" if args.q else "home (q = 0)")
     if len(robots) == 1:
         fig = plot_robot(robots[0], q, overlay or ("gjd",), frames=args.frames, view=tuple(view), title=args.title)
         robot = robots[0]

@@ -350,7 +350,9 @@ def _named_rows(rows: np.ndarray, keys: tuple[str, ...]) -> list[dict[str, float
 def dump(doc: Mapping[str, Any], fmt: str = "yaml") -> str:
     """Serialise a document as 'yaml' (flow-style rows and matrices) or 'json' (indented)."""
     if fmt == "json":
-        return json.dumps(doc, indent=2, allow_nan=False) + "\n"
+        from .jsontext import dumps
+
+        return dumps(doc) + "\n"
     if fmt != "yaml":
         raise InputError(f"format '{fmt}' is not one of yaml, json")
     import yaml
