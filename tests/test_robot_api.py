@@ -90,3 +90,27 @@ def test_jacobian_frames_match_pinocchio_on_the_panda():
         np.testing.assert_allclose(robot.jacobian(q, "body"), pj[pin.LOCAL][swap], atol=1e-12)
         Jv = pj[pin.LOCAL_WORLD_ALIGNED][:3]
         assert robot.manipulability(q) == pytest.approx(np.sqrt(np.linalg.det(Jv @ Jv.T)), rel=1e-9)
+
+
+def test_errors_name_keywords_in_python_and_flags_on_the_command_line(tmp_path, capsys):
+    from robkin.cli import main
+    from robkin.messages import render_options
+
+    urdf = tmp_path / "tree.urdf"
+    urdf.write_text("""<robot name="tree"><link name="base"/><link name="a"/><link name="b"/>
+      <joint name="ja" type="revolute"><parent link="base"/><child link="a"/><axis xyz="0 0 1"/>
+        <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+      <joint name="jb" type="revolute"><parent link="base"/><child link="b"/><axis xyz="0 0 1"/>
+        <limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>""")
+    with pytest.raises(InputError, match=r"pick the chain's end with tip_link=, one of: a, b"):
+        robkin.load(urdf)
+    with pytest.raises(InputError, match=r"tip_link='nope' is not a link of the file"):
+        robkin.load(urdf, tip_link="nope")
+    assert main(["fk", str(urdf), "--q", "0"]) == 2
+    assert "pick the chain's end with --tip-link, one of: a, b" in capsys.readouterr().err
+    assert main(["info", str(urdf), "--tip-link", "nope"]) == 2
+    assert "--tip-link 'nope' is not a link of the file" in capsys.readouterr().err
+    # only the names given are rendered; fields, comparisons and XML attributes are left alone
+    names = {"tip_link": "--tip-link", "base_link": "--base-link"}
+    assert render_options("base_link=/tip_link= apply; a.tip_link=1, x==y, xyz=\"0\"", names) == \
+        "--base-link/--tip-link apply; a.tip_link=1, x==y, xyz=\"0\""

@@ -48,7 +48,9 @@ def build_parser() -> argparse.ArgumentParser:
                 continue  # command not built yet
             raise
         p = module.register(sub)
-        p.set_defaults(_run=module.run)
+        # library messages name options as Python keywords (tip_link=); this command shows its flags
+        flags = {a.dest: s for a in p._actions for s in a.option_strings if s.startswith("--")}
+        p.set_defaults(_run=module.run, _flags=flags)
     return parser
 
 
@@ -70,7 +72,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         try:
             return int(args._run(args) or 0)
         except InputError as exc:
-            print(f"robkin: error: {exc}", file=sys.stderr)
+            from .messages import render_options
+
+            print(f"robkin: error: {render_options(str(exc), args._flags)}", file=sys.stderr)
             return 2
         except KeyboardInterrupt:
             print("robkin: interrupted", file=sys.stderr)

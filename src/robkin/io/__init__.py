@@ -24,7 +24,7 @@ def load(path: str | os.PathLike, base_link: str | None = None, tip_link: str | 
     ext = p.suffix.lower()
     if ext in DOCUMENT_EXTENSIONS:
         if base_link or tip_link:
-            raise InputError(f"{p}: --base-link/--tip-link apply to URDF input only")
+            raise InputError(f"{p}: base_link=/tip_link= apply to URDF input only")
         from .document import read_document
 
         return read_document(p)

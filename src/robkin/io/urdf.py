@@ -296,10 +296,10 @@ def _chain(model: UrdfModel, base_link: str | None, tip_link: str | None
     """(base link, joints base->tip, world->base transform) for the chosen serial chain."""
     src = model.source
     known = set(model.links)
-    for opt, link in (("--base-link", base_link), ("--tip-link", tip_link)):
+    for opt, link in (("base_link", base_link), ("tip_link", tip_link)):
         if link is not None and link not in known:
             close = ", ".join(sorted(known, key=lambda s: (not s.startswith(link[:3]), s))[:8])
-            raise InputError(f"{src}: {opt} '{link}' is not a link of the file (links include: {close})")
+            raise InputError(f"{src}: {opt}='{link}' is not a link of the file (links include: {close})")
     parents = model.parent_joint()
     kids = model.children()
     root = model.root()
@@ -313,13 +313,13 @@ def _chain(model: UrdfModel, base_link: str | None, tip_link: str | None
         if len(leaves) != 1:
             shown = ", ".join(leaves[:24]) + (f", ... ({len(leaves) - 24} more)" if len(leaves) > 24 else "")
             raise InputError(f"{src}: the links below '{base_link}' form a tree with {len(leaves)} leaf links; "
-                             f"pick the chain's end with --tip-link, one of: {shown}")
+                             f"pick the chain's end with tip_link=, one of: {shown}")
         tip_link = leaves[0]
     path: list[UrdfJoint] = []
     link = tip_link
     while link != base_link:
         if link not in parents:
-            raise InputError(f"{src}: --tip-link '{tip_link}' is not below --base-link '{base_link}' "
+            raise InputError(f"{src}: tip_link='{tip_link}' is not below base_link='{base_link}' "
                              f"(links below it end in: {', '.join(model.leaves(base_link))})")
         j = parents[link]
         path.append(j)
@@ -404,10 +404,10 @@ def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: s
     for j in path:
         if j.type in UNSUPPORTED_TYPES:
             raise InputError(f"{src}: joint '{j.name}' is {j.type}; only revolute, continuous, prismatic and "
-                             f"fixed joints make a serial chain (pick another chain with --base-link/--tip-link)")
+                             f"fixed joints make a serial chain (pick another chain with base_link=/tip_link=)")
         if j.mimic:
             raise InputError(f"{src}: joint '{j.name}' mimics another joint; robkin needs independent joints "
-                             f"(end the chain before it with --tip-link)")
+                             f"(end the chain before it with tip_link=)")
         T = T @ j.origin
         if j.type == "fixed":
             continue

@@ -74,14 +74,15 @@ def parse_robot(text: str, fmt: str = "auto", base_link: str | None = None, tip_
             if not text.lstrip("\ufeff \t\r\n").startswith("<"):
                 raise InputError("urdf: expected XML starting with '<' (a <robot> element)")
             from ..io.urdf import robot_from_urdf
+            from ..messages import render_options
 
             try:
                 robot = robot_from_urdf(text.lstrip("\ufeff \t\r\n"), base_link=base_link or None,
                                         tip_link=tip_link or None)
             except InputError as exc:
                 # The page's fields are called "base link" / "tip link", not the CLI options.
-                msg = (str(exc).removeprefix("<urdf string>: ").replace("--base-link", "base link")
-                       .replace("--tip-link", "tip link"))
+                msg = render_options(str(exc).removeprefix("<urdf string>: "),
+                                     {"base_link": "base link", "tip_link": "tip link"})
                 raise InputError(msg if msg.startswith(source) else f"{source}: {msg}") from None
         else:
             if base_link or tip_link:
