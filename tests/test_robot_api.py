@@ -114,3 +114,55 @@ def test_errors_name_keywords_in_python_and_flags_on_the_command_line(tmp_path, 
     names = {"tip_link": "--tip-link", "base_link": "--base-link"}
     assert render_options("base_link=/tip_link= apply; a.tip_link=1, x==y, xyz=\"0\"", names) == \
         "--base-link/--tip-link apply; a.tip_link=1, x==y, xyz=\"0\""
+
+
+RRPR = os.path.join(os.path.dirname(robkin.__file__), "examples", "rrpr.yaml")
+
+
+@pytest.mark.parametrize("make", [robkin.dh_from_robot, robkin.mdh_from_robot, robkin.rpy_from_robot,
+                                  lambda r: robkin.poe_from_robot(r, "space"),
+                                  lambda r: robkin.poe_from_robot(r, "body")])
+def test_tables_print_as_the_cli_and_to_dict_reads_back(make, capsys):
+    import json
+
+    from robkin.cli import main
+    from robkin.io.document import parse_document
+    from robkin.io.jsontext import dumps
+
+    robot = robkin.load(RRPR)
+    table = make(robot)
+    text = str(table)
+    for name in ("joint1", "joint2", "joint3", "joint4"):
+        assert name in text
+    # str() is the CLI's table: the same lines after the CLI's title
+    fmt = {"DHTable": "dh", "MDHTable": "mdh", "RPYTable": "rpy-xyz"}.get(type(table).__name__)
+    fmt = fmt or ("poe" if table.frame == "space" else "poe-body")
+    assert main(["convert", RRPR, "--to", fmt]) == 0
+    assert capsys.readouterr().out.splitlines()[1:] == text.splitlines()[1:]
+    # to_dict is a robot document: it reads back as the same robot
+    doc = table.to_dict()
+    back = parse_document(dumps(doc), "json")
+    Q = robot.random_q(20, rng=3)
+    np.testing.assert_allclose(back.fk(Q), robot.fk(Q), atol=1e-12)
+    assert json.loads(dumps(doc)) == doc
+
+
+def test_ik_result_and_comparison_are_readable():
+    import json
+
+    from robkin.equivalence import compare
+    from robkin.io.jsontext import dumps
+
+    robot = robkin.load(RRPR)
+    targets = robot.fk(robot.random_q(3, rng=2))
+    res = robot.ik(targets)
+    lines = str(res).splitlines()
+    assert lines[0] == f"IK ({res.method}): {int(np.sum(res.success))} of 3 reached" and len(lines) == 6
+    d = res.to_dict()
+    assert set(d) >= {"q", "success", "position_error", "orientation_error", "method", "message"}
+    assert np.array(d["q"]).shape == (3, 4) and json.loads(dumps(d))["method"] == res.method
+    c = compare(robot, robkin.load(os.path.join(os.path.dirname(RRPR), "scara.yaml")))
+    assert repr(c) == ("Comparison(same=False, equivalent=False, "
+                       "first_difference='joint counts differ: A has 4, B has 5')")
+    assert str(c).splitlines()[-1] == "verdict: different robots: joint counts differ: A has 4, B has 5"
+    assert "type revolute in A, prismatic in B" in str(c)

@@ -92,6 +92,16 @@ class Comparison:
                     "(see the table)")
         return f"different robots: {self.first_difference}"
 
+    def __str__(self) -> str:
+        """The joint-by-joint diagnosis as ``robkin check`` prints it."""
+        from .io.table_views import blocks_text, comparison_blocks
+
+        return blocks_text(comparison_blocks(self))
+
+    def __repr__(self) -> str:
+        return (f"Comparison(same={self.same}, equivalent={self.equivalent}, "
+                f"first_difference={self.first_difference!r})")
+
     def to_dict(self) -> dict[str, Any]:
         return {"same": self.same, "equivalent": self.equivalent, "verdict": self.verdict(),
                 "first_difference": self.first_difference, "joints": [j.to_dict() for j in self.joints],

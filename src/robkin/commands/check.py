@@ -52,21 +52,12 @@ def run(args: argparse.Namespace) -> int:
 
         print_json(d)
     else:
-        from ..io.tables import show_table
+        from ..io.table_views import comparison_blocks
+        from ..io.tables import show_blocks
 
-        rows = [[str(j.index + 1), j.name_a, j.name_b, j.type_a if j.type_a == j.type_b else f"{j.type_a}/{j.type_b}",
-                 j.status, "-" if j.sign < 0 else "+", j.offset, j.detail] for j in result.joints]
         kinds = lambda r: "".join("R" if j.revolute else "P" for j in r.joints)  # noqa: E731
         title = f"A: {args.a} ({a.n} joints {kinds(a)})   B: {args.b} ({b.n} joints {kinds(b)})"
-        show_table(["joint", "A", "B", "type", "status", "sign", "offset", "how"], rows, title=title)
-        print(f"tool:  {result.tool}")
-        print(f"world: {result.world}")
-        if math.isfinite(result.max_fk_error):
-            what = "under the joint mapping" if result.equivalent and not result.same else "at the same q"
-            print(f"largest FK difference at 64 random q {what}: {result.max_fk_error:.3g} (relative to robot size)")
-        for note in result.notes:
-            print(f"note: {note}")
-        print(f"verdict: {result.verdict()}")
+        show_blocks(comparison_blocks(result, title))
     return 0 if result.same else 1
 
 

@@ -30,7 +30,7 @@ from .files import read_text_file
 from .numbers import matrix, number, number_list
 
 __all__ = ["SECTIONS", "read_document", "parse_document", "read_sections", "document_from_robot",
-           "dump", "same_robot", "read_text", "parse_text"]
+           "dump", "same_robot", "read_text", "parse_text", "table_document", "section_key"]
 
 #: Representation sections, in the order that decides which one defines the GJD when several are given.
 SECTIONS = ("gjd", "dh", "mdh", "rpy_xyz", "poe", "poe_body")
@@ -326,21 +326,43 @@ def document_from_robot(robot: Robot, sections: tuple[str, ...] = SECTIONS) -> d
         doc["world"] = _mat(robot.world)  # world -> robot base: kept, but not part of FK
     for key in sections:
         if key == "dh":
-            t = dh_from_robot(robot)
-            doc["dh"] = {"base": _mat(t.base), "rows": _named_rows(t.rows, _DH_KEYS), "tool": _mat(t.tool)}
+            doc["dh"] = _section(dh_from_robot(robot))
         elif key == "mdh":
-            t = mdh_from_robot(robot)
-            doc["mdh"] = {"base": _mat(t.base), "rows": _named_rows(t.rows, _DH_KEYS), "tool": _mat(t.tool)}
+            doc["mdh"] = _section(mdh_from_robot(robot))
         elif key in ("poe", "poe_body"):
-            p = poe_from_robot(robot, "space" if key == "poe" else "body")
-            doc[key] = {"frame": p.frame, "M": _mat(p.M), "screws": _mat(p.screws)}
+            doc[key] = _section(poe_from_robot(robot, "space" if key == "poe" else "body"))
         elif key == "rpy_xyz":
-            doc["rpy_xyz"] = {"rows": _named_rows(rpy_from_robot(robot).rows, _RPY_KEYS)}
+            doc["rpy_xyz"] = _section(rpy_from_robot(robot))
         elif key == "gjd":
             doc["gjd"] = {"frames": [_mat(F) for F in robot.frames]}
         else:
             raise InputError(f"unknown section '{key}'; one of {', '.join(SECTIONS)}")
     return doc
+
+
+def section_key(table: Any) -> str:
+    """The document section a DHTable, MDHTable, PoE or RPYTable is written to."""
+    from ..representations import PoE, RPYTable
+
+    if isinstance(table, PoE):
+        return "poe" if table.frame == "space" else "poe_body"
+    return "rpy_xyz" if isinstance(table, RPYTable) else table.SECTION
+
+
+def _section(table: Any) -> dict[str, Any]:
+    """The section of a DHTable, MDHTable, PoE or RPYTable as a document holds it."""
+    key = section_key(table)
+    if key in ("dh", "mdh"):
+        return {"base": _mat(table.base), "rows": _named_rows(table.rows, _DH_KEYS), "tool": _mat(table.tool)}
+    if key in ("poe", "poe_body"):
+        return {"frame": table.frame, "M": _mat(table.M), "screws": _mat(table.screws)}
+    return {"rows": _named_rows(table.rows, _RPY_KEYS)}
+
+
+def table_document(table: Any) -> dict[str, Any]:
+    """A robot document (dict) holding one table (DHTable, MDHTable, PoE or RPYTable) and its joints."""
+    return {"robkin": DOC_VERSION, "joints": [_joint_entry(j) for j in table.joints],
+            section_key(table): _section(table)}
 
 
 def _named_rows(rows: np.ndarray, keys: tuple[str, ...]) -> list[dict[str, float]]:

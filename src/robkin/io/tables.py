@@ -10,11 +10,12 @@ from __future__ import annotations
 
 import os
 import sys
-from typing import Sequence, Union
+from typing import Sequence
 
 import numpy as np
 
 from ..robot import Robot
+from .table_views import Block
 
 __all__ = ["FORMATS", "fmt_num", "text_table", "matrix_text", "render", "show", "show_table", "use_rich"]
 
@@ -62,14 +63,6 @@ def matrix_text(T: np.ndarray, name: str) -> str:
     return "\n".join([f"{name}:"] + ["  " + b for b in body])
 
 
-def _joint_cols(robot: Robot) -> list[list[object]]:
-    return [[str(i + 1), j.name, j.type + (" (flip)" if j.flip else "")] for i, j in enumerate(robot.joints)]
-
-
-#: One piece of output: a table (title, headers, rows) or a line of text / a matrix block.
-Block = Union[tuple[str | None, Sequence[str], Sequence[Sequence[object]]], str]
-
-
 def blocks(robot: Robot, fmt: str, layout: str = "robkin") -> list[Block]:
     """The robot in representation ``fmt`` (a key of FORMATS) as tables and text lines.
 
@@ -77,33 +70,15 @@ def blocks(robot: Robot, fmt: str, layout: str = "robkin") -> list[Block]:
     base row) when the base is one DH row.
     """
     from ..representations import dh_from_robot, mdh_from_robot, poe_from_robot, rpy_from_robot
+    from .table_views import table_blocks
 
     title = f"{robot.name or 'robot'}: {FORMATS[fmt]}"
-    jc = _joint_cols(robot)
     if fmt in ("dh", "mdh"):
-        t = dh_from_robot(robot) if fmt == "dh" else mdh_from_robot(robot)
-        heads = ["i", "joint", "type", "a", "d", "alpha", "theta"] if fmt == "dh" else \
-            ["i", "joint", "type", "a(i-1)", "d", "alpha(i-1)", "theta"]
-        rows = [c + list(r) for c, r in zip(jc, t.rows)]
-        base_row = t.base_row() if fmt == "dh" and layout == "paper" else None
-        if base_row is not None:
-            rows = [["0", "(base)", "fixed"] + list(base_row)] + rows
-        out: list[Block] = [(title, heads, rows)]
-        out.append("theta (revolute) and d (prismatic) are the values at q = 0; joint i adds q_i"
-                   + (" (subtracts, if flipped)" if any(j.flip for j in robot.joints) else "") + ".")
-        if base_row is None:
-            out.append(matrix_text(t.base, "base"))
-        out.append(matrix_text(t.tool, "tool" if fmt == "mdh" else "tool (residual T_t)"))
-        return out
+        return table_blocks(dh_from_robot(robot) if fmt == "dh" else mdh_from_robot(robot), title, layout)
     if fmt in ("poe", "poe-body"):
-        p = poe_from_robot(robot, "space" if fmt == "poe" else "body")
-        heads = ["i", "joint", "type", "wx", "wy", "wz", "vx", "vy", "vz"]
-        return [(title, heads, [c + list(s) for c, s in zip(jc, p.screws)]), matrix_text(p.M, "M")]
+        return table_blocks(poe_from_robot(robot, "space" if fmt == "poe" else "body"), title)
     if fmt == "rpy-xyz":
-        rows = rpy_from_robot(robot).rows
-        labels = [["0", "world->base", ""]] + jc + [[str(robot.n + 1), "tool", ""]]
-        return [(title, ["row", "frame", "type", "roll", "pitch", "yaw", "x", "y", "z"],
-                 [lab + list(r) for lab, r in zip(labels, rows)])]
+        return table_blocks(rpy_from_robot(robot), title)
     if fmt == "gjd":
         parts: list[Block] = [title]
         for i, F in enumerate(robot.frames):
@@ -115,7 +90,9 @@ def blocks(robot: Robot, fmt: str, layout: str = "robkin") -> list[Block]:
 
 def render(robot: Robot, fmt: str, layout: str = "robkin") -> str:
     """The robot in representation ``fmt`` (a key of FORMATS) as plain text (see ``blocks``)."""
-    return "\n".join(b if isinstance(b, str) else text_table(b[1], b[2], b[0]) for b in blocks(robot, fmt, layout))
+    from .table_views import blocks_text
+
+    return blocks_text(blocks(robot, fmt, layout))
 
 
 def use_rich(stream=None) -> bool:

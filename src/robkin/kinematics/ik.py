@@ -21,6 +21,7 @@ Methods:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -79,6 +80,20 @@ class IKResult:
     method: str
     message: list[str] | str
     solutions: list[np.ndarray] | np.ndarray | None = None
+
+    def __str__(self) -> str:
+        """One row per target (success, errors, q), or per solution for one target with solutions."""
+        from ..io.table_views import blocks_text, ik_result_blocks
+
+        return blocks_text(ik_result_blocks(self))
+
+    def to_dict(self) -> dict[str, Any]:
+        """Every field as plain lists and numbers (JSON-ready; see ``robkin.io.jsontext``)."""
+        from dataclasses import fields
+
+        from ..io.jsontext import plain
+
+        return {f.name: plain(getattr(self, f.name)) for f in fields(self)}
 
 
 def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,

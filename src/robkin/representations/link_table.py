@@ -7,7 +7,7 @@ which frame a joint's GJD frame is; everything else lives here once.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, ClassVar
+from typing import Any, Callable, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -80,6 +80,18 @@ class LinkTable:
     @property
     def n(self) -> int:
         return len(self.joints)
+
+    def __str__(self) -> str:
+        """The table as the CLI prints it (``robkin convert --to dh / mdh``)."""
+        from ..io.table_views import table_text
+
+        return table_text(self)
+
+    def to_dict(self) -> dict[str, Any]:
+        """A robot document (dict): ``joints`` and this table's section, as ``robkin.load`` reads it."""
+        from ..io.document import table_document
+
+        return table_document(self)
 
     def link_transforms(self, q: ArrayLike) -> np.ndarray:
         """A_i(q_i) for q (..., n) -> (..., n, 4, 4): revolute joints add to theta, prismatic to d

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -112,6 +112,18 @@ class PoE:
     @property
     def n(self) -> int:
         return len(self.joints)
+
+    def __str__(self) -> str:
+        """The table as the CLI prints it (``robkin convert --to poe / poe-body``)."""
+        from ..io.table_views import table_text
+
+        return table_text(self)
+
+    def to_dict(self) -> dict[str, Any]:
+        """A robot document (dict): ``joints`` and this table's section, as ``robkin.load`` reads it."""
+        from ..io.document import table_document
+
+        return table_document(self)
 
     def space_screws(self) -> np.ndarray:
         """Screws in the space frame (n, 6)."""

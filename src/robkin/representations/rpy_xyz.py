@@ -9,6 +9,7 @@ about/along, and row n + 1 joint n's frame -> tool.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -64,6 +65,18 @@ class RPYTable:
     @property
     def n(self) -> int:
         return len(self.joints)
+
+    def __str__(self) -> str:
+        """The table as the CLI prints it (``robkin convert --to rpy-xyz``)."""
+        from ..io.table_views import table_text
+
+        return table_text(self)
+
+    def to_dict(self) -> dict[str, Any]:
+        """A robot document (dict): ``joints`` and this table's section, as ``robkin.load`` reads it."""
+        from ..io.document import table_document
+
+        return table_document(self)
 
     @property
     def world(self) -> np.ndarray:

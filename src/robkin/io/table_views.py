@@ -1,0 +1,121 @@
+"""Readable text of the table and result types: what ``str()`` of each shows, and what the CLI prints.
+
+One layout per type, shared by ``str(table)``, ``robkin convert`` (through ``io.tables.blocks``),
+``str(ik_result)`` and ``str(comparison)`` / ``robkin check``:
+
+- ``table_blocks(table)``: a DHTable, MDHTable, PoE or RPYTable as a table with one row per joint,
+  plus its base / tool / M matrices;
+- ``ik_result_blocks(result)``: one row per target (success, errors, q) or per solution;
+- ``comparison_blocks(comparison)``: the joint-by-joint diagnosis of ``equivalence.compare``.
+
+Blocks are printed by ``io.tables.show_blocks`` (rich on a terminal) or joined by ``blocks_text``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any, Sequence, Union
+
+import numpy as np
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..equivalence import Comparison
+    from ..kinematics.ik import IKResult
+    from ..representations import DHTable, MDHTable, PoE, RPYTable
+
+__all__ = ["Block", "table_text", "table_blocks", "ik_result_blocks", "comparison_blocks", "blocks_text"]
+
+#: One piece of output: a table (title, headers, rows) or a line of text / a matrix block.
+Block = Union[tuple[Union[str, None], Sequence[str], Sequence[Sequence[object]]], str]
+
+
+def _joint_cols(joints: Sequence[Any]) -> list[list[object]]:
+    return [[str(i + 1), j.name, j.type + (" (flip)" if j.flip else "")] for i, j in enumerate(joints)]
+
+
+def table_blocks(table: "DHTable | MDHTable | PoE | RPYTable", title: str | None = None,
+                 layout: str = "robkin") -> list[Block]:
+    """A representation as tables and text lines (see the module docstring).
+
+    ``layout='paper'`` puts a DH table in the conversion paper's n+1-row layout (row 0 is the fixed
+    base row) when the base is one DH row.
+    """
+    from ..representations import DHTable, MDHTable, PoE, RPYTable
+    from .tables import matrix_text
+
+    jc = _joint_cols(table.joints)
+    if isinstance(table, (DHTable, MDHTable)):
+        standard = isinstance(table, DHTable)
+        heads = ["i", "joint", "type", "a", "d", "alpha", "theta"] if standard else \
+            ["i", "joint", "type", "a(i-1)", "d", "alpha(i-1)", "theta"]
+        rows = [c + list(r) for c, r in zip(jc, table.rows)]
+        base_row = table.base_row() if isinstance(table, DHTable) and layout == "paper" else None
+        if base_row is not None:
+            rows = [["0", "(base)", "fixed"] + list(base_row)] + rows
+        out: list[Block] = [(title, heads, rows)]
+        out.append("theta (revolute) and d (prismatic) are the values at q = 0; joint i adds q_i"
+                   + (" (subtracts, if flipped)" if any(j.flip for j in table.joints) else "") + ".")
+        if base_row is None:
+            out.append(matrix_text(table.base, "base"))
+        out.append(matrix_text(table.tool, "tool (residual T_t)" if standard else "tool"))
+        return out
+    if isinstance(table, PoE):
+        heads = ["i", "joint", "type", "wx", "wy", "wz", "vx", "vy", "vz"]
+        return [(title, heads, [c + list(s) for c, s in zip(jc, table.screws)]), matrix_text(table.M, "M")]
+    if isinstance(table, RPYTable):
+        labels = [["0", "world->base", ""]] + jc + [[str(table.n + 1), "tool", ""]]
+        return [(title, ["row", "frame", "type", "roll", "pitch", "yaw", "x", "y", "z"],
+                 [lab + list(r) for lab, r in zip(labels, table.rows)])]
+    raise TypeError(f"no table layout for {type(table).__name__}")
+
+
+def table_text(table: "DHTable | MDHTable | PoE | RPYTable") -> str:
+    """``str()`` of a table: its blocks as plain text, titled with the representation's name."""
+    from .document import section_key
+    from .tables import FORMATS
+
+    return blocks_text(table_blocks(table, FORMATS[section_key(table).replace("_", "-")]))
+
+
+def ik_result_blocks(result: "IKResult", names: Sequence[str] | None = None) -> list[Block]:
+    """An IK result: with ``solutions`` of one target, one row per solution; otherwise one row per
+    target with its success, errors and q (the best configuration found where it failed)."""
+    q = np.asarray(result.q, dtype=float)
+    n = q.shape[-1]
+    names = list(names) if names is not None else [f"q{i + 1}" for i in range(n)]
+    if q.ndim == 1 and isinstance(result.solutions, np.ndarray) and len(result.solutions):
+        rows = [[str(i + 1), *s] for i, s in enumerate(result.solutions)]
+        return [(f"IK solutions ({result.method}, nearest to q0 first)", ["#", *names], rows)]
+    Q = q.reshape(-1, n)
+    success = np.broadcast_to(result.success, Q.shape[:1])
+    pos = np.broadcast_to(result.position_error, Q.shape[:1])
+    rot = np.broadcast_to(result.orientation_error, Q.shape[:1])
+    messages = [result.message] * len(Q) if isinstance(result.message, str) else list(result.message)
+    rows = [[str(i + 1), "yes" if ok else "no", float(p), float(r), *qi]
+            for i, (ok, p, r, qi) in enumerate(zip(success, pos, rot, Q))]
+    out: list[Block] = [(f"IK ({result.method}): {int(np.sum(success))} of {len(Q)} reached",
+                         ["#", "success", "position error", "orientation error", *names], rows)]
+    out += [f"target {i + 1}: {m}" for i, m in enumerate(messages) if m]
+    return out
+
+
+def comparison_blocks(c: "Comparison", title: str | None = None) -> list[Block]:
+    """The diagnosis of ``equivalence.compare``: per-joint table, tool, world, FK difference, verdict."""
+    rows = [[str(j.index + 1), j.name_a, j.name_b, j.type_a if j.type_a == j.type_b else f"{j.type_a}/{j.type_b}",
+             j.status, "-" if j.sign < 0 else "+", j.offset, j.detail] for j in c.joints]
+    title = title or f"A ({c.n_a} joints) vs B ({c.n_b} joints)"
+    out: list[Block] = [(title, ["joint", "A", "B", "type", "status", "sign", "offset", "how"], rows),
+                        f"tool:  {c.tool}", f"world: {c.world}"]
+    if math.isfinite(c.max_fk_error):
+        what = "under the joint mapping" if c.equivalent and not c.same else "at the same q"
+        out.append(f"largest FK difference at 64 random q {what}: {c.max_fk_error:.3g} (relative to robot size)")
+    out += [f"note: {note}" for note in c.notes]
+    out.append(f"verdict: {c.verdict()}")
+    return out
+
+
+def blocks_text(items: Sequence[Block]) -> str:
+    """Blocks as plain text, one after the other."""
+    from .tables import text_table
+
+    return "\n".join(b if isinstance(b, str) else text_table(b[1], b[2], b[0]) for b in items)
