@@ -36,7 +36,9 @@ def build_parser() -> argparse.ArgumentParser:
         prog="robkin",
         description="Convert serial-robot kinematics between DH, modified DH, PoE, RPY-XYZ, GJD and URDF "
                     "exactly, and compute with them (FK, IK, Jacobians, structure estimation).",
-        epilog="Run 'robkin COMMAND --help' for a command's options and examples.",
+        epilog="Run 'robkin COMMAND --help' for a command's options and examples. The examples name "
+               "rrpr.yaml, scara.yaml and arbitrary_3r.yaml, bundled with robkin (robkin demo --help "
+               "shows where), and ur5.urdf and panda.urdf, real robots from the example-robot-data package.",
     )
     parser.add_argument("--version", action="version", version=f"robkin {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)

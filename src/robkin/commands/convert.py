@@ -132,19 +132,22 @@ def run(args: argparse.Namespace) -> int:
             raise InputError("several inputs need -o DIR (a folder for the converted files)")
         out_dir = Path(args.output)
         _check_path(out_dir)
-        if not out_dir.is_dir():
-            raise InputError(f"{out_dir}: not a folder; with several inputs -o names an existing folder")
+        if out_dir.exists() and not out_dir.is_dir():
+            raise InputError(f"{out_dir}: not a folder; with several inputs -o names a folder")
+        if not out_dir.exists() and not (out_dir.parent if str(out_dir.parent) else Path(".")).is_dir():
+            raise InputError(f"{out_dir}: folder {out_dir.parent} does not exist")
         targets = [out_dir / (Path(i).stem + _out_ext(fmt)) for i in inputs]
         for t in targets:
             _check_path(t)
         dup = {str(t) for t in targets if targets.count(t) > 1}
         if dup:
             raise InputError(f"several inputs would write the same file(s): {', '.join(sorted(dup))}")
-        check_writable_dir(targets[0])
+        check_writable_dir(targets[0] if out_dir.is_dir() else out_dir)  # the folder, or where it will be made
         texts = []
         for i in inputs:
             robot = load_input(i, args)
             texts.append(_render_file(robot, fmt, _out_ext(fmt)))
+        out_dir.mkdir(exist_ok=True)  # only now: a failed conversion leaves no empty folder behind
         for target, text in zip(targets, texts):
             write_text_atomic(target, text)
             wrote(target)

@@ -25,9 +25,10 @@ examples:
   robkin estimate --pose -1,0.9,0.8,-3.08232,-1.04169,-3.01168 --joints 4 --type all
   robkin estimate --pose 0.4,0.6,0.7,pi,0,pi/2 --joints 4 --type D -o pose3_D.yaml
   robkin estimate --pose -1,0.9,0.8,-3.08232,-1.04169,-3.01168 --joints 5 --type all -o results/ --plot cmp.png
-  # synthesis for three poses, from A-D and 4 random starts, best design kept
-  robkin estimate --pose 0.8,0.2,0.5,0,1.57,0 --pose 0.8,0.4,0.5,0,1.57,0.3 --pose 0.7,0.5,0.6,0,1.4,0.5 \
-      --joints 6 --type all --optimize manipulability -o design.yaml
+  # synthesis for three poses from estimate D (--type all: from A-D and 4 random starts, the best
+  # kept; a minute or more, with a progress bar on a terminal)
+  robkin estimate --pose 0.8,0.2,0.5,0,1.57,0 --pose 0.8,0.4,0.5,0,1.57,0.3 --pose 0.7,0.5,0.6,0,1.4,0.5 \\
+      --joints 6 --type D --optimize length -o design.yaml
 """
 
 TYPES = ("A", "B", "C", "D", "ALL")

@@ -20,7 +20,7 @@ Joint values are radians (revolute) and lengths (prismatic); expressions such as
 examples:
   robkin fk rrpr.yaml --q 3*pi/4,-pi/4,0.3,-3*pi/4
   robkin fk rrpr.yaml --q -0.5,0,0.1,0 --json
-  robkin fk ur5.urdf --q 0,0,0,0,0,0 --json
+  robkin fk ur5.urdf --tip-link tool0 --q 0,-pi/2,0,-pi/2,0,0 --json
   robkin fk scara.yaml --q 0,0.3,0.5,0,1 --jacobian --manipulability
 """
 

@@ -10,8 +10,8 @@ from ..errors import InputError
 HELP = "browser app: load or paste a robot, see it in 3D with joint sliders, convert and download"
 EPILOG = """\
 examples:
-  robkin gui                          (starts with the bundled RRPR example)
-  robkin gui rrpr.yaml --open         (also opens the page in your web browser)
+  robkin gui                          # starts with the bundled RRPR example
+  robkin gui rrpr.yaml --open         # also opens the page in your web browser
   robkin gui ur5.urdf --tip-link tool0 --port 9000
 
 The app runs on this machine only: it listens on 127.0.0.1 (use --host to change that, at your own

@@ -1,0 +1,166 @@
+"""Every example in every ``--help`` and every command and Python block of the README runs as printed.
+
+The examples are extracted from the parsers' epilogs and from README.md, expanded by bash exactly as a
+user's shell would (variables, quoting, comments, line continuations), and run in a scratch folder that
+holds the files they name: the bundled robots, real URDFs from example-robot-data (UR5, Panda), and
+files made from them (a URDF of the RRPR robot, a DH table typed with 4 decimals, estimation results).
+``robkin`` commands run in-process through ``robkin.cli.main``; ``robkin gui`` is only parsed and its
+input loaded (it serves until stopped). A failing example names itself.
+"""
+
+from __future__ import annotations
+
+import argparse
+import glob
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import robkin
+from robkin.cli import build_parser, main
+from robkin.commands._common import EXAMPLES_DIR
+
+ROOT = Path(__file__).resolve().parent.parent
+ROBOTS_DIR = (glob.glob(os.path.join(sys.prefix, "lib", "python*", "site-packages", "cmeel.prefix", "share",
+                                     "example-robot-data", "robots")) or [""])[0]
+REAL = {"ur5.urdf": "ur_description/urdf/ur5_robot.urdf", "panda.urdf": "panda_description/urdf/panda.urdf"}
+BASH = shutil.which("bash")
+pytestmark = pytest.mark.skipif(BASH is None, reason="bash is needed to expand the examples as a shell does")
+
+
+def help_examples() -> list[str]:
+    """The 'examples:' lines of every command's --help, continuation lines joined."""
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    out = []
+    for name, p in sub.choices.items():
+        text = p.format_help()
+        if "examples:" not in text:
+            continue
+        block = text.split("examples:", 1)[1].split("\n\n", 1)[0]
+        out += [f"{name}: {cmd}" for cmd in _commands(block)]
+    return out
+
+
+def _commands(block: str) -> list[str]:
+    lines = re.sub(r"\\\n\s*", " ", block).splitlines()
+    return [line.strip() for line in lines if line.strip().startswith("robkin ")]
+
+
+def readme_shell_lines() -> list[str]:
+    text = (ROOT / "README.md").read_text()
+    blocks = re.findall(r"```sh\n(.*?)```", text, flags=re.S)
+    tour = next(b for b in blocks if "robkin convert" in b)
+    return [line for line in re.sub(r"\\\n\s*", " ", tour).splitlines() if line.strip()]
+
+
+def readme_python() -> str:
+    text = (ROOT / "README.md").read_text()
+    return next(b for b in re.findall(r"```python\n(.*?)```", text, flags=re.S) if "robkin.load" in b)
+
+
+@pytest.fixture
+def workdir(tmp_path, monkeypatch):
+    """A folder with every file the examples name, made from the bundled and the real robots."""
+    for name, rel in REAL.items():
+        src = os.path.join(ROBOTS_DIR, rel)
+        if not os.path.isfile(src):
+            pytest.skip(f"example-robot-data's {rel} is not installed")
+        shutil.copy(src, tmp_path / name)
+    for f in EXAMPLES_DIR.glob("*.yaml"):
+        shutil.copy(f, tmp_path / f.name)
+    (tmp_path / "src" / "robkin").mkdir(parents=True)
+    (tmp_path / "src" / "robkin" / "examples").symlink_to(EXAMPLES_DIR)
+    monkeypatch.chdir(tmp_path)
+    from robkin.io.document import document_from_robot, dump
+    from robkin.io.urdf import urdf_from_robot
+
+    rrpr = robkin.load(EXAMPLES_DIR / "rrpr.yaml")
+    for name in ("robot.yaml", "a.yaml", "b.yaml", "original.yaml"):
+        shutil.copy(EXAMPLES_DIR / "rrpr.yaml", name)
+    Path("converted.yaml").write_text(dump(document_from_robot(rrpr, ("poe",))))
+    for name in ("robot.urdf", "c.urdf"):
+        Path(name).write_text(urdf_from_robot(rrpr))
+    vendor = document_from_robot(rrpr, ("dh",))
+    for row in vendor["dh"]["rows"]:
+        row.update({k: round(v, 4) for k, v in row.items()})   # as a vendor prints it: 4 decimals
+    Path("vendor_dh.yaml").write_text(dump(vendor))
+    ur5 = robkin.load("ur5.urdf", tip_link="tool0")
+    Path("ur5_dh.yaml").write_text(dump(document_from_robot(ur5, ("dh",))))
+    assert main(["estimate", "--pose", "-1,0.9,0.8,-3.08232,-1.04169,-3.01168", "--joints", "4", "--type",
+                 "all", "-o", "estimates"]) == 0
+    for k in "ABCD":
+        shutil.copy(f"estimates/estimate_{k}.yaml", f"pose1_{k}.yaml")
+    return tmp_path
+
+
+def _env(extra: dict[str, str]) -> dict[str, str]:
+    env = dict(os.environ, **extra)
+    env["PATH"] = os.path.dirname(sys.executable) + os.pathsep + env.get("PATH", "")
+    return env
+
+
+def _argv(line: str, env: dict[str, str]) -> list[str]:
+    """The words bash makes of a command line (variables expanded, comments dropped, no globbing)."""
+    script = f'set -f\nwords=(\n{line}\n)\nprintf "%s\\0" "${{words[@]}}"'
+    out = subprocess.run([BASH, "-c", script], env=_env(env), capture_output=True, text=True, check=True).stdout
+    return out.split("\0")[:-1]
+
+
+def run_example(line: str, env: dict[str, str]) -> None:
+    """Run one printed command: 'robkin ...' in-process (exit status 0), anything else in bash."""
+    command = line.split(" | ")[0]          # 'robkin demo | less': the pager is the user's business
+    argv = _argv(command, env)
+    if argv[:1] != ["robkin"]:
+        assignment = re.match(r"^([A-Za-z_]\w*)=", command)
+        script = f"{command}\nprintf %s \"${assignment.group(1)}\"" if assignment else command
+        done = subprocess.run([BASH, "-c", script], env=_env(env), capture_output=True, text=True)
+        assert done.returncode == 0, f"{line}\n{done.stderr}"
+        if assignment:
+            env[assignment.group(1)] = done.stdout
+        return
+    if argv[1] == "gui":                    # serves until stopped: parse and load its input only
+        args = build_parser().parse_args(argv[1:])
+        if args.input:
+            robkin.load(args.input, base_link=args.base_link, tip_link=args.tip_link)
+        return
+    assert main(argv[1:]) == 0, line
+
+
+def test_every_help_example_runs(workdir, capsys):
+    examples = help_examples()
+    assert len(examples) >= 30 and any("--optimize" in e for e in examples)
+    for example in examples:
+        run_example(example.split(": ", 1)[1], {})
+        capsys.readouterr()
+
+
+def test_every_readme_command_runs(workdir, capsys):
+    lines = [line for line in readme_shell_lines()
+             if not line.startswith(("source ", "pip "))]   # the venv and the network: the user's setup
+    assert sum(line.startswith("robkin ") for line in lines) >= 15
+    env: dict[str, str] = {}
+    for line in lines:
+        if line.startswith("#"):
+            continue
+        run_example(line, env)
+        capsys.readouterr()
+    assert sorted(p.name for p in Path("out").iterdir()) == ["3r.yaml", "rrpr.yaml", "scara.yaml"]
+
+
+def test_readme_python_runs(workdir, capsys):
+    code = readme_python()
+    namespace: dict[str, object] = {}
+    exec(compile(code, "README.md", "exec"), namespace)   # noqa: S102 - the README's own example
+    out = capsys.readouterr().out
+    # what the README's comments promise
+    np.testing.assert_allclose(robkin.dh_from_robot(namespace["planar"]).rows, [[1, 0, 0, 0], [1, 0, 0, 0]],
+                               atol=1e-15)
+    assert "standard Denavit-Hartenberg table" in out and "verdict: different robots" in out
+    np.testing.assert_allclose(namespace["J"], namespace["robot"].jacobian(namespace["q"]))
