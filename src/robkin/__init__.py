@@ -20,6 +20,8 @@ Conventions (used everywhere in the package):
 
 from __future__ import annotations
 
+import os
+
 from .errors import ConditioningWarning, InputError, ProjectionWarning, RobkinError
 from .robot import Joint, Robot
 from .representations import (DHTable, MDHTable, PoE, RPYTable, dh_from_robot, mdh_from_robot,
@@ -36,7 +38,7 @@ __all__ = [
 ]
 
 
-def load(path, base_link: str | None = None, tip_link: str | None = None) -> Robot:
+def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None) -> Robot:
     """Load a robot from a robot document (.yaml/.yml/.json) or a URDF file (.urdf)."""
     from .io import load as _load
 

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -42,6 +42,9 @@ __all__ = ["JointMatch", "Comparison", "compare", "DEFAULT_TOL"]
 #: accepts descriptions typed with 7 significant digits (vendor DH tables, URDFs rounded to 1e-6 m)
 #: while any real difference of a joint (a millimetre on a metre arm is 1e-3) is far above it.
 DEFAULT_TOL = 1e-6
+
+#: a residual of joint offsets x (k,) -> (m,), driven to zero by the solvers below
+Residual = Callable[[np.ndarray], np.ndarray]
 
 
 @dataclass(frozen=True)
@@ -235,8 +238,8 @@ def compare(a: Robot, b: Robot, tol: float = DEFAULT_TOL, samples: int = 64) -> 
     mapped = all_joints and tool == "same"
     same = mapped and all(j.status == "same" for j in joints)
     if mapped and not same and first is None:
-        k = next(j for j in joints if j.status != "same")
-        first = f"joint {k.index + 1} ('{k.name_a}' / '{k.name_b}'): {k.detail}"
+        diff = next(j for j in joints if j.status != "same")
+        first = f"joint {diff.index + 1} ('{diff.name_a}' / '{diff.name_b}'): {diff.detail}"
     # double-check by FK at random q (relative to the robot size): the identity for 'same', the
     # joint mapping for 'equivalent'. Failing here would be a bug in the walk above; say so.
     max_err = math.nan
@@ -321,7 +324,7 @@ def _offset_candidates(pending: np.ndarray, Sa: np.ndarray, Sb: np.ndarray, scal
     return sorted(out, key=lambda c: c[2])
 
 
-def _linear_solve(residual, k: int, extra: np.ndarray) -> tuple[np.ndarray, float, int]:
+def _linear_solve(residual: Residual, k: int, extra: np.ndarray) -> tuple[np.ndarray, float, int]:
     """Least-norm x for an affine residual(x) = r0 + J x (slides only), with extra rows extra @ x = 0.
 
     Returns (x, largest residual, rank of the stacked system).
@@ -336,7 +339,7 @@ def _linear_solve(residual, k: int, extra: np.ndarray) -> tuple[np.ndarray, floa
     return x, float(np.abs(residual(x)).max()), rank
 
 
-def _nonlinear_solve(screws: list[np.ndarray], revolute: list[bool], residual, tol: float) -> list[np.ndarray]:
+def _nonlinear_solve(screws: list[np.ndarray], revolute: list[bool], residual: Residual, tol: float) -> list[np.ndarray]:
     """Offsets of two or more open joints including a rotation (rare: a rotation and a slide along
     the same line), from a few starts; scipy is imported only here."""
     import itertools
@@ -381,7 +384,7 @@ class _Walk:
         if d is None or i > d.matched or (i == d.matched and d.tool == "not compared" and tool != "not compared"):
             self.deepest = _Result(i, state.signs.copy(), state.offsets.copy(), why, tool)
 
-    def _open_screws(self, st: _State, which) -> list[np.ndarray]:
+    def _open_screws(self, st: _State, which: Sequence[int]) -> list[np.ndarray]:
         return [se3.adjoint(st.G) @ self.SA[p] for p in which]
 
     def _extra_rows(self, st: _State, idx: list[int]) -> np.ndarray:
@@ -396,7 +399,7 @@ class _Walk:
                 rows.append(block)
         return np.vstack(rows) if rows else np.zeros((0, len(idx)))
 
-    def _solutions(self, st: _State, idx: list[int], residual) -> list[tuple[np.ndarray, bool]]:
+    def _solutions(self, st: _State, idx: list[int], residual: Residual) -> list[tuple[np.ndarray, bool]]:
         """Offsets for the open joints ``idx`` making ``residual`` vanish: (x, all determined)."""
         screws = self._open_screws(st, idx)
         rev = [self.a.joints[p].revolute for p in idx]
@@ -407,7 +410,7 @@ class _Walk:
         if extra.size:  # keep the axes the open slides already placed (their constraint rows)
             plain = residual
 
-            def residual(x):
+            def residual(x: np.ndarray) -> np.ndarray:
                 return np.concatenate([plain(x), extra @ x])
         return [(x, True) for x in _nonlinear_solve(screws, rev, residual, self.tol)]
 
@@ -441,7 +444,7 @@ class _Walk:
             else:
                 sols = []
                 for sign in (1, -1):
-                    def residual(x, sign=sign):
+                    def residual(x: np.ndarray, sign: int = sign) -> np.ndarray:
                         return _scaled(se3.adjoint(_motion(screws, x)) @ Sa - sign * Sb, scale, not ja.revolute)
                     # rotations are fixed by the solve; slides stay open unless the axes placed so
                     # far pin them down (``_advance`` checks the rank)
@@ -506,7 +509,7 @@ class _Walk:
             idx = list(st.pending)
             screws = self._open_screws(st, idx)
 
-            def residual(x):
+            def residual(x: np.ndarray) -> np.ndarray:
                 T = _motion(screws, x) @ Ma
                 return np.concatenate([(T[:3, :3] - Mb[:3, :3]).ravel(), (T[:3, 3] - Mb[:3, 3]) / scale])
 

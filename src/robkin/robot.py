@@ -11,13 +11,16 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from functools import cached_property
-from typing import Iterable, Literal, Sequence
+from typing import TYPE_CHECKING, Any, Iterable, Literal, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from .errors import InputError, ProjectionWarning
 from . import se3
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .kinematics.ik import IKResult
 
 __all__ = ["Joint", "Robot", "JOINT_TYPES", "check_pose", "check_q"]
 
@@ -231,7 +234,7 @@ class Robot:
         S[~self.revolute, 3:] = z[~self.revolute]
         return S
 
-    def replace(self, **changes) -> "Robot":
+    def replace(self, **changes: Any) -> "Robot":
         """A copy with some fields changed (frames, joints, world, name)."""
         return replace(self, **changes)
 
@@ -358,7 +361,7 @@ class Robot:
         out[:, self.n] = T
         return out[0] if single else out
 
-    def ik(self, T: ArrayLike, **options):
+    def ik(self, T: ArrayLike, **options: Any) -> "IKResult":
         """Inverse kinematics for a target (4, 4) or targets (N, 4, 4): see ``robkin.kinematics.ik.ik``.
 
         Returns an ``IKResult`` with ``.q``, ``.success`` and the errors reached.
@@ -440,7 +443,7 @@ _V_THEN_W = [3, 4, 5, 0, 1, 2]
 
 
 def robot_from_frames(frames: Sequence[ArrayLike], types: Sequence[str] | None = None,
-                      joints: Sequence[Joint] | None = None, **kw) -> Robot:
+                      joints: Sequence[Joint] | None = None, **kw: Any) -> Robot:
     """Robot from GJD frames and either joint types or Joint objects."""
     if joints is None:
         if types is None:

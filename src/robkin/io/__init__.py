@@ -14,7 +14,7 @@ DOCUMENT_EXTENSIONS = (".yaml", ".yml", ".json")
 URDF_EXTENSIONS = (".urdf", ".xacro")
 
 
-def load(path: str | os.PathLike, base_link: str | None = None, tip_link: str | None = None) -> Robot:
+def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None) -> Robot:
     """Load a Robot from a robot document (.yaml/.yml/.json) or a URDF (.urdf, .xacro).
 
     ``base_link``/``tip_link`` pick a serial chain out of a URDF tree (ignored for documents, where

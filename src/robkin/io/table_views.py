@@ -21,7 +21,8 @@ import numpy as np
 if TYPE_CHECKING:  # pragma: no cover
     from ..equivalence import Comparison
     from ..kinematics.ik import IKResult
-    from ..representations import DHTable, MDHTable, PoE, RPYTable
+    from ..representations import PoE, RPYTable
+    from ..representations.link_table import LinkTable
 
 __all__ = ["Block", "table_text", "table_blocks", "ik_result_blocks", "comparison_blocks", "blocks_text"]
 
@@ -33,25 +34,26 @@ def _joint_cols(joints: Sequence[Any]) -> list[list[object]]:
     return [[str(i + 1), j.name, j.type + (" (flip)" if j.flip else "")] for i, j in enumerate(joints)]
 
 
-def table_blocks(table: "DHTable | MDHTable | PoE | RPYTable", title: str | None = None,
+def table_blocks(table: "LinkTable | PoE | RPYTable", title: str | None = None,
                  layout: str = "robkin") -> list[Block]:
     """A representation as tables and text lines (see the module docstring).
 
     ``layout='paper'`` puts a DH table in the conversion paper's n+1-row layout (row 0 is the fixed
     base row) when the base is one DH row.
     """
-    from ..representations import DHTable, MDHTable, PoE, RPYTable
+    from ..representations import DHTable, PoE, RPYTable
+    from ..representations.link_table import LinkTable
     from .tables import matrix_text
 
     jc = _joint_cols(table.joints)
-    if isinstance(table, (DHTable, MDHTable)):
+    if isinstance(table, LinkTable):
         standard = isinstance(table, DHTable)
         heads = ["i", "joint", "type", "a", "d", "alpha", "theta"] if standard else \
             ["i", "joint", "type", "a(i-1)", "d", "alpha(i-1)", "theta"]
-        rows = [c + list(r) for c, r in zip(jc, table.rows)]
+        rows: list[list[object]] = [c + list(r) for c, r in zip(jc, table.rows)]
         base_row = table.base_row() if isinstance(table, DHTable) and layout == "paper" else None
         if base_row is not None:
-            rows = [["0", "(base)", "fixed"] + list(base_row)] + rows
+            rows.insert(0, ["0", "(base)", "fixed", *base_row])
         out: list[Block] = [(title, heads, rows)]
         out.append("theta (revolute) and d (prismatic) are the values at q = 0; joint i adds q_i"
                    + (" (subtracts, if flipped)" if any(j.flip for j in table.joints) else "") + ".")
@@ -69,7 +71,7 @@ def table_blocks(table: "DHTable | MDHTable | PoE | RPYTable", title: str | None
     raise TypeError(f"no table layout for {type(table).__name__}")
 
 
-def table_text(table: "DHTable | MDHTable | PoE | RPYTable") -> str:
+def table_text(table: "LinkTable | PoE | RPYTable") -> str:
     """``str()`` of a table: its blocks as plain text, titled with the representation's name."""
     from .document import section_key
     from .tables import FORMATS

@@ -67,7 +67,7 @@ def check_screws(screws: ArrayLike, joints: tuple[Joint, ...], field_name: str =
                 fixes.append(f"|w| = {k:.6g} normalised")
             w, v = w / k, v / k
             pitch = float(np.dot(w, v))
-            if abs(pitch) > PROJECTION_TOL * max(np.linalg.norm(v), size, 1e-300) and abs(pitch) > EXACT_TOL:
+            if abs(pitch) > PROJECTION_TOL * max(float(np.linalg.norm(v)), size, 1e-300) and abs(pitch) > EXACT_TOL:
                 raise InputError(f"{where}: w . v = {pitch:.4g} is not 0; a revolute joint has no pitch "
                                  f"(v = -w x p)")
             if abs(pitch) > EXACT_TOL:
