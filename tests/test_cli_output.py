@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 
 import numpy as np
 import pytest
@@ -132,3 +133,16 @@ def test_plot_warns_at_home_outside_the_limits(capsys, tmp_path):
     err = capsys.readouterr().err.splitlines()
     assert err == ["robkin: warning: home (q = 0): joint 'slide' = 0 is outside its limits [0.1, 0.5]",
                    f"wrote {out}"]
+
+
+OPTIMIZE = ["estimate", "--pose", "0.8,0.2,0.5,0,1.57,0", "--pose", "0.8,0.4,0.5,0,1.57,0.3", "--joints", "5",
+            "--type", "D", "--optimize", "length"]
+
+
+def test_optimize_shows_progress_on_a_terminal_and_nothing_when_piped(capsys, monkeypatch):
+    assert main(OPTIMIZE) == 0
+    assert "optimising" not in capsys.readouterr().err      # stderr is not a terminal here
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    assert main(OPTIMIZE) == 0
+    err = capsys.readouterr().err
+    assert "optimising" in err and "1/1" in err
