@@ -339,7 +339,8 @@ def _linear_solve(residual: Residual, k: int, extra: np.ndarray) -> tuple[np.nda
     return x, float(np.abs(residual(x)).max()), rank
 
 
-def _nonlinear_solve(screws: list[np.ndarray], revolute: list[bool], residual: Residual, tol: float) -> list[np.ndarray]:
+def _nonlinear_solve(screws: list[np.ndarray], revolute: list[bool], residual: Residual,
+                     tol: float) -> list[np.ndarray]:
     """Offsets of two or more open joints including a rotation (rare: a rotation and a slide along
     the same line), from a few starts; scipy is imported only here."""
     import itertools

@@ -37,19 +37,16 @@ def joint_names(robot: "Robot") -> list[str]:
     return [j.name for j in robot.joints]
 
 
-def warn_outside_limits(robot: "Robot", q: "np.ndarray", option: str = "--q") -> list[str]:
-    """Print one warning per joint of ``q`` (n,) outside its limits; return the joint names.
+def warn_outside_limits(robot: "Robot", q: "np.ndarray", option: str = "--q") -> None:
+    """Print one warning per joint of ``q`` (n,) outside its limits (stderr), naming the joint.
 
     The comparison is exact: a value typed with the limits' own digits is at the limit, not outside.
     """
     from ..io.tables import fmt_num
 
-    outside = []
     for joint, value in zip(robot.joints, q):
         lower = -float("inf") if joint.lower is None else joint.lower
         upper = float("inf") if joint.upper is None else joint.upper
         if not lower <= value <= upper:
-            outside.append(joint.name)
             print(f"robkin: warning: {option}: joint '{joint.name}' = {fmt_num(value)} is outside its limits "
                   f"[{fmt_num(lower)}, {fmt_num(upper)}]", file=sys.stderr)
-    return outside

@@ -71,7 +71,6 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..io.numbers import number_list
-    from ..io.tables import fmt_num, text_table
     from ..errors import InputError
 
     robot = load_input(args.input, args)
@@ -99,10 +98,11 @@ def run(args: argparse.Namespace) -> int:
                     "joints": joint_names(robot), "method": result.method, "success": bool(result.success),
                     "reason": None if result.success else result.message})
         return 0
-    names = [j.name for j in robot.joints]
-    rows = [[str(i + 1)] + [fmt_num(v) for v in q] for i, q in enumerate(solutions)]
-    if rows:
-        print(text_table(["#"] + names, rows, title=f"IK solutions ({result.method}, nearest to q0 first)"))
+    if len(solutions):
+        from ..io.table_views import solutions_block
+        from ..io.tables import show_blocks
+
+        show_blocks([solutions_block(solutions, result.method, [j.name for j in robot.joints])])
     return 0
 
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 
 from ..errors import InputError
 from ._common import add_input, load_input, parse_q

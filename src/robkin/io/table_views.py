@@ -24,7 +24,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..representations import PoE, RPYTable
     from ..representations.link_table import LinkTable
 
-__all__ = ["Block", "table_text", "table_blocks", "ik_result_blocks", "comparison_blocks", "blocks_text"]
+__all__ = ["Block", "table_text", "table_blocks", "solutions_block", "ik_result_blocks", "comparison_blocks", "blocks_text"]
 
 #: One piece of output: a table (title, headers, rows) or a line of text / a matrix block.
 Block = Union[tuple[Union[str, None], Sequence[str], Sequence[Sequence[object]]], str]
@@ -79,6 +79,12 @@ def table_text(table: "LinkTable | PoE | RPYTable") -> str:
     return blocks_text(table_blocks(table, FORMATS[section_key(table).replace("_", "-")]))
 
 
+def solutions_block(solutions: np.ndarray, method: str, names: Sequence[str]) -> Block:
+    """IK solutions (S, n) of one target as a table, one row per solution (as ``robkin ik`` prints)."""
+    rows = [[str(i + 1), *s] for i, s in enumerate(solutions)]
+    return (f"IK solutions ({method}, nearest to q0 first)", ["#", *names], rows)
+
+
 def ik_result_blocks(result: "IKResult", names: Sequence[str] | None = None) -> list[Block]:
     """An IK result: with ``solutions`` of one target, one row per solution; otherwise one row per
     target with its success, errors and q (the best configuration found where it failed)."""
@@ -86,8 +92,7 @@ def ik_result_blocks(result: "IKResult", names: Sequence[str] | None = None) -> 
     n = q.shape[-1]
     names = list(names) if names is not None else [f"q{i + 1}" for i in range(n)]
     if q.ndim == 1 and isinstance(result.solutions, np.ndarray) and len(result.solutions):
-        rows = [[str(i + 1), *s] for i, s in enumerate(result.solutions)]
-        return [(f"IK solutions ({result.method}, nearest to q0 first)", ["#", *names], rows)]
+        return [solutions_block(result.solutions, result.method, names)]
     Q = q.reshape(-1, n)
     success = np.broadcast_to(result.success, Q.shape[:1])
     pos = np.broadcast_to(result.position_error, Q.shape[:1])
