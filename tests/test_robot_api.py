@@ -166,3 +166,12 @@ def test_ik_result_and_comparison_are_readable():
                        "first_difference='joint counts differ: A has 4, B has 5')")
     assert str(c).splitlines()[-1] == "verdict: different robots: joint counts differ: A has 4, B has 5"
     assert "type revolute in A, prismatic in B" in str(c)
+
+
+def test_a_large_ik_batch_prints_a_screenful():
+    from robkin.io.table_views import MAX_ROWS
+
+    robot = robkin.load(RRPR)
+    res = robot.ik(robot.fk(robot.random_q(MAX_ROWS + 5, rng=4)))
+    lines = str(res).splitlines()
+    assert len(lines) == 3 + MAX_ROWS + 1 and lines[-1].startswith("... 5 more targets")

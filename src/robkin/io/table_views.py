@@ -26,6 +26,9 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["Block", "table_text", "table_blocks", "solutions_block", "ik_result_blocks", "comparison_blocks", "blocks_text"]
 
+#: Rows of a batch IK result shown by str(); a batch of 1e5 targets stays a screenful.
+MAX_ROWS = 20
+
 #: One piece of output: a table (title, headers, rows) or a line of text / a matrix block.
 Block = Union[tuple[Union[str, None], Sequence[str], Sequence[Sequence[object]]], str]
 
@@ -98,11 +101,13 @@ def ik_result_blocks(result: "IKResult", names: Sequence[str] | None = None) -> 
     pos = np.broadcast_to(result.position_error, Q.shape[:1])
     rot = np.broadcast_to(result.orientation_error, Q.shape[:1])
     messages = [result.message] * len(Q) if isinstance(result.message, str) else list(result.message)
-    rows = [[str(i + 1), "yes" if ok else "no", float(p), float(r), *qi]
-            for i, (ok, p, r, qi) in enumerate(zip(success, pos, rot, Q))]
+    shown = range(min(len(Q), MAX_ROWS))
+    rows = [[str(i + 1), "yes" if success[i] else "no", float(pos[i]), float(rot[i]), *Q[i]] for i in shown]
     out: list[Block] = [(f"IK ({result.method}): {int(np.sum(success))} of {len(Q)} reached",
                          ["#", "success", "position error", "orientation error", *names], rows)]
-    out += [f"target {i + 1}: {m}" for i, m in enumerate(messages) if m]
+    if len(Q) > MAX_ROWS:
+        out.append(f"... {len(Q) - MAX_ROWS} more targets (the arrays of the result hold them all)")
+    out += [f"target {i + 1}: {messages[i]}" for i in shown if messages[i]]
     return out
 
 
