@@ -65,9 +65,27 @@ def readme_python() -> str:
     return next(b for b in re.findall(r"```python\n(.*?)```", text, flags=re.S) if "robkin.load" in b)
 
 
+@pytest.fixture(scope="module")
+def kit(tmp_path_factory):
+    """Every file the examples name, made once from the bundled and the real robots."""
+    tmp_path = tmp_path_factory.mktemp("kit")
+    old = os.getcwd()
+    try:
+        yield _make_kit(tmp_path)
+    finally:
+        os.chdir(old)
+
+
 @pytest.fixture
-def workdir(tmp_path, monkeypatch):
-    """A folder with every file the examples name, made from the bundled and the real robots."""
+def workdir(kit, tmp_path, monkeypatch):
+    """A fresh copy of the kit as the current folder (the examples write files)."""
+    work = tmp_path / "work"
+    shutil.copytree(kit, work, symlinks=True)
+    monkeypatch.chdir(work)
+    return work
+
+
+def _make_kit(tmp_path: Path) -> Path:
     for name, rel in REAL.items():
         src = os.path.join(ROBOTS_DIR, rel)
         if not os.path.isfile(src):
@@ -77,7 +95,7 @@ def workdir(tmp_path, monkeypatch):
         shutil.copy(f, tmp_path / f.name)
     (tmp_path / "src" / "robkin").mkdir(parents=True)
     (tmp_path / "src" / "robkin" / "examples").symlink_to(EXAMPLES_DIR)
-    monkeypatch.chdir(tmp_path)
+    os.chdir(tmp_path)
     from robkin.io.document import document_from_robot, dump
     from robkin.io.urdf import urdf_from_robot
 
