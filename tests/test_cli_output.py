@@ -146,3 +146,17 @@ def test_optimize_shows_progress_on_a_terminal_and_nothing_when_piped(capsys, mo
     assert main(OPTIMIZE) == 0
     err = capsys.readouterr().err
     assert "optimising" in err and "1/1" in err
+
+
+def test_the_panda_at_zero_is_outside_joint4s_limits(capsys):
+    import glob
+    import os
+
+    found = glob.glob(os.path.join(sys.prefix, "lib", "python*", "site-packages", "cmeel.prefix", "share",
+                                   "example-robot-data", "robots", "panda_description", "urdf", "panda.urdf"))
+    if not found:
+        pytest.skip("example-robot-data's panda.urdf is not installed")
+    assert main(["fk", found[0], "--tip-link", "panda_hand_tcp", "--q", "0,0,0,0,0,0,0"]) == 0
+    # the Panda's URDF limits joint 4 to [-3.0718, -0.0698]: its q = 0 is not reachable
+    assert capsys.readouterr().err == ("robkin: warning: --q: joint 'panda_joint4' = 0 is outside its limits "
+                                       "[-3.0718, -0.0698]\n")
