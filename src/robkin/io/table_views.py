@@ -14,7 +14,7 @@ Blocks are printed by ``io.tables.show_blocks`` (rich on a terminal) or joined b
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any, Sequence, Union
+from typing import TYPE_CHECKING, Sequence, Union
 
 import numpy as np
 
@@ -23,6 +23,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..kinematics.ik import IKResult
     from ..representations import PoE, RPYTable
     from ..representations.link_table import LinkTable
+    from ..robot import Joint
 
 __all__ = ["Block", "table_text", "table_blocks", "solutions_block", "ik_result_blocks", "comparison_blocks", "blocks_text"]
 
@@ -33,7 +34,7 @@ MAX_ROWS = 20
 Block = Union[tuple[Union[str, None], Sequence[str], Sequence[Sequence[object]]], str]
 
 
-def _joint_cols(joints: Sequence[Any]) -> list[list[object]]:
+def _joint_cols(joints: Sequence["Joint"]) -> list[list[object]]:
     return [[str(i + 1), j.name, j.type + (" (flip)" if j.flip else "")] for i, j in enumerate(joints)]
 
 
