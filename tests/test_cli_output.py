@@ -40,6 +40,7 @@ def test_json_style_rows_on_one_line_full_precision_and_no_nan():
     back = json.loads(text)
     assert back["x"] == 0.1 + 0.2                       # the shortest repr reads back bit-exact
     assert back["bad"] == [None, None] and back["n"] == 3 and back["ok"] is True and back["names"] == ["a", "b"]
+    assert dumps([-0.0], exact=True) == "[-0.0]"                 # documents keep every bit
     # a long run of numbers is split one per line instead of making one very long line
     assert len(dumps(list(np.linspace(0, 1, 40) / 3)).splitlines()) == 42
 

@@ -374,7 +374,7 @@ def dump(doc: Mapping[str, Any], fmt: str = "yaml") -> str:
     if fmt == "json":
         from .jsontext import dumps
 
-        return dumps(doc) + "\n"
+        return dumps(doc, exact=True) + "\n"
     if fmt != "yaml":
         raise InputError(f"format '{fmt}' is not one of yaml, json")
     import yaml

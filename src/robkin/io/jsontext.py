@@ -4,7 +4,8 @@
 - A list or object whose items are all scalars goes on one line when that line is short (a matrix row,
   a joint vector, ``{"name": "joint1", "type": "revolute"}``), so a 4x4 matrix is four lines, not 24.
 - Floats at full precision: Python's ``repr``, the shortest text that reads back to the same double.
-  ``-0.0`` is written ``0.0``; NaN and infinities (not JSON) are written ``null``.
+  ``-0.0`` is written ``0.0`` for people, and kept for documents (``exact=True``, every bit read
+  back); NaN and infinities (not JSON) are written ``null``.
 - NumPy scalars and arrays are accepted and written as the numbers and lists they hold.
 """
 
@@ -37,11 +38,11 @@ def plain(obj: Any) -> Any:
     raise TypeError(f"cannot write {type(obj).__name__} as JSON")
 
 
-def _scalar(x: Any) -> str:
+def _scalar(x: Any, exact: bool) -> str:
     if isinstance(x, float):
         if not math.isfinite(x):
             return "null"
-        return repr(x + 0.0)  # + 0.0 turns -0.0 into 0.0
+        return repr(x if exact else x + 0.0)  # + 0.0 turns -0.0 into 0.0
     return json.dumps(x)
 
 
@@ -49,30 +50,31 @@ def _is_scalar(x: Any) -> bool:
     return x is None or isinstance(x, (str, bool, int, float))
 
 
-def _dump(obj: Any, level: int) -> str:
+def _dump(obj: Any, level: int, exact: bool) -> str:
     pad, inner = _INDENT * level, _INDENT * (level + 1)
     if isinstance(obj, dict):
         if not obj:
             return "{}"
         items = [(json.dumps(k), v) for k, v in obj.items()]
         if all(_is_scalar(v) for _, v in items):
-            flat = "{" + ", ".join(f"{k}: {_scalar(v)}" for k, v in items) + "}"
+            flat = "{" + ", ".join(f"{k}: {_scalar(v, exact)}" for k, v in items) + "}"
             if len(flat) + len(pad) <= LINE_WIDTH:
                 return flat
-        body = ",\n".join(f"{inner}{k}: {_dump(v, level + 1)}" for k, v in items)
+        body = ",\n".join(f"{inner}{k}: {_dump(v, level + 1, exact)}" for k, v in items)
         return "{\n" + body + "\n" + pad + "}"
     if isinstance(obj, list):
         if not obj:
             return "[]"
         if all(_is_scalar(v) for v in obj):
-            flat = "[" + ", ".join(_scalar(v) for v in obj) + "]"
+            flat = "[" + ", ".join(_scalar(v, exact) for v in obj) + "]"
             if len(flat) + len(pad) <= LINE_WIDTH:
                 return flat
-        body = ",\n".join(inner + _dump(v, level + 1) for v in obj)
+        body = ",\n".join(inner + _dump(v, level + 1, exact) for v in obj)
         return "[\n" + body + "\n" + pad + "]"
-    return _scalar(obj)
+    return _scalar(obj, exact)
 
 
-def dumps(obj: Any) -> str:
-    """``obj`` (dicts, lists, numbers, strings, NumPy arrays) as JSON text in robkin's style (no final newline)."""
-    return _dump(plain(obj), 0)
+def dumps(obj: Any, *, exact: bool = False) -> str:
+    """``obj`` (dicts, lists, numbers, strings, NumPy arrays) as JSON text in robkin's style (no final
+    newline). ``exact=True`` keeps the sign of -0.0, so that every float reads back bit for bit."""
+    return _dump(plain(obj), 0, exact)
