@@ -54,14 +54,15 @@ def run(args: argparse.Namespace) -> int:
     T = robot.fk(q)
     rpy = se3.rpy_from_matrix(T[:3, :3])
     extra = _jacobian_extras(robot, q, args)
+    quat = se3.quaternion_from_matrix(T[:3, :3])
     if args.json:
-        w, x, y, z = se3.quaternion_from_matrix(T[:3, :3])
-        print_json({"T": T, "position": T[:3, 3], "rpy": rpy, "quaternion": {"w": w, "x": x, "y": y, "z": z},
+        print_json({"T": T, "position": T[:3, 3], "rpy": rpy, "quaternion": dict(zip("wxyz", quat)),
                     "joints": joint_names(robot), "q": q, **extra})
         return 0
     print(matrix_text(T, "T (tool in base frame)"))
-    print("position: " + ", ".join(fmt_num(v) for v in T[:3, 3]))
-    print("rpy:      " + ", ".join(fmt_num(v) for v in rpy) + "  (roll, pitch, yaw; R = Rz Ry Rx)")
+    print("position:   " + ", ".join(fmt_num(v) for v in T[:3, 3]))
+    print("rpy:        " + ", ".join(fmt_num(v) for v in rpy) + "  (roll, pitch, yaw; R = Rz Ry Rx)")
+    print("quaternion: " + ", ".join(fmt_num(v) for v in quat) + "  (w, x, y, z)")
     if "J" in extra:
         from ..io.tables import text_table
 
