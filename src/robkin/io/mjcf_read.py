@@ -106,9 +106,9 @@ def rotation_from_mjcf(attrs: Mapping[str, str], src: MjcfSource, where: str) ->
 
 def _pose(attrs: Mapping[str, str], src: MjcfSource, where: str) -> np.ndarray:
     """Pose (4, 4) of a body, site or frame relative to its parent."""
-    if attrs.get("fromto") is not None:  # sites: centre of the segment, z along it
+    if attrs.get("fromto") is not None:  # sites: centre of the segment, z from 'to' towards 'from' (MuJoCo's)
         v = _floats(attrs["fromto"], 6, f"{where}: fromto", ())
-        return se3.homogeneous(_z_to(_unit(v[3:] - v[:3], f"{where}: fromto")), (v[:3] + v[3:]) / 2)
+        return se3.homogeneous(_z_to(_unit(v[:3] - v[3:], f"{where}: fromto")), (v[:3] + v[3:]) / 2)
     pos = _floats(attrs.get("pos"), 3, f"{where}: pos", (0, 0, 0))
     return se3.homogeneous(rotation_from_mjcf(attrs, src, where), pos)
 
