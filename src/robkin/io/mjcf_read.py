@@ -203,7 +203,7 @@ class _TreeBuilder:
             child = self._link(name if last else f"{name}/{jname}")
             self._add(jname, jtype, link, child, pending @ origin, axis, lo, hi)
             link, pending = child, se3.trans(*after)
-        if link != name:
+        if not joints or link != name:  # welded body, or its frame is off the last joint's
             self._add(f"{name}:fixed", "fixed", link, self._link(name), pending)
         self._contents(name, self._flatten(el, cls), todo)
 

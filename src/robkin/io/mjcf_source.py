@@ -77,9 +77,8 @@ def _parse(text: str, source: str) -> Any:
 class _Includes:
     """Resolves ``<include>`` elements in place, within the limits above."""
 
-    def __init__(self, folder: Path | None, source: str, used: int):
+    def __init__(self, folder: Path | None, used: int):
         self.folder = folder.resolve() if folder is not None else None
-        self.source = source
         self.total = used
         self.count = 0
 
@@ -118,13 +117,15 @@ class _Includes:
                              f"{' -> '.join(p.name for p in stack)} -> {path.name})")
         if len(stack) > MAX_INCLUDE_DEPTH:
             raise InputError(f"{where}: <include file=\"{name}\"> nests more than {MAX_INCLUDE_DEPTH} levels deep")
+        if not path.is_file():
+            raise InputError(f"{where}: <include file=\"{name}\">: no such file in the model's folder")
         self.count += 1
         if self.count > MAX_INCLUDES:
             raise InputError(f"{where}: more than {MAX_INCLUDES} included files")
-        text = read_text_file(path, MAX_BYTES - self.total, "an MJCF model with its includes")
-        self.total += len(text.encode("utf-8"))
+        self.total += path.stat().st_size
         if self.total > MAX_BYTES:
             raise InputError(f"{where}: <include file=\"{name}\">: the model and its includes exceed {MAX_BYTES} bytes")
+        text = read_text_file(path, MAX_BYTES, "an MJCF file")
         sub = _parse(text, str(path))
         self.expand(sub, str(path), stack + (path,))
         return list(sub)
@@ -181,7 +182,7 @@ def read_mjcf_source(source: str | os.PathLike) -> MjcfSource:
             raise InputError(f"{p}: file is empty; expected an MJCF <mujoco> element")
         name, folder = str(p), p.parent
     root = _parse(text, name)
-    includes = _Includes(folder, name, len(text.encode("utf-8")))
+    includes = _Includes(folder, len(text.encode("utf-8")))
     main = (Path(source).resolve(),) if folder is not None else ()
     includes.expand(root, name, main)
     src = MjcfSource(root, name)
