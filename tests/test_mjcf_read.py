@@ -278,3 +278,46 @@ def test_mujoco_compiled_arms_match_mj_kinematics(rel, base, tip, tmp_path):
     back = load(out, tip_link="tool")
     for q in np.random.default_rng(3).uniform(-1, 1, (5, robot.n)):
         np.testing.assert_allclose(back.world @ back.fk(q), robot.world @ robot.fk(q), atol=EXPORT_TOL)
+
+
+def _robosuite_robots() -> list[Path]:
+    import importlib.util
+
+    spec = importlib.util.find_spec("robosuite")
+    if spec is None or not spec.submodule_search_locations:
+        return []
+    folder = Path(list(spec.submodule_search_locations)[0]) / "models" / "assets" / "robots"
+    return sorted(folder.glob("*/robot.xml"))
+
+
+@pytest.mark.filterwarnings("ignore:.*held at 0:UserWarning")
+@pytest.mark.parametrize("path", _robosuite_robots() or [None], ids=lambda p: p.parent.name if p else "none")
+def test_robosuite_arms_match_mj_kinematics(path):
+    """robosuite's robot.xml files (when robosuite is installed): the longest hinge/slide chain of
+    every robot without a floating base matches MuJoCo."""
+    if path is None:
+        pytest.skip("robosuite is not installed")
+    from robkin.io.mjcf_read import model_from_mjcf
+
+    tree, kinds = model_from_mjcf(path)
+    if "free" in kinds.values():
+        pytest.skip("floating-base robot: its chains pass through a free joint")
+    best = None
+    for tip in tree.leaves(tree.root()):
+        robot = robot_from_mjcf(path, tip_link=tip)
+        if best is None or robot.n > best[0].n:
+            best = robot, tip
+    compare_with_mujoco(mujoco.MjModel.from_xml_path(str(path)), *best, samples=12)
+
+
+def test_gui_reads_mjcf_and_sdf_text():
+    from robkin.viz.gui_api import parse_robot
+
+    xml = arm('angle="radian"', 'euler="0.1 0.2 0.3"', "")
+    robot, _ = parse_robot('<?xml version="1.0"?>\n<!-- an arm -->\n' + xml, "auto", tip_link="tip")
+    assert robot.n == 3
+    with pytest.raises(InputError, match="tip link 'nope' is not a link"):
+        parse_robot(xml, "mjcf", tip_link="nope")
+    sdf = (Path(__file__).parent / "data" / "sdf" / "arm.sdf").read_text()
+    robot, _ = parse_robot(sdf, "auto", tip_link="tcp")
+    assert [j.name for j in robot.joints] == ["shoulder", "elbow", "wrist"]
