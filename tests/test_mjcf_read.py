@@ -14,7 +14,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from robkin import se3
 from robkin.errors import InputError
 from robkin.io import load
 from robkin.io.mjcf import mjcf_from_robot
@@ -180,10 +179,11 @@ def test_frames_nested_with_childclass():
       <worldbody><frame pos="1 0 0" euler="0 0 0.5">
         <body name="a" pos="0 0 0.1"><joint name="ja"/>
           <frame pos="0 0.2 0" zaxis="1 0 1" childclass="c"><frame quat="0 1 0 0">
-            <body name="b"><joint name="jb"/><frame pos="0.3 0 0" euler="0.4 0 0"><site name="s"/></frame></body>
+            <body name="b"><joint name="jb"/><frame pos="0.3 0 0" euler="0.4 0 0"><site name="s"/>
+              <joint name="jc" axis="0 1 1" pos="0.1 0.2 0"/></frame><joint name="jd" type="slide"/></body>
           </frame></frame></body></frame></worldbody></mujoco>"""
-    robot = check_xml(xml, "s", n=2)
-    np.testing.assert_allclose(se3.inv(robot.frames[1])[:3, :3] @ robot.frames[1][:3, :3], np.eye(3), atol=1e-15)
+    robot = check_xml(xml, "s", n=4)
+    assert [j.name for j in robot.joints] == ["ja", "jb", "jc", "jd"]
 
 
 def test_sites_as_tips_and_unnamed_elements():

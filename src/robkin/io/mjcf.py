@@ -18,7 +18,15 @@ from .. import se3
 from .xmltext import quoteattr
 from ..robot import Robot
 
-__all__ = ["mjcf_from_robot", "quat_from_matrix"]
+__all__ = ["mjcf_from_robot", "quat_from_matrix", "matrix_from_quat"]
+
+
+def matrix_from_quat(q: np.ndarray) -> np.ndarray:
+    """Rotation matrix (3, 3) of a unit quaternion (w, x, y, z) (MuJoCo's order)."""
+    w, x, y, z = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
 
 
 def quat_from_matrix(R: np.ndarray) -> np.ndarray:

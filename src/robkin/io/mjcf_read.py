@@ -35,6 +35,7 @@ from .. import se3
 from ..errors import InputError
 from ..robot import Robot
 from .chain_path import refuse_on_chain
+from .mjcf import matrix_from_quat
 from .mjcf_source import MjcfSource, read_mjcf_source
 from .urdf import UrdfJoint, UrdfModel, _floats, robot_from_model
 
@@ -68,13 +69,6 @@ def _z_to(v: np.ndarray) -> np.ndarray:
     return _rodrigues(np.array([-v[1] / s, v[0] / s, 0.0]), math.atan2(s, v[2]))
 
 
-def _quat_matrix(q: np.ndarray) -> np.ndarray:
-    w, x, y, z = q
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
-
-
 def rotation_from_mjcf(attrs: Mapping[str, str], src: MjcfSource, where: str) -> np.ndarray:
     """Rotation (3, 3) of an element's orientation attributes (identity when it has none)."""
     given = [k for k in ORIENTATIONS if attrs.get(k) is not None]
@@ -85,7 +79,7 @@ def rotation_from_mjcf(attrs: Mapping[str, str], src: MjcfSource, where: str) ->
     kind = given[0]
     text, at = attrs[kind], f"{where}: {kind}"
     if kind == "quat":
-        return _quat_matrix(_unit(_floats(text, 4, at, ()), at))
+        return matrix_from_quat(_unit(_floats(text, 4, at, ()), at))
     if kind == "axisangle":
         v = _floats(text, 4, at, ())
         return _rodrigues(_unit(v[:3], at), src.angle(v[3]))
@@ -195,21 +189,23 @@ class _TreeBuilder:
         where = f"{self.src.source}: body '{name}'"
         cls = el.get("childclass") or cls
         pending = T @ _pose(el.attrib, self.src, where)
-        joints = [j for j in el if j.tag in ("joint", "freejoint")]
+        parts = self._flatten(el, cls)
+        joints = [(j, F, c) for j, F, c in parts if j.tag in ("joint", "freejoint")]  # file order, as MuJoCo
         link = parent
-        for k, j in enumerate(joints):
-            jname, jtype, axis, origin, after, lo, hi = self._joint(j, cls, name)
+        for k, (j, F, c) in enumerate(joints):
+            jname, jtype, axis, origin, after, lo, hi = self._joint(j, c, name, F)
             last = k == len(joints) - 1 and not after.any()
             child = self._link(name if last else f"{name}/{jname}")
             self._add(jname, jtype, link, child, pending @ origin, axis, lo, hi)
             link, pending = child, se3.trans(*after)
         if not joints or link != name:  # welded body, or its frame is off the last joint's
             self._add(f"{name}:fixed", "fixed", link, self._link(name), pending)
-        self._contents(name, self._flatten(el, cls), todo)
+        self._contents(name, parts, todo)
 
-    def _joint(self, el: Any, cls: str, body: str):
+    def _joint(self, el: Any, cls: str, body: str, frame: np.ndarray):
         """(name, URDF type, unit axis, origin relative to the body frame before the joint,
-        offset to apply after it, lower, upper) of one MJCF joint."""
+        offset to apply after it, lower, upper) of one MJCF joint; ``frame`` (4, 4) is the pose of
+        the ``<frame>`` holding it in its body (identity when it sits directly in the body)."""
         i = self._id("joint")
         name = el.get("name") or f"joint{i}"
         where = f"{self.src.source}: joint '{name}' (body '{body}')"
@@ -220,12 +216,12 @@ class _TreeBuilder:
         kind = attrs.get("type", "hinge")
         if kind not in JOINT_TYPES:
             raise InputError(f"{where}: type '{kind}' is not one of {', '.join(JOINT_TYPES)}")
-        pos = _floats(attrs.get("pos"), 3, f"{where}: pos", (0, 0, 0))
+        pos = frame[:3, :3] @ _floats(attrs.get("pos"), 3, f"{where}: pos", (0, 0, 0)) + frame[:3, 3]
         if kind in ("ball", "free"):
             self.kinds[name] = kind
             at = pos if kind == "ball" else np.zeros(3)
             return name, "floating", np.array([0.0, 0.0, 1.0]), se3.trans(*at), -at, None, None
-        axis = _unit(_floats(attrs.get("axis"), 3, f"{where}: axis", (0, 0, 1)), f"{where}: axis")
+        axis = frame[:3, :3] @ _unit(_floats(attrs.get("axis"), 3, f"{where}: axis", (0, 0, 1)), f"{where}: axis")
         scale = self.src.angle if kind == "hinge" else float
         ref = scale(float(_floats(attrs.get("ref"), 1, f"{where}: ref", (0,))[0]))
         lo, hi = self._limits(attrs, where, scale)

@@ -22,7 +22,6 @@ screw...) on the chosen chain are refused with one line naming the joint.
 
 from __future__ import annotations
 
-import math
 import os
 from pathlib import Path
 from typing import Any
@@ -34,6 +33,7 @@ from ..errors import InputError
 from ..robot import Robot
 from .chain_path import refuse_on_chain
 from .files import read_text_file
+from .mjcf import matrix_from_quat
 from .urdf import NO_LIMIT, UrdfJoint, UrdfModel, _floats, _parse_xml, robot_from_model
 
 __all__ = ["robot_from_sdf", "model_from_sdf"]
@@ -42,7 +42,7 @@ __all__ = ["robot_from_sdf", "model_from_sdf"]
 MAX_BYTES = 64 * 1024 * 1024
 #: Nested models deeper than this are refused (real files nest one or two levels).
 MAX_NESTING = 16
-JOINT_TYPES = {"revolute": "revolute", "continuous": "continuous", "prismatic": "prismatic", "fixed": "fixed"}
+JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 OTHER_JOINTS = ("ball", "universal", "revolute2", "screw", "gearbox")
 
 
@@ -72,10 +72,7 @@ def _pose(el: Any, where: str) -> tuple[np.ndarray, str | None]:
         if n < 1e-10:  # a quaternion this short is a typo; unit quaternions have length 1
             raise InputError(f"{at}: quaternion is zero")
         x, y, z, w = v[3:] / n
-        R = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                      [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                      [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
-        return se3.homogeneous(R, v[:3]), pose.get("relative_to") or None
+        return se3.homogeneous(matrix_from_quat(np.array([w, x, y, z])), v[:3]), pose.get("relative_to") or None
     if pose.get("rotation_format", "euler_rpy") != "euler_rpy":
         raise InputError(f"{at}: rotation_format '{pose.get('rotation_format')}' is not euler_rpy or quat_xyzw")
     v = _floats(text, 6, at, (0, 0, 0, 0, 0, 0))
@@ -237,7 +234,7 @@ def model_from_sdf(source: str | os.PathLike) -> tuple[UrdfModel, dict[str, str]
         where = f"{src}: joint '{name}'"
         jtype = el.get("type")
         if jtype not in JOINT_TYPES and jtype not in OTHER_JOINTS:
-            raise InputError(f"{where}: type '{jtype}' is not one of {', '.join(list(JOINT_TYPES) + list(OTHER_JOINTS))}")
+            raise InputError(f"{where}: type '{jtype}' is not one of {', '.join(JOINT_TYPES + OTHER_JOINTS)}")
         parent = j.scoped(j._text(el, "parent", name), prefix)
         child = j.scoped(j._text(el, "child", name), prefix)
         for role, link in (("parent", parent), ("child", child)):
@@ -249,7 +246,7 @@ def model_from_sdf(source: str | os.PathLike) -> tuple[UrdfModel, dict[str, str]
         origin = se3.inv(X_parent) @ X_joint
         X_child = j.pose(child, where)
         rest = se3.inv(X_joint) @ X_child
-        moving = JOINT_TYPES.get(jtype, "floating")
+        moving = jtype if jtype in JOINT_TYPES else "floating"
         axis, lower, upper = (np.array([0.0, 0.0, 1.0]), None, None) if jtype == "fixed" or moving == "floating" \
             else _axis(j, el, name, X_joint)
         if moving == "floating":
