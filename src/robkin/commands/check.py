@@ -27,7 +27,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                        description="Compare two robot descriptions joint by joint: are they the same robot, "
                                    "and if not, which joint differs first and how.",
                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("a", metavar="A", help="first robot (document .yaml/.yml/.json, or .urdf/.xacro, .xml/.mjcf, .sdf)")
+    p.add_argument("a", metavar="A", help="first robot (document .yaml/.yml/.json, .urdf/.xacro, .xml/.mjcf or .sdf)")
     p.add_argument("b", metavar="B", help="second robot")
     p.add_argument("--base-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: first of the serial chain")
     p.add_argument("--tip-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: last of the chain (the tool)")

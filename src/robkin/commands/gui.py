@@ -24,7 +24,8 @@ representation is shown as a table and can be downloaded. Bad input is shown as 
 def register(subparsers) -> argparse.ArgumentParser:
     p = subparsers.add_parser("gui", help=HELP, description=HELP.capitalize() + ".", epilog=EPILOG,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("input", nargs="?", metavar="INPUT", help="robot document (.yaml/.yml/.json), URDF (.urdf), MJCF (.xml/.mjcf) or SDF (.sdf) to show first")
+    p.add_argument("input", nargs="?", metavar="INPUT",
+                   help="robot document (.yaml/.yml/.json), URDF (.urdf), MJCF (.xml/.mjcf) or SDF (.sdf) to show first")
     p.add_argument("--base-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: first of the serial chain")
     p.add_argument("--tip-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: last of the chain (the tool)")
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1, this machine only)")
@@ -49,7 +50,8 @@ def run(args: argparse.Namespace) -> int:
         fmt = {".yaml": "yaml", ".yml": "yaml", ".json": "json", ".urdf": "urdf", ".xml": "mjcf", ".mjcf": "mjcf",
                ".sdf": "sdf"}.get(ext, "")
         if not fmt:
-            raise InputError(f"{p}: unknown extension '{ext}'; expected .yaml, .yml, .json, .urdf, .xml, .mjcf or .sdf")
+            raise InputError(f"{p}: unknown extension '{ext}'; expected .yaml, .yml, .json, .urdf, .xml, .mjcf "
+                             f"or .sdf")
         try:
             if p.stat().st_size > MAX_TEXT:
                 raise InputError(f"{p}: larger than {MAX_TEXT} bytes")

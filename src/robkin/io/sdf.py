@@ -118,7 +118,7 @@ class _Model:
                 pose, rel = _pose(el, where)
                 if tag == "joint":
                     self.joints.append((name, el, prefix))
-                    continue  # a joint's frame depends on its child; see _joint
+                    continue  # its frame (by default its child link's) is registered below, after the links
                 if tag == "frame":
                     attached = self.scoped(el.get("attached_to") or "__model__", prefix)
                     self.attached[name] = attached
