@@ -112,3 +112,11 @@ def test_bad_sdf_is_one_clear_line(text, message):
         robot_from_sdf(text)
     assert message in str(info.value) and "\n" not in str(info.value)
     assert str(info.value).startswith("<sdf string>")
+
+
+def test_intermediate_links_only_where_a_joint_frame_is_off_its_child():
+    from robkin.io.sdf import model_from_sdf
+
+    tree, _ = model_from_sdf(DATA / "arm.sdf")
+    # only the wrist has a <pose> of its own; explicit frames are links too
+    assert tree.links == ("base", "upper", "fore", "hand", "elbow_frame", "tcp", "hand@wrist")

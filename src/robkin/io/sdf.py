@@ -244,8 +244,9 @@ def model_from_sdf(source: str | os.PathLike) -> tuple[UrdfModel, dict[str, str]
         X_parent = se3.inv(world) if parent == "world" else j.pose(parent, where)  # in the model frame
         uses_world |= parent == "world"
         origin = se3.inv(X_parent) @ X_joint
-        X_child = j.pose(child, where)
-        rest = se3.inv(X_joint) @ X_child
+        pose, rel = j.raw[name]
+        # joint frame -> child link frame; exactly the identity when the joint's pose is the default
+        rest = se3.inv(pose) if rel == child else se3.inv(X_joint) @ j.pose(child, where)
         moving = jtype if jtype in JOINT_TYPES else "floating"
         axis, lower, upper = (np.array([0.0, 0.0, 1.0]), None, None) if jtype == "fixed" or moving == "floating" \
             else _axis(j, el, name, X_joint)
