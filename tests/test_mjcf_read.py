@@ -13,6 +13,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from robkin.errors import InputError
 from robkin.io import load
@@ -29,7 +31,7 @@ FK_TOL = 1e-9
 #: numbers and the tool is a body, so only rounding of the products (~1e-15 per metre) remains.
 EXPORT_TOL = 1e-12
 #: MuJoCo needs mass on moving bodies to compile; the kinematics does not depend on it.
-MASS = '<compiler boundmass="1e-6" boundinertia="1e-12"/>'
+MASS = '<compiler boundmass="0.1" boundinertia="0.01"/>'
 
 
 def mj_id(model, kind: str, name: str) -> int:
@@ -325,3 +327,59 @@ def test_gui_reads_mjcf_and_sdf_text():
     sdf = (Path(__file__).parent / "data" / "sdf" / "arm.sdf").read_text()
     robot, _ = parse_robot(sdf, "auto", tip_link="tcp")
     assert [j.name for j in robot.joints] == ["shoulder", "elbow", "wrist"]
+
+
+_num = st.floats(-2.0, 2.0, allow_nan=False, allow_subnormal=False).map(lambda v: round(v, 6))
+_vec = st.lists(_num, min_size=3, max_size=3).filter(lambda v: np.linalg.norm(v) > 0.1)
+
+
+@st.composite
+def _orientation(draw) -> str:
+    kind = draw(st.sampled_from(("", "quat", "axisangle", "xyaxes", "zaxis", "euler")))
+    if kind == "quat":
+        return 'quat="{} {} {} {}"'.format(draw(_num) + 3, *draw(_vec))  # w well away from a zero quaternion
+    if kind == "axisangle":
+        return 'axisangle="{} {} {} {}"'.format(*draw(_vec), draw(_num) * 90)
+    if kind == "xyaxes":
+        x, y = draw(_vec), draw(_vec)
+        if np.linalg.norm(np.cross(x, y)) < 0.1 * np.linalg.norm(x) * np.linalg.norm(y):
+            y = list(np.cross(x, [0.3, 0.5, 0.8]) + 0.0)
+        return 'xyaxes="{} {} {} {} {} {}"'.format(*x, *y)
+    if kind == "zaxis":
+        return 'zaxis="{} {} {}"'.format(*draw(_vec))
+    if kind == "euler":
+        return 'euler="{} {} {}"'.format(*(v * 90 for v in draw(_vec)))
+    return ""
+
+
+@st.composite
+def _joint(draw, i: int) -> str:
+    kind = draw(st.sampled_from(("hinge", "slide")))
+    return (f'<joint name="j{i}" type="{kind}" axis="{" ".join(map(str, draw(_vec)))}" '
+            f'pos="{" ".join(map(str, draw(_vec)))}" ref="{draw(_num)}"/>')
+
+
+@st.composite
+def random_mjcf(draw) -> str:
+    """A chain of 1-5 bodies with random poses in any orientation form, 1-2 joints each, some inside
+    <frame>s, a site tip; degrees or radians and any eulerseq."""
+    angle = draw(st.sampled_from(("degree", "radian")))
+    seq = "".join(draw(st.lists(st.sampled_from("xyzXYZ"), min_size=3, max_size=3)))
+    body, close, k = "", "", 0
+    for i in range(draw(st.integers(1, 5))):
+        joints = "".join(draw(_joint(k + m)) for m in range(draw(st.integers(1, 2))))
+        k += 2
+        if draw(st.booleans()):
+            joints = f'<frame pos="{" ".join(map(str, draw(_vec)))}" {draw(_orientation())}>{joints}</frame>'
+        body += f'<body name="b{i}" pos="{" ".join(map(str, draw(_vec)))}" {draw(_orientation())}>{joints}'
+        close += "</body>"
+    site = f'<site name="tip" pos="{" ".join(map(str, draw(_vec)))}" {draw(_orientation())}/>'
+    return (f'<mujoco>{MASS}<compiler angle="{angle}" eulerseq="{seq}"/><worldbody>'
+            f'<body name="base" {draw(_orientation())}>{body}{site}{close}</body></worldbody></mujoco>')
+
+
+@settings(max_examples=60, deadline=None)
+@given(random_mjcf())
+def test_random_mjcf_matches_mujoco(xml):
+    robot = robot_from_mjcf(xml, tip_link="tip")
+    compare_with_mujoco(mujoco.MjModel.from_xml_string(xml), robot, "tip", samples=4)
