@@ -50,6 +50,19 @@ def test_sdf_matches_its_hand_written_urdf_twin(name, tip, joints):
     for q in np.random.default_rng(5).uniform(-1, 1, (8, robot.n)):
         np.testing.assert_allclose(robot.world @ robot.fk(q), pin_pose(model, dict(zip(joints, q)), tip),
                                    atol=FK_TOL, rtol=0)
+    # and robkin's MJCF of it: MuJoCo's FK of the tool body is the same
+    mujoco = pytest.importorskip("mujoco")
+    from robkin.io.mjcf import mjcf_from_robot
+
+    mj = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot))
+    data = mujoco.MjData(mj)
+    for q in np.random.default_rng(6).uniform(-1, 1, (8, robot.n)):
+        data.qpos[:] = q
+        mujoco.mj_kinematics(mj, data)
+        tool = mj.body("tool").id
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = data.xmat[tool].reshape(3, 3), data.xpos[tool]
+        np.testing.assert_allclose(T, robot.world @ robot.fk(q), atol=FK_TOL, rtol=0)
 
 
 def test_axis_frame_depends_on_the_version():
