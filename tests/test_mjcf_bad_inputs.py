@@ -44,7 +44,8 @@ CASES = [
     ("compiler angle", '<mujoco><compiler angle="grad"/><worldbody/></mujoco>',
      "<compiler angle=\"grad\">: expected degree or radian"),
     ("eulerseq", '<mujoco><compiler eulerseq="xyw"/><worldbody/></mujoco>', "eulerseq=\"xyw\">: expected three of"),
-    ("root element", '<robot name="r"/>', "root element is <robot>; an MJCF file has <mujoco>"),
+    ("root element", '<robot name="r"/>', "root element is <robot>; an MJCF file has <mujoco> (this is a URDF: "
+                                          "give it the extension .urdf)"),
     ("entities", '<!DOCTYPE m [<!ENTITY a "b">]><mujoco/>', "refused XML construct"),
     ("not XML", "<mujoco><worldbody>", "not well-formed XML"),
     ("duplicate names", ARM.format('<body name="a"/>'), "two bodies or sites are both called 'a'"),

@@ -70,7 +70,9 @@ def _parse(text: str, source: str) -> Any:
 
     root = _parse_xml(text, source)
     if root.tag != "mujoco":
-        raise InputError(f"{source}: root element is <{root.tag}>; an MJCF file has <mujoco>")
+        hint = {"robot": " (this is a URDF: give it the extension .urdf)",
+                "sdf": " (this is an SDF model: give it the extension .sdf)"}.get(root.tag, "")
+        raise InputError(f"{source}: root element is <{root.tag}>; an MJCF file has <mujoco>{hint}")
     return root
 
 
