@@ -11,6 +11,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from strategies import robots
+
+from robkin import se3
 
 from robkin.errors import InputError
 from robkin.io import load
@@ -133,3 +138,38 @@ def test_intermediate_links_only_where_a_joint_frame_is_off_its_child():
     tree, _ = model_from_sdf(DATA / "arm.sdf")
     # only the wrist has a <pose> of its own; explicit frames are links too
     assert tree.links == ("base", "upper", "fore", "hand", "elbow_frame", "tcp", "hand@wrist")
+
+
+def _sdf_of(robot, choices: list[tuple[bool, bool]]) -> str:
+    """A robot written as SDF 1.9 by this test: link i at joint frame i, its pose either in the model
+    frame or relative_to the previous link; the axis either "0 0 1" in the joint frame or the world
+    direction expressed_in the model frame; the tool as an explicit frame."""
+    def pose(T, rel=None):
+        rpy = se3.rpy_from_matrix(T[:3, :3])
+        attr = f' relative_to="{rel}"' if rel else ""
+        return f"<pose{attr}>{' '.join(repr(float(v)) for v in [*T[:3, 3], *rpy])}</pose>"
+
+    out = ['<sdf version="1.9"><model name="r"><link name="L0"/>']
+    prev = np.eye(4)
+    for i, (joint, (relative, in_model)) in enumerate(zip(robot.joints, choices), start=1):
+        D = robot.frames[i - 1]
+        out.append(f'<link name="L{i}">{pose(se3.inv(prev) @ D, f"L{i - 1}") if relative else pose(D)}</link>')
+        axis = D[:3, 2] if in_model else np.array([0.0, 0.0, 1.0])
+        expressed = ' expressed_in="__model__"' if in_model else ""
+        kind = "revolute" if joint.revolute else "prismatic"
+        out.append(f'<joint name="{joint.name}" type="{kind}"><parent>L{i - 1}</parent><child>L{i}</child>'
+                   f'<axis><xyz{expressed}>{" ".join(repr(float(v)) for v in axis)}</xyz></axis></joint>')
+        prev = D
+    out.append(f'<frame name="tool" attached_to="L{robot.n}">{pose(se3.inv(prev) @ robot.tool)}</frame>')
+    return "".join(out + ["</model></sdf>"])
+
+
+@pytest.mark.filterwarnings("ignore::robkin.ConditioningWarning")
+@settings(max_examples=40, deadline=None)
+@given(robots(max_joints=6), st.data())
+def test_any_robot_written_as_sdf_reads_back_with_the_same_fk(robot, data):
+    choices = data.draw(st.lists(st.tuples(st.booleans(), st.booleans()), min_size=robot.n, max_size=robot.n))
+    back = robot_from_sdf(_sdf_of(robot, choices), tip_link="tool")
+    tol = 1e-12 * max(1.0, robot.scale)  # repr'd numbers: only the products' rounding remains
+    for q in np.random.default_rng(2).uniform(-1, 1, (4, robot.n)):
+        np.testing.assert_allclose(back.fk(q), robot.fk(q), atol=tol, rtol=0)
