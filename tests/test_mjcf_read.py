@@ -382,4 +382,12 @@ def random_mjcf(draw) -> str:
 @given(random_mjcf())
 def test_random_mjcf_matches_mujoco(xml):
     robot = robot_from_mjcf(xml, tip_link="tip")
-    compare_with_mujoco(mujoco.MjModel.from_xml_string(xml), robot, "tip", samples=4)
+    # two random joints of one body may move it the same way (a singular mass matrix): MuJoCo's
+    # compiler then warns into MUJOCO_LOG.TXT in the working folder; the kinematics is unaffected
+    previous = mujoco.get_mju_user_warning()
+    mujoco.set_mju_user_warning(lambda message: None)
+    try:
+        model = mujoco.MjModel.from_xml_string(xml)
+    finally:
+        mujoco.set_mju_user_warning(previous)
+    compare_with_mujoco(model, robot, "tip", samples=4)
