@@ -148,7 +148,7 @@ CASES = [
     Case("tip not below base", {"g.urdf": GOOD_URDF}, _leg("g.urdf") + ["--base-link", "b", "--tip-link", "a"],
          "--tip-link 'a' is not below --base-link 'b'"),
     Case("--tip-link on a document", {"g.yaml": GOOD_DOC}, _leg("g.yaml") + ["--tip-link", "c"],
-         "--base-link/--tip-link apply to URDF input only"),
+         "--base-link/--tip-link apply to robot files (URDF, MJCF, SDF) only"),
     Case("output folder missing", {"g.yaml": GOOD_DOC}, ["convert", "{d}/g.yaml", "--to", "dh", "-o",
                                                           "{d}/no/such/dir/out.yaml"], "does not exist", writes=False),
     Case("unwritable output (name too long)", {"g.yaml": GOOD_DOC},

@@ -8,10 +8,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
 
 from robkin import Joint, Robot, se3
 from robkin.io.mjcf import mjcf_from_robot, quat_from_matrix
 from robkin.io.urdf import robot_from_urdf, urdf_from_robot
+from strategies import robots
 from test_urdf import CASES, FK_TOL, TILTED_SILENT, pin, pin_fk, robot_file, sample_q
 
 mujoco = pytest.importorskip("mujoco")
@@ -80,3 +82,51 @@ def test_quaternion_of_every_kind_of_rotation():
         mujoco.mju_quat2Mat(back, q)  # MuJoCo's own conversion as the reference
         np.testing.assert_allclose(back.reshape(3, 3), R, atol=1e-15)
         assert q[0] >= 0 and abs(np.linalg.norm(q) - 1) < 1e-15
+
+
+def test_tool_rotation_far_below_mujocos_site_rounding_survives():
+    """The tool is a body: a 1e-9 rad tool rotation (MuJoCo rounds a site's own tiny rotation away)
+    reaches MuJoCo intact, as does every joint frame's."""
+    frames = np.stack([np.eye(4), se3.trans(0, 0, 0.3) @ se3.rot_y(np.pi / 2),
+                       se3.trans(0.4, 0, 0.3) @ se3.rot_y(np.pi / 2) @ se3.rot_x(1e-9) @ se3.rot_z(-2e-9)])
+    robot = Robot(frames, (Joint("a", "revolute"), Joint("b", "revolute")))
+    model = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot))
+    data = mujoco.MjData(model)
+    for q in ([0.0, 0.0], [0.4, -1.1]):
+        T = mujoco_pose(model, data, np.array(q), body="tool")
+        np.testing.assert_allclose(T, robot.fk(q), atol=1e-15)
+        np.testing.assert_allclose(mujoco_pose(model, data, np.array(q), site="tool"), T, atol=0)
+
+
+def test_urdf_limit_without_bounds_is_exported_unlimited():
+    """URDF's <limit effort velocity/> means lower = upper = 0; MuJoCo refuses range="0 0"."""
+    urdf = """<robot name="r"><link name="a"/><link name="b"/>
+      <joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
+        <limit effort="10" velocity="2"/></joint></robot>"""
+    robot = robot_from_urdf(urdf)
+    assert robot.joints[0].lower == robot.joints[0].upper == 0
+    text = mjcf_from_robot(robot)
+    assert 'range="0 0"' not in text
+    model = mujoco.MjModel.from_xml_string(text)
+    assert not model.jnt_limited[0]
+
+
+@pytest.mark.filterwarnings("ignore::robkin.ConditioningWarning")
+@settings(max_examples=40, deadline=None)
+@given(robots(max_joints=7))
+def test_export_of_any_robot_loads_in_mujoco_and_reads_back(robot):
+    """MuJoCo loads every MJCF robkin writes, with FK equal to 1e-12 of the robot's size, and
+    robkin's MJCF reader gives back the same FK."""
+    from robkin.io.mjcf_read import robot_from_mjcf
+
+    text = mjcf_from_robot(robot)
+    model = mujoco.MjModel.from_xml_string(text)
+    data = mujoco.MjData(model)
+    back = robot_from_mjcf(text, tip_link="tool")
+    tol = 1e-12 * max(1.0, robot.scale, float(np.abs(robot.world[:3, 3]).max()))
+    for q in np.random.default_rng(0).uniform(-1, 1, (4, robot.n)):
+        T = robot.world @ robot.fk(q)
+        np.testing.assert_allclose(mujoco_pose(model, data, q, body="tool"), T, atol=tol, rtol=0)
+        np.testing.assert_allclose(back.world @ back.fk(q), T, atol=tol, rtol=0)
+    assert [j.name for j in back.joints] == [j.name for j in robot.joints]
+    np.testing.assert_array_equal(back.limits, robot.limits)

@@ -39,7 +39,10 @@ __all__ = [
 
 
 def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None) -> Robot:
-    """Load a robot from a robot document (.yaml/.yml/.json) or a URDF file (.urdf)."""
+    """Load a robot from a robot document (.yaml/.yml/.json), a URDF (.urdf), MJCF (.xml/.mjcf) or SDF (.sdf) file.
+
+    ``base_link``/``tip_link`` pick a serial chain from a robot file: URDF/SDF links, MJCF bodies or sites.
+    """
     from .io import load as _load
 
     return _load(path, base_link=base_link, tip_link=tip_link)

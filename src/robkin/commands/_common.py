@@ -22,10 +22,10 @@ EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "examples"
 def add_input(p: argparse.ArgumentParser, many: bool = False) -> None:
     """INPUT argument(s) plus the URDF chain selectors."""
     p.add_argument("input", nargs="+" if many else None, metavar="INPUT",
-                   help="robot document (.yaml/.yml/.json) or URDF (.urdf, or .xacro, expanded first)"
+                   help="robot document (.yaml/.yml/.json), URDF (.urdf), MJCF (.xml/.mjcf) or SDF (.sdf); .xacro is expanded first"
                    + (" (one or more)" if many else ""))
-    p.add_argument("--base-link", metavar="LINK", help="URDF: first link of the serial chain")
-    p.add_argument("--tip-link", metavar="LINK", help="URDF: last link of the serial chain (the tool)")
+    p.add_argument("--base-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: first of the serial chain")
+    p.add_argument("--tip-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: last of the chain (the tool)")
 
 
 def load_input(path: str, args: argparse.Namespace) -> "Robot":

@@ -26,10 +26,10 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                        description="Compare two robot descriptions joint by joint: are they the same robot, "
                                    "and if not, which joint differs first and how.",
                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("a", metavar="A", help="first robot (document .yaml/.yml/.json or .urdf/.xacro)")
+    p.add_argument("a", metavar="A", help="first robot (document .yaml/.yml/.json, .urdf/.xacro, .xml/.mjcf or .sdf)")
     p.add_argument("b", metavar="B", help="second robot")
-    p.add_argument("--base-link", metavar="LINK", help="URDF input(s): first link of the serial chain")
-    p.add_argument("--tip-link", metavar="LINK", help="URDF input(s): last link of the serial chain (the tool)")
+    p.add_argument("--base-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: first of the serial chain")
+    p.add_argument("--tip-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: last of the chain (the tool)")
     p.add_argument("--tol", type=float, default=1e-6,  # = equivalence.DEFAULT_TOL (not imported: startup time)
                    help="relative tolerance on angles (rad) and lengths / robot size (default 1e-06)")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
@@ -62,11 +62,11 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _load(path: str, args: argparse.Namespace):
-    """Load one input; --base-link/--tip-link only reach URDF inputs (a document has one chain)."""
-    from ..io import URDF_EXTENSIONS, load
+    """Load one input; --base-link/--tip-link only reach robot files (a document has one chain)."""
+    from ..io import ROBOT_FILE_EXTENSIONS, load
     from pathlib import Path
 
-    if Path(path).suffix.lower() in URDF_EXTENSIONS:
+    if Path(path).suffix.lower() in ROBOT_FILE_EXTENSIONS:
         return load(path, base_link=args.base_link, tip_link=args.tip_link)
     return load(path)
 

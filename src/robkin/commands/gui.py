@@ -24,9 +24,10 @@ representation is shown as a table and can be downloaded. Bad input is shown as 
 def register(subparsers) -> argparse.ArgumentParser:
     p = subparsers.add_parser("gui", help=HELP, description=HELP.capitalize() + ".", epilog=EPILOG,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("input", nargs="?", metavar="INPUT", help="robot document (.yaml/.yml/.json) or URDF (.urdf) to show first")
-    p.add_argument("--base-link", metavar="LINK", help="URDF: first link of the serial chain")
-    p.add_argument("--tip-link", metavar="LINK", help="URDF: last link of the serial chain (the tool)")
+    p.add_argument("input", nargs="?", metavar="INPUT",
+                   help="robot document (.yaml/.yml/.json), URDF (.urdf), MJCF (.xml/.mjcf) or SDF (.sdf) to show first")
+    p.add_argument("--base-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: first of the serial chain")
+    p.add_argument("--tip-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: last of the chain (the tool)")
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1, this machine only)")
     p.add_argument("--port", type=int, default=8765, help="port (default 8765; 0 picks a free one)")
     p.add_argument("--open", action="store_true", help="open the page in the default web browser")
@@ -46,9 +47,11 @@ def run(args: argparse.Namespace) -> int:
     if args.input:
         p = Path(args.input)
         ext = p.suffix.lower()
-        fmt = {".yaml": "yaml", ".yml": "yaml", ".json": "json", ".urdf": "urdf", ".xml": "urdf"}.get(ext, "")
+        fmt = {".yaml": "yaml", ".yml": "yaml", ".json": "json", ".urdf": "urdf", ".xml": "mjcf", ".mjcf": "mjcf",
+               ".sdf": "sdf"}.get(ext, "")
         if not fmt:
-            raise InputError(f"{p}: unknown extension '{ext}'; expected .yaml, .yml, .json or .urdf")
+            raise InputError(f"{p}: unknown extension '{ext}'; expected .yaml, .yml, .json, .urdf, .xml, .mjcf "
+                             f"or .sdf")
         try:
             if p.stat().st_size > MAX_TEXT:
                 raise InputError(f"{p}: larger than {MAX_TEXT} bytes")

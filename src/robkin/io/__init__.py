@@ -1,4 +1,4 @@
-"""Reading and writing robots: robot documents (YAML/JSON) and URDF, by file extension."""
+"""Reading and writing robots: robot documents (YAML/JSON), URDF, MJCF and SDF, by file extension."""
 
 from __future__ import annotations
 
@@ -8,23 +8,29 @@ from pathlib import Path
 from ..errors import InputError
 from ..robot import Robot
 
-__all__ = ["load", "DOCUMENT_EXTENSIONS", "URDF_EXTENSIONS"]
+__all__ = ["load", "DOCUMENT_EXTENSIONS", "URDF_EXTENSIONS", "MJCF_EXTENSIONS", "SDF_EXTENSIONS",
+           "ROBOT_FILE_EXTENSIONS"]
 
 DOCUMENT_EXTENSIONS = (".yaml", ".yml", ".json")
 URDF_EXTENSIONS = (".urdf", ".xacro")
+MJCF_EXTENSIONS = (".xml", ".mjcf")
+SDF_EXTENSIONS = (".sdf",)
+#: Robot files holding a tree from which --base-link/--tip-link pick a serial chain.
+ROBOT_FILE_EXTENSIONS = URDF_EXTENSIONS + MJCF_EXTENSIONS + SDF_EXTENSIONS
 
 
 def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None) -> Robot:
-    """Load a Robot from a robot document (.yaml/.yml/.json) or a URDF (.urdf, .xacro).
+    """Load a Robot from a robot document (.yaml/.yml/.json), a URDF (.urdf, .xacro), an MJCF model
+    (.xml, .mjcf) or an SDF model (.sdf).
 
-    ``base_link``/``tip_link`` pick a serial chain out of a URDF tree (ignored for documents, where
-    giving them is an error).
+    ``base_link``/``tip_link`` pick a serial chain out of a robot file's tree: links of a URDF or
+    SDF, bodies or sites of an MJCF model (giving them for a document is an error).
     """
     p = Path(path)
     ext = p.suffix.lower()
     if ext in DOCUMENT_EXTENSIONS:
         if base_link or tip_link:
-            raise InputError(f"{p}: base_link=/tip_link= apply to URDF input only")
+            raise InputError(f"{p}: base_link=/tip_link= apply to robot files (URDF, MJCF, SDF) only")
         from .document import read_document
 
         return read_document(p)
@@ -32,5 +38,13 @@ def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: s
         from .urdf import robot_from_urdf
 
         return robot_from_urdf(p, base_link=base_link, tip_link=tip_link)
+    if ext in MJCF_EXTENSIONS:
+        from .mjcf_read import robot_from_mjcf
+
+        return robot_from_mjcf(p, base_link=base_link, tip_link=tip_link)
+    if ext in SDF_EXTENSIONS:
+        from .sdf import robot_from_sdf
+
+        return robot_from_sdf(p, base_link=base_link, tip_link=tip_link)
     raise InputError(f"{p}: unknown extension '{ext}'; expected one of "
-                     f"{', '.join(DOCUMENT_EXTENSIONS + URDF_EXTENSIONS)}")
+                     f"{', '.join(DOCUMENT_EXTENSIONS + ROBOT_FILE_EXTENSIONS)}")

@@ -2,7 +2,9 @@
 
 Layout: ``worldbody`` holds body ``base`` at the world->base transform; inside it, one body per joint
 placed at the joint frame (relative to the previous one, flip-adjusted) with a ``hinge`` or ``slide``
-joint along local z (``0 0 -1`` when flipped), and a site ``tool`` at the tool frame. Angles are
+joint along local z (``0 0 -1`` when flipped), and a body ``tool`` at the tool frame holding a site
+``tool`` at its origin. The tool is a body because MuJoCo rounds away a site's own rotation when it is
+below ~1e-6 rad; a site at the identity of a body is exact. Angles are
 radians (``compiler angle="radian"``); orientations are unit quaternions (w, x, y, z) written with
 ``repr`` (full precision). Kinematics only: massless bodies get MuJoCo's ``boundmass``/``boundinertia``
 placeholders so that the model compiles; they carry no physical meaning.
@@ -16,7 +18,15 @@ from .. import se3
 from .xmltext import quoteattr
 from ..robot import Robot
 
-__all__ = ["mjcf_from_robot", "quat_from_matrix"]
+__all__ = ["mjcf_from_robot", "quat_from_matrix", "matrix_from_quat"]
+
+
+def matrix_from_quat(q: np.ndarray) -> np.ndarray:
+    """Rotation matrix (3, 3) of a unit quaternion (w, x, y, z) (MuJoCo's order)."""
+    w, x, y, z = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
 
 
 def quat_from_matrix(R: np.ndarray) -> np.ndarray:
@@ -57,14 +67,15 @@ def _place(T: np.ndarray) -> str:
 
 
 def mjcf_from_robot(robot: Robot) -> str:
-    """MJCF text of the robot; MuJoCo's site ``tool`` at qpos = q is world @ robot.fk(q).
+    """MJCF text of the robot; MuJoCo's body (and site) ``tool`` at qpos = q is world @ robot.fk(q).
 
     Parameters
     ----------
     robot : Robot
         n joints; revolute -> ``hinge``, prismatic -> ``slide``. Limits become ``range`` (a joint
-        limited on one side only gets +-1e10 on the other, as in URDF export); unlimited joints are
-        ``limited="false"``.
+        limited on one side only gets +-1e10 on the other, as in URDF export); unlimited joints, and
+        joints whose lower limit equals the upper one (a URDF ``<limit>`` without bounds; MuJoCo
+        refuses an empty range), are ``limited="false"``.
 
     Returns
     -------
@@ -87,7 +98,7 @@ def mjcf_from_robot(robot: Robot) -> str:
     for i, j in enumerate(robot.joints):
         rel = se3.inv(prev) @ D[i]
         kind = "hinge" if j.revolute else "slide"
-        if j.lower is None and j.upper is None:
+        if (j.lower is None and j.upper is None) or j.lower == j.upper:
             limit = 'limited="false"'
         else:
             lo = -NO_LIMIT if j.lower is None else j.lower
@@ -98,7 +109,9 @@ def mjcf_from_robot(robot: Robot) -> str:
                    f"axis=\"0 0 {'-1' if j.flip else '1'}\" {limit}/>")
         indent += "  "
         prev = D[i]
-    out.append(f"{indent}<site name=\"tool\" {_place(se3.inv(prev) @ robot.tool)}/>")
+    out.append(f"{indent}<body name=\"tool\" {_place(se3.inv(prev) @ robot.tool)}>")
+    out.append(f"{indent}  <site name=\"tool\"/>")
+    out.append(f"{indent}</body>")
     for _ in range(robot.n + 1):
         indent = indent[:-2]
         out.append(f"{indent}</body>")

@@ -19,7 +19,9 @@ from ..robot import Robot
 
 __all__ = ["INPUT_FORMATS", "EXPORTS", "parse_robot", "describe", "export", "MAX_TEXT"]
 
-INPUT_FORMATS = ("auto", "yaml", "json", "urdf", "dh-rows", "mdh-rows", "rpy-rows")
+INPUT_FORMATS = ("auto", "yaml", "json", "urdf", "mjcf", "sdf", "dh-rows", "mdh-rows", "rpy-rows")
+#: XML robot formats: root element -> format (anything else starting with '<' is taken as URDF).
+_XML_ROOTS = {"mujoco": "mjcf", "sdf": "sdf"}
 #: Download name -> (document sections or None for URDF / the full document, file suffix, MIME type).
 EXPORTS: dict[str, tuple[tuple[str, ...] | None, str, str]] = {
     "yaml": (None, ".yaml", "application/yaml"),
@@ -39,7 +41,10 @@ MAX_TEXT = 4 * 1024 * 1024
 def _detect(text: str) -> str:
     s = text.lstrip("\ufeff \t\r\n")
     if s.startswith("<"):
-        return "urdf"
+        import re
+
+        root = re.search(r"<([A-Za-z_][\w.-]*)", re.sub(r"<[?!][^>]*>", "", s[:4096]))  # skip <?xml?>, comments
+        return _XML_ROOTS.get(root.group(1) if root else "", "urdf")
     if s.startswith("{"):
         return "json"
     return "yaml"
@@ -70,23 +75,26 @@ def parse_robot(text: str, fmt: str = "auto", base_link: str | None = None, tip_
     kind = _detect(text) if fmt == "auto" else fmt
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        if kind == "urdf":
+        if kind in ("urdf", "mjcf", "sdf"):
             if not text.lstrip("\ufeff \t\r\n").startswith("<"):
-                raise InputError("urdf: expected XML starting with '<' (a <robot> element)")
+                root = {"urdf": "robot", "mjcf": "mujoco", "sdf": "sdf"}[kind]
+                raise InputError(f"{kind}: expected XML starting with '<' (a <{root}> element)")
+            from ..io.mjcf_read import robot_from_mjcf
+            from ..io.sdf import robot_from_sdf
             from ..io.urdf import robot_from_urdf
             from ..messages import render_options
 
+            read = {"urdf": robot_from_urdf, "mjcf": robot_from_mjcf, "sdf": robot_from_sdf}[kind]
             try:
-                robot = robot_from_urdf(text.lstrip("\ufeff \t\r\n"), base_link=base_link or None,
-                                        tip_link=tip_link or None)
+                robot = read(text.lstrip("\ufeff \t\r\n"), base_link=base_link or None, tip_link=tip_link or None)
             except InputError as exc:
                 # The page's fields are called "base link" / "tip link", not the CLI options.
-                msg = render_options(str(exc).removeprefix("<urdf string>: "),
+                msg = render_options(str(exc).removeprefix(f"<{kind} string>: "),
                                      {"base_link": "base link", "tip_link": "tip link"})
                 raise InputError(msg if msg.startswith(source) else f"{source}: {msg}") from None
         else:
             if base_link or tip_link:
-                raise InputError("base/tip link: apply to URDF input only")
+                raise InputError("base/tip link: apply to URDF, MJCF and SDF input only")
             from ..io.document import parse_document
 
             if kind.endswith("-rows"):

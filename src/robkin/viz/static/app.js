@@ -329,14 +329,16 @@ async function download(to) {
 // ------------------------------------------------------------------ start
 function formatOf(filename) {
   const f = filename.toLowerCase();
-  if (f.endsWith(".urdf") || f.endsWith(".xml")) return "urdf";
+  if (f.endsWith(".urdf")) return "urdf";
+  if (f.endsWith(".xml") || f.endsWith(".mjcf")) return "mjcf";
+  if (f.endsWith(".sdf")) return "sdf";
   if (f.endsWith(".json")) return "json";
   return "yaml";
 }
 
 function showUrdfFields() {
   const text = $("robot-text").value.trimStart(), f = $("format").value;
-  const urdf = f === "urdf" || (f === "auto" && text.startsWith("<"));
+  const urdf = ["urdf", "mjcf", "sdf"].includes(f) || (f === "auto" && text.startsWith("<"));
   document.querySelectorAll(".urdf-only").forEach((e) => { e.hidden = !urdf; });
 }
 

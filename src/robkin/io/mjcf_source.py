@@ -1,0 +1,193 @@
+"""An MJCF file as one XML tree: ``<include>`` resolved, ``<compiler>`` settings and ``<default>`` classes read.
+
+Input files are untrusted. An ``<include file>`` must be a relative path that stays inside the folder of
+the main model file (MuJoCo resolves every include against that folder, nested ones too); absolute
+paths, ``..`` escapes, symbolic links leading out, loops, more than ``MAX_INCLUDE_DEPTH`` levels, more
+than ``MAX_INCLUDES`` files and more than ``MAX_BYTES`` in all are refused with one line naming the
+file and the include. XML text given as a string cannot include anything.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from .files import read_text_file
+
+__all__ = ["MjcfSource", "read_mjcf_source", "MAX_BYTES", "MAX_INCLUDES", "MAX_INCLUDE_DEPTH"]
+
+#: Largest MJCF read, all included files together. Menagerie's largest models are a few hundred kB;
+#: this only stops accidental or hostile huge inputs.
+MAX_BYTES = 64 * 1024 * 1024
+#: Included files at most (robosuite/Menagerie models use a handful), and nesting depth at most.
+MAX_INCLUDES = 256
+MAX_INCLUDE_DEPTH = 8
+#: The element kinds whose attributes ``<default>`` classes carry and that this reader uses.
+DEFAULTED = ("joint", "site")
+#: Known ``<compiler eulerseq>`` letters; lower case rotate with the frame, upper case stay fixed.
+EULER_LETTERS = set("xyzXYZ")
+
+
+@dataclass
+class MjcfSource:
+    """The resolved XML tree of an MJCF model and the settings that shape its kinematics.
+
+    Attributes
+    ----------
+    root : Element
+        The ``<mujoco>`` element with every ``<include>`` replaced by the included file's elements.
+    source : str
+        The main file's name, for messages.
+    degrees : bool
+        ``<compiler angle>``: True (MuJoCo's default) when angles in the file are degrees.
+    eulerseq : str
+        ``<compiler eulerseq>``, three of x y z X Y Z (default "xyz").
+    autolimits : bool
+        ``<compiler autolimits>`` (default True): a ``range`` alone makes a joint limited.
+    defaults : dict
+        Class name -> element kind ("joint", "site") -> attributes, with inheritance applied;
+        the top-level class is "main".
+    """
+
+    root: Any
+    source: str
+    degrees: bool = True
+    eulerseq: str = "xyz"
+    autolimits: bool = True
+    defaults: dict[str, dict[str, dict[str, str]]] = field(default_factory=dict)
+
+    def angle(self, value: float) -> float:
+        """An angle of the file in radians."""
+        return math.radians(value) if self.degrees else value
+
+
+def _parse(text: str, source: str) -> Any:
+    from .urdf import _parse_xml  # the hardened defusedxml parse shared with the URDF reader
+
+    root = _parse_xml(text, source)
+    if root.tag != "mujoco":
+        hint = {"robot": " (this is a URDF: give it the extension .urdf)",
+                "sdf": " (this is an SDF model: give it the extension .sdf)"}.get(root.tag, "")
+        raise InputError(f"{source}: root element is <{root.tag}>; an MJCF file has <mujoco>{hint}")
+    return root
+
+
+class _Includes:
+    """Resolves ``<include>`` elements in place, within the limits above."""
+
+    def __init__(self, folder: Path | None, used: int):
+        self.folder = folder.resolve() if folder is not None else None
+        self.total = used
+        self.count = 0
+
+    def expand(self, root: Any, where: str, stack: tuple[Path, ...]) -> None:
+        # iterative walk: an element tree nested thousands deep must not exhaust Python's stack
+        todo = [root]
+        while todo:
+            el = todo.pop()
+            children = list(el)
+            for i, child in enumerate(children):
+                if child.tag == "include":
+                    parts = self._load(child, where, stack)
+                    el.remove(child)
+                    pos = list(el).index(children[i + 1]) if i + 1 < len(children) else len(el)
+                    for k, part in enumerate(parts):
+                        el.insert(pos + k, part)
+                else:
+                    todo.append(child)
+
+    def _load(self, el: Any, where: str, stack: tuple[Path, ...]) -> list[Any]:
+        name = el.get("file")
+        if not name:
+            raise InputError(f"{where}: <include> has no file attribute")
+        if self.folder is None:
+            raise InputError(f"{where}: <include file=\"{name}\"> needs the model as a file (its folder "
+                             f"holds the included files); text input cannot include")
+        if os.path.isabs(name) or name.startswith(("/", "\\")) or ":" in name:
+            raise InputError(f"{where}: <include file=\"{name}\">: only paths relative to the model's folder "
+                             f"are read, not absolute ones")
+        path = (self.folder / name).resolve()
+        if not path.is_relative_to(self.folder):
+            raise InputError(f"{where}: <include file=\"{name}\"> leads outside the model's folder "
+                             f"{self.folder}; only files inside it are read")
+        if path in stack:
+            raise InputError(f"{where}: <include file=\"{name}\"> includes itself (loop through "
+                             f"{' -> '.join(p.name for p in stack)} -> {path.name})")
+        if len(stack) > MAX_INCLUDE_DEPTH:
+            raise InputError(f"{where}: <include file=\"{name}\"> nests more than {MAX_INCLUDE_DEPTH} levels deep")
+        if not path.is_file():
+            raise InputError(f"{where}: <include file=\"{name}\">: no such file in the model's folder")
+        self.count += 1
+        if self.count > MAX_INCLUDES:
+            raise InputError(f"{where}: more than {MAX_INCLUDES} included files")
+        self.total += path.stat().st_size
+        if self.total > MAX_BYTES:
+            raise InputError(f"{where}: <include file=\"{name}\">: the model and its includes exceed {MAX_BYTES} bytes")
+        text = read_text_file(path, MAX_BYTES, "an MJCF file")
+        sub = _parse(text, str(path))
+        self.expand(sub, str(path), stack + (path,))
+        return list(sub)
+
+
+def _defaults(root: Any, source: str) -> dict[str, dict[str, dict[str, str]]]:
+    """Class name -> kind -> attributes, each class inheriting its enclosing class's attributes."""
+    out: dict[str, dict[str, dict[str, str]]] = {"main": {k: {} for k in DEFAULTED}}
+    todo = [(el, "main", True) for el in root.findall("default")]
+    while todo:
+        el, parent, top = todo.pop(0)
+        name = el.get("class") or ("main" if top else None)
+        if name is None:
+            raise InputError(f"{source}: a nested <default> has no class attribute")
+        if name != "main" and name in out:
+            raise InputError(f"{source}: <default class=\"{name}\"> is defined twice")
+        mine = out.setdefault(name, {k: dict(v) for k, v in out[parent].items()})
+        for child in el:
+            if child.tag in DEFAULTED:
+                mine[child.tag].update(child.attrib)
+            elif child.tag == "default":
+                todo.append((child, name, False))
+    return out
+
+
+def _compiler(src: MjcfSource) -> None:
+    for el in src.root.findall("compiler"):
+        angle = el.get("angle")
+        if angle is not None:
+            if angle not in ("degree", "radian"):
+                raise InputError(f"{src.source}: <compiler angle=\"{angle}\">: expected degree or radian")
+            src.degrees = angle == "degree"
+        seq = el.get("eulerseq")
+        if seq is not None:
+            if len(seq) != 3 or not set(seq) <= EULER_LETTERS:
+                raise InputError(f"{src.source}: <compiler eulerseq=\"{seq}\">: expected three of x y z X Y Z "
+                                 f"(lower case: rotating axes, upper case: fixed axes)")
+            src.eulerseq = seq
+        auto = el.get("autolimits")
+        if auto is not None:
+            if auto not in ("true", "false"):
+                raise InputError(f"{src.source}: <compiler autolimits=\"{auto}\">: expected true or false")
+            src.autolimits = auto == "true"
+
+
+def read_mjcf_source(source: str | os.PathLike) -> MjcfSource:
+    """The resolved tree of an MJCF file (path) or MJCF text (a string starting with '<')."""
+    if isinstance(source, str) and source.lstrip().startswith("<"):
+        text, name, folder = source, "<mjcf string>", None
+    else:
+        p = Path(source)
+        text = read_text_file(p, MAX_BYTES, "an MJCF model")
+        if not text.strip():
+            raise InputError(f"{p}: file is empty; expected an MJCF <mujoco> element")
+        name, folder = str(p), p.parent
+    root = _parse(text, name)
+    includes = _Includes(folder, len(text.encode("utf-8")))
+    main = (Path(source).resolve(),) if folder is not None else ()
+    includes.expand(root, name, main)
+    src = MjcfSource(root, name)
+    _compiler(src)
+    src.defaults = _defaults(root, name)
+    return src

@@ -1,0 +1,305 @@
+"""SDF (SDFormat 1.4+, Gazebo's XML) input: the links and joints of a model as a Robot.
+
+What is read
+    ``<link>``, ``<joint>`` (revolute, continuous, prismatic, fixed), explicit ``<frame>``s and
+    nested ``<model>``s (their names scoped as ``inner::link``), each ``<pose>`` with ``relative_to``
+    (SDFormat 1.8; also ``degrees`` and ``rotation_format="quat_xyzw"`` of 1.9), joint axes
+    ``<axis><xyz expressed_in>`` with ``<limit><lower><upper>``. Visuals, collisions, inertias,
+    sensors and plugins are ignored; ``<include>`` (a model from a URI) is refused.
+
+Default frames (every version)
+    a link's or nested model's pose is in its model frame; a joint's pose is in its child link's
+    frame; an explicit frame's pose is in the frame it is attached to. A joint axis is in the joint
+    frame from 1.5 on (unless ``use_parent_model_frame`` is true or ``expressed_in`` names another
+    frame) and in the model frame in 1.4.
+
+The tree becomes a ``UrdfModel`` whose links are the SDF links and frames (a joint whose frame is not
+its child link's frame gets an intermediate link ``CHILD@JOINT``) and the chain is picked by the URDF
+reader's ``robot_from_model``. q is the SDF joint position (same sign and zero); a joint whose parent
+is ``world`` fixes the model in the world (``Robot.world``). Other joint kinds (ball, universal,
+screw...) on the chosen chain are refused with one line naming the joint.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .. import se3
+from ..errors import InputError
+from ..robot import Robot
+from .chain_path import refuse_on_chain
+from .files import read_text_file
+from .mjcf import matrix_from_quat
+from .urdf import NO_LIMIT, UrdfJoint, UrdfModel, _floats, _parse_xml, robot_from_model
+
+__all__ = ["robot_from_sdf", "model_from_sdf"]
+
+#: Largest SDF read (world files with many models are a few MB; this stops huge inputs).
+MAX_BYTES = 64 * 1024 * 1024
+#: Nested models deeper than this are refused (real files nest one or two levels).
+MAX_NESTING = 16
+JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed")
+OTHER_JOINTS = ("ball", "universal", "revolute2", "screw", "gearbox")
+
+
+def _version(root: Any, source: str) -> tuple[int, int]:
+    text = root.get("version")
+    if text is None:
+        raise InputError(f"{source}: <sdf> has no version attribute; expected e.g. version=\"1.9\"")
+    try:
+        major, minor = (int(x) for x in text.split("."))
+    except ValueError:
+        raise InputError(f"{source}: <sdf version=\"{text}\"> is not a version such as 1.9") from None
+    if (major, minor) < (1, 4):
+        raise InputError(f"{source}: SDFormat {text} is not read; robkin reads SDFormat 1.4 and later")
+    return major, minor
+
+
+def _pose(el: Any, where: str) -> tuple[np.ndarray, str | None]:
+    """(pose (4, 4), relative_to or None) of an element's ``<pose>`` child (identity when absent)."""
+    pose = el.find("pose")
+    if pose is None:
+        return np.eye(4), None
+    text = (pose.text or "").strip() or None
+    at = f"{where}: <pose>"
+    if pose.get("rotation_format", "euler_rpy") == "quat_xyzw":
+        v = _floats(text, 7, at, (0, 0, 0, 0, 0, 0, 1))
+        n = float(np.linalg.norm(v[3:]))
+        if n < 1e-10:  # a quaternion this short is a typo; unit quaternions have length 1
+            raise InputError(f"{at}: quaternion is zero")
+        x, y, z, w = v[3:] / n
+        return se3.homogeneous(matrix_from_quat(np.array([w, x, y, z])), v[:3]), pose.get("relative_to") or None
+    if pose.get("rotation_format", "euler_rpy") != "euler_rpy":
+        raise InputError(f"{at}: rotation_format '{pose.get('rotation_format')}' is not euler_rpy or quat_xyzw")
+    v = _floats(text, 6, at, (0, 0, 0, 0, 0, 0))
+    rpy = np.radians(v[3:]) if pose.get("degrees") == "true" else v[3:]
+    return se3.homogeneous(se3.matrix_from_rpy(rpy), v[:3]), pose.get("relative_to") or None
+
+
+class _Model:
+    """The frames of one model file, flattened over nested models, resolved to the outer model frame."""
+
+    def __init__(self, source: str, version: tuple[int, int]):
+        self.source = source
+        self.version = version
+        self.raw: dict[str, tuple[np.ndarray, str]] = {}  # frame -> (pose, frame it is relative to)
+        self.kind: dict[str, str] = {}                       # frame -> link | joint | frame | model
+        self.attached: dict[str, str] = {}                   # explicit frame -> frame it is attached to
+        self.links: list[str] = []
+        self.joints: list[tuple[str, Any, str]] = []         # (scoped name, element, scope prefix)
+        self.resolved: dict[str, np.ndarray] = {}
+        self.joint_child: dict[str, str] = {}                # joint -> its child link
+
+    def _frame(self, name: str, kind: str, pose: np.ndarray, rel: str) -> None:
+        if name in self.kind:
+            raise InputError(f"{self.source}: two {self.kind[name]}/{kind} elements are called '{name}'")
+        self.kind[name] = kind
+        self.raw[name] = (pose, rel)
+
+    def read(self, model: Any, prefix: str, depth: int) -> None:
+        if depth > MAX_NESTING:
+            raise InputError(f"{self.source}: models nest more than {MAX_NESTING} levels deep")
+        scope = prefix + "__model__"
+        if model.find("include") is not None:
+            raise InputError(f"{self.source}: model '{prefix}{model.get('name')}': <include> (a model from a URI) is "
+                             f"not read; merge the included model into the file")
+        for tag in ("link", "frame", "model", "joint"):
+            for i, el in enumerate(model.findall(tag)):
+                local = el.get("name")
+                if not local:
+                    raise InputError(f"{self.source}: <{tag}> #{i + 1} of model '{prefix or model.get('name')}' "
+                                     f"has no name attribute")
+                name = prefix + local
+                where = f"{self.source}: {tag} '{name}'"
+                pose, rel = _pose(el, where)
+                if tag == "joint":
+                    self.joints.append((name, el, prefix))
+                    continue  # its frame (by default its child link's) is registered below, after the links
+                if tag == "frame":
+                    attached = self.scoped(el.get("attached_to") or "__model__", prefix)
+                    self.attached[name] = attached
+                    self._frame(name, "frame", pose, self.scoped(rel, prefix) if rel else attached)
+                elif tag == "link":
+                    self.links.append(name)
+                    self._frame(name, "link", pose, self.scoped(rel, prefix) if rel else scope)
+                else:
+                    self._frame(name + "::__model__", "model", pose, self.scoped(rel, prefix) if rel else scope)
+                    self.read(el, name + "::", depth + 1)
+        for name, el, p in self.joints:
+            if p == prefix and name not in self.kind:
+                child = self.scoped(self._text(el, "child", name), prefix)
+                self.joint_child[name] = child
+                pose, rel = _pose(el, f"{self.source}: joint '{name}'")
+                self._frame(name, "joint", pose, self.scoped(rel, prefix) if rel else child)
+
+    def _text(self, el: Any, tag: str, name: str) -> str:
+        sub = el.find(tag)
+        text = (sub.text or "").strip() if sub is not None else ""
+        if not text:
+            raise InputError(f"{self.source}: joint '{name}': missing <{tag}>LINK</{tag}>")
+        return text
+
+    @staticmethod
+    def scoped(name: str, prefix: str) -> str:
+        return name if name == "world" else prefix + name
+
+    def pose(self, name: str, where: str) -> np.ndarray:
+        """Pose (4, 4) of frame ``name`` in the outermost model frame (q = 0)."""
+        chain, seen = [], set()
+        while name != "__model__" and name not in self.resolved:
+            if name not in self.raw and name + "::__model__" in self.raw:
+                name += "::__model__"  # a nested model's name stands for its model frame
+            if name not in self.raw:
+                raise InputError(f"{where}: frame '{name}' is not a link, joint, frame or model of the file")
+            if name in seen:
+                raise InputError(f"{where}: the poses' relative_to form a loop through '{name}'")
+            seen.add(name)
+            chain.append(name)
+            name = self.raw[name][1]
+        T = np.eye(4) if name == "__model__" else self.resolved[name]
+        for n in reversed(chain):
+            T = T @ self.raw[n][0]
+            self.resolved[n] = T
+        return T
+
+
+def _axis(j: _Model, el: Any, name: str, X_joint: np.ndarray) -> tuple[np.ndarray, float | None, float | None]:
+    """(unit axis in the joint frame, lower, upper) of a joint's ``<axis>``."""
+    where = f"{j.source}: joint '{name}'"
+    axis_el = el.find("axis")
+    if axis_el is None:
+        raise InputError(f"{where}: no <axis>; a moving joint needs <axis><xyz>0 0 1</xyz></axis>")
+    xyz_el = axis_el.find("xyz")
+    axis = _floats((xyz_el.text or "").strip() or None if xyz_el is not None else None, 3, f"{where}: axis xyz",
+                   (0, 0, 1))
+    n = float(np.linalg.norm(axis))
+    if n < 1e-9:  # SDF axes are unit vectors typed with a few decimals; this short is a zero or a typo
+        raise InputError(f"{where}: axis xyz is zero; a moving joint needs a direction such as '0 0 1'")
+    axis = axis / n
+    expressed = xyz_el.get("expressed_in") if xyz_el is not None else None
+    use_parent = (axis_el.findtext("use_parent_model_frame") or "").strip() in ("true", "1")
+    prefix = name[: name.rfind("::") + 2] if "::" in name else ""
+    if expressed:
+        frame = j.pose(j.scoped(expressed, prefix), where)
+    elif use_parent or j.version < (1, 5):
+        frame = j.pose(prefix + "__model__", where) if prefix else np.eye(4)
+    else:
+        frame = X_joint
+    axis = X_joint[:3, :3].T @ frame[:3, :3] @ axis
+    lower = upper = None
+    lim = axis_el.find("limit")
+    if lim is not None:
+        lower = _limit(lim.findtext("lower"), f"{where}: limit lower")
+        upper = _limit(lim.findtext("upper"), f"{where}: limit upper")
+        if lower is not None and upper is not None and lower > upper:
+            raise InputError(f"{where}: limit lower {lower} > upper {upper}")
+    return axis, lower, upper
+
+
+def _limit(text: str | None, where: str) -> float | None:
+    if text is None or not text.strip():
+        return None
+    v = float(_floats(text.strip(), 1, where, ())[0])
+    return v if abs(v) < NO_LIMIT else None  # SDF's default limits are +-1e16: no limit
+
+
+def model_from_sdf(source: str | os.PathLike) -> tuple[UrdfModel, dict[str, str]]:
+    """The kinematic tree of an SDF file (path) or SDF text, and the joints robkin cannot model."""
+    if isinstance(source, str) and source.lstrip().startswith("<"):
+        text, src = source, "<sdf string>"
+    else:
+        text, src = read_text_file(Path(source), MAX_BYTES, "an SDF model"), str(source)
+        if not text.strip():
+            raise InputError(f"{src}: file is empty; expected an SDF <sdf> element")
+    root = _parse_xml(text, src)
+    if root.tag != "sdf":
+        raise InputError(f"{src}: root element is <{root.tag}>; an SDF file has <sdf>")
+    version = _version(root, src)
+    models = root.findall("model") or [m for w in root.findall("world") for m in w.findall("model")]
+    if len(models) != 1:
+        raise InputError(f"{src}: holds {len(models)} <model> elements; robkin reads a file with one model")
+    j = _Model(src, version)
+    j.read(models[0], "", 0)
+    # the model's pose in the world; used when a joint fixes the model to the world
+    world = _pose(models[0], f"{src}: model")[0]
+    links = list(j.links) + [name for name in j.attached]
+    joints: list[UrdfJoint] = []
+    kinds: dict[str, str] = {}
+    uses_world = False
+    for name, el, prefix in j.joints:
+        where = f"{src}: joint '{name}'"
+        jtype = el.get("type")
+        if jtype not in JOINT_TYPES and jtype not in OTHER_JOINTS:
+            raise InputError(f"{where}: type '{jtype}' is not one of {', '.join(JOINT_TYPES + OTHER_JOINTS)}")
+        parent = j.scoped(j._text(el, "parent", name), prefix)
+        child = j.scoped(j._text(el, "child", name), prefix)
+        for role, link in (("parent", parent), ("child", child)):
+            if link != "world" and j.kind.get(link) != "link":
+                raise InputError(f"{where}: {role} '{link}' is not a link of the model")
+        X_joint = j.pose(name, where)
+        X_parent = se3.inv(world) if parent == "world" else j.pose(parent, where)  # in the model frame
+        uses_world |= parent == "world"
+        origin = se3.inv(X_parent) @ X_joint
+        pose, rel = j.raw[name]
+        # joint frame -> child link frame; exactly the identity when the joint's pose is the default
+        rest = se3.inv(pose) if rel == child else se3.inv(X_joint) @ j.pose(child, where)
+        moving = jtype if jtype in JOINT_TYPES else "floating"
+        axis, lower, upper = (np.array([0.0, 0.0, 1.0]), None, None) if jtype == "fixed" or moving == "floating" \
+            else _axis(j, el, name, X_joint)
+        if moving == "floating":
+            kinds[name] = jtype
+        if moving == "revolute" and lower is None and upper is None:
+            moving = "continuous"
+        # the joint moves the joint frame; the child link hangs off it (directly when the frames coincide)
+        exact = bool(np.array_equal(rest, np.eye(4)))
+        mid = child if exact else f"{child}@{name}"
+        if not exact:
+            links.append(mid)
+        joints.append(UrdfJoint(name, moving, parent, mid, origin, axis, lower, upper, False))
+        if not exact:
+            joints.append(UrdfJoint(f"{name}:child", "fixed", mid, child, rest, np.array([0.0, 0.0, 1.0]),
+                                    None, None, False))
+    for name, attached in j.attached.items():
+        base = attached
+        while j.kind.get(base) == "frame":
+            base = j.attached[base]
+        if base == "__model__":  # the model frame is fixed to the canonical link
+            base = models[0].get("canonical_link") or (j.links[0] if j.links else "")
+        base = j.joint_child.get(base, base)  # a joint frame moves with its child link
+        if j.kind.get(base) != "link":
+            raise InputError(f"{src}: frame '{name}' is attached to '{attached}', which is not a link, joint or "
+                             f"frame of the model's top level; attach it to a link (attached_to=\"LINK\")")
+        joints.append(UrdfJoint(f"{name}:frame", "fixed", base, name, se3.inv(j.pose(base, src)) @ j.pose(name, src),
+                                np.array([0.0, 0.0, 1.0]), None, None, False))
+    if uses_world:
+        links.insert(0, "world")
+    return UrdfModel(models[0].get("name"), tuple(links), tuple(joints), src), kinds
+
+
+def robot_from_sdf(source: str | os.PathLike, base_link: str | None = None, tip_link: str | None = None,
+                   *, name: str | None = None) -> Robot:
+    """The serial chain base_link -> tip_link of an SDF model as a Robot (q = the SDF joint positions).
+
+    Parameters
+    ----------
+    source : path or str
+        A .sdf file, or SDF text (a string starting with '<').
+    base_link, tip_link : str, optional
+        Links or explicit frames at the chain's ends (nested models' as ``inner::link``). Default base:
+        the root link (the link fixed to ``world`` when a joint does that); default tip: the only leaf.
+    name : str, optional
+        Robot name; default the model's name.
+
+    Returns
+    -------
+    Robot
+        GJD frames (n+1, 4, 4) in the base link frame, joints with the SDF names and limits
+        (radians, metres); ``world`` = world -> base at q = 0 when the model is fixed to the world.
+    """
+    model, kinds = model_from_sdf(source)
+    refuse_on_chain(model, kinds, base_link, tip_link, "revolute, continuous, prismatic and fixed")
+    return robot_from_model(model, base_link, tip_link, name=name)
