@@ -206,6 +206,57 @@ def test_bad_input(case: Case, tmp_path, capsys):
     assert not created, f"files written on failure: {created}"
 
 
+#: A .xacro that reads an environment variable into the robot name and, through ``$(eval ...)``, runs
+#: Python that would create a file next to it; without the opt-in neither may happen.
+HOSTILE_XACRO = """<?xml version="1.0"?>
+<robot name="$(env ROBKIN_TEST_SECRET)" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:property name="made" value="$(eval open('{marker}', 'w').close() or 0.3)"/>
+  <link name="a"/><link name="b"/>
+  <joint name="j1" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0 0 0.3"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>"""
+XACRO_COMMANDS = [["convert", "{x}", "--to", "dh"], ["fk", "{x}", "--q", "0"], ["ik", "{x}", "--pose", "0,0,0.3,0,0,0"],
+                  ["check", "{x}", "{x}"], ["info", "{x}"], ["plot", "{x}", "-o", "{d}/p.png"],
+                  ["convert", "{x}", "--to", "urdf", "-o", "{d}/out.urdf"]]
+
+
+@pytest.mark.parametrize("argv", XACRO_COMMANDS, ids=[" ".join(a[:1] + a[2:3]) for a in XACRO_COMMANDS])
+def test_xacro_is_refused_without_the_opt_in(argv, tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("ROBKIN_TEST_SECRET", "s3cret")
+    marker = tmp_path / "code_ran"
+    x = tmp_path / "evil.xacro"
+    x.write_text(HOSTILE_XACRO.format(marker=marker))
+    status = main([a.replace("{x}", str(x)).replace("{d}", str(tmp_path)) for a in argv])
+    err = capsys.readouterr().err
+    assert status == 2 and len(err.splitlines()) == 1, err
+    assert "a .xacro file is a program" in err and "--allow-xacro" in err and "xacro " in err
+    assert not marker.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["evil.xacro"]
+
+
+def test_xacro_is_refused_in_python_and_expanded_only_on_request(tmp_path, monkeypatch):
+    import robkin
+    from robkin.errors import InputError
+    from robkin.io.urdf import robot_from_urdf
+
+    monkeypatch.setenv("ROBKIN_TEST_SECRET", "s3cret")
+    x = tmp_path / "env.xacro"
+    x.write_text(HOSTILE_XACRO.replace("$(eval open('{marker}', 'w').close() or 0.3)", "0.3"))
+    for load in (robkin.load, robot_from_urdf):
+        with pytest.raises(InputError, match="allow_xacro=True"):
+            load(x)
+    pytest.importorskip("xacro")
+    assert robkin.load(x, allow_xacro=True).name == "s3cret"  # the opt-in really expands it
+
+
+def test_xacro_is_never_expanded_by_the_gui(tmp_path, capsys):
+    x = tmp_path / "evil.xacro"
+    x.write_text(HOSTILE_XACRO.format(marker=tmp_path / "code_ran"))
+    assert main(["gui", str(x), "--port", "0"]) == 2
+    err = capsys.readouterr().err
+    assert "evil.xacro: the GUI never expands xacro" in err and len(err.splitlines()) == 1, err
+    assert not (tmp_path / "code_ran").exists()
+
+
 def test_bad_inputs_table_is_current():
     assert DOC.is_file(), "docs/bad-inputs.md missing; regenerate it (see the module docstring)"
     text = DOC.read_text()

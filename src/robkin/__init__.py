@@ -36,8 +36,11 @@ __all__ = [
 ]
 
 
-def load(path, base_link: str | None = None, tip_link: str | None = None) -> Robot:
-    """Load a robot from a robot document (.yaml/.yml/.json) or a URDF file (.urdf)."""
+def load(path, base_link: str | None = None, tip_link: str | None = None, *, allow_xacro: bool = False) -> Robot:
+    """Load a robot from a robot document (.yaml/.yml/.json) or a URDF file (.urdf).
+
+    A .xacro file is expanded only with ``allow_xacro=True`` (xacro runs code from the file).
+    """
     from .io import load as _load
 
-    return _load(path, base_link=base_link, tip_link=tip_link)
+    return _load(path, base_link=base_link, tip_link=tip_link, allow_xacro=allow_xacro)

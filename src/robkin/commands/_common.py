@@ -14,7 +14,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ..robot import Robot
 
-__all__ = ["add_input", "load_input", "parse_q", "parse_pose", "number_option_fix", "EXAMPLES_DIR"]
+__all__ = ["add_input", "add_allow_xacro", "load_input", "parse_q", "parse_pose", "number_option_fix", "EXAMPLES_DIR"]
 
 EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "examples"
 
@@ -22,15 +22,27 @@ EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "examples"
 def add_input(p: argparse.ArgumentParser, many: bool = False) -> None:
     """INPUT argument(s) plus the URDF chain selectors."""
     p.add_argument("input", nargs="+" if many else None, metavar="INPUT",
-                   help="robot document (.yaml/.yml/.json) or URDF (.urdf)" + (" (one or more)" if many else ""))
+                   help="robot document (.yaml/.yml/.json) or URDF (.urdf; .xacro with --allow-xacro)"
+                        + (" (one or more)" if many else ""))
     p.add_argument("--base-link", metavar="LINK", help="URDF: first link of the serial chain")
     p.add_argument("--tip-link", metavar="LINK", help="URDF: last link of the serial chain (the tool)")
+    add_allow_xacro(p)
+
+
+def add_allow_xacro(p: argparse.ArgumentParser) -> None:
+    """The opt-in to expand .xacro input (xacro runs code from the file, so it is off by default)."""
+    p.add_argument("--allow-xacro", action="store_true",
+                   help="expand .xacro input with the xacro package. A .xacro file is a program: it can run "
+                        "code and read files and environment variables, so use this only for files you trust "
+                        "(or expand it yourself: xacro FILE.xacro > FILE.urdf)")
 
 
 def load_input(path: str, args: argparse.Namespace) -> "Robot":
+    """The robot in ``path``, with the command's chain selectors and --allow-xacro."""
     from ..io import load
 
-    return load(path, base_link=getattr(args, "base_link", None), tip_link=getattr(args, "tip_link", None))
+    return load(path, base_link=getattr(args, "base_link", None), tip_link=getattr(args, "tip_link", None),
+                allow_xacro=getattr(args, "allow_xacro", False))
 
 
 def parse_q(text: str, n: int, option: str = "--q") -> "np.ndarray":

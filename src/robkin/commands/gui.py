@@ -18,6 +18,7 @@ The app runs on this machine only: it listens on 127.0.0.1 (use --host to change
 risk: anyone who can reach the port can use it) and needs no internet. Open the printed address in a
 browser; stop with Ctrl-C. In the page, paste or load a robot document (YAML/JSON) or a URDF; every
 representation is shown as a table and can be downloaded. Bad input is shown as a message in the page.
+The GUI never expands .xacro files (they are programs); expand one yourself with xacro first.
 """
 
 
@@ -47,6 +48,9 @@ def run(args: argparse.Namespace) -> int:
         p = Path(args.input)
         ext = p.suffix.lower()
         fmt = {".yaml": "yaml", ".yml": "yaml", ".json": "json", ".urdf": "urdf", ".xml": "urdf"}.get(ext, "")
+        if ext == ".xacro":
+            raise InputError(f"{p}: the GUI never expands xacro (a .xacro file is a program that can run code); "
+                             f"if you trust it, expand it yourself: xacro {p} > {p.stem}.urdf")
         if not fmt:
             raise InputError(f"{p}: unknown extension '{ext}'; expected .yaml, .yml, .json or .urdf")
         try:

@@ -14,11 +14,13 @@ DOCUMENT_EXTENSIONS = (".yaml", ".yml", ".json")
 URDF_EXTENSIONS = (".urdf", ".xacro")
 
 
-def load(path: str | os.PathLike, base_link: str | None = None, tip_link: str | None = None) -> Robot:
+def load(path: str | os.PathLike, base_link: str | None = None, tip_link: str | None = None, *,
+         allow_xacro: bool = False) -> Robot:
     """Load a Robot from a robot document (.yaml/.yml/.json) or a URDF (.urdf, .xacro).
 
     ``base_link``/``tip_link`` pick a serial chain out of a URDF tree (ignored for documents, where
-    giving them is an error).
+    giving them is an error). A .xacro file is a program (it can run code and read files and
+    environment variables): it is expanded only with ``allow_xacro=True``, else refused.
     """
     p = Path(path)
     ext = p.suffix.lower()
@@ -31,6 +33,6 @@ def load(path: str | os.PathLike, base_link: str | None = None, tip_link: str | 
     if ext in URDF_EXTENSIONS:
         from .urdf import robot_from_urdf
 
-        return robot_from_urdf(p, base_link=base_link, tip_link=tip_link)
+        return robot_from_urdf(p, base_link=base_link, tip_link=tip_link, allow_xacro=allow_xacro)
     raise InputError(f"{p}: unknown extension '{ext}'; expected one of "
                      f"{', '.join(DOCUMENT_EXTENSIONS + URDF_EXTENSIONS)}")
