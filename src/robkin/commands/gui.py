@@ -38,6 +38,7 @@ def register(subparsers) -> argparse.ArgumentParser:
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
+    from ..io.files import read_text_file
     from ..viz.gui import make_server
     from ..viz.gui_api import MAX_TEXT, parse_robot
 
@@ -53,14 +54,9 @@ def run(args: argparse.Namespace) -> int:
                              f"if you trust it, expand it yourself: xacro {p} > {p.stem}.urdf")
         if not fmt:
             raise InputError(f"{p}: unknown extension '{ext}'; expected .yaml, .yml, .json or .urdf")
-        try:
-            if p.stat().st_size > MAX_TEXT:
-                raise InputError(f"{p}: larger than {MAX_TEXT} bytes")
-            text = p.read_text(encoding="utf-8-sig")
-        except FileNotFoundError:
-            raise InputError(f"{p}: no such file") from None
-        except (OSError, UnicodeDecodeError) as exc:
-            raise InputError(f"{p}: cannot read ({exc})") from None
+        text = read_text_file(p, MAX_TEXT, "a robot file for the GUI")
+        if not text.strip():
+            raise InputError(f"{p}: file is empty; expected a robot document (YAML/JSON) or a URDF")
         parse_robot(text, fmt, args.base_link, args.tip_link, source=str(p))  # bad input fails here, not in the page
         source = str(p)
     server = make_server(args.host, args.port, text, fmt, args.base_link, args.tip_link, source,

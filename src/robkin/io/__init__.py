@@ -23,6 +23,13 @@ def load(path: str | os.PathLike, base_link: str | None = None, tip_link: str | 
     environment variables): it is expanded only with ``allow_xacro=True``, else refused.
     """
     p = Path(path)
+    try:
+        return _load(p, base_link, tip_link, allow_xacro)
+    except InputError as exc:  # errors found past the reader (e.g. by Robot) name the file too
+        raise exc.in_source(str(p)) from None
+
+
+def _load(p: Path, base_link: str | None, tip_link: str | None, allow_xacro: bool) -> Robot:
     ext = p.suffix.lower()
     if ext in DOCUMENT_EXTENSIONS:
         if base_link or tip_link:

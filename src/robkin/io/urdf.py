@@ -35,7 +35,8 @@ import numpy as np
 from .. import se3
 from .files import read_text_file
 from .xmltext import quoteattr
-from ..errors import InputError, ProjectionWarning
+from ..errors import InputError, ProjectionWarning, quote
+from ..names import duplicates
 from ..robot import Joint, Robot
 
 __all__ = ["robot_from_urdf", "robot_from_model", "urdf_from_robot", "parse_urdf", "parse_urdf_text",
@@ -259,14 +260,14 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
         links.append(name)
     if not links:
         raise InputError(f"{src}: no <link> elements; a URDF robot needs links joined by joints")
-    dup = sorted({x for x in links if links.count(x) > 1})
+    dup = duplicates(links)
     if dup:
-        raise InputError(f"{src}: duplicate link name(s) {', '.join(dup)}")
+        raise InputError(f"{src}: duplicate link name(s) {', '.join(quote(d) for d in dup[:8])}")
     joints = [_joint(el, src, i) for i, el in enumerate(root.findall("joint"))]
     names = [j.name for j in joints]
-    dup = sorted({x for x in names if names.count(x) > 1})
+    dup = duplicates(names)
     if dup:
-        raise InputError(f"{src}: duplicate joint name(s) {', '.join(dup)}")
+        raise InputError(f"{src}: duplicate joint name(s) {', '.join(quote(d) for d in dup[:8])}")
     known = set(links)
     parent_of: dict[str, str] = {}
     for j in joints:
