@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 from robkin.cli import main
+from robkin.errors import MAX_MESSAGE
 
 HERE = Path(__file__).resolve().parent
 DOC = HERE.parent / "docs" / "bad-inputs.md"
@@ -41,6 +42,13 @@ EXTERNAL = """<?xml version="1.0"?>
 <!DOCTYPE r [<!ENTITY xxe SYSTEM "file:///etc/passwd">]>
 <robot name="&xxe;"><link name="a"/></robot>"""
 
+#: "Billion laughs" in YAML: 0.5 kB whose aliases nest nine deep (10^9 names once expanded).
+ALIAS_BOMB = ("robkin: 1\na: &a [x, x, x, x, x, x, x, x, x, x]\n"
+              + "".join(f"{k}: &{k} [{', '.join(['*' + p] * 10)}]\n" for p, k in zip("abcdefgh", "bcdefghi"))
+              + "joints: [{name: *i, type: revolute}]\ndh: {rows: [[0, 0, 0, 0]]}\n")
+GOOD_JSON = ('{"robkin": 1, "joints": [{"name": "j1", "type": "revolute"}, {"name": "j2", "type": "revolute"}], '
+             '"dh": {"rows": [[0, 0.3, 1.5707963267948966, 0], [0.4, 0, 0, 0]]}}')
+
 
 def urdf_with(joint_xml: str, links: str = '<link name="a"/><link name="b"/>') -> str:
     return f'<robot name="r">{links}{joint_xml}</robot>'
@@ -57,6 +65,8 @@ class Case:
     expect: str
     writes: bool = True  # the command would write {d}/out.* (pre-filled; must stay untouched)
     extra_files: dict[str, str] = field(default_factory=dict)
+    #: special files to make in {d}: name -> "fifo", "folder" or a path to symlink to (e.g. /dev/zero)
+    special: dict[str, str] = field(default_factory=dict)
 
 
 def _leg(name: str, to: str = "dh", out: str = "out.yaml") -> list[str]:
@@ -161,21 +171,62 @@ CASES = [
     Case("wrong number of joint values", {"g.yaml": GOOD_DOC}, ["fk", "{d}/g.yaml", "--q", "1,2,3"],
          "the robot has 2 joints, got 3", writes=False),
     Case("NaN joint value", {"g.yaml": GOOD_DOC}, ["fk", "{d}/g.yaml", "--q", "nan,0"], "--q", writes=False),
+    Case("YAML alias bomb (billion laughs)", {"bomb.yaml": ALIAS_BOMB}, _leg("bomb.yaml"),
+         "bomb.yaml: not valid YAML (line 7, column 4): more than 200000 values after expanding '*' aliases"),
+    Case("recursive YAML alias", {"rec.yaml": "robkin: 1\njoints: &j [*j]\n"}, _leg("rec.yaml"),
+         "rec.yaml: not valid YAML (line 2, column 13): found a recursive alias"),
+    Case("integer beyond float range (YAML)", {"i.yaml": GOOD_DOC.replace("0.4,", "1" + "0" * 350 + ",")},
+         _leg("i.yaml"), "i.yaml: dh.rows[1][0]: must be a finite number of magnitude at most 1e+100"),
+    Case("integer over 4300 digits (JSON)", {"i.json": GOOD_JSON.replace("0.4,", "9" * 5000 + ",")},
+         _leg("i.json"), "i.json: dh.rows[1][0]: must be a finite number of magnitude at most 1e+100, got inf"),
+    Case("absurdly large number (1e200)", {"h.yaml": GOOD_DOC.replace("0.4,", "1.0e200,")}, _leg("h.yaml"),
+         "h.yaml: dh.rows[1][0]: must be a finite number of magnitude at most 1e+100, got '1.0e200'"),
+    Case("control character in a joint name", {"cc.yaml": GOOD_DOC.replace("name: j2", 'name: "j\\e[31m2"')},
+         _leg("cc.yaml"), "cc.yaml: joints[1].name: name 'j\\x1b[31m2' contains the unprintable character U+001B"),
+    Case("line break in a URDF joint name", {"nl.urdf": GOOD_URDF.replace('name="j2"', 'name="j&#10;2"')},
+         _leg("nl.urdf"), "nl.urdf: joints[1].name: name 'j\\n2' contains the unprintable character U+000A"),
+    Case("line break in the robot name", {"rn.yaml": "name: \"evil\\nrobot\"\n" + GOOD_DOC}, _leg("rn.yaml"),
+         "rn.yaml: name: name 'evil\\nrobot' contains the unprintable character U+000A"),
+    Case("lone surrogate in a JSON name", {"s.json": GOOD_JSON.replace('"j2"', '"\\ud800"')}, _leg("s.json"),
+         "s.json: joints[1].name: name '\\ud800' contains the unprintable character U+D800"),
+    Case("huge attribute quoted in a message", {"long.urdf": GOOD_URDF.replace('type="revolute"', 'type="' + "x" * 100_000 + '"', 1)},
+         _leg("long.urdf"), "long.urdf: joint 'j1': unknown type 'xxxxxxxx"),
+    Case("FIFO behind a .yaml name", {}, _leg("pipe.yaml"), "pipe.yaml: is a pipe (FIFO), not a regular file",
+         special={"pipe.yaml": "fifo"}),
+    Case("device behind a .yaml name (/dev/zero)", {}, _leg("zero.yaml"), "zero.yaml: is a device, not a regular file",
+         special={"zero.yaml": "/dev/zero"}),
+    Case("folder behind a .urdf name", {}, _leg("dir.urdf"), "dir.urdf: is a folder, not a file",
+         special={"dir.urdf": "folder"}),
+    Case("xacro without --allow-xacro", {"x.xacro": GOOD_URDF}, _leg("x.xacro"),
+         "x.xacro: not expanded: a .xacro file is a program (it can run code, read files and environment "
+         "variables); if you trust it, pass --allow-xacro"),
+    Case("GUI: empty file", {"e.urdf": ""}, ["gui", "{d}/e.urdf", "--port", "0"], "e.urdf: file is empty",
+         writes=False),
+    Case("GUI: a .xacro file", {"x.xacro": GOOD_URDF}, ["gui", "{d}/x.xacro", "--port", "0"],
+         "x.xacro: the GUI never expands xacro", writes=False),
     Case("check: bad second input", {"g.yaml": GOOD_DOC, "e.urdf": ""}, ["check", "{d}/g.yaml", "{d}/e.urdf"],
          "e.urdf: file is empty", writes=False),
 ]
 
 
-def run_case(case: Case, d: Path, capsys) -> tuple[int, str]:
+def make_files(case: Case, d: Path) -> None:
+    """The case's input files, special files and pre-existing files in ``d``."""
     for name, content in case.files.items():
-        p = d / name
-        if isinstance(content, bytes):
-            p.write_bytes(content)
-        else:
-            p.write_text(content)
+        (d / name).write_bytes(content if isinstance(content, bytes) else content.encode())
     for name, content in case.extra_files.items():
         (d / name).parent.mkdir(parents=True, exist_ok=True)
         (d / name).write_text(content)
+    for name, what in case.special.items():
+        if what == "fifo":
+            os.mkfifo(d / name)
+        elif what == "folder":
+            (d / name).mkdir()
+        else:
+            (d / name).symlink_to(what)
+
+
+def run_case(case: Case, d: Path, capsys) -> tuple[int, str]:
+    make_files(case, d)
     argv = [a.replace("{d}", str(d)) for a in case.argv]
     status = main(argv)
     captured = capsys.readouterr()
@@ -197,12 +248,14 @@ def test_bad_input(case: Case, tmp_path, capsys):
     assert len(lines) == 1, err
     assert lines[0].startswith("robkin: error: ") and "Traceback" not in err
     assert case.expect in lines[0], lines[0]
+    assert len(lines[0]) <= len("robkin: error: ") + MAX_MESSAGE  # whatever the input, the line is bounded
     for f in out_files:
         assert f.read_text() == "precious"  # not clobbered
     for name, content in case.extra_files.items():
         assert (tmp_path / name).read_text() == content
     after = {p.name for p in tmp_path.rglob("*")}
-    created = after - before - set(case.files) - {Path(n).name for n in case.extra_files} - {Path(n).parent.name for n in case.extra_files}
+    created = (after - before - set(case.files) - set(case.special) - {Path(n).name for n in case.extra_files}
+               - {Path(n).parent.name for n in case.extra_files})
     assert not created, f"files written on failure: {created}"
 
 
@@ -279,11 +332,7 @@ def markdown_table() -> str:
     for case in CASES:
         with tempfile.TemporaryDirectory() as tmp:
             d = Path(tmp)
-            for name, content in case.files.items():
-                (d / name).write_bytes(content if isinstance(content, bytes) else content.encode())
-            for name, content in case.extra_files.items():
-                (d / name).parent.mkdir(parents=True, exist_ok=True)
-                (d / name).write_text(content)
+            make_files(case, d)
             err = io.StringIO()
             with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
                 status = main([a.replace("{d}", str(d)) for a in case.argv])

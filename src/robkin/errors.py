@@ -15,7 +15,7 @@ from __future__ import annotations
 import reprlib
 import unicodedata
 
-__all__ = ["RobkinError", "InputError", "ProjectionWarning", "ConditioningWarning", "quote", "printable",
+__all__ = ["RobkinError", "InputError", "ProjectionWarning", "ConditioningWarning", "quote", "printable", "unprintable",
            "MAX_MESSAGE", "MAX_QUOTE"]
 
 #: Longest error message (characters): room for two file paths, a field and the valid choices.
