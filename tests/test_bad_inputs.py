@@ -204,6 +204,12 @@ CASES = [
          writes=False),
     Case("GUI: a .xacro file", {"x.xacro": GOOD_URDF}, ["gui", "{d}/x.xacro", "--port", "0"],
          "x.xacro: the GUI never expands xacro", writes=False),
+    Case("batch: a later target cannot be written", {"g.yaml": GOOD_DOC, "h.yaml": GOOD_DOC},
+         ["convert", "{d}/g.yaml", "{d}/h.yaml", "--to", "yaml", "-o", "{d}/batch"], "h.yaml: is a folder",
+         writes=False, extra_files={"batch/g.yaml": "precious"}, special={"batch/h.yaml": "folder"}),
+    Case("estimate -o NEWDIR with a bad --plot", {}, ["estimate", "--pose", "0.5,0,0.5,0,0,0", "--joints", "3",
+                                                      "--type", "all", "-o", "{d}/newdir", "--plot", "{d}/p.txt"],
+         "--plot", writes=False),
     Case("check: bad second input", {"g.yaml": GOOD_DOC, "e.urdf": ""}, ["check", "{d}/g.yaml", "{d}/e.urdf"],
          "e.urdf: file is empty", writes=False),
 ]

@@ -14,7 +14,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ..robot import Robot
 
-__all__ = ["add_input", "add_allow_xacro", "load_input", "parse_q", "parse_pose", "number_option_fix", "EXAMPLES_DIR"]
+__all__ = ["add_input", "add_allow_xacro", "load_input", "seed", "parse_q", "parse_pose", "number_option_fix", "EXAMPLES_DIR"]
 
 EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "examples"
 
@@ -43,6 +43,17 @@ def load_input(path: str, args: argparse.Namespace) -> "Robot":
 
     return load(path, base_link=getattr(args, "base_link", None), tip_link=getattr(args, "tip_link", None),
                 allow_xacro=getattr(args, "allow_xacro", False))
+
+
+def seed(text: str) -> int:
+    """argparse type of a random seed: a whole number 0 .. 2**63 - 1 (what numpy's generators accept)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text[:40]}' is not a whole number") from None
+    if not 0 <= value < 2 ** 63:
+        raise argparse.ArgumentTypeError(f"{value} is not a seed (0 .. 2**63 - 1)")
+    return value
 
 
 def parse_q(text: str, n: int, option: str = "--q") -> "np.ndarray":

@@ -119,7 +119,7 @@ def _mapping_note(path: str, robot, fmt: str) -> str | None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..io.atomic import check_writable_dir, write_text_atomic
+    from ..io.atomic import check_writable_dir, write_text_atomic, write_texts_atomic
 
     inputs: list[str] = args.input
     fmt: str = args.to
@@ -140,12 +140,8 @@ def run(args: argparse.Namespace) -> int:
         if dup:
             raise InputError(f"several inputs would write the same file(s): {', '.join(sorted(dup))}")
         check_writable_dir(targets[0])
-        texts = []
-        for i in inputs:
-            robot = load_input(i, args)
-            texts.append(_render_file(robot, fmt, _out_ext(fmt)))
-        for target, text in zip(targets, texts):
-            write_text_atomic(target, text)
+        texts = [_render_file(load_input(i, args), fmt, _out_ext(fmt)) for i in inputs]
+        write_texts_atomic(list(zip(targets, texts)))  # all or nothing
         print(f"wrote {len(targets)} files to {out_dir}", file=sys.stderr)
         return 0
     robot = load_input(inputs[0], args)

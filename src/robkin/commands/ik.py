@@ -6,7 +6,7 @@ import argparse
 import json
 import sys
 
-from ._common import add_input, load_input, parse_pose, parse_q
+from ._common import add_input, load_input, parse_pose, parse_q, seed
 
 EPILOG = """\
 The pose is the tool frame in the robot base frame: x,y,z,roll,pitch,yaw (URDF rpy, radians) or
@@ -56,7 +56,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="orientation tolerance in radians (default 1e-9)")
     p.add_argument("--restarts", type=int, default=50, metavar="N",
                    help="numeric: random restarts after the first attempt (default 50)")
-    p.add_argument("--seed", type=int, default=0, help="numeric: random seed (default 0)")
+    p.add_argument("--seed", type=seed, default=0, help="numeric: random seed (default 0)")
     return p
 
 
