@@ -14,8 +14,10 @@ examples:
   robkin gui rrpr.yaml --open         (also opens the page in your web browser)
   robkin gui ur5.urdf --tip-link tool0 --port 9000
 
-The app runs on this machine only: it listens on 127.0.0.1 (use --host to change that, at your own
-risk: anyone who can reach the port can use it) and needs no internet. Open the printed address in a
+The app runs on this machine only: it listens on a loopback address (127.0.0.1 by default; --host
+takes another 127.x.y.z, ::1 or localhost, nothing else) and answers only requests from its own page
+(loopback Host header, same origin), so other web sites open in the browser cannot use it. It needs
+no internet. Open the printed address in a
 browser; stop with Ctrl-C. In the page, paste or load a robot document (YAML/JSON) or a URDF; every
 representation is shown as a table and can be downloaded. Bad input is shown as a message in the page.
 The GUI never expands .xacro files (they are programs); expand one yourself with xacro first.
@@ -28,7 +30,8 @@ def register(subparsers) -> argparse.ArgumentParser:
     p.add_argument("input", nargs="?", metavar="INPUT", help="robot document (.yaml/.yml/.json) or URDF (.urdf) to show first")
     p.add_argument("--base-link", metavar="LINK", help="URDF: first link of the serial chain")
     p.add_argument("--tip-link", metavar="LINK", help="URDF: last link of the serial chain (the tool)")
-    p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1, this machine only)")
+    p.add_argument("--host", default="127.0.0.1",
+                   help="loopback address to listen on: 127.0.0.1 (default), another 127.x.y.z, ::1 or localhost")
     p.add_argument("--port", type=int, default=8765, help="port (default 8765; 0 picks a free one)")
     p.add_argument("--open", action="store_true", help="open the page in the default web browser")
     p.add_argument("--verbose", action="store_true", help="log every request to stderr")
