@@ -21,6 +21,8 @@ def check_name(name: str, field: str) -> str:
     Refused: control characters (including line breaks and escape sequences), lone surrogates (from a
     JSON ``\\ud800``), line/paragraph separators and bidirectional overrides (see ``errors.unprintable``).
     """
+    if not isinstance(name, str):
+        raise InputError(f"{field}: expected a name (text), got {type(name).__name__}")
     if not name.isprintable():  # fast path for the usual names; isprintable is stricter than unprintable
         bad = next((c for c in name if unprintable(c)), None)
         if bad is not None:

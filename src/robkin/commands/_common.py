@@ -14,7 +14,8 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ..robot import Robot
 
-__all__ = ["add_input", "add_allow_xacro", "load_input", "seed", "parse_q", "parse_pose", "number_option_fix", "EXAMPLES_DIR"]
+__all__ = ["add_input", "add_allow_xacro", "load_input", "seed", "parse_q", "parse_pose", "number_option_fix",
+           "EXAMPLES_DIR"]
 
 EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "examples"
 

@@ -17,8 +17,7 @@ examples:
 The app runs on this machine only: it listens on a loopback address (127.0.0.1 by default; --host
 takes another 127.x.y.z, ::1 or localhost, nothing else) and answers only requests from its own page
 (loopback Host header, same origin), so other web sites open in the browser cannot use it. It needs
-no internet. Open the printed address in a
-browser; stop with Ctrl-C. In the page, paste or load a robot document (YAML/JSON) or a URDF; every
+no internet. Open the printed address in a browser; stop with Ctrl-C. In the page, paste or load a robot document (YAML/JSON) or a URDF; every
 representation is shown as a table and can be downloaded. Bad input is shown as a message in the page.
 The GUI never expands .xacro files (they are programs); expand one yourself with xacro first.
 """
