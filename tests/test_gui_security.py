@@ -123,6 +123,13 @@ def test_cross_origin_posts_are_refused(server, extra):
         assert status == 403 and b"refused" in body, (headers, path, status)
 
 
+def test_cross_origin_post_is_refused_before_the_body_is_invited(server):
+    headers = {"Host": _host_header(server), "Origin": "http://evil.com", "Content-Length": "10",
+               "Expect": "100-continue"}
+    status, body = raw(server, "POST", "/api/describe", headers)
+    assert status == 403 and b"100 Continue" not in body
+
+
 def test_cross_origin_websocket_upgrade_is_refused(server):
     headers = {"Host": _host_header(server), "Upgrade": "websocket", "Connection": "Upgrade",
                "Origin": "http://evil.com", "Sec-WebSocket-Version": "13", "Sec-WebSocket-Key": "x3JJHMbDL1EzLkh9GBhXDw=="}

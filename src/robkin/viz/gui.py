@@ -165,8 +165,14 @@ class _Handler(BaseHTTPRequestHandler):
 
     def parse_request(self) -> bool:
         """Parse the request line and headers, then apply the request policy before any route runs."""
-        if not super().parse_request():
-            return False
+        return super().parse_request() and self._allowed()
+
+    def handle_expect_100(self) -> bool:
+        """``Expect: 100-continue``: apply the policy before inviting the client to send its body."""
+        return self._allowed() and super().handle_expect_100()
+
+    def _allowed(self) -> bool:
+        """True if the request passes ``check_request``; else answer the refusal and close."""
         refusal = check_request(self.command, self.headers, self.server.server_address[1])
         if refusal is None:
             return True
