@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 from robkin.cli import main
+from robkin.errors import MAX_MESSAGE
 
 HERE = Path(__file__).resolve().parent
 DOC = HERE.parent / "docs" / "bad-inputs.md"
@@ -41,6 +42,13 @@ EXTERNAL = """<?xml version="1.0"?>
 <!DOCTYPE r [<!ENTITY xxe SYSTEM "file:///etc/passwd">]>
 <robot name="&xxe;"><link name="a"/></robot>"""
 
+#: "Billion laughs" in YAML: 0.5 kB whose aliases nest nine deep (10^9 names once expanded).
+ALIAS_BOMB = ("robkin: 1\na: &a [x, x, x, x, x, x, x, x, x, x]\n"
+              + "".join(f"{k}: &{k} [{', '.join(['*' + p] * 10)}]\n" for p, k in zip("abcdefgh", "bcdefghi"))
+              + "joints: [{name: *i, type: revolute}]\ndh: {rows: [[0, 0, 0, 0]]}\n")
+GOOD_JSON = ('{"robkin": 1, "joints": [{"name": "j1", "type": "revolute"}, {"name": "j2", "type": "revolute"}], '
+             '"dh": {"rows": [[0, 0.3, 1.5707963267948966, 0], [0.4, 0, 0, 0]]}}')
+
 
 def urdf_with(joint_xml: str, links: str = '<link name="a"/><link name="b"/>') -> str:
     return f'<robot name="r">{links}{joint_xml}</robot>'
@@ -57,6 +65,8 @@ class Case:
     expect: str
     writes: bool = True  # the command would write {d}/out.* (pre-filled; must stay untouched)
     extra_files: dict[str, str] = field(default_factory=dict)
+    #: special files to make in {d}: name -> "fifo", "folder" or a path to symlink to (e.g. /dev/zero)
+    special: dict[str, str] = field(default_factory=dict)
 
 
 def _leg(name: str, to: str = "dh", out: str = "out.yaml") -> list[str]:
@@ -161,21 +171,68 @@ CASES = [
     Case("wrong number of joint values", {"g.yaml": GOOD_DOC}, ["fk", "{d}/g.yaml", "--q", "1,2,3"],
          "the robot has 2 joints, got 3", writes=False),
     Case("NaN joint value", {"g.yaml": GOOD_DOC}, ["fk", "{d}/g.yaml", "--q", "nan,0"], "--q", writes=False),
+    Case("YAML alias bomb (billion laughs)", {"bomb.yaml": ALIAS_BOMB}, _leg("bomb.yaml"),
+         "bomb.yaml: not valid YAML (line 7, column 4): more than 200000 values after expanding '*' aliases"),
+    Case("recursive YAML alias", {"rec.yaml": "robkin: 1\njoints: &j [*j]\n"}, _leg("rec.yaml"),
+         "rec.yaml: not valid YAML (line 2, column 13): found a recursive alias"),
+    Case("integer beyond float range (YAML)", {"i.yaml": GOOD_DOC.replace("0.4,", "1" + "0" * 350 + ",")},
+         _leg("i.yaml"), "i.yaml: dh.rows[1][0]: must be a finite number of magnitude at most 1e+100"),
+    Case("integer over 4300 digits (JSON)", {"i.json": GOOD_JSON.replace("0.4,", "9" * 5000 + ",")},
+         _leg("i.json"), "i.json: dh.rows[1][0]: must be a finite number of magnitude at most 1e+100, got inf"),
+    Case("absurdly large number (1e200)", {"h.yaml": GOOD_DOC.replace("0.4,", "1.0e200,")}, _leg("h.yaml"),
+         "h.yaml: dh.rows[1][0]: must be a finite number of magnitude at most 1e+100, got '1.0e200'"),
+    Case("control character in a joint name", {"cc.yaml": GOOD_DOC.replace("name: j2", 'name: "j\\e[31m2"')},
+         _leg("cc.yaml"), "cc.yaml: joints[1].name: name 'j\\x1b[31m2' contains the unprintable character U+001B"),
+    Case("line break in a URDF joint name", {"nl.urdf": GOOD_URDF.replace('name="j2"', 'name="j&#10;2"')},
+         _leg("nl.urdf"), "nl.urdf: joints[1].name: name 'j\\n2' contains the unprintable character U+000A"),
+    Case("line break in the robot name", {"rn.yaml": "name: \"evil\\nrobot\"\n" + GOOD_DOC}, _leg("rn.yaml"),
+         "rn.yaml: name: name 'evil\\nrobot' contains the unprintable character U+000A"),
+    Case("lone surrogate in a JSON name", {"s.json": GOOD_JSON.replace('"j2"', '"\\ud800"')}, _leg("s.json"),
+         "s.json: joints[1].name: name '\\ud800' contains the unprintable character U+D800"),
+    Case("huge attribute quoted in a message", {"long.urdf": GOOD_URDF.replace('type="revolute"', 'type="' + "x" * 100_000 + '"', 1)},
+         _leg("long.urdf"), "long.urdf: joint 'j1': unknown type 'xxxxxxxx"),
+    Case("FIFO behind a .yaml name", {}, _leg("pipe.yaml"), "pipe.yaml: is a pipe (FIFO), not a regular file",
+         special={"pipe.yaml": "fifo"}),
+    Case("device behind a .yaml name (/dev/zero)", {}, _leg("zero.yaml"), "zero.yaml: is a device, not a regular file",
+         special={"zero.yaml": "/dev/zero"}),
+    Case("folder behind a .urdf name", {}, _leg("dir.urdf"), "dir.urdf: is a folder, not a file",
+         special={"dir.urdf": "folder"}),
+    Case("xacro without --allow-xacro", {"x.xacro": GOOD_URDF}, _leg("x.xacro"),
+         "x.xacro: not expanded: a .xacro file is a program (it can run code, read files and environment "
+         "variables); if you trust it, pass --allow-xacro"),
+    Case("GUI: empty file", {"e.urdf": ""}, ["gui", "{d}/e.urdf", "--port", "0"], "e.urdf: file is empty",
+         writes=False),
+    Case("GUI: a .xacro file", {"x.xacro": GOOD_URDF}, ["gui", "{d}/x.xacro", "--port", "0"],
+         "x.xacro: the GUI never expands xacro", writes=False),
+    Case("batch: a later target cannot be written", {"g.yaml": GOOD_DOC, "h.yaml": GOOD_DOC},
+         ["convert", "{d}/g.yaml", "{d}/h.yaml", "--to", "yaml", "-o", "{d}/batch"], "h.yaml: is a folder",
+         writes=False, extra_files={"batch/g.yaml": "precious"}, special={"batch/h.yaml": "folder"}),
+    Case("estimate -o NEWDIR with a bad --plot", {}, ["estimate", "--pose", "0.5,0,0.5,0,0,0", "--joints", "3",
+                                                      "--type", "all", "-o", "{d}/newdir", "--plot", "{d}/p.txt"],
+         "--plot", writes=False),
     Case("check: bad second input", {"g.yaml": GOOD_DOC, "e.urdf": ""}, ["check", "{d}/g.yaml", "{d}/e.urdf"],
          "e.urdf: file is empty", writes=False),
 ]
 
 
-def run_case(case: Case, d: Path, capsys) -> tuple[int, str]:
+def make_files(case: Case, d: Path) -> None:
+    """The case's input files, special files and pre-existing files in ``d``."""
     for name, content in case.files.items():
-        p = d / name
-        if isinstance(content, bytes):
-            p.write_bytes(content)
-        else:
-            p.write_text(content)
+        (d / name).write_bytes(content if isinstance(content, bytes) else content.encode())
     for name, content in case.extra_files.items():
         (d / name).parent.mkdir(parents=True, exist_ok=True)
         (d / name).write_text(content)
+    for name, what in case.special.items():
+        if what == "fifo":
+            os.mkfifo(d / name)
+        elif what == "folder":
+            (d / name).mkdir()
+        else:
+            (d / name).symlink_to(what)
+
+
+def run_case(case: Case, d: Path, capsys) -> tuple[int, str]:
+    make_files(case, d)
     argv = [a.replace("{d}", str(d)) for a in case.argv]
     status = main(argv)
     captured = capsys.readouterr()
@@ -197,13 +254,66 @@ def test_bad_input(case: Case, tmp_path, capsys):
     assert len(lines) == 1, err
     assert lines[0].startswith("robkin: error: ") and "Traceback" not in err
     assert case.expect in lines[0], lines[0]
+    assert len(lines[0]) <= len("robkin: error: ") + MAX_MESSAGE  # whatever the input, the line is bounded
     for f in out_files:
         assert f.read_text() == "precious"  # not clobbered
     for name, content in case.extra_files.items():
         assert (tmp_path / name).read_text() == content
     after = {p.name for p in tmp_path.rglob("*")}
-    created = after - before - set(case.files) - {Path(n).name for n in case.extra_files} - {Path(n).parent.name for n in case.extra_files}
+    created = (after - before - set(case.files) - set(case.special) - {Path(n).name for n in case.extra_files}
+               - {Path(n).parent.name for n in case.extra_files})
     assert not created, f"files written on failure: {created}"
+
+
+#: A .xacro that reads an environment variable into the robot name and, through ``$(eval ...)``, runs
+#: Python that would create a file next to it; without the opt-in neither may happen.
+HOSTILE_XACRO = """<?xml version="1.0"?>
+<robot name="$(env ROBKIN_TEST_SECRET)" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:property name="made" value="$(eval open('{marker}', 'w').close() or 0.3)"/>
+  <link name="a"/><link name="b"/>
+  <joint name="j1" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0 0 0.3"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>"""
+XACRO_COMMANDS = [["convert", "{x}", "--to", "dh"], ["fk", "{x}", "--q", "0"], ["ik", "{x}", "--pose", "0,0,0.3,0,0,0"],
+                  ["check", "{x}", "{x}"], ["info", "{x}"], ["plot", "{x}", "-o", "{d}/p.png"],
+                  ["convert", "{x}", "--to", "urdf", "-o", "{d}/out.urdf"]]
+
+
+@pytest.mark.parametrize("argv", XACRO_COMMANDS, ids=[" ".join(a[:1] + a[2:3]) for a in XACRO_COMMANDS])
+def test_xacro_is_refused_without_the_opt_in(argv, tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("ROBKIN_TEST_SECRET", "s3cret")
+    marker = tmp_path / "code_ran"
+    x = tmp_path / "evil.xacro"
+    x.write_text(HOSTILE_XACRO.format(marker=marker))
+    status = main([a.replace("{x}", str(x)).replace("{d}", str(tmp_path)) for a in argv])
+    err = capsys.readouterr().err
+    assert status == 2 and len(err.splitlines()) == 1, err
+    assert "a .xacro file is a program" in err and "--allow-xacro" in err and "xacro " in err
+    assert not marker.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["evil.xacro"]
+
+
+def test_xacro_is_refused_in_python_and_expanded_only_on_request(tmp_path, monkeypatch):
+    import robkin
+    from robkin.errors import InputError
+    from robkin.io.urdf import robot_from_urdf
+
+    monkeypatch.setenv("ROBKIN_TEST_SECRET", "s3cret")
+    x = tmp_path / "env.xacro"
+    x.write_text(HOSTILE_XACRO.replace("$(eval open('{marker}', 'w').close() or 0.3)", "0.3"))
+    for load in (robkin.load, robot_from_urdf):
+        with pytest.raises(InputError, match="allow_xacro=True"):
+            load(x)
+    pytest.importorskip("xacro")
+    assert robkin.load(x, allow_xacro=True).name == "s3cret"  # the opt-in really expands it
+
+
+def test_xacro_is_never_expanded_by_the_gui(tmp_path, capsys):
+    x = tmp_path / "evil.xacro"
+    x.write_text(HOSTILE_XACRO.format(marker=tmp_path / "code_ran"))
+    assert main(["gui", str(x), "--port", "0"]) == 2
+    err = capsys.readouterr().err
+    assert "evil.xacro: the GUI never expands xacro" in err and len(err.splitlines()) == 1, err
+    assert not (tmp_path / "code_ran").exists()
 
 
 def test_bad_inputs_table_is_current():
@@ -228,11 +338,7 @@ def markdown_table() -> str:
     for case in CASES:
         with tempfile.TemporaryDirectory() as tmp:
             d = Path(tmp)
-            for name, content in case.files.items():
-                (d / name).write_bytes(content if isinstance(content, bytes) else content.encode())
-            for name, content in case.extra_files.items():
-                (d / name).parent.mkdir(parents=True, exist_ok=True)
-                (d / name).write_text(content)
+            make_files(case, d)
             err = io.StringIO()
             with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
                 status = main([a.replace("{d}", str(d)) for a in case.argv])
@@ -244,10 +350,14 @@ def markdown_table() -> str:
             "Every row was run through the command line (generated by `tests/test_bad_inputs.py`, which also",
             "asserts each outcome): exit status 2, exactly one line on stderr naming the file, field or joint",
             "and what would be valid, no traceback, and no output file written or clobbered (outputs are",
-            "written to a temporary file and renamed into place only on success). XML is parsed with",
-            "defusedxml with DTDs forbidden, so entity bombs and external entities are refused before any",
-            "expansion. The readers are also fuzzed (`tests/test_fuzz.py`): any exception other than",
-            "robkin's InputError is a bug.", "",
+            "written to a temporary file and renamed into place only on success; a batch writes every file",
+            "first and renames them only when all are complete). XML is parsed with defusedxml with DTDs",
+            "forbidden, so entity bombs and external entities are refused before any expansion. Only regular",
+            "files are read, up to a byte cap (FIFOs and devices are refused before opening); YAML aliases are",
+            "bounded by the size they expand to; a `.xacro` is expanded only with `--allow-xacro`. Every",
+            "message is at most 1000 characters, with control characters escaped. The readers are also fuzzed",
+            "(`tests/test_fuzz.py`, which also runs small hostile files under a 500 MB / 5 s limit): any",
+            "exception other than robkin's InputError is a bug.", "",
             "| input | command | exit | message |", "|---|---|---|---|"]
     return "\n".join(head + rows) + "\n"
 

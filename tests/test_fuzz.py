@@ -11,6 +11,8 @@ any failure for replay).
 from __future__ import annotations
 
 import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -18,10 +20,11 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from robkin.commands._common import EXAMPLES_DIR
-from robkin.errors import InputError
+from robkin.errors import InputError, unprintable
 from robkin.io.document import parse_document
 from robkin.io.urdf import parse_urdf_text, robot_from_model
 from robkin.robot import Robot
+from test_bad_inputs import ALIAS_BOMB, BOMB
 from test_urdf import TILTED_SILENT
 
 #: ROBKIN_FUZZ_EXAMPLES=5000 for a longer hunt; 150 keeps the suite fast (~1 s per test)
@@ -34,7 +37,8 @@ SEED_URDF = TILTED_SILENT()
 NASTY = ["nan", "-inf", "1e400", "1e-400", "[", "]", "{", "}", ":", "- ", "&a", "*a", "!!python/object:os.system",
          "\x00", "\ufeff", "<", ">", "&lt;", "&amp;", "<!DOCTYPE r [<!ENTITY e 'x'>]>", "&e;", "]]>", "<![CDATA[",
          '"', "'", "0 0 0", "1 2", "revolute", "prismatic", "floating", "mimic", "-1e300", "  ", "\n", "\t",
-         "pi/0", "1/0", "0x10", "1_000", "9" * 400]
+         "pi/0", "1/0", "0x10", "1_000", "9" * 400, "9" * 5000, "&a [1, 2]", "*a", "*b", "<<: *a", "\x1b[31m",
+         "\\ud800", "\\u202e", "&#10;", "&#0;", "9**9**9", "'1e300*1e300'", "1e100", "-1e101"]
 
 
 def _mutate(text: str, data) -> str:
@@ -124,6 +128,27 @@ def test_urdf_reader_fuzz_trees(text, base, tip):
     _reads_or_input_error(lambda: robot_from_model(parse_urdf_text(text, "tree.urdf"), base or None, tip or None))
 
 
+@FUZZ
+@given(st.text(max_size=12), st.sampled_from(["yaml", "json"]))
+def test_any_joint_name_reads_back_or_is_refused(name, fmt):
+    # Names end up in terminals, messages and written URDF/MJCF: whatever the text, it is either
+    # refused on input with one line, or read back as exactly the name given, which is printable.
+    import json
+
+    import yaml
+
+    doc = {"robkin": 1, "name": name, "joints": [{"name": name, "type": "revolute"}],
+           "dh": {"rows": [[0, 0.1, 0, 0]]}}
+    text = json.dumps(doc) if fmt == "json" else yaml.safe_dump(doc, allow_unicode=True)
+    given = (json.loads if fmt == "json" else yaml.safe_load)(text)["name"]  # YAML folds e.g. U+0085 to ' '
+    robot = _reads_or_input_error(lambda: parse_document(text, fmt, source="names." + fmt))
+    if robot is None:
+        assert any(unprintable(c) for c in given)
+    else:
+        assert robot.joints[0].name == given == robot.name
+        assert not any(unprintable(c) for c in given)
+
+
 def test_fuzz_seeds_are_valid():
     # the mutations start from valid inputs, so the fuzz explores near-valid files
     assert parse_document(SEEDS_YAML[0], "yaml").n == 4
@@ -133,3 +158,46 @@ def test_fuzz_seeds_are_valid():
 @pytest.mark.parametrize("text", ["", " ", "<", "<robot>", "<robot/>", "<?xml version='1.0'?>", "\x00<robot/>"])
 def test_tiny_urdf_inputs(text):
     _reads_or_input_error(lambda: robot_from_model(parse_urdf_text(text)))
+
+
+#: Hostile inputs of under 1 kB each: every one must be refused with exit status 2 within 5 s of CPU
+#: and 500 MB of address space (the promise for any input under 1 kB).
+HOSTILE_SMALL = {
+    "bomb.yaml": ALIAS_BOMB,
+    "merge_bomb.yaml": "a: &a {x: 1, y: 2}\n" + "".join(
+        f"{k}: &{k} {{{', '.join(f'<<: *{p}' if i == 0 else f'k{i}: *{p}' for i in range(10))}}}\n"
+        for p, k in zip("abcdefgh", "bcdefghi")) + "robkin: 1\njoints: *i\n",
+    "deep.yaml": "robkin: 1\njoints: " + "[" * 990,
+    "deep.json": '{"robkin": 1, "joints": ' + "[" * 990,
+    "digits.json": '{"robkin": 1, "joints": [' + "9" * 900 + "]}",
+    "power.yaml": "robkin: 1\njoints: [revolute]\ndh: {rows: [['9**9**9**9', 0, 0, 0]]}\n",
+    "parens.yaml": "robkin: 1\njoints: [revolute]\ndh: {rows: [['" + "(" * 95 + "1/0" + ")" * 95 + "', 0, 0, 0]]}\n",
+    "entities.urdf": BOMB,
+    "deep.urdf": '<robot name="r">' + "<link>" * 140 + "</robot>",
+}
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="resource limits as on Linux")
+def test_hostile_small_inputs_under_memory_and_time_limits(tmp_path):
+    for name, text in HOSTILE_SMALL.items():
+        assert len(text.encode()) < 1024, name
+        (tmp_path / name).write_text(text)
+    script = f"""
+import resource, sys, time
+resource.setrlimit(resource.RLIMIT_AS, ({500 << 20}, {500 << 20}))
+resource.setrlimit(resource.RLIMIT_CPU, ({5 * len(HOSTILE_SMALL) + 5}, {5 * len(HOSTILE_SMALL) + 5}))
+from robkin.cli import main
+for name in {sorted(HOSTILE_SMALL)!r}:
+    t = time.process_time()
+    status = main(["convert", {str(tmp_path)!r} + "/" + name, "--to", "dh"])
+    print("RESULT", name, status, round(time.process_time() - t, 3), flush=True)
+"""
+    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+    proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=env, timeout=300)
+    assert proc.returncode == 0 and "Traceback" not in proc.stderr, proc.stderr[-2000:]
+    results = [line.split()[1:] for line in proc.stdout.splitlines() if line.startswith("RESULT ")]
+    assert [r[0] for r in results] == sorted(HOSTILE_SMALL)
+    for name, status, seconds in results:
+        assert status == "2" and float(seconds) < 5.0, (name, status, seconds)
+    errors = [line for line in proc.stderr.splitlines() if line.startswith("robkin: error:")]
+    assert len(errors) == len(HOSTILE_SMALL), proc.stderr

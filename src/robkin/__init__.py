@@ -38,11 +38,13 @@ __all__ = [
 ]
 
 
-def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None) -> Robot:
+def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None, *,
+         allow_xacro: bool = False) -> Robot:
     """Load a robot from a robot document (.yaml/.yml/.json), a URDF (.urdf), MJCF (.xml/.mjcf) or SDF (.sdf) file.
 
     ``base_link``/``tip_link`` pick a serial chain from a robot file: URDF/SDF links, MJCF bodies or sites.
+    A .xacro file is expanded only with ``allow_xacro=True`` (xacro runs code from the file).
     """
     from .io import load as _load
 
-    return _load(path, base_link=base_link, tip_link=tip_link)
+    return _load(path, base_link=base_link, tip_link=tip_link, allow_xacro=allow_xacro)

@@ -11,7 +11,9 @@ written); 1 a bug (traceback).
 from __future__ import annotations
 
 import argparse
+import errno
 import importlib
+import os
 import sys
 import warnings
 from typing import Sequence
@@ -72,7 +74,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         warnings.simplefilter("default")
         warnings.showwarning = _show_warning_one_line
         try:
-            return int(args._run(args) or 0)
+            status = int(args._run(args) or 0)
+            sys.stdout.flush()  # here, so that a full disk or closed pipe is reported like any error
+            return status
         except InputError as exc:
             from .messages import render_options
 
@@ -81,8 +85,29 @@ def main(argv: Sequence[str] | None = None) -> int:
         except KeyboardInterrupt:
             print("robkin: interrupted", file=sys.stderr)
             return 130
-        except BrokenPipeError:
+        except BrokenPipeError:  # the reader went away (robkin ... | head): stop quietly
+            _discard_stdout()
             return 0
+        except OSError as exc:
+            if exc.errno not in _OUTPUT_ERRNOS:
+                raise
+            print(f"robkin: error: cannot write to standard output ({exc.strerror})", file=sys.stderr)
+            _discard_stdout()
+            return 2
+
+
+#: errno values of a write that failed for lack of room or a broken device (ENOSPC, EDQUOT, EFBIG, EIO)
+_OUTPUT_ERRNOS = {getattr(errno, name) for name in ("ENOSPC", "EDQUOT", "EFBIG", "EIO") if hasattr(errno, name)}
+
+
+def _discard_stdout() -> None:
+    """Point standard output at the null device, so that the flush at exit cannot fail a second time."""
+    try:
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, sys.stdout.fileno())
+        os.close(null)
+    except (OSError, ValueError, AttributeError):  # stdout replaced by an object without a descriptor
+        pass
 
 
 def _show_warning_one_line(message, category, filename, lineno, file=None, line=None) -> None:

@@ -16,7 +16,8 @@ from typing import TYPE_CHECKING, Any, Iterable, Literal, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .errors import InputError, ProjectionWarning
+from .errors import InputError, ProjectionWarning, quote
+from .names import check_name, duplicates
 from . import se3
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -150,10 +151,13 @@ class Robot:
             raise InputError("joints: a robot needs at least one joint")
         if frames.shape[0] != n + 1:
             raise InputError(f"gjd.frames: expected {n + 1} frames for {n} joints, got {frames.shape[0]}")
-        names = [j.name for j in joints]
-        dup = {x for x in names if names.count(x) > 1}
+        for i, j in enumerate(joints):
+            check_name(j.name, f"joints[{i}].name")
+        if self.name is not None:
+            check_name(self.name, "name")
+        dup = duplicates(j.name for j in joints)
         if dup:
-            raise InputError(f"joints: duplicate joint name(s) {', '.join(sorted(dup))}")
+            raise InputError(f"joints: duplicate joint name(s) {', '.join(quote(d) for d in dup[:8])}")
         checked = np.stack([check_pose(F, f"gjd.frames[{i}]") for i, F in enumerate(frames)])
         world = check_pose(self.world, "world")
         checked.setflags(write=False)

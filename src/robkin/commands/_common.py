@@ -14,7 +14,8 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ..robot import Robot
 
-__all__ = ["add_input", "load_input", "parse_q", "parse_pose", "number_option_fix", "EXAMPLES_DIR"]
+__all__ = ["add_input", "add_allow_xacro", "load_input", "seed", "parse_q", "parse_pose", "number_option_fix",
+           "EXAMPLES_DIR"]
 
 EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "examples"
 
@@ -22,16 +23,38 @@ EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "examples"
 def add_input(p: argparse.ArgumentParser, many: bool = False) -> None:
     """INPUT argument(s) plus the URDF chain selectors."""
     p.add_argument("input", nargs="+" if many else None, metavar="INPUT",
-                   help="robot document (.yaml/.yml/.json), URDF (.urdf), MJCF (.xml/.mjcf) or SDF (.sdf); .xacro is expanded first"
-                   + (" (one or more)" if many else ""))
+                   help="robot document (.yaml/.yml/.json), URDF (.urdf; .xacro with --allow-xacro), "
+                        "MJCF (.xml/.mjcf) or SDF (.sdf)" + (" (one or more)" if many else ""))
     p.add_argument("--base-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: first of the serial chain")
     p.add_argument("--tip-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: last of the chain (the tool)")
+    add_allow_xacro(p)
+
+
+def add_allow_xacro(p: argparse.ArgumentParser) -> None:
+    """The opt-in to expand .xacro input (xacro runs code from the file, so it is off by default)."""
+    p.add_argument("--allow-xacro", action="store_true",
+                   help="expand .xacro input with the xacro package. A .xacro file is a program: it can run "
+                        "code and read files and environment variables, so use this only for files you trust "
+                        "(or expand it yourself: xacro FILE.xacro > FILE.urdf)")
 
 
 def load_input(path: str, args: argparse.Namespace) -> "Robot":
+    """The robot in ``path``, with the command's chain selectors and --allow-xacro."""
     from ..io import load
 
-    return load(path, base_link=getattr(args, "base_link", None), tip_link=getattr(args, "tip_link", None))
+    return load(path, base_link=getattr(args, "base_link", None), tip_link=getattr(args, "tip_link", None),
+                allow_xacro=getattr(args, "allow_xacro", False))
+
+
+def seed(text: str) -> int:
+    """argparse type of a random seed: a whole number 0 .. 2**63 - 1 (what numpy's generators accept)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text[:40]}' is not a whole number") from None
+    if not 0 <= value < 2 ** 63:
+        raise argparse.ArgumentTypeError(f"{value} is not a seed (0 .. 2**63 - 1)")
+    return value
 
 
 def parse_q(text: str, n: int, option: str = "--q") -> "np.ndarray":

@@ -22,6 +22,8 @@ examples:
 
 
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    from ._common import add_allow_xacro
+
     p = sub.add_parser("check", help="are two descriptions the same robot? (exit 0 if yes)",
                        description="Compare two robot descriptions joint by joint: are they the same robot, "
                                    "and if not, which joint differs first and how.",
@@ -30,6 +32,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("b", metavar="B", help="second robot")
     p.add_argument("--base-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: first of the serial chain")
     p.add_argument("--tip-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: last of the chain (the tool)")
+    add_allow_xacro(p)
     p.add_argument("--tol", type=float, default=1e-6,  # = equivalence.DEFAULT_TOL (not imported: startup time)
                    help="relative tolerance on angles (rad) and lengths / robot size (default 1e-06)")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
@@ -67,6 +70,6 @@ def _load(path: str, args: argparse.Namespace):
     from pathlib import Path
 
     if Path(path).suffix.lower() in ROBOT_FILE_EXTENSIONS:
-        return load(path, base_link=args.base_link, tip_link=args.tip_link)
+        return load(path, base_link=args.base_link, tip_link=args.tip_link, allow_xacro=args.allow_xacro)
     return load(path)
 

@@ -122,7 +122,7 @@ def _mapping_note(path: str, robot, fmt: str) -> str | None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..io.atomic import check_writable_dir, write_text_atomic
+    from ..io.atomic import check_writable_dir, write_text_atomic, write_texts_atomic
 
     inputs: list[str] = args.input
     fmt: str = args.to
@@ -145,13 +145,10 @@ def run(args: argparse.Namespace) -> int:
         if dup:
             raise InputError(f"several inputs would write the same file(s): {', '.join(sorted(dup))}")
         check_writable_dir(targets[0] if out_dir.is_dir() else out_dir)  # the folder, or where it will be made
-        texts = []
-        for i in inputs:
-            robot = load_input(i, args)
-            texts.append(_render_file(robot, fmt, _out_ext(fmt)))
+        texts = [_render_file(load_input(i, args), fmt, _out_ext(fmt)) for i in inputs]
         out_dir.mkdir(exist_ok=True)  # only now: a failed conversion leaves no empty folder behind
-        for target, text in zip(targets, texts):
-            write_text_atomic(target, text)
+        write_texts_atomic(list(zip(targets, texts)))  # all or nothing
+        for target in targets:
             wrote(target)
         return 0
     robot = load_input(inputs[0], args)

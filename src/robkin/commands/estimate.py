@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ._common import parse_pose
+from ._common import parse_pose, seed
 
 EPILOG = """\
 Types (Huczala et al. 2021): A nearest distance and B joints on a Bezier curve reach the position;
@@ -54,7 +54,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="optimise the DH parameters for all --pose at least COST (length|manipulability)")
     p.add_argument("--reach", choices=("pose", "position"), default="pose",
                    help="what --optimize must reach (default pose)")
-    p.add_argument("--seed", type=int, default=0, help="random-start seed for --optimize with --type all")
+    p.add_argument("--seed", type=seed, default=0, help="random-start seed for --optimize with --type all")
     p.add_argument("--plot", metavar="FILE", help="with --type all: bar plots of the metrics (.png/.svg/.pdf)")
     p.add_argument("--json", action="store_true", help="print the metrics (and optimisation) as JSON")
     return p
@@ -97,8 +97,8 @@ def run(args: argparse.Namespace) -> int:
         _print_text(results, estimates, opt_summary)
     from ._output import wrote
 
-    for k, path in outputs.items():
-        _write(results[k][0], results[k][1], path, args.format)
+    _write_all({path: results[k][:2] for k, path in outputs.items()})
+    for path in outputs.values():
         wrote(path)
     if args.plot:
         _plot(estimates, args.plot)
@@ -127,13 +127,11 @@ def _output_paths(args: argparse.Namespace, kinds: tuple[str, ...]) -> dict[str,
         return {kinds[0] if kinds[0] != "best" else "best": out}
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: with --type all, -o names a folder (A-D are written into it)")
-    if not out.exists():
-        parent = out.parent if str(out.parent) else Path(".")
-        if not parent.is_dir():
-            raise InputError(f"{out}: folder {parent} does not exist")
-        out.mkdir()
     suffix = ".json" if args.format == "json" else ".yaml"
     paths = {k: out / f"estimate_{k}{suffix}" for k in kinds}
+    if not out.exists():
+        check_writable_dir(out)  # the folder is made when the results are written, not before
+        return paths
     for p in paths.values():
         check_writable_dir(p)
     return paths
@@ -206,14 +204,35 @@ def _print_text(results, estimates, opt_summary) -> None:
                           for r in opt_summary["runs"]], title="optimisation runs"))
 
 
-def _write(robot, metrics, path: Path, fmt: str | None) -> None:
-    from ..io.atomic import write_text_atomic
+def _write_all(outputs: dict[Path, tuple]) -> None:
+    """Write each (robot, metrics) as a document, all or nothing; a folder made for them goes on failure."""
+    from ..io.atomic import write_texts_atomic
     from ..io.document import document_from_robot, dump
 
-    doc = document_from_robot(robot)
-    doc["metrics"] = metrics.as_dict()
-    kind = "json" if path.suffix.lower() == ".json" else "yaml"
-    write_text_atomic(path, dump(doc, kind))
+    items = []
+    for path, (robot, metrics) in outputs.items():
+        doc = document_from_robot(robot)
+        doc["metrics"] = metrics.as_dict()
+        items.append((path, dump(doc, "json" if path.suffix.lower() == ".json" else "yaml")))
+    folders = {p.parent for p in outputs if not p.parent.exists()}
+    try:
+        for folder in folders:
+            folder.mkdir()
+        write_texts_atomic(items)
+    except OSError as exc:
+        _remove_folders(folders)
+        raise InputError(f"{next(iter(folders))}: cannot make the folder ({exc.strerror or exc})") from None
+    except BaseException:
+        _remove_folders(folders)
+        raise
+
+
+def _remove_folders(folders: set[Path]) -> None:
+    for folder in folders:
+        try:
+            folder.rmdir()
+        except OSError:
+            pass
 
 
 def _plot(estimates, path: str) -> None:

@@ -6,7 +6,7 @@ import argparse
 import sys
 from typing import TYPE_CHECKING
 
-from ._common import add_input, load_input, parse_pose, parse_q
+from ._common import add_input, load_input, parse_pose, parse_q, seed
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
@@ -63,7 +63,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="orientation tolerance in radians (default 1e-9)")
     p.add_argument("--restarts", type=int, default=50, metavar="N",
                    help="numeric: random restarts after the first attempt (default 50)")
-    p.add_argument("--seed", type=int, default=0, help="numeric: random seed (default 0)")
+    p.add_argument("--seed", type=seed, default=0, help="numeric: random seed (default 0)")
     return p
 
 

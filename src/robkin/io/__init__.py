@@ -19,14 +19,24 @@ SDF_EXTENSIONS = (".sdf",)
 ROBOT_FILE_EXTENSIONS = URDF_EXTENSIONS + MJCF_EXTENSIONS + SDF_EXTENSIONS
 
 
-def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None) -> Robot:
+def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None, *,
+         allow_xacro: bool = False) -> Robot:
     """Load a Robot from a robot document (.yaml/.yml/.json), a URDF (.urdf, .xacro), an MJCF model
     (.xml, .mjcf) or an SDF model (.sdf).
 
     ``base_link``/``tip_link`` pick a serial chain out of a robot file's tree: links of a URDF or
-    SDF, bodies or sites of an MJCF model (giving them for a document is an error).
+    SDF, bodies or sites of an MJCF model (giving them for a document is an error). A .xacro file is a
+    program (it can run code and read files and environment variables): it is expanded only with
+    ``allow_xacro=True``, else refused.
     """
     p = Path(path)
+    try:
+        return _load(p, base_link, tip_link, allow_xacro)
+    except InputError as exc:  # errors found past the reader (e.g. by Robot) name the file too
+        raise exc.in_source(str(p)) from None
+
+
+def _load(p: Path, base_link: str | None, tip_link: str | None, allow_xacro: bool) -> Robot:
     ext = p.suffix.lower()
     if ext in DOCUMENT_EXTENSIONS:
         if base_link or tip_link:
@@ -37,7 +47,7 @@ def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: s
     if ext in URDF_EXTENSIONS:
         from .urdf import robot_from_urdf
 
-        return robot_from_urdf(p, base_link=base_link, tip_link=tip_link)
+        return robot_from_urdf(p, base_link=base_link, tip_link=tip_link, allow_xacro=allow_xacro)
     if ext in MJCF_EXTENSIONS:
         from .mjcf_read import robot_from_mjcf
 

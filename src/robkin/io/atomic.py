@@ -1,19 +1,32 @@
-"""Writing output files all-or-nothing: a temporary file in the same folder, then an atomic rename.
+"""Writing output files all-or-nothing: temporary files in the target folders, then atomic renames.
 
-On any failure nothing is written and an existing file is left untouched.
+On any failure nothing is written and existing files are left untouched:
+
+* ``atomic_file`` / ``write_text_atomic`` write one file through a temporary file and ``os.replace``;
+* ``write_texts_atomic`` writes several (a batch conversion): every temporary file is written first,
+  and only when all of them are complete are they renamed into place, so a target that cannot be
+  written (a full disk, a read-only file system) leaves every other target as it was;
+* a SIGTERM, SIGHUP or Ctrl-C between creating a temporary file and renaming it removes the
+  temporary file before the program stops (the signal is turned into an exception for the duration,
+  when called from the main thread), so no hidden ``.name.*.tmp`` file is left behind.
 """
 
 from __future__ import annotations
 
 import os
+import signal
 import tempfile
+import threading
 from contextlib import contextmanager
 from pathlib import Path
-from typing import IO, Iterator
+from typing import IO, Iterator, Sequence
 
 from ..errors import InputError
 
-__all__ = ["write_text_atomic", "atomic_file", "check_writable_dir"]
+__all__ = ["write_text_atomic", "write_texts_atomic", "atomic_file", "check_writable_dir", "signals_as_exit"]
+
+#: Signals that would otherwise end the process without running ``finally`` blocks.
+_FATAL_SIGNALS = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
 
 
 def check_writable_dir(path: str | os.PathLike) -> Path:
@@ -38,6 +51,51 @@ def _current_umask() -> int:
     return mask
 
 
+def _exit_on_signal(signum: int, frame: object) -> None:
+    raise SystemExit(128 + signum)  # unwinds through the cleanup below; the usual shell status
+
+
+@contextmanager
+def signals_as_exit() -> Iterator[None]:
+    """While inside, SIGTERM/SIGHUP raise SystemExit (so ``finally`` blocks run); Ctrl-C already raises.
+
+    Only the main thread can install signal handlers; elsewhere (a GUI worker) this does nothing.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = {}
+    for sig in _FATAL_SIGNALS:
+        handler = signal.getsignal(sig)
+        if handler in (signal.SIG_DFL, None):  # leave a handler the embedding program installed alone
+            previous[sig] = handler
+            signal.signal(sig, _exit_on_signal)
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler if handler is not None else signal.SIG_DFL)
+
+
+def _temp_for(path: str | os.PathLike, folder: Path, created: list[str]) -> int:
+    fd, tmp = tempfile.mkstemp(prefix=f".{Path(path).name}.", suffix=".tmp", dir=folder)
+    created.append(tmp)
+    os.chmod(tmp, 0o666 & ~_current_umask())  # ordinary permissions, not mkstemp's private 0600
+    return fd
+
+
+def _open(fd: int, binary: bool) -> IO:
+    return os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8", "newline": "\n"}))
+
+
+def _remove_all(paths: list[str]) -> None:
+    for tmp in paths:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+
+
 @contextmanager
 def atomic_file(path: str | os.PathLike, binary: bool = False) -> Iterator[IO]:
     """A file handle whose content replaces ``path`` only if the ``with`` block completes.
@@ -45,28 +103,53 @@ def atomic_file(path: str | os.PathLike, binary: bool = False) -> Iterator[IO]:
     The file gets ordinary permissions (0666 less the umask), not mkstemp's private 0600.
     """
     folder = check_writable_dir(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{Path(path).name}.", suffix=".tmp", dir=folder)
-    try:
-        os.chmod(tmp, 0o666 & ~_current_umask())
-        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8", "newline": "\n"})) as fh:
-            yield fh
-        os.replace(tmp, path)
-    except OSError as exc:
-        _remove(tmp)
-        raise InputError(f"{path}: cannot write ({exc.strerror or exc})") from None
-    except BaseException:
-        _remove(tmp)
-        raise
-
-
-def _remove(tmp: str) -> None:
-    try:
-        os.unlink(tmp)
-    except OSError:
-        pass
+    created: list[str] = []
+    with signals_as_exit():
+        try:
+            with _open(_temp_for(path, folder, created), binary) as fh:
+                yield fh
+            os.replace(created[0], path)
+        except OSError as exc:
+            _remove_all(created)
+            raise InputError(f"{path}: cannot write ({exc.strerror or exc})") from None
+        except BaseException:
+            _remove_all(created)
+            raise
 
 
 def write_text_atomic(path: str | os.PathLike, text: str) -> None:
     """Write ``text`` to ``path`` atomically (temporary file + rename); InputError if impossible."""
     with atomic_file(path) as fh:
         fh.write(text)
+
+
+def write_texts_atomic(items: Sequence[tuple[str | os.PathLike, str]]) -> None:
+    """Write several (path, text) pairs all-or-nothing: all temporary files first, then the renames.
+
+    If any file cannot be written, no target is created or changed and InputError names that file.
+    Renames need no space and do not fail in practice; should one fail anyway, the message says how
+    many targets were already replaced.
+    """
+    folders = [check_writable_dir(path) for path, _ in items]
+    created: list[str] = []
+    current: str | os.PathLike = ""
+    renamed = 0
+    with signals_as_exit():
+        try:
+            for (path, text), folder in zip(items, folders):
+                current = path
+                with _open(_temp_for(path, folder, created), False) as fh:
+                    fh.write(text)
+            for (path, _), tmp in zip(items, list(created)):
+                current = path
+                os.replace(tmp, path)
+                created.remove(tmp)
+                renamed += 1
+        except OSError as exc:
+            _remove_all(created)
+            done = f"{renamed} file(s) of the batch were already replaced" if renamed else "no file was written"
+            raise InputError(f"{current}: cannot write ({exc.strerror or exc}); {done}") from None
+        except BaseException:
+            _remove_all(created)
+            raise
+

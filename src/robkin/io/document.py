@@ -27,7 +27,7 @@ from ..representations import DHTable, MDHTable, PoE, RPYTable
 from ..representations.gjd import robot_from_gjd
 from ..robot import JOINT_TYPES, Joint, Robot, check_pose
 from .files import read_text_file
-from .numbers import matrix, number, number_list
+from .numbers import MAX_INT_DIGITS, matrix, number, number_list
 
 __all__ = ["SECTIONS", "read_document", "parse_document", "read_sections", "document_from_robot",
            "dump", "same_robot", "read_text", "parse_text", "table_document", "section_key"]
@@ -63,10 +63,14 @@ def read_text(path: str | os.PathLike) -> tuple[str, str]:
 
 
 def parse_text(text: str, fmt: str, source: str) -> Any:
-    """Plain data (dicts, lists, numbers) from YAML or JSON text; InputError with line and column."""
+    """Plain data (dicts, lists, numbers) from YAML or JSON text; InputError with line and column.
+
+    Bounded for untrusted text: YAML aliases are limited (``safe_yaml``), integers too long for a
+    float become +-inf (refused later with the field's name), and deep nesting is an error.
+    """
     if fmt == "json":
         try:
-            return json.loads(text, parse_constant=lambda c: float("nan"))
+            return json.loads(text, parse_constant=lambda c: float("nan"), parse_int=_json_int)
         except json.JSONDecodeError as exc:
             raise InputError(f"not valid JSON (line {exc.lineno}, column {exc.colno}): {exc.msg}",
                              source=source) from None
@@ -74,15 +78,24 @@ def parse_text(text: str, fmt: str, source: str) -> Any:
             raise InputError("JSON nested too deeply", source=source) from None
     import yaml  # lazy: PyYAML import is ~20 ms
 
+    from .safe_yaml import load_yaml
+
     try:
-        return yaml.safe_load(text)
+        return load_yaml(text)
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark
         where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark else ""
         raise InputError(f"not valid YAML{where}: {exc.problem or exc}", source=source) from None
-    except (yaml.YAMLError, RecursionError) as exc:
+    except yaml.YAMLError as exc:
         raise InputError(f"not valid YAML: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}",
                          source=source) from None
+
+
+def _json_int(text: str) -> int | float:
+    """A JSON integer; longer than a float can hold (and than Python converts): +-inf, refused later."""
+    if len(text) > MAX_INT_DIGITS:
+        return float("-inf") if text.startswith("-") else float("inf")
+    return int(text)
 
 
 def parse_document(text: str, fmt: str = "yaml", source: str = "<document>") -> Robot:

@@ -11,9 +11,18 @@ import math
 import operator
 from typing import Any
 
-from ..errors import InputError
+from ..errors import InputError, quote
 
-__all__ = ["number", "number_list", "matrix"]
+__all__ = ["number", "number_list", "matrix", "MAX_INT_DIGITS", "MAX_ABS"]
+
+#: The YAML and JSON readers turn integers longer than this (in characters) into +-inf, which
+#: ``number`` refuses naming the field: 400 digits are beyond the float range (1.8e308), and Python
+#: refuses to convert integers of more than 4300 digits at all.
+MAX_INT_DIGITS = 400
+#: Largest magnitude of any number in a robot description. Norms and products of a few such numbers
+#: must stay finite in float64 (1e100 squared is 1e200), so an absurd value is refused here, naming
+#: its field, instead of overflowing later in a computed frame that the user never typed.
+MAX_ABS = 1e100
 
 _NAMES = {"pi": math.pi, "tau": math.tau, "e": math.e}
 _BINOPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul,
@@ -38,21 +47,27 @@ def _eval(node: ast.AST) -> float:
 def number(value: Any, field: str) -> float:
     """A finite float from a number or an arithmetic string such as "-pi/2"; InputError otherwise."""
     if isinstance(value, bool) or value is None:
-        raise InputError(f"{field}: expected a number, got {value!r}")
+        raise InputError(f"{field}: expected a number, got {quote(value)}")
     if isinstance(value, (int, float)):
-        x = float(value)
+        try:
+            x = float(value)
+        except OverflowError:  # an int beyond the float range
+            x = math.inf
     elif isinstance(value, str):
         text = value.strip()
         if len(text) > 200:
-            raise InputError(f"{field}: expression too long")
+            raise InputError(f"{field}: expression too long ({len(text)} characters; at most 200)")
         try:
             x = float(_eval(ast.parse(text, mode="eval")))
-        except (SyntaxError, ValueError, ZeroDivisionError, OverflowError, TypeError, RecursionError):
-            raise InputError(f"{field}: cannot read {value!r} as a number (numbers, pi, + - * / allowed)") from None
+        except (SyntaxError, ValueError, ZeroDivisionError, OverflowError, TypeError, RecursionError,
+                MemoryError):
+            raise InputError(f"{field}: cannot read {quote(value)} as a number (numbers, pi, + - * / allowed)") from None
     else:
         raise InputError(f"{field}: expected a number, got {type(value).__name__}")
-    if not math.isfinite(x):
-        raise InputError(f"{field}: must be a finite number, got {value!r}")
+    if math.isnan(x):
+        raise InputError(f"{field}: must be a finite number, got {quote(value)}")
+    if not abs(x) <= MAX_ABS:
+        raise InputError(f"{field}: must be a finite number of magnitude at most {MAX_ABS:g}, got {quote(value)}")
     return x
 
 

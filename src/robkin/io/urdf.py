@@ -35,7 +35,8 @@ import numpy as np
 from .. import se3
 from .files import read_text_file
 from .xmltext import quoteattr
-from ..errors import InputError, ProjectionWarning
+from ..errors import InputError, ProjectionWarning, quote
+from ..names import duplicates
 from ..robot import Joint, Robot
 
 __all__ = ["robot_from_urdf", "robot_from_model", "urdf_from_robot", "parse_urdf", "parse_urdf_text",
@@ -57,6 +58,10 @@ NO_LIMIT = 1e10
 #: near 1e154 would overflow float64 in robot size and tolerance computations; 1e100 leaves margin
 #: and is still absurd for any length unit.
 MAX_ABS = 1e100
+#: The one-line refusal of a .xacro file read without the opt-in (why, and the two ways out).
+XACRO_REFUSED = ("{path}: not expanded: a .xacro file is a program (it can run code, read files and environment "
+                 "variables); if you trust it, pass --allow-xacro (Python: allow_xacro=True) or expand it "
+                 "yourself: xacro {path} > {stem}.urdf")
 SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 UNSUPPORTED_TYPES = ("floating", "planar")
 
@@ -112,12 +117,14 @@ class UrdfModel:
 
 
 # ------------------------------------------------------------------------------------------ reading
-def _read_source(source: str | os.PathLike) -> tuple[str, str]:
+def _read_source(source: str | os.PathLike, allow_xacro: bool = False) -> tuple[str, str]:
     """(XML text, name of the source for messages) from a path or an XML string."""
     if isinstance(source, str) and source.lstrip().startswith("<"):
         return source, "<urdf string>"
     p = Path(source)
     if p.suffix.lower() == ".xacro":
+        if not allow_xacro:
+            raise InputError(XACRO_REFUSED.format(path=p, stem=p.stem))
         return _expand_xacro(p), str(p)
     text = read_text_file(p, MAX_BYTES, "a URDF")
     if not text.strip():
@@ -224,13 +231,16 @@ def _joint(el, source: str, index: int) -> UrdfJoint:
     return UrdfJoint(name, jtype, links[0], links[1], origin, axis, lower, upper, el.find("mimic") is not None)
 
 
-def parse_urdf(source: str | os.PathLike) -> UrdfModel:
+def parse_urdf(source: str | os.PathLike, *, allow_xacro: bool = False) -> UrdfModel:
     """Parse and validate the kinematic tree of a URDF (path, .xacro path, or XML string).
+
+    A .xacro path is expanded only with ``allow_xacro=True``: xacro evaluates Python expressions and
+    reads files and environment variables named in the file, so only trusted files may be expanded.
 
     Checks: a <robot> root; unique link and joint names; every joint's parent and child link exist;
     each link has at most one parent joint; one root link; no cycles. Messages name file, joint, link.
     """
-    text, src = _read_source(source)
+    text, src = _read_source(source, allow_xacro)
     return parse_urdf_text(text, src)
 
 
@@ -238,8 +248,8 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
     """``parse_urdf`` of URDF text; ``src`` names it in messages."""
     root = _parse_xml(text, src)
     if any(isinstance(el.tag, str) and el.tag.startswith("{http://www.ros.org/wiki/xacro}") for el in root.iter()):
-        raise InputError(f"{src}: contains xacro macros; give the file a .xacro extension (robkin expands it "
-                         f"with the 'xacro' package) or expand it first: xacro {Path(src).name} > robot.urdf")
+        raise InputError(f"{src}: contains xacro macros; give the file a .xacro extension and, if you trust it, "
+                         f"pass --allow-xacro, or expand it first: xacro {Path(src).name} > robot.urdf")
     if root.tag != "robot":
         raise InputError(f"{src}: root element is <{root.tag}>; a URDF has <robot>")
     links = []
@@ -250,14 +260,14 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
         links.append(name)
     if not links:
         raise InputError(f"{src}: no <link> elements; a URDF robot needs links joined by joints")
-    dup = sorted({x for x in links if links.count(x) > 1})
+    dup = duplicates(links)
     if dup:
-        raise InputError(f"{src}: duplicate link name(s) {', '.join(dup)}")
+        raise InputError(f"{src}: duplicate link name(s) {', '.join(quote(d) for d in dup[:8])}")
     joints = [_joint(el, src, i) for i, el in enumerate(root.findall("joint"))]
     names = [j.name for j in joints]
-    dup = sorted({x for x in names if names.count(x) > 1})
+    dup = duplicates(names)
     if dup:
-        raise InputError(f"{src}: duplicate joint name(s) {', '.join(dup)}")
+        raise InputError(f"{src}: duplicate joint name(s) {', '.join(quote(d) for d in dup[:8])}")
     known = set(links)
     parent_of: dict[str, str] = {}
     for j in joints:
@@ -371,7 +381,7 @@ def _unit_axis(j: UrdfJoint, src: str) -> np.ndarray:
 
 
 def robot_from_urdf(source: str | os.PathLike, base_link: str | None = None, tip_link: str | None = None,
-                    *, name: str | None = None) -> Robot:
+                    *, name: str | None = None, allow_xacro: bool = False) -> Robot:
     """The serial chain base_link -> tip_link of a URDF (path, .xacro path, or XML string) as a Robot.
 
     Parameters
@@ -383,6 +393,9 @@ def robot_from_urdf(source: str | os.PathLike, base_link: str | None = None, tip
         fixed to it). Default tip: the only leaf below the base; with several an InputError lists them.
     name : str, optional
         Robot name; default the URDF's ``<robot name>``.
+    allow_xacro : bool
+        Expand a .xacro file (default False: refused). xacro runs code and reads files and
+        environment variables named in the file; pass True only for files you trust.
 
     Returns
     -------
@@ -390,7 +403,7 @@ def robot_from_urdf(source: str | os.PathLike, base_link: str | None = None, tip
         GJD frames (n+1, 4, 4) in the base link frame (lengths in the file's unit, normally metres),
         joints with the URDF names and limits, ``world`` = root link -> base link at q = 0.
     """
-    return robot_from_model(parse_urdf(source), base_link, tip_link, name=name)
+    return robot_from_model(parse_urdf(source, allow_xacro=allow_xacro), base_link, tip_link, name=name)
 
 
 def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: str | None = None,

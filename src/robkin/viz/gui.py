@@ -12,43 +12,108 @@ representation, downloads) and a JSON API over :mod:`robkin.viz.gui_api`:
     ``{"ok": true, "filename", "mime", "content"}`` or ``{"ok": false, "error"}``.
 
 Bad input is answered with ``ok: false`` and a message the page shows; an unexpected exception is
-logged and answered the same way, so no request can stop the server. The server binds 127.0.0.1 by
-default and, when bound to a loopback address, refuses requests whose Host header names another host
-(a guard against DNS rebinding by web pages open in the same browser).
+logged and answered the same way, so no request can stop the server. The server binds loopback
+addresses only (127.0.0.0/8, ::1, localhost) and answers only requests that pass
+:func:`robkin.viz.http_policy.check_request` (a loopback Host header with this port; same-origin for
+anything but GET/HEAD), checked in ``parse_request`` before any route runs, so every route, present or
+future, is covered. A bounded pool of worker threads serves the connections; each one is closed after
+``REQUEST_TIMEOUT`` seconds of silence or ``MAX_CONNECTION_SECONDS`` in all, so slow clients cannot pin
+the server.
 """
 
 from __future__ import annotations
 
 import json
+import socket
 import sys
 import threading
+import time
 import traceback
+from concurrent.futures import ThreadPoolExecutor
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
+from ..errors import InputError, quote
+from .http_policy import (MAX_BODY, MAX_CONNECTION_SECONDS, MAX_PENDING, MAX_WORKERS, REQUEST_TIMEOUT,
+                          check_request, is_loopback, static_file)
 
 __all__ = ["GuiServer", "make_server", "STATIC_DIR"]
 
 STATIC_DIR = Path(__file__).resolve().parent / "static"
 _STATIC_TYPES = {".html": "text/html; charset=utf-8", ".js": "text/javascript; charset=utf-8",
                  ".css": "text/css; charset=utf-8", ".svg": "image/svg+xml", ".png": "image/png"}
-_LOOPBACK = ("127.0.0.1", "localhost", "::1", "[::1]")
-#: Largest request body: the robot text limit plus room for the JSON wrapper and escaping.
-_MAX_BODY = 10 * 1024 * 1024
+#: Request fields that must be strings (or absent / null) when given.
+_STRING_FIELDS = ("text", "fmt", "to", "base_link", "tip_link")
 
 
 class GuiServer(ThreadingHTTPServer):
-    """The GUI's HTTP server; ``start`` holds the robot text to show first (may be empty)."""
+    """The GUI's HTTP server; ``start`` holds the robot text to show first (may be empty).
+
+    Connections are served by at most ``MAX_WORKERS`` threads; up to ``MAX_PENDING`` more wait for
+    one, and beyond that a connection is answered 503 at once. A watchdog closes connections older
+    than ``MAX_CONNECTION_SECONDS``.
+    """
 
     daemon_threads = True
 
     def __init__(self, address: tuple[str, int], start: dict[str, Any], quiet: bool = True) -> None:
+        if ":" in address[0]:
+            self.address_family = socket.AF_INET6
         super().__init__(address, _Handler)
         self.start_payload = start
         self.quiet = quiet
+        self._pool = ThreadPoolExecutor(MAX_WORKERS, thread_name_prefix="robkin-gui-worker")
+        self._slots = threading.BoundedSemaphore(MAX_WORKERS + MAX_PENDING)
+        self._deadlines: dict[socket.socket, float] = {}
+        self._lock = threading.Lock()
+        self._closed = threading.Event()
+        threading.Thread(target=self._watchdog, name="robkin-gui-watchdog", daemon=True).start()
+
+    def process_request(self, request: Any, client_address: Any) -> None:
+        """Queue the connection for the worker pool (or refuse it at once when the queue is full)."""
+        if not self._slots.acquire(blocking=False):
+            try:
+                request.sendall(b"HTTP/1.1 503 Service Unavailable\r\nContent-Length: 0\r\n"
+                                b"Connection: close\r\n\r\n")
+            except OSError:
+                pass
+            self.shutdown_request(request)
+            return
+        with self._lock:
+            self._deadlines[request] = time.monotonic() + MAX_CONNECTION_SECONDS
+        self._pool.submit(self._serve, request, client_address)
+
+    def _serve(self, request: Any, client_address: Any) -> None:
+        try:
+            self.process_request_thread(request, client_address)  # handles, logs errors, closes
+        finally:
+            with self._lock:
+                self._deadlines.pop(request, None)
+            self._slots.release()
+
+    def _watchdog(self) -> None:
+        """Once a second, cut connections that have lived longer than MAX_CONNECTION_SECONDS."""
+        while not self._closed.wait(1.0):
+            now = time.monotonic()
+            with self._lock:
+                expired = [s for s, t in self._deadlines.items() if t < now]
+            for s in expired:
+                try:
+                    s.shutdown(socket.SHUT_RDWR)  # the worker's next read or write fails; it closes
+                except OSError:
+                    pass
+
+    def handle_error(self, request: Any, client_address: Any) -> None:
+        """Log a handler's exception, except a client that went away or timed out (an OSError)."""
+        if not isinstance(sys.exc_info()[1], OSError):
+            super().handle_error(request, client_address)
+
+    def server_close(self) -> None:
+        super().server_close()
+        self._closed.set()
+        self._pool.shutdown(wait=False, cancel_futures=True)
 
     @property
     def url(self) -> str:
@@ -74,6 +139,9 @@ def make_server(host: str = "127.0.0.1", port: int = 8765, text: str = "", fmt: 
     """
     from ..commands._common import EXAMPLES_DIR
 
+    if not is_loopback(host):
+        raise InputError(f"--host {host}: not a loopback address; the GUI serves this machine only "
+                         f"(127.0.0.1, another 127.x.y.z, ::1 or localhost)")
     examples = {p.stem: p.read_text(encoding="utf-8") for p in sorted(EXAMPLES_DIR.glob("*.yaml"))}
     start = {"text": text, "fmt": fmt, "base_link": base_link or "", "tip_link": tip_link or "",
              "source": source, "examples": examples}
@@ -88,25 +156,37 @@ class _Handler(BaseHTTPRequestHandler):
     server: GuiServer
     server_version = "robkin-gui"
     protocol_version = "HTTP/1.1"
+    timeout = REQUEST_TIMEOUT  # per read/write on the connection (socketserver sets it in setup)
 
     # ----------------------------------------------------------------- plumbing
     def log_message(self, format: str, *args: Any) -> None:  # noqa: A002 - signature of the base class
         if not self.server.quiet:
             super().log_message(format, *args)
 
-    def _host_ok(self) -> bool:
-        bound = self.server.server_address[0]
-        if bound not in _LOOPBACK:
-            return True  # the user chose to listen on a network address
-        host = (self.headers.get("Host") or "").strip().lower()
-        name = host.rsplit(":", 1)[0] if not host.startswith("[") else host.split("]")[0] + "]"
-        return name in _LOOPBACK
+    def parse_request(self) -> bool:
+        """Parse the request line and headers, then apply the request policy before any route runs."""
+        return super().parse_request() and self._allowed()
+
+    def handle_expect_100(self) -> bool:
+        """``Expect: 100-continue``: apply the policy before inviting the client to send its body."""
+        return self._allowed() and super().handle_expect_100()
+
+    def _allowed(self) -> bool:
+        """True if the request passes ``check_request``; else answer the refusal and close."""
+        refusal = check_request(self.command, self.headers, self.server.server_address[1])
+        if refusal is None:
+            return True
+        self.close_connection = True
+        self._send(refusal.status, refusal.reason.encode(), "text/plain; charset=utf-8")
+        return False
 
     def _send(self, status: int, body: bytes, ctype: str) -> None:
         self.send_response(status)
         self.send_header("Content-Type", ctype)
         self.send_header("Content-Length", str(len(body)))
         self.send_header("Cache-Control", "no-store")
+        if self.close_connection:  # e.g. a refused request whose body was not read
+            self.send_header("Connection", "close")
         self.send_header("X-Content-Type-Options", "nosniff")
         self.send_header("Content-Security-Policy",
                          "default-src 'self'; img-src 'self' data: blob:; style-src 'self'; object-src 'none'")
@@ -123,44 +203,42 @@ class _Handler(BaseHTTPRequestHandler):
 
     # ----------------------------------------------------------------- routes
     def do_GET(self) -> None:  # noqa: N802 - http.server naming
-        if not self._host_ok():
-            return self._send(HTTPStatus.FORBIDDEN, b"forbidden host", "text/plain")
-        path = self.path.split("?", 1)[0]
+        path = self.path.split("?", 1)[0].split("#", 1)[0]
         if path == "/api/start":
             return self._json(self.server.start_payload)
-        name = "index.html" if path in ("/", "/index.html") else path.removeprefix("/static/")
-        f = STATIC_DIR / name
-        # Only plain files directly in static/ (no '/', no '..'): nothing else on disk is reachable.
-        if "/" in name or name.startswith(".") or f.suffix not in _STATIC_TYPES or not f.is_file():
+        f = None
+        if path in ("/", "/index.html"):
+            f = static_file(STATIC_DIR, "index.html")
+        elif path.startswith("/static/"):
+            f = static_file(STATIC_DIR, path.removeprefix("/static/"))  # nothing outside static/ is reachable
+        if f is None or f.suffix not in _STATIC_TYPES:
             return self._send(HTTPStatus.NOT_FOUND, b"not found", "text/plain")
         self._send(HTTPStatus.OK, f.read_bytes(), _STATIC_TYPES[f.suffix])
 
     do_HEAD = do_GET
 
     def do_POST(self) -> None:  # noqa: N802
-        if not self._host_ok():
-            return self._send(HTTPStatus.FORBIDDEN, b"forbidden host", "text/plain")
         path = self.path.split("?", 1)[0]
         if path not in ("/api/describe", "/api/export"):
+            self.close_connection = True  # the body is not read
             return self._send(HTTPStatus.NOT_FOUND, b"not found", "text/plain")
-        try:
-            length = int(self.headers.get("Content-Length") or 0)
-        except ValueError:
-            length = -1
-        if not 0 < length <= _MAX_BODY:
-            self.close_connection = True
-            return self._json({"ok": False, "error": f"request: body must be 1..{_MAX_BODY} bytes"}, 413)
+        length = int(self.headers["Content-Length"])  # the request policy checked it (1 number <= MAX_BODY)
+        if length == 0:
+            return self._json({"ok": False, "error": f"request: body must be 1..{MAX_BODY} bytes"}, 400)
         try:
             req = json.loads(self.rfile.read(length).decode("utf-8"))
             if not isinstance(req, dict):
                 raise ValueError("not an object")
-        except (ValueError, UnicodeDecodeError):
+        except (ValueError, UnicodeDecodeError, RecursionError):
             return self._json({"ok": False, "error": "request: expected a JSON object"}, 400)
         self._json(self._answer(path, req))
 
     def _answer(self, path: str, req: dict[str, Any]) -> dict[str, Any]:
         from . import gui_api
 
+        for key in _STRING_FIELDS:
+            if req.get(key) is not None and not isinstance(req[key], str):
+                return {"ok": False, "error": f"request.{key}: expected a string, got {type(req[key]).__name__}"}
         args = {"text": req.get("text", ""), "fmt": req.get("fmt") or "auto",
                 "base_link": req.get("base_link") or None, "tip_link": req.get("tip_link") or None}
         try:
@@ -173,4 +251,5 @@ class _Handler(BaseHTTPRequestHandler):
             return {"ok": False, "error": str(exc)}
         except Exception as exc:  # a bug: keep serving, show it, log the traceback
             traceback.print_exc(file=sys.stderr)
-            return {"ok": False, "error": f"internal error ({type(exc).__name__}: {exc}); please report it"}
+            return {"ok": False, "error": f"internal error ({type(exc).__name__}: {quote(str(exc), 200)}); "
+                                          f"please report it"}
