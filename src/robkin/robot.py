@@ -250,89 +250,23 @@ class Robot:
         L.setflags(write=False)
         return L
 
-    def fk(self, q: ArrayLike) -> np.ndarray:
-        """Tool pose in the base frame: q (n,) -> (4, 4), or a batch (N, n) -> (N, 4, 4)."""
-        Q = check_q(q, self.n)
-        if Q.ndim == 1:
-            return self._fk_one(Q)
-        return self._fk_batch(Q)
-
-    def _joint_motions(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """cos, sin and slide of every joint for q (..., n): revolute (cos q, sin q, 0), prismatic (1, 0, q)."""
-        rev = self.revolute
-        c = np.where(rev, np.cos(Q), 1.0)
-        s = np.where(rev, np.sin(Q), 0.0)
-        t = np.where(rev, 0.0, Q)
-        return c, s, t
-
     @cached_property
-    def _fk_parts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool]:
-        """B, C, S, P (n, 4, 4) with L_i Z_i(q) = B_i + cos(q) C_i + sin(q) S_i + q P_i, and whether
-        any joint is prismatic (P is then not all zero).
+    def _chain(self):
+        """The compiled chain (``robkin.compiled.fk.Chain``), built on the first kinematics call."""
+        from .compiled.fk import Chain
 
-        A revolute Z mixes columns 0 and 1 of L_i (x -> c x + s y, y -> c y - s x); a prismatic Z
-        adds q z to column 3. Precomputed once, so FK needs no per-joint branching or masking (the
-        cos/sin of a prismatic q multiply zero matrices).
+        return Chain(self._local, self.revolute)
+
+    def fk(self, q: ArrayLike) -> np.ndarray:
+        """Tool pose in the base frame: q (n,) -> (4, 4), or a batch (N, n) -> (N, 4, 4).
+
+        Compiled (``robkin.compiled.fk``); a float64 array is used as it is, anything else is
+        validated and converted first. Joint values in radians (revolute) or length units (prismatic).
         """
-        L = self._local[:-1]
-        rev, pri = self.revolute, ~self.revolute
-        B, C, S, P = L.copy(), np.zeros_like(L), np.zeros_like(L), np.zeros_like(L)
-        B[rev, :, :2] = 0.0
-        C[rev, :, 0], C[rev, :, 1] = L[rev, :, 0], L[rev, :, 1]
-        S[rev, :, 0], S[rev, :, 1] = L[rev, :, 1], -L[rev, :, 0]
-        P[pri, :, 3] = L[pri, :, 2]
-        for part in (B, C, S, P):
-            part.setflags(write=False)
-        return B, C, S, P, bool(pri.any())
-
-    def _fk_one(self, q: np.ndarray) -> np.ndarray:
-        # All link transforms at once, A_i = L_i Z_i(q_i), in a few whole-array operations, then
-        # their product. At this size the cost is Python-call overhead, not arithmetic: np.dot on
-        # 4x4 costs about half of the @ operator (measured), and no per-joint branching remains.
-        B, C, S, P, prismatic = self._fk_parts
-        A = B + np.cos(q)[:, None, None] * C + np.sin(q)[:, None, None] * S
-        if prismatic:
-            A += q[:, None, None] * P
-        T = A[0]
-        for i in range(1, self.n):
-            T = np.dot(T, A[i])
-        return np.dot(T, self._local[-1])
-
-    #: configurations per block of batch FK: the block's pose columns (4 x 3 x 1024 doubles, 96 kB)
-    #: stay in cache through all joints. Measured on a 7-joint arm (a shared, noisy machine): whole
-    #: batches of 1e5 ran ~3x slower per configuration than 1e3; blocks of 2048 ~1.4x slower than
-    #: 1024; 512 no faster.
-    _FK_BLOCK = 1024
-
-    def _fk_batch(self, Q: np.ndarray) -> np.ndarray:
-        # The poses are kept column-major, F[k] = column k of [R | p] for every configuration, shape
-        # (4, m, 3), so that every operation runs on contiguous memory: right-multiplying by a fixed
-        # 4x4 is one GEMM L^T (4, 4) @ F (4, 3m), and a joint motion mixes two columns (revolute) or
-        # adds to the last one (prismatic). Joint values are taken per block and transposed, so the
-        # per-joint factors are contiguous too.
-        N = Q.shape[0]
-        L = self._local
-        out = np.empty((N, 4, 4))
-        out[:, 3] = (0.0, 0.0, 0.0, 1.0)
-        first = np.ascontiguousarray(L[0, :3].T)[:, None, :]  # (4, 1, 3)
-        for start in range(0, N, self._FK_BLOCK):
-            stop = min(N, start + self._FK_BLOCK)
-            m = stop - start
-            Qb = np.ascontiguousarray(Q[start:stop].T)[:, :, None]  # (n, m, 1)
-            c, s = np.cos(Qb), np.sin(Qb)
-            F = np.repeat(first, m, axis=1)  # (4, m, 3)
-            for i in range(self.n):
-                if self.revolute[i]:
-                    x = F[0] * c[i]
-                    x += F[1] * s[i]
-                    F[1] *= c[i]
-                    F[1] -= F[0] * s[i]
-                    F[0] = x
-                else:
-                    F[3] += Qb[i] * F[2]
-                F = (L[i + 1].T @ F.reshape(4, -1)).reshape(4, m, 3)
-            out[start:stop, :3] = F.transpose(1, 2, 0)
-        return out
+        T = self._chain.fk(q)
+        if T is None:
+            T = self._chain.fk(np.ascontiguousarray(check_q(q, self.n)))
+        return T
 
     def frames_at(self, q: ArrayLike) -> np.ndarray:
         """All GJD frames moved to configuration q: (n,) -> (n+1, 4, 4), (N, n) -> (N, n+1, 4, 4).
@@ -340,23 +274,10 @@ class Robot:
         Frame i is joint i's frame *after* its own motion, so frame n+1 is the tool pose fk(q).
         Joint i's axis at q is the z axis of frame i before its motion, which has the same z axis.
         """
-        Q = check_q(q, self.n)
-        single = Q.ndim == 1
-        Q2 = np.atleast_2d(Q)
-        N = Q2.shape[0]
-        L = self._local
-        c, s, t = self._joint_motions(Q2)
-        out = np.empty((N, self.n + 1, 4, 4))
-        T = np.broadcast_to(L[0], (N, 4, 4)).copy()
-        for i in range(self.n):
-            Z = np.broadcast_to(np.eye(4), (N, 4, 4)).copy()
-            Z[:, 0, 0] = Z[:, 1, 1] = c[:, i]
-            Z[:, 0, 1], Z[:, 1, 0] = -s[:, i], s[:, i]
-            Z[:, 2, 3] = t[:, i]
-            out[:, i] = T @ Z
-            T = out[:, i] @ L[i + 1]
-        out[:, self.n] = T
-        return out[0] if single else out
+        F = self._chain.frames(q)
+        if F is None:
+            F = self._chain.frames(np.ascontiguousarray(check_q(q, self.n)))
+        return F
 
     def ik(self, T: ArrayLike, **options):
         """Inverse kinematics for a target (4, 4) or targets (N, 4, 4): see ``robkin.kinematics.ik.ik``.

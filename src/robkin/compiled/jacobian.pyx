@@ -1,0 +1,131 @@
+# cython: language_level=3
+"""Geometric Jacobians (space, body, and [v; w] at the tool), single configuration and batch.
+
+``jacobian(chain, q, kind)`` returns (6, n) for q (n,) or (N, 6, n) for q (N, n), or ``None`` when q is
+not a C-contiguous float64 array of finite values of the right shape (the Python wrapper then validates
+and converts). ``kind``: 0 = geometric [v; w] at the tool origin in the base frame, 1 = space (w, v)
+(Modern Robotics eq. 5.11), 2 = body (w, v) in the tool frame.
+"""
+
+cimport numpy as cnp
+from robkin.compiled.fk cimport Chain, move_joint, usable_q
+from robkin.compiled.linalg cimport tf_mul, tf_copy
+
+cnp.import_array()
+
+GEOMETRIC = 0
+SPACE = 1
+BODY = 2
+
+
+cdef void jacobian_one(const double* L, const unsigned char* rev, int n, const double* q, int kind,
+                       double* J) noexcept nogil:
+    """J (6 x n, row-major) at q; see the module docstring for ``kind``.
+
+    While walking the chain, joint i's axis z_i and a point p_i on it (the origin of its frame) are
+    parked in column i (p in rows 0-2, z in rows 3-5); once the tool pose is known each column is
+    turned into its final form.
+    """
+    cdef double T[16]
+    cdef double A[16]
+    cdef double z0, z1, z2, d0, d1, d2, v0, v1, v2, w0, w1, w2
+    cdef int i, r
+    tf_copy(L, T)
+    for i in range(n):
+        move_joint(T, rev[i], q[i])
+        J[i] = T[3]
+        J[n + i] = T[7]
+        J[2 * n + i] = T[11]
+        J[3 * n + i] = T[2]
+        J[4 * n + i] = T[6]
+        J[5 * n + i] = T[10]
+        tf_mul(T, L + 16 * (i + 1), A)
+        tf_copy(A, T)
+    for i in range(n):
+        z0 = J[3 * n + i]
+        z1 = J[4 * n + i]
+        z2 = J[5 * n + i]
+        if rev[i]:
+            w0 = z0
+            w1 = z1
+            w2 = z2
+            if kind == 1:
+                # space: v = -z x p = p x z
+                d0 = J[i]
+                d1 = J[n + i]
+                d2 = J[2 * n + i]
+                v0 = d1 * z2 - d2 * z1
+                v1 = d2 * z0 - d0 * z2
+                v2 = d0 * z1 - d1 * z0
+            else:
+                # geometric and body: v = z x (p_tool - p)
+                d0 = T[3] - J[i]
+                d1 = T[7] - J[n + i]
+                d2 = T[11] - J[2 * n + i]
+                v0 = z1 * d2 - z2 * d1
+                v1 = z2 * d0 - z0 * d2
+                v2 = z0 * d1 - z1 * d0
+        else:
+            w0 = 0.0
+            w1 = 0.0
+            w2 = 0.0
+            v0 = z0
+            v1 = z1
+            v2 = z2
+        if kind == 2:
+            # body: both halves seen from the tool frame, R^T w and R^T v (v = z x (p_tool - p) is
+            # the space v minus p_tool x w, as Ad_{T^-1} prescribes)
+            d0 = T[0] * w0 + T[4] * w1 + T[8] * w2
+            d1 = T[1] * w0 + T[5] * w1 + T[9] * w2
+            d2 = T[2] * w0 + T[6] * w1 + T[10] * w2
+            w0, w1, w2 = d0, d1, d2
+            d0 = T[0] * v0 + T[4] * v1 + T[8] * v2
+            d1 = T[1] * v0 + T[5] * v1 + T[9] * v2
+            d2 = T[2] * v0 + T[6] * v1 + T[10] * v2
+            v0, v1, v2 = d0, d1, d2
+        if kind == 0:
+            J[i] = v0
+            J[n + i] = v1
+            J[2 * n + i] = v2
+            J[3 * n + i] = w0
+            J[4 * n + i] = w1
+            J[5 * n + i] = w2
+        else:
+            J[i] = w0
+            J[n + i] = w1
+            J[2 * n + i] = w2
+            J[3 * n + i] = v0
+            J[4 * n + i] = v1
+            J[5 * n + i] = v2
+
+
+def jacobian(Chain chain, q, int kind):
+    """(6, n) for q (n,), (N, 6, n) for q (N, n); None if q is not usable as is (see the module doc)."""
+    cdef cnp.ndarray a, out
+    cdef cnp.npy_intp dims[3]
+    cdef Py_ssize_t N, k
+    cdef int n = chain.n
+    cdef const double* Q
+    cdef double* O
+    if kind < 0 or kind > 2:
+        raise ValueError("kind must be 0 (geometric), 1 (space) or 2 (body)")
+    if not usable_q(q, n):
+        return None
+    a = <cnp.ndarray>q
+    Q = <const double*>cnp.PyArray_DATA(a)
+    if cnp.PyArray_NDIM(a) == 1:
+        dims[0] = 6
+        dims[1] = n
+        out = cnp.PyArray_EMPTY(2, dims, cnp.NPY_DOUBLE, 0)
+        jacobian_one(chain.L, chain.rev, n, Q, kind, <double*>cnp.PyArray_DATA(out))
+        return out
+    N = cnp.PyArray_DIM(a, 0)
+    dims[0] = N
+    dims[1] = 6
+    dims[2] = n
+    out = cnp.PyArray_EMPTY(3, dims, cnp.NPY_DOUBLE, 0)
+    O = <double*>cnp.PyArray_DATA(out)
+    with nogil:
+        for k in range(N):
+            jacobian_one(chain.L, chain.rev, n, Q + k * n, kind, O + 6 * n * k)
+    return out
