@@ -19,14 +19,13 @@ BODY = 2
 
 
 cdef void jacobian_one(const double* L, const unsigned char* rev, int n, const double* q, int kind,
-                       double* J) noexcept nogil:
-    """J (6 x n, row-major) at q; see the module docstring for ``kind``.
+                       double* J, double* T) noexcept nogil:
+    """J (6 x n, row-major) at q, and the tool pose T (4x4); see the module docstring for ``kind``.
 
     While walking the chain, joint i's axis z_i and a point p_i on it (the origin of its frame) are
     parked in column i (p in rows 0-2, z in rows 3-5); once the tool pose is known each column is
     turned into its final form.
     """
-    cdef double T[16]
     cdef double A[16]
     cdef double z0, z1, z2, d0, d1, d2, v0, v1, v2, w0, w1, w2
     cdef int i, r
@@ -107,6 +106,7 @@ def jacobian(Chain chain, q, int kind):
     cdef int n = chain.n
     cdef const double* Q
     cdef double* O
+    cdef double T[16]
     if kind < 0 or kind > 2:
         raise ValueError("kind must be 0 (geometric), 1 (space) or 2 (body)")
     if not usable_q(q, n):
@@ -117,7 +117,7 @@ def jacobian(Chain chain, q, int kind):
         dims[0] = 6
         dims[1] = n
         out = cnp.PyArray_EMPTY(2, dims, cnp.NPY_DOUBLE, 0)
-        jacobian_one(chain.L, chain.rev, n, Q, kind, <double*>cnp.PyArray_DATA(out))
+        jacobian_one(chain.L, chain.rev, n, Q, kind, <double*>cnp.PyArray_DATA(out), T)
         return out
     N = cnp.PyArray_DIM(a, 0)
     dims[0] = N
@@ -127,5 +127,5 @@ def jacobian(Chain chain, q, int kind):
     O = <double*>cnp.PyArray_DATA(out)
     with nogil:
         for k in range(N):
-            jacobian_one(chain.L, chain.rev, n, Q + k * n, kind, O + 6 * n * k)
+            jacobian_one(chain.L, chain.rev, n, Q + k * n, kind, O + 6 * n * k, T)
     return out
