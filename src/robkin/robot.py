@@ -216,11 +216,13 @@ class Robot:
         s = max(s, 1e-3 * origins)
         return s if s > 0 else 1.0
 
-    @property
+    @cached_property
     def limits(self) -> np.ndarray:
-        """Joint limits (n, 2), -inf/+inf where none are given."""
-        return np.array([[-np.inf if j.lower is None else j.lower, np.inf if j.upper is None else j.upper]
-                         for j in self.joints])
+        """Joint limits (n, 2), -inf/+inf where none are given (read-only)."""
+        lim = np.array([[-np.inf if j.lower is None else j.lower, np.inf if j.upper is None else j.upper]
+                        for j in self.joints])
+        lim.setflags(write=False)
+        return lim
 
     def screws(self) -> np.ndarray:
         """Space-frame unit screws (n, 6) ordered (w, v): revolute (z, -z x p), prismatic (0, z)."""

@@ -31,10 +31,10 @@ def dh_frames(a, d, alpha, theta):
     R : (B, K, 3, 3) array
         Rotation of frame {n} (the tool).
     """
-    cdef double[:, ::1] A = np.ascontiguousarray(a, dtype=np.float64)
-    cdef double[:, ::1] D = np.ascontiguousarray(d, dtype=np.float64)
-    cdef double[:, ::1] AL = np.ascontiguousarray(alpha, dtype=np.float64)
-    cdef double[:, :, ::1] TH = np.ascontiguousarray(theta, dtype=np.float64)
+    cdef const double[:, ::1] A = np.ascontiguousarray(a, dtype=np.float64)
+    cdef const double[:, ::1] D = np.ascontiguousarray(d, dtype=np.float64)
+    cdef const double[:, ::1] AL = np.ascontiguousarray(alpha, dtype=np.float64)
+    cdef const double[:, :, ::1] TH = np.ascontiguousarray(theta, dtype=np.float64)
     cdef Py_ssize_t B = TH.shape[0], K = TH.shape[1], n = TH.shape[2]
     if A.shape[0] != B or D.shape[0] != B or AL.shape[0] != B or A.shape[1] != n or D.shape[1] != n \
             or AL.shape[1] != n:
@@ -125,11 +125,11 @@ def dh_volumes(a, d, alpha, theta, length, bint pose):
     (B, K) array
         prod of the min(n, rows) singular values (0 at a singular configuration).
     """
-    cdef double[:, ::1] A = np.ascontiguousarray(a, dtype=np.float64)
-    cdef double[:, ::1] D = np.ascontiguousarray(d, dtype=np.float64)
-    cdef double[:, ::1] AL = np.ascontiguousarray(alpha, dtype=np.float64)
-    cdef double[:, :, ::1] TH = np.ascontiguousarray(theta, dtype=np.float64)
-    cdef double[::1] LEN = np.ascontiguousarray(length, dtype=np.float64)
+    cdef const double[:, ::1] A = np.ascontiguousarray(a, dtype=np.float64)
+    cdef const double[:, ::1] D = np.ascontiguousarray(d, dtype=np.float64)
+    cdef const double[:, ::1] AL = np.ascontiguousarray(alpha, dtype=np.float64)
+    cdef const double[:, :, ::1] TH = np.ascontiguousarray(theta, dtype=np.float64)
+    cdef const double[::1] LEN = np.ascontiguousarray(length, dtype=np.float64)
     cdef Py_ssize_t B = TH.shape[0], K = TH.shape[1], n = TH.shape[2]
     if A.shape[0] != B or D.shape[0] != B or AL.shape[0] != B or LEN.shape[0] != B or A.shape[1] != n \
             or D.shape[1] != n or AL.shape[1] != n:

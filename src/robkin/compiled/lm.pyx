@@ -23,7 +23,7 @@ cimport numpy as cnp
 from libc.math cimport sqrt, fabs, ceil, isfinite, INFINITY, M_PI
 from libc.stdlib cimport malloc, free
 from libc.stdint cimport uint64_t
-from robkin.compiled.fk cimport Chain
+from robkin.compiled.fk cimport Chain, walk_tool
 from robkin.compiled.jacobian cimport jacobian_one
 from robkin.compiled.linalg cimport rot_log
 
@@ -334,13 +334,13 @@ def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_u
     Returns q (N, n), converged (N,) bool, iterations (N,) int64, attempts (N,) int64.
     """
     cdef int n = chain.n
-    cdef double[:, :, ::1] T = np.ascontiguousarray(targets, dtype=np.float64)
-    cdef double[:, ::1] Q0 = np.ascontiguousarray(q0, dtype=np.float64)
-    cdef double[::1] lo = np.ascontiguousarray(lower, dtype=np.float64)
-    cdef double[::1] hi = np.ascontiguousarray(upper, dtype=np.float64)
-    cdef double[::1] rlo = np.ascontiguousarray(restart_lower, dtype=np.float64)
-    cdef double[::1] rhi = np.ascontiguousarray(restart_upper, dtype=np.float64)
-    cdef double[::1] msk = np.ascontiguousarray(mask, dtype=np.float64)
+    cdef const double[:, :, ::1] T = np.ascontiguousarray(targets, dtype=np.float64)
+    cdef const double[:, ::1] Q0 = np.ascontiguousarray(q0, dtype=np.float64)
+    cdef const double[::1] lo = np.ascontiguousarray(lower, dtype=np.float64)
+    cdef const double[::1] hi = np.ascontiguousarray(upper, dtype=np.float64)
+    cdef const double[::1] rlo = np.ascontiguousarray(restart_lower, dtype=np.float64)
+    cdef const double[::1] rhi = np.ascontiguousarray(restart_upper, dtype=np.float64)
+    cdef const double[::1] msk = np.ascontiguousarray(mask, dtype=np.float64)
     cdef Py_ssize_t N = T.shape[0], k
     if T.shape[1] != 4 or T.shape[2] != 4 or Q0.shape[0] != N or Q0.shape[1] != n or lo.shape[0] != n \
             or hi.shape[0] != n or rlo.shape[0] != n or rhi.shape[0] != n or msk.shape[0] != 6:
@@ -394,3 +394,48 @@ def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_u
                               &Q0[k, 0], stream, work, &Qo[k, 0], &its[k], &att[k])
     free(work)
     return q_arr, ok_arr.view(np.bool_), it_arr, at_arr
+
+
+def pose_errors(Chain chain, q, targets, mask):
+    """Masked position and orientation errors of the tool at q (M, n) towards targets (M, 4, 4).
+
+    Forward kinematics (the same walk as ``Robot.fk``) and the residual (p_d - p, log(R_d R^T)) over
+    the components the 0/1 ``mask`` (6,) selects. Returns ep, eo (M,): length units and radians,
+    inf where a row of q is not finite.
+    """
+    cdef int n = chain.n
+    cdef const double[:, ::1] Q = np.ascontiguousarray(q, dtype=np.float64)
+    cdef const double[:, :, ::1] Td = np.ascontiguousarray(targets, dtype=np.float64)
+    cdef const double[::1] msk = np.ascontiguousarray(mask, dtype=np.float64)
+    cdef Py_ssize_t M = Q.shape[0], k
+    if Q.shape[1] != n or Td.shape[0] != M or Td.shape[1] != 4 or Td.shape[2] != 4 or msk.shape[0] != 6:
+        raise ValueError("pose_errors: expected q (M, n), targets (M, 4, 4), mask (6,)")
+    ep_arr = np.empty(M)
+    eo_arr = np.empty(M)
+    cdef double[::1] ep = ep_arr
+    cdef double[::1] eo = eo_arr
+    cdef double T[16]
+    cdef double R[9]
+    cdef double e[6]
+    cdef int i, j
+    cdef bint finite
+    with nogil:
+        for k in range(M):
+            finite = True
+            for j in range(n):
+                finite = finite and isfinite(Q[k, j])
+            if not finite:
+                ep[k] = INFINITY
+                eo[k] = INFINITY
+                continue
+            walk_tool(chain.L, chain.rev, n, &Q[k, 0], T)
+            for i in range(3):
+                e[i] = (Td[k, i, 3] - T[4 * i + 3]) * msk[i]
+                for j in range(3):
+                    R[3 * i + j] = Td[k, i, 0] * T[4 * j] + Td[k, i, 1] * T[4 * j + 1] + Td[k, i, 2] * T[4 * j + 2]
+            rot_log(R, e + 3)
+            for i in range(3, 6):
+                e[i] *= msk[i]
+            ep[k] = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
+            eo[k] = sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
+    return ep_arr, eo_arr

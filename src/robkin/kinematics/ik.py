@@ -30,7 +30,7 @@ from ..robot import Robot
 from .closed_form import closed_form_solver
 from .limits import wrap_into_limits, within_limits
 from .lm import LMSettings, solve_lm
-from .pose_error import check_mask, check_targets, masked_errors, residual
+from .pose_error import check_mask, check_targets
 
 __all__ = ["IKResult", "ik", "METHODS"]
 
@@ -161,7 +161,7 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         iters, attempts = out.iterations, out.attempts
         used = "numeric"
 
-    ep, eo = _errors(robot, out.q, targets, m)
+    ep, eo = _errors(robot, out.q, targets, m)   # inf where q is NaN (no closed-form solution)
     sols = out.solutions
     return IKResult(
         q=out.q[0] if single else out.q,
@@ -210,24 +210,21 @@ def _verify(robot: Robot, Q: np.ndarray, targets: np.ndarray, mask: np.ndarray,
             settings: LMSettings) -> np.ndarray:
     """(...) bool: configurations Q (..., n) reach their targets (...) within tolerance and limits.
 
-    Checked with ``Robot.fk``, which neither the closed forms nor the LM kernel use.
+    Checked by forward kinematics (``_errors``), not by the residuals the solvers report.
     """
     flat = Q.reshape(-1, robot.n)
-    finite = np.isfinite(flat).all(axis=1)
-    T = robot.fk(np.where(finite[:, None], flat, 0.0))
-    e = residual(T, targets.reshape(-1, 4, 4))
-    ep, eo = masked_errors(e, mask)
-    ok = finite & (ep <= settings.tol_position) & (eo <= settings.tol_orientation) \
-        & within_limits(flat, robot.limits)
+    ep, eo = _errors(robot, flat, targets.reshape(-1, 4, 4), mask)
+    ok = (ep <= settings.tol_position) & (eo <= settings.tol_orientation) & within_limits(flat, robot.limits)
     return ok.reshape(Q.shape[:-1])
 
 
 def _errors(robot: Robot, q: np.ndarray, targets: np.ndarray, mask: np.ndarray
             ) -> tuple[np.ndarray, np.ndarray]:
-    finite = np.isfinite(q).all(axis=1)
-    e = residual(robot.fk(np.where(finite[:, None], q, 0.0)), targets)
-    ep, eo = masked_errors(e, mask)
-    return np.where(finite, ep, np.inf), np.where(finite, eo, np.inf)
+    """Masked position and orientation errors (M,) of the tool at q (M, n) towards targets (M, 4, 4),
+    by forward kinematics (compiled, the walk of ``Robot.fk``); inf where q is NaN."""
+    from ..compiled.lm import pose_errors
+
+    return pose_errors(robot._chain, q, targets, mask)
 
 
 def _distinct_sorted(Q: np.ndarray, ref: np.ndarray, scale: np.ndarray) -> np.ndarray:
@@ -292,8 +289,8 @@ def _numeric(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndar
         sols = [_distinct_sorted(Q[i][ok[i]], q_ref[i], scale) for i in range(N)]
         iters = out.iterations.reshape(N, K).sum(axis=1)
         attempts = np.full(N, K)
-        E = np.linalg.norm(residual(robot.fk(Q.reshape(-1, n)), np.repeat(targets, K, axis=0)) * mask,
-                           axis=1).reshape(N, K)
+        ep, eo = _errors(robot, Q.reshape(-1, n), np.repeat(targets, K, axis=0), mask)
+        E = np.hypot(ep, eo).reshape(N, K)
         success = ok.any(axis=1)
         best = Q[np.arange(N), np.argmin(E, axis=1)]
         q = np.where(success[:, None], np.array([s[0] if len(s) else np.zeros(n) for s in sols]), best)

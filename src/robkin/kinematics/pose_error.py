@@ -64,14 +64,15 @@ def check_targets(T: ArrayLike, field_name: str = "target") -> tuple[np.ndarray,
         A = np.asarray(T, dtype=float)
     except (TypeError, ValueError):
         raise InputError(f"{field_name}: expected a 4x4 pose or an (N, 4, 4) array of poses") from None
-    if A.shape == (4, 4):
-        return check_pose(A, field_name)[None], True
-    if A.ndim != 3 or A.shape[1:] != (4, 4):
+    single = A.shape == (4, 4)
+    if single:
+        A = A[None]
+    elif A.ndim != 3 or A.shape[1:] != (4, 4):
         raise InputError(f"{field_name}: expected a 4x4 pose or an (N, 4, 4) array of poses, got shape {A.shape}")
     if not np.all(np.isfinite(A)):
         bad = int(np.argwhere(~np.isfinite(A).all(axis=(1, 2)))[0, 0])
-        raise InputError(f"{field_name}[{bad}]: contains NaN or infinity")
-    # Fast path for batches: exact rotations (the usual case: targets from FK) pass unchanged; the
+        raise InputError(f"{field_name}{'' if single else f'[{bad}]'}: contains NaN or infinity")
+    # Fast path: exact rotations (the usual case: targets from FK) pass unchanged; the
     # others go through check_pose one by one for its projection and messages.
     RtR = np.swapaxes(A[:, :3, :3], 1, 2) @ A[:, :3, :3]
     # 1e-12: rotations produced by products of exact rotations are orthonormal to ~1e-15; anything
@@ -80,5 +81,5 @@ def check_targets(T: ArrayLike, field_name: str = "target") -> tuple[np.ndarray,
         & (np.abs(A[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1) == 0)
     out = A.copy()
     for i in np.flatnonzero(~ok):
-        out[i] = check_pose(A[i], f"{field_name}[{i}]")
-    return out, False
+        out[i] = check_pose(A[i], field_name if single else f"{field_name}[{i}]")
+    return out, single
