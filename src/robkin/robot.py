@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from functools import cached_property
-from typing import Iterable, Literal, Sequence
+from typing import Callable, Iterable, Literal, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike
 from .errors import InputError, ProjectionWarning
 from . import se3
 
-__all__ = ["Joint", "Robot", "JOINT_TYPES", "check_pose", "check_q"]
+__all__ = ["Joint", "Robot", "JOINT_TYPES", "check_pose", "check_poses", "check_q"]
 
 JointType = Literal["revolute", "prismatic"]
 JOINT_TYPES: tuple[str, ...] = ("revolute", "prismatic")
@@ -103,6 +103,35 @@ def check_pose(T: ArrayLike, field_name: str, *, warn: bool = True) -> np.ndarra
     return A
 
 
+#: A rotation block whose columns are orthonormal to this (max |R^T R - I|) with det > 0 is within
+#: ~1e-12 of a rotation, far inside EXACT_TOL: ``check_poses`` takes it as it is without check_pose's
+#: SVD (the usual case: frames computed by robkin itself are orthonormal to ~1e-15).
+_FAST_ORTHONORMAL_TOL = 1e-12
+
+
+def check_poses(A: np.ndarray, field_name: Callable[[int], str]) -> np.ndarray:
+    """``check_pose`` for a stack (m, 4, 4) of float poses, vectorised for the usual valid case.
+
+    Poses that are finite, rigid to rounding and have the last row [0, 0, 0, 1] (within EXACT_TOL) are
+    checked in a few whole-array operations; any other goes through ``check_pose`` (named
+    ``field_name(i)``) for its projection, warning or error. Returns a new array.
+    """
+    out = np.array(A, dtype=float)
+    if np.isfinite(out).all():
+        R = out[:, :3, :3]
+        dev = np.swapaxes(R, 1, 2) @ R
+        dev -= np.eye(3)
+        ok = (np.abs(dev).max(axis=(1, 2)) <= _FAST_ORTHONORMAL_TOL) & (np.linalg.det(R) > 0) \
+            & (np.abs(out[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1) <= EXACT_TOL)
+    else:
+        ok = np.zeros(len(out), bool)
+    out[:, 3] = (0.0, 0.0, 0.0, 1.0)
+    if not ok.all():
+        for i in np.flatnonzero(~ok):
+            out[i] = check_pose(A[i], field_name(i))
+    return out
+
+
 def check_q(q: ArrayLike, n: int) -> np.ndarray:
     """Joint values as float array (n,) or (N, n); InputError for wrong shapes or non-finite values."""
     try:
@@ -151,8 +180,12 @@ class Robot:
         dup = {x for x in names if names.count(x) > 1}
         if dup:
             raise InputError(f"joints: duplicate joint name(s) {', '.join(sorted(dup))}")
-        checked = np.stack([check_pose(F, f"gjd.frames[{i}]") for i, F in enumerate(frames)])
-        world = check_pose(self.world, "world")
+        if np.shape(self.world) == (4, 4):   # frames and world checked in one vectorised pass
+            both = check_poses(np.concatenate([frames, np.asarray(self.world, dtype=float)[None]]),
+                               lambda i: f"gjd.frames[{i}]" if i <= n else "world")
+            checked, world = both[:-1], both[-1]
+        else:
+            checked, world = check_poses(frames, lambda i: f"gjd.frames[{i}]"), check_pose(self.world, "world")
         checked.setflags(write=False)
         world.setflags(write=False)
         object.__setattr__(self, "frames", checked)
@@ -281,14 +314,45 @@ class Robot:
             F = self._chain.frames(np.ascontiguousarray(check_q(q, self.n)))
         return F
 
-    def ik(self, T: ArrayLike, **options):
-        """Inverse kinematics for a target (4, 4) or targets (N, 4, 4): see ``robkin.kinematics.ik.ik``.
+    def ik(self, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
+           method: str = "auto", all_solutions: bool = False, tol_position: float = 1e-9,
+           tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 50,
+           rng: np.random.Generator | int | None = 0):
+        """Inverse kinematics: joint values that put the tool at T (``robkin.kinematics.ik.ik``).
 
-        Returns an ``IKResult`` with ``.q``, ``.success`` and the errors reached.
+        Parameters
+        ----------
+        T : (4, 4) or (N, 4, 4) array
+            Target tool poses in the robot base frame.
+        q0 : (n,) or (N, n) array, optional
+            Preferred configuration: the numeric start and the tie-break among closed-form solutions.
+            Default zero, clipped into the limits.
+        mask : 'pose' (default), 'position', or 6 values 0/1 for (x, y, z, rx, ry, rz)
+            Residual components that must match (base frame). Anything but the full pose is numeric.
+        method : 'auto' (default), 'analytic' or 'numeric'
+            'auto' uses a closed form when one fits the robot, else Levenberg-Marquardt.
+        all_solutions : bool
+            Also return every distinct solution found (``.solutions``).
+        tol_position, tol_orientation : float
+            Success tolerances: length units and radians, over the masked components.
+        max_iterations : int
+            Numeric: iterations per attempt before a random restart.
+        restarts : int
+            Numeric: random restarts per target after the first attempt.
+        rng : Generator, int seed or None
+            Source of the random restarts; the default seed 0 makes results reproducible.
+
+        Returns
+        -------
+        IKResult
+            ``.q``, ``.success``, the errors reached, iterations, attempts, method and messages.
+            Joint limits are always respected.
         """
         from .kinematics.ik import ik
 
-        return ik(self, T, **options)
+        return ik(self, T, q0=q0, mask=mask, method=method, all_solutions=all_solutions,
+                  tol_position=tol_position, tol_orientation=tol_orientation,
+                  max_iterations=max_iterations, restarts=restarts, rng=rng)
 
     # ------------------------------------------------------------------ conveniences
     def random_q(self, size: int | None = None, rng: np.random.Generator | int | None = None,
