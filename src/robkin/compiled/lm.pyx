@@ -439,3 +439,41 @@ def pose_errors(Chain chain, q, targets, mask):
             ep[k] = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
             eo[k] = sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
     return ep_arr, eo_arr
+
+
+def exact_poses(A):
+    """(N,) bool: which poses A (N, 4, 4) are finite, have the last row exactly [0, 0, 0, 1] and a
+    rotation block orthonormal to ``tol`` = 1e-12 (max |R^T R - I|) with det > 0.
+
+    Rotations produced by products of exact rotations are orthonormal to ~1e-15; anything farther goes
+    through the documented checks (projection or refusal) of ``robot.check_pose``.
+    """
+    cdef const double[:, :, ::1] T = np.ascontiguousarray(A, dtype=np.float64)
+    cdef Py_ssize_t N = T.shape[0], k
+    if T.shape[1] != 4 or T.shape[2] != 4:
+        raise ValueError("exact_poses: expected (N, 4, 4)")
+    ok_arr = np.zeros(N, np.uint8)
+    cdef unsigned char[::1] ok = ok_arr
+    cdef int i, j, r
+    cdef double s, dev, det
+    cdef bint good
+    with nogil:
+        for k in range(N):
+            good = T[k, 3, 0] == 0.0 and T[k, 3, 1] == 0.0 and T[k, 3, 2] == 0.0 and T[k, 3, 3] == 1.0
+            for i in range(3):
+                for j in range(4):
+                    good = good and isfinite(T[k, i, j])
+            if good:
+                for i in range(3):
+                    for j in range(i, 3):
+                        s = 0.0
+                        for r in range(3):
+                            s += T[k, r, i] * T[k, r, j]
+                        dev = fabs(s - (1.0 if i == j else 0.0))
+                        good = good and dev <= 1e-12
+                det = (T[k, 0, 0] * (T[k, 1, 1] * T[k, 2, 2] - T[k, 1, 2] * T[k, 2, 1])
+                       - T[k, 0, 1] * (T[k, 1, 0] * T[k, 2, 2] - T[k, 1, 2] * T[k, 2, 0])
+                       + T[k, 0, 2] * (T[k, 1, 0] * T[k, 2, 1] - T[k, 1, 1] * T[k, 2, 0]))
+                good = good and det > 0.0
+            ok[k] = good
+    return ok_arr.view(np.bool_)

@@ -129,7 +129,6 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
     if int(max_iterations) < 1 or int(restarts) < 0:
         raise InputError(f"max_iterations must be >= 1 and restarts >= 0, got {max_iterations}, {restarts}")
     q_ref = _start(robot, q0, N)
-    rng = np.random.default_rng(rng)
     settings = LMSettings(tol_position=float(tol_position), tol_orientation=float(tol_orientation),
                           max_iterations=int(max_iterations), restarts=int(restarts))
 
@@ -151,6 +150,7 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
             r = np.flatnonzero(out.retry)
             sub = _numeric(robot, targets[r], q_ref[r], m, settings, rng, all_solutions)
             out.q[r], out.success[r] = sub.q, sub.success
+            out.errors = None
             iters[r], attempts[r] = sub.iterations, sub.attempts
             for j, i in enumerate(r):
                 out.reasons[i] = sub.reasons[j]
@@ -161,7 +161,8 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         iters, attempts = out.iterations, out.attempts
         used = "numeric"
 
-    ep, eo = _errors(robot, out.q, targets, m)   # inf where q is NaN (no closed-form solution)
+    # inf where q is NaN (no closed-form solution)
+    ep, eo = out.errors if out.errors is not None else _errors(robot, out.q, targets, m)
     sols = out.solutions
     return IKResult(
         q=out.q[0] if single else out.q,
@@ -187,6 +188,23 @@ class _Found:
     attempts: np.ndarray                # (N,) int
     solutions: list[np.ndarray] | None  # per target (S_i, n), with all_solutions
     retry: np.ndarray                   # (N,) bool: closed-form trouble, worth a numeric try
+    errors: tuple[np.ndarray, np.ndarray] | None = None   # (N,) position, orientation errors of q
+
+
+def _generator(rng: np.random.Generator | int | None) -> np.random.Generator:
+    """A numpy Generator from a Generator, an int seed or None (fresh entropy)."""
+    try:
+        return rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
+    except (TypeError, ValueError) as e:
+        raise InputError(f"rng: expected a numpy Generator, a non-negative int seed or None ({e})") from None
+
+
+def _seed(rng: np.random.Generator | int | None) -> int:
+    """One 64-bit seed for the compiled solver's restart streams. An int seed is used as it is (no
+    Generator built: that costs ~10 us, as much as solving an easy target)."""
+    if isinstance(rng, (int, np.integer)) and not isinstance(rng, bool) and rng >= 0:
+        return int(rng) & 0xFFFFFFFFFFFFFFFF
+    return int(_generator(rng).integers(0, 2**63))
 
 
 def _start(robot: Robot, q0: ArrayLike | None, N: int) -> np.ndarray:
@@ -268,7 +286,7 @@ def _closed_form(robot: Robot, solver, targets: np.ndarray, q_ref: np.ndarray, s
 
 
 def _numeric(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndarray,
-             settings: LMSettings, rng: np.random.Generator, all_solutions: bool) -> _Found:
+             settings: LMSettings, rng: np.random.Generator | int | None, all_solutions: bool) -> _Found:
     """Numeric solutions; where a target fails, q is the best configuration found."""
     N, n = q_ref.shape
     lim = robot.limits
@@ -280,10 +298,10 @@ def _numeric(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndar
         span = np.where(robot.revolute, np.pi, robot.scale)
         lo = np.where(np.isfinite(lim[:, 0]), lim[:, 0], -span)
         hi = np.where(np.isfinite(lim[:, 1]), lim[:, 1], span)
-        starts = rng.uniform(lo, hi, size=(N, K, n))
+        starts = _generator(rng).uniform(lo, hi, size=(N, K, n))
         starts[:, 0] = q_ref
         one = LMSettings(**{**settings.__dict__, "restarts": 0})
-        out = solve_lm(robot, np.repeat(targets, K, axis=0), starts.reshape(N * K, n), mask, one, rng)
+        out = solve_lm(robot, np.repeat(targets, K, axis=0), starts.reshape(N * K, n), mask, one, _seed(rng))
         Q, _ = wrap_into_limits(out.q.reshape(N, K, n), lim, robot.revolute, q_ref[:, None])
         ok = _verify(robot, Q, np.repeat(targets[:, None], K, axis=1), mask, settings)
         sols = [_distinct_sorted(Q[i][ok[i]], q_ref[i], scale) for i in range(N)]
@@ -295,12 +313,14 @@ def _numeric(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndar
         best = Q[np.arange(N), np.argmin(E, axis=1)]
         q = np.where(success[:, None], np.array([s[0] if len(s) else np.zeros(n) for s in sols]), best)
     else:
-        out = solve_lm(robot, targets, q_ref, mask, settings, rng)
-        q, _ = wrap_into_limits(out.q, lim, robot.revolute, q_ref)
-        success = _verify(robot, q, targets, mask, settings)
+        out = solve_lm(robot, targets, q_ref, mask, settings, _seed(rng))
+        q, inside = wrap_into_limits(out.q, lim, robot.revolute, q_ref)
+        errors = _errors(robot, q, targets, mask)       # the same check as _verify, errors kept
+        success = inside & (errors[0] <= settings.tol_position) & (errors[1] <= settings.tol_orientation)
         iters, attempts = out.iterations, out.attempts
     reasons = [""] * N
     for i in np.flatnonzero(~success):
         reasons[i] = (f"no solution found from {attempts[i]} start(s) (the target may be unreachable, "
                       f"or need more restarts)")
-    return _Found(q, success, reasons, iters, attempts, sols, np.zeros(N, bool))
+    return _Found(q, success, reasons, iters, attempts, sols, np.zeros(N, bool),
+                  None if all_solutions else errors)

@@ -22,12 +22,24 @@ __all__ = ["jacobian_space", "jacobian_body", "jacobian_geometric", "manipulabil
 
 def _compiled(robot: Robot, q: ArrayLike, kind: int) -> np.ndarray:
     """The compiled Jacobian (``robkin.compiled.jacobian``) of the given kind at q (n,) or (N, n)."""
+    kernel = _KERNEL or _load_kernel()
+    J = kernel(robot._chain, q, kind)
+    if J is None:   # not a float64 array of finite values as it is: validate, convert, explain
+        J = kernel(robot._chain, np.ascontiguousarray(check_q(q, robot.n)), kind)
+    return J
+
+
+#: the compiled kernel, imported on first use (an import statement per call costs ~1 us, as much as
+#: the kernel itself for one configuration)
+_KERNEL = None
+
+
+def _load_kernel():
+    global _KERNEL
     from ..compiled.jacobian import jacobian
 
-    J = jacobian(robot._chain, q, kind)
-    if J is None:   # not a float64 array of finite values as it is: validate, convert, explain
-        J = jacobian(robot._chain, np.ascontiguousarray(check_q(q, robot.n)), kind)
-    return J
+    _KERNEL = jacobian
+    return jacobian
 
 
 def jacobian_space(robot: Robot, q: ArrayLike) -> np.ndarray:

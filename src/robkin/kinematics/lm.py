@@ -85,7 +85,7 @@ class LMOutcome:
 
 
 def solve_lm(robot: Robot, targets: np.ndarray, q0: np.ndarray, mask: np.ndarray,
-             settings: LMSettings, rng: np.random.Generator) -> LMOutcome:
+             settings: LMSettings, seed: int) -> LMOutcome:
     """Solve IK for targets (N, 4, 4) from starts q0 (N, n), one compiled loop per target.
 
     A stuck attempt restarts from a random configuration within the limits (uniform; unlimited
@@ -102,9 +102,9 @@ def solve_lm(robot: Robot, targets: np.ndarray, q0: np.ndarray, mask: np.ndarray
     mask : (6,) array of 0/1
         Residual components (x, y, z, rx, ry, rz) that count.
     settings : LMSettings
-    rng : numpy Generator
-        One 64-bit seed is drawn from it per call; target k's restarts come from a stream seeded by
-        it and k (the same answers however a batch is split, for the same seed).
+    seed : int
+        64-bit seed of the random restarts: target k's come from a stream seeded by it and k (the
+        same answers for a target whatever else is in the batch, for the same seed and position).
 
     Returns
     -------
@@ -116,7 +116,6 @@ def solve_lm(robot: Robot, targets: np.ndarray, q0: np.ndarray, mask: np.ndarray
     lo, hi = lim[:, 0], lim[:, 1]
     span = np.where(robot.revolute, np.pi, robot.scale)
     rlo, rhi = np.where(np.isfinite(lo), lo, -span), np.where(np.isfinite(hi), hi, span)
-    seed = int(rng.integers(0, 2**63))
     q, converged, iterations, attempts = solve(robot._chain, targets, q0, mask, lo, hi, rlo, rhi,
                                                robot.scale, settings, seed)
     return LMOutcome(q, converged, iterations, attempts)

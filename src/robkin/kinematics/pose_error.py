@@ -69,16 +69,12 @@ def check_targets(T: ArrayLike, field_name: str = "target") -> tuple[np.ndarray,
         A = A[None]
     elif A.ndim != 3 or A.shape[1:] != (4, 4):
         raise InputError(f"{field_name}: expected a 4x4 pose or an (N, 4, 4) array of poses, got shape {A.shape}")
-    if not np.all(np.isfinite(A)):
-        bad = int(np.argwhere(~np.isfinite(A).all(axis=(1, 2)))[0, 0])
-        raise InputError(f"{field_name}{'' if single else f'[{bad}]'}: contains NaN or infinity")
-    # Fast path: exact rotations (the usual case: targets from FK) pass unchanged; the
-    # others go through check_pose one by one for its projection and messages.
-    RtR = np.swapaxes(A[:, :3, :3], 1, 2) @ A[:, :3, :3]
-    # 1e-12: rotations produced by products of exact rotations are orthonormal to ~1e-15; anything
-    # farther is checked (and projected or refused) by check_pose with the document tolerances.
-    ok = (np.abs(RtR - np.eye(3)).max(axis=(1, 2)) <= 1e-12) & (np.linalg.det(A[:, :3, :3]) > 0) \
-        & (np.abs(A[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1) == 0)
+    # Fast path: exact rotations (the usual case: targets from FK) pass unchanged, checked by a
+    # compiled loop; the others go through check_pose one by one for its projection and messages
+    # (the first non-finite pose raises there).
+    from ..compiled.lm import exact_poses
+
+    ok = exact_poses(A)
     out = A.copy()
     for i in np.flatnonzero(~ok):
         out[i] = check_pose(A[i], field_name if single else f"{field_name}[{i}]")
