@@ -1,7 +1,8 @@
-"""Pose residuals for inverse kinematics: residual vectors, target checks and error masks.
+"""Inverse-kinematics inputs: target checks and residual masks.
 
 The residual of a current pose T towards a target T_d is the 6-vector (e_p, e_o) in the robot base
-frame: e_p = p_d - p (length units) and e_o = log(R_d R^T) (a rotation vector, radians). A *mask*
+frame: e_p = p_d - p (length units) and e_o = log(R_d R^T) (a rotation vector, radians), computed by
+the compiled core (``compiled.lm``: the solver and ``pose_errors``). A *mask*
 selects which of the six components (x, y, z, rx, ry, rz) count, as in the estimation paper's
 position-only structures: 'pose' is all six, 'position' the first three.
 """
@@ -12,30 +13,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
-from ..se3 import log_rotation
 from ..robot import check_pose
 
-__all__ = ["residual", "check_targets", "check_mask", "masked_errors",
-           "MASKS"]
+__all__ = ["check_targets", "check_mask", "MASKS"]
 
 #: named masks over the residual components (x, y, z, rx, ry, rz)
 MASKS: dict[str, tuple[float, ...]] = {
     "pose": (1.0, 1.0, 1.0, 1.0, 1.0, 1.0),
     "position": (1.0, 1.0, 1.0, 0.0, 0.0, 0.0),
 }
-
-def residual(T: np.ndarray, T_target: np.ndarray) -> np.ndarray:
-    """Residual (..., 6) = (p_d - p, log(R_d R^T)) of poses T towards targets, both (..., 4, 4) or (..., 3, 4)."""
-    e = np.empty(np.broadcast_shapes(T.shape[:-2], T_target.shape[:-2]) + (6,))
-    e[..., :3] = T_target[..., :3, 3] - T[..., :3, 3]
-    e[..., 3:] = log_rotation(T_target[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2))
-    return e
-
-
-def masked_errors(e: np.ndarray, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Position and orientation error norms (...) over the components the mask selects."""
-    sel = mask != 0
-    return (np.linalg.norm(e[..., :3] * sel[:3], axis=-1), np.linalg.norm(e[..., 3:] * sel[3:], axis=-1))
 
 
 def check_mask(mask: str | ArrayLike | None) -> np.ndarray:
