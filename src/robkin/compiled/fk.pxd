@@ -41,12 +41,20 @@ cdef inline void walk_tool(const double* L, const unsigned char* rev, int n, con
                            double* T) noexcept nogil:
     """T = tool pose at q (4x4 row-major)."""
     cdef double A[16]
+    cdef double B[16]
+    cdef double* cur = A
+    cdef double* nxt = B
+    cdef double* tmp
     cdef int i
-    tf_copy(L, T)
-    for i in range(n):
-        move_joint(T, rev[i], q[i])
-        tf_mul(T, L + 16 * (i + 1), A)
-        tf_copy(A, T)
+    tf_copy(L, cur)
+    for i in range(n - 1):
+        move_joint(cur, rev[i], q[i])
+        tf_mul(cur, L + 16 * (i + 1), nxt)     # ping-pong between two buffers: no copy per joint
+        tmp = cur
+        cur = nxt
+        nxt = tmp
+    move_joint(cur, rev[n - 1], q[n - 1])
+    tf_mul(cur, L + 16 * n, T)
 
 
 cdef inline void walk_frames(const double* L, const unsigned char* rev, int n, const double* q,

@@ -27,19 +27,28 @@ cdef void jacobian_one(const double* L, const unsigned char* rev, int n, const d
     turned into its final form.
     """
     cdef double A[16]
+    cdef double B[16]
+    cdef double* cur = A
+    cdef double* nxt = B
+    cdef double* tmp
     cdef double z0, z1, z2, d0, d1, d2, v0, v1, v2, w0, w1, w2
     cdef int i, r
-    tf_copy(L, T)
+    tf_copy(L, cur)
     for i in range(n):
-        move_joint(T, rev[i], q[i])
-        J[i] = T[3]
-        J[n + i] = T[7]
-        J[2 * n + i] = T[11]
-        J[3 * n + i] = T[2]
-        J[4 * n + i] = T[6]
-        J[5 * n + i] = T[10]
-        tf_mul(T, L + 16 * (i + 1), A)
-        tf_copy(A, T)
+        move_joint(cur, rev[i], q[i])
+        J[i] = cur[3]
+        J[n + i] = cur[7]
+        J[2 * n + i] = cur[11]
+        J[3 * n + i] = cur[2]
+        J[4 * n + i] = cur[6]
+        J[5 * n + i] = cur[10]
+        if i == n - 1:
+            tf_mul(cur, L + 16 * n, T)
+        else:
+            tf_mul(cur, L + 16 * (i + 1), nxt)     # ping-pong between two buffers: no copy per joint
+            tmp = cur
+            cur = nxt
+            nxt = tmp
     for i in range(n):
         z0 = J[3 * n + i]
         z1 = J[4 * n + i]
