@@ -327,6 +327,20 @@ cdef bint solve_one(Chain chain, const Params* P, const double* w, const double*
     return False
 
 
+cdef inline cnp.ndarray _doubles(object a, int ndim, Py_ssize_t d0, Py_ssize_t d1, Py_ssize_t d2, str what):
+    """a as a C-contiguous float64 array of the given shape (d < 0: any length); ValueError if not.
+    (Raw data pointers of such arrays cost far less than typed memoryviews per call.)"""
+    cdef cnp.ndarray arr = np.ascontiguousarray(a, dtype=np.float64)
+    cdef Py_ssize_t* want = [d0, d1, d2]
+    cdef int i
+    if cnp.PyArray_NDIM(arr) != ndim:
+        raise ValueError(f"{what}: expected {ndim} dimensions")
+    for i in range(ndim):
+        if want[i] >= 0 and cnp.PyArray_DIM(arr, i) != want[i]:
+            raise ValueError(f"{what}: unexpected shape {np.shape(arr)}")
+    return arr
+
+
 def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_upper, double scale,
           settings, uint64_t seed):
     """Solve every target (N, 4, 4) from its start q0 (N, n); see ``kinematics.lm.solve_lm``.
@@ -334,17 +348,21 @@ def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_u
     Returns q (N, n), converged (N,) bool, iterations (N,) int64, attempts (N,) int64.
     """
     cdef int n = chain.n
-    cdef const double[:, :, ::1] T = np.ascontiguousarray(targets, dtype=np.float64)
-    cdef const double[:, ::1] Q0 = np.ascontiguousarray(q0, dtype=np.float64)
-    cdef const double[::1] lo = np.ascontiguousarray(lower, dtype=np.float64)
-    cdef const double[::1] hi = np.ascontiguousarray(upper, dtype=np.float64)
-    cdef const double[::1] rlo = np.ascontiguousarray(restart_lower, dtype=np.float64)
-    cdef const double[::1] rhi = np.ascontiguousarray(restart_upper, dtype=np.float64)
-    cdef const double[::1] msk = np.ascontiguousarray(mask, dtype=np.float64)
-    cdef Py_ssize_t N = T.shape[0], k
-    if T.shape[1] != 4 or T.shape[2] != 4 or Q0.shape[0] != N or Q0.shape[1] != n or lo.shape[0] != n \
-            or hi.shape[0] != n or rlo.shape[0] != n or rhi.shape[0] != n or msk.shape[0] != 6:
-        raise ValueError("lm.solve: inconsistent shapes")
+    cdef cnp.ndarray Ta = _doubles(targets, 3, -1, 4, 4, "targets")
+    cdef Py_ssize_t N = cnp.PyArray_DIM(Ta, 0), k
+    cdef cnp.ndarray Q0a = _doubles(q0, 2, N, n, 0, "q0")
+    cdef cnp.ndarray loa = _doubles(lower, 1, n, 0, 0, "lower")
+    cdef cnp.ndarray hia = _doubles(upper, 1, n, 0, 0, "upper")
+    cdef cnp.ndarray rloa = _doubles(restart_lower, 1, n, 0, 0, "restart_lower")
+    cdef cnp.ndarray rhia = _doubles(restart_upper, 1, n, 0, 0, "restart_upper")
+    cdef cnp.ndarray ma = _doubles(mask, 1, 6, 0, 0, "mask")
+    cdef const double* T = <const double*>cnp.PyArray_DATA(Ta)
+    cdef const double* Q0 = <const double*>cnp.PyArray_DATA(Q0a)
+    cdef const double* lo = <const double*>cnp.PyArray_DATA(loa)
+    cdef const double* hi = <const double*>cnp.PyArray_DATA(hia)
+    cdef const double* rlo = <const double*>cnp.PyArray_DATA(rloa)
+    cdef const double* rhi = <const double*>cnp.PyArray_DATA(rhia)
+    cdef const double* msk = <const double*>cnp.PyArray_DATA(ma)
     cdef Params P
     P.n = n
     P.max_iter = settings.max_iterations
@@ -363,8 +381,12 @@ def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_u
     P.limited = False
     if P.stall_window < 1:
         raise ValueError("stall_window must be >= 1")
-    wrap_arr = np.zeros(n, np.uint8)
-    cdef unsigned char[::1] wrap = wrap_arr
+    cdef unsigned char* wrap = <unsigned char*>malloc(n * sizeof(unsigned char))
+    cdef double* work = <double*>malloc((24 * n + 6 + P.stall_window) * sizeof(double))
+    if work == NULL or wrap == NULL:
+        free(work)
+        free(wrap)
+        raise MemoryError()
     cdef int j
     for j in range(n):
         if isfinite(lo[j]) or isfinite(hi[j]):
@@ -374,26 +396,27 @@ def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_u
     cdef double w[6]
     for j in range(6):
         w[j] = msk[j] / scale if j < 3 else msk[j]
-    q_arr = np.empty((N, n))
-    ok_arr = np.zeros(N, np.uint8)
-    it_arr = np.zeros(N, np.int64)
-    at_arr = np.zeros(N, np.int64)
-    cdef double[:, ::1] Qo = q_arr
-    cdef unsigned char[::1] ok = ok_arr
-    cdef long[::1] its = it_arr
-    cdef long[::1] att = at_arr
-    cdef double* work = <double*>malloc((24 * n + 6 + P.stall_window) * sizeof(double))
-    if work == NULL:
-        raise MemoryError()
+    cdef cnp.npy_intp dims[2]
+    dims[0] = N
+    dims[1] = n
+    cdef cnp.ndarray q_arr = cnp.PyArray_EMPTY(2, dims, cnp.NPY_DOUBLE, 0)
+    cdef cnp.ndarray ok_arr = cnp.PyArray_ZEROS(1, dims, cnp.NPY_BOOL, 0)
+    cdef cnp.ndarray it_arr = cnp.PyArray_ZEROS(1, dims, cnp.NPY_INT64, 0)
+    cdef cnp.ndarray at_arr = cnp.PyArray_ZEROS(1, dims, cnp.NPY_INT64, 0)
+    cdef double* Qo = <double*>cnp.PyArray_DATA(q_arr)
+    cdef unsigned char* ok = <unsigned char*>cnp.PyArray_DATA(ok_arr)
+    cdef long* its = <long*>cnp.PyArray_DATA(it_arr)
+    cdef long* att = <long*>cnp.PyArray_DATA(at_arr)
     cdef uint64_t stream
     with nogil:
         for k in range(N):
             # one stream per target: seed and index mixed, so neighbouring targets get unrelated streams
             stream = seed ^ (<uint64_t>k * <uint64_t>0xD1B54A32D192ED03)
-            ok[k] = solve_one(chain, &P, w, &lo[0], &hi[0], &wrap[0], &rlo[0], &rhi[0], &T[k, 0, 0],
-                              &Q0[k, 0], stream, work, &Qo[k, 0], &its[k], &att[k])
+            ok[k] = solve_one(chain, &P, w, lo, hi, wrap, rlo, rhi, T + 16 * k, Q0 + n * k, stream, work,
+                              Qo + n * k, its + k, att + k)
     free(work)
-    return q_arr, ok_arr.view(np.bool_), it_arr, at_arr
+    free(wrap)
+    return q_arr, ok_arr, it_arr, at_arr
 
 
 def pose_errors(Chain chain, q, targets, mask):
@@ -404,35 +427,40 @@ def pose_errors(Chain chain, q, targets, mask):
     inf where a row of q is not finite.
     """
     cdef int n = chain.n
-    cdef const double[:, ::1] Q = np.ascontiguousarray(q, dtype=np.float64)
-    cdef const double[:, :, ::1] Td = np.ascontiguousarray(targets, dtype=np.float64)
-    cdef const double[::1] msk = np.ascontiguousarray(mask, dtype=np.float64)
-    cdef Py_ssize_t M = Q.shape[0], k
-    if Q.shape[1] != n or Td.shape[0] != M or Td.shape[1] != 4 or Td.shape[2] != 4 or msk.shape[0] != 6:
-        raise ValueError("pose_errors: expected q (M, n), targets (M, 4, 4), mask (6,)")
-    ep_arr = np.empty(M)
-    eo_arr = np.empty(M)
-    cdef double[::1] ep = ep_arr
-    cdef double[::1] eo = eo_arr
+    cdef cnp.ndarray Qa = _doubles(q, 2, -1, n, 0, "q")
+    cdef Py_ssize_t M = cnp.PyArray_DIM(Qa, 0), k
+    cdef cnp.ndarray Ta = _doubles(targets, 3, M, 4, 4, "targets")
+    cdef cnp.ndarray ma = _doubles(mask, 1, 6, 0, 0, "mask")
+    cdef const double* Q = <const double*>cnp.PyArray_DATA(Qa)
+    cdef const double* Td = <const double*>cnp.PyArray_DATA(Ta)
+    cdef const double* msk = <const double*>cnp.PyArray_DATA(ma)
+    cdef cnp.npy_intp dims[1]
+    dims[0] = M
+    cdef cnp.ndarray ep_arr = cnp.PyArray_EMPTY(1, dims, cnp.NPY_DOUBLE, 0)
+    cdef cnp.ndarray eo_arr = cnp.PyArray_EMPTY(1, dims, cnp.NPY_DOUBLE, 0)
+    cdef double* ep = <double*>cnp.PyArray_DATA(ep_arr)
+    cdef double* eo = <double*>cnp.PyArray_DATA(eo_arr)
     cdef double T[16]
     cdef double R[9]
     cdef double e[6]
+    cdef const double* D
     cdef int i, j
     cdef bint finite
     with nogil:
         for k in range(M):
             finite = True
             for j in range(n):
-                finite = finite and isfinite(Q[k, j])
+                finite = finite and isfinite(Q[n * k + j])
             if not finite:
                 ep[k] = INFINITY
                 eo[k] = INFINITY
                 continue
-            walk_tool(chain.L, chain.rev, n, &Q[k, 0], T)
+            walk_tool(chain.L, chain.rev, n, Q + n * k, T)
+            D = Td + 16 * k
             for i in range(3):
-                e[i] = (Td[k, i, 3] - T[4 * i + 3]) * msk[i]
+                e[i] = (D[4 * i + 3] - T[4 * i + 3]) * msk[i]
                 for j in range(3):
-                    R[3 * i + j] = Td[k, i, 0] * T[4 * j] + Td[k, i, 1] * T[4 * j + 1] + Td[k, i, 2] * T[4 * j + 2]
+                    R[3 * i + j] = D[4 * i] * T[4 * j] + D[4 * i + 1] * T[4 * j + 1] + D[4 * i + 2] * T[4 * j + 2]
             rot_log(R, e + 3)
             for i in range(3, 6):
                 e[i] *= msk[i]
@@ -443,37 +471,37 @@ def pose_errors(Chain chain, q, targets, mask):
 
 def exact_poses(A):
     """(N,) bool: which poses A (N, 4, 4) are finite, have the last row exactly [0, 0, 0, 1] and a
-    rotation block orthonormal to ``tol`` = 1e-12 (max |R^T R - I|) with det > 0.
+    rotation block orthonormal to 1e-12 (max |R^T R - I|) with det > 0.
 
     Rotations produced by products of exact rotations are orthonormal to ~1e-15; anything farther goes
     through the documented checks (projection or refusal) of ``robot.check_pose``.
     """
-    cdef const double[:, :, ::1] T = np.ascontiguousarray(A, dtype=np.float64)
-    cdef Py_ssize_t N = T.shape[0], k
-    if T.shape[1] != 4 or T.shape[2] != 4:
-        raise ValueError("exact_poses: expected (N, 4, 4)")
-    ok_arr = np.zeros(N, np.uint8)
-    cdef unsigned char[::1] ok = ok_arr
+    cdef cnp.ndarray Aa = _doubles(A, 3, -1, 4, 4, "poses")
+    cdef Py_ssize_t N = cnp.PyArray_DIM(Aa, 0), k
+    cdef const double* T0 = <const double*>cnp.PyArray_DATA(Aa)
+    cdef const double* T
+    cdef cnp.npy_intp dims[1]
+    dims[0] = N
+    cdef cnp.ndarray ok_arr = cnp.PyArray_ZEROS(1, dims, cnp.NPY_BOOL, 0)
+    cdef unsigned char* ok = <unsigned char*>cnp.PyArray_DATA(ok_arr)
     cdef int i, j, r
-    cdef double s, dev, det
+    cdef double s, det
     cdef bint good
     with nogil:
         for k in range(N):
-            good = T[k, 3, 0] == 0.0 and T[k, 3, 1] == 0.0 and T[k, 3, 2] == 0.0 and T[k, 3, 3] == 1.0
-            for i in range(3):
-                for j in range(4):
-                    good = good and isfinite(T[k, i, j])
+            T = T0 + 16 * k
+            good = T[12] == 0.0 and T[13] == 0.0 and T[14] == 0.0 and T[15] == 1.0
+            for i in range(12):
+                good = good and isfinite(T[i])
             if good:
                 for i in range(3):
                     for j in range(i, 3):
                         s = 0.0
                         for r in range(3):
-                            s += T[k, r, i] * T[k, r, j]
-                        dev = fabs(s - (1.0 if i == j else 0.0))
-                        good = good and dev <= 1e-12
-                det = (T[k, 0, 0] * (T[k, 1, 1] * T[k, 2, 2] - T[k, 1, 2] * T[k, 2, 1])
-                       - T[k, 0, 1] * (T[k, 1, 0] * T[k, 2, 2] - T[k, 1, 2] * T[k, 2, 0])
-                       + T[k, 0, 2] * (T[k, 1, 0] * T[k, 2, 1] - T[k, 1, 1] * T[k, 2, 0]))
+                            s += T[4 * r + i] * T[4 * r + j]
+                        good = good and fabs(s - (1.0 if i == j else 0.0)) <= 1e-12
+                det = (T[0] * (T[5] * T[10] - T[6] * T[9]) - T[1] * (T[4] * T[10] - T[6] * T[8])
+                       + T[2] * (T[4] * T[9] - T[5] * T[8]))
                 good = good and det > 0.0
             ok[k] = good
-    return ok_arr.view(np.bool_)
+    return ok_arr

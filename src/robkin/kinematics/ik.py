@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..compiled.lm import pose_errors
 from ..errors import InputError
 from ..robot import Robot
 from .closed_form import closed_form_solver
@@ -221,7 +222,7 @@ def _start(robot: Robot, q0: ArrayLike | None, N: int) -> np.ndarray:
         elif Q.shape[0] != N:
             raise InputError(f"q0: expected shape ({robot.n},) or ({N}, {robot.n}) for {N} targets, "
                              f"got {Q.shape}")
-    return np.clip(Q, lim[:, 0], lim[:, 1])
+    return np.minimum(np.maximum(Q, lim[:, 0]), lim[:, 1])     # np.clip, without its wrapper cost
 
 
 def _verify(robot: Robot, Q: np.ndarray, targets: np.ndarray, mask: np.ndarray,
@@ -240,8 +241,6 @@ def _errors(robot: Robot, q: np.ndarray, targets: np.ndarray, mask: np.ndarray
             ) -> tuple[np.ndarray, np.ndarray]:
     """Masked position and orientation errors (M,) of the tool at q (M, n) towards targets (M, 4, 4),
     by forward kinematics (compiled, the walk of ``Robot.fk``); inf where q is NaN."""
-    from ..compiled.lm import pose_errors
-
     return pose_errors(robot._chain, q, targets, mask)
 
 
@@ -290,9 +289,9 @@ def _numeric(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndar
     """Numeric solutions; where a target fails, q is the best configuration found."""
     N, n = q_ref.shape
     lim = robot.limits
-    scale = _joint_scale(robot)
     sols = None
     if all_solutions:
+        scale = _joint_scale(robot)
         # 1 + restarts starts per target side by side, each one attempt; keep every distinct success
         K = 1 + settings.restarts
         span = np.where(robot.revolute, np.pi, robot.scale)
@@ -319,7 +318,7 @@ def _numeric(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndar
         success = inside & (errors[0] <= settings.tol_position) & (errors[1] <= settings.tol_orientation)
         iters, attempts = out.iterations, out.attempts
     reasons = [""] * N
-    for i in np.flatnonzero(~success):
+    for i in ([] if success.all() else np.flatnonzero(~success)):
         reasons[i] = (f"no solution found from {attempts[i]} start(s) (the target may be unreachable, "
                       f"or need more restarts)")
     return _Found(q, success, reasons, iters, attempts, sols, np.zeros(N, bool),

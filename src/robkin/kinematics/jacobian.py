@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..compiled.jacobian import jacobian
 from ..robot import Robot, check_q
 
 __all__ = ["jacobian_space", "jacobian_body", "jacobian_geometric", "manipulability",
@@ -22,24 +23,10 @@ __all__ = ["jacobian_space", "jacobian_body", "jacobian_geometric", "manipulabil
 
 def _compiled(robot: Robot, q: ArrayLike, kind: int) -> np.ndarray:
     """The compiled Jacobian (``robkin.compiled.jacobian``) of the given kind at q (n,) or (N, n)."""
-    kernel = _KERNEL or _load_kernel()
-    J = kernel(robot._chain, q, kind)
+    J = jacobian(robot._chain, q, kind)
     if J is None:   # not a float64 array of finite values as it is: validate, convert, explain
-        J = kernel(robot._chain, np.ascontiguousarray(check_q(q, robot.n)), kind)
+        J = jacobian(robot._chain, np.ascontiguousarray(check_q(q, robot.n)), kind)
     return J
-
-
-#: the compiled kernel, imported on first use (an import statement per call costs ~1 us, as much as
-#: the kernel itself for one configuration)
-_KERNEL = None
-
-
-def _load_kernel():
-    global _KERNEL
-    from ..compiled.jacobian import jacobian
-
-    _KERNEL = jacobian
-    return jacobian
 
 
 def jacobian_space(robot: Robot, q: ArrayLike) -> np.ndarray:

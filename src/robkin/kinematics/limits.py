@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..compiled.limits import wrap
+
 __all__ = ["wrap_into_limits", "within_limits", "LIMIT_TOL"]
 
 #: Slack on limit checks: a solution computed on a limit (clipped there, or a closed-form angle equal
@@ -33,9 +35,9 @@ def wrap_into_limits(Q: np.ndarray, limits: np.ndarray, revolute: np.ndarray,
     ok : (...) bool array
         Whether every joint is within its limits (prismatic joints are only checked).
     """
-    from ..compiled.limits import wrap
-
     Q = np.asarray(Q, dtype=float)
+    if Q.ndim == 2 and q_ref is not None and np.shape(q_ref) == Q.shape:   # the IK case: no reshaping
+        return wrap(Q, limits[:, 0], limits[:, 1], revolute, q_ref, LIMIT_TOL)
     n = Q.shape[-1]
     ref = np.zeros_like(Q) if q_ref is None else np.broadcast_to(q_ref, Q.shape)
     out, ok = wrap(Q.reshape(-1, n), limits[:, 0], limits[:, 1], revolute, ref.reshape(-1, n), LIMIT_TOL)

@@ -18,10 +18,12 @@ that of the step actually taken, so the gain ratio stays honest at the limits.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
 
+from ..compiled.lm import solve
 from ..robot import Robot
 
 __all__ = ["LMSettings", "LMOutcome", "solve_lm"]
@@ -110,12 +112,23 @@ def solve_lm(robot: Robot, targets: np.ndarray, q0: np.ndarray, mask: np.ndarray
     -------
     LMOutcome
     """
-    from ..compiled.lm import solve
-
-    lim = robot.limits
-    lo, hi = lim[:, 0], lim[:, 1]
-    span = np.where(robot.revolute, np.pi, robot.scale)
-    rlo, rhi = np.where(np.isfinite(lo), lo, -span), np.where(np.isfinite(hi), hi, span)
+    lo, hi, rlo, rhi = _ranges(robot)
     q, converged, iterations, attempts = solve(robot._chain, targets, q0, mask, lo, hi, rlo, rhi,
                                                robot.scale, settings, seed)
     return LMOutcome(q, converged, iterations, attempts)
+
+
+#: per robot: limits and restart ranges (computed once; a single-target solve costs ~10 us)
+_RANGES: "weakref.WeakKeyDictionary[Robot, tuple[np.ndarray, ...]]" = weakref.WeakKeyDictionary()
+
+
+def _ranges(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Lower and upper limits (n,) and the restart range (n,) each: within the limits, unlimited
+    revolute joints over +-pi, unlimited prismatic ones over +-scale (the robot's size)."""
+    found = _RANGES.get(robot)
+    if found is None:
+        lo, hi = robot.limits[:, 0], robot.limits[:, 1]
+        span = np.where(robot.revolute, np.pi, robot.scale)
+        found = (lo, hi, np.where(np.isfinite(lo), lo, -span), np.where(np.isfinite(hi), hi, span))
+        _RANGES[robot] = found
+    return found

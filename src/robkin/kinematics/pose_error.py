@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..compiled.lm import exact_poses
 from ..errors import InputError
 from ..robot import check_pose
 
@@ -57,10 +58,10 @@ def check_targets(T: ArrayLike, field_name: str = "target") -> tuple[np.ndarray,
         raise InputError(f"{field_name}: expected a 4x4 pose or an (N, 4, 4) array of poses, got shape {A.shape}")
     # Fast path: exact rotations (the usual case: targets from FK) pass unchanged, checked by a
     # compiled loop; the others go through check_pose one by one for its projection and messages
-    # (the first non-finite pose raises there).
-    from ..compiled.lm import exact_poses
-
+    # (the first non-finite pose raises there). Targets are only read, never written.
     ok = exact_poses(A)
+    if ok.all():
+        return A, single
     out = A.copy()
     for i in np.flatnonzero(~ok):
         out[i] = check_pose(A[i], field_name if single else f"{field_name}[{i}]")
