@@ -91,3 +91,17 @@ cdef inline bint usable_q(object q, int n) noexcept:
         if not isfinite(d[k]):
             return False
     return True
+
+
+cdef inline cnp.ndarray empty_result(cnp.ndarray q, cnp.npy_intp d0, cnp.npy_intp d1, cnp.npy_intp d2):
+    """An uninitialised float64 array of shape q.shape[:-1] + (d0, d1) or + (d0, d1, d2) if d2 > 0:
+    one result per configuration of a usable q (n,) or (N, n)."""
+    cdef cnp.npy_intp dims[4]
+    cdef int lead = cnp.PyArray_NDIM(q) - 1, nd
+    if lead:
+        dims[0] = cnp.PyArray_DIM(q, 0)
+    dims[lead] = d0
+    dims[lead + 1] = d1
+    dims[lead + 2] = d2
+    nd = lead + (3 if d2 > 0 else 2)
+    return cnp.PyArray_EMPTY(nd, dims, cnp.NPY_DOUBLE, 0)

@@ -8,7 +8,7 @@ finite values, and the Python wrapper (``Robot.fk``) then validates and explains
 """
 
 cimport numpy as cnp
-from robkin.compiled.fk cimport walk_tool, walk_frames, usable_q
+from robkin.compiled.fk cimport walk_tool, walk_frames, usable_q, empty_result
 
 import numpy as np
 
@@ -39,27 +39,15 @@ cdef class Chain:
 
     def fk(self, q):
         """Tool pose (4, 4) for q (n,), or (N, 4, 4) for q (N, n); None if q is not usable as is."""
-        cdef cnp.ndarray a, out
-        cdef cnp.npy_intp dims[3]
-        cdef Py_ssize_t N, k
+        cdef Py_ssize_t k, N
         cdef const double* Q
         cdef double* O
         if not usable_q(q, self.n):
             return None
-        a = <cnp.ndarray>q
-        Q = <const double*>cnp.PyArray_DATA(a)
-        dims[0] = 4
-        dims[1] = 4
-        if cnp.PyArray_NDIM(a) == 1:
-            out = cnp.PyArray_EMPTY(2, dims, cnp.NPY_DOUBLE, 0)
-            walk_tool(self.L, self.rev, self.n, Q, <double*>cnp.PyArray_DATA(out))
-            return out
-        N = cnp.PyArray_DIM(a, 0)
-        dims[0] = N
-        dims[1] = 4
-        dims[2] = 4
-        out = cnp.PyArray_EMPTY(3, dims, cnp.NPY_DOUBLE, 0)
+        out = empty_result(q, 4, 4, 0)
+        Q = <const double*>cnp.PyArray_DATA(q)
         O = <double*>cnp.PyArray_DATA(out)
+        N = cnp.PyArray_SIZE(q) // self.n
         with nogil:
             for k in range(N):
                 walk_tool(self.L, self.rev, self.n, Q + k * self.n, O + 16 * k)
@@ -68,29 +56,15 @@ cdef class Chain:
     def frames(self, q):
         """Frames after each joint's motion and the tool: (n+1, 4, 4) for q (n,), (N, n+1, 4, 4) for
         q (N, n); None if q is not usable as is."""
-        cdef cnp.ndarray a, out
-        cdef cnp.npy_intp dims[4]
-        cdef Py_ssize_t N, k, m = 16 * (self.n + 1)
+        cdef Py_ssize_t k, N, m = 16 * (self.n + 1)
         cdef const double* Q
         cdef double* O
         if not usable_q(q, self.n):
             return None
-        a = <cnp.ndarray>q
-        Q = <const double*>cnp.PyArray_DATA(a)
-        if cnp.PyArray_NDIM(a) == 1:
-            dims[0] = self.n + 1
-            dims[1] = 4
-            dims[2] = 4
-            out = cnp.PyArray_EMPTY(3, dims, cnp.NPY_DOUBLE, 0)
-            walk_frames(self.L, self.rev, self.n, Q, <double*>cnp.PyArray_DATA(out))
-            return out
-        N = cnp.PyArray_DIM(a, 0)
-        dims[0] = N
-        dims[1] = self.n + 1
-        dims[2] = 4
-        dims[3] = 4
-        out = cnp.PyArray_EMPTY(4, dims, cnp.NPY_DOUBLE, 0)
+        out = empty_result(q, self.n + 1, 4, 4)
+        Q = <const double*>cnp.PyArray_DATA(q)
         O = <double*>cnp.PyArray_DATA(out)
+        N = cnp.PyArray_SIZE(q) // self.n
         with nogil:
             for k in range(N):
                 walk_frames(self.L, self.rev, self.n, Q + k * self.n, O + k * m)

@@ -8,7 +8,7 @@ and converts). ``kind``: 0 = geometric [v; w] at the tool origin in the base fra
 """
 
 cimport numpy as cnp
-from robkin.compiled.fk cimport Chain, move_joint, usable_q
+from robkin.compiled.fk cimport Chain, empty_result, move_joint, usable_q
 from robkin.compiled.linalg cimport tf_mul, tf_copy
 
 cnp.import_array()
@@ -109,8 +109,6 @@ cdef void jacobian_one(const double* L, const unsigned char* rev, int n, const d
 
 def jacobian(Chain chain, q, int kind):
     """(6, n) for q (n,), (N, 6, n) for q (N, n); None if q is not usable as is (see the module doc)."""
-    cdef cnp.ndarray a, out
-    cdef cnp.npy_intp dims[3]
     cdef Py_ssize_t N, k
     cdef int n = chain.n
     cdef const double* Q
@@ -120,20 +118,10 @@ def jacobian(Chain chain, q, int kind):
         raise ValueError("kind must be 0 (geometric), 1 (space) or 2 (body)")
     if not usable_q(q, n):
         return None
-    a = <cnp.ndarray>q
-    Q = <const double*>cnp.PyArray_DATA(a)
-    if cnp.PyArray_NDIM(a) == 1:
-        dims[0] = 6
-        dims[1] = n
-        out = cnp.PyArray_EMPTY(2, dims, cnp.NPY_DOUBLE, 0)
-        jacobian_one(chain.L, chain.rev, n, Q, kind, <double*>cnp.PyArray_DATA(out), T)
-        return out
-    N = cnp.PyArray_DIM(a, 0)
-    dims[0] = N
-    dims[1] = 6
-    dims[2] = n
-    out = cnp.PyArray_EMPTY(3, dims, cnp.NPY_DOUBLE, 0)
+    out = empty_result(q, 6, n, 0)
+    Q = <const double*>cnp.PyArray_DATA(q)
     O = <double*>cnp.PyArray_DATA(out)
+    N = cnp.PyArray_SIZE(q) // n
     with nogil:
         for k in range(N):
             jacobian_one(chain.L, chain.rev, n, Q + k * n, kind, O + 6 * n * k, T)
