@@ -11,13 +11,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from functools import cached_property
-from typing import Callable, Iterable, Literal, Sequence
+from typing import TYPE_CHECKING, Callable, Iterable, Literal, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from .errors import InputError, ProjectionWarning
 from . import se3
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .compiled.fk import Chain
+    from .kinematics.ik import IKResult
 
 __all__ = ["Joint", "Robot", "JOINT_TYPES", "check_pose", "check_poses", "check_q"]
 
@@ -128,7 +132,7 @@ def check_poses(A: np.ndarray, field_name: Callable[[int], str]) -> np.ndarray:
     out[:, 3] = (0.0, 0.0, 0.0, 1.0)
     if not ok.all():
         for i in np.flatnonzero(~ok):
-            out[i] = check_pose(A[i], field_name(i))
+            out[i] = check_pose(A[i], field_name(int(i)))
     return out
 
 
@@ -286,7 +290,7 @@ class Robot:
         return L
 
     @cached_property
-    def _chain(self):
+    def _chain(self) -> "Chain":
         """The compiled chain (``robkin.compiled.fk.Chain``), built on the first kinematics call."""
         from .compiled.fk import Chain
 
@@ -299,8 +303,9 @@ class Robot:
         validated and converted first. Joint values in radians (revolute) or length units (prismatic).
         """
         T = self._chain.fk(q)
-        if T is None:
+        if T is None:   # not a float64 array of finite values as it is: validate, convert, explain
             T = self._chain.fk(np.ascontiguousarray(check_q(q, self.n)))
+        assert T is not None  # a checked, contiguous float64 array is always usable
         return T
 
     def frames_at(self, q: ArrayLike) -> np.ndarray:
@@ -312,12 +317,13 @@ class Robot:
         F = self._chain.frames(q)
         if F is None:
             F = self._chain.frames(np.ascontiguousarray(check_q(q, self.n)))
+        assert F is not None  # a checked, contiguous float64 array is always usable
         return F
 
     def ik(self, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
            method: str = "auto", all_solutions: bool = False, tol_position: float = 1e-9,
            tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 50,
-           rng: np.random.Generator | int | None = 0):
+           rng: np.random.Generator | int | None = 0) -> "IKResult":
         """Inverse kinematics: joint values that put the tool at T (``robkin.kinematics.ik.ik``).
 
         Parameters

@@ -26,6 +26,7 @@ def _compiled(robot: Robot, q: ArrayLike, kind: int) -> np.ndarray:
     J = jacobian(robot._chain, q, kind)
     if J is None:   # not a float64 array of finite values as it is: validate, convert, explain
         J = jacobian(robot._chain, np.ascontiguousarray(check_q(q, robot.n)), kind)
+    assert J is not None  # a checked, contiguous float64 array is always usable
     return J
 
 
