@@ -111,6 +111,8 @@ def check_pose(T: ArrayLike, field_name: str, *, warn: bool = True) -> np.ndarra
 #: ~1e-12 of a rotation, far inside EXACT_TOL: ``check_poses`` takes it as it is without check_pose's
 #: SVD (the usual case: frames computed by robkin itself are orthonormal to ~1e-15).
 _FAST_ORTHONORMAL_TOL = 1e-12
+_I3 = np.eye(3)
+_I3.setflags(write=False)
 
 
 def check_poses(A: np.ndarray, field_name: Callable[[int], str]) -> np.ndarray:
@@ -121,18 +123,20 @@ def check_poses(A: np.ndarray, field_name: Callable[[int], str]) -> np.ndarray:
     ``field_name(i)``) for its projection, warning or error. Returns a new array.
     """
     out = np.array(A, dtype=float)
+    ok = np.zeros(len(out), bool)
     if np.isfinite(out).all():
         R = out[:, :3, :3]
-        dev = np.swapaxes(R, 1, 2) @ R
-        dev -= np.eye(3)
-        ok = (np.abs(dev).max(axis=(1, 2)) <= _FAST_ORTHONORMAL_TOL) & (np.linalg.det(R) > 0) \
-            & (np.abs(out[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1) <= EXACT_TOL)
-    else:
-        ok = np.zeros(len(out), bool)
+        dev = np.abs(np.swapaxes(R, 1, 2) @ R - _I3)
+        last = np.abs(out[:, 3] - (0.0, 0.0, 0.0, 1.0))
+        det_positive = np.linalg.det(R) > 0
+        # whole-stack reductions first (the usual case: every pose valid), per pose only if not
+        if dev.max() <= _FAST_ORTHONORMAL_TOL and last.max() <= EXACT_TOL and det_positive.all():
+            out[:, 3] = (0.0, 0.0, 0.0, 1.0)
+            return out
+        ok = (dev.max(axis=(1, 2)) <= _FAST_ORTHONORMAL_TOL) & det_positive & (last.max(axis=1) <= EXACT_TOL)
     out[:, 3] = (0.0, 0.0, 0.0, 1.0)
-    if not ok.all():
-        for i in np.flatnonzero(~ok):
-            out[i] = check_pose(A[i], field_name(int(i)))
+    for i in np.flatnonzero(~ok):
+        out[i] = check_pose(A[i], field_name(int(i)))
     return out
 
 
