@@ -9,7 +9,10 @@ and converts). ``kind``: 0 = geometric [v; w] at the tool origin in the base fra
 
 cimport numpy as cnp
 from robkin.compiled.fk cimport Chain, empty_result, move_joint, usable_q
-from robkin.compiled.linalg cimport tf_mul, tf_copy
+from libc.stdlib cimport malloc, free
+from robkin.compiled.linalg cimport tf_mul, tf_copy, tall_volume
+
+import numpy as np
 
 cnp.import_array()
 
@@ -125,4 +128,39 @@ def jacobian(Chain chain, q, int kind):
     with nogil:
         for k in range(N):
             jacobian_one(chain.L, chain.rev, n, Q + k * n, kind, O + 6 * n * k, T)
+    return out
+
+
+def volumes(J):
+    """Product of the singular values of each matrix of J (..., m, k): (...) array.
+
+    The volume of the image of the unit ball within the span (Yoshikawa's measure for a Jacobian's
+    rows), by Householder QR of the tall orientation (backward stable like the SVD; exact zeros stay
+    zero).
+    """
+    cdef cnp.ndarray Ja = np.ascontiguousarray(J, dtype=np.float64)
+    if Ja.ndim < 2:
+        raise ValueError("volumes: expected (..., m, k)")
+    cdef Py_ssize_t m = Ja.shape[Ja.ndim - 2], k = Ja.shape[Ja.ndim - 1]
+    cdef Py_ssize_t count = Ja.size // (m * k) if m * k else 0, b, i, j
+    cdef bint wide = m < k
+    cdef Py_ssize_t rows = k if wide else m, cols = m if wide else k
+    out = np.empty(np.shape(Ja)[:-2])
+    cdef double* O = <double*>cnp.PyArray_DATA(out)
+    cdef const double* src = <const double*>cnp.PyArray_DATA(Ja)
+    cdef const double* A
+    cdef double* M = <double*>malloc((m * k if m * k else 1) * sizeof(double))
+    if M == NULL:
+        raise MemoryError()
+    with nogil:
+        for b in range(count):
+            A = src + b * m * k
+            for i in range(m):
+                for j in range(k):
+                    if wide:
+                        M[j * cols + i] = A[i * k + j]     # transpose: rows x cols = k x m
+                    else:
+                        M[i * k + j] = A[i * k + j]
+            O[b] = tall_volume(M, <int>rows, <int>cols) if cols else 1.0
+    free(M)
     return out

@@ -14,7 +14,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..compiled.jacobian import jacobian
+from ..compiled.jacobian import jacobian, volumes
+from ..errors import InputError
 from ..robot import Robot, check_q
 
 __all__ = ["jacobian_space", "jacobian_body", "jacobian_geometric", "manipulability",
@@ -65,8 +66,6 @@ _ROWS = {"translational": slice(0, 3), "rotational": slice(3, 6), "full": slice(
 
 def _selected_singular_values(robot: Robot, q: ArrayLike, kind: str) -> np.ndarray:
     if kind not in _ROWS:
-        from ..errors import InputError
-
         raise InputError(f"manipulability kind '{kind}' is not one of {', '.join(_ROWS)}")
     J = jacobian_geometric(robot, q)
     return singular_values(J[..., _ROWS[kind], :])
@@ -94,7 +93,10 @@ def manipulability(robot: Robot, q: ArrayLike, kind: str = "translational") -> n
         and sqrt(det(J^T J)) otherwise (the volume of the image of the unit ball within its span).
         Units: length^3 (translational), 1 (rotational), length^3 (full, mixed rows).
     """
-    return _scalar(np.prod(_selected_singular_values(robot, q, kind), axis=-1))
+    if kind not in _ROWS:
+        raise InputError(f"manipulability kind '{kind}' is not one of {', '.join(_ROWS)}")
+    # compiled Householder QR of the selected rows: the same product as the SVD's, several times cheaper
+    return _scalar(volumes(jacobian_geometric(robot, q)[..., _ROWS[kind], :]))
 
 
 def inverse_condition_number(robot: Robot, q: ArrayLike, kind: str = "translational") -> np.ndarray | float:
