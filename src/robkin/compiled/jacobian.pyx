@@ -145,7 +145,8 @@ def volumes(J):
     cdef Py_ssize_t count = Ja.size // (m * k) if m * k else 0, b, i, j
     cdef bint wide = m < k
     cdef Py_ssize_t rows = k if wide else m, cols = m if wide else k
-    out = np.empty(np.shape(Ja)[:-2])
+    lead = np.shape(Ja)
+    out = np.empty(lead[:len(lead) - 2])
     cdef double* O = <double*>cnp.PyArray_DATA(out)
     cdef const double* src = <const double*>cnp.PyArray_DATA(Ja)
     cdef const double* A
