@@ -206,6 +206,7 @@ cdef bint solve_one(Chain chain, const Params* P, const double* w, const double*
             if attempt == 0:
                 x = q0[j]
                 q[j] = lo[j] if x < lo[j] else (hi[j] if x > hi[j] else x)
+                best_q[j] = q[j]      # defined even if no attempt ever has a finite E
             else:
                 q[j] = rlo[j] + (rhi[j] - rlo[j]) * uniform01(&state)
         E = evaluate(chain, P, w, Td, q, e, J)
