@@ -396,3 +396,61 @@ def test_cli_fk_jacobian_and_manipulability(capsys):
     assert main(["fk", path, "--tip-link", "tool0", "--q", ",".join(map(str, q)), "--jacobian"]) == 0
     text = capsys.readouterr().out
     assert "J (geometric" in text and "shoulder_pan_joint" in text
+
+
+# ------------------------------------------------------------------------ compiled solver bookkeeping
+def _limited_7r() -> robkin.Robot:
+    """A KUKA iiwa-like 7R arm (standard DH, metres) with +-120 / +-170 degree limits."""
+    dh = [[0, 0.36, -np.pi / 2, 0], [0, 0, np.pi / 2, 0], [0, 0.42, np.pi / 2, 0], [0, 0, -np.pi / 2, 0],
+          [0, 0.4, -np.pi / 2, 0], [0, 0, np.pi / 2, 0], [0, 0.126, 0, 0]]
+    joints = tuple(Joint(f"a{i + 1}", lower=-lim, upper=lim)
+                   for i, lim in enumerate([2.96, 2.09, 2.96, 2.09, 2.96, 2.09, 3.05]))
+    return robkin.DHTable(np.array(dh), joints).to_robot()
+
+
+def test_numeric_ik_is_reproducible_and_a_batch_of_one_is_a_single_call():
+    robot = _limited_7r()
+    targets = robot.fk(robot.random_q(20, rng=11))
+    a = robot.ik(targets, method="numeric", rng=3)
+    b = robot.ik(targets, method="numeric", rng=np.random.default_rng(3))   # a Generator works too
+    assert a.success.all() and b.success.all()
+    np.testing.assert_array_equal(a.q, robot.ik(targets, method="numeric", rng=3).q)
+    one, single = robot.ik(targets[:1], method="numeric", rng=5), robot.ik(targets[0], method="numeric", rng=5)
+    np.testing.assert_array_equal(one.q[0], single.q)
+    assert one.iterations[0] == single.iterations and single.success
+    lim = robot.limits
+    assert np.all((a.q >= lim[:, 0]) & (a.q <= lim[:, 1]))
+    # independent check of every answer: pinocchio-free, by the tool pose the answer gives
+    err = np.abs(robot.fk(a.q) - targets).max()
+    assert err < 1e-8
+
+
+def test_bad_rng_is_one_clear_input_error():
+    robot = _limited_7r()
+    with pytest.raises(InputError, match="rng"):
+        robot.ik(robot.fk(np.zeros(7)), method="numeric", rng=-1)
+
+
+def test_wrap_into_limits_matches_the_turn_formula():
+    """The compiled wrapping against the formula written out in numpy: the turn k nearest to the
+    reference, clipped to the turns that land within the limits."""
+    from robkin.kinematics.limits import LIMIT_TOL, wrap_into_limits
+
+    rng = np.random.default_rng(0)
+    lim = np.array([[-1, 1], [-np.inf, np.inf], [-4, 4], [0.5, 0.6], [-7, -6.9], [2.0, np.inf]])
+    rev = np.array([1, 1, 1, 1, 0, 1], bool)
+    Q = rng.uniform(-20, 20, (4000, 6))
+    Q[::7, 0] = np.nan
+    ref = rng.uniform(-5, 5, (4000, 6))
+    two_pi = 2 * np.pi
+    with np.errstate(invalid="ignore"):
+        k = np.clip(np.round((ref - Q) / two_pi), np.ceil((lim[:, 0] - LIMIT_TOL - Q) / two_pi),
+                    np.floor((lim[:, 1] + LIMIT_TOL - Q) / two_pi))
+    expected = np.where(rev, Q + k * two_pi, Q)
+    inside = np.all((expected >= lim[:, 0] - LIMIT_TOL) & (expected <= lim[:, 1] + LIMIT_TOL), axis=1)
+    got, ok = wrap_into_limits(Q, lim, rev, ref)
+    np.testing.assert_array_equal(got, expected)
+    np.testing.assert_array_equal(ok, inside)
+    got3, ok3 = wrap_into_limits(Q.reshape(40, 100, 6), lim, rev, ref.reshape(40, 100, 6))
+    np.testing.assert_array_equal(got3.reshape(-1, 6), expected)
+    assert ok3.shape == (40, 100)

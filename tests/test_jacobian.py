@@ -178,3 +178,19 @@ def test_jacobians_match_pinocchio(rel, tip):
         assert np.allclose(jacobian_geometric(robot, q), pj(pin.LOCAL_WORLD_ALIGNED), atol=1e-12)
         assert np.allclose(jacobian_space(robot, q), pj(pin.WORLD)[swap], atol=1e-12)
         assert np.allclose(jacobian_body(robot, q), pj(pin.LOCAL)[swap], atol=1e-12)
+
+
+@settings(max_examples=20, deadline=None)
+@given(robot=robots(max_joints=7), seed=st.integers(0, 2**16))
+def test_manipulability_is_the_product_of_numpy_singular_values(robot, seed):
+    """The compiled volume (Householder QR) against numpy's SVD of the same Jacobian rows, for wide,
+    square and tall blocks (n below, at and above the number of rows)."""
+    Q = sample_q(robot, seed, 3)
+    J = jacobian_geometric(robot, Q)
+    for kind, rows in (("translational", slice(0, 3)), ("rotational", slice(3, 6)), ("full", slice(0, 6))):
+        expected = np.prod(np.linalg.svd(J[:, rows], compute_uv=False), axis=-1)
+        block = J[:, rows]
+        # every singular value is at most the Frobenius norm: a bound on the product's size
+        size = np.linalg.norm(block, axis=(1, 2)) ** min(block.shape[1:])
+        got = manipulability(robot, Q, kind)
+        assert np.allclose(got, expected, rtol=0, atol=1e-12 * size + 1e-300)

@@ -127,3 +127,50 @@ def test_zero_configuration_is_the_tool_pose():
     robot = robot_by_hand(origins, axes, types, tool)
     np.testing.assert_allclose(pinocchio_fk(model, data, model.getFrameId("tool"), np.zeros(6)), robot.tool,
                                atol=1e-12)
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 8), unit=st.sampled_from([1e-3, 1.0, 1e3]))
+def test_compiled_frames_and_jacobians_match_pinocchio(seed: int, n: int, unit: float):
+    """The compiled core against pinocchio on random URDF chains (revolute and prismatic joints,
+    tilted axes, mm to km): the frames along the chain (joint i's origin and axis after its motion)
+    and the geometric, space and body Jacobians at the tool, for one q, a batch and a batch of one."""
+    from robkin.kinematics.jacobian import jacobian_body, jacobian_geometric, jacobian_space
+
+    rng = np.random.default_rng(seed)
+    origins, axes, types, tool = random_chain(rng, n, unit)
+    model = pin.buildModelFromXML(chain_urdf(origins, axes, types, tool))
+    data = model.createData()
+    tool_id = model.getFrameId("tool")
+    robot = robot_by_hand(origins, axes, types, tool)
+    Q = rng.uniform(-3, 3, size=(5, n)) * np.where(robot.revolute, 1.0, unit)
+    size = max(robot.scale, unit)
+    swap = np.r_[3:6, 0:3]                  # pinocchio's rows are (v, w); robkin's space/body (w, v)
+    frames = robot.frames_at(Q)
+    J = {"geometric": jacobian_geometric(robot, Q), "space": jacobian_space(robot, Q),
+         "body": jacobian_body(robot, Q)}
+    for k, q in enumerate(Q):
+        pin.computeJointJacobians(model, data, q)
+        pin.updateFramePlacements(model, data)
+        for i in range(n):
+            placement = data.oMi[i + 1]
+            np.testing.assert_allclose(frames[k, i, :3, 3], placement.translation, atol=FK_TOL * size)
+            np.testing.assert_allclose(frames[k, i, :3, 2], placement.rotation @ axes[i], atol=FK_TOL)
+        np.testing.assert_allclose(frames[k, n], data.oMf[tool_id].homogeneous, atol=FK_TOL * size)
+        expected = {kind: np.reshape(pin.getFrameJacobian(model, data, tool_id, frame), (6, n))[rows]
+                    for kind, frame, rows in (("geometric", pin.LOCAL_WORLD_ALIGNED, slice(None)),
+                                              ("space", pin.WORLD, swap), ("body", pin.LOCAL, swap))}
+        single = {"geometric": jacobian_geometric(robot, q), "space": jacobian_space(robot, q),
+                  "body": jacobian_body(robot, q)}
+        one = {"geometric": jacobian_geometric(robot, Q[k:k + 1]), "space": jacobian_space(robot, Q[k:k + 1]),
+               "body": jacobian_body(robot, Q[k:k + 1])}
+        v_rows = {"geometric": slice(0, 3), "space": slice(3, 6), "body": slice(3, 6)}
+        for kind, ref in expected.items():
+            # linear-velocity rows of revolute columns scale with the robot (and, for the space
+            # Jacobian, with the distance of the base from the axes): compare them relative to it
+            lever = size + float(np.abs(frames[k, :, :3, 3]).max())
+            for got in (J[kind][k], single[kind], one[kind][0]):
+                np.testing.assert_allclose(got[v_rows[kind]], ref[v_rows[kind]], rtol=0,
+                                           atol=FK_TOL * lever, err_msg=kind)
+                w_rows = slice(3, 6) if kind == "geometric" else slice(0, 3)
+                np.testing.assert_allclose(got[w_rows], ref[w_rows], rtol=0, atol=FK_TOL, err_msg=kind)

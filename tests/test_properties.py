@@ -449,18 +449,20 @@ def test_poe_pitch_tolerance_is_relative_to_the_robot_not_to_each_screw():
 
 @settings(max_examples=5 * SCALE, **SETTINGS)
 @given(spec=robot_specs(), seed=st.integers(0, 2**32 - 1))
-def test_batch_fk_across_blocks_equals_single_fk(spec: RobotSpec, seed: int):
-    """Batch FK works in blocks of Robot._FK_BLOCK configurations: a batch that spans several blocks
-    (and a partial last one) gives each configuration's single FK."""
+def test_batch_fk_equals_single_fk(spec: RobotSpec, seed: int):
+    """Batch FK (one compiled loop over configurations) gives each configuration's single FK, and a
+    batch of one the single pose."""
     robot = spec.robot
-    N = 2 * Robot._FK_BLOCK + 7
+    N = 2055
     Q = robot.random_q(N, seed)
     batch = robot.fk(Q)
     assert batch.shape == (N, 4, 4)
     pick = np.random.default_rng(seed).choice(N, 40, replace=False)
-    pick[:3] = [0, Robot._FK_BLOCK, N - 1]  # first, start of the second block, last (partial block)
+    pick[:2] = [0, N - 1]
     stacked = np.stack([robot.fk(Q[k]) for k in pick])
-    assert_poses_close(batch[pick], stacked, fk_scale(robot, stacked), tol=EXACT, what="blocks")
+    assert_poses_close(batch[pick], stacked, fk_scale(robot, stacked), tol=EXACT, what="batch")
+    assert_poses_close(robot.fk(Q[:1])[0], robot.fk(Q[0]), fk_scale(robot, stacked), tol=EXACT,
+                       what="batch of one")
 
 
 def test_coincident_axes_of_a_tiny_robot_do_not_make_a_nan_frame():

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from functools import cached_property
-from typing import TYPE_CHECKING, Any, Iterable, Literal, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Literal, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -21,9 +21,10 @@ from .names import check_name, duplicates
 from . import se3
 
 if TYPE_CHECKING:  # pragma: no cover
+    from .compiled.fk import Chain
     from .kinematics.ik import IKResult
 
-__all__ = ["Joint", "Robot", "JOINT_TYPES", "check_pose", "check_q"]
+__all__ = ["Joint", "Robot", "JOINT_TYPES", "check_pose", "check_poses", "check_q"]
 
 JointType = Literal["revolute", "prismatic"]
 JOINT_TYPES: tuple[str, ...] = ("revolute", "prismatic")
@@ -107,6 +108,39 @@ def check_pose(T: ArrayLike, field_name: str, *, warn: bool = True) -> np.ndarra
     return A
 
 
+#: A rotation block whose columns are orthonormal to this (max |R^T R - I|) with det > 0 is within
+#: ~1e-12 of a rotation, far inside EXACT_TOL: ``check_poses`` takes it as it is without check_pose's
+#: SVD (the usual case: frames computed by robkin itself are orthonormal to ~1e-15).
+_FAST_ORTHONORMAL_TOL = 1e-12
+_I3 = np.eye(3)
+_I3.setflags(write=False)
+
+
+def check_poses(A: np.ndarray, field_name: Callable[[int], str]) -> np.ndarray:
+    """``check_pose`` for a stack (m, 4, 4) of float poses, vectorised for the usual valid case.
+
+    Poses that are finite, rigid to rounding and have the last row [0, 0, 0, 1] (within EXACT_TOL) are
+    checked in a few whole-array operations; any other goes through ``check_pose`` (named
+    ``field_name(i)``) for its projection, warning or error. Returns a new array.
+    """
+    out = np.array(A, dtype=float)
+    ok = np.zeros(len(out), bool)
+    if np.isfinite(out).all():
+        R = out[:, :3, :3]
+        dev = np.abs(np.swapaxes(R, 1, 2) @ R - _I3)
+        last = np.abs(out[:, 3] - (0.0, 0.0, 0.0, 1.0))
+        det_positive = np.linalg.det(R) > 0
+        # whole-stack reductions first (the usual case: every pose valid), per pose only if not
+        if dev.max() <= _FAST_ORTHONORMAL_TOL and last.max() <= EXACT_TOL and det_positive.all():
+            out[:, 3] = (0.0, 0.0, 0.0, 1.0)
+            return out
+        ok = (dev.max(axis=(1, 2)) <= _FAST_ORTHONORMAL_TOL) & det_positive & (last.max(axis=1) <= EXACT_TOL)
+    out[:, 3] = (0.0, 0.0, 0.0, 1.0)
+    for i in np.flatnonzero(~ok):
+        out[i] = check_pose(A[i], field_name(int(i)))
+    return out
+
+
 def check_q(q: ArrayLike, n: int) -> np.ndarray:
     """Joint values as float array (n,) or (N, n); InputError for wrong shapes or non-finite values."""
     try:
@@ -158,8 +192,12 @@ class Robot:
         dup = duplicates(j.name for j in joints)
         if dup:
             raise InputError(f"joints: duplicate joint name(s) {', '.join(quote(d) for d in dup[:8])}")
-        checked = np.stack([check_pose(F, f"gjd.frames[{i}]") for i, F in enumerate(frames)])
-        world = check_pose(self.world, "world")
+        if np.shape(self.world) == (4, 4):   # frames and world checked in one vectorised pass
+            both = check_poses(np.concatenate([frames, np.asarray(self.world, dtype=float)[None]]),
+                               lambda i: f"gjd.frames[{i}]" if i <= n else "world")
+            checked, world = both[:-1], both[-1]
+        else:
+            checked, world = check_poses(frames, lambda i: f"gjd.frames[{i}]"), check_pose(self.world, "world")
         checked.setflags(write=False)
         world.setflags(write=False)
         object.__setattr__(self, "frames", checked)
@@ -223,11 +261,13 @@ class Robot:
         s = max(s, 1e-3 * origins)
         return s if s > 0 else 1.0
 
-    @property
+    @cached_property
     def limits(self) -> np.ndarray:
-        """Joint limits (n, 2), -inf/+inf where none are given."""
-        return np.array([[-np.inf if j.lower is None else j.lower, np.inf if j.upper is None else j.upper]
-                         for j in self.joints])
+        """Joint limits (n, 2), -inf/+inf where none are given (read-only)."""
+        lim = np.array([[-np.inf if j.lower is None else j.lower, np.inf if j.upper is None else j.upper]
+                        for j in self.joints])
+        lim.setflags(write=False)
+        return lim
 
     def screws(self) -> np.ndarray:
         """Space-frame unit screws (n, 6) ordered (w, v): revolute (z, -z x p), prismatic (0, z)."""
@@ -257,89 +297,24 @@ class Robot:
         L.setflags(write=False)
         return L
 
-    def fk(self, q: ArrayLike) -> np.ndarray:
-        """Tool pose in the base frame: q (n,) -> (4, 4), or a batch (N, n) -> (N, 4, 4)."""
-        Q = check_q(q, self.n)
-        if Q.ndim == 1:
-            return self._fk_one(Q)
-        return self._fk_batch(Q)
-
-    def _joint_motions(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """cos, sin and slide of every joint for q (..., n): revolute (cos q, sin q, 0), prismatic (1, 0, q)."""
-        rev = self.revolute
-        c = np.where(rev, np.cos(Q), 1.0)
-        s = np.where(rev, np.sin(Q), 0.0)
-        t = np.where(rev, 0.0, Q)
-        return c, s, t
-
     @cached_property
-    def _fk_parts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool]:
-        """B, C, S, P (n, 4, 4) with L_i Z_i(q) = B_i + cos(q) C_i + sin(q) S_i + q P_i, and whether
-        any joint is prismatic (P is then not all zero).
+    def _chain(self) -> "Chain":
+        """The compiled chain (``robkin.compiled.fk.Chain``), built on the first kinematics call."""
+        from .compiled.fk import Chain
 
-        A revolute Z mixes columns 0 and 1 of L_i (x -> c x + s y, y -> c y - s x); a prismatic Z
-        adds q z to column 3. Precomputed once, so FK needs no per-joint branching or masking (the
-        cos/sin of a prismatic q multiply zero matrices).
+        return Chain(self._local, self.revolute)
+
+    def fk(self, q: ArrayLike) -> np.ndarray:
+        """Tool pose in the base frame: q (n,) -> (4, 4), or a batch (N, n) -> (N, 4, 4).
+
+        Compiled (``robkin.compiled.fk``); a float64 array is used as it is, anything else is
+        validated and converted first. Joint values in radians (revolute) or length units (prismatic).
         """
-        L = self._local[:-1]
-        rev, pri = self.revolute, ~self.revolute
-        B, C, S, P = L.copy(), np.zeros_like(L), np.zeros_like(L), np.zeros_like(L)
-        B[rev, :, :2] = 0.0
-        C[rev, :, 0], C[rev, :, 1] = L[rev, :, 0], L[rev, :, 1]
-        S[rev, :, 0], S[rev, :, 1] = L[rev, :, 1], -L[rev, :, 0]
-        P[pri, :, 3] = L[pri, :, 2]
-        for part in (B, C, S, P):
-            part.setflags(write=False)
-        return B, C, S, P, bool(pri.any())
-
-    def _fk_one(self, q: np.ndarray) -> np.ndarray:
-        # All link transforms at once, A_i = L_i Z_i(q_i), in a few whole-array operations, then
-        # their product. At this size the cost is Python-call overhead, not arithmetic: np.dot on
-        # 4x4 costs about half of the @ operator (measured), and no per-joint branching remains.
-        B, C, S, P, prismatic = self._fk_parts
-        A = B + np.cos(q)[:, None, None] * C + np.sin(q)[:, None, None] * S
-        if prismatic:
-            A += q[:, None, None] * P
-        T = A[0]
-        for i in range(1, self.n):
-            T = np.dot(T, A[i])
-        return np.dot(T, self._local[-1])
-
-    #: configurations per block of batch FK: the block's pose columns (4 x 3 x 1024 doubles, 96 kB)
-    #: stay in cache through all joints. Measured on a 7-joint arm (a shared, noisy machine): whole
-    #: batches of 1e5 ran ~3x slower per configuration than 1e3; blocks of 2048 ~1.4x slower than
-    #: 1024; 512 no faster.
-    _FK_BLOCK = 1024
-
-    def _fk_batch(self, Q: np.ndarray) -> np.ndarray:
-        # The poses are kept column-major, F[k] = column k of [R | p] for every configuration, shape
-        # (4, m, 3), so that every operation runs on contiguous memory: right-multiplying by a fixed
-        # 4x4 is one GEMM L^T (4, 4) @ F (4, 3m), and a joint motion mixes two columns (revolute) or
-        # adds to the last one (prismatic). Joint values are taken per block and transposed, so the
-        # per-joint factors are contiguous too.
-        N = Q.shape[0]
-        L = self._local
-        out = np.empty((N, 4, 4))
-        out[:, 3] = (0.0, 0.0, 0.0, 1.0)
-        first = np.ascontiguousarray(L[0, :3].T)[:, None, :]  # (4, 1, 3)
-        for start in range(0, N, self._FK_BLOCK):
-            stop = min(N, start + self._FK_BLOCK)
-            m = stop - start
-            Qb = np.ascontiguousarray(Q[start:stop].T)[:, :, None]  # (n, m, 1)
-            c, s = np.cos(Qb), np.sin(Qb)
-            F = np.repeat(first, m, axis=1)  # (4, m, 3)
-            for i in range(self.n):
-                if self.revolute[i]:
-                    x = F[0] * c[i]
-                    x += F[1] * s[i]
-                    F[1] *= c[i]
-                    F[1] -= F[0] * s[i]
-                    F[0] = x
-                else:
-                    F[3] += Qb[i] * F[2]
-                F = (L[i + 1].T @ F.reshape(4, -1)).reshape(4, m, 3)
-            out[start:stop, :3] = F.transpose(1, 2, 0)
-        return out
+        T = self._chain.fk(q)
+        if T is None:   # not a float64 array of finite values as it is: validate, convert, explain
+            T = self._chain.fk(np.ascontiguousarray(check_q(q, self.n)))
+        assert T is not None  # a checked, contiguous float64 array is always usable
+        return T
 
     def frames_at(self, q: ArrayLike) -> np.ndarray:
         """All GJD frames moved to configuration q: (n,) -> (n+1, 4, 4), (N, n) -> (N, n+1, 4, 4).
@@ -347,32 +322,51 @@ class Robot:
         Frame i is joint i's frame *after* its own motion, so frame n+1 is the tool pose fk(q).
         Joint i's axis at q is the z axis of frame i before its motion, which has the same z axis.
         """
-        Q = check_q(q, self.n)
-        single = Q.ndim == 1
-        Q2 = np.atleast_2d(Q)
-        N = Q2.shape[0]
-        L = self._local
-        c, s, t = self._joint_motions(Q2)
-        out = np.empty((N, self.n + 1, 4, 4))
-        T = np.broadcast_to(L[0], (N, 4, 4)).copy()
-        for i in range(self.n):
-            Z = np.broadcast_to(np.eye(4), (N, 4, 4)).copy()
-            Z[:, 0, 0] = Z[:, 1, 1] = c[:, i]
-            Z[:, 0, 1], Z[:, 1, 0] = -s[:, i], s[:, i]
-            Z[:, 2, 3] = t[:, i]
-            out[:, i] = T @ Z
-            T = out[:, i] @ L[i + 1]
-        out[:, self.n] = T
-        return out[0] if single else out
+        F = self._chain.frames(q)
+        if F is None:
+            F = self._chain.frames(np.ascontiguousarray(check_q(q, self.n)))
+        assert F is not None  # a checked, contiguous float64 array is always usable
+        return F
 
-    def ik(self, T: ArrayLike, **options: Any) -> "IKResult":
-        """Inverse kinematics for a target (4, 4) or targets (N, 4, 4): see ``robkin.kinematics.ik.ik``.
+    def ik(self, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
+           method: str = "auto", all_solutions: bool = False, tol_position: float = 1e-9,
+           tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 50,
+           rng: np.random.Generator | int | None = 0) -> "IKResult":
+        """Inverse kinematics: joint values that put the tool at T (``robkin.kinematics.ik.ik``).
 
-        Returns an ``IKResult`` with ``.q``, ``.success`` and the errors reached.
+        Parameters
+        ----------
+        T : (4, 4) or (N, 4, 4) array
+            Target tool poses in the robot base frame.
+        q0 : (n,) or (N, n) array, optional
+            Preferred configuration: the numeric start and the tie-break among closed-form solutions.
+            Default zero, clipped into the limits.
+        mask : 'pose' (default), 'position', or 6 values 0/1 for (x, y, z, rx, ry, rz)
+            Residual components that must match (base frame). Anything but the full pose is numeric.
+        method : 'auto' (default), 'analytic' or 'numeric'
+            'auto' uses a closed form when one fits the robot, else Levenberg-Marquardt.
+        all_solutions : bool
+            Also return every distinct solution found (``.solutions``).
+        tol_position, tol_orientation : float
+            Success tolerances: length units and radians, over the masked components.
+        max_iterations : int
+            Numeric: iterations per attempt before a random restart.
+        restarts : int
+            Numeric: random restarts per target after the first attempt.
+        rng : Generator, int seed or None
+            Source of the random restarts; the default seed 0 makes results reproducible.
+
+        Returns
+        -------
+        IKResult
+            ``.q``, ``.success``, the errors reached, iterations, attempts, method and messages.
+            Joint limits are always respected.
         """
         from .kinematics.ik import ik
 
-        return ik(self, T, **options)
+        return ik(self, T, q0=q0, mask=mask, method=method, all_solutions=all_solutions,
+                  tol_position=tol_position, tol_orientation=tol_orientation,
+                  max_iterations=max_iterations, restarts=restarts, rng=rng)
 
     def jacobian(self, q: ArrayLike, frame: str = "base") -> np.ndarray:
         """Jacobian at q (n,) -> (6, n), or at q (N, n) -> (N, 6, n).

@@ -26,12 +26,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..compiled.lm import pose_errors
 from ..errors import InputError
 from ..robot import Robot
 from .closed_form import closed_form_solver
 from .limits import wrap_into_limits, within_limits
 from .lm import LMSettings, solve_lm
-from .pose_error import check_mask, check_targets, masked_errors, residual
+from .pose_error import check_mask, check_targets
 
 __all__ = ["IKResult", "ik", "METHODS"]
 
@@ -144,7 +145,6 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
     if int(max_iterations) < 1 or int(restarts) < 0:
         raise InputError(f"max_iterations must be >= 1 and restarts >= 0, got {max_iterations}, {restarts}")
     q_ref = _start(robot, q0, N)
-    rng = np.random.default_rng(rng)
     settings = LMSettings(tol_position=float(tol_position), tol_orientation=float(tol_orientation),
                           max_iterations=int(max_iterations), restarts=int(restarts))
 
@@ -166,6 +166,7 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
             r = np.flatnonzero(out.retry)
             sub = _numeric(robot, targets[r], q_ref[r], m, settings, rng, all_solutions)
             out.q[r], out.success[r] = sub.q, sub.success
+            out.errors = None
             iters[r], attempts[r] = sub.iterations, sub.attempts
             for j, i in enumerate(r):
                 out.reasons[i] = sub.reasons[j]
@@ -176,7 +177,8 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         iters, attempts = out.iterations, out.attempts
         used = "numeric"
 
-    ep, eo = _errors(robot, out.q, targets, m)
+    # inf where q is NaN (no closed-form solution)
+    ep, eo = out.errors if out.errors is not None else _errors(robot, out.q, targets, m)
     sols = out.solutions
     return IKResult(
         q=out.q[0] if single else out.q,
@@ -202,6 +204,23 @@ class _Found:
     attempts: np.ndarray                # (N,) int
     solutions: list[np.ndarray] | None  # per target (S_i, n), with all_solutions
     retry: np.ndarray                   # (N,) bool: closed-form trouble, worth a numeric try
+    errors: tuple[np.ndarray, np.ndarray] | None = None   # (N,) position, orientation errors of q
+
+
+def _generator(rng: np.random.Generator | int | None) -> np.random.Generator:
+    """A numpy Generator from a Generator, an int seed or None (fresh entropy)."""
+    try:
+        return rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
+    except (TypeError, ValueError) as e:
+        raise InputError(f"rng: expected a numpy Generator, a non-negative int seed or None ({e})") from None
+
+
+def _seed(rng: np.random.Generator | int | None) -> int:
+    """One 64-bit seed for the compiled solver's restart streams. An int seed is used as it is (no
+    Generator built: that costs ~10 us, as much as solving an easy target)."""
+    if isinstance(rng, (int, np.integer)) and not isinstance(rng, bool) and rng >= 0:
+        return int(rng) & 0xFFFFFFFFFFFFFFFF
+    return int(_generator(rng).integers(0, 2**63))
 
 
 def _start(robot: Robot, q0: ArrayLike | None, N: int) -> np.ndarray:
@@ -218,31 +237,26 @@ def _start(robot: Robot, q0: ArrayLike | None, N: int) -> np.ndarray:
         elif Q.shape[0] != N:
             raise InputError(f"q0: expected shape ({robot.n},) or ({N}, {robot.n}) for {N} targets, "
                              f"got {Q.shape}")
-    return np.clip(Q, lim[:, 0], lim[:, 1])
+    return np.minimum(np.maximum(Q, lim[:, 0]), lim[:, 1])     # np.clip, without its wrapper cost
 
 
 def _verify(robot: Robot, Q: np.ndarray, targets: np.ndarray, mask: np.ndarray,
             settings: LMSettings) -> np.ndarray:
     """(...) bool: configurations Q (..., n) reach their targets (...) within tolerance and limits.
 
-    Checked with ``Robot.fk``, which neither the closed forms nor the LM kernel use.
+    Checked by forward kinematics (``_errors``), not by the residuals the solvers report.
     """
     flat = Q.reshape(-1, robot.n)
-    finite = np.isfinite(flat).all(axis=1)
-    T = robot.fk(np.where(finite[:, None], flat, 0.0))
-    e = residual(T, targets.reshape(-1, 4, 4))
-    ep, eo = masked_errors(e, mask)
-    ok = finite & (ep <= settings.tol_position) & (eo <= settings.tol_orientation) \
-        & within_limits(flat, robot.limits)
+    ep, eo = _errors(robot, flat, targets.reshape(-1, 4, 4), mask)
+    ok = (ep <= settings.tol_position) & (eo <= settings.tol_orientation) & within_limits(flat, robot.limits)
     return ok.reshape(Q.shape[:-1])
 
 
 def _errors(robot: Robot, q: np.ndarray, targets: np.ndarray, mask: np.ndarray
             ) -> tuple[np.ndarray, np.ndarray]:
-    finite = np.isfinite(q).all(axis=1)
-    e = residual(robot.fk(np.where(finite[:, None], q, 0.0)), targets)
-    ep, eo = masked_errors(e, mask)
-    return np.where(finite, ep, np.inf), np.where(finite, eo, np.inf)
+    """Masked position and orientation errors (M,) of the tool at q (M, n) towards targets (M, 4, 4),
+    by forward kinematics (compiled, the walk of ``Robot.fk``); inf where q is NaN."""
+    return pose_errors(robot._chain, q, targets, mask)
 
 
 def _distinct_sorted(Q: np.ndarray, ref: np.ndarray, scale: np.ndarray) -> np.ndarray:
@@ -286,39 +300,41 @@ def _closed_form(robot: Robot, solver, targets: np.ndarray, q_ref: np.ndarray, s
 
 
 def _numeric(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndarray,
-             settings: LMSettings, rng: np.random.Generator, all_solutions: bool) -> _Found:
+             settings: LMSettings, rng: np.random.Generator | int | None, all_solutions: bool) -> _Found:
     """Numeric solutions; where a target fails, q is the best configuration found."""
     N, n = q_ref.shape
     lim = robot.limits
-    scale = _joint_scale(robot)
     sols = None
     if all_solutions:
+        scale = _joint_scale(robot)
         # 1 + restarts starts per target side by side, each one attempt; keep every distinct success
         K = 1 + settings.restarts
         span = np.where(robot.revolute, np.pi, robot.scale)
         lo = np.where(np.isfinite(lim[:, 0]), lim[:, 0], -span)
         hi = np.where(np.isfinite(lim[:, 1]), lim[:, 1], span)
-        starts = rng.uniform(lo, hi, size=(N, K, n))
+        starts = _generator(rng).uniform(lo, hi, size=(N, K, n))
         starts[:, 0] = q_ref
         one = LMSettings(**{**settings.__dict__, "restarts": 0})
-        out = solve_lm(robot, np.repeat(targets, K, axis=0), starts.reshape(N * K, n), mask, one, rng)
+        out = solve_lm(robot, np.repeat(targets, K, axis=0), starts.reshape(N * K, n), mask, one, _seed(rng))
         Q, _ = wrap_into_limits(out.q.reshape(N, K, n), lim, robot.revolute, q_ref[:, None])
         ok = _verify(robot, Q, np.repeat(targets[:, None], K, axis=1), mask, settings)
         sols = [_distinct_sorted(Q[i][ok[i]], q_ref[i], scale) for i in range(N)]
         iters = out.iterations.reshape(N, K).sum(axis=1)
         attempts = np.full(N, K)
-        E = np.linalg.norm(residual(robot.fk(Q.reshape(-1, n)), np.repeat(targets, K, axis=0)) * mask,
-                           axis=1).reshape(N, K)
+        ep, eo = _errors(robot, Q.reshape(-1, n), np.repeat(targets, K, axis=0), mask)
+        E = np.hypot(ep, eo).reshape(N, K)
         success = ok.any(axis=1)
         best = Q[np.arange(N), np.argmin(E, axis=1)]
         q = np.where(success[:, None], np.array([s[0] if len(s) else np.zeros(n) for s in sols]), best)
     else:
-        out = solve_lm(robot, targets, q_ref, mask, settings, rng)
-        q, _ = wrap_into_limits(out.q, lim, robot.revolute, q_ref)
-        success = _verify(robot, q, targets, mask, settings)
+        out = solve_lm(robot, targets, q_ref, mask, settings, _seed(rng))
+        q, inside = wrap_into_limits(out.q, lim, robot.revolute, q_ref)
+        errors = _errors(robot, q, targets, mask)       # the same check as _verify, errors kept
+        success = inside & (errors[0] <= settings.tol_position) & (errors[1] <= settings.tol_orientation)
         iters, attempts = out.iterations, out.attempts
     reasons = [""] * N
-    for i in np.flatnonzero(~success):
+    for i in ([] if success.all() else np.flatnonzero(~success)):
         reasons[i] = (f"no solution found from {attempts[i]} start(s) (the target may be unreachable, "
                       f"or need more restarts)")
-    return _Found(q, success, reasons, iters, attempts, sols, np.zeros(N, bool))
+    return _Found(q, success, reasons, iters, attempts, sols, np.zeros(N, bool),
+                  None if all_solutions else errors)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..compiled.limits import wrap
+
 __all__ = ["wrap_into_limits", "within_limits", "LIMIT_TOL"]
 
 #: Slack on limit checks: a solution computed on a limit (clipped there, or a closed-form angle equal
@@ -34,16 +36,12 @@ def wrap_into_limits(Q: np.ndarray, limits: np.ndarray, revolute: np.ndarray,
         Whether every joint is within its limits (prismatic joints are only checked).
     """
     Q = np.asarray(Q, dtype=float)
+    if Q.ndim == 2 and q_ref is not None and np.shape(q_ref) == Q.shape:   # the IK case: no reshaping
+        return wrap(Q, limits[:, 0], limits[:, 1], revolute, q_ref, LIMIT_TOL)
+    n = Q.shape[-1]
     ref = np.zeros_like(Q) if q_ref is None else np.broadcast_to(q_ref, Q.shape)
-    lo, hi = limits[:, 0], limits[:, 1]
-    two_pi = 2.0 * np.pi
-    with np.errstate(invalid="ignore"):
-        k_lo = np.ceil((lo - LIMIT_TOL - Q) / two_pi)     # -inf where unlimited
-        k_hi = np.floor((hi + LIMIT_TOL - Q) / two_pi)    # +inf where unlimited
-    k = np.clip(np.round((ref - Q) / two_pi), k_lo, k_hi)
-    out = np.where(revolute, Q + k * two_pi, Q)
-    ok = within_limits(out, limits)
-    return out, ok
+    out, ok = wrap(Q.reshape(-1, n), limits[:, 0], limits[:, 1], revolute, ref.reshape(-1, n), LIMIT_TOL)
+    return out.reshape(Q.shape), ok.reshape(Q.shape[:-1])
 
 
 def within_limits(Q: np.ndarray, limits: np.ndarray) -> np.ndarray:

@@ -1,7 +1,8 @@
-"""Pose residuals for inverse kinematics: residual vectors, target checks and error masks.
+"""Inverse-kinematics inputs: target checks and residual masks.
 
 The residual of a current pose T towards a target T_d is the 6-vector (e_p, e_o) in the robot base
-frame: e_p = p_d - p (length units) and e_o = log(R_d R^T) (a rotation vector, radians). A *mask*
+frame: e_p = p_d - p (length units) and e_o = log(R_d R^T) (a rotation vector, radians), computed by
+the compiled core (``compiled.lm``: the solver and ``pose_errors``). A *mask*
 selects which of the six components (x, y, z, rx, ry, rz) count, as in the estimation paper's
 position-only structures: 'pose' is all six, 'position' the first three.
 """
@@ -11,31 +12,17 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..compiled.lm import exact_poses
 from ..errors import InputError
-from ..se3 import log_rotation
 from ..robot import check_pose
 
-__all__ = ["residual", "check_targets", "check_mask", "masked_errors",
-           "MASKS"]
+__all__ = ["check_targets", "check_mask", "MASKS"]
 
 #: named masks over the residual components (x, y, z, rx, ry, rz)
 MASKS: dict[str, tuple[float, ...]] = {
     "pose": (1.0, 1.0, 1.0, 1.0, 1.0, 1.0),
     "position": (1.0, 1.0, 1.0, 0.0, 0.0, 0.0),
 }
-
-def residual(T: np.ndarray, T_target: np.ndarray) -> np.ndarray:
-    """Residual (..., 6) = (p_d - p, log(R_d R^T)) of poses T towards targets, both (..., 4, 4) or (..., 3, 4)."""
-    e = np.empty(np.broadcast_shapes(T.shape[:-2], T_target.shape[:-2]) + (6,))
-    e[..., :3] = T_target[..., :3, 3] - T[..., :3, 3]
-    e[..., 3:] = log_rotation(T_target[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2))
-    return e
-
-
-def masked_errors(e: np.ndarray, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Position and orientation error norms (...) over the components the mask selects."""
-    sel = mask != 0
-    return (np.linalg.norm(e[..., :3] * sel[:3], axis=-1), np.linalg.norm(e[..., 3:] * sel[3:], axis=-1))
 
 
 def check_mask(mask: str | ArrayLike | None) -> np.ndarray:
@@ -64,21 +51,18 @@ def check_targets(T: ArrayLike, field_name: str = "target") -> tuple[np.ndarray,
         A = np.asarray(T, dtype=float)
     except (TypeError, ValueError):
         raise InputError(f"{field_name}: expected a 4x4 pose or an (N, 4, 4) array of poses") from None
-    if A.shape == (4, 4):
-        return check_pose(A, field_name)[None], True
-    if A.ndim != 3 or A.shape[1:] != (4, 4):
+    single = A.shape == (4, 4)
+    if single:
+        A = A[None]
+    elif A.ndim != 3 or A.shape[1:] != (4, 4):
         raise InputError(f"{field_name}: expected a 4x4 pose or an (N, 4, 4) array of poses, got shape {A.shape}")
-    if not np.all(np.isfinite(A)):
-        bad = int(np.argwhere(~np.isfinite(A).all(axis=(1, 2)))[0, 0])
-        raise InputError(f"{field_name}[{bad}]: contains NaN or infinity")
-    # Fast path for batches: exact rotations (the usual case: targets from FK) pass unchanged; the
-    # others go through check_pose one by one for its projection and messages.
-    RtR = np.swapaxes(A[:, :3, :3], 1, 2) @ A[:, :3, :3]
-    # 1e-12: rotations produced by products of exact rotations are orthonormal to ~1e-15; anything
-    # farther is checked (and projected or refused) by check_pose with the document tolerances.
-    ok = (np.abs(RtR - np.eye(3)).max(axis=(1, 2)) <= 1e-12) & (np.linalg.det(A[:, :3, :3]) > 0) \
-        & (np.abs(A[:, 3] - (0.0, 0.0, 0.0, 1.0)).max(axis=1) == 0)
+    # Fast path: exact rotations (the usual case: targets from FK) pass unchanged, checked by a
+    # compiled loop; the others go through check_pose one by one for its projection and messages
+    # (the first non-finite pose raises there). Targets are only read, never written.
+    ok = exact_poses(A)
+    if ok.all():
+        return A, single
     out = A.copy()
     for i in np.flatnonzero(~ok):
-        out[i] = check_pose(A[i], f"{field_name}[{i}]")
-    return out, False
+        out[i] = check_pose(A[i], field_name if single else f"{field_name}[{i}]")
+    return out, single

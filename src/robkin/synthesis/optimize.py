@@ -189,24 +189,20 @@ class _Model:
         self.m = 6 if self.pose else 3
 
     def split(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """a, d, alpha (..., n) and the joint values (..., K, n) of designs z (..., 3n + K n)."""
         n = self.n
-        return z[:n], z[n:2 * n], z[2 * n:3 * n], z[3 * n:].reshape(self.K, n)
+        return (z[..., :n], z[..., n:2 * n], z[..., 2 * n:3 * n],
+                z[..., 3 * n:].reshape(z.shape[:-1] + (self.K, n)))
 
     def chain(self, z: np.ndarray):
-        """Frames for every pose: origins o (K, n+1, 3) and z axes (K, n+1, 3) of frames {0}..{n},
-        x axes xs (K, n, 3) of each row's x_i, and the tool rotation (K, 3, 3)."""
-        a, d, alpha, Q = self.split(z)
-        K, n = self.K, self.n
-        A = se3.dh_matrix(a[None, :], d[None, :], alpha[None, :], Q)  # (K, n, 4, 4)
-        T = np.broadcast_to(np.eye(4), (K, 4, 4)).copy()
-        o = np.empty((K, n + 1, 3))
-        zs = np.empty((K, n + 1, 3))
-        xs = np.empty((K, n, 3))
-        o[:, 0], zs[:, 0] = T[:, :3, 3], T[:, :3, 2]
-        for i in range(n):
-            T = T @ A[:, i]
-            o[:, i + 1], zs[:, i + 1], xs[:, i] = T[:, :3, 3], T[:, :3, 2], T[:, :3, 0]
-        return o, zs, xs, T[:, :3, :3]
+        """Frames for every pose of a design z (3n + K n), or of designs z (B, 3n + K n): origins o
+        ([B,] K, n+1, 3) and z axes ([B,] K, n+1, 3) of frames {0}..{n}, x axes xs ([B,] K, n, 3) of
+        each row's x_i, and the tool rotation ([B,] K, 3, 3). Compiled (``compiled.dh_chain``)."""
+        from ..compiled.dh_chain import dh_frames
+
+        a, d, alpha, Q = self.split(np.atleast_2d(z))
+        frames = dh_frames(a, d, alpha, Q)
+        return tuple(f[0] for f in frames) if z.ndim == 1 else frames
 
     def residual(self, z: np.ndarray) -> np.ndarray:
         o, _, _, Rt = self.chain(z)
@@ -275,21 +271,23 @@ def _link_lengths(model: _Model, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]
 
 
 def _dexterity(model: _Model, z: np.ndarray) -> np.ndarray:
-    """-log of the dimensionless manipulability at each task configuration, (K,).
+    """-log of the dimensionless manipulability at each task configuration: (K,) for a design z, or
+    (B, K) for designs z (B, size).
 
     The Jacobian is the geometric one at the tool origin with its linear-velocity rows divided by the
     structure's length L (so the measure does not grow by merely scaling the arm up); all six rows for
     pose tasks, the three linear ones for position tasks. It is 0 when the product of the singular values
     is 1 and grows without bound towards a singular arm (floored at MANIP_FLOOR).
     """
-    o, zs, _, _ = model.chain(z)
+    from ..compiled.dh_chain import dh_volumes
+
     n = model.n
-    p = o[:, -1]
-    L = float(np.sum(np.hypot(z[:n], z[n:2 * n]))) + LENGTH_EPS
-    Jv = np.cross(zs[:, :-1], p[:, None] - o[:, :-1]) / L  # (K, n, 3)
-    J = np.concatenate([Jv, zs[:, :-1]], axis=2) if model.pose else Jv
-    s = np.linalg.svd(J, compute_uv=False)  # (K, min(n, rows))
-    return -np.log(np.prod(s, axis=1) + MANIP_FLOOR)
+    Z = np.atleast_2d(z)
+    a, d, alpha, Q = model.split(Z)
+    L = np.sum(np.hypot(a, d), axis=-1) + LENGTH_EPS
+    volume = dh_volumes(a, d, alpha, Q, L, model.pose)   # product of the singular values, (B, K)
+    out = -np.log(volume + MANIP_FLOOR)
+    return out[0] if z.ndim == 1 else out
 
 
 #: Weight of the reach residuals against the cost residuals in phase 2 (penalty form). At the penalty
@@ -314,27 +312,28 @@ COST_WEIGHTS = {"length": (1.0, 0.0), "manipulability": (0.3, 1.0)}
 COSTS = tuple(COST_WEIGHTS)
 
 
-def _cost_residual(model: _Model, cost: str, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Cost residuals c(z) and their Jacobian; the cost is |c|^2."""
+def _cost_residual(model: _Model, cost: str, z: np.ndarray, jacobian: bool = True
+                   ) -> tuple[np.ndarray, np.ndarray | None]:
+    """Cost residuals c(z) and (if ``jacobian``) their Jacobian; the cost is |c|^2."""
     wl, wd = COST_WEIGHTS[cost]
     h, Jh = _link_lengths(model, z)
     if wd == 0.0:
         return wl * h, wl * Jh
     dex = _dexterity(model, z)
-    Jd = _fd_jacobian(lambda x: _dexterity(model, x), z, dex.size)
+    if not jacobian:
+        return np.concatenate([wl * h, wd * dex]), None
+    Jd = _fd_jacobian(lambda x: _dexterity(model, x), z)
     return np.concatenate([wl * h, wd * dex]), np.vstack([wl * Jh, wd * Jd])
 
 
-def _fd_jacobian(f: Callable[[np.ndarray], np.ndarray], z: np.ndarray, m: int) -> np.ndarray:
-    # central differences, step 1e-6 (variables are O(1) in units of R / rad): truncation ~1e-12,
-    # rounding ~1e-16 / 1e-6 = 1e-10, both far below what the least-squares steps resolve.
-    J = np.empty((m, z.size))
+def _fd_jacobian(f: Callable[[np.ndarray], np.ndarray], z: np.ndarray) -> np.ndarray:
+    """Central differences (m, size) of f, which maps designs (B, size) to values (B, m) in one call."""
+    # step 1e-6 (variables are O(1) in units of R / rad): truncation ~1e-12, rounding ~1e-16 / 1e-6 =
+    # 1e-10, both far below what the least-squares steps resolve.
     h = 1e-6
-    for j in range(z.size):
-        e = np.zeros_like(z)
-        e[j] = h
-        J[:, j] = (f(z + e) - f(z - e)) / (2 * h)
-    return J
+    step = h * np.eye(z.size)
+    F = f(np.concatenate([z + step, z - step]))     # every perturbed design in one batched call
+    return ((F[:z.size] - F[z.size:]) / (2 * h)).T
 
 
 # ------------------------------------------------------------------------------------- starts
@@ -409,7 +408,7 @@ def synthesize(task: Task, n: int, start: str | np.ndarray = "D", cost: str = "l
         return ls.x, int(ls.nfev)
 
     def fun(z: np.ndarray) -> np.ndarray:
-        return np.concatenate([REACH_WEIGHT * model.residual(z), _cost_residual(model, cost, z)[0]])
+        return np.concatenate([REACH_WEIGHT * model.residual(z), _cost_residual(model, cost, z, False)[0]])
 
     def jac(z: np.ndarray) -> np.ndarray:
         return np.vstack([REACH_WEIGHT * model.jacobian(z), _cost_residual(model, cost, z)[1]])
@@ -421,7 +420,7 @@ def synthesize(task: Task, n: int, start: str | np.ndarray = "D", cost: str = "l
                         gtol=None, max_nfev=max_iter)
     z3, nfev3 = reach(np.clip(opt.x, -hi * (1 - 1e-12), hi * (1 - 1e-12)))
     seconds = time.perf_counter() - t0
-    c = _cost_residual(model, cost, z3)[0]
+    c = _cost_residual(model, cost, z3, False)[0]
     design = _design(task, model, z3, label)
     rows, table, robot, q, (pos, rot) = design
     reaches = pos <= REACH_TOL * model.R and rot <= REACH_TOL

@@ -1,0 +1,13 @@
+"""Type stub of the compiled module ``robkin.compiled.jacobian`` (see jacobian.pyx)."""
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .fk import Chain
+
+GEOMETRIC: int
+SPACE: int
+BODY: int
+
+def jacobian(chain: Chain, q: object, kind: int) -> NDArray[np.float64] | None: ...
+def volumes(J: object) -> NDArray[np.float64]: ...

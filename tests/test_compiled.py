@@ -1,0 +1,37 @@
+"""The compiled core is loaded lazily: `import robkin` and the commands that compute no kinematics
+(convert, info) never import it; the first kinematics call does (``check`` confirms its verdict by FK
+at random configurations, so it loads the FK module alone: ~0.6 ms)."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "src" / "robkin" / "examples" / "rrpr.yaml"
+
+
+def _loaded_after(statements: str) -> list[str]:
+    code = ("import sys, io, contextlib\n" + statements +
+            "\nprint(sorted(m for m in sys.modules if m.startswith('robkin.compiled.')))")
+    env = dict(os.environ, ROBKIN_PLAIN="1")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+    return eval(out.stdout.strip().splitlines()[-1])  # noqa: S307 - our own printed list
+
+
+def test_import_and_non_kinematic_commands_do_not_load_the_compiled_core():
+    run = ("from robkin.cli import main\n"
+           "with contextlib.redirect_stdout(io.StringIO()):\n"
+           f"    for argv in (['info', {str(EXAMPLE)!r}], ['convert', {str(EXAMPLE)!r}, '--to', 'dh']):\n"
+           "        main(argv)")
+    assert _loaded_after("import robkin") == []
+    assert _loaded_after(run) == []
+    check = ("from robkin.cli import main\nwith contextlib.redirect_stdout(io.StringIO()):\n"
+             f"    main(['check', {str(EXAMPLE)!r}, {str(EXAMPLE)!r}])")
+    assert _loaded_after(check) == ["robkin.compiled.fk"]
+
+
+def test_first_kinematics_call_loads_it():
+    loaded = _loaded_after(f"import robkin\nrobkin.load({str(EXAMPLE)!r}).fk([0, 0, 0, 0])")
+    assert loaded == ["robkin.compiled.fk"]
