@@ -1,14 +1,17 @@
 """``robkin gui``: a small local web app to load a robot, look at it in 3D and convert it.
 
 A standard-library HTTP server (no web framework, nothing fetched from the internet) serves one page
-(``static/index.html``, ``app.js``, ``style.css``: a canvas 3D view, joint sliders, tables of every
-representation, downloads) and a JSON API over :mod:`robkin.viz.gui_api`:
+(``static/index.html``, ``app.js``, ``viewer.js``, ``style.css``: a three.js 3D view with a draggable
+tool frame, joint sliders, tables of every representation, downloads), the three.js modules of
+``static/vendor/`` (see :mod:`robkin.viz.assets`), and a JSON API over :mod:`robkin.viz.gui_api`:
 
 ``GET /api/start``
-    The robot text given on the command line (if any) and the bundled examples.
-``POST /api/describe`` ``{text, fmt, q, strict_q, overlay, base_link, tip_link}``
+    The robots given on the command line (if any) and the bundled examples.
+``POST /api/describe`` ``{text, fmt, q, strict_q, overlay, base_link, tip_link, tool_row, other}``
     ``{"ok": true, ...describe()}`` or ``{"ok": false, "error": "one line"}``.
-``POST /api/export`` ``{text, fmt, to, base_link, tip_link}``
+``POST /api/ik`` ``{text, fmt, base_link, tip_link, tool_row, target, q0}``
+    ``{"ok": true, ...solve_ik()}`` or ``{"ok": false, "error"}``.
+``POST /api/export`` ``{text, fmt, to, base_link, tip_link, tool_row}``
     ``{"ok": true, "filename", "mime", "content"}`` or ``{"ok": false, "error"}``.
 
 Bad input is answered with ``ok: false`` and a message the page shows; an unexpected exception is
@@ -19,7 +22,10 @@ default and, when bound to a loopback address, refuses requests whose Host heade
 
 from __future__ import annotations
 
+import base64
+import hashlib
 import json
+import re
 import sys
 import threading
 import traceback
@@ -30,11 +36,21 @@ from typing import Any
 
 from ..errors import InputError
 
+from .assets import STATIC_DIR, VENDOR, VENDOR_DIR
+
 __all__ = ["GuiServer", "make_server", "STATIC_DIR"]
 
-STATIC_DIR = Path(__file__).resolve().parent / "static"
 _STATIC_TYPES = {".html": "text/html; charset=utf-8", ".js": "text/javascript; charset=utf-8",
                  ".css": "text/css; charset=utf-8", ".svg": "image/svg+xml", ".png": "image/png"}
+_API = ("/api/describe", "/api/ik", "/api/export")
+
+
+def _inline_script_hashes() -> str:
+    """CSP sources allowing index.html's inline import map (and nothing else inline)."""
+    html = (STATIC_DIR / "index.html").read_text(encoding="utf-8")
+    found = re.findall(r'<script type="importmap">(.*?)</script>', html, flags=re.S)
+    return " ".join("'sha256-" + base64.b64encode(hashlib.sha256(t.encode()).digest()).decode() + "'"
+                    for t in found)
 _LOOPBACK = ("127.0.0.1", "localhost", "::1", "[::1]")
 #: Largest request body: the robot text limit plus room for the JSON wrapper and escaping.
 _MAX_BODY = 10 * 1024 * 1024
@@ -49,6 +65,7 @@ class GuiServer(ThreadingHTTPServer):
         super().__init__(address, _Handler)
         self.start_payload = start
         self.quiet = quiet
+        self.script_src = f"'self' {_inline_script_hashes()}"
 
     @property
     def url(self) -> str:
@@ -67,16 +84,20 @@ class GuiServer(ThreadingHTTPServer):
 
 def make_server(host: str = "127.0.0.1", port: int = 8765, text: str = "", fmt: str = "auto",
                 base_link: str | None = None, tip_link: str | None = None, source: str = "",
-                quiet: bool = True) -> GuiServer:
+                quiet: bool = True, other: dict[str, str] | None = None) -> GuiServer:
     """A GUI server bound to (host, port); port 0 picks a free port (see ``server.url``).
 
-    ``text`` is the robot shown when the page opens (with its ``fmt`` and URDF chain selectors).
+    ``text`` is the robot shown when the page opens (with its ``fmt`` and URDF chain selectors);
+    ``other`` ({text, fmt, source}) a second robot to compare it with (``robkin gui A B``).
+    Raises InputError when the three.js modules are not installed (see ``robkin.viz.assets``).
     """
     from ..commands._common import EXAMPLES_DIR
+    from .assets import require_assets
 
+    require_assets()
     examples = {p.stem: p.read_text(encoding="utf-8") for p in sorted(EXAMPLES_DIR.glob("*.yaml"))}
     start = {"text": text, "fmt": fmt, "base_link": base_link or "", "tip_link": tip_link or "",
-             "source": source, "examples": examples}
+             "source": source, "examples": examples, "default_example": "rrpr", "other": other}
     try:
         return GuiServer((host, port), start, quiet=quiet)
     except OSError as exc:
@@ -109,7 +130,8 @@ class _Handler(BaseHTTPRequestHandler):
         self.send_header("Cache-Control", "no-store")
         self.send_header("X-Content-Type-Options", "nosniff")
         self.send_header("Content-Security-Policy",
-                         "default-src 'self'; img-src 'self' data: blob:; style-src 'self'; object-src 'none'")
+                         f"default-src 'self'; script-src {self.server.script_src}; img-src 'self' data: blob:; "
+                         "style-src 'self'; object-src 'none'")
         self.end_headers()
         if self.command != "HEAD":
             self.wfile.write(body)
@@ -130,8 +152,12 @@ class _Handler(BaseHTTPRequestHandler):
             return self._json(self.server.start_payload)
         name = "index.html" if path in ("/", "/index.html") else path.removeprefix("/static/")
         f = STATIC_DIR / name
-        # Only plain files directly in static/ (no '/', no '..'): nothing else on disk is reachable.
-        if "/" in name or name.startswith(".") or f.suffix not in _STATIC_TYPES or not f.is_file():
+        if name.startswith("vendor/") and name.removeprefix("vendor/") in VENDOR:
+            f = VENDOR_DIR / name.removeprefix("vendor/")  # a name from the fixed list, never a request path
+        # Else only plain files directly in static/ (no '/', no '..'): nothing else on disk is reachable.
+        elif "/" in name or name.startswith("."):
+            return self._send(HTTPStatus.NOT_FOUND, b"not found", "text/plain")
+        if f.suffix not in _STATIC_TYPES or not f.is_file():
             return self._send(HTTPStatus.NOT_FOUND, b"not found", "text/plain")
         self._send(HTTPStatus.OK, f.read_bytes(), _STATIC_TYPES[f.suffix])
 
@@ -141,7 +167,7 @@ class _Handler(BaseHTTPRequestHandler):
         if not self._host_ok():
             return self._send(HTTPStatus.FORBIDDEN, b"forbidden host", "text/plain")
         path = self.path.split("?", 1)[0]
-        if path not in ("/api/describe", "/api/export"):
+        if path not in _API:
             return self._send(HTTPStatus.NOT_FOUND, b"not found", "text/plain")
         try:
             length = int(self.headers.get("Content-Length") or 0)
@@ -162,11 +188,14 @@ class _Handler(BaseHTTPRequestHandler):
         from . import gui_api
 
         args = {"text": req.get("text", ""), "fmt": req.get("fmt") or "auto",
-                "base_link": req.get("base_link") or None, "tip_link": req.get("tip_link") or None}
+                "base_link": req.get("base_link") or None, "tip_link": req.get("tip_link") or None,
+                "tool_row": req.get("tool_row") is True}
         try:
             if path == "/api/describe":
                 return {"ok": True, **gui_api.describe(q=req.get("q"), strict_q=req.get("strict_q") is not False,
-                                                       overlay=req.get("overlay"), **args)}
+                                                       overlay=req.get("overlay"), other=req.get("other"), **args)}
+            if path == "/api/ik":
+                return {"ok": True, **gui_api.solve_ik(target=req.get("target"), q0=req.get("q0"), **args)}
             filename, mime, content = gui_api.export(to=str(req.get("to", "")), **args)
             return {"ok": True, "filename": filename, "mime": mime, "content": content}
         except InputError as exc:
