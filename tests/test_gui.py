@@ -448,3 +448,147 @@ def test_browser_load_move_check_download(page, tmp_path):
     shot = (DOCS if os.environ.get("ROBKIN_UPDATE_DOCS") == "1" else tmp_path) / "gui.png"
     pg.screenshot(path=str(shot), full_page=True)
     assert shot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+# ------------------------------------------------------------------------------ a real arm, in Chromium
+ERD = Path(sys.prefix) / "lib" / f"python{sys.version_info.major}.{sys.version_info.minor}" / "site-packages" / \
+    "cmeel.prefix" / "share" / "example-robot-data" / "robots"
+PANDA = ERD / "panda_description" / "urdf" / "panda.urdf"
+#: Franka's published modified-DH table (a(i-1), d, alpha(i-1), theta) with its flange row last.
+FRANKA_MDH = """0 0.333 0 0
+0 0 -pi/2 0
+0 0.316 pi/2 0
+0.0825 0 pi/2 0
+-0.0825 0.384 -pi/2 0
+0 0 pi/2 0
+0.088 0 pi/2 0
+0 0.107 0 0
+"""
+
+
+def _panda_fk(q) -> np.ndarray:
+    """pinocchio: panda_link8 in panda_link0 at q (the 7 arm joints; fingers at 0)."""
+    pin = pytest.importorskip("pinocchio")
+    model = pin.buildModelFromUrdf(str(PANDA))
+    data = model.createData()
+    config = pin.neutral(model)
+    for i, value in enumerate(q):
+        config[model.joints[model.getJointId(f"panda_joint{i + 1}")].idx_q] = value
+    pin.framesForwardKinematics(model, data, config)
+    base = data.oMf[model.getFrameId("panda_link0")].homogeneous
+    return np.linalg.inv(base) @ data.oMf[model.getFrameId("panda_link8")].homogeneous
+
+
+@pytest.fixture()
+def panda_page():
+    if not PANDA.is_file():
+        pytest.skip("example-robot-data (test extra) is not installed")
+    srv = make_server(port=0, text=PANDA.read_text(), fmt="urdf", base_link="panda_link0", tip_link="panda_link8",
+                      source=str(PANDA))
+    srv.serve_in_thread()
+    try:
+        yield from page.__wrapped__(srv)
+    finally:
+        srv.shutdown()
+        srv.server_close()
+
+
+def _shot(pg, tmp_path, name: str) -> None:
+    """Screenshot of the page (into docs/ with ROBKIN_UPDATE_DOCS=1, for the README and docs/gui.md)."""
+    path = (DOCS if os.environ.get("ROBKIN_UPDATE_DOCS") == "1" else tmp_path) / name
+    pg.screenshot(path=str(path))
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def _settled(pg) -> None:
+    pg.wait_for_function("() => document.body.dataset.state == 'ready'", timeout=15000)
+
+
+def test_browser_panda_orbit_drag_paste_check(panda_page, tmp_path):
+    pg = panda_page
+    view = pg.query_selector("#view")
+    assert len(pg.query_selector_all("#sliders input[type=range]")) == 7
+    names = pg.inner_text("#sliders")
+    assert all(f"panda_joint{i}" in names for i in range(1, 8))  # untruncated
+    assert "panda_link8" in [o.get_attribute("value") for o in pg.query_selector_all("#tip-link option")]
+    q = [float(pg.input_value(f"#q{i}")) for i in range(7)]
+    np.testing.assert_allclose(_pose(pg), _panda_fk(q), atol=1e-9)  # 1e-9: both read the URDF's decimals
+    _shot(pg, tmp_path, "gui_panda.png")
+
+    # Orbit: a left drag on empty space turns the camera (the picture changes, the robot does not).
+    box = view.bounding_box()
+    before = view.screenshot()
+    pg.mouse.move(box["x"] + 40, box["y"] + box["height"] - 40)
+    pg.mouse.down()
+    pg.mouse.move(box["x"] + 160, box["y"] + box["height"] - 60, steps=8)
+    pg.mouse.up()
+    assert view.screenshot() != before
+    assert [float(pg.input_value(f"#q{i}")) for i in range(7)] == q
+    pg.click("#view-reset")
+
+    # Drag the tool frame's centre handle: the robot follows by IK; the q shown puts the tool at the target.
+    # (From Franka's "ready" pose: at home the arm is stretched up with joint 4 on its limit.)
+    before = _updates(pg)
+    pg.evaluate("""(q) => q.forEach((v, i) => { const s = document.getElementById('q' + i);
+                                                s.value = String(v); s.dispatchEvent(new Event('input')); })""",
+                [0, -PI / 4, 0, -3 * PI / 4, 0, PI / 2, PI / 4])
+    _wait_update(pg, before)
+    _settled(pg)
+    q = [float(pg.input_value(f"#q{i}")) for i in range(7)]
+    x, y = map(float, view.get_attribute("data-tool-xy").split(","))
+    before = _updates(pg)
+    pg.mouse.move(box["x"] + x, box["y"] + y)
+    pg.mouse.down()
+    pg.mouse.move(box["x"] + x - 40, box["y"] + y + 30, steps=15)
+    pg.mouse.up()
+    _wait_update(pg, before)
+    _settled(pg)
+    assert int(pg.get_attribute("body", "data-ik-updates")) >= 2
+    target = np.array(json.loads(view.get_attribute("data-target")))
+    q2 = [float(pg.input_value(f"#q{i}")) for i in range(7)]
+    assert np.linalg.norm(target[:3, 3] - _panda_fk(q)[:3, 3]) > 0.01  # the target moved by centimetres
+    assert pg.get_attribute("body", "data-ik-success") == "true", pg.inner_text("#ik-status")
+    np.testing.assert_allclose(_panda_fk(q2), target, atol=1e-6)  # 1e-6: IK tolerance 1e-9 + URDF decimals
+    np.testing.assert_allclose(_pose(pg), _panda_fk(q2), atol=1e-9)
+    _shot(pg, tmp_path, "gui_drag.png")
+
+    # Paste Franka's modified-DH table with its flange row, answered as "the tool": 7 joints, the same arm.
+    before = _updates(pg)
+    pg.select_option("#format", "mdh-rows")
+    pg.select_option("#last-row", "tool")
+    pg.fill("#robot-text", FRANKA_MDH)
+    _wait_update(pg, before)
+    _settled(pg)
+    assert len(pg.query_selector_all("#sliders input[type=range]")) == 7
+    q3 = [float(pg.input_value(f"#q{i}")) for i in range(7)]
+    np.testing.assert_allclose(_pose(pg), _panda_fk(q3), atol=1e-9)  # published table = URDF to 1e-9
+    # copies are full precision: the d column of the DH table has 0.107, not a rounded number
+    pg.click("#section-mdh button.copy")
+    assert "0.316" in pg.get_attribute("body", "data-copied")
+    before = _updates(pg)
+    pg.select_option("#last-row", "joint")
+    _wait_update(pg, before)
+    assert len(pg.query_selector_all("#sliders input[type=range]")) == 8  # not silently: only when asked
+
+    # Visual check: B = the same table with joint 5's d off by 6 mm, drawn over A; J5 named and red.
+    before = _updates(pg)
+    pg.select_option("#last-row", "tool")
+    pg.click("#check-panel summary")
+    pg.select_option("#other-format", "mdh-rows")
+    pg.fill("#other-text", FRANKA_MDH.replace("0.384", "0.39").replace("0 0.107 0 0", "0 0.107 0 0 flange"))
+    _wait_update(pg, before)
+    _settled(pg)
+    pg.wait_for_selector("#check:not([hidden])")
+    assert "different robots" in pg.inner_text("#check-verdict")
+    assert pg.inner_text("#check-first").startswith("first joint that differs: J")
+    first = int(pg.inner_text("#check-first").split("J")[1].split()[0])
+    from robkin.equivalence import compare
+    from robkin.viz.table_text import document_from_table
+    from robkin.io.document import parse_document
+
+    a = parse_document(json.dumps(document_from_table(FRANKA_MDH, "mdh-rows", True)), "json")
+    b = parse_document(json.dumps(document_from_table(FRANKA_MDH.replace("0.384", "0.39"), "mdh-rows", True)), "json")
+    expected = next(m.index for m in compare(a, b).joints if m.status == "differs")
+    assert first == expected + 1
+    assert pg.query_selector(f"#check-joints tr.differs td") is not None
+    _shot(pg, tmp_path, "gui_check.png")

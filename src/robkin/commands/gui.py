@@ -7,24 +7,29 @@ import sys
 
 from ..errors import InputError
 
-HELP = "browser app: load or paste a robot, see it in 3D with joint sliders, convert and download"
+HELP = "browser app: see a robot in 3D, drag its tool by IK, convert it, compare two descriptions"
 EPILOG = """\
 examples:
   robkin gui                          (starts with the bundled RRPR example)
   robkin gui rrpr.yaml --open         (also opens the page in your web browser)
   robkin gui ur5.urdf --tip-link tool0 --port 9000
+  robkin gui rrpr.yaml rrpr_dh.yaml   (visual check: B drawn over A, first differing joint in red)
 
 The app runs on this machine only: it listens on 127.0.0.1 (use --host to change that, at your own
 risk: anyone who can reach the port can use it) and needs no internet. Open the printed address in a
 browser; stop with Ctrl-C. In the page, paste or load a robot document (YAML/JSON) or a URDF; every
 representation is shown as a table and can be downloaded. Bad input is shown as a message in the page.
+Drag the pink tool frame's handles and the robot follows by inverse kinematics. The 3D view needs
+three.js, installed by `make assets` (or `make demo` / `make test`) from the npm registry.
 """
 
 
 def register(subparsers) -> argparse.ArgumentParser:
     p = subparsers.add_parser("gui", help=HELP, description=HELP.capitalize() + ".", epilog=EPILOG,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("input", nargs="?", metavar="INPUT", help="robot document (.yaml/.yml/.json) or URDF (.urdf) to show first")
+    p.add_argument("input", nargs="?", metavar="INPUT",
+                   help="robot document (.yaml/.yml/.json) or URDF (.urdf) to show first")
+    p.add_argument("other", nargs="?", metavar="B", help="a second description to compare INPUT with (visual check)")
     p.add_argument("--base-link", metavar="LINK", help="URDF: first link of the serial chain")
     p.add_argument("--tip-link", metavar="LINK", help="URDF: last link of the serial chain (the tool)")
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1, this machine only)")
@@ -34,33 +39,44 @@ def register(subparsers) -> argparse.ArgumentParser:
     return p
 
 
-def run(args: argparse.Namespace) -> int:
+def _read(path: str, args: argparse.Namespace, chain: bool) -> tuple[str, str]:
+    """(text, format) of a robot file for the page, checked here so that bad input fails before serving."""
     from pathlib import Path
 
-    from ..viz.gui import make_server
     from ..viz.gui_api import MAX_TEXT, parse_robot
+
+    p = Path(path)
+    ext = p.suffix.lower()
+    fmt = {".yaml": "yaml", ".yml": "yaml", ".json": "json", ".urdf": "urdf", ".xml": "urdf"}.get(ext, "")
+    if not fmt:
+        raise InputError(f"{p}: unknown extension '{ext}'; expected .yaml, .yml, .json or .urdf")
+    try:
+        if p.stat().st_size > MAX_TEXT:
+            raise InputError(f"{p}: larger than {MAX_TEXT} bytes")
+        text = p.read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise InputError(f"{p}: no such file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"{p}: cannot read ({exc})") from None
+    base, tip = (args.base_link, args.tip_link) if chain else (None, None)
+    parse_robot(text, fmt, base, tip, source=str(p))
+    return text, fmt
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..viz.gui import make_server
 
     if not 0 <= args.port <= 65535:
         raise InputError(f"--port: {args.port} is not a port number (0..65535)")
-    text, fmt, source = "", "auto", ""
+    text, fmt, source, other = "", "auto", "", None
     if args.input:
-        p = Path(args.input)
-        ext = p.suffix.lower()
-        fmt = {".yaml": "yaml", ".yml": "yaml", ".json": "json", ".urdf": "urdf", ".xml": "urdf"}.get(ext, "")
-        if not fmt:
-            raise InputError(f"{p}: unknown extension '{ext}'; expected .yaml, .yml, .json or .urdf")
-        try:
-            if p.stat().st_size > MAX_TEXT:
-                raise InputError(f"{p}: larger than {MAX_TEXT} bytes")
-            text = p.read_text(encoding="utf-8-sig")
-        except FileNotFoundError:
-            raise InputError(f"{p}: no such file") from None
-        except (OSError, UnicodeDecodeError) as exc:
-            raise InputError(f"{p}: cannot read ({exc})") from None
-        parse_robot(text, fmt, args.base_link, args.tip_link, source=str(p))  # bad input fails here, not in the page
-        source = str(p)
+        text, fmt = _read(args.input, args, chain=True)
+        source = args.input
+    if args.other:
+        b_text, b_fmt = _read(args.other, args, chain=False)
+        other = {"text": b_text, "fmt": b_fmt, "source": args.other}
     server = make_server(args.host, args.port, text, fmt, args.base_link, args.tip_link, source,
-                         quiet=not args.verbose)
+                         quiet=not args.verbose, other=other)
     print(f"robkin gui: serving on {server.url}  (Ctrl-C to stop)", file=sys.stderr, flush=True)
     if args.open:
         import webbrowser

@@ -24,9 +24,15 @@ async function post(path, body) {
   return r.json();
 }
 
+function isUrdf() {
+  const f = $("format").value;
+  return f === "urdf" || (f === "auto" && $("robot-text").value.trimStart().startsWith("<"));
+}
+
 function inputs() {
-  return { text: $("robot-text").value, fmt: $("format").value, base_link: $("base-link").value,
-           tip_link: $("tip-link").value, tool_row: $("last-row").value === "tool" };
+  const urdf = isUrdf(), rows = ["dh-rows", "mdh-rows"].includes($("format").value);
+  return { text: $("robot-text").value, fmt: $("format").value, base_link: urdf ? $("base-link").value : "",
+           tip_link: urdf ? $("tip-link").value : "", tool_row: rows && $("last-row").value === "tool" };
 }
 
 function otherInputs() {
@@ -69,6 +75,7 @@ function send(body) {
 // waits, so the robot follows at the rate the server answers (counted in data-ik-rate).
 function dragged(T) {
   if (!state.robot) return;
+  $("view").dataset.target = JSON.stringify(T);
   const body = { ...inputs(), target: T, q0: currentQ() };
   if (state.ik.inflight) { state.ik.pending = body; return; }
   sendIK(body);
@@ -150,6 +157,8 @@ function apply(res, body) {
   if (changed) {
     state.jointKey = key;
     buildSliders(res);
+    // home (q = 0) outside a joint's limits: the slider sits on the limit; show the robot there
+    if (currentQ().some((v, i) => v !== res.q[i])) { refresh(); return; }
   }
   state.robot = res;
   $("robot-name").textContent = (res.name || "robot") + " — " + res.n + " joints";
@@ -376,8 +385,7 @@ function formatOf(filename) {
 }
 
 function showFields() {
-  const text = $("robot-text").value.trimStart(), f = $("format").value;
-  const urdf = f === "urdf" || (f === "auto" && text.startsWith("<"));
+  const urdf = isUrdf(), f = $("format").value;
   document.querySelectorAll(".urdf-only").forEach((e) => { e.hidden = !urdf; });
   document.querySelectorAll(".rows-only").forEach((e) => { e.hidden = !(f === "dh-rows" || f === "mdh-rows"); });
 }

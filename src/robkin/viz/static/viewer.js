@@ -242,6 +242,9 @@ export class Viewer {
       el.style.left = ((s.x + 1) / 2 * w) + "px";
       el.style.top = ((1 - s.y) / 2 * h) + "px";
     }
+    // where the tool frame (the gizmo's centre) is on screen, in CSS pixels of the view: for tests
+    const t = this.target.position.clone().project(this.camera);
+    this.container.dataset.toolXy = [(t.x + 1) / 2 * w, (1 - t.y) / 2 * h].map((v) => v.toFixed(1)).join(",");
     this.container.dataset.frames = String(Number(this.container.dataset.frames || 0) + 1);
   }
 }
