@@ -27,7 +27,10 @@ VENDOR: dict[str, str] = {
     "addons/controls/TransformControls.js": "three/examples/jsm/controls/TransformControls.js",
     "addons/loaders/STLLoader.js": "three/examples/jsm/loaders/STLLoader.js",
     "addons/loaders/ColladaLoader.js": "three/examples/jsm/loaders/ColladaLoader.js",
-    "addons/loaders/TGALoader.js": "three/examples/jsm/loaders/TGALoader.js",  # imported by ColladaLoader
+    # imported by ColladaLoader:
+    "addons/loaders/TGALoader.js": "three/examples/jsm/loaders/TGALoader.js",
+    "addons/loaders/collada/ColladaParser.js": "three/examples/jsm/loaders/collada/ColladaParser.js",
+    "addons/loaders/collada/ColladaComposer.js": "three/examples/jsm/loaders/collada/ColladaComposer.js",
     "addons/loaders/OBJLoader.js": "three/examples/jsm/loaders/OBJLoader.js",
     "LICENSE": "three/LICENSE",
 }

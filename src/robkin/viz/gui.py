@@ -6,7 +6,9 @@ tool frame, joint sliders, tables of every representation, downloads), the three
 ``static/vendor/`` (see :mod:`robkin.viz.assets`), and a JSON API over :mod:`robkin.viz.gui_api`:
 
 ``GET /api/start``
-    The robots given on the command line (if any) and the bundled examples.
+    The robots given on the command line (if any), their visuals, and the bundled examples.
+``GET /api/mesh/<id>``
+    A mesh file of the command-line robot, by the id ``/api/start`` gave it (see ``meshes.py``).
 ``POST /api/describe`` ``{text, fmt, q, strict_q, overlay, base_link, tip_link, tool_row, other}``
     ``{"ok": true, ...describe()}`` or ``{"ok": false, "error": "one line"}``.
 ``POST /api/ik`` ``{text, fmt, base_link, tip_link, tool_row, target, q0}``
@@ -37,6 +39,7 @@ from typing import Any
 from ..errors import InputError
 
 from .assets import STATIC_DIR, VENDOR, VENDOR_DIR
+from .meshes import MeshRegistry
 
 __all__ = ["GuiServer", "make_server", "STATIC_DIR"]
 
@@ -61,9 +64,11 @@ class GuiServer(ThreadingHTTPServer):
 
     daemon_threads = True
 
-    def __init__(self, address: tuple[str, int], start: dict[str, Any], quiet: bool = True) -> None:
+    def __init__(self, address: tuple[str, int], start: dict[str, Any], quiet: bool = True,
+                 meshes: MeshRegistry | None = None) -> None:
         super().__init__(address, _Handler)
         self.start_payload = start
+        self.meshes = meshes or MeshRegistry()
         self.quiet = quiet
         self.script_src = f"'self' {_inline_script_hashes()}"
 
@@ -89,17 +94,23 @@ def make_server(host: str = "127.0.0.1", port: int = 8765, text: str = "", fmt: 
 
     ``text`` is the robot shown when the page opens (with its ``fmt`` and URDF chain selectors);
     ``other`` ({text, fmt, source}) a second robot to compare it with (``robkin gui A B``).
+    ``source`` is the file ``text`` was read from: only then are the meshes it references served.
     Raises InputError when the three.js modules are not installed (see ``robkin.viz.assets``).
     """
     from ..commands._common import EXAMPLES_DIR
     from .assets import require_assets
+    from .gui_api import parse_robot
 
     require_assets()
     examples = {p.stem: p.read_text(encoding="utf-8") for p in sorted(EXAMPLES_DIR.glob("*.yaml"))}
+    meshes = MeshRegistry()
+    if text and source:
+        meshes = MeshRegistry.of(parse_robot(text, fmt, base_link, tip_link, source=source)[0], Path(source))
     start = {"text": text, "fmt": fmt, "base_link": base_link or "", "tip_link": tip_link or "",
-             "source": source, "examples": examples, "default_example": "rrpr", "other": other}
+             "source": source, "examples": examples, "default_example": "rrpr", "other": other,
+             "visuals": meshes.visuals, "missing_meshes": meshes.missing}
     try:
-        return GuiServer((host, port), start, quiet=quiet)
+        return GuiServer((host, port), start, quiet=quiet, meshes=meshes)
     except OSError as exc:
         raise InputError(f"--port {port}: cannot listen on {host}:{port} ({exc.strerror or exc}); "
                          f"try another port or --port 0") from None
@@ -150,6 +161,11 @@ class _Handler(BaseHTTPRequestHandler):
         path = self.path.split("?", 1)[0]
         if path == "/api/start":
             return self._json(self.server.start_payload)
+        if path.startswith("/api/mesh/"):
+            found = self.server.meshes.read(path.removeprefix("/api/mesh/"))  # an id, never a path
+            if found is None:
+                return self._send(HTTPStatus.NOT_FOUND, b"not found", "text/plain")
+            return self._send(HTTPStatus.OK, *found)
         name = "index.html" if path in ("/", "/index.html") else path.removeprefix("/static/")
         f = STATIC_DIR / name
         if name.startswith("vendor/") and name.removeprefix("vendor/") in VENDOR:

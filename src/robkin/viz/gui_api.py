@@ -199,9 +199,20 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
         "overlays": overlays,
         "agreement": agreement,
         "links": list(links),
+        "motions": _motions(robot, Q),
         "check": None if other is None else _check(robot, Q, other),
         "warnings": notes,
     }
+
+
+def _motions(robot: Robot, Q: np.ndarray) -> list | None:
+    """Motion of each body from home to Q ((n+1) 4x4), to place the robot's visuals; None without any."""
+    bodies = getattr(robot, "bodies", None)
+    if not bodies or not bodies.visuals():
+        return None
+    from ..bodies import body_motions  # type: ignore[import-not-found, unused-ignore]
+
+    return body_motions(robot, Q).tolist()
 
 
 def _check(robot: Robot, Q: np.ndarray, other: Any) -> dict[str, Any]:
@@ -266,7 +277,7 @@ def solve_ik(text: str, fmt: str, target: Any, q0: Any, base_link: str | None = 
             "message": res.message or "", "method": res.method, "at_limit": at_limit.tolist(),
             "solutions": sols, "T": T_q.tolist(),
             "rpy_xyz": np.concatenate([se3.rpy_from_matrix(T_q[:3, :3]), T_q[:3, 3]]).tolist(),
-            "scene": build_scene(robot, q).to_json()}
+            "scene": build_scene(robot, q).to_json(), "motions": _motions(robot, q)}
 
 
 def _overlays(robot: Robot, Q: np.ndarray, scene: Any, overlay: Any) -> tuple[list[dict], dict | None]:

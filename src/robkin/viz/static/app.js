@@ -3,6 +3,7 @@
 // (rounded for display, full precision on hover and in copies), downloads (POST /api/export), the
 // tool-frame gizmo driving IK, and the visual check against a second robot.
 import { Viewer, OVERLAY_COLORS } from "./viewer.js";
+import { loadVisuals } from "./meshes.js";
 
 const $ = (id) => document.getElementById(id);
 const DEG = 180 / Math.PI;
@@ -13,7 +14,8 @@ const state = {
   tablesKey: null,      // input (and angle unit) the tables were drawn for
   inflight: false, pending: null,
   ik: { inflight: false, pending: null, count: 0, since: 0 },
-  other: null,          // robot B (text, fmt) for the visual check
+  start: null,          // /api/start: the command-line robot and its visuals
+  meshKey: null,        // whether the visuals are shown (only for the command-line robot, unedited)
 };
 let viewer = null;
 
@@ -93,8 +95,8 @@ function sendIK(body) {
       setQ(res.q);
       showIK(res);
       const scene = res.scene;
-      state.robot = { ...state.robot, q: res.q, T: res.T, rpy_xyz: res.rpy_xyz, scene, overlays: [],
-                      check: null };
+      state.robot = { ...state.robot, q: res.q, T: res.T, rpy_xyz: res.rpy_xyz, scene, motions: res.motions,
+                      overlays: [], check: null };
       viewer.show(state.robot, { keepTarget: true });
       showPose(state.robot);
       document.body.dataset.ikUpdates = String(Number(document.body.dataset.ikUpdates || 0) + 1);
@@ -173,6 +175,7 @@ function apply(res, body) {
     state.tablesKey = tkey;
     showTables(res);
   }
+  showMeshes(body);
   document.body.dataset.state = "ready";
   document.body.dataset.updates = String(Number(document.body.dataset.updates) + 1);
 }
@@ -364,6 +367,25 @@ function showPose(res) {
               el("td", { text: $("units").value === "deg" ? "°" : "rad" })));
 }
 
+// ------------------------------------------------------------------ meshes
+// Only the robot given on the command line, unedited and with its chain, has visuals the server serves.
+function showMeshes(body) {
+  const st = state.start;
+  const on = !!(st && st.visuals.length && body.text === st.text && body.base_link === st.base_link &&
+                body.tip_link === st.tip_link);
+  if (on === state.meshKey) return;
+  state.meshKey = on;
+  if (!on) { viewer.setMeshes([]); return; }
+  loadVisuals(st.visuals).then((visuals) => {
+    if (state.meshKey) viewer.setMeshes(visuals);
+    document.body.dataset.meshes = String(visuals.length);
+  }).catch((err) => showError("meshes: " + err));
+  if (st.missing_meshes.length) {
+    $("warnings").hidden = false;
+    $("warnings").textContent += "\nMeshes not found (drawn without them): " + st.missing_meshes.join(", ");
+  }
+}
+
 // ------------------------------------------------------------------ downloads
 async function download(to) {
   const res = await post("/api/export", { ...inputs(), to }).catch((err) => ({ ok: false, error: String(err) }));
@@ -415,6 +437,7 @@ async function start() {
   document.querySelectorAll("#overlay input").forEach((c) => c.addEventListener("change", () => refresh()));
   document.querySelectorAll("[data-download]").forEach((b) => b.addEventListener("click", () => download(b.dataset.download)));
   const init = await fetch("/api/start").then((r) => r.json());
+  state.start = init;
   const ex = $("example");
   for (const name of Object.keys(init.examples)) ex.append(el("option", { value: name, text: name }));
   ex.addEventListener("change", () => {

@@ -187,7 +187,8 @@ export class Viewer {
   }
 
   // ------------------------------------------------------------------ meshes
-  // visuals: [{frame: joint index (-1 base), T: pose in that frame, object: THREE.Object3D}]
+  // visuals: [{body, pose: 4x4 at home in the base frame, object}] (meshes.js); placed at q by the
+  // answer's motions (motion of body i from home to q, robkin.bodies.body_motions).
   setMeshes(visuals) {
     this.clear(this.meshes);
     this.visuals = visuals;
@@ -197,10 +198,11 @@ export class Viewer {
   }
 
   posesMeshes(res) {
+    if (!res.motions) return;
     for (const v of this.visuals || []) {
-      const F = v.frame < 0 ? new THREE.Matrix4() : mat4(res.scene.frames[v.frame]);
       v.object.matrixAutoUpdate = false;
-      v.object.matrix.copy(F.multiply(mat4(v.T)));
+      v.object.matrix.copy(mat4(res.motions[v.body]).multiply(mat4(v.pose)));
+      v.object.matrixWorldNeedsUpdate = true;
     }
   }
 
