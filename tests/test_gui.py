@@ -199,6 +199,122 @@ def test_every_bundled_example_shows_and_exports(example):
     np.testing.assert_allclose(pinocchio_tool(urdf, q), res["T"], atol=1e-9)
 
 
+def test_pasted_tables_with_a_flange_row_and_poe_screws():
+    """Franka's MDH table: its flange row is a joint unless tagged or asked; PoE screws (eq. 11) + M paste."""
+    q = [0.3, -0.5, 0.2, -2.0, 0.1, 1.6, 0.7]
+    as_joint = gui_api.describe(FRANKA_MDH, "mdh-rows")
+    assert as_joint["n"] == 8  # nothing guessed: an untagged row is a joint
+    for text, tool_row in ((FRANKA_MDH, True), (FRANKA_MDH.strip() + " flange\n", False)):
+        res = gui_api.describe(text, "mdh-rows", q, tool_row=tool_row)
+        assert res["n"] == 7
+        if PANDA.is_file():
+            np.testing.assert_allclose(res["T"], _panda_fk(q), atol=1e-9)  # vendor table = URDF, to 1e-9
+    with pytest.raises(robkin.InputError, match="line 1: only the last row"):
+        gui_api.describe("0 0 0 0 tool\n0 0 0 0\n", "dh-rows")
+    # The RRPR robot's space screws (eq. 11) and its home tool pose M
+    poe = """0 0 1 0 0 0
+    0 1 0 -0.2 0 0
+    0 0 0 0 1 0
+    0 -1 0 0.5 0 -0.2
+    M 1 0 0 0.3  0 0 -1 0  0 1 0 0.5  0 0 0 1"""  # the tool at home, by hand from Table I
+    qr = [0.4, -1.1, 0.25, 2.0]
+    res = gui_api.describe(poe, "poe-rows", qr)
+    assert [j["type"] for j in res["joints"]] == ["revolute", "revolute", "prismatic", "revolute"]
+    np.testing.assert_allclose(res["T"], rrpr_fk(qr), atol=EXACT)
+    with pytest.raises(robkin.InputError, match="ends with a line 'M'"):
+        gui_api.describe("0 0 1 0 0 0\n", "poe-rows")
+    with pytest.raises(robkin.InputError, match="line 2: expected M and 12 or 16 numbers"):
+        gui_api.describe("0 0 1 0 0 0\nM 1 0 0\n", "poe-rows")
+
+
+def test_ik_follows_a_target_and_lists_closed_form_branches():
+    """solve_ik on the UR5 (closed form: 8 branches) and the Panda (numeric), checked with pinocchio FK."""
+    ur5 = ERD / "ur_description" / "urdf" / "ur5_robot.urdf"
+    if not ur5.is_file():
+        pytest.skip("example-robot-data (test extra) is not installed")
+    text = ur5.read_text()
+    q = [0.3, -1.2, 1.4, -0.8, 1.1, 0.5]
+    target = gui_api.describe(text, "urdf", q, tip_link="tool0")["T"]
+    res = gui_api.solve_ik(text, "urdf", target, [0.25, -1.1, 1.3, -0.7, 1.0, 0.4], tip_link="tool0")
+    assert res["success"] and len(res["solutions"]) == 8
+    np.testing.assert_allclose(res["q"], q, atol=1e-9)  # the branch nearest the configuration shown
+    for sol in res["solutions"]:
+        np.testing.assert_allclose(pinocchio_tool_at(ur5, "tool0", sol), target, atol=1e-9)
+    np.testing.assert_allclose(res["T"], target, atol=1e-9)
+    np.testing.assert_allclose(res["scene"]["tool"], res["T"], atol=EXACT)  # the drawn tool is the pose
+    far = np.array(target)
+    far[:3, 3] *= 10  # ten times the reach
+    out = gui_api.solve_ik(text, "urdf", far.tolist(), q, tip_link="tool0")
+    assert not out["success"] and not out["found"] and out["q"] == q
+    # the Panda, dragged 2 cm from a ready pose: one numeric step seeded with the q shown
+    panda = PANDA.read_text()
+    q0 = [0, -PI / 4, 0, -3 * PI / 4, 0, PI / 2, PI / 4]
+    T = _panda_fk(q0)
+    T[:3, 3] += [0.02, -0.01, 0.01]
+    res = gui_api.solve_ik(panda, "urdf", T.tolist(), q0, "panda_link0", "panda_link8")
+    assert res["success"] and res["method"] == "numeric" and res["at_limit"] == []
+    np.testing.assert_allclose(_panda_fk(res["q"]), T, atol=1e-6)  # 1e-6: IK tolerance + URDF decimals
+    # pushed against joint 4's upper limit (-0.0698 rad): reported
+    res = gui_api.solve_ik(panda, "urdf", _panda_fk([0, 0.3, 0, -0.0698, 0, 0.5, 0]).tolist(),
+                           [0, 0.3, 0, -0.2, 0, 0.5, 0], "panda_link0", "panda_link8")
+    assert 3 in res["at_limit"]
+    for bad, message in (("x", "target: expected a 4x4"), ([[1, 0], [0, 1]], "target: expected a 4x4")):
+        with pytest.raises(robkin.InputError, match=message):
+            gui_api.solve_ik(panda, "urdf", bad, q0, "panda_link0", "panda_link8")
+
+
+def pinocchio_tool_at(urdf: Path, tip: str, q) -> np.ndarray:
+    pin = pytest.importorskip("pinocchio")
+    model = pin.buildModelFromUrdf(str(urdf))
+    data = model.createData()
+    config = pin.neutral(model)
+    config[:len(q)] = q
+    pin.framesForwardKinematics(model, data, config)
+    return data.oMf[model.getFrameId(tip)].homogeneous
+
+
+def test_visual_check_names_the_first_joint_that_differs():
+    """RRPR against itself (same); against copies with joint 3's zero moved (an offset: J3) and with
+    link 2 longer (joint 4's axis moves: J4)."""
+    same = gui_api.describe(RRPR_TEXT, other={"text": RRPR_TEXT})
+    assert same["check"]["comparison"]["same"] and same["check"]["first_joint"] is None
+    rows = ["0 0.2 -pi/2 0", "0.3 0 0 -pi/2", "0.2 0 pi pi/2 P", "0.1 0 0 0"]
+    offset = "\n".join(rows).replace("0.2 0 pi", "0.2 0.05 pi")
+    res = gui_api.describe(RRPR_TEXT, q=[0.1, 0.2, 0.1, 0.3], other={"text": offset, "fmt": "dh-rows"})
+    check = res["check"]
+    assert check["comparison"]["equivalent"] and check["first_joint"] == 2
+    assert check["comparison"]["joints"][2]["offset"] == pytest.approx(0.05, abs=EXACT)
+    np.testing.assert_allclose(check["scene"]["q"], [0.1, 0.2, 0.1, 0.3])
+    longer = "\n".join(rows).replace("0.3 0 0", "0.35 0 0")
+    check = gui_api.describe(RRPR_TEXT, other={"text": longer, "fmt": "dh-rows"})["check"]
+    assert not check["comparison"]["equivalent"] and check["first_joint"] == 3
+    with pytest.raises(robkin.InputError, match="robot B: .*line 1"):
+        gui_api.describe(RRPR_TEXT, other={"text": "x", "fmt": "dh-rows"})
+    fewer = gui_api.describe(RRPR_TEXT, other={"text": "0 0.2 -pi/2 0\n", "fmt": "dh-rows"})
+    assert fewer["check"]["first_joint"] is not None and "joint counts differ" in fewer["check"]["comparison"]["verdict"]
+
+
+def test_mesh_files_resolve_like_ros(tmp_path, monkeypatch):
+    from robkin.viz.meshes import resolve_mesh
+
+    pkg = tmp_path / "ws" / "my_robot"
+    (pkg / "meshes").mkdir(parents=True)
+    (pkg / "urdf").mkdir()
+    stl = pkg / "meshes" / "link.stl"
+    stl.write_bytes(b"solid x\nendsolid x\n")
+    robot_file = pkg / "urdf" / "r.urdf"
+    assert resolve_mesh("package://my_robot/meshes/link.stl", robot_file) == stl.resolve()  # above the file
+    assert resolve_mesh("../meshes/link.stl", robot_file) == stl.resolve()
+    assert resolve_mesh(f"file://{stl}", robot_file) == stl.resolve()
+    elsewhere = tmp_path / "other" / "r.urdf"
+    assert resolve_mesh("package://my_robot/meshes/link.stl", elsewhere) is None
+    monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "ws"))
+    assert resolve_mesh("package://my_robot/meshes/link.stl", elsewhere) == stl.resolve()  # on the path
+    (pkg / "urdf" / "secret.txt").write_text("x")
+    assert resolve_mesh("secret.txt", robot_file) is None  # not a mesh type: never served
+    assert resolve_mesh("http://example.com/link.stl", robot_file) is None  # nothing is fetched
+
+
 @pytest.fixture()
 def server():
     srv = make_server(port=0, text=RRPR_TEXT, fmt="yaml")
@@ -226,6 +342,48 @@ def test_server_answers_errors_in_json_and_keeps_serving(server):
     lenient = _post(server.url + "api/describe", {"text": RRPR_TEXT, "q": [0, 0], "strict_q": False})
     assert lenient["ok"] is True and lenient["q"] == [0, 0, 0, 0]
     assert server.url.startswith("http://127.0.0.1:")
+
+
+def test_server_serves_vendored_modules_and_meshes_by_id_only(server, tmp_path):
+    from robkin.viz.meshes import MeshRegistry
+
+    with urllib.request.urlopen(server.url, timeout=10) as r:
+        csp = r.headers["Content-Security-Policy"]
+        page = r.read().decode()
+    assert "script-src 'self' 'sha256-" in csp and '<script type="importmap">' in page  # only that inline script
+    with urllib.request.urlopen(server.url + "static/vendor/addons/controls/TransformControls.js", timeout=10) as r:
+        assert r.headers["Content-Type"].startswith("text/javascript")
+    stl = tmp_path / "link.stl"
+    stl.write_bytes(b"solid x\nendsolid x\n")
+    server.meshes = MeshRegistry(files={"m0": stl})
+    with urllib.request.urlopen(server.url + "api/mesh/m0", timeout=10) as r:
+        assert r.read() == stl.read_bytes() and r.headers["Content-Type"] == "model/stl"
+    for path in ("api/mesh/m1", "api/mesh/" + str(stl), "api/mesh/../static/app.js", "static/vendor/LICENSE",
+                 "static/vendor/../gui.py"):
+        with pytest.raises(urllib.error.HTTPError) as err:
+            urllib.request.urlopen(server.url + path, timeout=10)
+        assert err.value.code == 404, path
+
+
+def test_gui_refuses_to_start_without_three_js(monkeypatch, tmp_path, capsys):
+    from robkin.viz import assets
+
+    monkeypatch.setattr(assets, "VENDOR_DIR", tmp_path / "vendor")
+    assert main(["gui", "--port", "0"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "three.js" in err and "make assets" in err
+
+
+def test_start_payload_has_the_default_example_and_robot_b(tmp_path):
+    srv = make_server(port=0, text=RRPR_TEXT, fmt="yaml", other={"text": RRPR_TEXT, "fmt": "yaml", "source": "b.yaml"})
+    try:
+        assert srv.start_payload["other"]["source"] == "b.yaml" and srv.start_payload["visuals"] == []
+        assert srv.start_payload["default_example"] in srv.start_payload["examples"]  # what --help promises
+    finally:
+        srv.server_close()
+    bad = tmp_path / "b.yaml"
+    bad.write_text("robkin: 1\njoints: []\n")
+    assert main(["gui", str(EXAMPLES / "rrpr.yaml"), str(bad), "--port", "0"]) == 2
 
 
 def test_server_refuses_foreign_hosts_and_paths(server):
@@ -513,6 +671,10 @@ def test_browser_panda_orbit_drag_paste_check(panda_page, tmp_path):
     assert "panda_link8" in [o.get_attribute("value") for o in pg.query_selector_all("#tip-link option")]
     q = [float(pg.input_value(f"#q{i}")) for i in range(7)]
     np.testing.assert_allclose(_pose(pg), _panda_fk(q), atol=1e-9)  # 1e-9: both read the URDF's decimals
+    import importlib.util
+
+    if importlib.util.find_spec("robkin.bodies"):  # robots carry their visuals: the Panda's 11 meshes load
+        pg.wait_for_function("() => document.body.dataset.meshes == '11'", timeout=30000)
     _shot(pg, tmp_path, "gui_panda.png")
 
     # Orbit: a left drag on empty space turns the camera (the picture changes, the robot does not).
@@ -588,7 +750,7 @@ def test_browser_panda_orbit_drag_paste_check(panda_page, tmp_path):
 
     a = parse_document(json.dumps(document_from_table(FRANKA_MDH, "mdh-rows", True)), "json")
     b = parse_document(json.dumps(document_from_table(FRANKA_MDH.replace("0.384", "0.39"), "mdh-rows", True)), "json")
-    expected = next(m.index for m in compare(a, b).joints if m.status == "differs")
+    expected = next(m.index for m in compare(a, b).joints if m.status != "same")
     assert first == expected + 1
     assert pg.query_selector(f"#check-joints tr.differs td") is not None
     _shot(pg, tmp_path, "gui_check.png")

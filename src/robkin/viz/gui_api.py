@@ -230,7 +230,8 @@ def _check(robot: Robot, Q: np.ndarray, other: Any) -> dict[str, Any]:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # B's conversion notes are not about the robot shown
         result = compare(robot, b)
-    first = next((m.index for m in result.joints if m.status in ("differs", "unchecked")), None)
+    # the first joint that is not the same: a different axis, or the same axis with another sign or zero
+    first = next((m.index for m in result.joints if m.status != "same"), None)
     if first is None and result.n_a != result.n_b:
         first = min(result.n_a, result.n_b)
     qb = Q if b.n == robot.n else np.zeros(b.n)
