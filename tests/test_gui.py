@@ -344,6 +344,29 @@ def test_server_answers_errors_in_json_and_keeps_serving(server):
     assert server.url.startswith("http://127.0.0.1:")
 
 
+def test_plot_html_is_the_viewer_in_one_file(tmp_path):
+    """`plot -o x.html`: scene data and every module inline (nothing fetched); the tool is Fig. 2's."""
+    out = tmp_path / "rrpr.html"
+    q = [3 * PI / 4, -PI / 4, 0.3, -3 * PI / 4]
+    assert main(["plot", str(EXAMPLES / "rrpr.yaml"), "--q", "3*pi/4,-pi/4,0.3,-3*pi/4", "--overlay", "dh,poe",
+                 "-o", str(out)]) == 0
+    page = out.read_text()
+    data = json.loads(re.search(r'<script type="application/json" id="robkin-data">(.*?)</script>', page, re.S)
+                      .group(1))
+    np.testing.assert_allclose(data["scene"]["tool"], rrpr_fk(q), atol=EXACT)
+    assert [o["label"] for o in data["overlays"]] == ["DH", "DH rebuilt from PoE (space)"]
+    for o in data["overlays"]:
+        np.testing.assert_allclose(o["tool"], rrpr_fk(q), atol=EXACT)
+    names = re.findall(r'<script type="text/x-robkin-module" data-name="([^"]+)">', page)
+    assert {"three", "three/core", "three/addons/controls/OrbitControls.js", "robkin/viewer.js"} <= set(names)
+    assert not re.search(r"""\b(src|href)=["']?(https?:|//)""", page)  # no external resources
+    assert page.count("</script>") == len(names) + 2  # embedded text never ends its script early
+    # two robots of different joint counts cannot share q: refused, nothing written
+    bad = tmp_path / "bad.html"
+    assert main(["plot", str(EXAMPLES / "rrpr.yaml"), str(EXAMPLES / "arbitrary_3r.yaml"), "-o", str(bad)]) == 2
+    assert not bad.exists()
+
+
 def test_server_serves_vendored_modules_and_meshes_by_id_only(server, tmp_path):
     from robkin.viz.meshes import MeshRegistry
 
@@ -606,6 +629,15 @@ def test_browser_load_move_check_download(page, tmp_path):
     shot = (DOCS if os.environ.get("ROBKIN_UPDATE_DOCS") == "1" else tmp_path) / "gui.png"
     pg.screenshot(path=str(shot), full_page=True)
     assert shot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+    # The self-contained page of `plot -o robot.html`, opened from disk: it draws (WebGL) without errors.
+    page_file = tmp_path / "rrpr_q.html"
+    assert main(["plot", str(EXAMPLES / "rrpr.yaml"), "--q", "3*pi/4,-pi/4,0.3,-3*pi/4", "--overlay", "dh,poe",
+                 "-o", str(page_file)]) == 0
+    pg.goto(page_file.as_uri())
+    pg.wait_for_selector("body[data-state=ready]", timeout=15000)
+    assert int(pg.get_attribute("#view", "data-frames")) >= 1 and "DH rebuilt from PoE" in pg.inner_text(".legend")
+    _shot(pg, tmp_path, "plot_html.png")
 
 
 # ------------------------------------------------------------------------------ a real arm, in Chromium

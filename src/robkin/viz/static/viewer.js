@@ -99,6 +99,7 @@ export class Viewer {
     if (check) this.stick(check.scene, COLORS.other, true, check.first_joint);
     this.stick(res.scene, COLORS.link, false, check ? check.first_joint : null);
     this.triad(res.scene.tool, COLORS.tool, 1, this.robot);
+    if (res.show_frames) for (const F of res.scene.frames) this.rgbTriad(F);
     if (!keepTarget) this.placeTarget(res.scene.tool);
     if (first) { this.buildWorld(); this.view("iso"); }
     this.posesMeshes(res);
@@ -154,6 +155,15 @@ export class Viewer {
       const dir = new THREE.Vector3().setFromMatrixColumn(M, c).normalize();
       group.add(new THREE.ArrowHelper(dir, o, TRIAD * L * size, color, 0.04 * L, 0.02 * L));
       if (names) this.label(o.clone().addScaledVector(dir, TRIAD * L * size * 1.1), names[c], "", "base");
+    });
+  }
+
+  // A joint frame as red/green/blue x/y/z arrows (plot --frames).
+  rgbTriad(T) {
+    const M = mat4(T), o = new THREE.Vector3().setFromMatrixPosition(M), L = this.scale;
+    [0xd62728, 0x2ca02c, 0x1f77b4].forEach((color, c) => {
+      const dir = new THREE.Vector3().setFromMatrixColumn(M, c).normalize();
+      this.robot.add(new THREE.ArrowHelper(dir, o, 0.6 * TRIAD * L, color, 0.03 * L, 0.015 * L));
     });
   }
 
@@ -217,14 +227,15 @@ export class Viewer {
 
   // Camera looking at the robot: "iso" (the reset view), "front" (from +x), "side" (from -y), "top"
   // (from +z), or "fit" (keep the direction, frame the robot).
-  view(name) {
+  view(name, direction = null) {
     const box = this.bounds(), c = box.getCenter(new THREE.Vector3());
     const r = Math.max(box.getSize(new THREE.Vector3()).length() / 2, this.scale * 0.5);
     const dist = r / Math.sin((this.camera.fov * Math.PI / 180) / 2) * 1.05;
     // top: a hair off the vertical, where the orbit's z-up frame is singular
     const dirs = { iso: [1, -1.3, 0.8], front: [1, 0, 0], side: [0, -1, 0], top: [-1e-4, 0, 1] };
     const cur = this.camera.position.clone().sub(this.orbit.target);
-    const d = name === "fit" && cur.lengthSq() > 0 ? cur.normalize() : v3(dirs[name] || dirs.iso).normalize();
+    const d = direction ? v3(direction).normalize() :
+      name === "fit" && cur.lengthSq() > 0 ? cur.normalize() : v3(dirs[name] || dirs.iso).normalize();
     this.orbit.target.copy(c);
     this.camera.position.copy(c).addScaledVector(d, dist);
     this.camera.near = dist / 1000;
@@ -232,6 +243,12 @@ export class Viewer {
     this.camera.updateProjectionMatrix();
     this.orbit.update();
     this.render();
+  }
+
+  // Camera from a direction given as elevation and azimuth in degrees (like matplotlib's view_init).
+  look([elev, azim]) {
+    const e = elev * Math.PI / 180, a = azim * Math.PI / 180;
+    this.view("fit", [Math.cos(e) * Math.cos(a), Math.cos(e) * Math.sin(a), Math.sin(e)]);
   }
 
   render() {
