@@ -120,6 +120,9 @@ class _Handler(BaseHTTPRequestHandler):
     server: GuiServer
     server_version = "robkin-gui"
     protocol_version = "HTTP/1.1"
+    # Headers and body go out as separate writes; with Nagle's algorithm the body then waits for the
+    # client's delayed ACK (~40 ms on Linux), which would cap dragging to IK at ~20 updates/s.
+    disable_nagle_algorithm = True
 
     # ----------------------------------------------------------------- plumbing
     def log_message(self, format: str, *args: Any) -> None:  # noqa: A002 - signature of the base class
