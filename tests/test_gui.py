@@ -626,6 +626,7 @@ def test_browser_load_move_check_download(page, tmp_path):
                 [3 * PI / 4, -PI / 4, 0.3, -3 * PI / 4])
     _wait_update(pg, before)
     pg.wait_for_function("() => document.body.dataset.state == 'ready'")
+    pg.click("#view-fit")
     shot = (DOCS if os.environ.get("ROBKIN_UPDATE_DOCS") == "1" else tmp_path) / "gui.png"
     pg.screenshot(path=str(shot), full_page=True)
     assert shot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -764,7 +765,7 @@ def test_browser_panda_orbit_drag_paste_check(panda_page, tmp_path):
     _wait_update(pg, before)
     assert len(pg.query_selector_all("#sliders input[type=range]")) == 8  # not silently: only when asked
 
-    # Visual check: B = the same table with joint 5's d off by 6 mm, drawn over A; J5 named and red.
+    # Visual check: B = the same table with row 5's d 6 mm longer, drawn over A; the joint check names is red.
     before = _updates(pg)
     pg.select_option("#last-row", "tool")
     pg.click("#check-panel summary")

@@ -187,12 +187,13 @@ function showError(message) {
   document.body.dataset.state = "error";
 }
 
-// A number for display: 10 significant digits, float noise (below 1e-12 of the robot's size, far
-// under any typed digit) shown as 0. The full value is in the cell's title and in copies.
+// A number for display: 10 significant digits; below 1e-10 of the robot's size shown as 0 (rounding
+// of conversions and IK, ~1e-12, lies under it; typed tables, 1e-6 at best, far above). The full
+// value is in the cell's title and in copies.
 function num(x, angle = false) {
   if (x === null || x === undefined) return "";
   let v = angle && $("units").value === "deg" ? x * DEG : x;
-  if (Math.abs(v) < 1e-12 * (state.robot ? Math.max(state.robot.scale, 1) : 1)) v = 0;
+  if (Math.abs(v) < 1e-10 * (state.robot ? Math.max(state.robot.scale, 1) : 1)) v = 0;
   return String(Number(v.toPrecision(10)));
 }
 
