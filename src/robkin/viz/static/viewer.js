@@ -15,6 +15,17 @@ export const OVERLAY_COLORS = [0xf28e2b, 0x2ca02c, 0x9467bd, 0x8c564b];
 // Lengths relative to the robot's size (same fractions as the matplotlib pictures).
 const AXIS_BACK = 0.12, AXIS_FRONT = 0.22, TRIAD = 0.16, LINK_RADIUS = 0.012;
 
+// Legend entries "– – label" in each overlay's colour.
+export function overlayLegend(overlays) {
+  return (overlays || []).map((o, k) => {
+    const span = document.createElement("span");
+    span.className = "ov-name";
+    span.textContent = "– – " + o.label;
+    span.style.color = "#" + OVERLAY_COLORS[k % OVERLAY_COLORS.length].toString(16).padStart(6, "0");
+    return span;
+  });
+}
+
 const v3 = (p) => new THREE.Vector3(p[0], p[1], p[2]);
 const mat4 = (T) => new THREE.Matrix4().set(...T[0], ...T[1], ...T[2], ...T[3]);
 
@@ -56,7 +67,7 @@ export class Viewer {
     }
     this.labels = [];   // [{el, p: Vector3}] HTML labels placed at projected points
     this.res = null;
-    this.scale = 1;
+    this.scale = 0;     // the robot's size; 0 until the first show()
     new ResizeObserver(() => this.resize()).observe(container);
     this.resize();
   }
@@ -87,13 +98,12 @@ export class Viewer {
   // ------------------------------------------------------------------ what is drawn
   // res: {scene, overlays, check?: {scene, first_joint}, scale}; keepTarget: leave the gizmo where it is.
   show(res, { keepTarget = false } = {}) {
-    const first = !this.res;
+    const first = !this.res, rescaled = (res.scale || 1) !== this.scale;
     this.res = res;
     this.scale = res.scale || 1;
     this.clear(this.robot);
     this.labels.forEach((l) => l.el.remove());
     this.labels = [];
-    const L = this.scale;
     (res.overlays || []).forEach((o, k) => this.stick(o, OVERLAY_COLORS[k % OVERLAY_COLORS.length], true));
     const check = res.check;
     if (check) this.stick(check.scene, COLORS.other, true, check.first_joint);
@@ -101,10 +111,10 @@ export class Viewer {
     this.triad(res.scene.tool, COLORS.tool, 1, this.robot);
     if (res.show_frames) for (const F of res.scene.frames) this.rgbTriad(F);
     if (!keepTarget) this.placeTarget(res.scene.tool);
-    if (first) { this.buildWorld(); this.view("iso"); }
+    if (first || rescaled) this.buildWorld();  // grid and base frame sized to the robot
+    if (first) this.view("iso");
     this.posesMeshes(res);
     this.render();
-    return L;
   }
 
   stick(sc, color, dashed, highlight = null) {
@@ -176,7 +186,6 @@ export class Viewer {
     grid.rotation.x = Math.PI / 2;  // GridHelper lies in x-z; the robot's ground is x-y
     this.world.add(grid);
     this.triad([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]], COLORS.base, 1, this.world, ["x0", "y0", "z0"]);
-    this.gridCell = cell;
     this.container.dataset.gridCell = String(cell);
   }
 
