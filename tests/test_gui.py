@@ -446,6 +446,31 @@ def test_cli_gui_serves_then_stops():
             proc.wait()
 
 
+def test_cli_gui_two_urdfs_share_the_chain():
+    """`robkin gui A.urdf B.urdf --base-link --tip-link`: B gets the same chain; the page's check says same."""
+    import signal
+
+    if not PANDA.is_file():
+        pytest.skip("example-robot-data (test extra) is not installed")
+    proc = subprocess.Popen([sys.executable, "-m", "robkin.cli", "gui", str(PANDA), str(PANDA), "--base-link",
+                             "panda_link0", "--tip-link", "panda_link8", "--port", "0"], stderr=subprocess.PIPE, text=True)
+    try:
+        url = proc.stderr.readline().split("serving on ")[1].split()[0]
+        with urllib.request.urlopen(url + "api/start", timeout=10) as r:
+            start = json.loads(r.read())
+        other = start["other"]
+        assert (other["base_link"], other["tip_link"]) == ("panda_link0", "panda_link8")
+        res = _post(url + "api/describe", {"text": start["text"], "base_link": "panda_link0", "tip_link": "panda_link8",
+                                           "other": other})
+        assert res["ok"] and res["check"]["comparison"]["same"], res.get("error")
+        proc.send_signal(signal.SIGINT)
+        assert proc.wait(timeout=10) == 0
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+
+
 def test_cli_gui_bad_input(tmp_path, capsys):
     bad = tmp_path / "bad.yaml"
     bad.write_text("robkin: 1\njoints: []\n")

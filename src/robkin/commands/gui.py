@@ -19,17 +19,19 @@ The app runs on this machine only: it listens on 127.0.0.1 (use --host to change
 risk: anyone who can reach the port can use it) and needs no internet. Open the printed address in a
 browser; stop with Ctrl-C. In the page, paste or load a robot document (YAML/JSON) or a URDF; every
 representation is shown as a table and can be downloaded. Bad input is shown as a message in the page.
-Drag the pink tool frame's handles and the robot follows by inverse kinematics. The 3D view needs
-three.js, installed by `make assets` (or `make demo` / `make test`) from the npm registry.
+Drag the pink tool frame's handles and the robot follows by inverse kinematics. A URDF given here is
+drawn with the meshes it references (package:// found above the file or on ROS_PACKAGE_PATH). The
+3D view needs three.js, installed by `make assets` (or `make demo` / `make test`) from npm.
 """
 
 
 def register(subparsers) -> argparse.ArgumentParser:
-    p = subparsers.add_parser("gui", help=HELP, description=HELP.capitalize() + ".", epilog=EPILOG,
+    p = subparsers.add_parser("gui", help=HELP, description=HELP[0].upper() + HELP[1:] + ".", epilog=EPILOG,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("input", nargs="?", metavar="INPUT",
                    help="robot document (.yaml/.yml/.json) or URDF (.urdf) to show first")
-    p.add_argument("other", nargs="?", metavar="B", help="a second description to compare INPUT with (visual check)")
+    p.add_argument("other", nargs="?", metavar="B", help="a second description to compare INPUT with (visual check; --base-link/--tip-link "
+                        "apply to both when both are URDF)")
     p.add_argument("--base-link", metavar="LINK", help="URDF: first link of the serial chain")
     p.add_argument("--tip-link", metavar="LINK", help="URDF: last link of the serial chain (the tool)")
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1, this machine only)")
@@ -72,9 +74,12 @@ def run(args: argparse.Namespace) -> int:
     if args.input:
         text, fmt = _read(args.input, args, chain=True)
         source = args.input
+    # the same chain in B when both are URDF (two descriptions of one robot share link names)
+    b_urdf = fmt == "urdf" and bool(args.other) and args.other.lower().endswith((".urdf", ".xml"))
     if args.other:
-        b_text, b_fmt = _read(args.other, args, chain=False)
-        other = {"text": b_text, "fmt": b_fmt, "source": args.other}
+        b_text, b_fmt = _read(args.other, args, chain=b_urdf)
+        other = {"text": b_text, "fmt": b_fmt, "source": args.other,
+                 "base_link": (args.base_link or "") if b_urdf else "", "tip_link": (args.tip_link or "") if b_urdf else ""}
     server = make_server(args.host, args.port, text, fmt, args.base_link, args.tip_link, source,
                          quiet=not args.verbose, other=other)
     print(f"robkin gui: serving on {server.url}  (Ctrl-C to stop)", file=sys.stderr, flush=True)

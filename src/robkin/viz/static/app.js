@@ -38,8 +38,11 @@ function inputs() {
 }
 
 function otherInputs() {
-  const text = $("other-text").value;
-  return text.trim() ? { text, fmt: $("other-format").value } : null;
+  const text = $("other-text").value, given = state.start && state.start.other;
+  if (!text.trim()) return null;
+  // robot B from the command line keeps its URDF chain (the same links as A's) while unedited
+  const chain = given && text === given.text ? { base_link: given.base_link, tip_link: given.tip_link } : {};
+  return { text, fmt: $("other-format").value, ...chain };
 }
 
 function overlayList() {
