@@ -395,6 +395,18 @@ def test_gui_refuses_to_start_without_three_js(monkeypatch, tmp_path, capsys):
     assert main(["gui", "--port", "0"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "three.js" in err and "make assets" in err
+    page = tmp_path / "r.html"
+    assert main(["plot", str(EXAMPLES / "rrpr.yaml"), "-o", str(page)]) == 2 and not page.exists()
+    assert "make assets" in capsys.readouterr().err
+    # what `make assets` runs after `npm ci`: copies exactly the listed modules, or says what is missing
+    fake = tmp_path / "node_modules"
+    for name, src in assets.VENDOR.items():
+        (fake / src).parent.mkdir(parents=True, exist_ok=True)
+        (fake / src).write_text(f"// {name}\n")
+    assert assets.main([str(fake)]) == 0 and assets.missing_assets() == []
+    assert (tmp_path / "vendor" / "three.module.js").read_text() == "// three.module.js\n"
+    (fake / assets.VENDOR["three.core.js"]).unlink()
+    assert assets.main([str(fake)]) == 2 and "npm ci" in capsys.readouterr().err
 
 
 def test_start_payload_has_the_default_example_and_robot_b(tmp_path):
