@@ -209,14 +209,16 @@ function el(tag, attrs = {}, ...kids) {
   return e;
 }
 
-// URDF: base and tip link chosen from the file's links (keeping the choice when the list stays).
+// URDF: base and tip link chosen from the file's links; a choice that is not among them (given on
+// the command line for a format without a link list) stays selectable.
 function showLinks(links, body) {
   for (const [id, chosen] of [["base-link", body.base_link], ["tip-link", body.tip_link]]) {
     const sel = $(id), names = Array.from(sel.options).slice(1).map((o) => o.value);
-    if (JSON.stringify(names) !== JSON.stringify(links)) {
-      sel.replaceChildren(sel.options[0], ...links.map((n) => el("option", { value: n, text: n })));
+    const wanted = chosen && !links.includes(chosen) ? [...links, chosen] : links;
+    if (JSON.stringify(names) !== JSON.stringify(wanted)) {
+      sel.replaceChildren(sel.options[0], ...wanted.map((n) => el("option", { value: n, text: n })));
     }
-    sel.value = links.includes(chosen) ? chosen : "";
+    sel.value = chosen || "";
   }
 }
 
