@@ -10,10 +10,10 @@ from ..errors import InputError
 HELP = "browser app: see a robot in 3D, drag its tool by IK, convert it, compare two descriptions"
 EPILOG = """\
 examples:
-  robkin gui                          (starts with the bundled RRPR example)
-  robkin gui rrpr.yaml --open         (also opens the page in your web browser)
+  robkin gui                          # starts with the bundled RRPR example
+  robkin gui rrpr.yaml --open         # also opens the page in your web browser
   robkin gui ur5.urdf --tip-link tool0 --port 9000
-  robkin gui rrpr.yaml rrpr_dh.yaml   (visual check: B drawn over A, first differing joint in red)
+  robkin gui rrpr.yaml rrpr_dh.yaml   # visual check: B drawn over A, first differing joint in red
 
 The app runs on this machine only: it listens on 127.0.0.1 (use --host to change that, at your own
 risk: anyone who can reach the port can use it) and needs no internet. Open the printed address in a
