@@ -21,7 +21,7 @@ def repository_files() -> list[Path]:
     files = [ROOT / "README.md", ROOT / "Makefile", ROOT / "pyproject.toml", ROOT / "mkdocs.yml"]
     for folder in ("src", "tests", "docs", "benchmarks", ".ci"):
         files += [p for p in (ROOT / folder).rglob("*") if p.is_file() and p.suffix in TEXT_SUFFIXES
-                  and "__pycache__" not in p.parts]
+                  and "__pycache__" not in p.parts and "vendor" not in p.parts]  # vendor: npm's, git-ignored
     return files
 
 

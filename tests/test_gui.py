@@ -199,6 +199,122 @@ def test_every_bundled_example_shows_and_exports(example):
     np.testing.assert_allclose(pinocchio_tool(urdf, q), res["T"], atol=1e-9)
 
 
+def test_pasted_tables_with_a_flange_row_and_poe_screws():
+    """Franka's MDH table: its flange row is a joint unless tagged or asked; PoE screws (eq. 11) + M paste."""
+    q = [0.3, -0.5, 0.2, -2.0, 0.1, 1.6, 0.7]
+    as_joint = gui_api.describe(FRANKA_MDH, "mdh-rows")
+    assert as_joint["n"] == 8  # nothing guessed: an untagged row is a joint
+    for text, tool_row in ((FRANKA_MDH, True), (FRANKA_MDH.strip() + " flange\n", False)):
+        res = gui_api.describe(text, "mdh-rows", q, tool_row=tool_row)
+        assert res["n"] == 7
+        if PANDA.is_file():
+            np.testing.assert_allclose(res["T"], _panda_fk(q), atol=1e-9)  # vendor table = URDF, to 1e-9
+    with pytest.raises(robkin.InputError, match="line 1: only the last row"):
+        gui_api.describe("0 0 0 0 tool\n0 0 0 0\n", "dh-rows")
+    # The RRPR robot's space screws (eq. 11) and its home tool pose M
+    poe = """0 0 1 0 0 0
+    0 1 0 -0.2 0 0
+    0 0 0 0 1 0
+    0 -1 0 0.5 0 -0.2
+    M 1 0 0 0.3  0 0 -1 0  0 1 0 0.5  0 0 0 1"""  # the tool at home, by hand from Table I
+    qr = [0.4, -1.1, 0.25, 2.0]
+    res = gui_api.describe(poe, "poe-rows", qr)
+    assert [j["type"] for j in res["joints"]] == ["revolute", "revolute", "prismatic", "revolute"]
+    np.testing.assert_allclose(res["T"], rrpr_fk(qr), atol=EXACT)
+    with pytest.raises(robkin.InputError, match="ends with a line 'M'"):
+        gui_api.describe("0 0 1 0 0 0\n", "poe-rows")
+    with pytest.raises(robkin.InputError, match="line 2: expected M and 12 or 16 numbers"):
+        gui_api.describe("0 0 1 0 0 0\nM 1 0 0\n", "poe-rows")
+
+
+def test_ik_follows_a_target_and_lists_closed_form_branches():
+    """solve_ik on the UR5 (closed form: 8 branches) and the Panda (numeric), checked with pinocchio FK."""
+    ur5 = ERD / "ur_description" / "urdf" / "ur5_robot.urdf"
+    if not ur5.is_file():
+        pytest.skip("example-robot-data (test extra) is not installed")
+    text = ur5.read_text()
+    q = [0.3, -1.2, 1.4, -0.8, 1.1, 0.5]
+    target = gui_api.describe(text, "urdf", q, tip_link="tool0")["T"]
+    res = gui_api.solve_ik(text, "urdf", target, [0.25, -1.1, 1.3, -0.7, 1.0, 0.4], tip_link="tool0")
+    assert res["success"] and len(res["solutions"]) == 8
+    np.testing.assert_allclose(res["q"], q, atol=1e-9)  # the branch nearest the configuration shown
+    for sol in res["solutions"]:
+        np.testing.assert_allclose(pinocchio_tool_at(ur5, "tool0", sol), target, atol=1e-9)
+    np.testing.assert_allclose(res["T"], target, atol=1e-9)
+    np.testing.assert_allclose(res["scene"]["tool"], res["T"], atol=EXACT)  # the drawn tool is the pose
+    far = np.array(target)
+    far[:3, 3] *= 10  # ten times the reach
+    out = gui_api.solve_ik(text, "urdf", far.tolist(), q, tip_link="tool0")
+    assert not out["success"] and not out["found"] and out["q"] == q
+    # the Panda, dragged 2 cm from a ready pose: one numeric step seeded with the q shown
+    panda = PANDA.read_text()
+    q0 = [0, -PI / 4, 0, -3 * PI / 4, 0, PI / 2, PI / 4]
+    T = _panda_fk(q0)
+    T[:3, 3] += [0.02, -0.01, 0.01]
+    res = gui_api.solve_ik(panda, "urdf", T.tolist(), q0, "panda_link0", "panda_link8")
+    assert res["success"] and res["method"] == "numeric" and res["at_limit"] == []
+    np.testing.assert_allclose(_panda_fk(res["q"]), T, atol=1e-6)  # 1e-6: IK tolerance + URDF decimals
+    # pushed against joint 4's upper limit (-0.0698 rad): reported
+    res = gui_api.solve_ik(panda, "urdf", _panda_fk([0, 0.3, 0, -0.0698, 0, 0.5, 0]).tolist(),
+                           [0, 0.3, 0, -0.2, 0, 0.5, 0], "panda_link0", "panda_link8")
+    assert 3 in res["at_limit"]
+    for bad, message in (("x", "target: expected a 4x4"), ([[1, 0], [0, 1]], "target: expected a 4x4")):
+        with pytest.raises(robkin.InputError, match=message):
+            gui_api.solve_ik(panda, "urdf", bad, q0, "panda_link0", "panda_link8")
+
+
+def pinocchio_tool_at(urdf: Path, tip: str, q) -> np.ndarray:
+    pin = pytest.importorskip("pinocchio")
+    model = pin.buildModelFromUrdf(str(urdf))
+    data = model.createData()
+    config = pin.neutral(model)
+    config[:len(q)] = q
+    pin.framesForwardKinematics(model, data, config)
+    return data.oMf[model.getFrameId(tip)].homogeneous
+
+
+def test_visual_check_names_the_first_joint_that_differs():
+    """RRPR against itself (same); against copies with joint 3's zero moved (an offset: J3) and with
+    link 2 longer (joint 4's axis moves: J4)."""
+    same = gui_api.describe(RRPR_TEXT, other={"text": RRPR_TEXT})
+    assert same["check"]["comparison"]["same"] and same["check"]["first_joint"] is None
+    rows = ["0 0.2 -pi/2 0", "0.3 0 0 -pi/2", "0.2 0 pi pi/2 P", "0.1 0 0 0"]
+    offset = "\n".join(rows).replace("0.2 0 pi", "0.2 0.05 pi")
+    res = gui_api.describe(RRPR_TEXT, q=[0.1, 0.2, 0.1, 0.3], other={"text": offset, "fmt": "dh-rows"})
+    check = res["check"]
+    assert check["comparison"]["equivalent"] and check["first_joint"] == 2
+    assert check["comparison"]["joints"][2]["offset"] == pytest.approx(0.05, abs=EXACT)
+    np.testing.assert_allclose(check["scene"]["q"], [0.1, 0.2, 0.1, 0.3])
+    longer = "\n".join(rows).replace("0.3 0 0", "0.35 0 0")
+    check = gui_api.describe(RRPR_TEXT, other={"text": longer, "fmt": "dh-rows"})["check"]
+    assert not check["comparison"]["equivalent"] and check["first_joint"] == 3
+    with pytest.raises(robkin.InputError, match="robot B: .*line 1"):
+        gui_api.describe(RRPR_TEXT, other={"text": "x", "fmt": "dh-rows"})
+    fewer = gui_api.describe(RRPR_TEXT, other={"text": "0 0.2 -pi/2 0\n", "fmt": "dh-rows"})
+    assert fewer["check"]["first_joint"] is not None and "joint counts differ" in fewer["check"]["comparison"]["verdict"]
+
+
+def test_mesh_files_resolve_like_ros(tmp_path, monkeypatch):
+    from robkin.viz.meshes import resolve_mesh
+
+    pkg = tmp_path / "ws" / "my_robot"
+    (pkg / "meshes").mkdir(parents=True)
+    (pkg / "urdf").mkdir()
+    stl = pkg / "meshes" / "link.stl"
+    stl.write_bytes(b"solid x\nendsolid x\n")
+    robot_file = pkg / "urdf" / "r.urdf"
+    assert resolve_mesh("package://my_robot/meshes/link.stl", robot_file) == stl.resolve()  # above the file
+    assert resolve_mesh("../meshes/link.stl", robot_file) == stl.resolve()
+    assert resolve_mesh(f"file://{stl}", robot_file) == stl.resolve()
+    elsewhere = tmp_path / "other" / "r.urdf"
+    assert resolve_mesh("package://my_robot/meshes/link.stl", elsewhere) is None
+    monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "ws"))
+    assert resolve_mesh("package://my_robot/meshes/link.stl", elsewhere) == stl.resolve()  # on the path
+    (pkg / "urdf" / "secret.txt").write_text("x")
+    assert resolve_mesh("secret.txt", robot_file) is None  # not a mesh type: never served
+    assert resolve_mesh("http://example.com/link.stl", robot_file) is None  # nothing is fetched
+
+
 @pytest.fixture()
 def server():
     srv = make_server(port=0, text=RRPR_TEXT, fmt="yaml")
@@ -226,6 +342,83 @@ def test_server_answers_errors_in_json_and_keeps_serving(server):
     lenient = _post(server.url + "api/describe", {"text": RRPR_TEXT, "q": [0, 0], "strict_q": False})
     assert lenient["ok"] is True and lenient["q"] == [0, 0, 0, 0]
     assert server.url.startswith("http://127.0.0.1:")
+
+
+def test_plot_html_is_the_viewer_in_one_file(tmp_path):
+    """`plot -o x.html`: scene data and every module inline (nothing fetched); the tool is Fig. 2's."""
+    out = tmp_path / "rrpr.html"
+    q = [3 * PI / 4, -PI / 4, 0.3, -3 * PI / 4]
+    assert main(["plot", str(EXAMPLES / "rrpr.yaml"), "--q", "3*pi/4,-pi/4,0.3,-3*pi/4", "--overlay", "dh,poe",
+                 "-o", str(out)]) == 0
+    page = out.read_text()
+    data = json.loads(re.search(r'<script type="application/json" id="robkin-data">(.*?)</script>', page, re.S)
+                      .group(1))
+    np.testing.assert_allclose(data["scene"]["tool"], rrpr_fk(q), atol=EXACT)
+    assert [o["label"] for o in data["overlays"]] == ["DH", "DH rebuilt from PoE (space)"]
+    for o in data["overlays"]:
+        np.testing.assert_allclose(o["tool"], rrpr_fk(q), atol=EXACT)
+    names = re.findall(r'<script type="text/x-robkin-module" data-name="([^"]+)">', page)
+    assert {"three", "three/core", "three/addons/controls/OrbitControls.js", "robkin/viewer.js"} <= set(names)
+    assert not re.search(r"""\b(src|href)=["']?(https?:|//)""", page)  # no external resources
+    assert page.count("</script>") == len(names) + 2  # embedded text never ends its script early
+    # two robots of different joint counts cannot share q: refused, nothing written
+    bad = tmp_path / "bad.html"
+    assert main(["plot", str(EXAMPLES / "rrpr.yaml"), str(EXAMPLES / "arbitrary_3r.yaml"), "-o", str(bad)]) == 2
+    assert not bad.exists()
+
+
+def test_server_serves_vendored_modules_and_meshes_by_id_only(server, tmp_path):
+    from robkin.viz.meshes import MeshRegistry
+
+    with urllib.request.urlopen(server.url, timeout=10) as r:
+        csp = r.headers["Content-Security-Policy"]
+        page = r.read().decode()
+    assert "script-src 'self' 'sha256-" in csp and '<script type="importmap">' in page  # only that inline script
+    with urllib.request.urlopen(server.url + "static/vendor/addons/controls/TransformControls.js", timeout=10) as r:
+        assert r.headers["Content-Type"].startswith("text/javascript")
+    stl = tmp_path / "link.stl"
+    stl.write_bytes(b"solid x\nendsolid x\n")
+    server.meshes = MeshRegistry(files={"m0": stl})
+    with urllib.request.urlopen(server.url + "api/mesh/m0", timeout=10) as r:
+        assert r.read() == stl.read_bytes() and r.headers["Content-Type"] == "model/stl"
+    for path in ("api/mesh/m1", "api/mesh/" + str(stl), "api/mesh/../static/app.js", "static/vendor/LICENSE",
+                 "static/vendor/../gui.py"):
+        with pytest.raises(urllib.error.HTTPError) as err:
+            urllib.request.urlopen(server.url + path, timeout=10)
+        assert err.value.code == 404, path
+
+
+def test_gui_refuses_to_start_without_three_js(monkeypatch, tmp_path, capsys):
+    from robkin.viz import assets
+
+    monkeypatch.setattr(assets, "VENDOR_DIR", tmp_path / "vendor")
+    assert main(["gui", "--port", "0"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "three.js" in err and "make assets" in err
+    page = tmp_path / "r.html"
+    assert main(["plot", str(EXAMPLES / "rrpr.yaml"), "-o", str(page)]) == 2 and not page.exists()
+    assert "make assets" in capsys.readouterr().err
+    # what `make assets` runs after `npm ci`: copies exactly the listed modules, or says what is missing
+    fake = tmp_path / "node_modules"
+    for name, src in assets.VENDOR.items():
+        (fake / src).parent.mkdir(parents=True, exist_ok=True)
+        (fake / src).write_text(f"// {name}\n")
+    assert assets.main([str(fake)]) == 0 and assets.missing_assets() == []
+    assert (tmp_path / "vendor" / "three.module.js").read_text() == "// three.module.js\n"
+    (fake / assets.VENDOR["three.core.js"]).unlink()
+    assert assets.main([str(fake)]) == 2 and "npm ci" in capsys.readouterr().err
+
+
+def test_start_payload_has_the_default_example_and_robot_b(tmp_path):
+    srv = make_server(port=0, text=RRPR_TEXT, fmt="yaml", other={"text": RRPR_TEXT, "fmt": "yaml", "source": "b.yaml"})
+    try:
+        assert srv.start_payload["other"]["source"] == "b.yaml" and srv.start_payload["visuals"] == []
+        assert srv.start_payload["default_example"] in srv.start_payload["examples"]  # what --help promises
+    finally:
+        srv.server_close()
+    bad = tmp_path / "b.yaml"
+    bad.write_text("robkin: 1\njoints: []\n")
+    assert main(["gui", str(EXAMPLES / "rrpr.yaml"), str(bad), "--port", "0"]) == 2
 
 
 def test_server_refuses_foreign_hosts_and_paths(server):
@@ -256,7 +449,32 @@ def test_cli_gui_serves_then_stops():
         assert "serving on http://127.0.0.1:" in line
         url = line.split("serving on ")[1].split()[0]
         with urllib.request.urlopen(url, timeout=10) as r:
-            assert b"<canvas id=\"view\"" in r.read()
+            assert b"<div id=\"view\"" in r.read()
+        proc.send_signal(signal.SIGINT)
+        assert proc.wait(timeout=10) == 0
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+
+
+def test_cli_gui_two_urdfs_share_the_chain():
+    """`robkin gui A.urdf B.urdf --base-link --tip-link`: B gets the same chain; the page's check says same."""
+    import signal
+
+    if not PANDA.is_file():
+        pytest.skip("example-robot-data (test extra) is not installed")
+    proc = subprocess.Popen([sys.executable, "-m", "robkin.cli", "gui", str(PANDA), str(PANDA), "--base-link",
+                             "panda_link0", "--tip-link", "panda_link8", "--port", "0"], stderr=subprocess.PIPE, text=True)
+    try:
+        url = proc.stderr.readline().split("serving on ")[1].split()[0]
+        with urllib.request.urlopen(url + "api/start", timeout=10) as r:
+            start = json.loads(r.read())
+        other = start["other"]
+        assert (other["base_link"], other["tip_link"]) == ("panda_link0", "panda_link8")
+        res = _post(url + "api/describe", {"text": start["text"], "base_link": "panda_link0", "tip_link": "panda_link8",
+                                           "other": other})
+        assert res["ok"] and res["check"]["comparison"]["same"], res.get("error")
         proc.send_signal(signal.SIGINT)
         assert proc.wait(timeout=10) == 0
     finally:
@@ -275,7 +493,9 @@ def test_cli_gui_bad_input(tmp_path, capsys):
 
 
 # ------------------------------------------------------------------------------ the page, in Chromium
-CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+# WebGL through Chromium's software renderer (SwiftShader): no GPU needed, same pictures everywhere.
+CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+                  "--ignore-gpu-blocklist", "--disable-quic", "--no-first-run",
                   "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 
 
@@ -294,8 +514,9 @@ def _skip_or_fail(reason: str) -> None:
     pytest.skip(reason)
 
 
-@pytest.fixture()
-def page(server):
+@pytest.fixture(scope="module")
+def browser():
+    """One headless Chromium for the module's browser tests (each gets its own page)."""
     try:
         from playwright import sync_api
     except ImportError:
@@ -306,14 +527,26 @@ def page(server):
     with sync_api.sync_playwright() as pw, tempfile.TemporaryDirectory() as profile:
         ctx = pw.chromium.launch_persistent_context(profile, executable_path=exe, headless=True, args=CHROMIUM_FLAGS,
                                                     accept_downloads=True, viewport={"width": 1500, "height": 950})
-        pg = ctx.new_page()
-        errors: list[str] = []
-        pg.on("pageerror", lambda e: errors.append(str(e)))
-        pg.goto(server.url)
-        pg.wait_for_selector("body[data-state=ready]", timeout=15000)
-        yield pg
+        yield ctx
         ctx.close()
-        assert not errors, f"JavaScript errors in the page: {errors}"
+
+
+def _open(browser, url: str):
+    """A page at ``url``, ready; after the test, no JavaScript or console errors may have happened."""
+    pg = browser.new_page()
+    errors: list[str] = []
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    pg.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    pg.goto(url)
+    pg.wait_for_selector("body[data-state=ready]", timeout=15000)
+    yield pg
+    pg.close()
+    assert not errors, f"JavaScript or console errors in the page: {errors}"
+
+
+@pytest.fixture()
+def page(browser, server):
+    yield from _open(browser, server.url)
 
 
 def _wait_update(pg, before: int) -> None:
@@ -338,7 +571,12 @@ def test_browser_load_move_check_download(page, tmp_path):
     pg = page
     # The robot given on the command line is shown: Table I in the DH table, eq. (11) in the PoE table.
     dh_cells = [c.inner_text() for c in pg.query_selector_all("#table-dh tr:nth-child(2) td")]
-    assert dh_cells[1:] == ["0.0000", "0.2000", "-1.5708", "0.0000"]
+    assert dh_cells[1:] == ["0", "0.2", "-1.570796327", "0"]  # rounded for display: 10 digits
+    pg.select_option("#units", "deg")  # display only: the tables show degrees, the robot is unchanged
+    pg.wait_for_function("() => document.querySelector('#table-dh tr:nth-child(2) td:nth-child(4)').textContent == '-90'")
+    assert "α (°)" in pg.inner_text("#table-dh")
+    pg.select_option("#units", "rad")
+    pg.wait_for_function("() => document.querySelector('#table-dh tr:nth-child(2) td:nth-child(4)').textContent != '-90'")
     assert len(pg.query_selector_all("#sliders input[type=range]")) == 4
     np.testing.assert_allclose(_pose(pg), rrpr_fk([0, 0, 0, 0]), atol=EXACT)
 
@@ -442,6 +680,164 @@ def test_browser_load_move_check_download(page, tmp_path):
                 [3 * PI / 4, -PI / 4, 0.3, -3 * PI / 4])
     _wait_update(pg, before)
     pg.wait_for_function("() => document.body.dataset.state == 'ready'")
+    pg.click("#view-fit")
     shot = (DOCS if os.environ.get("ROBKIN_UPDATE_DOCS") == "1" else tmp_path) / "gui.png"
     pg.screenshot(path=str(shot), full_page=True)
     assert shot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+    # The self-contained page of `plot -o robot.html`, opened from disk: it draws (WebGL) without errors.
+    page_file = tmp_path / "rrpr_q.html"
+    assert main(["plot", str(EXAMPLES / "rrpr.yaml"), "--q", "3*pi/4,-pi/4,0.3,-3*pi/4", "--overlay", "dh,poe",
+                 "-o", str(page_file)]) == 0
+    pg.goto(page_file.as_uri())
+    pg.wait_for_selector("body[data-state=ready]", timeout=15000)
+    assert int(pg.get_attribute("#view", "data-frames")) >= 1 and "DH rebuilt from PoE" in pg.inner_text(".legend")
+    _shot(pg, tmp_path, "plot_html.png")
+
+
+# ------------------------------------------------------------------------------ a real arm, in Chromium
+ERD = Path(sys.prefix) / "lib" / f"python{sys.version_info.major}.{sys.version_info.minor}" / "site-packages" / \
+    "cmeel.prefix" / "share" / "example-robot-data" / "robots"
+PANDA = ERD / "panda_description" / "urdf" / "panda.urdf"
+#: Franka's published modified-DH table (a(i-1), d, alpha(i-1), theta) with its flange row last.
+FRANKA_MDH = """0 0.333 0 0
+0 0 -pi/2 0
+0 0.316 pi/2 0
+0.0825 0 pi/2 0
+-0.0825 0.384 -pi/2 0
+0 0 pi/2 0
+0.088 0 pi/2 0
+0 0.107 0 0
+"""
+
+
+def _panda_fk(q) -> np.ndarray:
+    """pinocchio: panda_link8 in panda_link0 at q (the 7 arm joints; fingers at 0)."""
+    pin = pytest.importorskip("pinocchio")
+    model = pin.buildModelFromUrdf(str(PANDA))
+    data = model.createData()
+    config = pin.neutral(model)
+    for i, value in enumerate(q):
+        config[model.joints[model.getJointId(f"panda_joint{i + 1}")].idx_q] = value
+    pin.framesForwardKinematics(model, data, config)
+    base = data.oMf[model.getFrameId("panda_link0")].homogeneous
+    return np.linalg.inv(base) @ data.oMf[model.getFrameId("panda_link8")].homogeneous
+
+
+@pytest.fixture()
+def panda_page(browser):
+    if not PANDA.is_file():
+        pytest.skip("example-robot-data (test extra) is not installed")
+    srv = make_server(port=0, text=PANDA.read_text(), fmt="urdf", base_link="panda_link0", tip_link="panda_link8",
+                      source=str(PANDA))
+    srv.serve_in_thread()
+    try:
+        yield from _open(browser, srv.url)
+    finally:
+        srv.shutdown()
+        srv.server_close()
+
+
+def _shot(pg, tmp_path, name: str) -> None:
+    """Screenshot of the page (into docs/ with ROBKIN_UPDATE_DOCS=1, for the README and docs/gui.md)."""
+    path = (DOCS if os.environ.get("ROBKIN_UPDATE_DOCS") == "1" else tmp_path) / name
+    pg.screenshot(path=str(path))
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def _settled(pg) -> None:
+    pg.wait_for_function("() => document.body.dataset.state == 'ready'", timeout=15000)
+
+
+def test_browser_panda_orbit_drag_paste_check(panda_page, tmp_path):
+    pg = panda_page
+    view = pg.query_selector("#view")
+    assert len(pg.query_selector_all("#sliders input[type=range]")) == 7
+    names = pg.inner_text("#sliders")
+    assert all(f"panda_joint{i}" in names for i in range(1, 8))  # untruncated
+    assert "panda_link8" in [o.get_attribute("value") for o in pg.query_selector_all("#tip-link option")]
+    q = [float(pg.input_value(f"#q{i}")) for i in range(7)]
+    np.testing.assert_allclose(_pose(pg), _panda_fk(q), atol=1e-9)  # 1e-9: both read the URDF's decimals
+    import importlib.util
+
+    if importlib.util.find_spec("robkin.bodies"):  # robots carry their visuals: the Panda's 11 meshes load
+        pg.wait_for_function("() => document.body.dataset.meshes == '11'", timeout=30000)
+    _shot(pg, tmp_path, "gui_panda.png")
+
+    # Orbit: a left drag on empty space turns the camera (the picture changes, the robot does not).
+    box = view.bounding_box()
+    before = view.screenshot()
+    pg.mouse.move(box["x"] + 40, box["y"] + box["height"] - 40)
+    pg.mouse.down()
+    pg.mouse.move(box["x"] + 160, box["y"] + box["height"] - 60, steps=8)
+    pg.mouse.up()
+    assert view.screenshot() != before
+    assert [float(pg.input_value(f"#q{i}")) for i in range(7)] == q
+    pg.click("#view-reset")
+
+    # Drag the tool frame's centre handle: the robot follows by IK; the q shown puts the tool at the target.
+    # (From Franka's "ready" pose: at home the arm is stretched up with joint 4 on its limit.)
+    before = _updates(pg)
+    pg.evaluate("""(q) => q.forEach((v, i) => { const s = document.getElementById('q' + i);
+                                                s.value = String(v); s.dispatchEvent(new Event('input')); })""",
+                [0, -PI / 4, 0, -3 * PI / 4, 0, PI / 2, PI / 4])
+    _wait_update(pg, before)
+    _settled(pg)
+    q = [float(pg.input_value(f"#q{i}")) for i in range(7)]
+    x, y = map(float, view.get_attribute("data-tool-xy").split(","))
+    before = _updates(pg)
+    pg.mouse.move(box["x"] + x, box["y"] + y)
+    pg.mouse.down()
+    pg.mouse.move(box["x"] + x - 40, box["y"] + y + 30, steps=15)
+    pg.mouse.up()
+    _wait_update(pg, before)
+    _settled(pg)
+    assert int(pg.get_attribute("body", "data-ik-updates")) >= 2
+    target = np.array(json.loads(view.get_attribute("data-target")))
+    q2 = [float(pg.input_value(f"#q{i}")) for i in range(7)]
+    assert np.linalg.norm(target[:3, 3] - _panda_fk(q)[:3, 3]) > 0.01  # the target moved by centimetres
+    assert pg.get_attribute("body", "data-ik-success") == "true", pg.inner_text("#ik-status")
+    np.testing.assert_allclose(_panda_fk(q2), target, atol=1e-6)  # 1e-6: IK tolerance 1e-9 + URDF decimals
+    np.testing.assert_allclose(_pose(pg), _panda_fk(q2), atol=1e-9)
+    _shot(pg, tmp_path, "gui_drag.png")
+
+    # Paste Franka's modified-DH table with its flange row, answered as "the tool": 7 joints, the same arm.
+    before = _updates(pg)
+    pg.select_option("#format", "mdh-rows")
+    pg.select_option("#last-row", "tool")
+    pg.fill("#robot-text", FRANKA_MDH)
+    _wait_update(pg, before)
+    _settled(pg)
+    assert len(pg.query_selector_all("#sliders input[type=range]")) == 7
+    q3 = [float(pg.input_value(f"#q{i}")) for i in range(7)]
+    np.testing.assert_allclose(_pose(pg), _panda_fk(q3), atol=1e-9)  # published table = URDF to 1e-9
+    # copies are full precision: the d column of the DH table has 0.107, not a rounded number
+    pg.click("#section-mdh button.copy")
+    assert "0.316" in pg.get_attribute("body", "data-copied")
+    before = _updates(pg)
+    pg.select_option("#last-row", "joint")
+    _wait_update(pg, before)
+    assert len(pg.query_selector_all("#sliders input[type=range]")) == 8  # not silently: only when asked
+
+    # Visual check: B = the same table with row 5's d 6 mm longer, drawn over A; the joint check names is red.
+    before = _updates(pg)
+    pg.select_option("#last-row", "tool")
+    pg.click("#check-panel summary")
+    pg.select_option("#other-format", "mdh-rows")
+    pg.fill("#other-text", FRANKA_MDH.replace("0.384", "0.39").replace("0 0.107 0 0", "0 0.107 0 0 flange"))
+    _wait_update(pg, before)
+    _settled(pg)
+    pg.wait_for_selector("#check:not([hidden])")
+    assert "different robots" in pg.inner_text("#check-verdict")
+    assert pg.inner_text("#check-first").startswith("first joint that differs: J")
+    first = int(pg.inner_text("#check-first").split("J")[1].split()[0])
+    from robkin.equivalence import compare
+    from robkin.viz.table_text import document_from_table
+    from robkin.io.document import parse_document
+
+    a = parse_document(json.dumps(document_from_table(FRANKA_MDH, "mdh-rows", True)), "json")
+    b = parse_document(json.dumps(document_from_table(FRANKA_MDH.replace("0.384", "0.39"), "mdh-rows", True)), "json")
+    expected = next(m.index for m in compare(a, b).joints if m.status != "same")
+    assert first == expected + 1
+    assert pg.query_selector(f"#check-joints tr.differs td") is not None
+    _shot(pg, tmp_path, "gui_check.png")

@@ -129,7 +129,7 @@ def test_cli_svg_png_html(tmp_path, capsys):
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert main(["plot", str(RRPR), "--q", "0,0,0.3,0", "-o", str(html)]) == 0
     page = html.read_text()
-    assert page.startswith("<!DOCTYPE html>") and "<svg" in page
+    assert page.startswith("<!DOCTYPE html>") and 'id="robkin-data"' in page  # the interactive 3D page
     # caption: the tool pose at q, from the hand-written DH product
     T = rrpr_frames([0, 0, 0.3, 0])[-1]
     assert f"{T[0, 3]: .6f}" in page and f"{T[2, 3]: .6f}" in page

@@ -20,8 +20,10 @@ examples:
 --overlay draws the robot rebuilt from each listed representation (gjd, dh, mdh, poe, poe-body,
 rpy-xyz): link lines go through each one's frame origins, so they differ, while joint axes and the
 tool frame coincide; the title states by how much they disagree (rounding only, for one robot).
--o takes .png, .svg, .pdf or .html (the SVG in a page); without -o the picture is written to
-INPUT's name with .png in the current folder.
+-o takes .png, .svg, .pdf or .html; without -o the picture is written to INPUT's name with .png in
+the current folder. .html is an interactive 3D page (the GUI's viewer: drag to turn, right-drag to
+pan, wheel to zoom, front/side/top views), one self-contained file that works offline; it needs the
+three.js modules of `make assets`, not matplotlib.
 With --metrics, each INPUT is an estimation result document; its metrics object (or, if absent,
 metrics computed at q = 0) is drawn as the estimation paper's bar and log plots. Results named
 <group>_<type> (pose1_A.yaml, or name: pose1-A) are grouped per pose, one bar per type.
@@ -56,6 +58,8 @@ def run(args: argparse.Namespace) -> int:
     if out.suffix.lower() not in PICTURE_FORMATS:  # before any work: nothing is written on bad input
         raise InputError(f"-o {out}: unknown picture format '{out.suffix or '(none)'}'; "
                          f"one of {', '.join(PICTURE_FORMATS)}")
+    if out.suffix.lower() == ".html" and not args.metrics:
+        return _viewer_page(args, out, number_list(args.view, "--view", 2))
     try:
         import matplotlib  # noqa: F401 - only to say clearly what is missing
     except ImportError:
@@ -76,13 +80,9 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _robot_figure(args: argparse.Namespace, view: list[float]):
-    from pathlib import Path
-
-    import numpy as np
-
-    from ..viz.plot import plot_robot, plot_scenes
-    from ..viz.scene import REPRESENTATIONS, build_scene
+def _robots(args: argparse.Namespace):
+    """(overlay names, robots, q) of a robot picture, checked: robots drawn together share q."""
+    from ..viz.scene import REPRESENTATIONS
 
     overlay = [r.strip() for r in args.overlay.split(",") if r.strip()]
     for r in overlay:
@@ -90,12 +90,11 @@ def _robot_figure(args: argparse.Namespace, view: list[float]):
             raise InputError(f"--overlay: unknown representation '{r}'; one of {', '.join(REPRESENTATIONS)}")
     robots = [load_input(path, args) for path in args.input]
     q = parse_q(args.q, robots[0].n) if args.q else None
+    import numpy as np
+
     for r in robots:
         warn_outside_limits(r, np.zeros(r.n) if q is None else q, "--q" if args.q else "home (q = 0)")
-    if len(robots) == 1:
-        fig = plot_robot(robots[0], q, overlay or ("gjd",), frames=args.frames, view=tuple(view), title=args.title)
-        robot = robots[0]
-    else:
+    if len(robots) > 1:
         if overlay:
             raise InputError("--overlay: give one INPUT to overlay its representations, or several INPUTs "
                              "without --overlay")
@@ -103,11 +102,53 @@ def _robot_figure(args: argparse.Namespace, view: list[float]):
             if r.n != robots[0].n:
                 raise InputError(f"{path}: has {r.n} joints, {args.input[0]} has {robots[0].n}; "
                                  f"robots drawn together must share q")
+    return overlay, robots, q
+
+
+def _caption(robot, q) -> str:
+    import numpy as np
+
+    T = robot.fk(np.zeros(robot.n) if q is None else q)
+    return "tool pose T (robot base frame):\n" + "\n".join(" ".join(f"{v: .6f}" for v in row) for row in T)
+
+
+def _viewer_page(args: argparse.Namespace, out, view: list[float]) -> int:
+    from pathlib import Path
+
+    import numpy as np
+
+    from ..io.atomic import write_text_atomic
+    from ..viz.assets import require_assets
+    from ..viz.viewer_page import viewer_data, viewer_page
+
+    require_assets()
+    overlay, robots, q = _robots(args)
+    labels = [Path(p).name for p in args.input] if len(robots) > 1 else [robots[0].name or "robot"]
+    where = "home (q = 0)" if q is None else f"q = {np.round(q, 4).tolist()}"
+    title = args.title or (f"{robots[0].name or Path(args.input[0]).stem} at {where}" if len(robots) == 1
+                           else f"{len(robots)} robots at {where}")
+    data = viewer_data(robots, q, overlay, labels, frames=args.frames, view=view)
+    write_text_atomic(out, viewer_page(data, title, _caption(robots[0], q)))
+    wrote(out)
+    return 0
+
+
+def _robot_figure(args: argparse.Namespace, view: list[float]):
+    from pathlib import Path
+
+    import numpy as np
+
+    from ..viz.plot import plot_robot, plot_scenes
+    from ..viz.scene import build_scene
+
+    overlay, robots, q = _robots(args)
+    if len(robots) == 1:
+        fig = plot_robot(robots[0], q, overlay or ("gjd",), frames=args.frames, view=tuple(view), title=args.title)
+        robot = robots[0]
+    else:
         scenes = [build_scene(r, q, label=Path(path).name) for path, r in zip(args.input, robots)]
         robot = robots[0]
         where = "home (q = 0)" if q is None else f"q = {np.round(q, 4).tolist()}"
         title = args.title or f"{len(robots)} robots at {where}"
         fig = plot_scenes(scenes, frames=args.frames, view=tuple(view), title=title)
-    T = robot.fk(np.zeros(robot.n) if q is None else q)
-    caption = "tool pose T (robot base frame):\n" + "\n".join(" ".join(f"{v: .6f}" for v in row) for row in T)
-    return fig, caption
+    return fig, _caption(robot, q)

@@ -1,14 +1,19 @@
 """``robkin gui``: a small local web app to load a robot, look at it in 3D and convert it.
 
 A standard-library HTTP server (no web framework, nothing fetched from the internet) serves one page
-(``static/index.html``, ``app.js``, ``style.css``: a canvas 3D view, joint sliders, tables of every
-representation, downloads) and a JSON API over :mod:`robkin.viz.gui_api`:
+(``static/index.html``, ``app.js``, ``viewer.js``, ``style.css``: a three.js 3D view with a draggable
+tool frame, joint sliders, tables of every representation, downloads), the three.js modules of
+``static/vendor/`` (see :mod:`robkin.viz.assets`), and a JSON API over :mod:`robkin.viz.gui_api`:
 
 ``GET /api/start``
-    The robot text given on the command line (if any) and the bundled examples.
-``POST /api/describe`` ``{text, fmt, q, strict_q, overlay, base_link, tip_link}``
+    The robots given on the command line (if any), their visuals, and the bundled examples.
+``GET /api/mesh/<id>``
+    A mesh file of the command-line robot, by the id ``/api/start`` gave it (see ``meshes.py``).
+``POST /api/describe`` ``{text, fmt, q, strict_q, overlay, base_link, tip_link, tool_row, other}``
     ``{"ok": true, ...describe()}`` or ``{"ok": false, "error": "one line"}``.
-``POST /api/export`` ``{text, fmt, to, base_link, tip_link}``
+``POST /api/ik`` ``{text, fmt, base_link, tip_link, tool_row, target, q0}``
+    ``{"ok": true, ...solve_ik()}`` or ``{"ok": false, "error"}``.
+``POST /api/export`` ``{text, fmt, to, base_link, tip_link, tool_row}``
     ``{"ok": true, "filename", "mime", "content"}`` or ``{"ok": false, "error"}``.
 
 Bad input is answered with ``ok: false`` and a message the page shows; an unexpected exception is
@@ -23,7 +28,10 @@ the server.
 
 from __future__ import annotations
 
+import base64
+import hashlib
 import json
+import re
 import socket
 import sys
 import threading
@@ -38,14 +46,24 @@ from typing import Any
 from ..errors import InputError, quote
 from .http_policy import (MAX_BODY, MAX_CONNECTION_SECONDS, MAX_PENDING, MAX_WORKERS, REQUEST_TIMEOUT,
                           check_request, is_loopback, static_file)
+from .assets import STATIC_DIR, VENDOR
+from .meshes import MeshRegistry
 
 __all__ = ["GuiServer", "make_server", "STATIC_DIR"]
 
-STATIC_DIR = Path(__file__).resolve().parent / "static"
 _STATIC_TYPES = {".html": "text/html; charset=utf-8", ".js": "text/javascript; charset=utf-8",
                  ".css": "text/css; charset=utf-8", ".svg": "image/svg+xml", ".png": "image/png"}
 #: Request fields that must be strings (or absent / null) when given.
 _STRING_FIELDS = ("text", "fmt", "to", "base_link", "tip_link")
+_API = ("/api/describe", "/api/ik", "/api/export")
+
+
+def _inline_script_hashes() -> str:
+    """CSP sources allowing index.html's inline import map (and nothing else inline)."""
+    html = (STATIC_DIR / "index.html").read_text(encoding="utf-8")
+    found = re.findall(r'<script type="importmap">(.*?)</script>', html, flags=re.S)
+    return " ".join("'sha256-" + base64.b64encode(hashlib.sha256(t.encode()).digest()).decode() + "'"
+                    for t in found)
 
 
 class GuiServer(ThreadingHTTPServer):
@@ -58,11 +76,13 @@ class GuiServer(ThreadingHTTPServer):
 
     daemon_threads = True
 
-    def __init__(self, address: tuple[str, int], start: dict[str, Any], quiet: bool = True) -> None:
+    def __init__(self, address: tuple[str, int], start: dict[str, Any], quiet: bool = True,
+                 meshes: MeshRegistry | None = None) -> None:
         if ":" in address[0]:
             self.address_family = socket.AF_INET6
         super().__init__(address, _Handler)
         self.start_payload = start
+        self.meshes = meshes or MeshRegistry()
         self.quiet = quiet
         self._pool = ThreadPoolExecutor(MAX_WORKERS, thread_name_prefix="robkin-gui-worker")
         self._slots = threading.BoundedSemaphore(MAX_WORKERS + MAX_PENDING)
@@ -114,6 +134,7 @@ class GuiServer(ThreadingHTTPServer):
         super().server_close()
         self._closed.set()
         self._pool.shutdown(wait=False, cancel_futures=True)
+        self.script_src = f"'self' {_inline_script_hashes()}"
 
     @property
     def url(self) -> str:
@@ -132,21 +153,31 @@ class GuiServer(ThreadingHTTPServer):
 
 def make_server(host: str = "127.0.0.1", port: int = 8765, text: str = "", fmt: str = "auto",
                 base_link: str | None = None, tip_link: str | None = None, source: str = "",
-                quiet: bool = True) -> GuiServer:
+                quiet: bool = True, other: dict[str, str] | None = None) -> GuiServer:
     """A GUI server bound to (host, port); port 0 picks a free port (see ``server.url``).
 
-    ``text`` is the robot shown when the page opens (with its ``fmt`` and URDF chain selectors).
+    ``text`` is the robot shown when the page opens (with its ``fmt`` and URDF chain selectors);
+    ``other`` ({text, fmt, source}) a second robot to compare it with (``robkin gui A B``).
+    ``source`` is the file ``text`` was read from: only then are the meshes it references served.
+    Raises InputError when the three.js modules are not installed (see ``robkin.viz.assets``).
     """
     from ..commands._common import EXAMPLES_DIR
+    from .assets import require_assets
+    from .gui_api import parse_robot
 
     if not is_loopback(host):
         raise InputError(f"--host {host}: not a loopback address; the GUI serves this machine only "
                          f"(127.0.0.1, another 127.x.y.z, ::1 or localhost)")
+    require_assets()
     examples = {p.stem: p.read_text(encoding="utf-8") for p in sorted(EXAMPLES_DIR.glob("*.yaml"))}
+    meshes = MeshRegistry()
+    if text and source:
+        meshes = MeshRegistry.of(parse_robot(text, fmt, base_link, tip_link, source=source)[0], Path(source))
     start = {"text": text, "fmt": fmt, "base_link": base_link or "", "tip_link": tip_link or "",
-             "source": source, "examples": examples}
+             "source": source, "examples": examples, "default_example": "rrpr", "other": other,
+             "visuals": meshes.visuals, "missing_meshes": meshes.missing}
     try:
-        return GuiServer((host, port), start, quiet=quiet)
+        return GuiServer((host, port), start, quiet=quiet, meshes=meshes)
     except OSError as exc:
         raise InputError(f"--port {port}: cannot listen on {host}:{port} ({exc.strerror or exc}); "
                          f"try another port or --port 0") from None
@@ -157,6 +188,9 @@ class _Handler(BaseHTTPRequestHandler):
     server_version = "robkin-gui"
     protocol_version = "HTTP/1.1"
     timeout = REQUEST_TIMEOUT  # per read/write on the connection (socketserver sets it in setup)
+    # Headers and body go out as separate writes; with Nagle's algorithm the body then waits for the
+    # client's delayed ACK (~40 ms on Linux), which would cap dragging to IK at ~20 updates/s.
+    disable_nagle_algorithm = True
 
     # ----------------------------------------------------------------- plumbing
     def log_message(self, format: str, *args: Any) -> None:  # noqa: A002 - signature of the base class
@@ -189,7 +223,8 @@ class _Handler(BaseHTTPRequestHandler):
             self.send_header("Connection", "close")
         self.send_header("X-Content-Type-Options", "nosniff")
         self.send_header("Content-Security-Policy",
-                         "default-src 'self'; img-src 'self' data: blob:; style-src 'self'; object-src 'none'")
+                         f"default-src 'self'; script-src {self.server.script_src}; img-src 'self' data: blob:; "
+                         "style-src 'self'; object-src 'none'")
         self.end_headers()
         if self.command != "HEAD":
             self.wfile.write(body)
@@ -206,11 +241,19 @@ class _Handler(BaseHTTPRequestHandler):
         path = self.path.split("?", 1)[0].split("#", 1)[0]
         if path == "/api/start":
             return self._json(self.server.start_payload)
+        if path.startswith("/api/mesh/"):
+            found = self.server.meshes.read(path.removeprefix("/api/mesh/"))  # an id, never a path
+            if found is None:
+                return self._send(HTTPStatus.NOT_FOUND, b"not found", "text/plain")
+            return self._send(HTTPStatus.OK, *found)
         f = None
         if path in ("/", "/index.html"):
             f = static_file(STATIC_DIR, "index.html")
         elif path.startswith("/static/"):
-            f = static_file(STATIC_DIR, path.removeprefix("/static/"))  # nothing outside static/ is reachable
+            name = path.removeprefix("/static/")
+            # vendor/: only the fixed list of three.js modules; elsewhere nothing outside static/ is reachable
+            if not name.startswith("vendor/") or name.removeprefix("vendor/") in VENDOR:
+                f = static_file(STATIC_DIR, name)
         if f is None or f.suffix not in _STATIC_TYPES:
             return self._send(HTTPStatus.NOT_FOUND, b"not found", "text/plain")
         self._send(HTTPStatus.OK, f.read_bytes(), _STATIC_TYPES[f.suffix])
@@ -219,7 +262,7 @@ class _Handler(BaseHTTPRequestHandler):
 
     def do_POST(self) -> None:  # noqa: N802
         path = self.path.split("?", 1)[0]
-        if path not in ("/api/describe", "/api/export"):
+        if path not in _API:
             self.close_connection = True  # the body is not read
             return self._send(HTTPStatus.NOT_FOUND, b"not found", "text/plain")
         length = int(self.headers["Content-Length"])  # the request policy checked it (1 number <= MAX_BODY)
@@ -240,11 +283,14 @@ class _Handler(BaseHTTPRequestHandler):
             if req.get(key) is not None and not isinstance(req[key], str):
                 return {"ok": False, "error": f"request.{key}: expected a string, got {type(req[key]).__name__}"}
         args = {"text": req.get("text", ""), "fmt": req.get("fmt") or "auto",
-                "base_link": req.get("base_link") or None, "tip_link": req.get("tip_link") or None}
+                "base_link": req.get("base_link") or None, "tip_link": req.get("tip_link") or None,
+                "tool_row": req.get("tool_row") is True}
         try:
             if path == "/api/describe":
                 return {"ok": True, **gui_api.describe(q=req.get("q"), strict_q=req.get("strict_q") is not False,
-                                                       overlay=req.get("overlay"), **args)}
+                                                       overlay=req.get("overlay"), other=req.get("other"), **args)}
+            if path == "/api/ik":
+                return {"ok": True, **gui_api.solve_ik(target=req.get("target"), q0=req.get("q0"), **args)}
             filename, mime, content = gui_api.export(to=str(req.get("to", "")), **args)
             return {"ok": True, "filename": filename, "mime": mime, "content": content}
         except InputError as exc:

@@ -1,13 +1,15 @@
-"""What the browser GUI asks of the library, as plain functions on text: parse, describe, export.
+"""What the browser GUI asks of the library, as plain functions on text: parse, describe, IK, export.
 
 The server (``gui.py``) is stateless: every request carries the robot text the user typed, pasted or
-loaded, so there is nothing to get out of sync and a reload never loses work. Every function raises
-only :class:`~robkin.errors.InputError` for bad input; the server turns that into a message in the
-page.
+loaded, so there is nothing to get out of sync and a reload never loses work. Parsing is memoised
+(a few recent texts), so that dragging the tool frame, which asks for IK 30+ times a second, does
+not re-read a URDF each time. Every function raises only :class:`~robkin.errors.InputError` for bad
+input; the server turns that into a message in the page.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from typing import Any
@@ -17,9 +19,9 @@ import numpy as np
 from ..errors import InputError
 from ..robot import Robot
 
-__all__ = ["INPUT_FORMATS", "EXPORTS", "parse_robot", "describe", "export", "MAX_TEXT"]
+__all__ = ["INPUT_FORMATS", "EXPORTS", "parse_robot", "describe", "solve_ik", "export", "MAX_TEXT"]
 
-INPUT_FORMATS = ("auto", "yaml", "json", "urdf", "mjcf", "sdf", "dh-rows", "mdh-rows", "rpy-rows")
+INPUT_FORMATS = ("auto", "yaml", "json", "urdf", "mjcf", "sdf", "dh-rows", "mdh-rows", "poe-rows", "rpy-rows")
 #: XML robot formats: root element -> format (anything else starting with '<' is taken as URDF).
 _XML_ROOTS = {"mujoco": "mjcf", "sdf": "sdf"}
 #: Download name -> (document sections or None for URDF / the full document, file suffix, MIME type).
@@ -51,20 +53,22 @@ def _detect(text: str) -> str:
 
 
 def parse_robot(text: str, fmt: str = "auto", base_link: str | None = None, tip_link: str | None = None,
-                source: str = "input") -> tuple[Robot, list[str]]:
+                source: str = "input", tool_row: bool = False) -> tuple[Robot, list[str]]:
     """A Robot from document text (YAML/JSON) or URDF XML, and the warnings raised while reading it.
 
     Parameters
     ----------
     text : str
         The robot as typed or pasted.
-    fmt : {'auto', 'yaml', 'json', 'urdf', 'dh-rows', 'mdh-rows', 'rpy-rows'}
+    fmt : {'auto', 'yaml', 'json', 'urdf', 'dh-rows', 'mdh-rows', 'poe-rows', 'rpy-rows'}
         'auto' takes text starting with '<' as URDF and with '{' as JSON, else YAML. The '-rows'
         formats are bare tables, one row per line (see ``robkin.viz.table_text``).
     base_link, tip_link : str, optional
         URDF only: the serial chain to take from a tree.
     source : str
         Where the text came from, to start error messages with (a file name, or "input").
+    tool_row : bool
+        DH / modified DH rows: the last row is the fixed tool (flange) transform, not a joint.
     """
     if not isinstance(text, str) or not text.strip():
         raise InputError("input: empty; paste or load a robot document (YAML/JSON) or a URDF")
@@ -103,11 +107,39 @@ def parse_robot(text: str, fmt: str = "auto", base_link: str | None = None, tip_
                 from .table_text import document_from_table
 
                 try:
-                    text, kind = json.dumps(document_from_table(text, kind)), "json"
+                    text, kind = json.dumps(document_from_table(text, kind, tool_row)), "json"
                 except InputError as exc:
                     raise exc.in_source(source) from None
             robot = parse_document(text, kind, source=source)
     return robot, [str(w.message) for w in caught if issubclass(w.category, Warning)]
+
+
+@functools.lru_cache(maxsize=8)
+def _parsed(text: str, fmt: str, base_link: str | None, tip_link: str | None, tool_row: bool
+            ) -> tuple[Robot, tuple[str, ...], tuple[str, ...]]:
+    """parse_robot, memoised: (robot, warnings, URDF link names). Robot is immutable, so sharing is safe."""
+    robot, notes = parse_robot(text, fmt, base_link, tip_link, tool_row=tool_row)
+    links: tuple[str, ...] = ()
+    if (_detect(text) if fmt == "auto" else fmt) == "urdf":
+        from ..io.urdf import parse_urdf_text
+
+        links = parse_urdf_text(text.lstrip("\ufeff \t\r\n")).links
+    return robot, tuple(notes), links
+
+
+def _robot(text: Any, fmt: Any, base_link: Any = None, tip_link: Any = None, tool_row: Any = False
+           ) -> tuple[Robot, list[str], tuple[str, ...]]:
+    """(robot, warnings, URDF link names) of request fields, memoised; wrong JSON types are input errors."""
+    fmt = fmt or "auto"
+    if not isinstance(text, str) or not isinstance(fmt, str):
+        raise InputError("request: text and fmt must be strings")
+    base_link, tip_link = base_link or None, tip_link or None
+    if not all(v is None or isinstance(v, str) for v in (base_link, tip_link)):
+        raise InputError("request: base_link and tip_link must be strings")
+    if len(text) > MAX_TEXT:  # before the cache hashes it
+        raise InputError(f"input: {len(text)} characters; at most {MAX_TEXT} accepted")
+    robot, notes, names = _parsed(text, fmt, base_link, tip_link, tool_row is True)
+    return robot, list(notes), names
 
 
 def _q_of(robot: Robot, q: Any, strict: bool = True) -> np.ndarray:
@@ -129,7 +161,8 @@ def _finite(x: float | None) -> float | None:
 
 
 def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None = None,
-             tip_link: str | None = None, strict_q: bool = True, overlay: Any = None) -> dict[str, Any]:
+             tip_link: str | None = None, strict_q: bool = True, overlay: Any = None, tool_row: bool = False,
+             other: Any = None) -> dict[str, Any]:
     """Everything the page shows for a robot at q: joints, all representations, URDF, pose, geometry.
 
     Returns a JSON-ready dict: ``name``, ``n``, ``joints`` (name, type, lower, upper, flip), ``scale``,
@@ -141,12 +174,15 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
     error. ``overlay`` lists representations (``robkin.viz.scene.REPRESENTATIONS``) to rebuild the robot
     from and draw on top: their scenes come back as ``overlays`` and by how much they and the robot
     disagree as ``agreement`` {position, rotation, axes} (rounding-size for a correct conversion).
+    ``links`` lists a URDF's link names (the candidates for base and tip link). ``other`` (a dict of
+    text, fmt, base_link, tip_link, tool_row) is a second description to compare with: ``check``
+    holds its scene at the same q, ``robkin check``'s diagnosis, and the first joint that differs.
     """
     from .. import se3
     from ..io.document import document_from_robot
     from .scene import build_scene
 
-    robot, notes = parse_robot(text, fmt, base_link, tip_link)
+    robot, notes, links = _robot(text, fmt, base_link, tip_link, tool_row)
     Q = _q_of(robot, q, strict_q)
     T = robot.fk(Q)
     with warnings.catch_warnings(record=True) as caught:
@@ -171,8 +207,87 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
         "scene": scene.to_json(),
         "overlays": overlays,
         "agreement": agreement,
+        "links": list(links),
+        "motions": _motions(robot, Q),
+        "check": None if other is None else _check(robot, Q, other),
         "warnings": notes,
     }
+
+
+def _motions(robot: Robot, Q: np.ndarray) -> list | None:
+    """Motion of each body from home to Q ((n+1) 4x4), to place the robot's visuals; None without any."""
+    bodies = getattr(robot, "bodies", None)
+    if not bodies or not bodies.visuals():
+        return None
+    from ..bodies import body_motions  # type: ignore[import-not-found, unused-ignore]
+
+    return body_motions(robot, Q).tolist()
+
+
+def _check(robot: Robot, Q: np.ndarray, other: Any) -> dict[str, Any]:
+    """Robot B (``other``) against the robot shown: B's scene at the same q and ``compare``'s diagnosis."""
+    from ..equivalence import compare
+    from .scene import build_scene
+
+    if not isinstance(other, dict):
+        raise InputError("other: expected an object with the second robot's text")
+    try:
+        b, _, _ = _robot(other.get("text"), other.get("fmt"), other.get("base_link"), other.get("tip_link"),
+                         other.get("tool_row"))
+    except InputError as exc:
+        raise InputError(f"robot B: {exc}") from None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # B's conversion notes are not about the robot shown
+        result = compare(robot, b)
+    # the first joint that is not the same: a different axis, or the same axis with another sign or zero
+    first = next((m.index for m in result.joints if m.status != "same"), None)
+    if first is None and result.n_a != result.n_b:
+        first = min(result.n_a, result.n_b)
+    qb = Q if b.n == robot.n else np.zeros(b.n)
+    return {"name": b.name or "", "n": b.n, "scene": build_scene(b, qb, label=b.name or "B").to_json(),
+            "comparison": result.to_dict(), "first_joint": first}
+
+
+def solve_ik(text: str, fmt: str, target: Any, q0: Any, base_link: str | None = None,
+             tip_link: str | None = None, tool_row: bool = False) -> dict[str, Any]:
+    """Joint values putting the tool at ``target`` (4x4), started from ``q0`` (the configuration shown).
+
+    One IK attempt (no random restarts: dragging asks 30+ times a second and each answer seeds the
+    next), with every closed-form branch when the robot has a closed form. Returns ``q`` (the nearest
+    solution, or where the numeric method got closest; ``q0`` when no configuration exists),
+    ``success``, ``position_error`` / ``orientation_error`` (length units / rad), ``message``,
+    ``at_limit`` (indices of joints on a limit), ``solutions`` (all branches found), and at ``q``
+    the tool pose ``T``, its ``rpy_xyz`` and the ``scene`` to draw.
+    """
+    from .. import se3
+    from .scene import build_scene
+
+    robot, _, _ = _robot(text, fmt, base_link, tip_link, tool_row)
+    Q0 = _q_of(robot, q0)
+    try:
+        T = np.array(target, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("target: expected a 4x4 matrix of numbers") from None
+    if T.shape != (4, 4) or not np.all(np.isfinite(T)):
+        raise InputError("target: expected a 4x4 matrix of finite numbers")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # a dragged target is projected onto a rotation silently
+        res = robot.ik(T, q0=Q0, restarts=0, all_solutions=True)
+    q = np.asarray(res.q, dtype=float)
+    found = bool(np.all(np.isfinite(q)))
+    q = q if found else Q0
+    lim = robot.limits
+    # 1e-9 (rad or length units): IK clips onto a limit exactly; a joint this close is "on" it
+    at_limit = np.flatnonzero((np.abs(q - lim[:, 0]) <= 1e-9) | (np.abs(q - lim[:, 1]) <= 1e-9))
+    T_q = robot.fk(q)
+    sols = [] if res.solutions is None else [s.tolist() for s in np.atleast_2d(res.solutions) if np.all(np.isfinite(s))]
+    return {"q": q.tolist(), "success": bool(res.success), "found": found,
+            "position_error": _finite(float(res.position_error)),
+            "orientation_error": _finite(float(res.orientation_error)),
+            "message": res.message or "", "method": res.method, "at_limit": at_limit.tolist(),
+            "solutions": sols, "T": T_q.tolist(),
+            "rpy_xyz": np.concatenate([se3.rpy_from_matrix(T_q[:3, :3]), T_q[:3, 3]]).tolist(),
+            "scene": build_scene(robot, q).to_json(), "motions": _motions(robot, q)}
 
 
 def _overlays(robot: Robot, Q: np.ndarray, scene: Any, overlay: Any) -> tuple[list[dict], dict | None]:
@@ -200,8 +315,8 @@ def _urdf_text(robot: Robot) -> tuple[str | None, str | None]:
         return None, str(exc)
 
 
-def export(text: str, fmt: str, to: str, base_link: str | None = None, tip_link: str | None = None
-           ) -> tuple[str, str, str]:
+def export(text: str, fmt: str, to: str, base_link: str | None = None, tip_link: str | None = None,
+           tool_row: bool = False) -> tuple[str, str, str]:
     """A download of the robot: (file name, MIME type, content).
 
     ``to`` is one of EXPORTS: the full document as 'yaml' or 'json', 'urdf', or one representation
@@ -211,7 +326,7 @@ def export(text: str, fmt: str, to: str, base_link: str | None = None, tip_link:
 
     if to not in EXPORTS:
         raise InputError(f"download: '{to}' is not one of {', '.join(EXPORTS)}")
-    robot, _ = parse_robot(text, fmt, base_link, tip_link)
+    robot, _, _ = _robot(text, fmt, base_link, tip_link, tool_row)
     sections, suffix, mime = EXPORTS[to]
     stem = _safe_stem(robot.name or "robot")
     with warnings.catch_warnings():

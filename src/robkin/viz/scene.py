@@ -109,7 +109,7 @@ class Scene:
         """Plain lists, for the browser GUI."""
         return {"label": self.label, "q": self.q.tolist(), "links": self.links.tolist(),
                 "axis_points": self.axis_points.tolist(), "axis_dirs": self.axis_dirs.tolist(),
-                "tool": self.tool.tolist(), "joint_names": list(self.joint_names),
+                "frames": self.frames.tolist(), "tool": self.tool.tolist(), "joint_names": list(self.joint_names),
                 "prismatic": self.prismatic.tolist(), "scale": self.scale}
 
 

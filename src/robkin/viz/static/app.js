@@ -1,22 +1,23 @@
-// robkin GUI: one page, no libraries. The server does all kinematics (POST /api/describe); this file
-// only draws what it answers: a canvas 3D view (orthographic, drag to turn, wheel to zoom), joint
-// sliders, the tool pose and a table per representation, and downloads (POST /api/export).
-"use strict";
+// robkin GUI. The server does all kinematics (POST /api/describe, /api/ik); this module shows what it
+// answers: the 3D view (viewer.js, three.js), joint sliders, the tool pose, a table per representation
+// (rounded for display, full precision on hover and in copies), downloads (POST /api/export), the
+// tool-frame gizmo driving IK, and the visual check against a second robot.
+import { Viewer, overlayLegend } from "./viewer.js";
+import { loadVisuals } from "./meshes.js";
 
 const $ = (id) => document.getElementById(id);
-const COLORS = { link: "#3a3a3a", axis: "#1f4fe0", tool: "#ff3fa4", base: "#000000", grid: "#e4e4e4" };
-// Link colours of overlaid representations (as in the matplotlib pictures).
-const OVERLAY_COLORS = ["#f28e2b", "#2ca02c", "#9467bd", "#8c564b"];
-// Lengths drawn relative to the robot's size (same fractions as the matplotlib pictures).
-const AXIS_BACK = 0.12, AXIS_FRONT = 0.22, TRIAD = 0.16;
+const DEG = 180 / Math.PI;
 
 const state = {
   robot: null,          // last good answer of /api/describe
   jointKey: "",         // joints' names/types/limits: sliders are rebuilt when it changes
-  tablesText: null,     // input the tables were drawn for
+  tablesKey: null,      // input (and angle unit) the tables were drawn for
   inflight: false, pending: null,
-  view: { az: -60 * Math.PI / 180, el: 25 * Math.PI / 180, zoom: 1, center: [0, 0, 0], radius: 1 },
+  ik: { inflight: false, pending: null, count: 0, since: 0 },
+  start: null,          // /api/start: the command-line robot and its visuals
+  meshKey: null,        // whether the visuals are shown (only for the command-line robot, unedited)
 };
+let viewer = null;
 
 // ------------------------------------------------------------------ talking to the server
 async function post(path, body) {
@@ -25,9 +26,23 @@ async function post(path, body) {
   return r.json();
 }
 
+function isUrdf() {
+  const f = $("format").value;
+  return ["urdf", "mjcf", "sdf"].includes(f) || (f === "auto" && $("robot-text").value.trimStart().startsWith("<"));
+}
+
 function inputs() {
-  return { text: $("robot-text").value, fmt: $("format").value,
-           base_link: $("base-link").value.trim(), tip_link: $("tip-link").value.trim() };
+  const urdf = isUrdf(), rows = ["dh-rows", "mdh-rows"].includes($("format").value);
+  return { text: $("robot-text").value, fmt: $("format").value, base_link: urdf ? $("base-link").value : "",
+           tip_link: urdf ? $("tip-link").value : "", tool_row: rows && $("last-row").value === "tool" };
+}
+
+function otherInputs() {
+  const text = $("other-text").value, given = state.start && state.start.other;
+  if (!text.trim()) return null;
+  // robot B from the command line keeps its URDF chain (the same links as A's) while unedited
+  const chain = given && text === given.text ? { base_link: given.base_link, tip_link: given.tip_link } : {};
+  return { text, fmt: $("other-format").value, ...chain };
 }
 
 function overlayList() {
@@ -42,7 +57,8 @@ function currentQ() {
 // q may belong to the robot before an edit changed its joint count: then the server answers at home
 // (strict_q false) instead of with an error.
 function refresh() {
-  const body = { ...inputs(), q: state.robot ? currentQ() : null, strict_q: false, overlay: overlayList() };
+  const body = { ...inputs(), q: state.robot ? currentQ() : null, strict_q: false, overlay: overlayList(),
+                 other: otherInputs() };
   if (state.inflight) { state.pending = body; return; }
   send(body);
 }
@@ -59,6 +75,79 @@ function send(body) {
     });
 }
 
+// ------------------------------------------------------------------ IK from the gizmo
+// Each drag event asks for IK seeded with the q shown; while one is in flight only the latest target
+// waits, so the robot follows at the rate the server answers (counted in data-ik-rate).
+function dragged(T) {
+  if (!state.robot) return;
+  $("view").dataset.target = JSON.stringify(T);
+  const body = { ...inputs(), target: T, q0: currentQ() };
+  if (state.ik.inflight) { state.ik.pending = body; return; }
+  sendIK(body);
+}
+
+function sendIK(body) {
+  state.ik.inflight = true;
+  if (!state.ik.since) state.ik.since = performance.now();
+  post("/api/ik", { ...body, q0: currentQ() })
+    .then((res) => {
+      if (!res.ok) { showError(res.error); return; }
+      state.ik.count += 1;
+      const secs = (performance.now() - state.ik.since) / 1000;
+      if (secs > 0) document.body.dataset.ikRate = (state.ik.count / secs).toFixed(1);
+      setQ(res.q);
+      showIK(res);
+      const scene = res.scene;
+      state.robot = { ...state.robot, q: res.q, T: res.T, rpy_xyz: res.rpy_xyz, scene, motions: res.motions,
+                      overlays: [], check: null };
+      viewer.show(state.robot, { keepTarget: true });
+      showPose(state.robot);
+      document.body.dataset.ikUpdates = String(Number(document.body.dataset.ikUpdates || 0) + 1);
+    })
+    .catch((err) => showError("connection to the robkin server failed: " + err))
+    .finally(() => {
+      state.ik.inflight = false;
+      if (state.ik.pending) { const next = state.ik.pending; state.ik.pending = null; sendIK(next); }
+    });
+}
+
+function dragEnded() {
+  state.ik.since = 0;
+  state.ik.count = 0;
+  const settle = () => (state.ik.inflight || state.ik.pending ? setTimeout(settle, 20) : refresh());
+  settle();
+}
+
+function showIK(res) {
+  const s = $("ik-status"), names = state.robot.joints.map((j) => j.name);
+  const limits = res.at_limit.map((i) => names[i]);
+  document.querySelectorAll("#sliders .slider").forEach((d, i) => d.classList.toggle("limit", res.at_limit.includes(i)));
+  s.className = !res.success ? "bad" : limits.length ? "limit" : "";
+  s.textContent = !res.found ? "target out of reach: no configuration puts the tool there" :
+    !res.success ? "target out of reach (closest: " + num(res.position_error) + " away, " +
+                   num(res.orientation_error) + " rad turned)" +
+                   (limits.length ? "; against the limit of " + limits.join(", ") : "") :
+    limits.length ? "reached, against the limit of " + limits.join(", ") : "reached (" + res.method + " IK)";
+  document.body.dataset.ikSuccess = String(res.success);
+  showBranches(res.solutions);
+}
+
+// Several closed-form solutions: one button per branch; choosing one moves the robot there and the
+// next drags stay on it (IK is seeded with the q shown).
+function showBranches(solutions) {
+  const box = $("branches");
+  box.hidden = solutions.length < 2;
+  if (box.hidden) { box.replaceChildren(); return; }
+  const q = currentQ();
+  const dist = (s) => Math.max(...s.map((v, i) => Math.abs(v - q[i])));
+  box.replaceChildren("IK branches:", ...solutions.map((sol, k) => {
+    const b = el("button", { type: "button", text: String(k + 1), title: sol.map((v) => num(v)).join(", ") });
+    if (dist(sol) < 1e-9) b.className = "current";  // the solution shown (1e-9: same numbers, rounding only)
+    b.addEventListener("click", () => { setQ(sol); refresh(); });
+    return b;
+  }));
+}
+
 // ------------------------------------------------------------------ applying an answer
 function apply(res, body) {
   if (!res.ok) { showError(res.error); return; }
@@ -67,21 +156,29 @@ function apply(res, body) {
   const w = $("warnings");
   w.hidden = !res.warnings.length;
   w.textContent = res.warnings.length ? "Input adjusted:\n" + res.warnings.join("\n") : "";
+  showLinks(res.links, body);
   const key = JSON.stringify(res.joints);
-  if (key !== state.jointKey) {
+  const changed = key !== state.jointKey;
+  if (changed) {
     state.jointKey = key;
     buildSliders(res);
-    fitView(res);
+    // home (q = 0) outside a joint's limits: the slider sits on the limit; show the robot there
+    if (currentQ().some((v, i) => v !== res.q[i])) { refresh(); return; }
   }
   state.robot = res;
   $("robot-name").textContent = (res.name || "robot") + " — " + res.n + " joints";
+  viewer.show(res);
+  if (changed) viewer.view("fit");
+  $("grid-unit").textContent = "grid: " + num(Number($("view").dataset.gridCell)) + " per cell";
   showPose(res);
   showAgreement(res);
-  if (state.tablesText !== body.text + "\u0000" + body.fmt + body.base_link + "\u0000" + body.tip_link) {
-    state.tablesText = body.text + "\u0000" + body.fmt + body.base_link + "\u0000" + body.tip_link;
+  showCheck(res);
+  const tkey = [body.text, body.fmt, body.base_link, body.tip_link, body.tool_row, $("units").value].join("\u0000");
+  if (state.tablesKey !== tkey) {
+    state.tablesKey = tkey;
     showTables(res);
   }
-  draw();
+  showMeshes(body);
   document.body.dataset.state = "ready";
   document.body.dataset.updates = String(Number(document.body.dataset.updates) + 1);
 }
@@ -93,10 +190,14 @@ function showError(message) {
   document.body.dataset.state = "error";
 }
 
-function fmt(x, digits = 4) {
+// A number for display: 10 significant digits; below 1e-10 of the robot's size shown as 0 (rounding
+// of conversions and IK, ~1e-12, lies under it; typed tables, 1e-6 at best, far above). The full
+// value is in the cell's title and in copies.
+function num(x, angle = false) {
   if (x === null || x === undefined) return "";
-  const s = x.toFixed(digits);
-  return /^-0\.0*$/.test(s) ? s.slice(1) : s;  // a rounding-size negative shows as 0, not -0
+  let v = angle && $("units").value === "deg" ? x * DEG : x;
+  if (Math.abs(v) < 1e-10 * (state.robot ? Math.max(state.robot.scale, 1) : 1)) v = 0;
+  return String(Number(v.toPrecision(10)));
 }
 
 function el(tag, attrs = {}, ...kids) {
@@ -108,7 +209,28 @@ function el(tag, attrs = {}, ...kids) {
   return e;
 }
 
+// URDF: base and tip link chosen from the file's links; a choice that is not among them (given on
+// the command line for a format without a link list) stays selectable.
+function showLinks(links, body) {
+  for (const [id, chosen] of [["base-link", body.base_link], ["tip-link", body.tip_link]]) {
+    const sel = $(id), names = Array.from(sel.options).slice(1).map((o) => o.value);
+    const wanted = chosen && !links.includes(chosen) ? [...links, chosen] : links;
+    if (JSON.stringify(names) !== JSON.stringify(wanted)) {
+      sel.replaceChildren(sel.options[0], ...wanted.map((n) => el("option", { value: n, text: n })));
+    }
+    sel.value = chosen || "";
+  }
+}
+
 // ------------------------------------------------------------------ sliders
+function jointUnit(j) { return j.type === "prismatic" ? "" : $("units").value === "deg" ? "°" : " rad"; }
+
+function showSliderValue(i) {
+  const j = state.robot ? state.robot.joints[i] : null, s = $("q" + i);
+  if (!j || !s) return;
+  $("qv" + i).textContent = num(parseFloat(s.value), j.type !== "prismatic").replace(/(\.\d{4})\d+/, "$1") + jointUnit(j);
+}
+
 function buildSliders(res) {
   const box = $("sliders");
   box.replaceChildren();
@@ -116,41 +238,56 @@ function buildSliders(res) {
     const prismatic = j.type === "prismatic";
     const span = prismatic ? res.scale : Math.PI;
     const lo = j.lower !== null ? j.lower : -span, hi = j.upper !== null ? j.upper : span;
-    const s = el("input", { type: "range", min: String(lo), max: String(hi), step: String((hi - lo) / 2000),
+    const s = el("input", { type: "range", min: String(lo), max: String(hi), step: "any",
                             "data-joint": String(i), id: "q" + i, "aria-label": j.name });
     s.value = String(Math.min(Math.max(res.q[i], lo), hi));
     const out = el("output", { for: "q" + i, id: "qv" + i });
-    out.textContent = fmt(parseFloat(s.value), 3) + (prismatic ? "" : " rad");
-    s.addEventListener("input", () => {
-      out.textContent = fmt(parseFloat(s.value), 3) + (prismatic ? "" : " rad");
-      refresh();
-    });
-    box.append(el("div", { class: "slider" }, el("span", { class: "jname", title: j.name + " (" + j.type + ")",
-      text: j.name + (prismatic ? " (P)" : " (R)") }), s, out));
+    s.addEventListener("input", () => { showSliderValue(i); refresh(); });
+    box.append(el("div", { class: "slider" }, el("span", { class: "jname", title: j.type,
+      text: (i + 1) + " " + j.name + (prismatic ? " (P)" : " (R)") }), s, out));
   });
+  state.robot = res;
+  res.joints.forEach((_, i) => showSliderValue(i));
+}
+
+function setQ(q) {
+  q.forEach((v, i) => { const s = $("q" + i); if (s) { s.value = String(v); showSliderValue(i); } });
 }
 
 // ------------------------------------------------------------------ tables
+// A copy button: the table's numbers as tab-separated text at full precision (shortest round trip).
+function copyButton(rows) {
+  const b = el("button", { type: "button", class: "copy", text: "copy" });
+  b.addEventListener("click", () => {
+    const text = rows.map((r) => r.join("\t")).join("\n") + "\n";
+    document.body.dataset.copied = text;
+    if (navigator.clipboard) navigator.clipboard.writeText(text).catch(() => {});
+  });
+  return b;
+}
+
+function cell(v, angle = false) { return el("td", { text: num(v, angle), title: String(v) }); }
+
 function matrixTable(M, caption, id) {
   const t = el("table", { class: "num" });
   if (id) t.id = id;
-  for (const row of M) t.append(el("tr", {}, ...row.map((v) => el("td", { text: fmt(v), title: String(v) }))));
-  return el("div", {}, el("div", { class: "caption", text: caption }), t);
+  for (const row of M) t.append(el("tr", {}, ...row.map((v) => cell(v))));
+  return el("div", {}, el("div", { class: "caption", text: caption }, copyButton(M)), t);
 }
 
-function rowsTable(id, header, labels, rows) {
+function rowsTable(id, header, labels, rows, angleCols) {
   const t = el("table", { class: "num", id });
-  t.append(el("tr", {}, ...header.map((h, k) => el("th", { text: h, class: k === 0 ? "label" : "" }))));
+  const unit = $("units").value === "deg" ? " (°)" : "";
+  t.append(el("tr", {}, ...header.map((h, k) => el("th", { text: h + (angleCols.includes(k - 1) ? unit : ""),
+                                                          class: k === 0 ? "label" : "" }))));
   rows.forEach((r, i) => {
-    t.append(el("tr", {}, el("td", { class: "label", text: labels[i] }),
-                ...r.map((v) => el("td", { text: fmt(v), title: String(v) }))));
+    t.append(el("tr", {}, el("td", { class: "label", text: labels[i] }), ...r.map((v, k) => cell(v, angleCols.includes(k)))));
   });
-  return t;
+  return el("div", {}, t, copyButton([header, ...rows.map((r, i) => [labels[i], ...r])]));
 }
 
 function section(title, key, ...kids) {
-  const d = el("details", { id: "section-" + key, open: "" }, el("summary", { text: title }), ...kids);
-  return d;
+  return el("details", { id: "section-" + key, open: "" }, el("summary", { text: title }), ...kids);
 }
 
 function showTables(res) {
@@ -158,21 +295,21 @@ function showTables(res) {
   const dhRows = (sec) => sec.rows.map((r) => [r.a, r.d, r.alpha, r.theta]);
   const parts = [];
   parts.push(section("Standard DH  A = Rz(θ) Tz(d) Tx(a) Rx(α)", "dh",
-    rowsTable("table-dh", ["joint", "a", "d", "α", "θ"], names, dhRows(doc.dh)),
+    rowsTable("table-dh", ["joint", "a", "d", "α", "θ"], names, dhRows(doc.dh), [2, 3]),
     el("div", { class: "matrices" }, matrixTable(doc.dh.base, "base"), matrixTable(doc.dh.tool, "tool"))));
   parts.push(section("Modified DH  A = Rx(α) Tx(a) Rz(θ) Tz(d)", "mdh",
-    rowsTable("table-mdh", ["joint", "a(i-1)", "d", "α(i-1)", "θ"], names, dhRows(doc.mdh)),
+    rowsTable("table-mdh", ["joint", "a(i-1)", "d", "α(i-1)", "θ"], names, dhRows(doc.mdh), [2, 3]),
     el("div", { class: "matrices" }, matrixTable(doc.mdh.base, "base"), matrixTable(doc.mdh.tool, "tool"))));
   for (const [key, title] of [["poe", "PoE, space frame  T = exp(S1 q1)…exp(Sn qn) M"],
                               ["poe_body", "PoE, body frame  T = M exp(B1 q1)…exp(Bn qn)"]]) {
     parts.push(section(title, key,
-      rowsTable("table-" + key, ["joint", "ωx", "ωy", "ωz", "vx", "vy", "vz"], names, doc[key].screws),
+      rowsTable("table-" + key, ["joint", "ωx", "ωy", "ωz", "vx", "vy", "vz"], names, doc[key].screws, []),
       el("div", { class: "matrices" }, matrixTable(doc[key].M, "M (tool at home)"))));
   }
   const rpyLabels = ["world → base", ...names, "→ tool"];
   parts.push(section("RPY-XYZ (URDF joint origins)", "rpy_xyz",
     rowsTable("table-rpy_xyz", ["", "roll", "pitch", "yaw", "x", "y", "z"], rpyLabels,
-              doc.rpy_xyz.rows.map((r) => [r.roll, r.pitch, r.yaw, r.x, r.y, r.z]))));
+              doc.rpy_xyz.rows.map((r) => [r.roll, r.pitch, r.yaw, r.x, r.y, r.z]), [0, 1, 2])));
   const gjd = el("div", { class: "matrices", id: "table-gjd" });
   doc.gjd.frames.forEach((F, i) => gjd.append(matrixTable(F, i < res.n ? "J" + (i + 1) + " " + res.joints[i].name : "tool")));
   parts.push(section("GJD: joint frames at home, in the base frame", "gjd", gjd));
@@ -187,14 +324,34 @@ function showAgreement(res) {
   a.hidden = !res.agreement;
   if (!res.agreement) { a.textContent = ""; return; }
   const e = (x) => x.toExponential(1);
-  const names = res.overlays.map((o, k) => {
-    const span = el("span", { class: "ov-name", text: "– – " + o.label });
-    span.style.color = OVERLAY_COLORS[k % OVERLAY_COLORS.length];  // CSSOM: allowed by the page's CSP
-    return span;
-  });
+  const names = overlayLegend(res.overlays);
   a.replaceChildren(...names.flatMap((n, k) => (k ? [", ", n] : [n])),
     " vs. the robot as given: tool poses differ by " + e(res.agreement.position) + " (position), " +
     e(res.agreement.rotation) + " (rotation); joint axes by " + e(res.agreement.axes) + ".");
+}
+
+// The visual check: robot B drawn dashed orange, `robkin check`'s verdict and joint table beside it.
+function showCheck(res) {
+  const box = $("check"), c = res.check;
+  box.hidden = !c;
+  if (!c) { box.replaceChildren(); return; }
+  const cmp = c.comparison;
+  const verdict = el("div", { class: "verdict " + (cmp.same ? "same" : cmp.equivalent ? "" : "differs"),
+                              id: "check-verdict", text: cmp.verdict });
+  const t = el("table", { class: "num", id: "check-joints" });
+  t.append(el("tr", {}, ...["joint", "A", "B", "status", "detail"].map((h) => el("th", { text: h }))));
+  for (const j of cmp.joints) {
+    const row = el("tr", { class: j.joint - 1 === c.first_joint ? "differs" : "" },
+      el("td", { text: String(j.joint) }), el("td", { class: "label", text: j.name_a }),
+      el("td", { class: "label", text: j.name_b }), el("td", { class: "label", text: j.status }),
+      el("td", { class: "label", text: j.detail }));
+    t.append(row);
+  }
+  const first = c.first_joint === null ? "" :
+    "first joint that differs: J" + (c.first_joint + 1) + " (red in the view)";
+  box.replaceChildren(el("div", { text: "B: " + (c.name || "robot") + ", " + c.n + " joints, drawn dashed orange" }),
+                      verdict, el("div", { id: "check-first", text: first }), t,
+                      el("div", { text: "tool: " + cmp.tool }));
 }
 
 function showPose(res) {
@@ -205,113 +362,30 @@ function showPose(res) {
   t.append(el("tr", {}, ...heads.map((h) => el("th", { text: h }))));
   ["x", "y", "z"].forEach((name, r) => {
     t.append(el("tr", {}, el("th", { text: name }), ...[0, 1, 2, 3].map((c) =>
-      el("td", { text: fmt(T[r][c]), title: String(T[r][c]), "data-rc": r + "," + c }))));
+      el("td", { text: num(T[r][c]), title: String(T[r][c]), "data-rc": r + "," + c }))));
   });
   const p = res.rpy_xyz;
-  t.append(el("tr", {}, el("th", { text: "rpy" }), ...[0, 1, 2].map((k) => el("td", { text: fmt(p[k]) })),
-              el("td", { text: "rad" })));
+  t.append(el("tr", {}, el("th", { text: "rpy" }), ...[0, 1, 2].map((k) => cell(p[k], true)),
+              el("td", { text: $("units").value === "deg" ? "°" : "rad" })));
 }
 
-// ------------------------------------------------------------------ 3D view
-function fitView(res) {
-  const pts = [...res.scene.links, [0, 0, 0]];
-  const lo = [0, 1, 2].map((k) => Math.min(...pts.map((p) => p[k])));
-  const hi = [0, 1, 2].map((k) => Math.max(...pts.map((p) => p[k])));
-  state.view.center = lo.map((v, k) => (v + hi[k]) / 2);
-  // Big enough for the robot at home and most of its reach (about scale from the base) when it moves.
-  // (1e-9 keeps the projection finite for a robot drawn as a single point.)
-  state.view.radius = Math.max(res.scale * 0.8, ...hi.map((v, k) => (v - lo[k]) * 0.6), 1e-9);
-}
-
-function projector(canvas) {
-  const v = state.view, ca = Math.cos(v.az), sa = Math.sin(v.az), ce = Math.cos(v.el), se = Math.sin(v.el);
-  const right = [-sa, ca, 0], up = [-se * ca, -se * sa, ce];
-  const s = Math.min(canvas.width, canvas.height) * 0.5 * v.zoom / v.radius;
-  const cx = canvas.width / 2, cy = canvas.height / 2;
-  return (p) => {
-    const d = [p[0] - v.center[0], p[1] - v.center[1], p[2] - v.center[2]];
-    return [cx + s * (d[0] * right[0] + d[1] * right[1]), cy - s * (d[0] * up[0] + d[1] * up[1] + d[2] * up[2])];
-  };
-}
-
-function draw() {
-  const canvas = $("view"), res = state.robot;
-  const ratio = window.devicePixelRatio || 1;
-  const w = Math.round(canvas.clientWidth * ratio), h = Math.round(canvas.clientHeight * ratio);
-  if (w > 0 && (canvas.width !== w || canvas.height !== h)) { canvas.width = w; canvas.height = h; }
-  const g = canvas.getContext("2d");
-  g.setTransform(1, 0, 0, 1, 0, 0);
-  g.clearRect(0, 0, canvas.width, canvas.height);
-  if (!res) return;
-  const P = projector(canvas), sc = res.scene, L = res.scale, px = ratio;
-  const line = (a, b, color, width, dash) => {
-    const A = P(a), B = P(b);
-    g.strokeStyle = color; g.lineWidth = width * px; g.setLineDash(dash ? dash.map((x) => x * px) : []);
-    g.beginPath(); g.moveTo(A[0], A[1]); g.lineTo(B[0], B[1]); g.stroke();
-  };
-  const label = (p, text, color) => {
-    const A = P(p);
-    g.fillStyle = color; g.font = (11 * px) + "px system-ui, sans-serif"; g.fillText(text, A[0] + 3 * px, A[1] - 3 * px);
-  };
-  const add = (p, d, k) => [p[0] + k * d[0], p[1] + k * d[1], p[2] + k * d[2]];
-  // ground grid on the base x-y plane
-  const R = state.view.radius, step = Math.pow(10, Math.floor(Math.log10(R)));
-  // (1e-12: include the last grid line despite the rounding of the repeated additions)
-  for (let x = -Math.ceil(R / step) * step; x <= R + 1e-12 * R; x += step) {
-    line([x, -R, 0], [x, R, 0], COLORS.grid, 1); line([-R, x, 0], [R, x, 0], COLORS.grid, 1);
+// ------------------------------------------------------------------ meshes
+// Only the robot given on the command line, unedited and with its chain, has visuals the server serves.
+function showMeshes(body) {
+  const st = state.start;
+  const on = !!(st && st.visuals.length && body.text === st.text && body.base_link === st.base_link &&
+                body.tip_link === st.tip_link);
+  if (on === state.meshKey) return;
+  state.meshKey = on;
+  if (!on) { viewer.setMeshes([]); return; }
+  loadVisuals(st.visuals).then((visuals) => {
+    if (state.meshKey) viewer.setMeshes(visuals);
+    document.body.dataset.meshes = String(visuals.length);
+  }).catch((err) => showError("meshes: " + err));
+  if (st.missing_meshes.length) {
+    $("warnings").hidden = false;
+    $("warnings").textContent += "\nMeshes not found (drawn without them): " + st.missing_meshes.join(", ");
   }
-  const triad = (T, color, names) => {
-    const o = [T[0][3], T[1][3], T[2][3]];
-    for (let c = 0; c < 3; c++) {
-      const tip = add(o, [T[0][c], T[1][c], T[2][c]], TRIAD * L);
-      line(o, tip, color, 2.5);
-      if (names) label(tip, names[c], color);
-    }
-  };
-  triad([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]], COLORS.base, ["x0", "y0", "z0"]);
-  // overlaid representations first, dashed, so the robot as given stays on top
-  res.overlays.forEach((o, k) => {
-    const color = OVERLAY_COLORS[k % OVERLAY_COLORS.length];
-    for (let i = 1; i < o.links.length; i++) line(o.links[i - 1], o.links[i], color, 3, [7, 4]);
-    o.axis_points.forEach((p, i) => {
-      line(add(p, o.axis_dirs[i], -AXIS_BACK * L), add(p, o.axis_dirs[i], AXIS_FRONT * L), COLORS.axis, 1.2, [3, 3]);
-    });
-  });
-  // links
-  g.lineJoin = "round"; g.lineCap = "round";
-  const pts = sc.links.map(P);
-  g.strokeStyle = COLORS.link; g.lineWidth = 5 * px; g.setLineDash([]);
-  g.beginPath(); pts.forEach((p, i) => (i ? g.lineTo(p[0], p[1]) : g.moveTo(p[0], p[1]))); g.stroke();
-  g.fillStyle = COLORS.link;
-  for (const p of pts) { g.beginPath(); g.arc(p[0], p[1], 3.5 * px, 0, 2 * Math.PI); g.fill(); }
-  // joint axes, positive direction longer
-  sc.axis_points.forEach((p, i) => {
-    const z = sc.axis_dirs[i];
-    line(add(p, z, -AXIS_BACK * L), add(p, z, AXIS_FRONT * L), COLORS.axis, 3, sc.prismatic[i] ? [6, 3] : null);
-    label(add(p, z, (AXIS_FRONT + 0.02) * L), sc.joint_names[i], COLORS.axis);
-  });
-  triad(sc.tool, COLORS.tool, ["x", "y", "z"]);
-}
-
-function setupView() {
-  const canvas = $("view");
-  let drag = null;
-  canvas.addEventListener("pointerdown", (e) => { drag = [e.clientX, e.clientY]; canvas.setPointerCapture(e.pointerId); });
-  canvas.addEventListener("pointerup", () => { drag = null; });
-  canvas.addEventListener("pointermove", (e) => {
-    if (!drag) return;
-    const v = state.view;
-    v.az -= (e.clientX - drag[0]) * 0.01;
-    v.el = Math.max(-1.55, Math.min(1.55, v.el + (e.clientY - drag[1]) * 0.01));
-    drag = [e.clientX, e.clientY];
-    draw();
-  });
-  canvas.addEventListener("wheel", (e) => {
-    e.preventDefault();
-    state.view.zoom = Math.max(0.1, Math.min(20, state.view.zoom * Math.exp(-e.deltaY * 0.001)));
-    draw();
-  }, { passive: false });
-  window.addEventListener("resize", draw);
 }
 
 // ------------------------------------------------------------------ downloads
@@ -336,36 +410,38 @@ function formatOf(filename) {
   return "yaml";
 }
 
-function showUrdfFields() {
-  const text = $("robot-text").value.trimStart(), f = $("format").value;
-  const urdf = ["urdf", "mjcf", "sdf"].includes(f) || (f === "auto" && text.startsWith("<"));
+function showFields() {
+  const urdf = isUrdf(), f = $("format").value;
   document.querySelectorAll(".urdf-only").forEach((e) => { e.hidden = !urdf; });
+  document.querySelectorAll(".rows-only").forEach((e) => { e.hidden = !(f === "dh-rows" || f === "mdh-rows"); });
 }
 
 async function start() {
-  setupView();
+  viewer = new Viewer($("view"), { onDrag: dragged, onDragEnd: dragEnded });
   let timer = null;
-  const edited = () => { showUrdfFields(); clearTimeout(timer); timer = setTimeout(() => refresh(), 250); };
+  const edited = () => { showFields(); clearTimeout(timer); timer = setTimeout(() => refresh(), 250); };
   $("robot-text").addEventListener("input", edited);
-  $("format").addEventListener("change", edited);
-  $("base-link").addEventListener("input", edited);
-  $("tip-link").addEventListener("input", edited);
-  $("file").addEventListener("change", async () => {
-    const f = $("file").files[0];
-    if (!f) return;
-    $("robot-text").value = await f.text();
-    $("format").value = formatOf(f.name);
-    $("example").value = "";
-    edited();
-  });
-  $("home").addEventListener("click", () => {
-    document.querySelectorAll("#sliders input[type=range]").forEach((s) => {
-      s.value = "0"; s.dispatchEvent(new Event("input"));
+  $("other-text").addEventListener("input", edited);
+  for (const id of ["format", "base-link", "tip-link", "last-row", "other-format"]) $(id).addEventListener("change", edited);
+  $("units").addEventListener("change", () => { state.tablesKey = null; refresh(); });
+  for (const [input, text, format] of [["file", "robot-text", "format"], ["other-file", "other-text", "other-format"]]) {
+    $(input).addEventListener("change", async () => {
+      const f = $(input).files[0];
+      if (!f) return;
+      $(text).value = await f.text();
+      $(format).value = format === "format" ? formatOf(f.name) : "auto";
+      if (format === "format") $("example").value = "";
+      edited();
     });
-  });
+  }
+  $("other-clear").addEventListener("click", () => { $("other-text").value = ""; $("other-file").value = ""; refresh(); });
+  $("home").addEventListener("click", () => { setQ(currentQ().map(() => 0)); refresh(); });
+  document.querySelectorAll("[data-view]").forEach((b) => b.addEventListener("click", () => viewer.view(b.dataset.view)));
+  $("gizmo-mode").addEventListener("change", () => viewer.setGizmoMode($("gizmo-mode").value));
   document.querySelectorAll("#overlay input").forEach((c) => c.addEventListener("change", () => refresh()));
   document.querySelectorAll("[data-download]").forEach((b) => b.addEventListener("click", () => download(b.dataset.download)));
   const init = await fetch("/api/start").then((r) => r.json());
+  state.start = init;
   const ex = $("example");
   for (const name of Object.keys(init.examples)) ex.append(el("option", { value: name, text: name }));
   ex.addEventListener("change", () => {
@@ -378,12 +454,21 @@ async function start() {
   if (init.text) {
     $("robot-text").value = init.text;
     $("format").value = init.fmt || "auto";
-    $("base-link").value = init.base_link; $("tip-link").value = init.tip_link;
+    for (const id of ["base-link", "tip-link"]) {
+      const v = init[id.replace("-", "_")];
+      if (v) $(id).append(el("option", { value: v, text: v }));
+      $(id).value = v;
+    }
   } else {
-    const first = Object.keys(init.examples)[0];
+    const first = init.default_example in init.examples ? init.default_example : Object.keys(init.examples)[0];
     if (first) { ex.value = first; $("robot-text").value = init.examples[first]; }
   }
-  showUrdfFields();
+  if (init.other) {
+    $("other-text").value = init.other.text;
+    $("other-format").value = init.other.fmt || "auto";
+    $("check-panel").open = true;
+  }
+  showFields();
   refresh();
 }
 

@@ -1,0 +1,278 @@
+// robkin 3D viewer on three.js: draws what the server computed (robkin.viz.scene.Scene as JSON), in
+// the robot base frame (z up). Perspective camera with orbit (left drag), pan (right drag / shift),
+// zoom (wheel); fit, reset and front/side/top views; a ground grid whose cell size is shown; the
+// conversion paper's style on top: joint axes blue with the longer end on the positive side, tool
+// frame pink, base frame black. A transform gizmo on the tool frame reports drags (for IK).
+// Used by the GUI (app.js) and by the self-contained page `robkin plot -o robot.html` (standalone.js).
+import * as THREE from "three";
+import { OrbitControls } from "three/addons/controls/OrbitControls.js";
+import { TransformControls } from "three/addons/controls/TransformControls.js";
+
+export const COLORS = { link: 0x3a3a3a, axis: 0x1f4fe0, tool: 0xff3fa4, base: 0x000000, differs: 0xe02020,
+                        other: 0xf28e2b };
+// Link colours of overlaid representations (as in the matplotlib pictures).
+export const OVERLAY_COLORS = [0xf28e2b, 0x2ca02c, 0x9467bd, 0x8c564b];
+// Lengths relative to the robot's size (same fractions as the matplotlib pictures).
+const AXIS_BACK = 0.12, AXIS_FRONT = 0.22, TRIAD = 0.16, LINK_RADIUS = 0.012;
+
+// Legend entries "– – label" in each overlay's colour.
+export function overlayLegend(overlays) {
+  return (overlays || []).map((o, k) => {
+    const span = document.createElement("span");
+    span.className = "ov-name";
+    span.textContent = "– – " + o.label;
+    span.style.color = "#" + OVERLAY_COLORS[k % OVERLAY_COLORS.length].toString(16).padStart(6, "0");
+    return span;
+  });
+}
+
+const v3 = (p) => new THREE.Vector3(p[0], p[1], p[2]);
+const mat4 = (T) => new THREE.Matrix4().set(...T[0], ...T[1], ...T[2], ...T[3]);
+
+export class Viewer {
+  constructor(container, { onDrag = null, onDragEnd = null } = {}) {
+    this.container = container;
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(window.devicePixelRatio || 1);
+    this.renderer.setClearColor(0xffffff);
+    container.append(this.renderer.domElement);
+    this.scene = new THREE.Scene();
+    this.camera = new THREE.PerspectiveCamera(40, 1, 0.001, 1000);
+    this.camera.up.set(0, 0, 1);  // robot base frames are z-up
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x777777, 2.2));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.5);
+    sun.position.set(2, -3, 5);
+    this.scene.add(sun);
+    this.orbit = new OrbitControls(this.camera, this.renderer.domElement);
+    this.orbit.addEventListener("change", () => this.render());
+    this.world = new THREE.Group();      // ground grid and base frame
+    this.robot = new THREE.Group();      // stick figure, overlays, robot B
+    this.meshes = new THREE.Group();     // visuals (meshes) placed per joint frame
+    this.scene.add(this.world, this.robot, this.meshes);
+    this.target = new THREE.Object3D();  // what the gizmo moves: the wished tool pose
+    this.target.matrixAutoUpdate = true;
+    this.scene.add(this.target);
+    this.gizmo = null;
+    if (onDrag) {
+      this.gizmo = new TransformControls(this.camera, this.renderer.domElement);
+      this.gizmo.setSize(0.9);
+      this.gizmo.attach(this.target);
+      this.scene.add(this.gizmo.getHelper());
+      this.gizmo.addEventListener("dragging-changed", (e) => {
+        this.orbit.enabled = !e.value;
+        if (!e.value && onDragEnd) onDragEnd();
+      });
+      this.gizmo.addEventListener("objectChange", () => onDrag(this.targetMatrix()));
+      this.gizmo.addEventListener("change", () => this.render());
+    }
+    this.labels = [];   // [{el, p: Vector3}] HTML labels placed at projected points
+    this.res = null;
+    this.scale = 0;     // the robot's size; 0 until the first show()
+    new ResizeObserver(() => this.resize()).observe(container);
+    this.resize();
+  }
+
+  // The gizmo's pose as a row-major 4x4 (robot base frame).
+  targetMatrix() {
+    this.target.updateMatrix();
+    const e = this.target.matrix.elements;  // column-major
+    return [0, 1, 2, 3].map((r) => [0, 1, 2, 3].map((c) => e[c * 4 + r]));
+  }
+
+  setGizmoMode(mode) { if (this.gizmo) { this.gizmo.setMode(mode); this.render(); } }
+
+  placeTarget(T) {
+    mat4(T).decompose(this.target.position, this.target.quaternion, this.target.scale);
+    this.render();
+  }
+
+  resize() {
+    const w = this.container.clientWidth, h = this.container.clientHeight;
+    if (!w || !h) return;
+    this.renderer.setSize(w, h, false);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    this.render();
+  }
+
+  // ------------------------------------------------------------------ what is drawn
+  // res: {scene, overlays, check?: {scene, first_joint}, scale}; keepTarget: leave the gizmo where it is.
+  show(res, { keepTarget = false } = {}) {
+    const first = !this.res, rescaled = (res.scale || 1) !== this.scale;
+    this.res = res;
+    this.scale = res.scale || 1;
+    this.clear(this.robot);
+    this.labels.forEach((l) => l.el.remove());
+    this.labels = [];
+    (res.overlays || []).forEach((o, k) => this.stick(o, OVERLAY_COLORS[k % OVERLAY_COLORS.length], true));
+    const check = res.check;
+    if (check) this.stick(check.scene, COLORS.other, true, check.first_joint);
+    this.stick(res.scene, COLORS.link, false, check ? check.first_joint : null);
+    this.triad(res.scene.tool, COLORS.tool, 1, this.robot);
+    if (res.show_frames) for (const F of res.scene.frames) this.rgbTriad(F);
+    if (!keepTarget) this.placeTarget(res.scene.tool);
+    if (first || rescaled) this.buildWorld();  // grid and base frame sized to the robot
+    if (first) this.view("iso");
+    this.posesMeshes(res);
+    this.render();
+  }
+
+  stick(sc, color, dashed, highlight = null) {
+    const L = this.scale, g = this.robot;
+    const pts = sc.links.map(v3);
+    if (dashed) {
+      const line = new THREE.Line(new THREE.BufferGeometry().setFromPoints(pts),
+        new THREE.LineDashedMaterial({ color, dashSize: 0.04 * L, gapSize: 0.025 * L }));
+      line.computeLineDistances();
+      g.add(line);
+    } else {
+      const mat = new THREE.MeshStandardMaterial({ color, roughness: 0.6 });
+      for (let i = 1; i < pts.length; i++) g.add(this.rod(pts[i - 1], pts[i], LINK_RADIUS * L, mat));
+      const ball = new THREE.SphereGeometry(LINK_RADIUS * L * 1.6, 16, 12);
+      for (const p of pts) { const m = new THREE.Mesh(ball, mat); m.position.copy(p); g.add(m); }
+    }
+    sc.axis_points.forEach((p, i) => {
+      const z = v3(sc.axis_dirs[i]), o = v3(p);
+      const from = o.clone().addScaledVector(z, -AXIS_BACK * L), len = (AXIS_BACK + AXIS_FRONT) * L;
+      const c = i === highlight ? COLORS.differs : COLORS.axis;
+      const arrow = new THREE.ArrowHelper(z, from, len, c, 0.06 * L, 0.035 * L);
+      if (dashed) arrow.line.material = new THREE.LineDashedMaterial({ color: c, dashSize: 0.02 * L, gapSize: 0.02 * L });
+      arrow.line.computeLineDistances();
+      g.add(arrow);
+      if (i === highlight) {
+        const ring = new THREE.Mesh(new THREE.TorusGeometry(0.05 * L, 0.006 * L, 8, 32),
+                                    new THREE.MeshBasicMaterial({ color: COLORS.differs }));
+        ring.position.copy(o);
+        ring.quaternion.setFromUnitVectors(new THREE.Vector3(0, 0, 1), z);
+        g.add(ring);
+      }
+      if (!dashed) this.label(o.clone().addScaledVector(z, (AXIS_FRONT + 0.03) * L), "J" + (i + 1),
+                              sc.joint_names[i], i === highlight ? "differs" : "axis");
+    });
+  }
+
+  rod(a, b, r, mat) {
+    const d = b.clone().sub(a), len = d.length();
+    const m = new THREE.Mesh(new THREE.CylinderGeometry(r, r, Math.max(len, 1e-12), 12), mat);
+    m.position.copy(a).addScaledVector(d, 0.5);
+    if (len > 0) m.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), d.normalize());
+    return m;
+  }
+
+  triad(T, color, size, group, names) {
+    const M = mat4(T), o = new THREE.Vector3().setFromMatrixPosition(M), L = this.scale;
+    ["x", "y", "z"].forEach((n, c) => {
+      const dir = new THREE.Vector3().setFromMatrixColumn(M, c).normalize();
+      group.add(new THREE.ArrowHelper(dir, o, TRIAD * L * size, color, 0.04 * L, 0.02 * L));
+      if (names) this.label(o.clone().addScaledVector(dir, TRIAD * L * size * 1.1), names[c], "", "base");
+    });
+  }
+
+  // A joint frame as red/green/blue x/y/z arrows (plot --frames).
+  rgbTriad(T) {
+    const M = mat4(T), o = new THREE.Vector3().setFromMatrixPosition(M), L = this.scale;
+    [0xd62728, 0x2ca02c, 0x1f77b4].forEach((color, c) => {
+      const dir = new THREE.Vector3().setFromMatrixColumn(M, c).normalize();
+      this.robot.add(new THREE.ArrowHelper(dir, o, 0.6 * TRIAD * L, color, 0.03 * L, 0.015 * L));
+    });
+  }
+
+  // The ground grid (base x-y plane) and base frame; the grid's cell is a power of ten of the robot size.
+  buildWorld() {
+    this.clear(this.world);
+    const L = this.scale, cell = Math.pow(10, Math.floor(Math.log10(L / 3)));  // 3-30 cells across the robot
+    const cells = 2 * Math.ceil(1.5 * L / cell);
+    const grid = new THREE.GridHelper(cells * cell, cells, 0xc8c8c8, 0xe4e4e4);
+    grid.rotation.x = Math.PI / 2;  // GridHelper lies in x-z; the robot's ground is x-y
+    this.world.add(grid);
+    this.triad([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]], COLORS.base, 1, this.world, ["x0", "y0", "z0"]);
+    this.container.dataset.gridCell = String(cell);
+  }
+
+  clear(group) {
+    for (const c of [...group.children]) {
+      group.remove(c);
+      c.traverse((o) => { if (o.geometry) o.geometry.dispose(); });
+    }
+  }
+
+  label(p, text, title, kind) {
+    const el = document.createElement("span");
+    el.className = "label3d " + kind;
+    el.textContent = text;
+    if (title) el.title = title;
+    this.container.append(el);
+    this.labels.push({ el, p });
+  }
+
+  // ------------------------------------------------------------------ meshes
+  // visuals: [{body, pose: 4x4 at home in the base frame, object}] (meshes.js); placed at q by the
+  // answer's motions (motion of body i from home to q, robkin.bodies.body_motions).
+  setMeshes(visuals) {
+    this.clear(this.meshes);
+    this.visuals = visuals;
+    for (const v of visuals) this.meshes.add(v.object);
+    if (this.res) this.posesMeshes(this.res);
+    this.render();
+  }
+
+  posesMeshes(res) {
+    if (!res.motions) return;
+    for (const v of this.visuals || []) {
+      v.object.matrixAutoUpdate = false;
+      v.object.matrix.copy(mat4(res.motions[v.body]).multiply(mat4(v.pose)));
+      v.object.matrixWorldNeedsUpdate = true;
+    }
+  }
+
+  // ------------------------------------------------------------------ camera
+  bounds() {
+    const box = new THREE.Box3();
+    if (this.res) for (const p of this.res.scene.links) box.expandByPoint(v3(p));
+    box.expandByPoint(new THREE.Vector3());
+    box.expandByScalar(0.1 * this.scale);
+    return box;
+  }
+
+  // Camera looking at the robot: "iso" (the reset view), "front" (from +x), "side" (from -y), "top"
+  // (from +z), or "fit" (keep the direction, frame the robot).
+  view(name, direction = null) {
+    const box = this.bounds(), c = box.getCenter(new THREE.Vector3());
+    const r = Math.max(box.getSize(new THREE.Vector3()).length() / 2, this.scale * 0.5);
+    const dist = r / Math.sin((this.camera.fov * Math.PI / 180) / 2) * 1.05;
+    // top: a hair off the vertical, where the orbit's z-up frame is singular
+    const dirs = { iso: [1, -1.3, 0.8], front: [1, 0, 0], side: [0, -1, 0], top: [-1e-4, 0, 1] };
+    const cur = this.camera.position.clone().sub(this.orbit.target);
+    const d = direction ? v3(direction).normalize() :
+      name === "fit" && cur.lengthSq() > 0 ? cur.normalize() : v3(dirs[name] || dirs.iso).normalize();
+    this.orbit.target.copy(c);
+    this.camera.position.copy(c).addScaledVector(d, dist);
+    this.camera.near = dist / 1000;
+    this.camera.far = dist * 100;
+    this.camera.updateProjectionMatrix();
+    this.orbit.update();
+    this.render();
+  }
+
+  // Camera from a direction given as elevation and azimuth in degrees (like matplotlib's view_init).
+  look([elev, azim]) {
+    const e = elev * Math.PI / 180, a = azim * Math.PI / 180;
+    this.view("fit", [Math.cos(e) * Math.cos(a), Math.cos(e) * Math.sin(a), Math.sin(e)]);
+  }
+
+  render() {
+    if (!this.renderer) return;
+    this.renderer.render(this.scene, this.camera);
+    const w = this.container.clientWidth, h = this.container.clientHeight;
+    for (const { el, p } of this.labels) {
+      const s = p.clone().project(this.camera);
+      el.hidden = s.z > 1;
+      el.style.left = ((s.x + 1) / 2 * w) + "px";
+      el.style.top = ((1 - s.y) / 2 * h) + "px";
+    }
+    // where the tool frame (the gizmo's centre) is on screen, in CSS pixels of the view: for tests
+    const t = this.target.position.clone().project(this.camera);
+    this.container.dataset.toolXy = [(t.x + 1) / 2 * w, (1 - t.y) / 2 * h].map((v) => v.toFixed(1)).join(",");
+    this.container.dataset.frames = String(Number(this.container.dataset.frames || 0) + 1);
+  }
+}

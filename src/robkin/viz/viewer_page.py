@@ -1,0 +1,110 @@
+"""``robkin plot -o robot.html``: the GUI's 3D viewer as one self-contained HTML file.
+
+The page holds everything: the scene data (JSON), the three.js modules and robkin's viewer. A file
+opened from disk has no folder for ES modules to import from, so the modules are embedded as text
+and a short loader turns each into a blob URL and maps its bare name to it (an import map, see
+:func:`robkin.viz.assets.module_sources`). Nothing is fetched; the page works offline.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..robot import Robot
+
+__all__ = ["viewer_data", "viewer_page"]
+
+#: robkin's own modules in the page (static/ file -> bare specifier); the first one is the entry point.
+_APP_MODULES = {"standalone.js": "robkin/standalone.js", "viewer.js": "robkin/viewer.js"}
+
+_LOADER = """\
+const imports = {};
+for (const s of document.querySelectorAll("script[type='text/x-robkin-module']")) {
+  imports[s.dataset.name] = URL.createObjectURL(new Blob([s.textContent], {type: "text/javascript"}));
+}
+const map = document.createElement("script");
+map.type = "importmap";
+map.textContent = JSON.stringify({imports});
+document.head.append(map);
+const main = document.createElement("script");
+main.type = "module";
+main.textContent = 'import "robkin/standalone.js";';
+document.head.append(main);
+"""
+
+_STYLE = """\
+body { margin: 0; font: 14px/1.4 system-ui, sans-serif; color: #222; }
+header { padding: 0.5em 1em; display: flex; gap: 0.4em; align-items: center; flex-wrap: wrap; }
+h1 { font-size: 1.1em; margin: 0 1em 0 0; }
+#view { position: relative; height: 72vh; border-top: 1px solid #ddd; border-bottom: 1px solid #ddd; }
+#view canvas { display: block; width: 100%; height: 100%; }
+.label3d { position: absolute; transform: translate(3px, -100%); font-size: 11px; white-space: nowrap; }
+.label3d.axis { color: #1f4fe0; } .label3d.base { color: #000; }
+.legend { padding: 0.3em 1em; display: flex; gap: 1em; flex-wrap: wrap; font-size: 0.85em; }
+.k::before { content: ""; display: inline-block; width: 1.4em; height: 3px; margin-right: 0.3em; vertical-align: middle; }
+.link::before { background: #3a3a3a; } .axis::before { background: #1f4fe0; }
+.tool::before { background: #ff3fa4; } .base::before { background: #000; }
+#overlays { display: contents; }
+pre { margin: 0.5em 1em; font-size: 12px; }
+"""
+
+
+def viewer_data(robots: Sequence[Robot], q: np.ndarray | None, overlay: Sequence[str], labels: Sequence[str],
+                frames: bool = False, view: Sequence[float] | None = None) -> dict[str, Any]:
+    """What the page draws: the first robot's scene, and as dashed overlays its representations
+    (``overlay``) or the other robots (each at the same q), like ``robkin plot``'s pictures."""
+    from .scene import build_scene, overlay_scenes
+
+    robot = robots[0]
+    Q = np.zeros(robot.n) if q is None else np.asarray(q, dtype=float)
+    scene = build_scene(robot, Q, label=labels[0])
+    if len(robots) > 1:
+        overlays = [build_scene(r, Q, label=label) for r, label in zip(robots[1:], labels[1:])]
+    else:
+        overlays = overlay_scenes(robot, Q, [r for r in overlay if r != "gjd"])
+    return {"scene": scene.to_json(), "overlays": [s.to_json() for s in overlays],
+            "scale": max(r.scale for r in robots), "show_frames": bool(frames),
+            "view": list(view) if view is not None else None}
+
+
+def _embed(text: str) -> str:
+    # A script element ends at the first "</script"; "<\/" means the same inside JS strings and
+    # regular expressions, and JSON parses "\/" as "/".
+    return text.replace("</", "<\\/")
+
+
+def viewer_page(data: dict[str, Any], title: str, caption: str = "") -> str:
+    """The HTML text of the self-contained viewer page for ``data`` (see :func:`viewer_data`)."""
+    from .assets import module_sources
+
+    modules = "\n".join(f'<script type="text/x-robkin-module" data-name="{html.escape(name)}">{_embed(src)}</script>'
+                        for name, src in module_sources(_APP_MODULES).items())
+    buttons = "".join(f'<button type="button" data-view="{v}">{v if v != "iso" else "reset"}</button>'
+                      for v in ("fit", "iso", "front", "side", "top"))
+    return f"""<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<title>{html.escape(title)}</title>
+<style>
+{_STYLE}</style>
+</head>
+<body data-state="loading">
+<header><h1>{html.escape(title)}</h1>{buttons}</header>
+<div id="view" aria-label="robot in 3D: left drag turns, right drag pans, wheel zooms"></div>
+<div class="legend"><span class="k link">links</span><span class="k axis">joint axes (+ end longer)</span>
+<span class="k tool">tool frame</span><span class="k base">base frame</span><span id="overlays"></span>
+<span id="grid-unit"></span></div>
+<pre>{html.escape(caption)}</pre>
+<script type="application/json" id="robkin-data">{_embed(json.dumps(data, allow_nan=False))}</script>
+{modules}
+<script>
+{_LOADER}</script>
+</body>
+</html>
+"""
