@@ -15,13 +15,15 @@ examples:
   robkin gui ur5.urdf --tip-link tool0 --port 9000
   robkin gui rrpr.yaml rrpr_dh.yaml   # visual check: B drawn over A, first differing joint in red
 
-The app runs on this machine only: it listens on 127.0.0.1 (use --host to change that, at your own
-risk: anyone who can reach the port can use it) and needs no internet. Open the printed address in a
-browser; stop with Ctrl-C. In the page, paste or load a robot document (YAML/JSON) or a URDF; every
+The app runs on this machine only: it listens on a loopback address (127.0.0.1 by default; --host
+takes another 127.x.y.z, ::1 or localhost, nothing else) and answers only requests from its own page
+(loopback Host header, same origin), so other web sites open in the browser cannot use it. It needs
+no internet. Open the printed address in a browser; stop with Ctrl-C. In the page, paste or load a robot document (YAML/JSON) or a URDF; every
 representation is shown as a table and can be downloaded. Bad input is shown as a message in the page.
 Drag the pink tool frame's handles and the robot follows by inverse kinematics. A URDF given here is
 drawn with the meshes it references (package:// found above the file or on ROS_PACKAGE_PATH). The
 3D view needs three.js, installed by `make assets` (or `make demo` / `make test`) from npm.
+The GUI never expands .xacro files (they are programs); expand one yourself with xacro first.
 """
 
 
@@ -35,7 +37,8 @@ def register(subparsers) -> argparse.ArgumentParser:
                         "apply to both when both are the same XML format)")
     p.add_argument("--base-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: first of the serial chain")
     p.add_argument("--tip-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: last of the chain (the tool)")
-    p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1, this machine only)")
+    p.add_argument("--host", default="127.0.0.1",
+                   help="loopback address to listen on: 127.0.0.1 (default), another 127.x.y.z, ::1 or localhost")
     p.add_argument("--port", type=int, default=8765, help="port (default 8765; 0 picks a free one)")
     p.add_argument("--open", action="store_true", help="open the page in the default web browser")
     p.add_argument("--verbose", action="store_true", help="log every request to stderr")
@@ -57,21 +60,20 @@ def _read(path: str, base_link: str | None, tip_link: str | None) -> tuple[str, 
     """(text, format) of a robot file for the page, checked here so that bad input fails before serving."""
     from pathlib import Path
 
+    from ..io.files import read_text_file
     from ..viz.gui_api import MAX_TEXT, parse_robot
 
     p = Path(path)
     fmt = _format_of(path)
+    if p.suffix.lower() == ".xacro":
+        raise InputError(f"{p}: the GUI never expands xacro (a .xacro file is a program that can run code); "
+                         f"if you trust it, expand it yourself: xacro {p} > {p.stem}.urdf")
     if not fmt:
         raise InputError(f"{p}: unknown extension '{p.suffix.lower()}'; expected .yaml, .yml, .json, .urdf, .xml, "
                          f".mjcf or .sdf")
-    try:
-        if p.stat().st_size > MAX_TEXT:
-            raise InputError(f"{p}: larger than {MAX_TEXT} bytes")
-        text = p.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InputError(f"{p}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{p}: cannot read ({exc})") from None
+    text = read_text_file(p, MAX_TEXT, "a robot file for the GUI")
+    if not text.strip():
+        raise InputError(f"{p}: file is empty; expected a robot document (YAML/JSON) or a robot file")
     parse_robot(text, fmt, base_link, tip_link, source=str(p))
     return text, fmt
 

@@ -84,6 +84,7 @@ class GuiServer(ThreadingHTTPServer):
         self.start_payload = start
         self.meshes = meshes or MeshRegistry()
         self.quiet = quiet
+        self.script_src = f"'self' {_inline_script_hashes()}"
         self._pool = ThreadPoolExecutor(MAX_WORKERS, thread_name_prefix="robkin-gui-worker")
         self._slots = threading.BoundedSemaphore(MAX_WORKERS + MAX_PENDING)
         self._deadlines: dict[socket.socket, float] = {}
@@ -134,7 +135,6 @@ class GuiServer(ThreadingHTTPServer):
         super().server_close()
         self._closed.set()
         self._pool.shutdown(wait=False, cancel_futures=True)
-        self.script_src = f"'self' {_inline_script_hashes()}"
 
     @property
     def url(self) -> str:
