@@ -27,7 +27,7 @@ from ..lines import (ANGLE_TOL, LENGTH_TOL, AxisRelation, classify, closest_poin
 from .. import se3
 
 __all__ = ["common_normal_frame", "frame_from_zx", "satisfies_normal", "dh_params_between",
-           "mdh_params_between", "approx_dh_params", "is_identity", "warn_if_far"]
+           "mdh_params_between", "approx_dh_params", "is_identity", "x_line_on"]
 
 #: A given frame is kept only if it satisfies the convention to rounding noise: the DH parameters read
 #: back from it then reproduce it to ~1e-12 relative, well inside the 1e-9 FK agreement we promise.
@@ -40,25 +40,6 @@ TIE_TOL = 1e-9
 def is_identity(T: np.ndarray, scale: float, tol: float = KEEP_TOL) -> bool:
     """Is the pose the identity to rounding noise (rotation to ``tol``, translation to ``tol * scale``)?"""
     return bool(np.abs(T[:3, :3] - np.eye(3)).max() <= tol and np.abs(T[:3, 3]).max() <= tol * scale)
-
-
-#: A DH frame farther than this many robot sizes from the base comes from nearly parallel axes: exact,
-#: but FK through the table loses ~distance * 1e-16, so the user is told (ConditioningWarning).
-FAR_FACTOR = 1e3
-
-
-def warn_if_far(frame: np.ndarray, scale: float, what: str) -> None:
-    """ConditioningWarning if a constructed frame lies implausibly far from the robot."""
-    dist = float(np.linalg.norm(frame[:3, 3]))
-    if dist > FAR_FACTOR * scale:
-        import warnings
-
-        from ..errors import ConditioningWarning
-
-        warnings.warn(f"{what}: the axes are nearly but not exactly parallel, so their common normal lies "
-                      f"{dist:.3g} from the base (robot size {scale:.3g}); the parameters are exact but "
-                      f"ill-conditioned. Make the axes exactly parallel if they are meant to be.",
-                      ConditioningWarning, stacklevel=4)
 
 
 def frame_from_zx(origin: np.ndarray, z: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -117,7 +98,7 @@ def common_normal_frame(p_a: np.ndarray, u_a: np.ndarray, p_b: np.ndarray, u_b: 
         return keep
     x_prev = prev[:3, 0]
     # the point where the previous frame meets line A: its origin (DH), or where its x crosses A (MDH)
-    anchor = point_line_foot(prev[:3, 3], p_a, u_a) if on == "b" else _x_line_on(prev, p_a, u_a)
+    anchor = point_line_foot(prev[:3, 3], p_a, u_a) if on == "b" else x_line_on(prev, p_a, u_a)
     y_ref = np.cross(u_a, x_prev)
     rel = classify(p_a, u_a, p_b, u_b, scale)
     if rel in (AxisRelation.PARALLEL, AxisRelation.ANTI_PARALLEL):
@@ -145,7 +126,7 @@ def common_normal_frame(p_a: np.ndarray, u_a: np.ndarray, p_b: np.ndarray, u_b: 
     return frame_from_zx(cn.c1 if on == "a" else cn.c2, u_self, x)
 
 
-def _x_line_on(prev: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:
+def x_line_on(prev: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:
     """Where the x axis of ``prev`` meets the line (p, u); the foot of prev's origin if they miss."""
     o, x = prev[:3, 3], prev[:3, 0]
     if np.linalg.norm(np.cross(x, u)) < ANGLE_TOL:

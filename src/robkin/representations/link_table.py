@@ -14,10 +14,11 @@ from numpy.typing import ArrayLike
 
 from .. import se3
 from ..errors import InputError
-from ..robot import Joint, check_pose, check_q
+from ..robot import Joint, Robot, check_pose, check_q
 from .frames import is_identity
 
-__all__ = ["LinkTable", "check_dh_rows", "flip_frame", "residual_tool", "COLUMNS"]
+__all__ = ["LinkTable", "check_dh_rows", "flip_frame", "residual_tool", "fk_error", "warn_fk_error",
+           "placement_notes", "COLUMNS", "WARN_TOL"]
 
 COLUMNS = ("a", "d", "alpha", "theta")
 _FLIP = se3.rot_x(np.pi)
@@ -57,6 +58,78 @@ def residual_tool(base: np.ndarray, rows: np.ndarray, link_matrix: Callable[...,
         T = T @ A
     tool = se3.inv(T) @ tool_pose
     return np.eye(4) if is_identity(tool, scale) else tool
+
+
+#: A table whose FK differs from the robot's by more than this (relative to the robot's size) at any
+#: of the sampled configurations is reported with its measured error (ConditioningWarning). Exact
+#: tables agree to ~1e-15; nearly parallel axes cost ~tilt * offset (a dropped tilt) or ~eps * offset /
+#: tilt (a far common normal). 1e-10 is 10x inside the 1e-9 agreement promised without a warning, so
+#: a configuration the sample misses is still within the promise.
+WARN_TOL = 1e-10
+#: Configurations at which a converted table is compared with the robot: q = 0 and a fixed sample
+#: (revolute joints in [-pi, pi], prismatic joints within their limits or +-1 robot size).
+_CHECK_SAMPLES = 8
+
+
+def fk_error(fk: Callable[[np.ndarray], np.ndarray], robot: Robot) -> float:
+    """Largest FK difference of a table from the robot, in length units: position difference plus
+    the rotation difference (largest matrix entry) times the robot's size, over q = 0 and a fixed
+    sample of configurations."""
+    rng = np.random.default_rng(20261123)  # fixed: the measure is deterministic
+    lim = robot.limits
+    span = np.where(robot.revolute, np.pi, robot.scale)
+    lo = np.where(np.isfinite(lim[:, 0]), np.maximum(lim[:, 0], -span), -span)
+    hi = np.where(np.isfinite(lim[:, 1]), np.minimum(lim[:, 1], span), span)
+    Q = np.vstack([np.zeros(robot.n), rng.uniform(lo, hi, size=(_CHECK_SAMPLES, robot.n))])
+    A, B = fk(Q), robot.fk(Q)
+    pos = np.linalg.norm(A[:, :3, 3] - B[:, :3, 3], axis=1)
+    rot = np.abs(A[:, :3, :3] - B[:, :3, :3]).max(axis=(1, 2))
+    return float((pos + rot * robot.scale).max())
+
+
+def warn_fk_error(fk: Callable[[np.ndarray], np.ndarray], robot: Robot, section: str) -> float:
+    """Measure ``fk_error`` and issue a ConditioningWarning stating it when above WARN_TOL; returns it."""
+    err = fk_error(fk, robot)
+    if err > WARN_TOL * robot.scale:
+        import warnings
+
+        from ..errors import ConditioningWarning
+        from ..lines import ANGLE_TOL
+
+        tilts = _near_parallel(robot, ANGLE_TOL ** 0.5)
+        why = (f"joint axes {', '.join(tilts)} are nearly but not exactly parallel" if tilts else
+               "rounding in the table's parameters")
+        warnings.warn(f"{section}: this table reproduces the robot's FK only to {err:.2g} (robot size "
+                      f"{robot.scale:.3g}; measured at q = 0 and {_CHECK_SAMPLES} configurations) because "
+                      f"{why}; the hayati table is exact there", ConditioningWarning, stacklevel=3)
+    return err
+
+
+def _near_parallel(robot: Robot, below: float) -> list[str]:
+    """'i-j (angle)' for consecutive joint axes (and the base z axis, '0') closer than ``below`` rad
+    to parallel but not exactly parallel."""
+    z = np.vstack([[0.0, 0.0, 1.0], robot.axes])
+    out = []
+    for i in range(robot.n):
+        s = float(np.linalg.norm(np.cross(z[i], z[i + 1])))
+        if 0.0 < s < below:
+            out.append(f"{i}-{i + 1} ({s:.2g} rad)")
+    return out
+
+
+def placement_notes(base: np.ndarray, tool: np.ndarray, scale: float, section: str) -> list[str]:
+    """Why a table needs a base or a tool transform (one line each; none when they are identities)."""
+    notes = []
+    if not is_identity(base, scale):
+        why = ("joint 1's axis is not the robot base z axis" if section == "dh" else
+               "the robot base frame's x axis does not meet joint 1's axis at a right angle, or joint 1's "
+               "axis is tilted from the base z axis")
+        notes.append(f"base: {why}, so frame {{0}} is reached by this fixed transform")
+    if not is_identity(tool, scale):
+        notes.append("tool: the tool frame is not the table's last frame (its x axis does not cross the "
+                     "last joint axis at a right angle, or it is turned about or shifted along that axis), "
+                     "so the rest is this fixed transform")
+    return notes
 
 
 @dataclass(frozen=True, eq=False)
