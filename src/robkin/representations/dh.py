@@ -48,6 +48,12 @@ class DHTable(LinkTable):
 
 def robot_from_dh(table: DHTable, name: str | None = None) -> Robot:
     """The GJD of a DH table: J_i = frame {i-1} (flip-adjusted), J_{n+1} = frame {n} tool."""
+    return robot_from_links(table, "dh", name)
+
+
+def robot_from_links(table: LinkTable, frames_from: str, name: str | None = None) -> Robot:
+    """The GJD of a table whose joint i moves frame {i-1}'s z (standard DH, Hayati): J_i = frame {i-1}
+    (flip-adjusted), J_{n+1} = frame {n} tool; the Robot remembers which table its frames are."""
     A = table.link_transforms(np.zeros(table.n))
     frames = np.empty((table.n + 1, 4, 4))
     T = table.base
@@ -55,7 +61,7 @@ def robot_from_dh(table: DHTable, name: str | None = None) -> Robot:
         frames[i] = flip_frame(T, joint.flip)
         T = T @ A[i]
     frames[-1] = T @ table.tool
-    return Robot(frames, table.joints, name=name, frames_from="dh")
+    return Robot(frames, table.joints, name=name, frames_from=frames_from)
 
 
 def dh_frames(robot: Robot) -> tuple[np.ndarray, np.ndarray]:

@@ -29,20 +29,22 @@ def flip_frame(frame: np.ndarray, flip: bool) -> np.ndarray:
     return frame @ _FLIP if flip else frame
 
 
-def check_dh_rows(rows: ArrayLike, n: int | None = None, field_name: str = "dh.rows") -> np.ndarray:
-    """Validate a DH/MDH table as an (n, 4) float array of (a, d, alpha, theta)."""
+def check_dh_rows(rows: ArrayLike, n: int | None = None, field_name: str = "dh.rows",
+                  columns: tuple[str, ...] = COLUMNS) -> np.ndarray:
+    """Validate a DH/MDH (or Hayati) table as an (n, len(columns)) float array."""
+    want = f"rows of {len(columns)} numbers ({', '.join(columns)})"
     try:
         R = np.array(rows, dtype=float)
     except (TypeError, ValueError):
-        raise InputError(f"{field_name}: expected rows of 4 numbers (a, d, alpha, theta)") from None
-    if R.ndim != 2 or R.shape[1] != 4:
-        raise InputError(f"{field_name}: expected rows of 4 numbers (a, d, alpha, theta), got shape {R.shape}")
+        raise InputError(f"{field_name}: expected {want}") from None
+    if R.ndim != 2 or R.shape[1] != len(columns):
+        raise InputError(f"{field_name}: expected {want}, got shape {R.shape}")
     if n is not None and R.shape[0] != n:
         raise InputError(f"{field_name}: expected {n} rows (one per joint), got {R.shape[0]}")
     bad = np.argwhere(~np.isfinite(R))
     if bad.size:
         i, j = bad[0]
-        raise InputError(f"{field_name}[{i}].{COLUMNS[j]}: must be a finite number")
+        raise InputError(f"{field_name}[{i}].{columns[j]}: must be a finite number")
     return R
 
 
@@ -134,9 +136,13 @@ def placement_notes(base: np.ndarray, tool: np.ndarray, scale: float, section: s
 
 @dataclass(frozen=True, eq=False)
 class LinkTable:
-    """Rows (n, 4) of (a, d, alpha, theta), joints, base and tool (4, 4); FK from the table itself."""
+    """Rows (n, 4) of (a, d, alpha, theta), joints, base and tool (4, 4); FK from the table itself.
+
+    A subclass may add columns after theta (Hayati's beta): ``link_matrix`` takes them all.
+    """
 
     SECTION: ClassVar[str] = "dh"
+    COLUMNS: ClassVar[tuple[str, ...]] = COLUMNS
     link_matrix: ClassVar[Callable[..., np.ndarray]] = staticmethod(se3.dh_matrix)
 
     rows: np.ndarray
@@ -146,7 +152,8 @@ class LinkTable:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "joints", tuple(self.joints))
-        object.__setattr__(self, "rows", check_dh_rows(self.rows, len(self.joints), f"{self.SECTION}.rows"))
+        object.__setattr__(self, "rows", check_dh_rows(self.rows, len(self.joints), f"{self.SECTION}.rows",
+                                                                type(self).COLUMNS))
         object.__setattr__(self, "base", check_pose(self.base, f"{self.SECTION}.base"))
         object.__setattr__(self, "tool", check_pose(self.tool, f"{self.SECTION}.tool"))
 
@@ -160,9 +167,9 @@ class LinkTable:
         Q = np.asarray(q, dtype=float)
         rev = np.array([j.revolute for j in self.joints])
         sign = np.array([-1.0 if j.flip else 1.0 for j in self.joints])
-        a, d, alpha, theta = self.rows.T
+        a, d, alpha, theta, *extra = self.rows.T
         return type(self).link_matrix(a, d + np.where(rev, 0.0, sign * Q), alpha,
-                                      theta + np.where(rev, sign * Q, 0.0))
+                                      theta + np.where(rev, sign * Q, 0.0), *extra)
 
     def fk(self, q: ArrayLike) -> np.ndarray:
         """Tool pose: q (n,) -> (4, 4) or (N, n) -> (N, 4, 4), evaluated from the table itself."""
