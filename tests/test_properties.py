@@ -42,7 +42,7 @@ EXACT = 1e-12
 #: non-parallel consecutive axes (see ``conditioning_tol``); for all others it is FK_TOL.
 EPS = float(np.finfo(float).eps)
 
-REPRESENTATIONS = ("gjd", "dh", "mdh", "poe", "poe_body", "rpy")
+REPRESENTATIONS = ("gjd", "dh", "mdh", "hayati", "poe", "poe_body", "rpy")
 
 # Nearly parallel axes (rounded inputs) make the DH/MDH writers warn, as documented; here that is
 # expected, and the accuracy it warns about is what the tolerances above account for.
@@ -63,6 +63,8 @@ def write(robot: Robot, rep: str):
         return robkin.dh_from_robot(robot)
     if rep == "mdh":
         return robkin.mdh_from_robot(robot)
+    if rep == "hayati":
+        return robkin.hayati_from_robot(robot)
     if rep == "poe":
         return robkin.poe_from_robot(robot, "space")
     if rep == "poe_body":
@@ -91,7 +93,7 @@ def rounded(rep_obj, unit: float = 1.0, decimals: int = 6):
         warnings.simplefilter("ignore", ProjectionWarning)
         if isinstance(rep_obj, Robot):
             return Robot(r(rep_obj.frames, pose), rep_obj.joints, world=r(rep_obj.world, pose))
-        if isinstance(rep_obj, (robkin.DHTable, robkin.MDHTable)):
+        if isinstance(rep_obj, (robkin.DHTable, robkin.MDHTable, robkin.HayatiTable)):
             return type(rep_obj)(r(rep_obj.rows, (..., slice(0, 2))), rep_obj.joints, base=r(rep_obj.base, pose),
                                  tool=r(rep_obj.tool, pose))
         if isinstance(rep_obj, robkin.PoE):

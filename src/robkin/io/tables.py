@@ -22,6 +22,7 @@ __all__ = ["FORMATS", "fmt_num", "text_table", "matrix_text", "render", "show", 
 FORMATS = {
     "dh": "standard Denavit-Hartenberg table (+ base and residual tool)",
     "mdh": "modified (Craig) Denavit-Hartenberg table (+ base and tool)",
+    "hayati": "Hayati's parameters: DH with beta about y between nearly parallel axes (+ base and tool)",
     "poe": "Product of Exponentials, space frame (M and screws)",
     "poe-body": "Product of Exponentials, body frame (M and screws)",
     "rpy-xyz": "RPY-XYZ table, n+2 rows (world->base, joints, tool)",
@@ -70,39 +71,52 @@ def _joint_cols(robot: Robot) -> list[list[object]]:
 Block = Union[tuple[str | None, Sequence[str], Sequence[Sequence[object]]], str]
 
 
-def blocks(robot: Robot, fmt: str, layout: str = "robkin") -> list[Block]:
+def blocks(robot: Robot, fmt: str, layout: str = "robkin", degrees: bool = False) -> list[Block]:
     """The robot in representation ``fmt`` (a key of FORMATS) as tables and text lines.
 
     ``layout='paper'`` puts a DH table in the conversion paper's n+1-row layout (row 0 is the fixed
-    base row) when the base is one DH row.
+    base row) when the base is one DH row. ``degrees`` shows the angle columns of DH, modified DH,
+    Hayati and RPY-XYZ tables in degrees.
     """
-    from ..representations import dh_from_robot, mdh_from_robot, poe_from_robot, rpy_from_robot
+    from ..representations import (dh_from_robot, hayati_from_robot, mdh_from_robot, poe_from_robot,
+                                   rpy_from_robot)
+    from ..representations.link_table import placement_notes
 
     title = f"{robot.name or 'robot'}: {FORMATS[fmt]}"
     jc = _joint_cols(robot)
-    if fmt in ("dh", "mdh"):
-        t = dh_from_robot(robot) if fmt == "dh" else mdh_from_robot(robot)
-        heads = ["i", "joint", "type", "a", "d", "alpha", "theta"] if fmt == "dh" else \
-            ["i", "joint", "type", "a(i-1)", "d", "alpha(i-1)", "theta"]
-        rows = [c + list(r) for c, r in zip(jc, t.rows)]
+    unit = " (deg)" if degrees else ""
+    if fmt in ("dh", "mdh", "hayati"):
+        convert = {"dh": dh_from_robot, "mdh": mdh_from_robot, "hayati": hayati_from_robot}[fmt]
+        t = convert(robot)
+        heads = ["i", "joint", "type", "a", "d", f"alpha{unit}", f"theta{unit}"] if fmt != "mdh" else \
+            ["i", "joint", "type", "a(i-1)", "d", f"alpha(i-1){unit}", f"theta{unit}"]
+        if fmt == "hayati":
+            heads.append(f"beta{unit}")
+        table_rows = np.array(t.rows)
         base_row = t.base_row() if fmt == "dh" and layout == "paper" else None
         if base_row is not None:
-            rows = [["0", "(base)", "fixed"] + list(base_row)] + rows
-        out: list[Block] = [(title, heads, rows)]
+            table_rows = np.vstack([base_row, table_rows])
+        if degrees:
+            table_rows[:, 2:] = np.degrees(table_rows[:, 2:])
+        labels = ([["0", "(base)", "fixed"]] if base_row is not None else []) + jc
+        out: list[Block] = [(title, heads, [c + list(r) for c, r in zip(labels, table_rows)])]
         out.append("theta (revolute) and d (prismatic) are the values at q = 0; joint i adds q_i"
                    + (" (subtracts, if flipped)" if any(j.flip for j in robot.joints) else "") + ".")
         if base_row is None:
             out.append(matrix_text(t.base, "base"))
-        out.append(matrix_text(t.tool, "tool" if fmt == "mdh" else "tool (residual T_t)"))
+        out.append(matrix_text(t.tool, "tool (residual T_t)" if fmt == "dh" else "tool"))
+        out.extend(f"note: {line}" for line in placement_notes(t.base, t.tool, robot.scale, t.SECTION))
         return out
     if fmt in ("poe", "poe-body"):
         p = poe_from_robot(robot, "space" if fmt == "poe" else "body")
         heads = ["i", "joint", "type", "wx", "wy", "wz", "vx", "vy", "vz"]
         return [(title, heads, [c + list(s) for c, s in zip(jc, p.screws)]), matrix_text(p.M, "M")]
     if fmt == "rpy-xyz":
-        rows = rpy_from_robot(robot).rows
+        rows = np.array(rpy_from_robot(robot).rows)
+        if degrees:
+            rows[:, :3] = np.degrees(rows[:, :3])
         labels = [["0", "world->base", ""]] + jc + [[str(robot.n + 1), "tool", ""]]
-        return [(title, ["row", "frame", "type", "roll", "pitch", "yaw", "x", "y", "z"],
+        return [(title, ["row", "frame", "type", f"roll{unit}", f"pitch{unit}", f"yaw{unit}", "x", "y", "z"],
                  [lab + list(r) for lab, r in zip(labels, rows)])]
     if fmt == "gjd":
         parts: list[Block] = [title]
@@ -113,9 +127,10 @@ def blocks(robot: Robot, fmt: str, layout: str = "robkin") -> list[Block]:
     raise ValueError(f"unknown format {fmt}")  # pragma: no cover - callers validate
 
 
-def render(robot: Robot, fmt: str, layout: str = "robkin") -> str:
+def render(robot: Robot, fmt: str, layout: str = "robkin", degrees: bool = False) -> str:
     """The robot in representation ``fmt`` (a key of FORMATS) as plain text (see ``blocks``)."""
-    return "\n".join(b if isinstance(b, str) else text_table(b[1], b[2], b[0]) for b in blocks(robot, fmt, layout))
+    return "\n".join(b if isinstance(b, str) else text_table(b[1], b[2], b[0])
+                     for b in blocks(robot, fmt, layout, degrees))
 
 
 def use_rich(stream=None) -> bool:
