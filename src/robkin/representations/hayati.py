@@ -24,7 +24,6 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .. import se3
-from ..lines import LENGTH_TOL
 from ..robot import Robot
 from .dh import robot_from_links
 from .frames import (TIE_TOL, approx_dh_params, common_normal_frame, dh_params_between, is_identity,
@@ -76,7 +75,7 @@ def _near_parallel(u_a: np.ndarray, u_b: np.ndarray) -> bool:
     return float(np.linalg.norm(np.cross(u_a, u_b))) < NEAR_PARALLEL
 
 
-def _hayati_step(prev: np.ndarray, p: np.ndarray, u: np.ndarray, scale: float) -> tuple[float, ...]:
+def _hayati_step(prev: np.ndarray, p: np.ndarray, u: np.ndarray) -> tuple[float, ...]:
     """The Hayati row (a, 0, alpha, theta, beta) from ``prev`` to the line (p, u), nearly parallel to
     prev's z: frame {i} where the line crosses prev's x-y plane, x towards it with |theta| <= pi/2
     (a may be negative, as in DH), z tilted onto u by alpha about x, then beta about y."""
@@ -84,7 +83,7 @@ def _hayati_step(prev: np.ndarray, p: np.ndarray, u: np.ndarray, scale: float) -
     q, v = R.T @ (p - o), R.T @ u
     P = q - (q[2] / v[2]) * v  # on the line, in the plane z = 0 (|v_z| >= cos of the tilt > 0.99)
     a = math.hypot(P[0], P[1])
-    theta = math.atan2(P[1], P[0]) if a > LENGTH_TOL * scale else 0.0
+    theta = math.atan2(P[1], P[0])  # 0 when the line passes through prev's origin (P = 0)
     theta, flipped = _half_turn(theta)
     a = -a if flipped else a
     c, s = math.cos(theta), math.sin(theta)
@@ -133,7 +132,7 @@ def hayati_frames(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     for i in range(n):
         p, u = cand[i, :3, 3], cand[i, :3, 2]
         if _near_parallel(prev[:3, 2], u):
-            F[i] = prev @ hayati_matrix(*_hayati_step(prev, p, u, scale))
+            F[i] = prev @ hayati_matrix(*_hayati_step(prev, p, u))
             if keep and is_identity(se3.inv(prev @ hayati_matrix(*hayati_params_between(prev, cand[i])))
                                     @ cand[i], scale):
                 F[i] = cand[i]

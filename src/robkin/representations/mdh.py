@@ -77,24 +77,30 @@ def mdh_frames(robot: Robot) -> list[np.ndarray]:
 #: sin of a tilt of joint 1 from the base z axis below which it is rounding noise of a unit vector
 #: (~1e-16 per component), not geometry: no tilted base frame is made for it.
 _NOISE_TILT = 1e-15
+#: A frame {0} on the base z axis farther than this many robot sizes from the base comes from a
+#: joint 1 axis nearly parallel to that axis (the common normal lies ~offset / tilt away): the base
+#: is then tilted onto joint 1's axis instead, which keeps every length of the table short.
+_FAR = 10.0
 
 
 def _base_frame(joint1: np.ndarray, scale: float) -> np.ndarray:
-    """Frame {0}: on the base z axis with x towards joint 1's axis; if joint 1's axis is tilted from
-    the base z axis by less than the parallel threshold (lines.ANGLE_TOL), the base turned onto it
-    about z x u (a pure rotation) first, so that the tilt stays in the base and row 1 is exact."""
+    """Frame {0}: on the base z axis with x towards joint 1's axis (the base itself when its x does).
+
+    When joint 1's axis is not exactly parallel to the base z axis but so nearly that this frame would
+    drop the tilt (sin below lines.ANGLE_TOL) or lie far away (beyond ``_FAR`` robot sizes), frame {0}
+    is instead on joint 1's axis, at the foot of the base origin, turned from the base by the smallest
+    rotation that takes z onto the axis: the tilt is kept in the base transform and row 1 is exact.
+    """
     ez = np.array([0.0, 0.0, 1.0])
-    u = joint1[:3, 2]
-    axis = np.cross(ez, u)
-    s = float(np.linalg.norm(axis))
-    ref = np.eye(4)
-    if _NOISE_TILT < s < ANGLE_TOL:
-        # the rotation by angle asin(s) (or pi - asin(s) for an anti-parallel axis, whose line is
-        # then taken as -u: frame {0}'s z stays close to the base z) about the unit axis
-        w = u if u[2] > 0 else -u
-        ref[:3, :3] = _rotation_onto(ez, w)
-    return common_normal_frame(ref[:3, 3], ref[:3, 2], joint1[:3, 3], u, on="a", prev=ref,
-                               scale=scale, keep=ref)
+    p, u = joint1[:3, 3], joint1[:3, 2]
+    on_z = common_normal_frame(np.zeros(3), ez, p, u, on="a", prev=np.eye(4), scale=scale, keep=np.eye(4))
+    s = float(np.linalg.norm(np.cross(ez, u)))
+    if not (_NOISE_TILT < s and (s < ANGLE_TOL or np.linalg.norm(on_z[:3, 3]) > _FAR * scale)):
+        return on_z
+    # an anti-parallel axis is taken as the line along -u, so that frame {0}'s z stays near the base z
+    w = u if u[2] > 0 else -u
+    ref = se3.homogeneous(_rotation_onto(ez, w), p - np.dot(p, w) * w)
+    return common_normal_frame(ref[:3, 3], w, p, u, on="a", prev=ref, scale=scale, keep=ref)
 
 
 def _rotation_onto(a: np.ndarray, b: np.ndarray) -> np.ndarray:
