@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from ._common import add_input, load_input, parse_q
+from ._common import add_degrees, add_input, load_input, parse_q, revolute_degrees
 
 EPILOG = """\
 The pose is the tool frame in the robot base frame (a world->base transform is not applied).
@@ -26,6 +26,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     add_input(p)
     p.add_argument("--q", required=True, metavar="Q1,Q2,...", help="joint values, one per joint")
     p.add_argument("--json", action="store_true", help='print {"T": 4x4} as JSON')
+    add_degrees(p, "revolute joint values in --q, and the printed roll, pitch, yaw")
     p.add_argument("--jacobian", action="store_true",
                    help='also the geometric Jacobian [v; w] (6 x n, base frame, at the tool origin); '
                         'JSON key "J"')
@@ -36,11 +37,15 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 
 def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from .. import se3
     from ..io.tables import fmt_num, matrix_text
 
     robot = load_input(args.input, args)
     q = parse_q(args.q, robot.n)
+    if args.degrees:
+        q = revolute_degrees(robot, q, to_radians=True)
     T = robot.fk(q)
     extra = _jacobian_extras(robot, q, args)
     if args.json:
@@ -52,9 +57,11 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(out))
         return 0
     rpy = se3.rpy_from_matrix(T[:3, :3])
+    unit = "degrees" if args.degrees else "radians"
     print(matrix_text(T, "T (tool in base frame)"))
     print("position: " + ", ".join(fmt_num(v) for v in T[:3, 3]))
-    print("rpy:      " + ", ".join(fmt_num(v) for v in rpy) + "  (roll, pitch, yaw; R = Rz Ry Rx)")
+    print("rpy:      " + ", ".join(fmt_num(v) for v in (np.degrees(rpy) if args.degrees else rpy))
+          + f"  (roll, pitch, yaw in {unit}; R = Rz Ry Rx)")
     if "J" in extra:
         from ..io.tables import text_table
 

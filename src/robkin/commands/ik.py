@@ -6,7 +6,7 @@ import argparse
 import json
 import sys
 
-from ._common import add_input, load_input, parse_pose, parse_q
+from ._common import add_degrees, add_input, load_input, parse_pose, parse_q, revolute_degrees
 
 EPILOG = """\
 The pose is the tool frame in the robot base frame: x,y,z,roll,pitch,yaw (URDF rpy, radians) or
@@ -42,6 +42,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="every distinct solution (closed form: all branches; numeric: those found from "
                         "1 + RESTARTS starts)")
     p.add_argument("--json", action="store_true", help='print {"solutions": [{"q": [...]}, ...]}')
+    add_degrees(p, "roll, pitch, yaw in --pose, revolute joint values in --q0 and in the solutions")
     p.add_argument("--q0", metavar="Q1,Q2,...",
                    help="preferred configuration: numeric start and tie-break (default: zeros)")
     mask = p.add_mutually_exclusive_group()
@@ -68,8 +69,10 @@ def run(args: argparse.Namespace) -> int:
     from ..errors import InputError
 
     robot = load_input(args.input, args)
-    T = parse_pose(args.pose)
+    T = parse_pose(args.pose, degrees=args.degrees)
     q0 = parse_q(args.q0, robot.n, "--q0") if args.q0 else None
+    if q0 is not None and args.degrees:
+        q0 = revolute_degrees(robot, q0, to_radians=True)
     mask = "position" if args.position_only else None
     if args.mask:
         mask = number_list(args.mask, "--mask")
@@ -83,6 +86,8 @@ def run(args: argparse.Namespace) -> int:
     else:
         solutions = np.empty((0, robot.n))
         print(f"robkin: ik: no solution ({result.method}): {result.message}", file=sys.stderr)
+    if args.degrees:
+        solutions = revolute_degrees(robot, solutions, to_radians=False)
     if args.json:
         print(json.dumps({"solutions": [{"q": [float(v) + 0.0 for v in q]} for q in solutions]}))
         return 0

@@ -22,8 +22,8 @@ import math
 
 import numpy as np
 
-from ..lines import (ANGLE_TOL, LENGTH_TOL, AxisRelation, classify, closest_points, perpendicular,
-                     point_line_foot)
+from ..lines import (ANGLE_TOL, LENGTH_TOL, AxisRelation, classify, closest_points, cross, norm,
+                     perpendicular, point_line_foot)
 from .. import se3
 
 __all__ = ["common_normal_frame", "frame_from_zx", "satisfies_normal", "dh_params_between",
@@ -44,15 +44,15 @@ def is_identity(T: np.ndarray, scale: float, tol: float = KEEP_TOL) -> bool:
 
 def frame_from_zx(origin: np.ndarray, z: np.ndarray, x: np.ndarray) -> np.ndarray:
     """Pose (4, 4) with the given origin, unit z, and x (made exactly orthogonal to z and unit)."""
-    z = z / np.linalg.norm(z)
+    z = z / norm(z)
     # Gram-Schmidt twice: when the given x is nearly along z (e.g. a common-normal direction that is
     # rounding noise, between coincident axes classified as parallel far from the base), one pass
     # leaves x . z ~ eps |x| / |x_perp| (seen: 5.6e-10) and the frame is not a rotation; the second
     # pass brings it back to rounding noise ("twice is enough", Parlett).
     for _ in range(2):
         x = x - np.dot(x, z) * z
-        x = x / np.linalg.norm(x)
-    return se3.homogeneous(np.column_stack([x, np.cross(z, x), z]), origin)
+        x = x / norm(x)
+    return se3.homogeneous(np.column_stack([x, cross(z, x), z]), origin)
 
 
 def satisfies_normal(frame: np.ndarray, p_other: np.ndarray, u_other: np.ndarray, scale: float,
@@ -61,7 +61,7 @@ def satisfies_normal(frame: np.ndarray, p_other: np.ndarray, u_other: np.ndarray
     o, x = frame[:3, 3], frame[:3, 0]
     if abs(np.dot(x, u_other)) > tol:
         return False
-    if np.linalg.norm(np.cross(x, u_other)) < ANGLE_TOL:  # x along the other line: cannot cross it
+    if norm(cross(x, u_other)) < ANGLE_TOL:  # x along the other line: cannot cross it
         return False
     return closest_points(o, x, p_other, u_other).distance <= tol * scale
 
@@ -99,12 +99,12 @@ def common_normal_frame(p_a: np.ndarray, u_a: np.ndarray, p_b: np.ndarray, u_b: 
     x_prev = prev[:3, 0]
     # the point where the previous frame meets line A: its origin (DH), or where its x crosses A (MDH)
     anchor = point_line_foot(prev[:3, 3], p_a, u_a) if on == "b" else x_line_on(prev, p_a, u_a)
-    y_ref = np.cross(u_a, x_prev)
+    y_ref = cross(u_a, x_prev)
     rel = classify(p_a, u_a, p_b, u_b, scale)
     if rel in (AxisRelation.PARALLEL, AxisRelation.ANTI_PARALLEL):
         foot_b = point_line_foot(anchor, p_b, u_b)
         normal = foot_b - anchor
-        dist = float(np.linalg.norm(normal))
+        dist = float(norm(normal))
         # Measured from the anchor rather than from p_a, the lines may still meet to rounding (seen:
         # normal exactly 0, and a NaN frame, when the robot's scale was 1e-6 of its frame offsets):
         # then they are coincident.
@@ -116,20 +116,20 @@ def common_normal_frame(p_a: np.ndarray, u_a: np.ndarray, p_b: np.ndarray, u_b: 
         rel = AxisRelation.COINCIDENT
     if rel in (AxisRelation.COINCIDENT, AxisRelation.ANTI_COINCIDENT):
         x = x_prev - np.dot(x_prev, u_self) * u_self
-        if np.linalg.norm(x) < 1e-6:  # prev x along the axis (cannot happen for a valid chain)
+        if norm(x) < 1e-6:  # prev x along the axis (cannot happen for a valid chain)
             x = perpendicular(u_self)
         origin = anchor if on == "a" else point_line_foot(anchor, p_b, u_b)
         return frame_from_zx(origin, u_self, x)
     cn = closest_points(p_a, u_a, p_b, u_b)
-    x = np.cross(u_a, u_b)
-    x = _choose_sign(x / np.linalg.norm(x), x_prev, y_ref)
+    x = cross(u_a, u_b)
+    x = _choose_sign(x / norm(x), x_prev, y_ref)
     return frame_from_zx(cn.c1 if on == "a" else cn.c2, u_self, x)
 
 
 def x_line_on(prev: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:
     """Where the x axis of ``prev`` meets the line (p, u); the foot of prev's origin if they miss."""
     o, x = prev[:3, 3], prev[:3, 0]
-    if np.linalg.norm(np.cross(x, u)) < ANGLE_TOL:
+    if norm(cross(x, u)) < ANGLE_TOL:
         return point_line_foot(o, p, u)
     return closest_points(o, x, p, u).c2
 
@@ -179,11 +179,11 @@ def approx_dh_params(prev: np.ndarray, target: np.ndarray) -> tuple[float, float
     # target with |theta| < KEEP_TOL may get +|theta|: the residual tool absorbs the 2e-12.)
     # lengths: the noise of o1 - o0 is eps times the coordinates, not times |o1 - o0| (a tool 1e-13
     # from the last frame, 1e-3 from the base, had its d sign flipped by 1e-19 of noise)
-    reach = float(max(np.linalg.norm(o1 - o0), np.linalg.norm(o0), np.linalg.norm(o1)))
-    theta = math.atan2(np.linalg.norm(np.cross(x0, x1)), np.dot(x0, x1))
+    reach = float(max(norm(o1 - o0), norm(o0), norm(o1)))
+    theta = math.atan2(norm(cross(x0, x1)), np.dot(x0, x1))
     if np.dot(y0, x1) < -KEEP_TOL:
         theta = -theta
-    alpha = math.atan2(np.linalg.norm(np.cross(z0, z1)), np.dot(z0, z1))
+    alpha = math.atan2(norm(cross(z0, z1)), np.dot(z0, z1))
     if np.dot(y1, z0) < -KEEP_TOL:
         alpha = -alpha
     d = _line_distance(o0, x0, o1, x1)
@@ -196,9 +196,9 @@ def approx_dh_params(prev: np.ndarray, target: np.ndarray) -> tuple[float, float
 
 
 def _line_distance(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarray) -> float:
-    n = np.cross(u1, u2)
-    nn = np.linalg.norm(n)
+    n = cross(u1, u2)
+    nn = norm(n)
     if nn < ANGLE_TOL:
         w = p2 - p1
-        return float(np.linalg.norm(w - np.dot(w, u1) * u1))
+        return float(norm(w - np.dot(w, u1) * u1))
     return float(abs(np.dot(p2 - p1, n)) / nn)

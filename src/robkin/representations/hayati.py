@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .. import se3
+from ..lines import cross, norm
 from ..robot import Robot
 from .dh import robot_from_links
 from .frames import (TIE_TOL, approx_dh_params, common_normal_frame, dh_params_between, is_identity,
@@ -72,7 +73,7 @@ def robot_from_hayati(table: HayatiTable, name: str | None = None) -> Robot:
 
 
 def _near_parallel(u_a: np.ndarray, u_b: np.ndarray) -> bool:
-    return float(np.linalg.norm(np.cross(u_a, u_b))) < NEAR_PARALLEL
+    return float(norm(cross(u_a, u_b))) < NEAR_PARALLEL
 
 
 def _hayati_step(prev: np.ndarray, p: np.ndarray, u: np.ndarray) -> tuple[float, ...]:

@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import se3
 from ..robot import Robot
-from ..lines import ANGLE_TOL
+from ..lines import ANGLE_TOL, cross, norm
 from .frames import common_normal_frame, frame_from_zx, mdh_params_between, x_line_on
 from .link_table import LinkTable, flip_frame, residual_tool, warn_fk_error
 from .rounding import snap_rows
@@ -94,8 +94,8 @@ def _base_frame(joint1: np.ndarray, scale: float) -> np.ndarray:
     ez = np.array([0.0, 0.0, 1.0])
     p, u = joint1[:3, 3], joint1[:3, 2]
     on_z = common_normal_frame(np.zeros(3), ez, p, u, on="a", prev=np.eye(4), scale=scale, keep=np.eye(4))
-    s = float(np.linalg.norm(np.cross(ez, u)))
-    if not (_NOISE_TILT < s and (s < ANGLE_TOL or np.linalg.norm(on_z[:3, 3]) > _FAR * scale)):
+    s = float(norm(cross(ez, u)))
+    if not (_NOISE_TILT < s and (s < ANGLE_TOL or norm(on_z[:3, 3]) > _FAR * scale)):
         return on_z
     # an anti-parallel axis is taken as the line along -u, so that frame {0}'s z stays near the base z
     w = u if u[2] > 0 else -u
@@ -105,7 +105,7 @@ def _base_frame(joint1: np.ndarray, scale: float) -> np.ndarray:
 
 def _rotation_onto(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The smallest rotation (3, 3) taking unit a onto unit b (not opposite to a)."""
-    v = np.cross(a, b)
+    v = cross(a, b)
     c = float(np.dot(a, b))
     K = np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
     return np.eye(3) + K + K @ K / (1.0 + c)
