@@ -135,3 +135,16 @@ def test_dh_table_frames_are_kept_so_tables_round_trip():
     plain = robot.replace(frames=robot.frames.copy())
     assert plain.frames_from is None
     assert abs(robkin.dh_from_robot(plain).rows[3, 3]) < EXACT
+
+
+def test_table_output_notes_why_a_base_or_tool_is_needed():
+    from robkin.io.tables import render
+
+    text = render(robkin.load(IIWA14_URDF), "dh")
+    assert "base: identity" in text and "note: base" not in text and "note: tool" not in text
+    shifted = robkin.load(IIWA14_URDF)
+    shifted = robkin.Robot(se3.trans(0.1, 0, 0) @ shifted.frames, shifted.joints)
+    text = render(shifted, "dh")
+    assert "note: base: joint 1's axis is not the robot base z axis" in text
+    panda = robkin.load(robot_file("panda_description/urdf/panda.urdf"), tip_link="panda_link8")
+    assert "note: tool: the tool frame is not the table's last frame" in render(panda, "mdh")

@@ -73,16 +73,31 @@ WARN_TOL = 1e-10
 _CHECK_SAMPLES = 8
 
 
+_UNIT_SAMPLES: dict[int, np.ndarray] = {}
+
+
+def _unit_sample(n: int) -> np.ndarray:
+    """The fixed sample (1 + _CHECK_SAMPLES, n) in [0, 1], row 0 the midpoint (made once per n: a
+    random generator costs more than the rest of the check)."""
+    U = _UNIT_SAMPLES.get(n)
+    if U is None:
+        rng = np.random.default_rng(20261123)  # fixed: the measure is deterministic
+        U = np.vstack([np.full(n, 0.5), rng.uniform(size=(_CHECK_SAMPLES, n))])
+        U.setflags(write=False)
+        _UNIT_SAMPLES[n] = U
+    return U
+
+
 def fk_error(fk: Callable[[np.ndarray], np.ndarray], robot: Robot) -> float:
     """Largest FK difference of a table from the robot, in length units: position difference plus
     the rotation difference (largest matrix entry) times the robot's size, over q = 0 and a fixed
     sample of configurations."""
-    rng = np.random.default_rng(20261123)  # fixed: the measure is deterministic
     lim = robot.limits
     span = np.where(robot.revolute, np.pi, robot.scale)
     lo = np.where(np.isfinite(lim[:, 0]), np.maximum(lim[:, 0], -span), -span)
     hi = np.where(np.isfinite(lim[:, 1]), np.minimum(lim[:, 1], span), span)
-    Q = np.vstack([np.zeros(robot.n), rng.uniform(lo, hi, size=(_CHECK_SAMPLES, robot.n))])
+    Q = lo + _unit_sample(robot.n) * (hi - lo)
+    Q[0] = 0.0
     A, B = fk(Q), robot.fk(Q)
     pos = np.linalg.norm(A[:, :3, 3] - B[:, :3, 3], axis=1)
     rot = np.abs(A[:, :3, :3] - B[:, :3, :3]).max(axis=(1, 2))
