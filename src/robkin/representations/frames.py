@@ -13,7 +13,11 @@ Canonical choices where the convention leaves freedom (documented in the README)
 - coincident axes: x of the previous frame is kept (a = d = alpha = theta = 0); anti-coincident: the
   previous frame turned by pi about x (alpha = pi).
 - a frame the input already gave that satisfies the convention is kept as it is (``keep``), so a DH
-  table read in and written out again comes back unchanged.
+  table read in and written out again comes back unchanged. The callers pass ``keep`` only for frames
+  that came from a table of the same kind (``Robot.frames_from``): frames of a URDF, PoE or RPY-XYZ
+  input are always placed by the rules above, so every robot gets the same canonical table.
+- frame {0} is placed from the robot base z axis by the same rules (the previous frame is the base),
+  so it lies where that axis meets joint 1's axis and is the base itself when they coincide.
 """
 
 from __future__ import annotations

@@ -77,12 +77,11 @@ _UNIT_SAMPLES: dict[int, np.ndarray] = {}
 
 
 def _unit_sample(n: int) -> np.ndarray:
-    """The fixed sample (1 + _CHECK_SAMPLES, n) in [0, 1], row 0 the midpoint (made once per n: a
-    random generator costs more than the rest of the check)."""
+    """The fixed sample (_CHECK_SAMPLES, n) in [0, 1), made once per joint count (a random generator
+    costs more than the rest of the check)."""
     U = _UNIT_SAMPLES.get(n)
     if U is None:
-        rng = np.random.default_rng(20261123)  # fixed: the measure is deterministic
-        U = np.vstack([np.full(n, 0.5), rng.uniform(size=(_CHECK_SAMPLES, n))])
+        U = np.random.default_rng(20261123).uniform(size=(_CHECK_SAMPLES, n))  # fixed: deterministic
         U.setflags(write=False)
         _UNIT_SAMPLES[n] = U
     return U
@@ -96,8 +95,7 @@ def fk_error(fk: Callable[[np.ndarray], np.ndarray], robot: Robot) -> float:
     span = np.where(robot.revolute, np.pi, robot.scale)
     lo = np.where(np.isfinite(lim[:, 0]), np.maximum(lim[:, 0], -span), -span)
     hi = np.where(np.isfinite(lim[:, 1]), np.minimum(lim[:, 1], span), span)
-    Q = lo + _unit_sample(robot.n) * (hi - lo)
-    Q[0] = 0.0
+    Q = np.vstack([np.zeros(robot.n), lo + _unit_sample(robot.n) * (hi - lo)])
     A, B = fk(Q), robot.fk(Q)
     pos = np.linalg.norm(A[:, :3, 3] - B[:, :3, 3], axis=1)
     rot = np.abs(A[:, :3, :3] - B[:, :3, :3]).max(axis=(1, 2))
@@ -113,24 +111,30 @@ def warn_fk_error(fk: Callable[[np.ndarray], np.ndarray], robot: Robot, section:
         from ..errors import ConditioningWarning
         from ..lines import ANGLE_TOL
 
-        tilts = _near_parallel(robot, ANGLE_TOL ** 0.5)
-        why = (f"joint axes {', '.join(tilts)} are nearly but not exactly parallel" if tilts else
-               "rounding in the table's parameters")
+        # sqrt(ANGLE_TOL) ~ 1.2e-4 rad: nearer than that to parallel, a DH common normal lies more
+        # than ~1e4 offsets away, or (below ANGLE_TOL) the tilt is dropped: the pairs worth naming
+        tilts = _tilted_pairs(robot, ANGLE_TOL ** 0.5)
+        why = (", ".join(tilts) if tilts else
+               "of rounding in the table's parameters")
+        hint = "" if section == "hayati" else "; the hayati table is exact there"
         warnings.warn(f"{section}: this table reproduces the robot's FK only to {err:.2g} (robot size "
                       f"{robot.scale:.3g}; measured at q = 0 and {_CHECK_SAMPLES} configurations) because "
-                      f"{why}; the hayati table is exact there", ConditioningWarning, stacklevel=3)
+                      f"{why}{hint}", ConditioningWarning, stacklevel=3)
     return err
 
 
-def _near_parallel(robot: Robot, below: float) -> list[str]:
-    """'i-j (angle)' for consecutive joint axes (and the base z axis, '0') closer than ``below`` rad
-    to parallel but not exactly parallel."""
+def _tilted_pairs(robot: Robot, below: float) -> list[str]:
+    """'joints i and i+1 are (angle) rad from parallel' for consecutive joint axes (the first pair: the base z axis
+    and joint 1) closer than ``below`` (sin of the angle) to parallel but not exactly parallel."""
+    from ..lines import cross, norm
+
     z = np.vstack([[0.0, 0.0, 1.0], robot.axes])
     out = []
     for i in range(robot.n):
-        s = float(np.linalg.norm(np.cross(z[i], z[i + 1])))
+        s = norm(cross(z[i], z[i + 1]))
         if 0.0 < s < below:
-            out.append(f"{i}-{i + 1} ({s:.2g} rad)")
+            pair = "the base z axis and joint 1" if i == 0 else f"joints {i} and {i + 1}"
+            out.append(f"{pair} are {s:.2g} rad from parallel")
     return out
 
 
