@@ -109,7 +109,8 @@ def test_degrees_are_written_when_asked_and_read_back():
 
 
 def test_radians_larger_than_a_turn_warn_naming_the_field():
-    text = DEG.replace("angles: degrees\n", "").replace("limits: {lower: -170, upper: 170}", "limits: {lower: -3, upper: 3}")
+    text = DEG.replace("angles: degrees\n", "").replace("limits: {lower: -170, upper: 170}",
+                                                       "limits: {lower: -3, upper: 3}")
     with pytest.warns(AngleUnitWarning, match=r"dh.rows\[0\].alpha: 90 rad is more than a full turn"):
         parse_document(text)
     with warnings.catch_warnings():

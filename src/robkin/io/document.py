@@ -1,10 +1,10 @@
 """The robot document (YAML or JSON): reading, validating, cross-checking and writing.
 
-Schema (DESIGN.md): ``robkin: 1``, optional ``name``, ``joints`` (one entry per joint: name, type
+Schema: ``robkin: 1``, optional ``name``, ``joints`` (one entry per joint: name, type
 revolute|prismatic, optional limits {lower, upper} and flip), and at least one representation section:
-``gjd``, ``dh``, ``mdh``, ``rpy_xyz``, ``poe``, ``poe_body``; optionally ``world``, the world -> robot
-base transform (4x4; also row 0 of ``rpy_xyz``), kept and written out but not part of FK. Rows may be objects with named keys or
-lists in column order; numbers may be arithmetic strings such as "-pi/2". A ``dh`` table with n + 1
+``gjd``, ``dh``, ``mdh``, ``hayati``, ``rpy_xyz``, ``poe``, ``poe_body``; optionally ``world``, the
+world -> robot base transform (4x4; also row 0 of ``rpy_xyz``), kept and written out but not part of
+FK, and ``angles``. Rows may be objects with named keys or lists in column order; numbers may be arithmetic strings such as "-pi/2". A ``dh`` table with n + 1
 rows and no ``base`` is the conversion paper's layout: its first row is the fixed base row.
 
 ``angles: degrees`` (default ``radians``) says that every angle in the document is in degrees: the
@@ -37,8 +37,8 @@ from ..robot import JOINT_TYPES, Joint, Robot, check_pose
 from .files import read_text_file
 from .numbers import matrix, number, number_list
 
-__all__ = ["SECTIONS", "ANGLE_UNITS", "AngleUnitWarning", "read_document", "parse_document", "read_sections", "document_from_robot",
-           "dump", "same_robot", "read_text", "parse_text"]
+__all__ = ["SECTIONS", "ANGLE_UNITS", "AngleUnitWarning", "read_document", "parse_document", "read_sections",
+           "document_from_robot", "dump", "same_robot", "read_text", "parse_text"]
 
 #: Representation sections, in the order that decides which one defines the GJD when several are given.
 SECTIONS = ("gjd", "dh", "mdh", "hayati", "rpy_xyz", "poe", "poe_body")

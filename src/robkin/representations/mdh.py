@@ -52,10 +52,11 @@ def mdh_frames(robot: Robot) -> list[np.ndarray]:
     Frame {0} sits on the robot base z axis with x along the common normal to joint 1 (the base itself
     when it qualifies), or, when joint 1's axis is so nearly parallel to the base z axis that this
     would drop its tilt or lie far away, on joint 1's axis turned from the base by that tilt, so the
-    tilt is kept in the base transform (see ``_base_frame``). Frames {1}..{n-1} sit on their joint axes with x along the common normal to
-    the next axis; frame {n} continues frame {n-1}'s x axis (theta_n = d_n = 0), and the tool is what
-    remains. The robot's own joint frames are kept (when they satisfy the convention) only if they are
-    a modified DH table's frames (``robot.frames_from == 'mdh'``).
+    tilt is kept in the base transform (see ``_base_frame``). Frames {1}..{n-1} sit on their joint
+    axes with x along the common normal to the next axis; frame {n} continues frame {n-1}'s x axis
+    (theta_n = d_n = 0), and the tool is what remains. The robot's own joint frames are kept (when
+    they satisfy the convention) only if they are a modified DH table's frames
+    (``robot.frames_from == 'mdh'``).
     """
     n, scale = robot.n, robot.scale
     cand = np.stack([flip_frame(robot.frames[i], j.flip) for i, j in enumerate(robot.joints)])
