@@ -282,6 +282,11 @@ def test_written_dh_tables_are_fixed_points(spec: RobotSpec):
     assert_tables_equal(mdh2.rows, mdh.rows, robot.scale)
     assert_poses_close(mdh2.base, mdh.base, robot.scale, tol=EXACT, what="mdh base")
     assert_poses_close(mdh2.tool, mdh.tool, robot.scale, tol=EXACT, what="mdh tool")
+    # Hayati: every row but the last (which moves towards the tool, as in DH) reads back unchanged
+    hay = robkin.hayati_from_robot(robot)
+    hay2 = robkin.hayati_from_robot(hay.to_robot())
+    assert_tables_equal(hay2.rows[:-1], hay.rows[:-1], robot.scale)
+    assert_poses_close(hay2.base, hay.base, robot.scale, tol=EXACT, what="hayati base")
 
 
 def assert_tables_equal(rows: np.ndarray, expected: np.ndarray, scale: float, tol: float = EXACT) -> None:
