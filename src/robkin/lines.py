@@ -60,8 +60,8 @@ class CommonNormal:
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Cross product of two 3-vectors (3,), the same arithmetic as ``np.cross`` without its axis
     handling, which costs ~20x the product itself on 3-vectors (the conversions call it per frame)."""
-    a0, a1, a2 = a.tolist()
-    b0, b1, b2 = b.tolist()
+    a0, a1, a2 = np.asarray(a, dtype=float).tolist()
+    b0, b1, b2 = np.asarray(b, dtype=float).tolist()
     return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
 
 
