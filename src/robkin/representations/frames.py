@@ -48,15 +48,23 @@ def is_identity(T: np.ndarray, scale: float, tol: float = KEEP_TOL) -> bool:
 
 def frame_from_zx(origin: np.ndarray, z: np.ndarray, x: np.ndarray) -> np.ndarray:
     """Pose (4, 4) with the given origin, unit z, and x (made exactly orthogonal to z and unit)."""
-    z = z / norm(z)
+    # Python floats: for 3-vectors every numpy call costs more than the arithmetic
+    zx, zy, zz = np.asarray(z, dtype=float).tolist()
+    k = math.sqrt(zx * zx + zy * zy + zz * zz)
+    zx, zy, zz = zx / k, zy / k, zz / k
+    xx, xy, xz = np.asarray(x, dtype=float).tolist()
     # Gram-Schmidt twice: when the given x is nearly along z (e.g. a common-normal direction that is
     # rounding noise, between coincident axes classified as parallel far from the base), one pass
     # leaves x . z ~ eps |x| / |x_perp| (seen: 5.6e-10) and the frame is not a rotation; the second
     # pass brings it back to rounding noise ("twice is enough", Parlett).
     for _ in range(2):
-        x = x - np.dot(x, z) * z
-        x = x / norm(x)
-    return se3.homogeneous(np.column_stack([x, cross(z, x), z]), origin)
+        c = xx * zx + xy * zy + xz * zz
+        xx, xy, xz = xx - c * zx, xy - c * zy, xz - c * zz
+        k = math.sqrt(xx * xx + xy * xy + xz * xz)
+        xx, xy, xz = xx / k, xy / k, xz / k
+    yx, yy, yz = zy * xz - zz * xy, zz * xx - zx * xz, zx * xy - zy * xx
+    ox, oy, oz = np.asarray(origin, dtype=float).tolist()
+    return np.array([[xx, yx, zx, ox], [xy, yy, zy, oy], [xz, yz, zz, oz], [0.0, 0.0, 0.0, 1.0]])
 
 
 def satisfies_normal(frame: np.ndarray, p_other: np.ndarray, u_other: np.ndarray, scale: float,
