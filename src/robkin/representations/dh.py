@@ -17,7 +17,7 @@ import numpy as np
 
 from .. import se3
 from ..robot import Robot
-from .frames import approx_dh_params, common_normal_frame, dh_params_between, satisfies_normal
+from .frames import approx_dh_params, common_normal_frame, dh_params_between, relative_pose, satisfies_normal
 from .link_table import COLUMNS, LinkTable, check_dh_rows, flip_frame, residual_tool, warn_fk_error
 from .rounding import snap_rows
 
@@ -102,7 +102,7 @@ def dh_from_robot(robot: Robot) -> DHTable:
     chain = list(F) + [last]
     rows = np.array([dh_params_between(chain[i], chain[i + 1]) for i in range(robot.n)])
     if robot.frames_from != "dh":
-        rows = snap_rows(rows, robot.joints, se3.inv(last) @ robot.tool, robot.scale)
+        rows = snap_rows(rows, robot.joints, relative_pose(last, robot.tool), robot.scale)
     tool = residual_tool(F[0], rows, se3.dh_matrix, robot.tool, robot.scale)
     table = DHTable(rows, robot.joints, base=F[0], tool=tool)
     warn_fk_error(table.fk, robot, "dh")

@@ -28,7 +28,7 @@ from ..lines import cross, norm
 from ..robot import Robot
 from .dh import robot_from_links
 from .frames import (TIE_TOL, approx_dh_params, common_normal_frame, dh_params_between, is_identity,
-                     satisfies_normal, tidy_angle)
+                     relative_pose, satisfies_normal, tidy_angle)
 from .link_table import LinkTable, flip_frame, residual_tool, warn_fk_error
 from .rounding import snap_rows
 
@@ -106,7 +106,7 @@ def _half_turn(theta: float) -> tuple[float, bool]:
 def hayati_params_between(prev: np.ndarray, frame: np.ndarray) -> tuple[float, ...]:
     """(a, d, alpha, theta, beta) with prev^-1 frame = Rz(theta) Tz(d) Tx(a) Rx(alpha) Ry(beta), the
     branch with |theta| <= pi/2 that ``_hayati_step`` builds (exact if the frame is such a successor)."""
-    T = se3.inv(prev) @ frame
+    T = relative_pose(prev, frame)
     R, p = T[:3, :3], T[:3, 3]
     # M = Rz(theta)^T R = Rx(alpha) Ry(beta) has M[0, 1] = 0: theta is fixed up to a half turn
     theta, _ = _half_turn(math.atan2(-R[0, 1], R[1, 1]))
@@ -134,8 +134,8 @@ def hayati_frames(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         p, u = cand[i, :3, 3], cand[i, :3, 2]
         if _near_parallel(prev[:3, 2], u):
             F[i] = prev @ hayati_matrix(*_hayati_step(prev, p, u))
-            if keep and is_identity(se3.inv(prev @ hayati_matrix(*hayati_params_between(prev, cand[i])))
-                                    @ cand[i], scale):
+            if keep and is_identity(relative_pose(prev @ hayati_matrix(*hayati_params_between(prev, cand[i])),
+                                                  cand[i]), scale):
                 F[i] = cand[i]
         else:
             F[i] = common_normal_frame(prev[:3, 3], prev[:3, 2], p, u, on="b", prev=prev, scale=scale,
@@ -157,7 +157,7 @@ def hayati_from_robot(robot: Robot) -> HayatiTable:
     rows = np.array([hayati_params_between(chain[i], chain[i + 1]) if beta_row[i]
                      else dh_params_between(chain[i], chain[i + 1]) + (0.0,) for i in range(robot.n)])
     if robot.frames_from != "hayati":
-        rows = snap_rows(rows, robot.joints, se3.inv(last) @ robot.tool, robot.scale)
+        rows = snap_rows(rows, robot.joints, relative_pose(last, robot.tool), robot.scale)
     tool = residual_tool(F[0], rows, hayati_matrix, robot.tool, robot.scale)
     table = HayatiTable(rows, robot.joints, base=F[0], tool=tool)
     warn_fk_error(table.fk, robot, "hayati")

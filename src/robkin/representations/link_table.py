@@ -15,7 +15,7 @@ from numpy.typing import ArrayLike
 from .. import se3
 from ..errors import InputError
 from ..robot import Joint, Robot, check_pose, check_q
-from .frames import is_identity
+from .frames import is_identity, relative_pose
 
 __all__ = ["LinkTable", "check_dh_rows", "flip_frame", "residual_tool", "fk_error", "warn_fk_error",
            "placement_notes", "COLUMNS", "WARN_TOL"]
@@ -58,7 +58,7 @@ def residual_tool(base: np.ndarray, rows: np.ndarray, link_matrix: Callable[...,
     T = base
     for A in link_matrix(*rows.T):
         T = T @ A
-    tool = se3.inv(T) @ tool_pose
+    tool = relative_pose(T, tool_pose)
     return np.eye(4) if is_identity(tool, scale) else tool
 
 

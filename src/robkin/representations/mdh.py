@@ -16,7 +16,7 @@ import numpy as np
 from .. import se3
 from ..robot import Robot
 from ..lines import ANGLE_TOL, cross, norm
-from .frames import common_normal_frame, frame_from_zx, mdh_params_between, x_line_on
+from .frames import common_normal_frame, frame_from_zx, mdh_params_between, relative_pose, x_line_on
 from .link_table import LinkTable, flip_frame, residual_tool, warn_fk_error
 from .rounding import snap_rows
 
@@ -122,7 +122,7 @@ def mdh_from_robot(robot: Robot) -> MDHTable:
     n = robot.n
     rows = np.array([mdh_params_between(M[i], M[i + 1]) for i in range(n)])
     if robot.frames_from != "mdh":
-        rows = snap_rows(rows, robot.joints, se3.inv(M[n]) @ robot.tool, robot.scale)
+        rows = snap_rows(rows, robot.joints, relative_pose(M[n], robot.tool), robot.scale)
     tool = residual_tool(M[0], rows, se3.mdh_matrix, robot.tool, robot.scale)
     table = MDHTable(rows, robot.joints, base=M[0], tool=tool)
     warn_fk_error(table.fk, robot, "mdh")
