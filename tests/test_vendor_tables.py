@@ -148,3 +148,14 @@ def test_table_output_notes_why_a_base_or_tool_is_needed():
     assert "note: base: joint 1's axis is not the robot base z axis" in text
     panda = robkin.load(robot_file("panda_description/urdf/panda.urdf"), tip_link="panda_link8")
     assert "note: tool: the tool frame is not the table's last frame" in render(panda, "mdh")
+
+
+def test_cli_table_of_ur5_has_d1_in_row_1_and_no_base(capsys):
+    from robkin.cli import main
+
+    assert main(["convert", robot_file("ur_description/urdf/ur5_robot.urdf"), "--tip-link", "tool0",
+                 "--to", "dh"]) == 0
+    out = capsys.readouterr().out
+    row1 = next(line for line in out.splitlines() if line.startswith("1 "))
+    assert row1.split()[3:5] == ["0", "0.089159"]  # a, d of row 1
+    assert "base: identity" in out and "tool (residual T_t): identity" in out
