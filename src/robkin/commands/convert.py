@@ -46,8 +46,8 @@ examples:
   robkin convert rrpr.yaml --to dh --layout paper
   robkin convert ur5.urdf --tip-link tool0 --to dh -o ur5_dh.yaml
   robkin convert panda.urdf --tip-link panda_hand_tcp --to mdh --json
-  robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --degrees
-  robkin convert calibrated.urdf --to hayati -o calibrated_hayati.yaml
+  robkin convert ur5.urdf --tip-link tool0 --to dh --degrees
+  robkin convert ur5.urdf --tip-link tool0 --to hayati -o ur5_hayati.yaml
   robkin convert robot.yaml --to urdf -o robot.urdf
   robkin convert robot.yaml --to mjcf -o robot.xml
   robkin convert a.yaml b.yaml c.urdf --to yaml -o converted/

@@ -105,7 +105,7 @@ def blocks(robot: Robot, fmt: str, layout: str = "robkin", degrees: bool = False
         if base_row is None:
             out.append(matrix_text(t.base, "base"))
         out.append(matrix_text(t.tool, "tool (residual T_t)" if fmt == "dh" else "tool"))
-        out.extend(f"note: {line}" for line in placement_notes(t.base, t.tool, robot.scale, t.SECTION))
+        out.extend(f"note: {line}" for line in placement_notes(t))
         return out
     if fmt in ("poe", "poe-body"):
         p = poe_from_robot(robot, "space" if fmt == "poe" else "body")

@@ -138,15 +138,18 @@ def _tilted_pairs(robot: Robot, below: float) -> list[str]:
     return out
 
 
-def placement_notes(base: np.ndarray, tool: np.ndarray, scale: float, section: str) -> list[str]:
+def placement_notes(table: "LinkTable") -> list[str]:
     """Why a table needs a base or a tool transform (one line each; none when they are identities)."""
+    # the table's own size (its lengths and offsets) as the scale of "identity to rounding"
+    scale = float(np.abs(table.rows[:, :2]).sum() + np.linalg.norm(table.base[:3, 3])
+                  + np.linalg.norm(table.tool[:3, 3])) or 1.0
     notes = []
-    if not is_identity(base, scale):
-        why = ("joint 1's axis is not the robot base z axis" if section == "dh" else
-               "the robot base frame's x axis does not meet joint 1's axis at a right angle, or joint 1's "
-               "axis is tilted from the base z axis")
+    if not is_identity(table.base, scale):
+        why = ("the robot base frame's x axis does not meet joint 1's axis at a right angle, or joint 1's "
+               "axis is tilted from the base z axis" if table.SECTION == "mdh" else
+               "joint 1's axis is not the robot base z axis")
         notes.append(f"base: {why}, so frame {{0}} is reached by this fixed transform")
-    if not is_identity(tool, scale):
+    if not is_identity(table.tool, scale):
         notes.append("tool: the tool frame is not the table's last frame (its x axis does not cross the "
                      "last joint axis at a right angle, or it is turned about or shifted along that axis), "
                      "so the rest is this fixed transform")
