@@ -53,14 +53,14 @@ def test_expressions_lists_and_named_rows_are_read():
 def test_full_document_round_trip_all_sections_agree(tmp_path):
     robot = read_document(EXAMPLES_DIR / "rrpr.yaml")
     doc = document_from_robot(robot)
-    assert list(doc) == ["robkin", "name", "joints", "gjd", "dh", "mdh", "rpy_xyz", "poe", "poe_body"]
+    assert list(doc) == ["robkin", "name", "joints", "gjd", "dh", "mdh", "hayati", "rpy_xyz", "poe", "poe_body"]
     for fmt in ("yaml", "json"):
         path = tmp_path / f"r.{fmt}"
         path.write_text(dump(doc, fmt))
         back = read_document(path)  # every section is cross-checked on reading
         np.testing.assert_allclose(back.fk(RRPR_Q), robot.fk(RRPR_Q), atol=1e-12)
         sections = read_sections(path)
-        assert set(sections) == {"gjd", "dh", "mdh", "rpy_xyz", "poe", "poe_body"}
+        assert set(sections) == {"gjd", "dh", "mdh", "hayati", "rpy_xyz", "poe", "poe_body"}
         for r in sections.values():
             np.testing.assert_allclose(r.fk(RRPR_Q), robot.fk(RRPR_Q), atol=1e-12)
 

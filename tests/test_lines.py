@@ -172,3 +172,13 @@ def test_angle_tolerance_boundary():
     assert classify(np.zeros(3), u1, p2, unit([0, 1e-6, 1]), 1.0) is AxisRelation.SKEW
     assert classify(np.zeros(3), u1, p2, -unit([1e-10, 0, 1]), 1.0) is AxisRelation.ANTI_PARALLEL
     assert 1e-10 < ANGLE_TOL < 1e-6 and LENGTH_TOL < 1e-6
+
+
+def test_cross_and_norm_match_numpy():
+    from robkin.lines import cross, norm
+
+    rng = np.random.default_rng(7)
+    for a, b in rng.normal(size=(50, 2, 3)):
+        np.testing.assert_array_equal(cross(a, b), np.cross(a, b))
+        assert norm(a) == pytest.approx(float(np.linalg.norm(a)), rel=1e-15)
+    np.testing.assert_array_equal(cross([1, 0, 0], [0, 1, 0]), [0.0, 0.0, 1.0])

@@ -42,7 +42,7 @@ EXACT = 1e-12
 #: non-parallel consecutive axes (see ``conditioning_tol``); for all others it is FK_TOL.
 EPS = float(np.finfo(float).eps)
 
-REPRESENTATIONS = ("gjd", "dh", "mdh", "poe", "poe_body", "rpy")
+REPRESENTATIONS = ("gjd", "dh", "mdh", "hayati", "poe", "poe_body", "rpy")
 
 # Nearly parallel axes (rounded inputs) make the DH/MDH writers warn, as documented; here that is
 # expected, and the accuracy it warns about is what the tolerances above account for.
@@ -63,6 +63,8 @@ def write(robot: Robot, rep: str):
         return robkin.dh_from_robot(robot)
     if rep == "mdh":
         return robkin.mdh_from_robot(robot)
+    if rep == "hayati":
+        return robkin.hayati_from_robot(robot)
     if rep == "poe":
         return robkin.poe_from_robot(robot, "space")
     if rep == "poe_body":
@@ -91,7 +93,7 @@ def rounded(rep_obj, unit: float = 1.0, decimals: int = 6):
         warnings.simplefilter("ignore", ProjectionWarning)
         if isinstance(rep_obj, Robot):
             return Robot(r(rep_obj.frames, pose), rep_obj.joints, world=r(rep_obj.world, pose))
-        if isinstance(rep_obj, (robkin.DHTable, robkin.MDHTable)):
+        if isinstance(rep_obj, (robkin.DHTable, robkin.MDHTable, robkin.HayatiTable)):
             return type(rep_obj)(r(rep_obj.rows, (..., slice(0, 2))), rep_obj.joints, base=r(rep_obj.base, pose),
                                  tool=r(rep_obj.tool, pose))
         if isinstance(rep_obj, robkin.PoE):
@@ -280,6 +282,11 @@ def test_written_dh_tables_are_fixed_points(spec: RobotSpec):
     assert_tables_equal(mdh2.rows, mdh.rows, robot.scale)
     assert_poses_close(mdh2.base, mdh.base, robot.scale, tol=EXACT, what="mdh base")
     assert_poses_close(mdh2.tool, mdh.tool, robot.scale, tol=EXACT, what="mdh tool")
+    # Hayati: every row but the last (which moves towards the tool, as in DH) reads back unchanged
+    hay = robkin.hayati_from_robot(robot)
+    hay2 = robkin.hayati_from_robot(hay.to_robot())
+    assert_tables_equal(hay2.rows[:-1], hay.rows[:-1], robot.scale)
+    assert_poses_close(hay2.base, hay.base, robot.scale, tol=EXACT, what="hayati base")
 
 
 def assert_tables_equal(rows: np.ndarray, expected: np.ndarray, scale: float, tol: float = EXACT) -> None:

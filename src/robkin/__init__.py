@@ -10,6 +10,8 @@ Conventions (used everywhere in the package):
   z_{i-1}; theta (revolute) or d (prismatic) is the value at q = 0 and the joint adds q_i.
 - Modified (Craig) DH row (a, d, alpha, theta) = (a_{i-1}, d_i, alpha_{i-1}, theta_i):
   A_i = Rx(alpha) Tx(a) Rz(theta) Tz(d).
+- Hayati row (a, d, alpha, theta, beta): A_i = Rz(theta) Tz(d) Tx(a) Rx(alpha) Ry(beta), joint i as in
+  standard DH; beta is used (and d = 0) only where axes i and i+1 are nearly parallel.
 - PoE screws (w, v): revolute (w, -w x p), prismatic (0, v). Space: T = exp([S1]q1)...exp([Sn]qn) M;
   body: T = M exp([B1]q1)...exp([Bn]qn).
 - RPY is URDF's: R = Rz(yaw) Ry(pitch) Rx(roll); a row is (roll, pitch, yaw, x, y, z); an RPY-XYZ table
@@ -24,16 +26,18 @@ import os
 
 from .errors import ConditioningWarning, InputError, ProjectionWarning, RobkinError
 from .robot import Joint, Robot
-from .representations import (DHTable, MDHTable, PoE, RPYTable, dh_from_robot, mdh_from_robot,
-                              poe_from_robot, robot_from_dh, robot_from_gjd, robot_from_mdh,
-                              robot_from_poe, robot_from_rpy, rpy_from_robot)
+from .representations import (DHTable, HayatiTable, MDHTable, PoE, RPYTable, dh_from_robot,
+                              hayati_from_robot, mdh_from_robot, poe_from_robot, robot_from_dh,
+                              robot_from_gjd, robot_from_hayati, robot_from_mdh, robot_from_poe,
+                              robot_from_rpy, rpy_from_robot)
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "Joint", "Robot", "DHTable", "MDHTable", "PoE", "RPYTable",
-    "dh_from_robot", "mdh_from_robot", "poe_from_robot", "rpy_from_robot",
-    "robot_from_dh", "robot_from_mdh", "robot_from_poe", "robot_from_rpy", "robot_from_gjd",
+    "Joint", "Robot", "DHTable", "MDHTable", "HayatiTable", "PoE", "RPYTable",
+    "dh_from_robot", "mdh_from_robot", "hayati_from_robot", "poe_from_robot", "rpy_from_robot",
+    "robot_from_dh", "robot_from_mdh", "robot_from_hayati", "robot_from_poe", "robot_from_rpy",
+    "robot_from_gjd",
     "RobkinError", "InputError", "ProjectionWarning", "ConditioningWarning", "load", "__version__",
 ]
 

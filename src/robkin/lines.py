@@ -9,13 +9,14 @@ millimetres is classified the same way.
 from __future__ import annotations
 
 import enum
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 __all__ = [
     "ANGLE_TOL", "LENGTH_TOL", "AxisRelation", "CommonNormal",
-    "closest_points", "common_normal", "classify", "point_line_foot", "perpendicular",
+    "closest_points", "common_normal", "classify", "point_line_foot", "perpendicular", "cross", "norm",
 ]
 
 #: sin of the angle below which two axes are treated as parallel. Exactly parallel axes computed
@@ -56,13 +57,26 @@ class CommonNormal:
     distance: float
 
 
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross product of two 3-vectors (3,), the same arithmetic as ``np.cross`` without its axis
+    handling, which costs ~20x the product itself on 3-vectors (the conversions call it per frame)."""
+    a0, a1, a2 = _xyz(a)
+    b0, b1, b2 = _xyz(b)
+    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+
+
+def norm(v: np.ndarray) -> float:
+    """Euclidean length of a 3-vector, as a Python float."""
+    return math.sqrt(float(np.dot(v, v)))
+
+
 def perpendicular(u: np.ndarray) -> np.ndarray:
     """A unit vector normal to unit u, built from the coordinate axis least aligned with u."""
     k = int(np.argmin(np.abs(u)))
     e = np.zeros(3)
     e[k] = 1.0
     x = e - np.dot(e, u) * u
-    return x / np.linalg.norm(x)
+    return x / norm(x)
 
 
 def point_line_foot(point: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:
@@ -82,35 +96,47 @@ def closest_points(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarra
     # the feet then slide along the lines by ~eps |p1 - p2| / sin^2, and the x axis through them misses
     # the other line by that times sin. Re-anchored, w is perpendicular to u1 and only as long as the
     # distance of p2 from line 1, so the miss is back to ~eps * offset / sin (see ANGLE_TOL).
-    s = float(np.dot(p2 - p1, u1))
-    p1 = p1 + s * u1
-    w = p1 - p2
-    b = float(np.dot(u1, u2))
-    d1, d2 = float(np.dot(u1, w)), float(np.dot(u2, w))
+    # Scalar arithmetic on Python floats: the inputs are 3-vectors, for which every numpy call costs
+    # more than the arithmetic (this runs several times per frame of every conversion).
+    (ax, ay, az), (ux, uy, uz) = _xyz(p1), _xyz(u1)
+    (bx, by, bz), (vx, vy, vz) = _xyz(p2), _xyz(u2)
+    s = (bx - ax) * ux + (by - ay) * uy + (bz - az) * uz
+    ax, ay, az = ax + s * ux, ay + s * uy, az + s * uz
+    wx, wy, wz = ax - bx, ay - by, az - bz
+    b = ux * vx + uy * vy + uz * vz
+    d1, d2 = ux * wx + uy * wy + uz * wz, vx * wx + vy * wy + vz * wz
     # |u1 x u2|^2 is computed directly rather than as 1 - b^2 to keep relative accuracy at small angles.
-    det = float(np.dot(np.cross(u1, u2), np.cross(u1, u2)))
+    nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+    det = nx * nx + ny * ny + nz * nz
     t1 = (b * d2 - d1) / det
     t2 = (d2 - b * d1) / det
-    c1, c2 = p1 + t1 * u1, p2 + t2 * u2
+    c1 = (ax + t1 * ux, ay + t1 * uy, az + t1 * uz)
+    c2 = (bx + t2 * vx, by + t2 * vy, bz + t2 * vz)
+    dist = math.sqrt((c2[0] - c1[0]) ** 2 + (c2[1] - c1[1]) ** 2 + (c2[2] - c1[2]) ** 2)
     t1 += s  # back to a parameter along line 1 from the caller's p1
-    return CommonNormal(c1, c2, t1, t2, float(np.linalg.norm(c2 - c1)))
+    return CommonNormal(np.array(c1), np.array(c2), t1, t2, dist)
+
+
+def _xyz(v: np.ndarray) -> list[float]:
+    """A 3-vector as three Python floats."""
+    return np.asarray(v, dtype=float).tolist()
 
 
 def common_normal(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarray,
                   *, origin: np.ndarray | None = None) -> CommonNormal:
     """Common normal of two lines. For parallel lines it is the one through ``origin`` (default p1)."""
-    if np.linalg.norm(np.cross(u1, u2)) < ANGLE_TOL:
+    if norm(cross(u1, u2)) < ANGLE_TOL:
         start = point_line_foot(p1 if origin is None else origin, p1, u1)
         foot = point_line_foot(start, p2, u2)
         return CommonNormal(start, foot, float(np.dot(start - p1, u1)), float(np.dot(foot - p2, u2)),
-                            float(np.linalg.norm(foot - start)))
+                            norm(foot - start))
     return closest_points(p1, u1, p2, u2)
 
 
 def classify(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarray, scale: float = 1.0
              ) -> AxisRelation:
     """Relation of line 2 to line 1, with the tolerances documented at the top of this module."""
-    parallel = np.linalg.norm(np.cross(u1, u2)) < ANGLE_TOL
+    parallel = norm(cross(u1, u2)) < ANGLE_TOL
     same_sense = np.dot(u1, u2) > 0
     dist = common_normal(p1, u1, p2, u2).distance
     meet = dist <= LENGTH_TOL * max(scale, 1e-300)

@@ -168,12 +168,18 @@ class Robot:
         World -> robot base transform. Kept and written out (RPY row 0, URDF world joint), but not
         part of forward kinematics, which is always in the robot base frame.
     name : str, optional
+    frames_from : str, optional
+        The frame-based table these frames are the frames of ('dh', 'mdh' or 'hayati'), or None (URDF,
+        PoE, RPY-XYZ, GJD input, or frames computed otherwise). A conversion back to that same table
+        keeps the given frames (so a table read in and written out comes back as it was); every other
+        conversion places its frames by the canonical rules. Cleared by ``replace(frames=...)``.
     """
 
     frames: np.ndarray
     joints: tuple[Joint, ...]
     world: np.ndarray = field(default_factory=lambda: np.eye(4))
     name: str | None = None
+    frames_from: str | None = None
 
     def __post_init__(self) -> None:
         frames = np.array(self.frames, dtype=float)
@@ -279,7 +285,13 @@ class Robot:
         return S
 
     def replace(self, **changes: Any) -> "Robot":
-        """A copy with some fields changed (frames, joints, world, name)."""
+        """A copy with some fields changed (frames, joints, world, name, frames_from).
+
+        New frames are no longer those of the table the robot came from, so unless ``frames_from`` is
+        given with them it is cleared.
+        """
+        if "frames" in changes:
+            changes.setdefault("frames_from", None)
         return replace(self, **changes)
 
     # ------------------------------------------------------------------ kinematics

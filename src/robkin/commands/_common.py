@@ -67,8 +67,9 @@ def parse_q(text: str, n: int, option: str = "--q") -> "np.ndarray":
     return np.array(values)
 
 
-def parse_pose(text: str, option: str = "--pose") -> "np.ndarray":
-    """A pose from 'x,y,z,roll,pitch,yaw' (URDF rpy, radians) or 16 numbers (row-major 4x4)."""
+def parse_pose(text: str, option: str = "--pose", degrees: bool = False) -> "np.ndarray":
+    """A pose from 'x,y,z,roll,pitch,yaw' (URDF rpy, radians, or degrees if asked) or 16 numbers
+    (row-major 4x4)."""
     import numpy as np
 
     from .. import se3
@@ -76,13 +77,26 @@ def parse_pose(text: str, option: str = "--pose") -> "np.ndarray":
 
     values = number_list(text, option)
     if len(values) == 6:
-        T = se3.homogeneous(se3.matrix_from_rpy(values[3:]), values[:3])
+        rpy = np.radians(values[3:]) if degrees else values[3:]
+        T = se3.homogeneous(se3.matrix_from_rpy(rpy), values[:3])
     elif len(values) == 16:
         T = np.array(values).reshape(4, 4)
     else:
         raise InputError(f"{option}: expected 6 numbers x,y,z,roll,pitch,yaw or 16 numbers (row-major 4x4), "
                          f"got {len(values)}")
     return check_pose(T, option)
+
+
+def add_degrees(p: argparse.ArgumentParser, what: str) -> None:
+    """The --degrees switch of commands that read or print angles."""
+    p.add_argument("--degrees", action="store_true", help=f"angles in degrees: {what}")
+
+
+def revolute_degrees(robot: Robot, q: np.ndarray, to_radians: bool) -> np.ndarray:
+    """q (..., n) with the revolute joints' values converted degrees -> radians (or back)."""
+    import numpy as np
+
+    return np.where(robot.revolute, np.radians(q) if to_radians else np.degrees(q), q)
 
 
 def number_option_fix(argv: list[str], options: tuple[str, ...]) -> list[str]:

@@ -11,7 +11,7 @@ from ._common import add_input, load_input
 from ._output import wrote
 
 #: --to FORMAT -> document section written for it (None: a whole document or another file type)
-SECTION_OF = {"dh": "dh", "mdh": "mdh", "poe": "poe", "poe-body": "poe_body", "rpy-xyz": "rpy_xyz",
+SECTION_OF = {"dh": "dh", "mdh": "mdh", "hayati": "hayati", "poe": "poe", "poe-body": "poe_body", "rpy-xyz": "rpy_xyz",
               "gjd": "gjd", "json": None, "yaml": None, "urdf": None, "mjcf": None}
 #: Output file extensions accepted for each format (the first is used for batch output names).
 EXTENSIONS = {"urdf": (".urdf",), "mjcf": (".xml", ".mjcf"), "json": (".json",), "yaml": (".yaml", ".yml")}
@@ -20,6 +20,8 @@ DOC_EXTENSIONS = (".yaml", ".yml", ".json")
 EPILOG = """\
 formats:
   dh        standard DH table (+ base, + residual tool)     mdh       modified (Craig) DH table
+  hayati    Hayati's parameters: DH with a tilt beta about y instead of d between nearly parallel
+            axes (exact and short there, the calibration standard)
   poe       Product of Exponentials, space frame            poe-body  PoE, body frame
   rpy-xyz   RPY-XYZ table, n+2 rows (URDF convention)       gjd       Global Joint Description frames
   json/yaml a robot document with every section             urdf      a URDF file
@@ -32,6 +34,11 @@ json/yaml, or the URDF/MJCF). Several inputs need -o DIR; every input is read an
 and files are written only if all of them succeed. Output goes to a temporary file renamed into
 place, so a failed run never leaves a partial or clobbered file.
 
+Angles are in radians unless --degrees is given: then the table on stdout shows degrees, and a
+written robot document holds its angles in degrees and says 'angles: degrees'. Tables note where an
+offset had to go into the base or tool transform, and warn (with the FK error measured) where a DH
+or modified DH table cannot be exact (nearly parallel axes: use --to hayati).
+
 Joint variables are the same in every output: q_i means the same configuration in the DH table, the
 PoE and the URDF it came from (same sign, same zero); a note on stderr says so for URDF input.
 
@@ -40,6 +47,8 @@ examples:
   robkin convert rrpr.yaml --to dh --layout paper
   robkin convert ur5.urdf --tip-link tool0 --to dh -o ur5_dh.yaml
   robkin convert panda.urdf --tip-link panda_hand_tcp --to mdh --json
+  robkin convert ur5.urdf --tip-link tool0 --to dh --degrees
+  robkin convert ur5.urdf --tip-link tool0 --to hayati -o ur5_hayati.yaml
   robkin convert robot.yaml --to urdf -o robot.urdf
   robkin convert robot.yaml --to mjcf -o robot.xml
   robkin convert a.yaml b.yaml c.urdf --to yaml -o converted/
@@ -59,10 +68,13 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="print the robot document with the chosen section as JSON (instead of a table)")
     p.add_argument("--layout", choices=["robkin", "paper"], default="robkin",
                    help="DH table layout on stdout: 'paper' prints the base as row 0 (n+1 rows)")
+    p.add_argument("--degrees", action="store_true",
+                   help="angles in degrees: in the table on stdout, and in a written robot document "
+                        "(which then says 'angles: degrees')")
     return p
 
 
-def _render_file(robot, fmt: str, out_ext: str) -> str:
+def _render_file(robot, fmt: str, out_ext: str, degrees: bool = False) -> str:
     """Text of the output file for one robot."""
     from ..io.document import document_from_robot, dump
 
@@ -75,7 +87,8 @@ def _render_file(robot, fmt: str, out_ext: str) -> str:
 
         return mjcf_from_robot(robot)
     section = SECTION_OF[fmt]
-    doc = document_from_robot(robot) if section is None else document_from_robot(robot, (section,))
+    doc = document_from_robot(robot, degrees=degrees) if section is None else \
+        document_from_robot(robot, (section,), degrees=degrees)
     doc_fmt = "json" if (fmt == "json" or out_ext == ".json") and fmt != "yaml" else "yaml"
     return dump(doc, doc_fmt)
 
@@ -115,7 +128,7 @@ def _mapping_note(path: str, robot, fmt: str) -> str | None:
     note = (f"joint variables: q_i in this {fmt} output is the {what} of joint i ({names}), "
             f"with the same sign and the same zero")
     flipped = [j.name for j in robot.joints if j.flip]
-    if flipped and fmt in ("dh", "mdh", "rpy-xyz"):
+    if flipped and fmt in ("dh", "mdh", "hayati", "rpy-xyz"):
         note += (f"; joint(s) {', '.join(flipped)} point against their frame's z (flip: true), so the table "
                  f"subtracts q there")
     return note
@@ -145,7 +158,7 @@ def run(args: argparse.Namespace) -> int:
         if dup:
             raise InputError(f"several inputs would write the same file(s): {', '.join(sorted(dup))}")
         check_writable_dir(targets[0] if out_dir.is_dir() else out_dir)  # the folder, or where it will be made
-        texts = [_render_file(load_input(i, args), fmt, _out_ext(fmt)) for i in inputs]
+        texts = [_render_file(load_input(i, args), fmt, _out_ext(fmt), args.degrees) for i in inputs]
         out_dir.mkdir(exist_ok=True)  # only now: a failed conversion leaves no empty folder behind
         write_texts_atomic(list(zip(targets, texts)))  # all or nothing
         for target in targets:
@@ -160,19 +173,19 @@ def run(args: argparse.Namespace) -> int:
             out = out / (Path(inputs[0]).stem + _out_ext(fmt))
             _check_path(out)
         _check_ext(out, fmt)
-        text = _render_file(robot, fmt, out.suffix.lower())
+        text = _render_file(robot, fmt, out.suffix.lower(), args.degrees)
         write_text_atomic(out, text)
         wrote(out)
         if note:
             print(f"robkin: note: {note}", file=sys.stderr)
         return 0
     if args.json:
-        sys.stdout.write(_render_file(robot, fmt if SECTION_OF[fmt] else "json", ".json"))
+        sys.stdout.write(_render_file(robot, fmt if SECTION_OF[fmt] else "json", ".json", args.degrees))
         return 0
     if SECTION_OF[fmt] is None:
-        sys.stdout.write(_render_file(robot, fmt, ".json" if fmt == "json" else ".yaml"))
+        sys.stdout.write(_render_file(robot, fmt, ".json" if fmt == "json" else ".yaml", args.degrees))
         return 0
     from ..io.tables import blocks, show_blocks
 
-    show_blocks(blocks(robot, fmt, layout=args.layout) + ([f"note: {note}"] if note else []))
+    show_blocks(blocks(robot, fmt, layout=args.layout, degrees=args.degrees) + ([f"note: {note}"] if note else []))
     return 0

@@ -6,7 +6,7 @@ import argparse
 
 from typing import TYPE_CHECKING, Any
 
-from ._common import add_input, load_input, parse_q
+from ._common import add_degrees, add_input, load_input, parse_q, revolute_degrees
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
@@ -34,6 +34,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true",
                    help='print JSON: "T" (4x4), "position", "rpy", "quaternion" {w, x, y, z}, "joints" '
                         'and "q"')
+    add_degrees(p, "revolute joint values in --q, and roll, pitch, yaw and q in the output")
     p.add_argument("--jacobian", action="store_true",
                    help='also the geometric Jacobian [v; w] (6 x n, base frame, at the tool origin); '
                         'JSON key "J"')
@@ -44,24 +45,31 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 
 def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from .. import se3
     from ..io.tables import fmt_num, matrix_text
     from ._output import joint_names, print_json, warn_outside_limits
 
     robot = load_input(args.input, args)
     q = parse_q(args.q, robot.n)
+    if args.degrees:
+        q = revolute_degrees(robot, q, to_radians=True)
     warn_outside_limits(robot, q)
     T = robot.fk(q)
     rpy = se3.rpy_from_matrix(T[:3, :3])
     extra = _jacobian_extras(robot, q, args)
     quat = se3.quaternion_from_matrix(T[:3, :3])
+    if args.degrees:
+        rpy, q = np.degrees(rpy), revolute_degrees(robot, q, to_radians=False)
     if args.json:
         print_json({"T": T, "position": T[:3, 3], "rpy": rpy, "quaternion": dict(zip("wxyz", quat)),
                     "joints": joint_names(robot), "q": q, **extra})
         return 0
+    unit = "degrees" if args.degrees else "radians"
     print(matrix_text(T, "T (tool in base frame)"))
     print("position:   " + ", ".join(fmt_num(v) for v in T[:3, 3]))
-    print("rpy:        " + ", ".join(fmt_num(v) for v in rpy) + "  (roll, pitch, yaw; R = Rz Ry Rx)")
+    print("rpy:        " + ", ".join(fmt_num(v) for v in rpy) + f"  (roll, pitch, yaw in {unit}; R = Rz Ry Rx)")
     print("quaternion: " + ", ".join(fmt_num(v) for v in quat) + "  (w, x, y, z)")
     if "J" in extra:
         from ..io.tables import text_table

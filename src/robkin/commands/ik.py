@@ -6,7 +6,7 @@ import argparse
 import sys
 from typing import TYPE_CHECKING
 
-from ._common import add_input, load_input, parse_pose, parse_q, seed
+from ._common import add_degrees, add_input, load_input, parse_pose, parse_q, revolute_degrees, seed
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
@@ -49,6 +49,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true",
                    help='print {"solutions": [{"q": [...], "position_error": ..., "orientation_error": ...}], '
                         '"joints": [...], "method": ..., "success": ..., "reason": ...}')
+    add_degrees(p, "roll, pitch, yaw in --pose, revolute joint values in --q0 and in the solutions")
     p.add_argument("--q0", metavar="Q1,Q2,...",
                    help="preferred configuration: numeric start and tie-break (default: zeros)")
     mask = p.add_mutually_exclusive_group()
@@ -74,8 +75,10 @@ def run(args: argparse.Namespace) -> int:
     from ..errors import InputError
 
     robot = load_input(args.input, args)
-    T = parse_pose(args.pose)
+    T = parse_pose(args.pose, degrees=args.degrees)
     q0 = parse_q(args.q0, robot.n, "--q0") if args.q0 else None
+    if q0 is not None and args.degrees:
+        q0 = revolute_degrees(robot, q0, to_radians=True)
     mask = "position" if args.position_only else None
     if args.mask:
         mask = number_list(args.mask, "--mask")
@@ -89,10 +92,12 @@ def run(args: argparse.Namespace) -> int:
     else:
         solutions = np.empty((0, robot.n))
         print(f"robkin: ik: no solution ({result.method}): {result.message}", file=sys.stderr)
+    errors = [_residuals(robot, q, T) for q in solutions]
+    if args.degrees:
+        solutions = revolute_degrees(robot, solutions, to_radians=False)
     if args.json:
         from ._output import joint_names, print_json
 
-        errors = [_residuals(robot, q, T) for q in solutions]
         print_json({"solutions": [{"q": q, "position_error": e[0], "orientation_error": e[1]}
                                   for q, e in zip(solutions, errors)],
                     "joints": joint_names(robot), "method": result.method, "success": bool(result.success),

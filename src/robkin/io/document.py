@@ -2,13 +2,22 @@
 
 Schema (docs/conventions.md): ``robkin: 1``, optional ``name``, ``joints`` (one entry per joint: name, type
 revolute|prismatic, optional limits {lower, upper} and flip), and at least one representation section:
-``gjd``, ``dh``, ``mdh``, ``rpy_xyz``, ``poe``, ``poe_body``; optionally ``world``, the world -> robot
-base transform (4x4; also row 0 of ``rpy_xyz``), kept and written out but not part of FK. Rows may be objects with named keys or
-lists in column order; numbers may be arithmetic strings such as "-pi/2". A ``dh`` table with n + 1
-rows and no ``base`` is the conversion paper's layout: its first row is the fixed base row.
+``gjd``, ``dh``, ``mdh``, ``hayati``, ``rpy_xyz``, ``poe``, ``poe_body``; optionally ``world``, the
+world -> robot base transform (4x4; also row 0 of ``rpy_xyz``), kept and written out but not part of
+FK, and ``angles``. Rows may be objects with named keys or lists in column order; numbers may be
+arithmetic strings such as "-pi/2". A ``dh`` table with n + 1 rows and no ``base`` is the conversion
+paper's layout: its first row is the fixed base row.
+
+``angles: degrees`` (default ``radians``) says that every angle in the document is in degrees: the
+alpha, theta (and Hayati beta) columns of ``dh``, ``mdh`` and ``hayati`` rows, roll/pitch/yaw of
+``rpy_xyz`` rows, and the limits of revolute joints. In radians, such an angle larger than 2 pi in
+magnitude draws a warning naming the field (``alpha: 90`` is almost surely meant in degrees).
 
 If a document holds several sections they must describe the same robot; otherwise an InputError names
 the sections that disagree.
+
+Floats are written with ``repr``, the shortest text that reads back to the same float, so a document
+written and read again gives bit-identical numbers.
 """
 
 from __future__ import annotations
@@ -23,26 +32,39 @@ import numpy as np
 
 from .. import se3
 from ..errors import InputError
-from ..representations import DHTable, MDHTable, PoE, RPYTable
+from ..representations import DHTable, HayatiTable, MDHTable, PoE, RPYTable
 from ..representations.gjd import robot_from_gjd
 from ..robot import JOINT_TYPES, Joint, Robot, check_pose
 from .files import read_text_file
 from .numbers import MAX_INT_DIGITS, matrix, number, number_list
 
-__all__ = ["SECTIONS", "read_document", "parse_document", "read_sections", "document_from_robot",
-           "dump", "same_robot", "read_text", "parse_text", "table_document", "section_key"]
+__all__ = ["SECTIONS", "ANGLE_UNITS", "AngleUnitWarning", "read_document", "parse_document", "read_sections",
+           "document_from_robot", "dump", "same_robot", "read_text", "parse_text", "table_document", "section_key"]
 
 #: Representation sections, in the order that decides which one defines the GJD when several are given.
-SECTIONS = ("gjd", "dh", "mdh", "rpy_xyz", "poe", "poe_body")
+SECTIONS = ("gjd", "dh", "mdh", "hayati", "rpy_xyz", "poe", "poe_body")
 DOC_VERSION = 1
 _DH_KEYS = ("a", "d", "alpha", "theta")
 _RPY_KEYS = ("roll", "pitch", "yaw", "x", "y", "z")
+_HAYATI_KEYS = ("a", "d", "alpha", "theta", "beta")
+#: Which columns of each section's rows are angles (converted for ``angles: degrees``).
+_ANGLE_COLUMNS = {"dh": ("alpha", "theta"), "mdh": ("alpha", "theta"), "hayati": ("alpha", "theta", "beta"),
+                  "rpy_xyz": ("roll", "pitch", "yaw")}
+ANGLE_UNITS = ("radians", "degrees")
+#: An angle in radians larger than this in magnitude draws a warning: a full turn is the most any
+#: table parameter or joint limit needs in practice (UR's limits are exactly +-2 pi, hence the
+#: margin of rounding), and 90 or 180 in radians is almost surely a value typed in degrees.
+ANGLE_WARN = 2 * math.pi * (1 + 1e-9)
 #: Largest input file read (a robot document is a few kB; this stops accidental huge inputs early).
 MAX_BYTES = 16 * 1024 * 1024
 #: Sections agree if their tool poses agree to this (rotation entries; positions relative to the
 #: robot's size) at home and at a few fixed configurations: loose enough for documents written by
 #: other tools with 6-7 significant digits, tight enough to catch any real difference of a joint.
 AGREE_TOL = 1e-6
+
+
+class AngleUnitWarning(UserWarning):
+    """An angle read in radians is larger than a full turn: it was probably typed in degrees."""
 
 
 # ---------------------------------------------------------------------------------------- reading
@@ -103,7 +125,7 @@ def parse_document(text: str, fmt: str = "yaml", source: str = "<document>") -> 
     data = parse_text(text, fmt, source)
     try:
         sections, joints, name = _sections(data)
-        return _robot_from_sections(sections, joints, name)
+        return _robot_from_sections(sections, joints, name, _angle_unit(data))
     except InputError as exc:
         raise exc.in_source(source) from None
 
@@ -115,7 +137,8 @@ def read_sections(path: str | os.PathLike) -> dict[str, Robot]:
     try:
         sections, joints, name = _sections(data)
         sections.pop("world", None)
-        return {key: _robot_of(key, value, joints, name) for key, value in sections.items()}
+        unit = _angle_unit(data)
+        return {key: _robot_of(key, value, joints, name, unit) for key, value in sections.items()}
     except InputError as exc:
         raise exc.in_source(str(path)) from None
 
@@ -130,14 +153,14 @@ def _sections(data: Any) -> tuple[dict[str, Any], tuple[Joint, ...], str | None]
     version = data.get("robkin", DOC_VERSION)
     if version != DOC_VERSION:
         raise InputError(f"robkin: document version {version!r} is not supported (this is version {DOC_VERSION})")
-    known = set(SECTIONS) | {"robkin", "name", "joints", "metrics", "world"}
+    known = set(SECTIONS) | {"robkin", "name", "joints", "metrics", "world", "angles"}
     unknown = sorted(str(k) for k in data if k not in known)
     if unknown:
         raise InputError(f"unknown key(s) {', '.join(unknown)}; known: {', '.join(sorted(known))}")
     name = data.get("name")
     if name is not None and not isinstance(name, (str, int, float)):
         raise InputError("name: expected a string")
-    joints = _joints(data.get("joints"))
+    joints = _joints(data.get("joints"), _angle_unit(data))
     sections = {k: data[k] for k in SECTIONS if k in data and data[k] is not None}
     if not sections:
         raise InputError(f"no representation section; give at least one of {', '.join(SECTIONS)}")
@@ -146,7 +169,27 @@ def _sections(data: Any) -> tuple[dict[str, Any], tuple[Joint, ...], str | None]
     return sections, joints, None if name is None else str(name)
 
 
-def _joints(value: Any) -> tuple[Joint, ...]:
+def _angle_unit(data: Mapping) -> str:
+    """The document's ``angles`` key: 'radians' (default) or 'degrees'; InputError otherwise."""
+    unit = data.get("angles", "radians")
+    if unit not in ANGLE_UNITS:
+        raise InputError(f"angles: {unit!r} is not one of {', '.join(ANGLE_UNITS)}")
+    return str(unit)
+
+
+def _angle(value: float, field: str, unit: str) -> float:
+    """An angle read in ``unit``, in radians; a warning naming the field for radians beyond 2 pi."""
+    if unit == "degrees":
+        return math.radians(value)
+    if abs(value) > ANGLE_WARN:
+        import warnings
+
+        warnings.warn(f"{field}: {value:g} rad is more than a full turn; if it is meant in degrees, add "
+                      f"'angles: degrees' to the document", AngleUnitWarning, stacklevel=2)
+    return value
+
+
+def _joints(value: Any, unit: str = "radians") -> tuple[Joint, ...]:
     if value is None:
         raise InputError("joints: missing; list one entry per joint, e.g. {name: joint1, type: revolute}")
     if not isinstance(value, list) or not value:
@@ -181,10 +224,17 @@ def _joints(value: Any) -> tuple[Joint, ...]:
             bad = sorted(str(k) for k in limits if k not in ("lower", "upper"))
             if bad:
                 raise InputError(f"{where} ('{name}').limits: unknown key(s) {', '.join(bad)}; known: lower, upper")
-            if limits.get("lower") is not None:
-                lower = number(limits["lower"], f"{where} ('{name}').limits.lower")
-            if limits.get("upper") is not None:
-                upper = number(limits["upper"], f"{where} ('{name}').limits.upper")
+            for bound in ("lower", "upper"):
+                if limits.get(bound) is None:
+                    continue
+                field = f"{where} ('{name}').limits.{bound}"
+                v = number(limits[bound], field)
+                if jtype == "revolute":
+                    v = _angle(v, field, unit)
+                if bound == "lower":
+                    lower = v
+                else:
+                    upper = v
         out.append(Joint(name, jtype, lower, upper, flip))  # type: ignore[arg-type]
     return tuple(out)
 
@@ -198,7 +248,7 @@ def _mapping(value: Any, key: str, allowed: tuple[str, ...]) -> Mapping:
     return value
 
 
-def _rows(value: Any, key: str, columns: tuple[str, ...]) -> list[list[float]]:
+def _rows(value: Any, key: str, columns: tuple[str, ...], unit: str = "radians") -> list[list[float]]:
     if not isinstance(value, list) or not value:
         raise InputError(f"{key}: expected a list of rows ({', '.join(columns)})")
     rows = []
@@ -214,6 +264,11 @@ def _rows(value: Any, key: str, columns: tuple[str, ...]) -> list[list[float]]:
             rows.append([number(row[c], f"{where}.{c}") for c in columns])
         else:
             rows.append(number_list(row, where, len(columns)))
+    section = key.split(".")[0]
+    for j, c in enumerate(columns):
+        if c in _ANGLE_COLUMNS.get(section, ()):
+            for i, row in enumerate(rows):
+                row[j] = _angle(row[j], f"{key}[{i}].{c}", unit)
     return rows
 
 
@@ -223,11 +278,17 @@ def _pose(section: Mapping, key: str, prefix: str) -> np.ndarray:
     return np.array(matrix(section[key], f"{prefix}.{key}"))
 
 
-def _robot_of(key: str, value: Any, joints: tuple[Joint, ...], name: str | None) -> Robot:
+def _robot_of(key: str, value: Any, joints: tuple[Joint, ...], name: str | None,
+              unit: str = "radians") -> Robot:
     n = len(joints)
+    if key == "hayati":
+        sec = _mapping(value, key, ("base", "rows", "tool"))
+        rows = _rows(sec.get("rows"), "hayati.rows", _HAYATI_KEYS, unit)
+        return HayatiTable(np.array(rows), joints, base=_pose(sec, "base", key),
+                           tool=_pose(sec, "tool", key)).to_robot(name)
     if key in ("dh", "mdh"):
         sec = _mapping(value, key, ("base", "rows", "tool"))
-        rows = _rows(sec.get("rows"), f"{key}.rows", _DH_KEYS)
+        rows = _rows(sec.get("rows"), f"{key}.rows", _DH_KEYS, unit)
         base = _pose(sec, "base", key)
         if key == "dh" and len(rows) == n + 1 and sec.get("base") is None:
             base = se3.dh_matrix(*rows[0])  # the paper's layout: row 0 is a fixed base row
@@ -249,7 +310,7 @@ def _robot_of(key: str, value: Any, joints: tuple[Joint, ...], name: str | None)
                    frame).to_robot(name)
     if key == "rpy_xyz":
         sec = _mapping(value, key, ("rows",))
-        return RPYTable(np.array(_rows(sec.get("rows"), "rpy_xyz.rows", _RPY_KEYS)), joints).to_robot(name)
+        return RPYTable(np.array(_rows(sec.get("rows"), "rpy_xyz.rows", _RPY_KEYS, unit)), joints).to_robot(name)
     if key == "gjd":
         sec = _mapping(value, key, ("frames",))
         frames = sec.get("frames")
@@ -259,9 +320,10 @@ def _robot_of(key: str, value: Any, joints: tuple[Joint, ...], name: str | None)
     raise InputError(f"unknown section '{key}'")  # pragma: no cover - keys come from SECTIONS
 
 
-def _robot_from_sections(sections: dict[str, Any], joints: tuple[Joint, ...], name: str | None) -> Robot:
+def _robot_from_sections(sections: dict[str, Any], joints: tuple[Joint, ...], name: str | None,
+                         unit: str = "radians") -> Robot:
     world = sections.pop("world", None)
-    robots = {key: _robot_of(key, value, joints, name) for key, value in sections.items()}
+    robots = {key: _robot_of(key, value, joints, name, unit) for key, value in sections.items()}
     keys = list(robots)
     primary = robots[keys[0]]
     for other in keys[1:]:
@@ -302,50 +364,52 @@ def same_robot(a: Robot, b: Robot, tol: float = AGREE_TOL) -> str | None:
 
 # ---------------------------------------------------------------------------------------- writing
 def _clean(x: float) -> float:
-    """Plain float for output, at 15 significant digits.
-
-    15 digits keep the value to 5e-16 relative (far below the 1e-9 FK agreement robkin promises)
-    while dropping the last-bit noise of products such as cos(pi/2) = 6.1e-17 or 0.1 + 0.2; values
-    below 1e-15 are such noise around an exact zero and are written as 0 (without a sign).
-    """
-    x = float(x)
-    if abs(x) < 1e-15:
-        return 0.0
-    return float(f"{x:.15g}")
+    """A plain float for output: the value itself (written with repr, so it reads back bit-exact),
+    with -0.0 written as 0."""
+    return float(x) + 0.0
 
 
 def _mat(T: np.ndarray) -> list[list[float]]:
     return [[_clean(v) for v in row] for row in np.asarray(T)]
 
 
-def _joint_entry(j: Joint) -> dict[str, Any]:
+def _joint_entry(j: Joint, degrees: bool) -> dict[str, Any]:
     entry: dict[str, Any] = {"name": j.name, "type": j.type}
     if j.lower is not None or j.upper is not None:
-        entry["limits"] = {k: _clean(v) for k, v in (("lower", j.lower), ("upper", j.upper)) if v is not None}
+        conv = math.degrees if degrees and j.revolute else float
+        entry["limits"] = {k: _clean(conv(v)) for k, v in (("lower", j.lower), ("upper", j.upper))
+                           if v is not None}
     if j.flip:
         entry["flip"] = True
     return entry
 
 
-def document_from_robot(robot: Robot, sections: tuple[str, ...] = SECTIONS) -> dict[str, Any]:
-    """A robot document (dict) with ``joints`` and the requested sections (default: all)."""
-    from ..representations import dh_from_robot, mdh_from_robot, poe_from_robot, rpy_from_robot
+def document_from_robot(robot: Robot, sections: tuple[str, ...] = SECTIONS, *,
+                        degrees: bool = False) -> dict[str, Any]:
+    """A robot document (dict) with ``joints`` and the requested sections (default: all).
+
+    With ``degrees`` every angle (table angle columns, revolute joint limits) is written in degrees
+    and the document says ``angles: degrees``.
+    """
+    from ..representations import (dh_from_robot, hayati_from_robot, mdh_from_robot, poe_from_robot,
+                                   rpy_from_robot)
 
     doc: dict[str, Any] = {"robkin": DOC_VERSION}
     if robot.name:
         doc["name"] = robot.name
-    doc["joints"] = [_joint_entry(j) for j in robot.joints]
+    if degrees:
+        doc["angles"] = "degrees"
+    doc["joints"] = [_joint_entry(j, degrees) for j in robot.joints]
     if not np.allclose(robot.world, np.eye(4), rtol=0, atol=1e-15):
         doc["world"] = _mat(robot.world)  # world -> robot base: kept, but not part of FK
+    tables = {"dh": dh_from_robot, "mdh": mdh_from_robot, "hayati": hayati_from_robot}
     for key in sections:
-        if key == "dh":
-            doc["dh"] = _section(dh_from_robot(robot))
-        elif key == "mdh":
-            doc["mdh"] = _section(mdh_from_robot(robot))
+        if key in tables:
+            doc[key] = _section(tables[key](robot), degrees)
         elif key in ("poe", "poe_body"):
             doc[key] = _section(poe_from_robot(robot, "space" if key == "poe" else "body"))
         elif key == "rpy_xyz":
-            doc["rpy_xyz"] = _section(rpy_from_robot(robot))
+            doc["rpy_xyz"] = _section(rpy_from_robot(robot), degrees)
         elif key == "gjd":
             doc["gjd"] = {"frames": [_mat(F) for F in robot.frames]}
         else:
@@ -354,7 +418,7 @@ def document_from_robot(robot: Robot, sections: tuple[str, ...] = SECTIONS) -> d
 
 
 def section_key(table: Any) -> str:
-    """The document section a DHTable, MDHTable, PoE or RPYTable is written to."""
+    """The document section a DHTable, MDHTable, HayatiTable, PoE or RPYTable is written to."""
     from ..representations import PoE, RPYTable
 
     if isinstance(table, PoE):
@@ -362,24 +426,33 @@ def section_key(table: Any) -> str:
     return "rpy_xyz" if isinstance(table, RPYTable) else table.SECTION
 
 
-def _section(table: Any) -> dict[str, Any]:
-    """The section of a DHTable, MDHTable, PoE or RPYTable as a document holds it."""
+def _section(table: Any, degrees: bool = False) -> dict[str, Any]:
+    """The section of a DHTable, MDHTable, HayatiTable, PoE or RPYTable as a document holds it (angle
+    columns in degrees if asked)."""
     key = section_key(table)
-    if key in ("dh", "mdh"):
-        return {"base": _mat(table.base), "rows": _named_rows(table.rows, _DH_KEYS), "tool": _mat(table.tool)}
+    if key in ("dh", "mdh", "hayati"):
+        keys = _HAYATI_KEYS if key == "hayati" else _DH_KEYS
+        return {"base": _mat(table.base), "rows": _named_rows(table.rows, keys, key, degrees),
+                "tool": _mat(table.tool)}
     if key in ("poe", "poe_body"):
         return {"frame": table.frame, "M": _mat(table.M), "screws": _mat(table.screws)}
-    return {"rows": _named_rows(table.rows, _RPY_KEYS)}
+    return {"rows": _named_rows(table.rows, _RPY_KEYS, key, degrees)}
 
 
-def table_document(table: Any) -> dict[str, Any]:
-    """A robot document (dict) holding one table (DHTable, MDHTable, PoE or RPYTable) and its joints."""
-    return {"robkin": DOC_VERSION, "joints": [_joint_entry(j) for j in table.joints],
-            section_key(table): _section(table)}
+def table_document(table: Any, degrees: bool = False) -> dict[str, Any]:
+    """A robot document (dict) holding one table (DHTable, MDHTable, HayatiTable, PoE or RPYTable) and
+    its joints (angles in degrees if asked)."""
+    doc: dict[str, Any] = {"robkin": DOC_VERSION}
+    if degrees:
+        doc["angles"] = "degrees"
+    doc["joints"] = [_joint_entry(j, degrees) for j in table.joints]
+    doc[section_key(table)] = _section(table, degrees)
+    return doc
 
 
-def _named_rows(rows: np.ndarray, keys: tuple[str, ...]) -> list[dict[str, float]]:
-    return [{k: _clean(v) for k, v in zip(keys, row)} for row in rows]
+def _named_rows(rows: np.ndarray, keys: tuple[str, ...], section: str, degrees: bool) -> list[dict[str, float]]:
+    angles = _ANGLE_COLUMNS.get(section, ()) if degrees else ()
+    return [{k: _clean(math.degrees(v) if k in angles else v) for k, v in zip(keys, row)} for row in rows]
 
 
 def dump(doc: Mapping[str, Any], fmt: str = "yaml") -> str:

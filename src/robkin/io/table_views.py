@@ -3,7 +3,7 @@
 One layout per type, shared by ``str(table)``, ``robkin convert`` (through ``io.tables.blocks``),
 ``str(ik_result)`` and ``str(comparison)`` / ``robkin check``:
 
-- ``table_blocks(table)``: a DHTable, MDHTable, PoE or RPYTable as a table with one row per joint,
+- ``table_blocks(table)``: a DHTable, MDHTable, HayatiTable, PoE or RPYTable as a table with one row per joint,
   plus its base / tool / M matrices;
 - ``ik_result_blocks(result)``: one row per target (success, errors, q) or per solution;
 - ``comparison_blocks(comparison)``: the joint-by-joint diagnosis of ``equivalence.compare``.
@@ -39,39 +39,51 @@ def _joint_cols(joints: Sequence["Joint"]) -> list[list[object]]:
 
 
 def table_blocks(table: "LinkTable | PoE | RPYTable", title: str | None = None,
-                 layout: str = "robkin") -> list[Block]:
+                 layout: str = "robkin", degrees: bool = False) -> list[Block]:
     """A representation as tables and text lines (see the module docstring).
 
     ``layout='paper'`` puts a DH table in the conversion paper's n+1-row layout (row 0 is the fixed
-    base row) when the base is one DH row.
+    base row) when the base is one DH row. ``degrees`` shows the angle columns (alpha, theta, beta;
+    roll, pitch, yaw) in degrees.
     """
-    from ..representations import DHTable, PoE, RPYTable
-    from ..representations.link_table import LinkTable
+    from ..representations import DHTable, HayatiTable, PoE, RPYTable
+    from ..representations.link_table import LinkTable, placement_notes
     from .tables import matrix_text
 
     jc = _joint_cols(table.joints)
+    unit = " (deg)" if degrees else ""
     if isinstance(table, LinkTable):
-        standard = isinstance(table, DHTable)
-        heads = ["i", "joint", "type", "a", "d", "alpha", "theta"] if standard else \
-            ["i", "joint", "type", "a(i-1)", "d", "alpha(i-1)", "theta"]
-        rows: list[list[object]] = [c + list(r) for c, r in zip(jc, table.rows)]
+        standard = isinstance(table, (DHTable, HayatiTable))
+        heads = ["i", "joint", "type", "a", "d", f"alpha{unit}", f"theta{unit}"] if standard else \
+            ["i", "joint", "type", "a(i-1)", "d", f"alpha(i-1){unit}", f"theta{unit}"]
+        if isinstance(table, HayatiTable):
+            heads.append(f"beta{unit}")
+        values = np.array(table.rows)
         base_row = table.base_row() if isinstance(table, DHTable) and layout == "paper" else None
+        labels: list[list[object]] = jc
         if base_row is not None:
-            rows.insert(0, ["0", "(base)", "fixed", *base_row])
-        out: list[Block] = [(title, heads, rows)]
+            values = np.vstack([base_row, values])
+            labels = [["0", "(base)", "fixed"], *jc]
+        if degrees:
+            values[:, 2:] = np.degrees(values[:, 2:])
+        out: list[Block] = [(title, heads, [c + list(r) for c, r in zip(labels, values)])]
         out.append("theta (revolute) and d (prismatic) are the values at q = 0; joint i adds q_i"
                    + (" (subtracts, if flipped)" if any(j.flip for j in table.joints) else "") + ".")
         if base_row is None:
             out.append(matrix_text(table.base, "base"))
-        out.append(matrix_text(table.tool, "tool (residual T_t)" if standard else "tool"))
+        out.append(matrix_text(table.tool, "tool (residual T_t)" if isinstance(table, DHTable) else "tool"))
+        out.extend(f"note: {line}" for line in placement_notes(table))
         return out
     if isinstance(table, PoE):
         heads = ["i", "joint", "type", "wx", "wy", "wz", "vx", "vy", "vz"]
         return [(title, heads, [c + list(s) for c, s in zip(jc, table.screws)]), matrix_text(table.M, "M")]
     if isinstance(table, RPYTable):
-        labels = [["0", "world->base", ""]] + jc + [[str(table.n + 1), "tool", ""]]
-        return [(title, ["row", "frame", "type", "roll", "pitch", "yaw", "x", "y", "z"],
-                 [lab + list(r) for lab, r in zip(labels, table.rows)])]
+        values = np.array(table.rows)
+        if degrees:
+            values[:, :3] = np.degrees(values[:, :3])
+        rpy_labels: list[list[object]] = [["0", "world->base", ""], *jc, [str(table.n + 1), "tool", ""]]
+        return [(title, ["row", "frame", "type", f"roll{unit}", f"pitch{unit}", f"yaw{unit}", "x", "y", "z"],
+                 [lab + list(r) for lab, r in zip(rpy_labels, values)])]
     raise TypeError(f"no table layout for {type(table).__name__}")
 
 

@@ -23,6 +23,7 @@ __all__ = ["FORMATS", "fmt_num", "text_table", "matrix_text", "render", "show", 
 FORMATS = {
     "dh": "standard Denavit-Hartenberg table (+ base and residual tool)",
     "mdh": "modified (Craig) Denavit-Hartenberg table (+ base and tool)",
+    "hayati": "Hayati's parameters: DH with beta about y between nearly parallel axes (+ base and tool)",
     "poe": "Product of Exponentials, space frame (M and screws)",
     "poe-body": "Product of Exponentials, body frame (M and screws)",
     "rpy-xyz": "RPY-XYZ table, n+2 rows (world->base, joints, tool)",
@@ -63,22 +64,25 @@ def matrix_text(T: np.ndarray, name: str) -> str:
     return "\n".join([f"{name}:"] + ["  " + b for b in body])
 
 
-def blocks(robot: Robot, fmt: str, layout: str = "robkin") -> list[Block]:
+def blocks(robot: Robot, fmt: str, layout: str = "robkin", degrees: bool = False) -> list[Block]:
     """The robot in representation ``fmt`` (a key of FORMATS) as tables and text lines.
 
     ``layout='paper'`` puts a DH table in the conversion paper's n+1-row layout (row 0 is the fixed
-    base row) when the base is one DH row.
+    base row) when the base is one DH row. ``degrees`` shows the angle columns of DH, modified DH,
+    Hayati and RPY-XYZ tables in degrees.
     """
-    from ..representations import dh_from_robot, mdh_from_robot, poe_from_robot, rpy_from_robot
+    from ..representations import (dh_from_robot, hayati_from_robot, mdh_from_robot, poe_from_robot,
+                                   rpy_from_robot)
     from .table_views import table_blocks
 
     title = f"{robot.name or 'robot'}: {FORMATS[fmt]}"
-    if fmt in ("dh", "mdh"):
-        return table_blocks(dh_from_robot(robot) if fmt == "dh" else mdh_from_robot(robot), title, layout)
+    if fmt in ("dh", "mdh", "hayati"):
+        t = {"dh": dh_from_robot, "mdh": mdh_from_robot, "hayati": hayati_from_robot}[fmt](robot)
+        return table_blocks(t, title, layout, degrees)
     if fmt in ("poe", "poe-body"):
         return table_blocks(poe_from_robot(robot, "space" if fmt == "poe" else "body"), title)
     if fmt == "rpy-xyz":
-        return table_blocks(rpy_from_robot(robot), title)
+        return table_blocks(rpy_from_robot(robot), title, degrees=degrees)
     if fmt == "gjd":
         parts: list[Block] = [title]
         for i, F in enumerate(robot.frames):
@@ -88,11 +92,11 @@ def blocks(robot: Robot, fmt: str, layout: str = "robkin") -> list[Block]:
     raise ValueError(f"unknown format {fmt}")  # pragma: no cover - callers validate
 
 
-def render(robot: Robot, fmt: str, layout: str = "robkin") -> str:
+def render(robot: Robot, fmt: str, layout: str = "robkin", degrees: bool = False) -> str:
     """The robot in representation ``fmt`` (a key of FORMATS) as plain text (see ``blocks``)."""
     from .table_views import blocks_text
 
-    return blocks_text(blocks(robot, fmt, layout))
+    return blocks_text(blocks(robot, fmt, layout, degrees))
 
 
 def use_rich(stream=None) -> bool:

@@ -17,8 +17,9 @@ import numpy as np
 
 from .. import se3
 from ..robot import Robot
-from .frames import approx_dh_params, common_normal_frame, dh_params_between, satisfies_normal, warn_if_far
-from .link_table import COLUMNS, LinkTable, check_dh_rows, flip_frame, residual_tool
+from .frames import approx_dh_params, common_normal_frame, dh_params_between, relative_pose, satisfies_normal
+from .link_table import COLUMNS, LinkTable, check_dh_rows, flip_frame, residual_tool, warn_fk_error
+from .rounding import snap_rows
 
 __all__ = ["DHTable", "dh_from_robot", "robot_from_dh", "check_dh_rows", "flip_frame", "COLUMNS"]
 
@@ -47,6 +48,12 @@ class DHTable(LinkTable):
 
 def robot_from_dh(table: DHTable, name: str | None = None) -> Robot:
     """The GJD of a DH table: J_i = frame {i-1} (flip-adjusted), J_{n+1} = frame {n} tool."""
+    return robot_from_links(table, "dh", name)
+
+
+def robot_from_links(table: LinkTable, frames_from: str, name: str | None = None) -> Robot:
+    """The GJD of a table whose joint i moves frame {i-1}'s z (standard DH, Hayati): J_i = frame {i-1}
+    (flip-adjusted), J_{n+1} = frame {n} tool; the Robot remembers which table its frames are."""
     A = table.link_transforms(np.zeros(table.n))
     frames = np.empty((table.n + 1, 4, 4))
     T = table.base
@@ -54,24 +61,27 @@ def robot_from_dh(table: DHTable, name: str | None = None) -> Robot:
         frames[i] = flip_frame(T, joint.flip)
         T = T @ A[i]
     frames[-1] = T @ table.tool
-    return Robot(frames, table.joints, name=name)
+    return Robot(frames, table.joints, name=name, frames_from=frames_from)
 
 
 def dh_frames(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     """DH frames {0}..{n-1} (n, 4, 4) placed on the robot's axes, and the last frame {n} (4, 4).
 
-    Axis directions follow each joint's ``flip``. Frame {0} is measured from the robot base z axis,
-    so the base is always one fixed DH row. Given frames that already satisfy the convention are
-    kept (see ``frames.common_normal_frame``).
+    Axis directions follow each joint's ``flip``. Frame {0} is placed from the robot base z axis like
+    any other frame (where that axis meets joint 1's axis, x from the base x), so the base is always
+    one fixed DH row, and the identity when joint 1's axis is the base z axis. The robot's own frames
+    are kept (when they satisfy the convention) only if they are a DH table's frames
+    (``robot.frames_from == 'dh'``), so a DH table read in comes back unchanged; frames from any
+    other input are placed by the canonical rules of ``frames.common_normal_frame``.
     """
     n, scale = robot.n, robot.scale
     cand = np.stack([flip_frame(robot.frames[i], j.flip) for i, j in enumerate(robot.joints)])
+    keep = robot.frames_from == "dh"
     F = np.empty((n, 4, 4))
     prev = np.eye(4)
     for i in range(n):
         F[i] = common_normal_frame(prev[:3, 3], prev[:3, 2], cand[i, :3, 3], cand[i, :3, 2],
-                                   on="b", prev=prev, scale=scale, keep=cand[i])
-        warn_if_far(F[i], scale, f"dh: frame {{{i}}} (joint {i + 1}, '{robot.joints[i].name}')")
+                                   on="b", prev=prev, scale=scale, keep=cand[i] if keep else None)
         prev = F[i]
     tool = robot.tool
     if satisfies_normal(tool, prev[:3, 3], prev[:3, 2], scale):
@@ -82,9 +92,18 @@ def dh_frames(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
 
 
 def dh_from_robot(robot: Robot) -> DHTable:
-    """Standard DH table (+ base, + residual tool) of a robot; FK-identical at every q."""
+    """Standard DH table (+ base, + residual tool) of a robot; FK-identical at every q.
+
+    Values within rounding of 0 or of a multiple of pi/2 are written exactly (``rounding.snap_rows``);
+    where the table cannot reproduce FK to WARN_TOL (nearly parallel axes) a ConditioningWarning
+    states the error it has.
+    """
     F, last = dh_frames(robot)
     chain = list(F) + [last]
     rows = np.array([dh_params_between(chain[i], chain[i + 1]) for i in range(robot.n)])
+    if robot.frames_from != "dh":
+        rows = snap_rows(rows, robot.joints, relative_pose(last, robot.tool), robot.scale)
     tool = residual_tool(F[0], rows, se3.dh_matrix, robot.tool, robot.scale)
-    return DHTable(rows, robot.joints, base=F[0], tool=tool)
+    table = DHTable(rows, robot.joints, base=F[0], tool=tool)
+    warn_fk_error(table.fk, robot, "dh")
+    return table

@@ -13,7 +13,11 @@ Canonical choices where the convention leaves freedom (documented in the README)
 - coincident axes: x of the previous frame is kept (a = d = alpha = theta = 0); anti-coincident: the
   previous frame turned by pi about x (alpha = pi).
 - a frame the input already gave that satisfies the convention is kept as it is (``keep``), so a DH
-  table read in and written out again comes back unchanged.
+  table read in and written out again comes back unchanged. The callers pass ``keep`` only for frames
+  that came from a table of the same kind (``Robot.frames_from``): frames of a URDF, PoE or RPY-XYZ
+  input are always placed by the rules above, so every robot gets the same canonical table.
+- frame {0} is placed from the robot base z axis by the same rules (the previous frame is the base),
+  so it lies where that axis meets joint 1's axis and is the base itself when they coincide.
 """
 
 from __future__ import annotations
@@ -22,12 +26,12 @@ import math
 
 import numpy as np
 
-from ..lines import (ANGLE_TOL, LENGTH_TOL, AxisRelation, classify, closest_points, perpendicular,
-                     point_line_foot)
+from ..lines import (ANGLE_TOL, LENGTH_TOL, AxisRelation, classify, closest_points, cross, norm,
+                     perpendicular, point_line_foot)
 from .. import se3
 
 __all__ = ["common_normal_frame", "frame_from_zx", "satisfies_normal", "dh_params_between",
-           "mdh_params_between", "approx_dh_params", "is_identity", "warn_if_far"]
+           "mdh_params_between", "approx_dh_params", "is_identity", "x_line_on", "relative_pose"]
 
 #: A given frame is kept only if it satisfies the convention to rounding noise: the DH parameters read
 #: back from it then reproduce it to ~1e-12 relative, well inside the 1e-9 FK agreement we promise.
@@ -42,36 +46,25 @@ def is_identity(T: np.ndarray, scale: float, tol: float = KEEP_TOL) -> bool:
     return bool(np.abs(T[:3, :3] - np.eye(3)).max() <= tol and np.abs(T[:3, 3]).max() <= tol * scale)
 
 
-#: A DH frame farther than this many robot sizes from the base comes from nearly parallel axes: exact,
-#: but FK through the table loses ~distance * 1e-16, so the user is told (ConditioningWarning).
-FAR_FACTOR = 1e3
-
-
-def warn_if_far(frame: np.ndarray, scale: float, what: str) -> None:
-    """ConditioningWarning if a constructed frame lies implausibly far from the robot."""
-    dist = float(np.linalg.norm(frame[:3, 3]))
-    if dist > FAR_FACTOR * scale:
-        import warnings
-
-        from ..errors import ConditioningWarning
-
-        warnings.warn(f"{what}: the axes are nearly but not exactly parallel, so their common normal lies "
-                      f"{dist:.3g} from the base (robot size {scale:.3g}); the parameters are exact but "
-                      f"ill-conditioned. Make the axes exactly parallel if they are meant to be.",
-                      ConditioningWarning, stacklevel=4)
-
-
 def frame_from_zx(origin: np.ndarray, z: np.ndarray, x: np.ndarray) -> np.ndarray:
     """Pose (4, 4) with the given origin, unit z, and x (made exactly orthogonal to z and unit)."""
-    z = z / np.linalg.norm(z)
+    # Python floats: for 3-vectors every numpy call costs more than the arithmetic
+    zx, zy, zz = np.asarray(z, dtype=float).tolist()
+    k = math.sqrt(zx * zx + zy * zy + zz * zz)
+    zx, zy, zz = zx / k, zy / k, zz / k
+    xx, xy, xz = np.asarray(x, dtype=float).tolist()
     # Gram-Schmidt twice: when the given x is nearly along z (e.g. a common-normal direction that is
     # rounding noise, between coincident axes classified as parallel far from the base), one pass
     # leaves x . z ~ eps |x| / |x_perp| (seen: 5.6e-10) and the frame is not a rotation; the second
     # pass brings it back to rounding noise ("twice is enough", Parlett).
     for _ in range(2):
-        x = x - np.dot(x, z) * z
-        x = x / np.linalg.norm(x)
-    return se3.homogeneous(np.column_stack([x, np.cross(z, x), z]), origin)
+        c = xx * zx + xy * zy + xz * zz
+        xx, xy, xz = xx - c * zx, xy - c * zy, xz - c * zz
+        k = math.sqrt(xx * xx + xy * xy + xz * xz)
+        xx, xy, xz = xx / k, xy / k, xz / k
+    yx, yy, yz = zy * xz - zz * xy, zz * xx - zx * xz, zx * xy - zy * xx
+    ox, oy, oz = np.asarray(origin, dtype=float).tolist()
+    return np.array([[xx, yx, zx, ox], [xy, yy, zy, oy], [xz, yz, zz, oz], [0.0, 0.0, 0.0, 1.0]])
 
 
 def satisfies_normal(frame: np.ndarray, p_other: np.ndarray, u_other: np.ndarray, scale: float,
@@ -80,7 +73,7 @@ def satisfies_normal(frame: np.ndarray, p_other: np.ndarray, u_other: np.ndarray
     o, x = frame[:3, 3], frame[:3, 0]
     if abs(np.dot(x, u_other)) > tol:
         return False
-    if np.linalg.norm(np.cross(x, u_other)) < ANGLE_TOL:  # x along the other line: cannot cross it
+    if norm(cross(x, u_other)) < ANGLE_TOL:  # x along the other line: cannot cross it
         return False
     return closest_points(o, x, p_other, u_other).distance <= tol * scale
 
@@ -117,13 +110,13 @@ def common_normal_frame(p_a: np.ndarray, u_a: np.ndarray, p_b: np.ndarray, u_b: 
         return keep
     x_prev = prev[:3, 0]
     # the point where the previous frame meets line A: its origin (DH), or where its x crosses A (MDH)
-    anchor = point_line_foot(prev[:3, 3], p_a, u_a) if on == "b" else _x_line_on(prev, p_a, u_a)
-    y_ref = np.cross(u_a, x_prev)
+    anchor = point_line_foot(prev[:3, 3], p_a, u_a) if on == "b" else x_line_on(prev, p_a, u_a)
+    y_ref = cross(u_a, x_prev)
     rel = classify(p_a, u_a, p_b, u_b, scale)
     if rel in (AxisRelation.PARALLEL, AxisRelation.ANTI_PARALLEL):
         foot_b = point_line_foot(anchor, p_b, u_b)
         normal = foot_b - anchor
-        dist = float(np.linalg.norm(normal))
+        dist = float(norm(normal))
         # Measured from the anchor rather than from p_a, the lines may still meet to rounding (seen:
         # normal exactly 0, and a NaN frame, when the robot's scale was 1e-6 of its frame offsets):
         # then they are coincident.
@@ -135,20 +128,20 @@ def common_normal_frame(p_a: np.ndarray, u_a: np.ndarray, p_b: np.ndarray, u_b: 
         rel = AxisRelation.COINCIDENT
     if rel in (AxisRelation.COINCIDENT, AxisRelation.ANTI_COINCIDENT):
         x = x_prev - np.dot(x_prev, u_self) * u_self
-        if np.linalg.norm(x) < 1e-6:  # prev x along the axis (cannot happen for a valid chain)
+        if norm(x) < 1e-6:  # prev x along the axis (cannot happen for a valid chain)
             x = perpendicular(u_self)
         origin = anchor if on == "a" else point_line_foot(anchor, p_b, u_b)
         return frame_from_zx(origin, u_self, x)
     cn = closest_points(p_a, u_a, p_b, u_b)
-    x = np.cross(u_a, u_b)
-    x = _choose_sign(x / np.linalg.norm(x), x_prev, y_ref)
+    x = cross(u_a, u_b)
+    x = _choose_sign(x / norm(x), x_prev, y_ref)
     return frame_from_zx(cn.c1 if on == "a" else cn.c2, u_self, x)
 
 
-def _x_line_on(prev: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:
+def x_line_on(prev: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:
     """Where the x axis of ``prev`` meets the line (p, u); the foot of prev's origin if they miss."""
     o, x = prev[:3, 3], prev[:3, 0]
-    if np.linalg.norm(np.cross(x, u)) < ANGLE_TOL:
+    if norm(cross(x, u)) < ANGLE_TOL:
         return point_line_foot(o, p, u)
     return closest_points(o, x, p, u).c2
 
@@ -162,9 +155,19 @@ def tidy_angle(angle: float) -> float:
     return angle + 0.0
 
 
+def relative_pose(prev: np.ndarray, frame: np.ndarray) -> np.ndarray:
+    """prev^-1 frame (4, 4) for rigid poses, with R^T (cheaper than ``se3.inv`` for one pair)."""
+    Rt = prev[:3, :3].T
+    T = np.empty((4, 4))
+    T[:3, :3] = Rt @ frame[:3, :3]
+    T[:3, 3] = Rt @ (frame[:3, 3] - prev[:3, 3])
+    T[3] = (0.0, 0.0, 0.0, 1.0)
+    return T
+
+
 def dh_params_between(prev: np.ndarray, frame: np.ndarray) -> tuple[float, float, float, float]:
     """(a, d, alpha, theta) with prev^-1 frame = Rz(theta) Tz(d) Tx(a) Rx(alpha) (exact if it is DH)."""
-    T = se3.inv(prev) @ frame
+    T = relative_pose(prev, frame)
     theta = math.atan2(T[1, 0], T[0, 0])
     alpha = math.atan2(T[2, 1], T[2, 2])
     a = T[0, 3] * math.cos(theta) + T[1, 3] * math.sin(theta)
@@ -173,7 +176,7 @@ def dh_params_between(prev: np.ndarray, frame: np.ndarray) -> tuple[float, float
 
 def mdh_params_between(prev: np.ndarray, frame: np.ndarray) -> tuple[float, float, float, float]:
     """(a, d, alpha, theta) with prev^-1 frame = Rx(alpha) Tx(a) Rz(theta) Tz(d) (exact if it is MDH)."""
-    T = se3.inv(prev) @ frame
+    T = relative_pose(prev, frame)
     alpha = math.atan2(-T[1, 2], T[2, 2])
     theta = math.atan2(-T[0, 1], T[0, 0])
     d = -T[1, 3] * math.sin(alpha) + T[2, 3] * math.cos(alpha)
@@ -198,11 +201,11 @@ def approx_dh_params(prev: np.ndarray, target: np.ndarray) -> tuple[float, float
     # target with |theta| < KEEP_TOL may get +|theta|: the residual tool absorbs the 2e-12.)
     # lengths: the noise of o1 - o0 is eps times the coordinates, not times |o1 - o0| (a tool 1e-13
     # from the last frame, 1e-3 from the base, had its d sign flipped by 1e-19 of noise)
-    reach = float(max(np.linalg.norm(o1 - o0), np.linalg.norm(o0), np.linalg.norm(o1)))
-    theta = math.atan2(np.linalg.norm(np.cross(x0, x1)), np.dot(x0, x1))
+    reach = float(max(norm(o1 - o0), norm(o0), norm(o1)))
+    theta = math.atan2(norm(cross(x0, x1)), np.dot(x0, x1))
     if np.dot(y0, x1) < -KEEP_TOL:
         theta = -theta
-    alpha = math.atan2(np.linalg.norm(np.cross(z0, z1)), np.dot(z0, z1))
+    alpha = math.atan2(norm(cross(z0, z1)), np.dot(z0, z1))
     if np.dot(y1, z0) < -KEEP_TOL:
         alpha = -alpha
     d = _line_distance(o0, x0, o1, x1)
@@ -215,9 +218,9 @@ def approx_dh_params(prev: np.ndarray, target: np.ndarray) -> tuple[float, float
 
 
 def _line_distance(p1: np.ndarray, u1: np.ndarray, p2: np.ndarray, u2: np.ndarray) -> float:
-    n = np.cross(u1, u2)
-    nn = np.linalg.norm(n)
+    n = cross(u1, u2)
+    nn = norm(n)
     if nn < ANGLE_TOL:
         w = p2 - p1
-        return float(np.linalg.norm(w - np.dot(w, u1) * u1))
+        return float(norm(w - np.dot(w, u1) * u1))
     return float(abs(np.dot(p2 - p1, n)) / nn)

@@ -14,10 +14,11 @@ from numpy.typing import ArrayLike
 
 from .. import se3
 from ..errors import InputError
-from ..robot import Joint, check_pose, check_q
-from .frames import is_identity
+from ..robot import Joint, Robot, check_pose, check_q
+from .frames import is_identity, relative_pose
 
-__all__ = ["LinkTable", "check_dh_rows", "flip_frame", "residual_tool", "COLUMNS"]
+__all__ = ["LinkTable", "check_dh_rows", "flip_frame", "residual_tool", "fk_error", "warn_fk_error",
+           "placement_notes", "COLUMNS", "WARN_TOL"]
 
 COLUMNS = ("a", "d", "alpha", "theta")
 _FLIP = se3.rot_x(np.pi)
@@ -28,20 +29,22 @@ def flip_frame(frame: np.ndarray, flip: bool) -> np.ndarray:
     return frame @ _FLIP if flip else frame
 
 
-def check_dh_rows(rows: ArrayLike, n: int | None = None, field_name: str = "dh.rows") -> np.ndarray:
-    """Validate a DH/MDH table as an (n, 4) float array of (a, d, alpha, theta)."""
+def check_dh_rows(rows: ArrayLike, n: int | None = None, field_name: str = "dh.rows",
+                  columns: tuple[str, ...] = COLUMNS) -> np.ndarray:
+    """Validate a DH/MDH (or Hayati) table as an (n, len(columns)) float array."""
+    want = f"rows of {len(columns)} numbers ({', '.join(columns)})"
     try:
         R = np.array(rows, dtype=float)
     except (TypeError, ValueError):
-        raise InputError(f"{field_name}: expected rows of 4 numbers (a, d, alpha, theta)") from None
-    if R.ndim != 2 or R.shape[1] != 4:
-        raise InputError(f"{field_name}: expected rows of 4 numbers (a, d, alpha, theta), got shape {R.shape}")
+        raise InputError(f"{field_name}: expected {want}") from None
+    if R.ndim != 2 or R.shape[1] != len(columns):
+        raise InputError(f"{field_name}: expected {want}, got shape {R.shape}")
     if n is not None and R.shape[0] != n:
         raise InputError(f"{field_name}: expected {n} rows (one per joint), got {R.shape[0]}")
     bad = np.argwhere(~np.isfinite(R))
     if bad.size:
         i, j = bad[0]
-        raise InputError(f"{field_name}[{i}].{COLUMNS[j]}: must be a finite number")
+        raise InputError(f"{field_name}[{i}].{columns[j]}: must be a finite number")
     return R
 
 
@@ -55,15 +58,113 @@ def residual_tool(base: np.ndarray, rows: np.ndarray, link_matrix: Callable[...,
     T = base
     for A in link_matrix(*rows.T):
         T = T @ A
-    tool = se3.inv(T) @ tool_pose
+    tool = relative_pose(T, tool_pose)
     return np.eye(4) if is_identity(tool, scale) else tool
+
+
+#: A table whose FK differs from the robot's by more than this (relative to the robot's size) at any
+#: of the sampled configurations is reported with its measured error (ConditioningWarning). Exact
+#: tables agree to ~1e-15; nearly parallel axes cost ~tilt * offset (a dropped tilt) or ~eps * offset /
+#: tilt (a far common normal). 1e-10 is 10x inside the 1e-9 agreement promised without a warning, so
+#: a configuration the sample misses is still within the promise.
+WARN_TOL = 1e-10
+#: Configurations at which a converted table is compared with the robot: q = 0 and a fixed sample
+#: (revolute joints in [-pi, pi], prismatic joints within their limits or +-1 robot size).
+_CHECK_SAMPLES = 8
+
+
+_UNIT_SAMPLES: dict[int, np.ndarray] = {}
+
+
+def _unit_sample(n: int) -> np.ndarray:
+    """The fixed sample (_CHECK_SAMPLES, n) in [0, 1), made once per joint count (a random generator
+    costs more than the rest of the check)."""
+    U = _UNIT_SAMPLES.get(n)
+    if U is None:
+        U = np.random.default_rng(20261123).uniform(size=(_CHECK_SAMPLES, n))  # fixed: deterministic
+        U.setflags(write=False)
+        _UNIT_SAMPLES[n] = U
+    return U
+
+
+def fk_error(fk: Callable[[np.ndarray], np.ndarray], robot: Robot) -> float:
+    """Largest FK difference of a table from the robot, in length units: position difference plus
+    the rotation difference (largest matrix entry) times the robot's size, over q = 0 and a fixed
+    sample of configurations."""
+    lim = robot.limits
+    span = np.where(robot.revolute, np.pi, robot.scale)
+    lo = np.where(np.isfinite(lim[:, 0]), np.maximum(lim[:, 0], -span), -span)
+    hi = np.where(np.isfinite(lim[:, 1]), np.minimum(lim[:, 1], span), span)
+    Q = np.vstack([np.zeros(robot.n), lo + _unit_sample(robot.n) * (hi - lo)])
+    A, B = fk(Q), robot.fk(Q)
+    pos = np.linalg.norm(A[:, :3, 3] - B[:, :3, 3], axis=1)
+    rot = np.abs(A[:, :3, :3] - B[:, :3, :3]).max(axis=(1, 2))
+    return float((pos + rot * robot.scale).max())
+
+
+def warn_fk_error(fk: Callable[[np.ndarray], np.ndarray], robot: Robot, section: str) -> float:
+    """Measure ``fk_error`` and issue a ConditioningWarning stating it when above WARN_TOL; returns it."""
+    err = fk_error(fk, robot)
+    if err > WARN_TOL * robot.scale:
+        import warnings
+
+        from ..errors import ConditioningWarning
+        from ..lines import ANGLE_TOL
+
+        # sqrt(ANGLE_TOL) ~ 1.2e-4 rad: nearer than that to parallel, a DH common normal lies more
+        # than ~1e4 offsets away, or (below ANGLE_TOL) the tilt is dropped: the pairs worth naming
+        tilts = _tilted_pairs(robot, ANGLE_TOL ** 0.5)
+        why = (", ".join(tilts) if tilts else
+               "of rounding in the table's parameters")
+        hint = "" if section == "hayati" else "; the hayati table is exact there"
+        warnings.warn(f"{section}: this table reproduces the robot's FK only to {err:.2g} (robot size "
+                      f"{robot.scale:.3g}; measured at q = 0 and {_CHECK_SAMPLES} configurations) because "
+                      f"{why}{hint}", ConditioningWarning, stacklevel=3)
+    return err
+
+
+def _tilted_pairs(robot: Robot, below: float) -> list[str]:
+    """'joints i and i+1 are (angle) rad from parallel' for consecutive joint axes (the first pair: the base z axis
+    and joint 1) closer than ``below`` (sin of the angle) to parallel but not exactly parallel."""
+    from ..lines import cross, norm
+
+    z = np.vstack([[0.0, 0.0, 1.0], robot.axes])
+    out = []
+    for i in range(robot.n):
+        s = norm(cross(z[i], z[i + 1]))
+        if 0.0 < s < below:
+            pair = "the base z axis and joint 1" if i == 0 else f"joints {i} and {i + 1}"
+            out.append(f"{pair} are {s:.2g} rad from parallel")
+    return out
+
+
+def placement_notes(table: "LinkTable") -> list[str]:
+    """Why a table needs a base or a tool transform (one line each; none when they are identities)."""
+    # the table's own size (its lengths and offsets) as the scale of "identity to rounding"
+    scale = float(np.abs(table.rows[:, :2]).sum() + np.linalg.norm(table.base[:3, 3])
+                  + np.linalg.norm(table.tool[:3, 3])) or 1.0
+    notes = []
+    if not is_identity(table.base, scale):
+        why = ("the robot base frame's x axis does not meet joint 1's axis at a right angle, or joint 1's "
+               "axis is tilted from the base z axis" if table.SECTION == "mdh" else
+               "joint 1's axis is not the robot base z axis")
+        notes.append(f"base: {why}, so frame {{0}} is reached by this fixed transform")
+    if not is_identity(table.tool, scale):
+        notes.append("tool: the tool frame is not the table's last frame (its x axis does not cross the "
+                     "last joint axis at a right angle, or it is turned about or shifted along that axis), "
+                     "so the rest is this fixed transform")
+    return notes
 
 
 @dataclass(frozen=True, eq=False)
 class LinkTable:
-    """Rows (n, 4) of (a, d, alpha, theta), joints, base and tool (4, 4); FK from the table itself."""
+    """Rows (n, 4) of (a, d, alpha, theta), joints, base and tool (4, 4); FK from the table itself.
+
+    A subclass may add columns after theta (Hayati's beta): ``link_matrix`` takes them all.
+    """
 
     SECTION: ClassVar[str] = "dh"
+    COLUMNS: ClassVar[tuple[str, ...]] = COLUMNS
     link_matrix: ClassVar[Callable[..., np.ndarray]] = staticmethod(se3.dh_matrix)
 
     rows: np.ndarray
@@ -73,7 +174,8 @@ class LinkTable:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "joints", tuple(self.joints))
-        object.__setattr__(self, "rows", check_dh_rows(self.rows, len(self.joints), f"{self.SECTION}.rows"))
+        object.__setattr__(self, "rows", check_dh_rows(self.rows, len(self.joints), f"{self.SECTION}.rows",
+                                                                type(self).COLUMNS))
         object.__setattr__(self, "base", check_pose(self.base, f"{self.SECTION}.base"))
         object.__setattr__(self, "tool", check_pose(self.tool, f"{self.SECTION}.tool"))
 
@@ -99,9 +201,9 @@ class LinkTable:
         Q = np.asarray(q, dtype=float)
         rev = np.array([j.revolute for j in self.joints])
         sign = np.array([-1.0 if j.flip else 1.0 for j in self.joints])
-        a, d, alpha, theta = self.rows.T
+        a, d, alpha, theta, *extra = self.rows.T
         return type(self).link_matrix(a, d + np.where(rev, 0.0, sign * Q), alpha,
-                                      theta + np.where(rev, sign * Q, 0.0))
+                                      theta + np.where(rev, sign * Q, 0.0), *extra)
 
     def fk(self, q: ArrayLike) -> np.ndarray:
         """Tool pose: q (n,) -> (4, 4) or (N, n) -> (N, 4, 4), evaluated from the table itself."""

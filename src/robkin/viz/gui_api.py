@@ -31,6 +31,7 @@ EXPORTS: dict[str, tuple[tuple[str, ...] | None, str, str]] = {
     "urdf": (None, ".urdf", "application/xml"),
     "dh": (("dh",), "_dh.yaml", "application/yaml"),
     "mdh": (("mdh",), "_mdh.yaml", "application/yaml"),
+    "hayati": (("hayati",), "_hayati.yaml", "application/yaml"),
     "poe": (("poe",), "_poe.yaml", "application/yaml"),
     "poe-body": (("poe_body",), "_poe_body.yaml", "application/yaml"),
     "rpy-xyz": (("rpy_xyz",), "_rpy_xyz.yaml", "application/yaml"),

@@ -1,0 +1,109 @@
+"""Conversion benchmark: how long one table costs, per robot, and where the time goes.
+
+For random 6-joint robots (random RPY-XYZ rows: skew axes, the common case of synthesis candidates)
+and for example-robot-data's UR5, it times ``dh_from_robot``, ``mdh_from_robot`` and
+``hayati_from_robot`` (median of interleaved rounds, one thread), and splits ``dh_from_robot`` into
+its stages: frame placement, parameter extraction, rounding of near-round values, residual tool,
+table construction (validation) and the FK check that measures the table's error.
+
+The goal (issue 10) is 0.2 ms per 6-joint robot, or 10^4 robots per second through a batch API.
+
+usage:
+  python benchmarks/bench_convert.py              # 200 random robots, 5 rounds
+  python benchmarks/bench_convert.py --robots 50 --rounds 3
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import statistics
+import sys
+import time
+import warnings
+
+import numpy as np
+
+import robkin
+from robkin import se3
+from robkin.representations.dh import dh_frames
+from robkin.representations.frames import dh_params_between
+from robkin.representations.link_table import fk_error, residual_tool
+from robkin.representations.rounding import snap_rows
+from robkin.representations.rpy_xyz import RPYTable
+
+
+def random_robots(count: int, n: int = 6, seed: int = 0) -> list[robkin.Robot]:
+    rng = np.random.default_rng(seed)
+    joints = [robkin.Joint(f"j{i + 1}") for i in range(n)]
+    out = []
+    for _ in range(count):
+        rows = np.column_stack([rng.uniform(-3, 3, (n + 2, 3)), rng.uniform(-0.5, 0.5, (n + 2, 3))])
+        out.append(RPYTable(rows, joints).to_robot())
+    return out
+
+
+def per_robot_ms(fn, robots, rounds: int) -> float:
+    """Median over rounds of the mean time per robot (ms)."""
+    times = []
+    for _ in range(rounds):
+        t = time.perf_counter()
+        for r in robots:
+            fn(r)
+        times.append((time.perf_counter() - t) / len(robots) * 1e3)
+    return statistics.median(times)
+
+
+def stages(robot: robkin.Robot) -> dict:
+    """Callables for each stage of dh_from_robot on one robot (inputs precomputed)."""
+    F, last = dh_frames(robot)
+    chain = list(F) + [last]
+    rows = np.array([dh_params_between(chain[i], chain[i + 1]) for i in range(robot.n)])
+    tool = residual_tool(F[0], rows, se3.dh_matrix, robot.tool, robot.scale)
+    table = robkin.DHTable(rows, robot.joints, base=F[0], tool=tool)
+    return {
+        "frame placement": lambda: dh_frames(robot),
+        "parameters": lambda: [dh_params_between(chain[i], chain[i + 1]) for i in range(robot.n)],
+        "round values": lambda: snap_rows(rows, robot.joints, np.eye(4), robot.scale),
+        "residual tool": lambda: residual_tool(F[0], rows, se3.dh_matrix, robot.tool, robot.scale),
+        "table (validation)": lambda: robkin.DHTable(rows, robot.joints, base=F[0], tool=tool),
+        "FK check": lambda: fk_error(table.fk, robot),
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--robots", type=int, default=200)
+    ap.add_argument("--rounds", type=int, default=5)
+    args = ap.parse_args(argv)
+    warnings.simplefilter("ignore")  # random robots may have nearly parallel axes: warnings are not timed
+    robots = random_robots(args.robots)
+    print(f"robkin {robkin.__version__}, numpy {np.__version__}, Python {platform.python_version()}, "
+          f"{os.cpu_count()} cpu(s)")
+    print(f"\n{args.robots} random 6-joint robots, ms per robot (median of {args.rounds} rounds):")
+    for fn in (robkin.dh_from_robot, robkin.mdh_from_robot, robkin.hayati_from_robot):
+        ms = per_robot_ms(fn, robots, args.rounds)
+        print(f"  {fn.__name__:20s} {ms:7.3f} ms   ({1e3 / ms:7.0f} robots/s)")
+    print("\ndh_from_robot by stage, ms per robot:")
+    parts = [stages(r) for r in robots[: max(1, args.robots // 4)]]
+    for name in parts[0]:
+        times = []
+        for _ in range(args.rounds):
+            t = time.perf_counter()
+            for p in parts:
+                p[name]()
+            times.append((time.perf_counter() - t) / len(parts) * 1e3)
+        print(f"  {name:20s} {statistics.median(times):7.3f}")
+    ur5 = os.path.join(sys.prefix, "lib", f"python{sys.version_info.major}.{sys.version_info.minor}",
+                       "site-packages", "cmeel.prefix", "share", "example-robot-data", "robots",
+                       "ur_description", "urdf", "ur5_robot.urdf")
+    if os.path.isfile(ur5):
+        robot = robkin.load(ur5, tip_link="tool0")
+        ms = per_robot_ms(robkin.dh_from_robot, [robot] * 50, args.rounds)
+        print(f"\nUR5 (example-robot-data) dh_from_robot: {ms:.3f} ms")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
