@@ -1,0 +1,231 @@
+# cython: language_level=3
+"""Geometric subproblems of closed-form IK and their bookkeeping, as ``cdef inline`` C functions.
+
+Shared by the closed-form kernels (``closed_form_6r.pyx``, ``closed_form_scara.pyx``); nothing here is
+callable from Python. Vectors are ``double[3]``, rotations row-major ``double[9]``; points in a plane
+are complex numbers held as (re, im) pairs.
+
+- ``rotation_about``: Rodrigues' formula.
+- ``angle_about``: the angle that turns p onto q about an axis (Paden-Kahan subproblem 1).
+- ``two_axes``: two rotations about intersecting axes that carry p onto q (subproblem 2).
+- ``cos_sin_equation``: both solutions of A cos x + B sin x = K.
+- ``planar_two_link``: both elbows of a planar two-link chain.
+- ``wrap_into_limits``: revolute angles moved by whole turns into their limits, nearest a preference.
+
+Unit-free tolerances are on cosines (dimensionless); callers verify every assembled solution by an
+independent forward kinematics, so a slack here never turns into a wrong answer reported as right.
+"""
+
+from libc.math cimport acos, atan2, ceil, cos, fabs, floor, hypot, nearbyint, sin, sqrt
+
+cdef extern from *:
+    """
+    /* A cosine beyond +-1 by less than this is rounding of a boundary case (a stretched arm, a
+       tangent solution) and is clamped; it moves the reached point by ~1e-9 link lengths, well below
+       the 1e-9 the caller verifies. Beyond it the case has no real solution. */
+    #define RK_COS_SLACK 1e-9
+    /* Norms below this (relative to 1: unit vectors, or lengths divided by the robot's size) mean a
+       direction is undefined (a point on the rotation axis): the angle is free and the caller's
+       preferred value is used. 1e-12 is ~1e4 ulps: rounding of exact coincidences stays below it. */
+    #define RK_DEGENERATE 1e-12
+    /* Slack on limit checks: an angle computed on a limit may differ from it by a few ulps of 2 pi. */
+    #define RK_LIMIT_TOL 1e-12
+    #define RK_TWO_PI 6.283185307179586
+    """
+    const double COS_SLACK "RK_COS_SLACK"
+    const double DEGENERATE "RK_DEGENERATE"
+    const double LIMIT_TOL "RK_LIMIT_TOL"
+    const double TWO_PI "RK_TWO_PI"
+
+
+# ------------------------------------------------------------------ small vector / rotation helpers
+cdef inline double dot3(const double* a, const double* b) noexcept nogil:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+cdef inline void cross3(const double* a, const double* b, double* out) noexcept nogil:
+    out[0] = a[1] * b[2] - a[2] * b[1]
+    out[1] = a[2] * b[0] - a[0] * b[2]
+    out[2] = a[0] * b[1] - a[1] * b[0]
+
+
+cdef inline void mat_vec(const double* R, const double* v, double* out) noexcept nogil:
+    """out = R v (out must not alias v)."""
+    cdef int i
+    for i in range(3):
+        out[i] = R[3 * i] * v[0] + R[3 * i + 1] * v[1] + R[3 * i + 2] * v[2]
+
+
+cdef inline void mat_t_vec(const double* R, const double* v, double* out) noexcept nogil:
+    """out = R^T v (out must not alias v)."""
+    cdef int i
+    for i in range(3):
+        out[i] = R[i] * v[0] + R[3 + i] * v[1] + R[6 + i] * v[2]
+
+
+cdef inline void mat_mul(const double* A, const double* B, double* out) noexcept nogil:
+    """out = A B (out must alias neither)."""
+    cdef int i, j
+    for i in range(3):
+        for j in range(3):
+            out[3 * i + j] = A[3 * i] * B[j] + A[3 * i + 1] * B[3 + j] + A[3 * i + 2] * B[6 + j]
+
+
+cdef inline void mat_t_mul(const double* A, const double* B, double* out) noexcept nogil:
+    """out = A^T B (out must alias neither)."""
+    cdef int i, j
+    for i in range(3):
+        for j in range(3):
+            out[3 * i + j] = A[i] * B[j] + A[3 + i] * B[3 + j] + A[6 + i] * B[6 + j]
+
+
+cdef inline void rotation_about(const double* k, double angle, double* R) noexcept nogil:
+    """R (row-major 3x3) = rotation about the unit axis k by angle (radians)."""
+    cdef double c = cos(angle), s = sin(angle)
+    cdef double t = 1.0 - c
+    R[0] = c + t * k[0] * k[0]
+    R[1] = t * k[0] * k[1] - s * k[2]
+    R[2] = t * k[0] * k[2] + s * k[1]
+    R[3] = t * k[0] * k[1] + s * k[2]
+    R[4] = c + t * k[1] * k[1]
+    R[5] = t * k[1] * k[2] - s * k[0]
+    R[6] = t * k[0] * k[2] - s * k[1]
+    R[7] = t * k[1] * k[2] + s * k[0]
+    R[8] = c + t * k[2] * k[2]
+
+
+# ------------------------------------------------------------------------------------ subproblems
+cdef inline double angle_about(const double* k, const double* p, const double* q, double free) noexcept nogil:
+    """Angle x with Rot(k, x) p = q, where p and q have equal components along the unit axis k.
+
+    Where p (or q) lies on the axis every angle works and ``free`` is returned.
+    """
+    cdef double pp[3]
+    cdef double qq[3]
+    cdef double pq[3]
+    cdef double kp = dot3(k, p), kq = dot3(k, q)
+    cdef int i
+    for i in range(3):
+        pp[i] = p[i] - k[i] * kp
+        qq[i] = q[i] - k[i] * kq
+    if sqrt(dot3(pp, pp)) * sqrt(dot3(qq, qq)) < DEGENERATE:
+        return free
+    cross3(pp, qq, pq)
+    return atan2(dot3(k, pq), dot3(pp, qq))
+
+
+cdef inline bint two_axes(const double* w1, const double* w2, const double* p, const double* q,
+                          double free1, double* x1, double* x2) noexcept nogil:
+    """Both angle pairs (x1[s], x2[s]) with Rot(w1, x1) Rot(w2, x2) p = q, for unit vectors p, q.
+
+    w1, w2: unit, non-parallel axes through the origin. Returns whether a pair exists. Where the
+    intermediate vector lies on w1 (a wrist singularity) x1 is free and ``free1`` is used.
+    """
+    cdef double w12[3]
+    cdef double v[3]
+    cdef double b = dot3(w1, w2)
+    cross3(w1, w2, w12)
+    cdef double denom = b * b - 1.0
+    cdef double w2p = dot3(w2, p), w1q = dot3(w1, q)
+    cdef double alpha = (b * w2p - w1q) / denom
+    cdef double beta = (b * w1q - w2p) / denom
+    cdef double g2 = (dot3(p, p) - alpha * alpha - beta * beta - 2.0 * alpha * beta * b) / dot3(w12, w12)
+    cdef double gamma = sqrt(g2) if g2 > 0.0 else 0.0
+    cdef int s, i
+    for s in range(2):
+        for i in range(3):
+            v[i] = alpha * w1[i] + beta * w2[i] + gamma * w12[i]
+        x2[s] = angle_about(w2, p, v, 0.0)
+        x1[s] = angle_about(w1, v, q, free1)
+        gamma = -gamma
+    return g2 >= -COS_SLACK
+
+
+cdef inline bint cos_sin_equation(double A, double B, double K, double free, double* x) noexcept nogil:
+    """Both solutions x[0], x[1] of A cos x + B sin x = K; returns whether they exist.
+
+    Where A = B = 0 the equation holds for every x if K = 0 (``free`` is returned) and for none otherwise.
+    """
+    cdef double rho = hypot(A, B)
+    if rho < DEGENERATE:
+        x[0] = free
+        x[1] = free
+        return fabs(K) < DEGENERATE
+    cdef double ratio = K / rho
+    cdef double base = atan2(B, A)
+    cdef double delta = acos(1.0 if ratio > 1.0 else (-1.0 if ratio < -1.0 else ratio))
+    x[0] = base + delta
+    x[1] = base - delta
+    return fabs(ratio) <= 1.0 + COS_SLACK
+
+
+cdef inline bint planar_two_link(double ar, double ai, double br, double bi, double dr, double di,
+                                 double free1, double* x1, double* x2) noexcept nogil:
+    """Both elbows (x1[s], x2[s]) of a planar two-link chain; returns whether the target is in reach.
+
+    The chain turns by x1 about the first axis and x2 about the second: the point at first axis + a + b
+    when x1 = x2 = 0 goes to first axis + e^{i x1} (a + e^{i x2} b). d is the wanted offset from the
+    first axis; a, b must be non-zero. Where d = 0 (only if |a| = |b|) x1 is free: ``free1``.
+    """
+    cdef double la = hypot(ar, ai), lb = hypot(br, bi), dd = hypot(dr, di)
+    cdef double D = (dd * dd - la * la - lb * lb) / (2.0 * la * lb)
+    cdef double beta = atan2(bi, br) - atan2(ai, ar)
+    cdef double delta = acos(1.0 if D > 1.0 else (-1.0 if D < -1.0 else D))
+    cdef double scale = la + lb
+    cdef double arg_d = atan2(di, dr)
+    cdef double c, s, rr, ri
+    cdef int k
+    for k in range(2):
+        x2[k] = -beta + (delta if k == 0 else -delta)
+        c = cos(x2[k])
+        s = sin(x2[k])
+        rr = ar + c * br - s * bi                       # a + e^{i x2} b
+        ri = ai + s * br + c * bi
+        if dd < DEGENERATE * scale or hypot(rr, ri) < DEGENERATE * scale:
+            x1[k] = free1
+        else:
+            x1[k] = arg_d - atan2(ri, rr)
+    return fabs(D) <= 1.0 + COS_SLACK
+
+
+# ---------------------------------------------------------------------------------- bookkeeping
+cdef inline bint wrap_into_limits(double* q, const double* ref, const double* lo, const double* hi,
+                                  const unsigned char* revolute, Py_ssize_t n) noexcept nogil:
+    """Revolute q[j] moved by whole turns into [lo[j], hi[j]], nearest ref[j]; returns whether every
+    joint (prismatic ones only checked) is then within its limits (up to LIMIT_TOL).
+
+    Unlimited revolute joints end up within pi of ref. A NaN value fails the check.
+    """
+    cdef Py_ssize_t j
+    cdef double k, k_lo, k_hi
+    cdef bint ok = True
+    for j in range(n):
+        if revolute[j]:
+            k_lo = ceil((lo[j] - LIMIT_TOL - q[j]) / TWO_PI)       # -inf where unlimited
+            k_hi = floor((hi[j] + LIMIT_TOL - q[j]) / TWO_PI)      # +inf where unlimited
+            k = nearbyint((ref[j] - q[j]) / TWO_PI)                # half to even, as numpy rounds
+            if k < k_lo:
+                k = k_lo
+            if k > k_hi:
+                k = k_hi
+            q[j] = q[j] + k * TWO_PI
+        if not (q[j] >= lo[j] - LIMIT_TOL and q[j] <= hi[j] + LIMIT_TOL):
+            ok = False
+    return ok
+
+
+cdef inline int wrap_branches(double* Q, const unsigned char* geometric, unsigned char* valid,
+                              const double* ref, const double* lo, const double* hi,
+                              const unsigned char* revolute, Py_ssize_t S, Py_ssize_t n) noexcept nogil:
+    """Every branch row of Q (S, n) wrapped into the limits; valid[s] = geometric[s] and within limits.
+
+    Returns 0 if some branch is valid, 2 if only limits reject the geometric ones, 1 if none is
+    geometric (the caller then says which step failed).
+    """
+    cdef Py_ssize_t s
+    cdef bint any_valid = False, any_geometric = False
+    for s in range(S):
+        valid[s] = wrap_into_limits(Q + s * n, ref, lo, hi, revolute, n) and geometric[s]
+        any_valid |= valid[s]
+        any_geometric |= geometric[s]
+    return 0 if any_valid else (2 if any_geometric else 1)
