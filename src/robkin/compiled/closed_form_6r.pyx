@@ -17,9 +17,13 @@ the reach messages quote.
 
 import numpy as np
 
-from libc.math cimport fabs, hypot, INFINITY
-from .subproblems cimport (angle_about, cos_sin_equation, cross3, dot3, mat_mul, mat_t_mul, mat_t_vec,
-                           mat_vec, planar_two_link, rotation_about, two_axes, wrap_branches)
+cimport numpy as cnp
+from libc.math cimport hypot, INFINITY
+from robkin.compiled.linalg cimport cross3, dot3, mat3_mul, mat3_vec, mat3T_vec, rodrigues
+from robkin.compiled.subproblems cimport (angle_about, c_doubles, cos_sin_equation, mat3T_mul, new_array,
+                                          planar_two_link, two_axes, wrap_branches)
+
+cnp.import_array()
 
 #: Within this (relative) distance of a singularity - the wrist point on axis 1, axis 6 along the
 #: parallel axes - the closed form's angles are only known to ~sqrt(eps) (arccos near +-1): a target
@@ -81,21 +85,26 @@ cdef class _Kernel6R:
     def solve(self, targets, q_ref):
         """Branches of targets (N, 4, 4), preferring q_ref (N, 6) for free joints.
 
-        Returns Q (N, 8, 6), valid (N, 8) bool, code (N,) int8, detail (N,) float, uncertain (N,) bool.
+        Returns Q (N, 8, 6), valid (N, 8) bool, code (N,) int8, detail (N,) float, uncertain (N,)
+        bool and the number of targets without a valid branch.
         """
-        cdef const double[:, :, ::1] T = np.ascontiguousarray(targets, dtype=np.float64)
-        cdef const double[:, ::1] ref = np.ascontiguousarray(q_ref, dtype=np.float64)
-        cdef Py_ssize_t N = T.shape[0], n
-        Q_arr = np.empty((N, 8, 6))
-        valid_arr = np.empty((N, 8), np.uint8)
-        code_arr = np.empty(N, np.int8)
-        detail_arr = np.empty(N)
-        unc_arr = np.empty(N, np.uint8)
-        cdef double[:, :, ::1] Q = Q_arr
-        cdef unsigned char[:, ::1] valid = valid_arr
-        cdef signed char[::1] code = code_arr
-        cdef double[::1] detail = detail_arr
-        cdef unsigned char[::1] unc = unc_arr
+        cdef cnp.ndarray T = c_doubles(targets, 3, 4, "targets")
+        cdef cnp.ndarray R = c_doubles(q_ref, 2, 6, "q_ref")
+        cdef Py_ssize_t N = cnp.PyArray_DIM(T, 0), n, failed = 0
+        if cnp.PyArray_DIM(R, 0) != N:
+            raise ValueError(f"q_ref: expected {N} rows, got {cnp.PyArray_DIM(R, 0)}")
+        cdef cnp.ndarray Q = new_array(3, N, 8, 6, cnp.NPY_DOUBLE)
+        cdef cnp.ndarray valid = new_array(2, N, 8, 0, cnp.NPY_BOOL)
+        cdef cnp.ndarray code = new_array(1, N, 0, 0, cnp.NPY_INT8)
+        cdef cnp.ndarray detail = new_array(1, N, 0, 0, cnp.NPY_DOUBLE)
+        cdef cnp.ndarray unc = new_array(1, N, 0, 0, cnp.NPY_BOOL)
+        cdef const double* t = <const double*>cnp.PyArray_DATA(T)
+        cdef const double* ref = <const double*>cnp.PyArray_DATA(R)
+        cdef double* q = <double*>cnp.PyArray_DATA(Q)
+        cdef unsigned char* v = <unsigned char*>cnp.PyArray_DATA(valid)
+        cdef signed char* c = <signed char*>cnp.PyArray_DATA(code)
+        cdef double* det = <double*>cnp.PyArray_DATA(detail)
+        cdef unsigned char* u = <unsigned char*>cnp.PyArray_DATA(unc)
         cdef double Rd[9]
         cdef double pd[3]
         cdef unsigned char geometric[8]
@@ -103,12 +112,12 @@ cdef class _Kernel6R:
         with nogil:
             for n in range(N):
                 for i in range(3):
-                    pd[i] = T[n, i, 3]
+                    pd[i] = t[16 * n + 4 * i + 3]
                     for j in range(3):
-                        Rd[3 * i + j] = T[n, i, j]
-                code[n] = self._solve_one(Rd, pd, &ref[n, 0], &Q[n, 0, 0], geometric, &valid[n, 0],
-                                          &detail[n], &unc[n])
-        return Q_arr, valid_arr.view(bool), code_arr, detail_arr, unc_arr.view(bool)
+                        Rd[3 * i + j] = t[16 * n + 4 * i + j]
+                c[n] = self._solve_one(Rd, pd, ref + 6 * n, q + 48 * n, geometric, v + 8 * n, det + n, u + n)
+                failed += c[n] != 0
+        return Q, valid, code, detail, unc, failed
 
     cdef signed char _solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
                                 unsigned char* geometric, unsigned char* valid, double* detail,
@@ -121,7 +130,7 @@ cdef class _Kernel6R:
         A cos q1 + B sin q1 = K. Sets q1[2], r = p_w - c_1, rho = |(A, B)| / scale."""
         cdef double v[3]
         cdef int i
-        mat_vec(Rd, self.w_tool, v)
+        mat3_vec(Rd, self.w_tool, v)
         for i in range(3):
             r[i] = v[i] + pd[i] - self.c[0][i]
         cdef double zr = dot3(r, self.z[0]), nz = dot3(u, self.z[0])
@@ -172,10 +181,10 @@ cdef class SphericalWristKernel(_Kernel6R):
         cdef double* z0 = self.z[0]
         detail[0] = INFINITY
         ok1 = self._shoulder(Rd, pd, self.z[1], self.K0, ref[0], q1, r, &rho)
-        mat_mul(Rd, self.RMt, RdM)
+        mat3_mul(Rd, self.RMt, RdM)
         for s1 in range(2):
-            rotation_about(z0, -q1[s1], R)
-            mat_vec(R, r, y)
+            rodrigues(z0, -q1[s1], R)
+            mat3_vec(R, r, y)
             for i in range(3):
                 y[i] += self.c[0][i]
             self._plane_offset(y, d)
@@ -183,22 +192,22 @@ cdef class SphericalWristKernel(_Kernel6R):
             ok23 = planar_two_link(self.ar, self.ai, self.br, self.bi, d[0], d[1], ref[1], x2, x3)
             any_ok1 |= ok1
             any_ok123 |= ok1 and ok23
-            rotation_about(z0, q1[s1], R)
+            rodrigues(z0, q1[s1], R)
             for s2 in range(2):
-                rotation_about(self.z[1], x2[s2], R123)
-                mat_mul(R, R123, R12)
-                rotation_about(self.z[2], self.sigma3 * x3[s2], Rw)
-                mat_mul(R12, Rw, R123)
-                mat_t_mul(R123, RdM, Rw)                      # R_w = R123^T R_d R_M^T
-                mat_vec(Rw, self.z[5], t6)
+                rodrigues(self.z[1], x2[s2], R123)
+                mat3_mul(R, R123, R12)
+                rodrigues(self.z[2], self.sigma3 * x3[s2], Rw)
+                mat3_mul(R12, Rw, R123)
+                mat3T_mul(R123, RdM, Rw)                      # R_w = R123^T R_d R_M^T
+                mat3_vec(Rw, self.z[5], t6)
                 ok45 = two_axes(self.z[3], self.z[4], self.z[5], t6, ref[3], q4, q5)
-                mat_vec(Rw, self.x6, v)
+                mat3_vec(Rw, self.x6, v)
                 for s3 in range(2):
                     b = 4 * s1 + 2 * s2 + s3
-                    rotation_about(self.z[3], q4[s3], R12)
-                    rotation_about(self.z[4], q5[s3], R123)
-                    mat_mul(R12, R123, R45)
-                    mat_t_vec(R45, v, x6t)
+                    rodrigues(self.z[3], q4[s3], R12)
+                    rodrigues(self.z[4], q5[s3], R123)
+                    mat3_mul(R12, R123, R45)
+                    mat3T_vec(R45, v, x6t)
                     q6 = angle_about(self.z[5], self.x6, x6t, 0.0)
                     Q[6 * b] = q1[s1]
                     Q[6 * b + 1] = x2[s2]
@@ -253,28 +262,28 @@ cdef class ThreeParallelKernel(_Kernel6R):
         cdef double x[3]
         cdef double d[2]
         cdef int i
-        rotation_about(u, -phi, R)
-        mat_mul(R, W, R6)
-        mat_t_mul(R5, R6, R)                                   # R6 = R5^T Rot(u, phi)^T W
-        mat_vec(R, self.x6, v)
+        rodrigues(u, -phi, R)
+        mat3_mul(R, W, R6)
+        mat3T_mul(R5, R6, R)                                   # R6 = R5^T Rot(u, phi)^T W
+        mat3_vec(R, self.x6, v)
         q6[0] = angle_about(self.z[5], self.x6, v, 0.0)
         # the point on axis 4, moved by joints 2 and 3 only: Y = E1^-1 T_d M^-1 E6^-1 E5^-1 c4
         for i in range(3):
             v[i] = self.c[3][i] - self.c[4][i]
-        mat_t_vec(R5, v, x)
+        mat3T_vec(R5, v, x)
         for i in range(3):
             x[i] += self.c[4][i] - self.c[5][i]
-        rotation_about(self.z[5], -q6[0], R)
-        mat_vec(R, x, v)
+        rodrigues(self.z[5], -q6[0], R)
+        mat3_vec(R, x, v)
         for i in range(3):
             v[i] += self.c[5][i]
-        mat_vec(self.Minv_R, v, x)
+        mat3_vec(self.Minv_R, v, x)
         for i in range(3):
             x[i] += self.Minv_p[i]
-        mat_vec(Rd, x, v)
+        mat3_vec(Rd, x, v)
         for i in range(3):
             v[i] += pd[i] - self.c[0][i]
-        mat_t_vec(R1, v, x)
+        mat3T_vec(R1, v, x)
         for i in range(3):
             x[i] += self.c[0][i]
         self._plane_offset(x, d)
@@ -307,21 +316,21 @@ cdef class ThreeParallelKernel(_Kernel6R):
         cdef bint ok1, ok5, ok23, free, any_ok1 = False, any_ok15 = False, any_free = False
         detail[0] = INFINITY
         ok1 = self._shoulder(Rd, pd, u, self.K0, ref[0], q1, r, &rho)
-        mat_mul(Rd, self.RMt, Rt)                              # R(q) at the target, without the tool
-        mat_vec(Rt, g, z6t)
+        mat3_mul(Rd, self.RMt, Rt)                              # R(q) at the target, without the tool
+        mat3_vec(Rt, g, z6t)
         phi_ref = self.sigma[0] * ref[1] + self.sigma[1] * ref[2] + self.sigma[2] * ref[3]
         for s1 in range(2):
-            rotation_about(self.z[0], q1[s1], R1)
+            rodrigues(self.z[0], q1[s1], R1)
             # wrist: u . Rot(z5, q5) g = u . (R1^T z6_target)
-            mat_vec(R1, u, v)
+            mat3_vec(R1, u, v)
             ok5 = cos_sin_equation(self.A5, self.B5, dot3(z6t, v) - self.zg_uz, ref[4], q5)
             any_ok1 |= ok1
             any_ok15 |= ok1 and ok5
-            mat_t_mul(R1, Rt, W)                               # W = R1^T R_d R_M^T = Rot(u, phi) R5 R6
-            mat_vec(W, g, Wg)
+            mat3T_mul(R1, Rt, W)                               # W = R1^T R_d R_M^T = Rot(u, phi) R5 R6
+            mat3_vec(W, g, Wg)
             for s2 in range(2):
-                rotation_about(self.z[4], q5[s2], R5)
-                mat_vec(R5, g, a5)
+                rodrigues(self.z[4], q5[s2], R5)
+                mat3_vec(R5, g, a5)
                 phi = angle_about(u, a5, Wg, phi_ref)
                 ok23 = self._rest(phi, R1, R5, W, Rd, pd, ref[1], &q6, psi2, psi3, &dist)
                 # Wrist singularity (axis 6 along u): phi and q6 trade off, but the point on axis 4 -

@@ -14,8 +14,12 @@ the position (no wrist joint); 5 geometric solutions exist but violate the joint
 
 import numpy as np
 
+cimport numpy as cnp
 from libc.math cimport atan2, cos, fabs, hypot, sin, sqrt
-from .subproblems cimport COS_SLACK, dot3, mat_mul, mat_vec, planar_two_link, wrap_branches
+from robkin.compiled.linalg cimport dot3, mat3_mul, mat3_vec
+from robkin.compiled.subproblems cimport COS_SLACK, c_doubles, new_array, planar_two_link, wrap_branches
+
+cnp.import_array()
 
 #: Target orientation must be a rotation about u to this (|R u - u|, radians); a looser target has
 #: no exact solution. 1e-9: rounding of targets computed by FK is ~1e-15, and the IK verifies to 1e-9.
@@ -114,34 +118,40 @@ cdef class ScaraKernel:
     def solve(self, targets, q_ref):
         """Both elbows of targets (N, 4, 4), preferring q_ref (N, n) for the free choices.
 
-        Returns Q (N, 2, n), valid (N, 2) bool, code (N,) int8, detail (N,) float.
+        Returns Q (N, 2, n), valid (N, 2) bool, code (N,) int8, detail (N,) float and the number of
+        targets without a valid branch.
         """
-        cdef const double[:, :, ::1] T = np.ascontiguousarray(targets, dtype=np.float64)
-        cdef const double[:, ::1] ref = np.ascontiguousarray(q_ref, dtype=np.float64)
-        cdef Py_ssize_t N = T.shape[0], n = self.n, k
-        Q_arr = np.empty((N, 2, n))
-        valid_arr = np.empty((N, 2), np.uint8)
-        code_arr = np.empty(N, np.int8)
-        detail_arr = np.empty(N)
-        cdef double[:, :, ::1] Q = Q_arr
-        cdef unsigned char[:, ::1] valid = valid_arr
-        cdef signed char[::1] code = code_arr
-        cdef double[::1] detail = detail_arr
-        cdef double[::1] pref = np.empty(max(self.m, 1))
-        cdef double[::1] qp = np.empty(max(self.m, 1))
-        cdef unsigned char[::1] scratch = np.empty(max(self.m, 1), np.uint8)
+        cdef Py_ssize_t n = self.n, k, failed = 0, m1 = max(self.m, 1)
+        cdef cnp.ndarray T = c_doubles(targets, 3, 4, "targets")
+        cdef cnp.ndarray R = c_doubles(q_ref, 2, n, "q_ref")
+        cdef Py_ssize_t N = cnp.PyArray_DIM(T, 0)
+        if cnp.PyArray_DIM(R, 0) != N:
+            raise ValueError(f"q_ref: expected {N} rows, got {cnp.PyArray_DIM(R, 0)}")
+        cdef cnp.ndarray Q = new_array(3, N, 2, n, cnp.NPY_DOUBLE)
+        cdef cnp.ndarray valid = new_array(2, N, 2, 0, cnp.NPY_BOOL)
+        cdef cnp.ndarray code = new_array(1, N, 0, 0, cnp.NPY_INT8)
+        cdef cnp.ndarray detail = new_array(1, N, 0, 0, cnp.NPY_DOUBLE)
+        cdef cnp.ndarray scratch = new_array(1, 3 * m1, 0, 0, cnp.NPY_DOUBLE)   # pref, qp, free flags
+        cdef const double* t = <const double*>cnp.PyArray_DATA(T)
+        cdef const double* ref = <const double*>cnp.PyArray_DATA(R)
+        cdef double* q = <double*>cnp.PyArray_DATA(Q)
+        cdef unsigned char* v = <unsigned char*>cnp.PyArray_DATA(valid)
+        cdef signed char* c = <signed char*>cnp.PyArray_DATA(code)
+        cdef double* det = <double*>cnp.PyArray_DATA(detail)
+        cdef double* work = <double*>cnp.PyArray_DATA(scratch)
         cdef double Rd[9]
         cdef double pd[3]
         cdef int i, j
         with nogil:
             for k in range(N):
                 for i in range(3):
-                    pd[i] = T[k, i, 3]
+                    pd[i] = t[16 * k + 4 * i + 3]
                     for j in range(3):
-                        Rd[3 * i + j] = T[k, i, j]
-                code[k] = self._solve_one(Rd, pd, &ref[k, 0], &Q[k, 0, 0], &valid[k, 0], &detail[k],
-                                          &pref[0], &qp[0], &scratch[0])
-        return Q_arr, valid_arr.view(bool), code_arr, detail_arr
+                        Rd[3 * i + j] = t[16 * k + 4 * i + j]
+                c[k] = self._solve_one(Rd, pd, ref + n * k, q + 2 * n * k, v + 2 * k, det + k, work,
+                                       work + m1, <unsigned char*>(work + 2 * m1))
+                failed += c[k] != 0
+        return Q, valid, code, detail, failed
 
     cdef signed char _solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
                                 unsigned char* valid, double* detail, double* pref, double* qp,
@@ -158,11 +168,11 @@ cdef class ScaraKernel:
         cdef bint wrist_ok[2]
         cdef Py_ssize_t j, e, n = self.n
         # orientation: Rot(u, phi) R_M
-        mat_mul(Rd, self.RMt, rel)
-        mat_vec(rel, self.u, v)
+        mat3_mul(Rd, self.RMt, rel)
+        mat3_vec(rel, self.u, v)
         tilt = sqrt((v[0] - self.u[0]) ** 2 + (v[1] - self.u[1]) ** 2 + (v[2] - self.u[2]) ** 2)
         orient_ok = tilt <= _ORIENTATION_SLACK
-        mat_vec(rel, self.e1, v)
+        mat3_vec(rel, self.e1, v)
         phi = atan2(dot3(v, self.e2), dot3(v, self.e1))
         # vertical travel, split among the prismatic joints; the split meets h exactly unless the
         # limits cut it short, and a shortfall within rounding of the robot's size (COS_SLACK
@@ -177,7 +187,7 @@ cdef class ScaraKernel:
             sh += qp[j] * self.s[j]
         vert_ok = fabs(sh - h) <= COS_SLACK * self.scale
         # planar chain: the first two revolute joints bring the wrist point (or tool origin) there
-        mat_vec(Rd, self.pit, point)
+        mat3_vec(Rd, self.pit, point)
         for j in range(3):
             point[j] += pd[j]
         dr = dot3(point, self.e1) - self.C1r

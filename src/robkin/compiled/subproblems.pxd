@@ -2,21 +2,25 @@
 """Geometric subproblems of closed-form IK and their bookkeeping, as ``cdef inline`` C functions.
 
 Shared by the closed-form kernels (``closed_form_6r.pyx``, ``closed_form_scara.pyx``); nothing here is
-callable from Python. Vectors are ``double[3]``, rotations row-major ``double[9]``; points in a plane
-are complex numbers held as (re, im) pairs.
+callable from Python. Vectors are ``double[3]``, rotations row-major ``double[9]`` (the conventions and
+small helpers of ``linalg.pxd``); points in a plane are complex numbers held as (re, im) pairs.
 
-- ``rotation_about``: Rodrigues' formula.
 - ``angle_about``: the angle that turns p onto q about an axis (Paden-Kahan subproblem 1).
 - ``two_axes``: two rotations about intersecting axes that carry p onto q (subproblem 2).
 - ``cos_sin_equation``: both solutions of A cos x + B sin x = K.
 - ``planar_two_link``: both elbows of a planar two-link chain.
-- ``wrap_into_limits``: revolute angles moved by whole turns into their limits, nearest a preference.
+- ``wrap_into_limits``, ``wrap_branches``: revolute angles moved by whole turns into their limits,
+  nearest a preference, and the validity of each branch.
+- ``c_doubles``, ``new_array``: the kernels' inputs as C-contiguous float64 arrays (no copy when they
+  already are) and their outputs, without per-call memoryview set-up (single calls stay cheap).
 
 Unit-free tolerances are on cosines (dimensionless); callers verify every assembled solution by an
 independent forward kinematics, so a slack here never turns into a wrong answer reported as right.
 """
 
 from libc.math cimport acos, atan2, ceil, cos, fabs, floor, hypot, nearbyint, sin, sqrt
+from robkin.compiled.linalg cimport cross3, dot3, norm3
+cimport numpy as cnp
 
 cdef extern from *:
     """
@@ -38,60 +42,13 @@ cdef extern from *:
     const double TWO_PI "RK_TWO_PI"
 
 
-# ------------------------------------------------------------------ small vector / rotation helpers
-cdef inline double dot3(const double* a, const double* b) noexcept nogil:
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-cdef inline void cross3(const double* a, const double* b, double* out) noexcept nogil:
-    out[0] = a[1] * b[2] - a[2] * b[1]
-    out[1] = a[2] * b[0] - a[0] * b[2]
-    out[2] = a[0] * b[1] - a[1] * b[0]
-
-
-cdef inline void mat_vec(const double* R, const double* v, double* out) noexcept nogil:
-    """out = R v (out must not alias v)."""
-    cdef int i
-    for i in range(3):
-        out[i] = R[3 * i] * v[0] + R[3 * i + 1] * v[1] + R[3 * i + 2] * v[2]
-
-
-cdef inline void mat_t_vec(const double* R, const double* v, double* out) noexcept nogil:
-    """out = R^T v (out must not alias v)."""
-    cdef int i
-    for i in range(3):
-        out[i] = R[i] * v[0] + R[3 + i] * v[1] + R[6 + i] * v[2]
-
-
-cdef inline void mat_mul(const double* A, const double* B, double* out) noexcept nogil:
-    """out = A B (out must alias neither)."""
-    cdef int i, j
-    for i in range(3):
-        for j in range(3):
-            out[3 * i + j] = A[3 * i] * B[j] + A[3 * i + 1] * B[3 + j] + A[3 * i + 2] * B[6 + j]
-
-
-cdef inline void mat_t_mul(const double* A, const double* B, double* out) noexcept nogil:
-    """out = A^T B (out must alias neither)."""
+# ------------------------------------------------------------------ closed-form-specific helper
+cdef inline void mat3T_mul(const double* A, const double* B, double* out) noexcept nogil:
+    """out = A^T B for 3x3 row-major matrices (out must alias neither)."""
     cdef int i, j
     for i in range(3):
         for j in range(3):
             out[3 * i + j] = A[i] * B[j] + A[3 + i] * B[3 + j] + A[6 + i] * B[6 + j]
-
-
-cdef inline void rotation_about(const double* k, double angle, double* R) noexcept nogil:
-    """R (row-major 3x3) = rotation about the unit axis k by angle (radians)."""
-    cdef double c = cos(angle), s = sin(angle)
-    cdef double t = 1.0 - c
-    R[0] = c + t * k[0] * k[0]
-    R[1] = t * k[0] * k[1] - s * k[2]
-    R[2] = t * k[0] * k[2] + s * k[1]
-    R[3] = t * k[0] * k[1] + s * k[2]
-    R[4] = c + t * k[1] * k[1]
-    R[5] = t * k[1] * k[2] - s * k[0]
-    R[6] = t * k[0] * k[2] - s * k[1]
-    R[7] = t * k[1] * k[2] + s * k[0]
-    R[8] = c + t * k[2] * k[2]
 
 
 # ------------------------------------------------------------------------------------ subproblems
@@ -108,7 +65,7 @@ cdef inline double angle_about(const double* k, const double* p, const double* q
     for i in range(3):
         pp[i] = p[i] - k[i] * kp
         qq[i] = q[i] - k[i] * kq
-    if sqrt(dot3(pp, pp)) * sqrt(dot3(qq, qq)) < DEGENERATE:
+    if norm3(pp) * norm3(qq) < DEGENERATE:
         return free
     cross3(pp, qq, pq)
     return atan2(dot3(k, pq), dot3(pp, qq))
@@ -229,3 +186,29 @@ cdef inline int wrap_branches(double* Q, const unsigned char* geometric, unsigne
         any_valid |= valid[s]
         any_geometric |= geometric[s]
     return 0 if any_valid else (2 if any_geometric else 1)
+
+
+# --------------------------------------------------------------------------------- array helpers
+cdef inline cnp.ndarray c_doubles(object a, int ndim, Py_ssize_t n_last, str name):
+    """a as a C-contiguous float64 array (not copied if it is one) of ndim dimensions whose last is
+    n_last (and for ndim 3 the middle one too); ValueError naming ``name`` otherwise."""
+    cdef cnp.ndarray arr
+    if cnp.PyArray_Check(a) and cnp.PyArray_TYPE(<cnp.ndarray>a) == cnp.NPY_DOUBLE \
+            and cnp.PyArray_IS_C_CONTIGUOUS(<cnp.ndarray>a):
+        arr = <cnp.ndarray>a
+    else:
+        arr = <cnp.ndarray>cnp.PyArray_FROM_OTF(a, cnp.NPY_DOUBLE, cnp.NPY_ARRAY_C_CONTIGUOUS | cnp.NPY_ARRAY_ALIGNED)
+    if cnp.PyArray_NDIM(arr) != ndim or cnp.PyArray_DIM(arr, ndim - 1) != n_last \
+            or (ndim == 3 and cnp.PyArray_DIM(arr, 1) != n_last):
+        raise ValueError(f"{name}: expected {ndim} dimensions, the last of size {n_last}, got shape "
+                         f"{(<object>arr).shape}")
+    return arr
+
+
+cdef inline cnp.ndarray new_array(int nd, Py_ssize_t d0, Py_ssize_t d1, Py_ssize_t d2, int typenum):
+    """An uninitialised C-ordered array of shape (d0,), (d0, d1) or (d0, d1, d2)."""
+    cdef cnp.npy_intp dims[3]
+    dims[0] = d0
+    dims[1] = d1
+    dims[2] = d2
+    return cnp.PyArray_EMPTY(nd, dims, typenum, 0)

@@ -92,8 +92,9 @@ class _Closed6R:
 
     def solve(self, targets: np.ndarray, q_ref: np.ndarray) -> Branches:
         """Up to 8 branches (N, 8, 6) for targets (N, 4, 4); q_ref (N, 6) decides free joints."""
-        Q, valid, code, detail, uncertain = self._kernel.solve(targets, q_ref)
-        return Branches(Q, valid, reasons_from_codes(code, detail, self.messages), uncertain)
+        Q, valid, code, detail, uncertain, failed = self._kernel.solve(targets, q_ref)
+        reasons = reasons_from_codes(code, detail, self.messages) if failed else [""] * len(Q)
+        return Branches(Q, valid, reasons, uncertain)
 
 
 class SphericalWrist6R(_Closed6R):

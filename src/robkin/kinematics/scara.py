@@ -116,8 +116,9 @@ class ScaraSolver:
 
     def solve(self, targets: np.ndarray, q_ref: np.ndarray) -> Branches:
         """Both elbow branches (N, 2, n) for targets (N, 4, 4); q_ref (N, n) decides the free choices."""
-        Q, valid, code, detail = self._kernel.solve(targets, q_ref)
-        return Branches(Q, valid, reasons_from_codes(code, detail, self.messages))
+        Q, valid, code, detail, failed = self._kernel.solve(targets, q_ref)
+        reasons = reasons_from_codes(code, detail, self.messages) if failed else [""] * len(Q)
+        return Branches(Q, valid, reasons)
 
 
 def _vec(v: np.ndarray) -> str:
