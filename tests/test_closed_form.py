@@ -197,3 +197,83 @@ def test_batch_equals_single_calls():
     for i in range(20):
         one = solver.solve(targets[i:i + 1], ref[i:i + 1])
         assert np.array_equal(one.q[0], batch.q[i]) and np.array_equal(one.valid[0], batch.valid[i])
+
+
+# ------------------------------------------------------------------------------------ random arms
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from robkin import se3  # noqa: E402
+from robkin.robot import default_joints  # noqa: E402
+
+_sign = st.sampled_from([1.0, -1.0])
+_length = st.floats(0.1, 0.8).flatmap(lambda x: _sign.map(lambda s: s * x))     # a non-zero link
+_any_length = st.one_of(st.just(0.0), _length)
+
+
+@st.composite
+def family_tables(draw, kind: str, offsets: bool) -> np.ndarray:
+    """Standard DH rows (a, d, alpha, theta) of a random arm of one closed-form family.
+
+    spherical wrist: alpha_1 = +-pi/2, alpha_2 = 0 (axes 2 || 3), a_4 = a_5 = d_5 = 0 (axes 4-6 meet);
+    three parallel: alpha_1 = +-pi/2, alpha_2 = alpha_3 = 0 (axes 2 || 3 || 4), alpha_4 = +-pi/2,
+    a_5 = 0 (axes 5 and 6 meet), d_5 != 0 (so not also a spherical wrist). Other lengths random; the joint offsets theta random if asked.
+    """
+    s = [draw(_sign) * np.pi / 2 for _ in range(4)]
+    if kind == "spherical":
+        a = [draw(_any_length), draw(_length), draw(_any_length), 0.0, 0.0, 0.0]
+        d = [draw(_any_length), draw(_any_length), draw(_any_length), draw(_length), 0.0, draw(_any_length)]
+        alpha = [s[0], 0.0, s[1], s[2], s[3], 0.0]
+    else:
+        a = [draw(_any_length), draw(_length), draw(_length), draw(_any_length), 0.0, 0.0]
+        d = [draw(_any_length), draw(_any_length), draw(_any_length), draw(_any_length), draw(_length),
+             draw(_any_length)]
+        alpha = [s[0], 0.0, 0.0, s[1], s[2], 0.0]
+    theta = [draw(st.floats(-np.pi, np.pi)) if offsets else 0.0 for _ in range(6)]
+    return np.column_stack([a, d, alpha, theta])
+
+
+def family_robot(rows: np.ndarray, tool: np.ndarray | None = None) -> robkin.Robot:
+    return robkin.DHTable(rows, default_joints(["revolute"] * 6), tool=np.eye(4) if tool is None else tool
+                          ).to_robot()
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(kind=st.sampled_from(["spherical", "parallel"]), data=st.data(), seed=st.integers(0, 2**16))
+def test_random_arms_of_both_families_match_eaik(kind, data, seed):
+    from eaik.IK_DH import DhRobot
+
+    rows = data.draw(family_tables(kind, offsets=False))
+    robot = family_robot(rows)
+    assert isinstance(closed_form_solver(robot), SphericalWrist6R if kind == "spherical" else ThreeParallel6R)
+    solver = DhRobot(rows[:, 2], rows[:, 0], rows[:, 1])._robot
+    targets = robot.fk(robot.random_q(8, rng=seed))
+    assert np.abs(np.array([solver.fwdkin(q) for q in robot.random_q(3, rng=seed)])
+                  - robot.fk(robot.random_q(3, rng=seed))).max() < 1e-12      # the same arm in both
+    res = robot.ik(targets, all_solutions=True)
+    assert res.success.all()
+    for T, ours in zip(targets, res.solutions):
+        assert np.abs(robot.fk(ours) - T).max() <= 1e-9
+        theirs = eaik_exact(solver, T)
+        theirs = theirs[np.abs(np.array([solver.fwdkin(p) for p in theirs]) - T).max(axis=(1, 2)) <= 1e-9] \
+            if len(theirs) else theirs
+        assert all(any(same(q, p) for q in ours) for p in theirs)    # every exact EAIK solution is ours
+        assert all(any(same(q, p) for p in theirs) for q in ours)    # and the other way round
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(kind=st.sampled_from(["spherical", "parallel"]), data=st.data(), seed=st.integers(0, 2**16))
+def test_random_arms_with_offsets_and_tools_find_the_generating_configuration(kind, data, seed):
+    rows = data.draw(family_tables(kind, offsets=True))
+    tool = se3.trans(*data.draw(st.lists(st.floats(-0.3, 0.3), min_size=3, max_size=3))) \
+        @ se3.rot_y(data.draw(st.floats(-np.pi, np.pi))) @ se3.rot_z(data.draw(st.floats(-np.pi, np.pi)))
+    robot = family_robot(rows, tool)
+    assert closed_form_solver(robot) is not None
+    Q = robot.random_q(8, rng=seed)
+    targets = robot.fk(Q)
+    res = robot.ik(targets, all_solutions=True)
+    assert res.success.all()
+    for q, T, sols in zip(Q, targets, res.solutions):
+        assert 1 <= len(sols) <= 8
+        assert np.abs(robot.fk(sols) - T).max() <= 1e-9
+        assert any(same(q, s) for s in sols)
