@@ -21,7 +21,8 @@ cimport numpy as cnp
 from libc.math cimport hypot, INFINITY
 from robkin.compiled.linalg cimport cross3, dot3, mat3_mul, mat3_vec, mat3T_vec, rodrigues
 from robkin.compiled.subproblems cimport (angle_about, c_doubles, cos_sin_equation, mat3T_mul, new_array,
-                                          planar_two_link, two_axes, wrap_branches)
+                                          planar_two_link, TwoLink, two_axes, two_link,
+                                          wrap_branches)
 
 cnp.import_array()
 
@@ -63,7 +64,8 @@ cdef class _Kernel6R:
     cdef double lo[6]
     cdef double hi[6]
     cdef unsigned char rev[6]
-    cdef double scale, ar, ai, br, bi, C2r, C2i
+    cdef double scale, C2r, C2i
+    cdef TwoLink chain             # joints 2-3 as a planar two-link chain
 
     def __init__(self, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits):
         cdef int i
@@ -78,7 +80,7 @@ cdef class _Kernel6R:
         _copy3(x6, self.x6)
         _copy3(e1, self.e1)
         _copy3(e2, self.e2)
-        self.ar, self.ai, self.br, self.bi = a.real, a.imag, b.real, b.imag
+        self.chain = two_link(a, b)
         self.C2r, self.C2i = C2.real, C2.imag
         self.scale = scale
 
@@ -189,7 +191,7 @@ cdef class SphericalWristKernel(_Kernel6R):
                 y[i] += self.c[0][i]
             self._plane_offset(y, d)
             detail[0] = min(detail[0], hypot(d[0], d[1]))
-            ok23 = planar_two_link(self.ar, self.ai, self.br, self.bi, d[0], d[1], ref[1], x2, x3)
+            ok23 = planar_two_link(&self.chain, d[0], d[1], ref[1], x2, x3)
             any_ok1 |= ok1
             any_ok123 |= ok1 and ok23
             rodrigues(z0, q1[s1], R)
@@ -288,7 +290,7 @@ cdef class ThreeParallelKernel(_Kernel6R):
             x[i] += self.c[0][i]
         self._plane_offset(x, d)
         dist[0] = hypot(d[0], d[1])
-        return planar_two_link(self.ar, self.ai, self.br, self.bi, d[0], d[1], self.sigma[0] * q2_ref,
+        return planar_two_link(&self.chain, d[0], d[1], self.sigma[0] * q2_ref,
                                psi2, psi3)
 
     cdef signed char _solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,

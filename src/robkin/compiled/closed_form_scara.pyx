@@ -17,7 +17,8 @@ import numpy as np
 cimport numpy as cnp
 from libc.math cimport atan2, cos, fabs, hypot, sin, sqrt
 from robkin.compiled.linalg cimport dot3, mat3_mul, mat3_vec
-from robkin.compiled.subproblems cimport COS_SLACK, c_doubles, new_array, planar_two_link, wrap_branches
+from robkin.compiled.subproblems cimport (COS_SLACK, c_doubles, new_array, planar_two_link, TwoLink, two_link,
+                                          wrap_branches)
 
 cnp.import_array()
 
@@ -91,7 +92,8 @@ cdef class ScaraKernel:
     cdef double RMt[9]
     cdef double pM[3]
     cdef double pit[3]                         # the wrist point (or tool origin) in tool coordinates
-    cdef double ar, ai, br, bi, C1r, C1i, scale
+    cdef double C1r, C1i, scale
+    cdef TwoLink chain                         # the first two revolute joints, planar
     cdef Py_ssize_t n, nr, m
     cdef Py_ssize_t[::1] ridx, pidx
     cdef double[::1] sigma, s, lo, hi, plo, phi_
@@ -105,7 +107,7 @@ cdef class ScaraKernel:
             self.pM[i], self.pit[i] = p_M[i], point_in_tool[i]
             for j in range(3):
                 self.RMt[3 * i + j] = R_M[j][i]
-        self.ar, self.ai, self.br, self.bi = a.real, a.imag, b.real, b.imag
+        self.chain = two_link(a, b)
         self.C1r, self.C1i, self.scale = C1.real, C1.imag, scale
         self.ridx, self.pidx = np.array(ridx, np.intp), np.array(pidx, np.intp)
         self.n, self.nr, self.m = len(revolute), len(ridx), len(pidx)
@@ -192,7 +194,7 @@ cdef class ScaraKernel:
             point[j] += pd[j]
         dr = dot3(point, self.e1) - self.C1r
         di = dot3(point, self.e2) - self.C1i
-        reach_ok = planar_two_link(self.ar, self.ai, self.br, self.bi, dr, di,
+        reach_ok = planar_two_link(&self.chain, dr, di,
                                    self.sigma[0] * ref[self.ridx[0]], x1, x2)
         for e in range(2):
             ang[0], ang[1] = x1[e], x2[e]

@@ -116,28 +116,41 @@ cdef inline bint cos_sin_equation(double A, double B, double K, double free, dou
     return fabs(ratio) <= 1.0 + COS_SLACK
 
 
-cdef inline bint planar_two_link(double ar, double ai, double br, double bi, double dr, double di,
-                                 double free1, double* x1, double* x2) noexcept nogil:
+cdef struct TwoLink:
+    # a planar two-link chain: link vectors a, b as complex numbers, their lengths and relative angle
+    double ar, ai, br, bi, la, lb, beta
+
+
+cdef inline TwoLink two_link(double complex a, double complex b) noexcept:
+    """The chain of links a, b (non-zero), with what every solve needs precomputed."""
+    cdef TwoLink L
+    L.ar, L.ai, L.br, L.bi = a.real, a.imag, b.real, b.imag
+    L.la, L.lb = hypot(L.ar, L.ai), hypot(L.br, L.bi)
+    L.beta = atan2(L.bi, L.br) - atan2(L.ai, L.ar)
+    return L
+
+
+cdef inline bint planar_two_link(const TwoLink* L, double dr, double di, double free1, double* x1,
+                                 double* x2) noexcept nogil:
     """Both elbows (x1[s], x2[s]) of a planar two-link chain; returns whether the target is in reach.
 
     The chain turns by x1 about the first axis and x2 about the second: the point at first axis + a + b
     when x1 = x2 = 0 goes to first axis + e^{i x1} (a + e^{i x2} b). d is the wanted offset from the
-    first axis; a, b must be non-zero. Where d = 0 (only if |a| = |b|) x1 is free: ``free1``.
+    first axis. Where d = 0 (only if |a| = |b|) x1 is free: ``free1``.
     """
-    cdef double la = hypot(ar, ai), lb = hypot(br, bi), dd = hypot(dr, di)
+    cdef double la = L.la, lb = L.lb, dd = hypot(dr, di)
     cdef double D = (dd * dd - la * la - lb * lb) / (2.0 * la * lb)
-    cdef double beta = atan2(bi, br) - atan2(ai, ar)
     cdef double delta = acos(1.0 if D > 1.0 else (-1.0 if D < -1.0 else D))
     cdef double scale = la + lb
     cdef double arg_d = atan2(di, dr)
     cdef double c, s, rr, ri
     cdef int k
     for k in range(2):
-        x2[k] = -beta + (delta if k == 0 else -delta)
+        x2[k] = -L.beta + (delta if k == 0 else -delta)
         c = cos(x2[k])
         s = sin(x2[k])
-        rr = ar + c * br - s * bi                       # a + e^{i x2} b
-        ri = ai + s * br + c * bi
+        rr = L.ar + c * L.br - s * L.bi                 # a + e^{i x2} b
+        ri = L.ai + s * L.br + c * L.bi
         if dd < DEGENERATE * scale or hypot(rr, ri) < DEGENERATE * scale:
             x1[k] = free1
         else:
