@@ -277,3 +277,24 @@ def test_random_arms_with_offsets_and_tools_find_the_generating_configuration(ki
         assert 1 <= len(sols) <= 8
         assert np.abs(robot.fk(sols) - T).max() <= 1e-9
         assert any(same(q, s) for s in sols)
+
+
+# ------------------------------------------------------------------------------------ bookkeeping
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**16), k=st.integers(0, 12), n=st.integers(1, 7))
+def test_distinct_sorted_matches_its_definition(seed, k, n):
+    from robkin.compiled.solutions import distinct_sorted
+
+    rng = np.random.default_rng(seed)
+    base = rng.uniform(-3, 3, size=(max(k // 2, 1), n))
+    Q = base[rng.integers(0, len(base), size=k)] + rng.choice([0.0, 1e-9, 1e-3], size=(k, n))  # near-twins
+    ref, scale = rng.uniform(-1, 1, n), rng.choice([1.0, 0.5], n)
+    out = distinct_sorted(Q, ref, scale, 1e-6)
+    # the definition, spelled out: nearest first (ties in input order), drop rows within 1e-6 of a kept one
+    order = sorted(range(k), key=lambda i: np.linalg.norm((Q[i] - ref) / scale))
+    keep: list[np.ndarray] = []
+    for i in order:
+        if all(np.max(np.abs(Q[i] - kq) / scale) > 1e-6 for kq in keep):
+            keep.append(Q[i])
+    assert out.shape == (len(keep), n)
+    assert np.array_equal(out, np.array(keep).reshape(-1, n))
