@@ -222,3 +222,33 @@ cdef inline void exp_screw(const double* S, double q, double* T) noexcept nogil:
     T[13] = 0.0
     T[14] = 0.0
     T[15] = 1.0
+
+
+cdef inline double tall_volume(double* M, int m, int k) noexcept nogil:
+    """Product of the k singular values of a tall M (m x k row-major, m >= k); M is overwritten.
+
+    Householder QR: the product is |det R| = prod |R_jj|, computed stably (no Gram matrix, whose
+    determinant would lose half the digits near a singularity).
+    """
+    cdef int i, j, c
+    cdef double nx, alpha, vnorm2, s, vol = 1.0
+    for j in range(k):
+        nx = 0.0
+        for i in range(j, m):
+            nx += M[i * k + j] * M[i * k + j]
+        nx = sqrt(nx)
+        if nx == 0.0:
+            return 0.0
+        alpha = -nx if M[j * k + j] >= 0.0 else nx
+        vol *= nx
+        # v = x - alpha e1 stored in column j (rows j..m-1); |v|^2 = 2 nx (nx + |x_0|)
+        M[j * k + j] -= alpha
+        vnorm2 = 2.0 * nx * (nx + fabs(M[j * k + j] + alpha))
+        for c in range(j + 1, k):
+            s = 0.0
+            for i in range(j, m):
+                s += M[i * k + j] * M[i * k + c]
+            s = 2.0 * s / vnorm2
+            for i in range(j, m):
+                M[i * k + c] -= s * M[i * k + j]
+    return vol
