@@ -217,7 +217,8 @@ def family_tables(draw, kind: str, offsets: bool) -> np.ndarray:
 
     spherical wrist: alpha_1 = +-pi/2, alpha_2 = 0 (axes 2 || 3), a_4 = a_5 = d_5 = 0 (axes 4-6 meet);
     three parallel: alpha_1 = +-pi/2, alpha_2 = alpha_3 = 0 (axes 2 || 3 || 4), alpha_4 = +-pi/2,
-    a_5 = 0 (axes 5 and 6 meet), d_5 != 0 (so not also a spherical wrist). Other lengths random; the joint offsets theta random if asked.
+    a_5 = 0 (axes 5 and 6 meet), d_5 != 0 (so not also a spherical wrist). Other lengths random; the
+    joint offsets theta random if asked.
     """
     s = [draw(_sign) * np.pi / 2 for _ in range(4)]
     if kind == "spherical":

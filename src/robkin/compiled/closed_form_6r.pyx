@@ -21,8 +21,8 @@ cimport numpy as cnp
 from libc.math cimport hypot, INFINITY
 from robkin.compiled.linalg cimport cross3, dot3, mat3_mul, mat3_vec, mat3T_vec, rodrigues
 from robkin.compiled.subproblems cimport (angle_about, c_doubles, cos_sin_equation, mat3T_mul, new_array,
-                                          planar_two_link, TwoLink, two_axes, two_link,
-                                          wrap_branches)
+                                          planar_two_link, read_pose, TwoLink, two_axes,
+                                          two_link, wrap_branches)
 
 cnp.import_array()
 
@@ -36,6 +36,21 @@ cdef double _NEAR_SINGULAR = NEAR_SINGULAR
 #: k = 0..180 (any reaching phi is an exact solution; 1 degree finds the reaching arcs of real arms).
 cdef int GRID_STEPS = 180
 cdef double DEG = 0.017453292519943295
+
+
+cdef inline signed char _outcome(int wrapped, bint uncertain, bint shoulder_ok,
+                                 bint second_ok) noexcept nogil:
+    """The outcome code (see the module docstring) from ``wrap_branches``'s result and the steps' flags:
+    the shoulder equation, and the second step (elbow reach / wrist axis) for some shoulder."""
+    if wrapped == 0:
+        return 0
+    if uncertain:
+        return 1
+    if not shoulder_ok:
+        return 2
+    if not second_ok:
+        return 3
+    return 4 if wrapped == 1 else 5
 
 
 cdef void _copy3(object src, double* dst):
@@ -110,13 +125,9 @@ cdef class _Kernel6R:
         cdef double Rd[9]
         cdef double pd[3]
         cdef unsigned char geometric[8]
-        cdef int i, j
         with nogil:
             for n in range(N):
-                for i in range(3):
-                    pd[i] = t[16 * n + 4 * i + 3]
-                    for j in range(3):
-                        Rd[3 * i + j] = t[16 * n + 4 * i + j]
+                read_pose(t + 16 * n, Rd, pd)
                 c[n] = self._solve_one(Rd, pd, ref + 6 * n, q + 48 * n, geometric, v + 8 * n, det + n, u + n)
                 failed += c[n] != 0
         return Q, valid, code, detail, unc, failed
@@ -221,15 +232,7 @@ cdef class SphericalWristKernel(_Kernel6R):
         i = wrap_branches(Q, geometric, valid, ref, self.lo, self.hi, self.rev, 8, 6)
         # wrist centre (nearly) on axis 1: q1 is free or ill-determined; not proven unreachable
         uncertain[0] = i != 0 and rho < _NEAR_SINGULAR
-        if i == 0:
-            return 0
-        if uncertain[0]:
-            return 1
-        if not any_ok1:
-            return 2
-        if not any_ok123:
-            return 3
-        return 4 if i == 1 else 5
+        return _outcome(i, uncertain[0], any_ok1, any_ok123)
 
 
 cdef class ThreeParallelKernel(_Kernel6R):
@@ -363,12 +366,4 @@ cdef class ThreeParallelKernel(_Kernel6R):
         i = wrap_branches(Q, geometric, valid, ref, self.lo, self.hi, self.rev, 8, 6)
         # free joints set to preferred values (wrist point on axis 1; axis 6 along u): not proven
         uncertain[0] = i != 0 and (rho < _NEAR_SINGULAR or any_free)
-        if i == 0:
-            return 0
-        if uncertain[0]:
-            return 1
-        if not any_ok1:
-            return 2
-        if not any_ok15:
-            return 3
-        return 4 if i == 1 else 5
+        return _outcome(i, uncertain[0], any_ok1, any_ok15)

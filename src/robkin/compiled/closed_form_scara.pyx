@@ -17,8 +17,8 @@ import numpy as np
 cimport numpy as cnp
 from libc.math cimport atan2, cos, fabs, hypot, sin, sqrt
 from robkin.compiled.linalg cimport dot3, mat3_mul, mat3_vec
-from robkin.compiled.subproblems cimport (COS_SLACK, c_doubles, new_array, planar_two_link, TwoLink, two_link,
-                                          wrap_branches)
+from robkin.compiled.subproblems cimport (COS_SLACK, c_doubles, new_array, planar_two_link, read_pose,
+                                          TwoLink, two_link, wrap_branches)
 
 cnp.import_array()
 
@@ -143,13 +143,9 @@ cdef class ScaraKernel:
         cdef double* work = <double*>cnp.PyArray_DATA(scratch)
         cdef double Rd[9]
         cdef double pd[3]
-        cdef int i, j
         with nogil:
             for k in range(N):
-                for i in range(3):
-                    pd[i] = t[16 * k + 4 * i + 3]
-                    for j in range(3):
-                        Rd[3 * i + j] = t[16 * k + 4 * i + j]
+                read_pose(t + 16 * k, Rd, pd)
                 c[k] = self._solve_one(Rd, pd, ref + n * k, q + 2 * n * k, v + 2 * k, det + k, work,
                                        work + m1, <unsigned char*>(work + 2 * m1))
                 failed += c[k] != 0
@@ -179,7 +175,8 @@ cdef class ScaraKernel:
         # vertical travel, split among the prismatic joints; the split meets h exactly unless the
         # limits cut it short, and a shortfall within rounding of the robot's size (COS_SLACK
         # relative) is still a solution (FK checks it afterwards)
-        h = (pd[0] - self.pM[0]) * self.u[0] + (pd[1] - self.pM[1]) * self.u[1] + (pd[2] - self.pM[2]) * self.u[2]
+        h = ((pd[0] - self.pM[0]) * self.u[0] + (pd[1] - self.pM[1]) * self.u[1]
+             + (pd[2] - self.pM[2]) * self.u[2])
         sh = 0.0
         for j in range(self.m):
             pref[j] = ref[self.pidx[j]]

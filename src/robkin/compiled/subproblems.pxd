@@ -201,6 +201,15 @@ cdef inline int wrap_branches(double* Q, const unsigned char* geometric, unsigne
     return 0 if any_valid else (2 if any_geometric else 1)
 
 
+cdef inline void read_pose(const double* T, double* R, double* p) noexcept nogil:
+    """R (3x3 row-major) and p (3) of the 4x4 row-major pose T."""
+    cdef int i, j
+    for i in range(3):
+        p[i] = T[4 * i + 3]
+        for j in range(3):
+            R[3 * i + j] = T[4 * i + j]
+
+
 # --------------------------------------------------------------------------------- array helpers
 cdef inline cnp.ndarray c_doubles(object a, int ndim, Py_ssize_t n_last, str name):
     """a as a C-contiguous float64 array (not copied if it is one) of ndim dimensions whose last is
@@ -210,7 +219,8 @@ cdef inline cnp.ndarray c_doubles(object a, int ndim, Py_ssize_t n_last, str nam
             and cnp.PyArray_IS_C_CONTIGUOUS(<cnp.ndarray>a):
         arr = <cnp.ndarray>a
     else:
-        arr = <cnp.ndarray>cnp.PyArray_FROM_OTF(a, cnp.NPY_DOUBLE, cnp.NPY_ARRAY_C_CONTIGUOUS | cnp.NPY_ARRAY_ALIGNED)
+        arr = <cnp.ndarray>cnp.PyArray_FROM_OTF(a, cnp.NPY_DOUBLE,
+                                                cnp.NPY_ARRAY_C_CONTIGUOUS | cnp.NPY_ARRAY_ALIGNED)
     if cnp.PyArray_NDIM(arr) != ndim or cnp.PyArray_DIM(arr, ndim - 1) != n_last \
             or (ndim == 3 and cnp.PyArray_DIM(arr, 1) != n_last):
         raise ValueError(f"{name}: expected {ndim} dimensions, the last of size {n_last}, got shape "

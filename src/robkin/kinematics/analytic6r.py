@@ -27,6 +27,8 @@ Detection runs here, once per robot; the solving runs in the compiled kernels of
 
 from __future__ import annotations
 
+from typing import Any, Callable
+
 import numpy as np
 
 from .. import se3
@@ -59,8 +61,9 @@ class _Closed6R:
     e2: np.ndarray
     a: complex
     b: complex
+    _kernel: Any                   # the compiled kernel (robkin.compiled.closed_form_6r), built per robot
     #: per kernel outcome code (see ``robkin.compiled.closed_form_6r``), the message for a failed target
-    messages: tuple
+    messages: tuple[str | Callable[[float], str], ...]
 
     def _complex(self, x: np.ndarray) -> complex:
         """A point (3,) as a complex coordinate in the plane spanned by e1, e2."""
@@ -85,7 +88,8 @@ class _Closed6R:
 
         return z, c, DETECT_LENGTH_TOL * robot.scale, sin_angle
 
-    def _reach_message(self, what: str):
+    def _reach_message(self, what: str) -> Callable[[float], str]:
+        """The out-of-reach message quoting the distance ``what`` is from axis 2."""
         la, lb = abs(self.a), abs(self.b)
         return lambda d: (f"out of reach: {what} {d:.6g} from axis 2, joints 2-3 reach {abs(la - lb):.6g} "
                           f"to {la + lb:.6g}")

@@ -15,7 +15,8 @@ import numpy as np
 
 from ..robot import Robot
 
-__all__ = ["Branches", "ClosedFormSolver", "closed_form_solver", "reasons_from_codes", "DETECT_ANGLE_TOL", "DETECT_LENGTH_TOL"]
+__all__ = ["Branches", "ClosedFormSolver", "closed_form_solver", "reasons_from_codes", "DETECT_ANGLE_TOL",
+           "DETECT_LENGTH_TOL"]
 
 #: Axes count as parallel when the sine of their angle is below this, and as meeting when their
 #: distance is below DETECT_LENGTH_TOL * robot size. Both 1e-9: far above the rounding of exact

@@ -28,6 +28,8 @@ Detection runs here, once per robot; the solving runs in the compiled kernel of
 
 from __future__ import annotations
 
+from typing import Callable
+
 import numpy as np
 
 from .. import se3
@@ -81,7 +83,8 @@ class ScaraSolver:
         self._kernel = ScaraKernel(u, self.e1, self.e2, M[:3, :3], M[:3, 3], point_in_tool, self.a, self.b,
                                    C[0], robot.scale, ridx, pidx, sigma, s, robot.limits, robot.revolute)
         la, lb = abs(self.a), abs(self.b)
-        self.messages = (
+        #: per kernel outcome code (see ``robkin.compiled.closed_form_scara``), the message for a failure
+        self.messages: tuple[str | Callable[[float], str], ...] = (
             "",
             lambda tilt: (f"the target orientation is tilted {tilt:.3g} rad away from a rotation about the "
                           f"joint axes' common direction {_vec(u)}; this arm can only turn its tool about "
