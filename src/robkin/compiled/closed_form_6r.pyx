@@ -79,10 +79,10 @@ cdef class _Kernel6R:
     cdef double lo[6]
     cdef double hi[6]
     cdef unsigned char rev[6]
-    cdef double scale, C2r, C2i
+    cdef double scale, C2r, C2i, limit_tol
     cdef TwoLink chain             # joints 2-3 as a planar two-link chain
 
-    def __init__(self, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits):
+    def __init__(self, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol):
         cdef int i
         for i in range(6):
             _copy3(z[i], self.z[i])
@@ -98,6 +98,7 @@ cdef class _Kernel6R:
         self.chain = two_link(a, b)
         self.C2r, self.C2i = C2.real, C2.imag
         self.scale = scale
+        self.limit_tol = limit_tol
 
     def solve(self, targets, q_ref):
         """Branches of targets (N, 4, 4), preferring q_ref (N, 6) for free joints.
@@ -163,8 +164,8 @@ cdef class SphericalWristKernel(_Kernel6R):
 
     cdef double K0, sigma3
 
-    def __init__(self, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, k, sigma3):
-        super().__init__(z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits)
+    def __init__(self, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol, k, sigma3):
+        super().__init__(z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol)
         self.K0 = k - float(np.dot(z[1], c[0]))
         self.sigma3 = sigma3
 
@@ -229,7 +230,7 @@ cdef class SphericalWristKernel(_Kernel6R):
                     Q[6 * b + 4] = q5[s3]
                     Q[6 * b + 5] = q6
                     geometric[b] = ok1 and ok23 and ok45
-        i = wrap_branches(Q, geometric, valid, ref, self.lo, self.hi, self.rev, 8, 6)
+        i = wrap_branches(Q, geometric, valid, ref, self.lo, self.hi, self.rev, 8, 6, self.limit_tol)
         # wrist centre (nearly) on axis 1: q1 is free or ill-determined; not proven unreachable
         uncertain[0] = i != 0 and rho < _NEAR_SINGULAR
         return _outcome(i, uncertain[0], any_ok1, any_ok123)
@@ -243,8 +244,8 @@ cdef class ThreeParallelKernel(_Kernel6R):
     cdef double Minv_R[9]
     cdef double Minv_p[3]
 
-    def __init__(self, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, w, sigma, M_inv):
-        super().__init__(z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits)
+    def __init__(self, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol, w, sigma, M_inv):
+        super().__init__(z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol)
         u, g = np.asarray(z[1], float), np.asarray(z[5], float)
         self.K0 = float(u @ w) - float(u @ c[0])
         zg, uz = float(z[4] @ g), float(u @ z[4])
@@ -363,7 +364,7 @@ cdef class ThreeParallelKernel(_Kernel6R):
                     Q[6 * b + 4] = q5[s2]
                     Q[6 * b + 5] = q6
                     geometric[b] = ok1 and ok5 and ok23
-        i = wrap_branches(Q, geometric, valid, ref, self.lo, self.hi, self.rev, 8, 6)
+        i = wrap_branches(Q, geometric, valid, ref, self.lo, self.hi, self.rev, 8, 6, self.limit_tol)
         # free joints set to preferred values (wrist point on axis 1; axis 6 along u): not proven
         uncertain[0] = i != 0 and (rho < _NEAR_SINGULAR or any_free)
         return _outcome(i, uncertain[0], any_ok1, any_ok15)

@@ -92,7 +92,7 @@ cdef class ScaraKernel:
     cdef double RMt[9]
     cdef double pM[3]
     cdef double pit[3]                         # the wrist point (or tool origin) in tool coordinates
-    cdef double C1r, C1i, scale
+    cdef double C1r, C1i, scale, limit_tol
     cdef TwoLink chain                         # the first two revolute joints, planar
     cdef Py_ssize_t n, nr, m
     cdef Py_ssize_t[::1] ridx, pidx
@@ -100,7 +100,7 @@ cdef class ScaraKernel:
     cdef unsigned char[::1] rev
 
     def __init__(self, u, e1, e2, R_M, p_M, point_in_tool, a, b, C1, scale, ridx, pidx, sigma, s, limits,
-                 revolute):
+                 revolute, limit_tol):
         cdef int i
         for i in range(3):
             self.u[i], self.e1[i], self.e2[i] = u[i], e1[i], e2[i]
@@ -108,7 +108,7 @@ cdef class ScaraKernel:
             for j in range(3):
                 self.RMt[3 * i + j] = R_M[j][i]
         self.chain = two_link(a, b)
-        self.C1r, self.C1i, self.scale = C1.real, C1.imag, scale
+        self.C1r, self.C1i, self.scale, self.limit_tol = C1.real, C1.imag, scale, limit_tol
         self.ridx, self.pidx = np.array(ridx, np.intp), np.array(pidx, np.intp)
         self.n, self.nr, self.m = len(revolute), len(ridx), len(pidx)
         self.sigma, self.s = np.array(sigma, float), np.array(s, float)
@@ -206,7 +206,8 @@ cdef class ScaraKernel:
             for j in range(self.m):
                 Q[e * n + self.pidx[j]] = qp[j]
             geometric[e] = reach_ok and wrist_ok[e] and orient_ok and vert_ok
-        j = wrap_branches(Q, geometric, valid, ref, &self.lo[0], &self.hi[0], &self.rev[0], 2, n)
+        j = wrap_branches(Q, geometric, valid, ref, &self.lo[0], &self.hi[0], &self.rev[0], 2, n,
+                          self.limit_tol)
         if j == 0:
             return 0
         if not orient_ok:

@@ -32,13 +32,10 @@ cdef extern from *:
        direction is undefined (a point on the rotation axis): the angle is free and the caller's
        preferred value is used. 1e-12 is ~1e4 ulps: rounding of exact coincidences stays below it. */
     #define RK_DEGENERATE 1e-12
-    /* Slack on limit checks: an angle computed on a limit may differ from it by a few ulps of 2 pi. */
-    #define RK_LIMIT_TOL 1e-12
     #define RK_TWO_PI 6.283185307179586
     """
     const double COS_SLACK "RK_COS_SLACK"
     const double DEGENERATE "RK_DEGENERATE"
-    const double LIMIT_TOL "RK_LIMIT_TOL"
     const double TWO_PI "RK_TWO_PI"
 
 
@@ -160,34 +157,38 @@ cdef inline bint planar_two_link(const TwoLink* L, double dr, double di, double 
 
 # ---------------------------------------------------------------------------------- bookkeeping
 cdef inline bint wrap_into_limits(double* q, const double* ref, const double* lo, const double* hi,
-                                  const unsigned char* revolute, Py_ssize_t n) noexcept nogil:
+                                  const unsigned char* revolute, Py_ssize_t n, double tol) noexcept nogil:
     """Revolute q[j] moved by whole turns into [lo[j], hi[j]], nearest ref[j]; returns whether every
-    joint (prismatic ones only checked) is then within its limits (up to LIMIT_TOL).
+    joint (prismatic ones only checked) is then within its limits up to ``tol`` (the caller passes
+    ``kinematics.limits.LIMIT_TOL``, the one definition of that slack).
 
-    Unlimited revolute joints end up within pi of ref. A NaN value fails the check.
+    Unlimited revolute joints end up within pi of ref. Where no turn fits, the turn nearest the range
+    is taken (and the check fails). A NaN value fails the check.
     """
     cdef Py_ssize_t j
     cdef double k, k_lo, k_hi
     cdef bint ok = True
     for j in range(n):
         if revolute[j]:
-            k_lo = ceil((lo[j] - LIMIT_TOL - q[j]) / TWO_PI)       # -inf where unlimited
-            k_hi = floor((hi[j] + LIMIT_TOL - q[j]) / TWO_PI)      # +inf where unlimited
+            k_lo = ceil((lo[j] - tol - q[j]) / TWO_PI)             # -inf where unlimited
+            k_hi = floor((hi[j] + tol - q[j]) / TWO_PI)            # +inf where unlimited
             k = nearbyint((ref[j] - q[j]) / TWO_PI)                # half to even, as numpy rounds
             if k < k_lo:
                 k = k_lo
             if k > k_hi:
                 k = k_hi
             q[j] = q[j] + k * TWO_PI
-        if not (q[j] >= lo[j] - LIMIT_TOL and q[j] <= hi[j] + LIMIT_TOL):
+        if not (q[j] >= lo[j] - tol and q[j] <= hi[j] + tol):
             ok = False
     return ok
 
 
 cdef inline int wrap_branches(double* Q, const unsigned char* geometric, unsigned char* valid,
                               const double* ref, const double* lo, const double* hi,
-                              const unsigned char* revolute, Py_ssize_t S, Py_ssize_t n) noexcept nogil:
-    """Every branch row of Q (S, n) wrapped into the limits; valid[s] = geometric[s] and within limits.
+                              const unsigned char* revolute, Py_ssize_t S, Py_ssize_t n,
+                              double tol) noexcept nogil:
+    """Every branch row of Q (S, n) wrapped into the limits; valid[s] = geometric[s] and within limits
+    (up to ``tol``).
 
     Returns 0 if some branch is valid, 2 if only limits reject the geometric ones, 1 if none is
     geometric (the caller then says which step failed).
@@ -195,7 +196,7 @@ cdef inline int wrap_branches(double* Q, const unsigned char* geometric, unsigne
     cdef Py_ssize_t s
     cdef bint any_valid = False, any_geometric = False
     for s in range(S):
-        valid[s] = wrap_into_limits(Q + s * n, ref, lo, hi, revolute, n) and geometric[s]
+        valid[s] = wrap_into_limits(Q + s * n, ref, lo, hi, revolute, n, tol) and geometric[s]
         any_valid |= valid[s]
         any_geometric |= geometric[s]
     return 0 if any_valid else (2 if any_geometric else 1)

@@ -35,6 +35,7 @@ from .. import se3
 from ..lines import perpendicular
 from ..robot import Robot
 from .closed_form import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, Branches, reasons_from_codes
+from .limits import LIMIT_TOL
 
 __all__ = ["SphericalWrist6R", "ThreeParallel6R", "wrist_centre"]
 
@@ -119,7 +120,7 @@ class SphericalWrist6R(_Closed6R):
         k = float(z[1] @ w0)                                 # the plane joints 2-3 keep the wrist centre in
         self._kernel = SphericalWristKernel(z, c, self.w_tool, M[:3, :3], perpendicular(z[5]), self.e1,
                                             self.e2, self.a, self.b, self.C2, robot.scale, robot.limits,
-                                            k, sigma3)
+                                            LIMIT_TOL, k, sigma3)
         self.messages = (
             "",
             "singular target (wrist centre on axis 1): no solution found with the preferred joint 1 angle",
@@ -185,7 +186,7 @@ class ThreeParallel6R(_Closed6R):
         self.w_tool = (M_inv @ np.append(w, 1.0))[:3]
         self._kernel = ThreeParallelKernel(z, c, self.w_tool, M[:3, :3], perpendicular(z[5]), self.e1,
                                            self.e2, self.a, self.b, self.C2, robot.scale, robot.limits,
-                                           w, sigma, M_inv)
+                                           LIMIT_TOL, w, sigma, M_inv)
         self.messages = (
             "",
             "singular target (a free joint): no solution found with the preferred value",

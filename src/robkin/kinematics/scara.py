@@ -36,6 +36,7 @@ from .. import se3
 from ..lines import perpendicular
 from ..robot import Robot
 from .closed_form import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, Branches, reasons_from_codes
+from .limits import LIMIT_TOL
 
 __all__ = ["ScaraSolver", "split_travel"]
 
@@ -81,7 +82,8 @@ class ScaraSolver:
         self.a = C[1] - C[0]
         self.b = home - C[1]
         self._kernel = ScaraKernel(u, self.e1, self.e2, M[:3, :3], M[:3, 3], point_in_tool, self.a, self.b,
-                                   C[0], robot.scale, ridx, pidx, sigma, s, robot.limits, robot.revolute)
+                                   C[0], robot.scale, ridx, pidx, sigma, s, robot.limits, robot.revolute,
+                                   LIMIT_TOL)
         la, lb = abs(self.a), abs(self.b)
         #: per kernel outcome code (see ``robkin.compiled.closed_form_scara``), the message for a failure
         self.messages: tuple[str | Callable[[float], str], ...] = (
