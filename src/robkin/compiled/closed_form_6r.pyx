@@ -188,15 +188,19 @@ cdef class SphericalWristKernel(_Kernel6R):
         cdef double R123[9]
         cdef double Rw[9]
         cdef double RdM[9]
+        cdef double R4[9]
+        cdef double R5[9]
         cdef double R45[9]
         cdef double rho, q6
         cdef int s1, s2, s3, i, b
         cdef bint ok1, ok23, ok45, any_ok1 = False, any_ok123 = False
         cdef double* z0 = self.z[0]
         detail[0] = INFINITY
+        # 1. shoulder: joint 1 turns the wrist centre back into the plane of joints 2-3 (2 shoulders)
         ok1 = self._shoulder(Rd, pd, self.z[1], self.K0, ref[0], q1, r, &rho)
         mat3_mul(Rd, self.RMt, RdM)
         for s1 in range(2):
+            # 2. elbow: joints 2, 3 as a planar chain to the turned-back wrist centre (2 elbows)
             rodrigues(z0, -q1[s1], R)
             mat3_vec(R, r, y)
             for i in range(3):
@@ -208,6 +212,7 @@ cdef class SphericalWristKernel(_Kernel6R):
             any_ok123 |= ok1 and ok23
             rodrigues(z0, q1[s1], R)
             for s2 in range(2):
+                # 3. wrist: Rot(z4, q4) Rot(z5, q5) carry z6 onto R_w z6 (2 wrists), q6 the rest
                 rodrigues(self.z[1], x2[s2], R123)
                 mat3_mul(R, R123, R12)
                 rodrigues(self.z[2], self.sigma3 * x3[s2], Rw)
@@ -218,9 +223,9 @@ cdef class SphericalWristKernel(_Kernel6R):
                 mat3_vec(Rw, self.x6, v)
                 for s3 in range(2):
                     b = 4 * s1 + 2 * s2 + s3
-                    rodrigues(self.z[3], q4[s3], R12)
-                    rodrigues(self.z[4], q5[s3], R123)
-                    mat3_mul(R12, R123, R45)
+                    rodrigues(self.z[3], q4[s3], R4)
+                    rodrigues(self.z[4], q5[s3], R5)
+                    mat3_mul(R4, R5, R45)
                     mat3T_vec(R45, v, x6t)
                     q6 = angle_about(self.z[5], self.x6, x6t, 0.0)
                     Q[6 * b] = q1[s1]
@@ -263,15 +268,16 @@ cdef class ThreeParallelKernel(_Kernel6R):
         they reach the point on axis 4; dist = its distance from axis 2."""
         cdef double* u = self.z[1]
         cdef double R[9]
+        cdef double RW[9]
         cdef double R6[9]
         cdef double v[3]
         cdef double x[3]
         cdef double d[2]
         cdef int i
         rodrigues(u, -phi, R)
-        mat3_mul(R, W, R6)
-        mat3T_mul(R5, R6, R)                                   # R6 = R5^T Rot(u, phi)^T W
-        mat3_vec(R, self.x6, v)
+        mat3_mul(R, W, RW)
+        mat3T_mul(R5, RW, R6)                                  # R6 = R5^T Rot(u, phi)^T W
+        mat3_vec(R6, self.x6, v)
         q6[0] = angle_about(self.z[5], self.x6, v, 0.0)
         # the point on axis 4, moved by joints 2 and 3 only: Y = E1^-1 T_d M^-1 E6^-1 E5^-1 c4
         for i in range(3):
@@ -321,13 +327,14 @@ cdef class ThreeParallelKernel(_Kernel6R):
         cdef int s1, s2, s3, i, b, k
         cdef bint ok1, ok5, ok23, free, any_ok1 = False, any_ok15 = False, any_free = False
         detail[0] = INFINITY
+        # 1. shoulder: joint 1 turns the point where axes 5, 6 meet into the plane of joints 2-4
         ok1 = self._shoulder(Rd, pd, u, self.K0, ref[0], q1, r, &rho)
         mat3_mul(Rd, self.RMt, Rt)                              # R(q) at the target, without the tool
         mat3_vec(Rt, g, z6t)
         phi_ref = self.sigma[0] * ref[1] + self.sigma[1] * ref[2] + self.sigma[2] * ref[3]
         for s1 in range(2):
             rodrigues(self.z[0], q1[s1], R1)
-            # wrist: u . Rot(z5, q5) g = u . (R1^T z6_target)
+            # 2. wrist: u . Rot(z5, q5) g = u . (R1^T z6_target) (2 wrists)
             mat3_vec(R1, u, v)
             ok5 = cos_sin_equation(self.A5, self.B5, dot3(z6t, v) - self.zg_uz, ref[4], q5)
             any_ok1 |= ok1
@@ -335,6 +342,7 @@ cdef class ThreeParallelKernel(_Kernel6R):
             mat3T_mul(R1, Rt, W)                               # W = R1^T R_d R_M^T = Rot(u, phi) R5 R6
             mat3_vec(W, g, Wg)
             for s2 in range(2):
+                # 3. phi (joints 2-4 about u) and q6; 4. joints 2-3 reach the point on axis 4 (2 elbows)
                 rodrigues(self.z[4], q5[s2], R5)
                 mat3_vec(R5, g, a5)
                 phi = angle_about(u, a5, Wg, phi_ref)
