@@ -37,13 +37,12 @@ cdef void _split_travel(double h, const double* s, const double* ref, const doub
     over the others converges in at most m rounds.
     """
     cdef Py_ssize_t j, it
-    cdef double fixed, nfree, lam
+    cdef double nfree, lam
     cdef bint over
     for j in range(m):
         q[j] = ref[j]
         free[j] = 1
     for it in range(m):
-        fixed = 0.0
         nfree = 0.0
         lam = h
         for j in range(m):
@@ -66,7 +65,7 @@ cdef void _split_travel(double h, const double* s, const double* ref, const doub
 
 
 def split_travel(h, s, ref, lo, hi):
-    """The q (N, m) nearest to ref (N, m) with s . q = h (N,) and lo <= q <= hi (m,); s is (m,) or (N, m)."""
+    """The q (N, m) nearest to ref (N, m) with s . q = h (N,) and lo <= q <= hi (m,); s: (m,) or (N, m)."""
     ref_arr = np.ascontiguousarray(ref, dtype=np.float64)
     cdef Py_ssize_t N = ref_arr.shape[0], m = ref_arr.shape[1], n
     cdef const double[::1] h_v = np.ascontiguousarray(h, dtype=np.float64)
@@ -74,6 +73,8 @@ def split_travel(h, s, ref, lo, hi):
     cdef const double[:, ::1] r_v = ref_arr
     cdef const double[::1] lo_v = np.ascontiguousarray(lo, dtype=np.float64)
     cdef const double[::1] hi_v = np.ascontiguousarray(hi, dtype=np.float64)
+    if h_v.shape[0] != N or lo_v.shape[0] != m or hi_v.shape[0] != m:
+        raise ValueError(f"split_travel: expected h ({N},), lo and hi ({m},) for ref {ref_arr.shape}")
     out = np.empty((N, m))
     cdef double[:, ::1] q = out
     cdef unsigned char[::1] free = np.empty(m, np.uint8)
@@ -96,12 +97,12 @@ cdef class ScaraKernel:
     cdef TwoLink chain                         # the first two revolute joints, planar
     cdef Py_ssize_t n, nr, m
     cdef Py_ssize_t[::1] ridx, pidx
-    cdef double[::1] sigma, s, lo, hi, plo, phi_
+    cdef double[::1] sigma, s, lo, hi, p_lo, p_hi          # p_: limits of the prismatic joints
     cdef unsigned char[::1] rev
 
     def __init__(self, u, e1, e2, R_M, p_M, point_in_tool, a, b, C1, scale, ridx, pidx, sigma, s, limits,
                  revolute, limit_tol):
-        cdef int i
+        cdef int i, j
         for i in range(3):
             self.u[i], self.e1[i], self.e2[i] = u[i], e1[i], e2[i]
             self.pM[i], self.pit[i] = p_M[i], point_in_tool[i]
@@ -114,7 +115,7 @@ cdef class ScaraKernel:
         self.sigma, self.s = np.array(sigma, float), np.array(s, float)
         lim = np.asarray(limits, float)
         self.lo, self.hi = lim[:, 0].copy(), lim[:, 1].copy()
-        self.plo, self.phi_ = lim[pidx, 0].copy(), lim[pidx, 1].copy()
+        self.p_lo, self.p_hi = lim[pidx, 0].copy(), lim[pidx, 1].copy()
         self.rev = np.array(revolute, np.uint8)
 
     def solve(self, targets, q_ref):
@@ -181,7 +182,7 @@ cdef class ScaraKernel:
         for j in range(self.m):
             pref[j] = ref[self.pidx[j]]
         if self.m:
-            _split_travel(h, &self.s[0], pref, &self.plo[0], &self.phi_[0], self.m, qp, scratch)
+            _split_travel(h, &self.s[0], pref, &self.p_lo[0], &self.p_hi[0], self.m, qp, scratch)
         for j in range(self.m):
             sh += qp[j] * self.s[j]
         vert_ok = fabs(sh - h) <= COS_SLACK * self.scale
