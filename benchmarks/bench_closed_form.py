@@ -17,6 +17,9 @@ rounds (robkin, EAIK, robkin, EAIK, ...):
   full user call (validation, the closed form, the forward-kinematics check of every branch, the
   nearest solution, de-duplication), for reference.
 
+First use: importing the compiled module in a fresh process, and per robot the detection of its
+closed form plus the kernel's construction (cached on the robot) and the first solve.
+
 And the solution sets: per target, robkin's distinct valid solutions against EAIK's exact (not
 least-squares) solutions that fit the joint limits, compared modulo 2 pi to 1e-6 rad; and whether
 every robkin solution is within the limits.
@@ -32,6 +35,7 @@ from __future__ import annotations
 import argparse
 import glob
 import os
+import subprocess
 import sys
 import time
 
@@ -124,6 +128,24 @@ def compare_sets(robot, solver, targets) -> tuple[int, int, int]:
 
 
 # ------------------------------------------------------------------------------------------ timing
+def import_ms() -> float:
+    """Wall milliseconds to import the compiled 6R kernels in a fresh process (robkin already loaded)."""
+    code = ("import time, robkin, numpy; t = time.perf_counter(); import robkin.compiled.closed_form_6r; "
+            "print((time.perf_counter() - t) * 1e3)")
+    return float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout)
+
+
+def first_use_us(robot) -> tuple[float, float]:
+    """(detection + kernel construction, first solve) in CPU us, on a fresh copy of the robot."""
+    fresh = robot.replace()
+    T = fresh.fk(np.zeros((1, fresh.n)))
+    t0 = _clock()
+    cf = closed_form_solver(fresh)
+    t1 = _clock()
+    cf.solve(T, np.zeros((1, fresh.n)))
+    return (t1 - t0) * 1e6, (_clock() - t1) * 1e6
+
+
 def per_target(fn, n: int) -> float:
     t0 = _clock()
     fn()
@@ -198,9 +220,12 @@ def main() -> int:
     arms.append(("Puma 560", *puma560()))
     print(f"closed-form IK, all solutions: robkin vs EAIK, {args.targets} targets, median of {args.rounds} "
           f"interleaved rounds, CPU us per target, one thread each")
+    print(f"first use: importing the compiled kernels {import_ms():.2f} ms (fresh process)")
     goal = True
     for name, robot, solver in arms:
-        print(f"\n{name} ({closed_form_solver(robot).name})")
+        detect, first = first_use_us(robot)
+        print(f"\n{name} ({closed_form_solver(robot).name}; detection + kernel {detect:.0f} us, first solve "
+              f"{first:.0f} us, once per robot)")
         for label, ours, theirs in bench_arm(name, robot, solver, args.targets, args.rounds):
             print(f"  {label:40s} robkin {ours:9.2f}  EAIK {theirs:7.2f}  robkin/EAIK {ours / theirs:6.2f}")
             if label.startswith("all solutions"):

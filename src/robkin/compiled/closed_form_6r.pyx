@@ -166,7 +166,7 @@ cdef class SphericalWristKernel(_Kernel6R):
 
     def __init__(self, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol, k, sigma3):
         super().__init__(z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol)
-        self.K0 = k - float(np.dot(z[1], c[0]))
+        self.K0 = k - dot3(self.z[1], self.c[0])
         self.sigma3 = sigma3
 
     cdef signed char _solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
@@ -251,11 +251,16 @@ cdef class ThreeParallelKernel(_Kernel6R):
 
     def __init__(self, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol, w, sigma, M_inv):
         super().__init__(z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol)
-        u, g = np.asarray(z[1], float), np.asarray(z[5], float)
-        self.K0 = float(u @ w) - float(u @ c[0])
-        zg, uz = float(z[4] @ g), float(u @ z[4])
-        self.A5 = float(u @ g) - zg * uz
-        self.B5 = float(u @ np.cross(z[4], g))
+        cdef double* u = self.z[1]
+        cdef double* g = self.z[5]
+        cdef double wc[3]
+        cdef double v[3]
+        _copy3(w, wc)
+        self.K0 = dot3(u, wc) - dot3(u, self.c[0])
+        cdef double zg = dot3(self.z[4], g), uz = dot3(u, self.z[4])
+        self.A5 = dot3(u, g) - zg * uz
+        cross3(self.z[4], g, v)
+        self.B5 = dot3(u, v)
         self.zg_uz = zg * uz
         _copy3(sigma, self.sigma)
         _copy33(M_inv[:3, :3], self.Minv_R)

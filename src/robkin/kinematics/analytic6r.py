@@ -83,9 +83,10 @@ class _Closed6R:
         if robot.n != 6 or not robot.revolute.all():
             return None
         z, c = robot.axes, robot.points
+        sines = np.linalg.norm(np.cross(z[:, None, :], z[None, :, :]), axis=-1)   # one call for all pairs
 
         def sin_angle(i: int, j: int) -> float:
-            return float(np.linalg.norm(np.cross(z[i], z[j])))
+            return float(sines[i, j])
 
         return z, c, DETECT_LENGTH_TOL * robot.scale, sin_angle
 
