@@ -299,3 +299,44 @@ def test_distinct_sorted_matches_its_definition(seed, k, n):
             keep.append(Q[i])
     assert out.shape == (len(keep), n)
     assert np.array_equal(out, np.array(keep).reshape(-1, n))
+
+
+@st.composite
+def scara_arms(draw) -> robkin.Robot:
+    """A random SCARA-type arm (standard DH, every alpha 0 or pi): 2 or 3 revolute joints (the first two
+    with links 0.1-0.8 long) and 0-2 prismatic joints in random places, offsets, flips and limits."""
+    n_rev = draw(st.sampled_from([2, 3]))
+    types = ["revolute"] * n_rev + ["prismatic"] * draw(st.integers(0, 2))
+    order = draw(st.permutations(types))
+    rev_seen = 0
+    rows, joints = [], []
+    for i, kind in enumerate(order):
+        link = draw(_length) if kind == "revolute" and rev_seen < 2 else draw(_any_length)
+        rev_seen += kind == "revolute"
+        rows.append([link, draw(st.floats(-0.3, 0.3)), draw(st.sampled_from([0.0, np.pi])),
+                     draw(st.floats(-np.pi, np.pi))])
+        lo = draw(st.floats(-3.0, -0.5)) if kind == "revolute" else draw(st.floats(-0.5, 0.0))
+        joints.append(Joint(f"j{i + 1}", kind, lo, lo + draw(st.floats(1.0, 6.0)), flip=draw(st.booleans())))
+    return robkin.DHTable(rows, tuple(joints)).to_robot()
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(robot=scara_arms(), seed=st.integers(0, 2**16))
+def test_random_scara_arms_reach_their_targets_within_limits(robot, seed):
+    from hypothesis import assume
+
+    from robkin.kinematics.scara import ScaraSolver
+
+    solver = closed_form_solver(robot)
+    assume(isinstance(solver, ScaraSolver))        # not when the second link or the wrist offset is 0
+    Q = robot.random_q(10, rng=seed)
+    targets = robot.fk(Q)
+    res = robot.ik(targets, all_solutions=True)
+    assert res.success.all() and res.method == "scara"
+    lim, rev = robot.limits, robot.revolute
+    for q, T, sols in zip(Q, targets, res.solutions):
+        assert 1 <= len(sols) <= 2
+        assert np.abs(robot.fk(sols) - T).max() <= 1e-9
+        assert np.all((sols >= lim[:, 0] - 1e-12) & (sols <= lim[:, 1] + 1e-12))
+        if (~rev).sum() <= 1:                       # no redundant vertical pair: q itself is a solution
+            assert any(same(q, s) for s in sols)
