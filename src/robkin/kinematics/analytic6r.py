@@ -32,7 +32,7 @@ from typing import Any, Callable
 import numpy as np
 
 from .. import se3
-from ..lines import perpendicular
+from ..lines import closest_points, perpendicular
 from ..robot import Robot
 from .closed_form import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, Branches, reasons_from_codes
 from .limits import LIMIT_TOL
@@ -41,14 +41,17 @@ __all__ = ["SphericalWrist6R", "ThreeParallel6R", "wrist_centre"]
 
 
 def wrist_centre(points: np.ndarray, axes: np.ndarray) -> tuple[np.ndarray, float]:
-    """Least-squares meeting point (3,) of lines (k, 3) points / (k, 3) unit axes, and the largest
-    distance from it to any of the lines."""
-    P = np.eye(3) - axes[:, :, None] * axes[:, None, :]          # projectors normal to each axis
-    A = P.sum(axis=0)
-    b = np.einsum("kij,kj->i", P, points)
-    x = np.linalg.lstsq(A, b, rcond=None)[0]
-    dist = np.linalg.norm(np.einsum("kij,kj->ki", P, x - points), axis=1)
-    return x, float(dist.max())
+    """Where lines (k, 3) points / (k, 3) unit axes meet: the midpoint (3,) of the common normal of the
+    first two (which must not be parallel), and the largest distance from it to any of the lines.
+
+    Arithmetic only (no LAPACK call, whose first use costs milliseconds): detection must stay cheap
+    for one-shot commands and for pipelines that try many robots.
+    """
+    cn = closest_points(points[0], axes[0], points[1], axes[1])
+    x = 0.5 * (cn.c1 + cn.c2)
+    d = x - points
+    off_axis = d - np.sum(d * axes, axis=1)[:, None] * axes
+    return x, float(np.sqrt(np.sum(off_axis * off_axis, axis=1)).max())
 
 
 class _Closed6R:
