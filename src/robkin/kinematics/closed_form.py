@@ -15,7 +15,8 @@ import numpy as np
 
 from ..robot import Robot
 
-__all__ = ["Branches", "ClosedFormSolver", "closed_form_solver", "DETECT_ANGLE_TOL", "DETECT_LENGTH_TOL"]
+__all__ = ["Branches", "ClosedFormSolver", "closed_form_solver", "reasons_from_codes", "DETECT_ANGLE_TOL",
+           "DETECT_LENGTH_TOL"]
 
 #: Axes count as parallel when the sine of their angle is below this, and as meeting when their
 #: distance is below DETECT_LENGTH_TOL * robot size. Both 1e-9: far above the rounding of exact
@@ -75,14 +76,14 @@ def closed_form_solver(robot: Robot) -> ClosedFormSolver | None:
     return found
 
 
-def first_reason(reasons: list[tuple[np.ndarray, str | Callable[[int], str]]], n_targets: int) -> list[str]:
-    """Per target, the first message whose mask (N,) is True ('' where none is).
+def reasons_from_codes(code: np.ndarray, detail: np.ndarray,
+                       messages: tuple[str | Callable[[float], str], ...]) -> list[str]:
+    """Per target, the message for its kernel outcome code (N,) ('' for code 0).
 
-    A message is a string or a function of the target index (for messages that quote numbers).
+    ``messages[k]`` explains code k; a function of the target's ``detail`` value quotes a number.
     """
-    out = [""] * n_targets
-    for mask, text in reasons:
-        for i in np.flatnonzero(mask):
-            if not out[i]:
-                out[i] = text if isinstance(text, str) else text(int(i))
+    out = [""] * len(code)
+    for i in np.flatnonzero(code):
+        text = messages[code[i]]
+        out[i] = text if isinstance(text, str) else text(float(detail[i]))
     return out

@@ -260,15 +260,10 @@ def _errors(robot: Robot, q: np.ndarray, targets: np.ndarray, mask: np.ndarray
 
 
 def _distinct_sorted(Q: np.ndarray, ref: np.ndarray, scale: np.ndarray) -> np.ndarray:
-    """Rows of Q (k, n) without near-duplicates, sorted by distance to ref (n,)."""
-    if len(Q) == 0:
-        return Q.reshape(0, ref.shape[-1])
-    Q = Q[np.argsort(np.linalg.norm((Q - ref) / scale, axis=1), kind="stable")]
-    keep: list[np.ndarray] = []
-    for row in Q:
-        if all(np.max(np.abs(row - k) / scale) > SAME_SOLUTION_TOL for k in keep):
-            keep.append(row)
-    return np.array(keep)
+    """Rows of Q (k, n) without near-duplicates, sorted by distance to ref (n,) (compiled)."""
+    from ..compiled.solutions import distinct_sorted
+
+    return distinct_sorted(Q, ref, scale, SAME_SOLUTION_TOL)
 
 
 def _joint_scale(robot: Robot) -> np.ndarray:
