@@ -16,6 +16,7 @@ from typing import Iterable, Literal, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .bodies import EMPTY_BODIES, Bodies, Mimic
 from .errors import InputError, ProjectionWarning
 from . import se3
 
@@ -41,6 +42,9 @@ class Joint:
     ``flip`` means the joint moves opposite to the z axis of its frame in frame-based representations
     (DH, modified DH, RPY-XYZ). The GJD and PoE always use the positive direction, so for them flip
     only decides how frame-based tables are written.
+
+    ``effort`` (N or N m), ``velocity`` (m/s or rad/s), ``damping``, ``friction`` and ``mimic`` are
+    kept from robot files and written back; kinematics never uses them.
     """
 
     name: str
@@ -48,6 +52,11 @@ class Joint:
     lower: float | None = None
     upper: float | None = None
     flip: bool = False
+    effort: float | None = None
+    velocity: float | None = None
+    damping: float | None = None
+    friction: float | None = None
+    mimic: Mimic | None = None
 
     def __post_init__(self) -> None:
         if self.type not in JOINT_TYPES:
@@ -130,12 +139,16 @@ class Robot:
         World -> robot base transform. Kept and written out (RPY row 0, URDF world joint), but not
         part of forward kinematics, which is always in the robot base frame.
     name : str, optional
+    bodies : Bodies, optional
+        What the source file said beyond kinematics (link names, shapes, inertials, attached links;
+        see ``robkin.bodies``), kept so that writers lose nothing. Empty by default.
     """
 
     frames: np.ndarray
     joints: tuple[Joint, ...]
     world: np.ndarray = field(default_factory=lambda: np.eye(4))
     name: str | None = None
+    bodies: Bodies = EMPTY_BODIES
 
     def __post_init__(self) -> None:
         frames = np.array(self.frames, dtype=float)
@@ -232,7 +245,7 @@ class Robot:
         return S
 
     def replace(self, **changes) -> "Robot":
-        """A copy with some fields changed (frames, joints, world, name)."""
+        """A copy with some fields changed (frames, joints, world, name, bodies)."""
         return replace(self, **changes)
 
     # ------------------------------------------------------------------ kinematics

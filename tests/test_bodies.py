@@ -1,0 +1,45 @@
+"""robkin.bodies: body motions and shape poses agree with forward kinematics and survive frame changes."""
+
+from __future__ import annotations
+
+import numpy as np
+
+import robkin
+from robkin import se3
+from robkin.bodies import Bodies, Geometry, Shape, body_motions, shape_poses
+
+
+def _robot():
+    return robkin.load(robkin.__path__[0] + "/examples/rrpr.yaml")
+
+
+def test_last_body_carries_the_tool_and_every_frame():
+    robot = _robot()
+    Q = robot.random_q(20, rng=1)
+    M = body_motions(robot, Q)
+    assert M.shape == (20, robot.n + 1, 4, 4)
+    np.testing.assert_allclose(M[:, 0], np.broadcast_to(np.eye(4), (20, 4, 4)), atol=0)
+    # the tool sits on the last body: motion_n @ tool(0) = fk(q)
+    np.testing.assert_allclose(M[:, -1] @ robot.tool, robot.fk(Q), atol=1e-12)
+    # joint frame i sits on body i (it turns about its own z): motion_i @ J_i(0) = J_i(q)
+    np.testing.assert_allclose(M[:, 1:] @ robot.frames[:-1], robot.frames_at(Q)[:, :-1], atol=1e-12)
+
+
+def test_shape_poses_do_not_depend_on_the_choice_of_gjd_frames():
+    robot = _robot()
+    shapes = tuple(Shape("l", b, "visual", se3.homogeneous(se3.matrix_from_rpy([0.1 * b, 0.2, 0.3]), [b, 1, 2]),
+                         Geometry("box", (1, 1, 1))) for b in range(robot.n + 1))
+    a = robot.replace(bodies=Bodies(shapes=shapes))
+    # the same robot with other GJD frames: each origin slid along its axis and x turned about it
+    rng = np.random.default_rng(2)
+    moved = np.array([F @ se3.homogeneous(se3.matrix_from_rpy([0, 0, rng.uniform(-3, 3)]), [0, 0, rng.uniform(-1, 1)])
+                      for F in robot.frames[:-1]] + [robot.tool])
+    b = robot.replace(frames=moved, bodies=a.bodies)
+    np.testing.assert_allclose(b.fk(robot.random_q(5, rng=4)), robot.fk(robot.random_q(5, rng=4)), atol=1e-12)
+    q = robot.random_q(rng=3)
+    np.testing.assert_allclose(shape_poses(a, q), shape_poses(b, q), atol=1e-12)
+    assert shape_poses(robot, q).shape == (0, 4, 4)
+
+
+def test_empty_bodies_by_default():
+    assert not _robot().bodies
