@@ -7,7 +7,7 @@ Bodies
     Body 0 is fixed to the robot base; body i (1..n) moves with joint i (and every joint before it).
 
 Poses
-    Every pose here (shapes, inertials, attached links) is the pose **in the robot base frame at
+    Every pose here (shapes, inertials, links) is the pose **in the robot base frame at
     q = 0** (the home configuration). At configuration q the pose of anything on body i is
 
         body_motion_i(q) @ pose,   body_motion_i(q) = J_i(q) @ J_i(0)^-1
@@ -18,17 +18,18 @@ Poses
     ``body_motions`` and ``shape_poses`` compute them; writers re-express them in their own link
     frames.
 
-Attached links
-    Links that are not a chain body but hang from one: through a fixed joint (UR's ``base``,
-    ``flange``, ``tool0``) or through a joint that is not part of the chain (a gripper finger, held at
-    0 for the kinematics), with the joint that attaches them kept (name, type, axis, limits, mimic) so
-    that they can be written back.
+Links
+    Every link of the source, each on the body it moves with: the chain's own links, links hanging
+    from them through fixed joints (UR's ``base``, ``flange``, ``tool0``), and links attached through
+    joints that are not part of the chain (a gripper finger, the other arm of a humanoid), which are
+    held at 0. The joint that attaches each link is kept (name, type, axis, limits, mimic), so that
+    the whole file can be written back.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Callable, Iterable, Iterator, Literal, Sequence, TypeVar, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -36,10 +37,43 @@ from numpy.typing import ArrayLike
 if TYPE_CHECKING:  # pragma: no cover
     from .robot import Robot
 
-__all__ = ["Geometry", "Material", "Shape", "Inertial", "Mimic", "AttachedJoint", "AttachedLink", "Bodies",
-           "EMPTY_BODIES", "body_motions", "shape_poses"]
+__all__ = ["Geometry", "Material", "Shape", "Inertial", "Mimic", "LinkJoint", "Link", "Bodies",
+           "EMPTY_BODIES", "LazyTuple", "body_motions", "shape_poses"]
 
 GeometryKind = Literal["mesh", "box", "cylinder", "sphere"]
+T = TypeVar("T")
+
+
+class LazyTuple(Sequence[T]):
+    """A read-only sequence made by ``make()`` on first use (readers defer parsing shapes with it:
+    most uses of a robot file never look at them)."""
+
+    def __init__(self, make: Callable[[], Iterable[T]]) -> None:
+        self._make: Callable[[], Iterable[T]] | None = make
+        self._items: tuple[T, ...] = ()
+
+    def _get(self) -> tuple[T, ...]:
+        if self._make is not None:
+            self._items = tuple(self._make())
+            self._make = None
+        return self._items
+
+    @overload
+    def __getitem__(self, i: int) -> T: ...
+    @overload
+    def __getitem__(self, i: slice) -> tuple[T, ...]: ...
+
+    def __getitem__(self, i):
+        return self._get()[i]
+
+    def __len__(self) -> int:
+        return len(self._get())
+
+    def __iter__(self) -> Iterator[T]:
+        return iter(self._get())
+
+    def __repr__(self) -> str:
+        return repr(self._get()) if self._make is None else "LazyTuple(<not made yet>)"
 
 
 def _pose(T: ArrayLike) -> np.ndarray:
@@ -92,6 +126,8 @@ class Shape:
     geometry: Geometry
     material: Material | None = None
     name: str | None = None
+    #: the six numbers (xyz, rpy) of the source's origin relative to its link, for writing them back
+    origin: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "pose", _pose(self.pose))
@@ -107,6 +143,8 @@ class Inertial:
     pose: np.ndarray
     mass: float
     inertia: np.ndarray
+    #: the six numbers (xyz, rpy) of the source's origin relative to its link, for writing them back
+    origin: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "pose", _pose(self.pose))
@@ -125,11 +163,13 @@ class Mimic:
 
 
 @dataclass(frozen=True, eq=False)
-class AttachedJoint:
-    """The joint that attaches an ``AttachedLink`` to its parent link, as the source gave it.
+class LinkJoint:
+    """The joint from a link's parent to the link, as the source gave it (kept to write it back).
 
-    type : 'fixed', 'revolute', 'continuous' or 'prismatic' (a non-fixed one is held at 0)
-    axis : (3,) unit axis in the attached link's frame
+    type : the source's type ('fixed', 'revolute', 'continuous', 'prismatic', ...); a joint that is
+        not one of the chain's is held at 0
+    axis : (3,) unit axis in the link's own frame
+    xyz_rpy : the six numbers of the source's origin (xyz, then rpy), or None
     """
 
     name: str
@@ -142,22 +182,23 @@ class AttachedJoint:
     damping: float | None = None
     friction: float | None = None
     mimic: Mimic | None = None
+    xyz_rpy: tuple[float, ...] | None = None
 
 
 @dataclass(frozen=True, eq=False)
-class AttachedLink:
-    """A link that is not a chain body but moves rigidly with body ``body`` (see the module doc).
+class Link:
+    """A link of the source file and the body it moves with (see the module doc).
 
     pose : (4, 4) pose of the link frame in the robot base frame at q = 0
-    parent : the link it hangs from in the source (a chain body's link or another attached link)
-    joint : the joint from ``parent`` to this link
+    parent : the link it hangs from in the source (None for the source's root)
+    joint : the joint from ``parent`` to this link (None for the root)
     """
 
     name: str
     body: int
     pose: np.ndarray
-    parent: str
-    joint: AttachedJoint
+    parent: str | None = None
+    joint: LinkJoint | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "pose", _pose(self.pose))
@@ -167,26 +208,21 @@ class AttachedLink:
 class Bodies:
     """Everything a robot file says beyond kinematics; all fields empty when nothing was given.
 
-    links : names of the chain's bodies' links, n + 1 of them (body 0 = the base link), or () if unknown
-    tip : the link whose frame is the tool (J_{n+1}); an attached link or links[n]; None if unknown
-    joint_parents : for each chain joint, the link it hangs from in the source (links[i - 1] or an
-        attached link on body i - 1); () if unknown
-    attached : links hanging from the bodies (fixed links, held off-chain joints), parents first
+    links : every link of the source, in its order: the chain's bodies, links rigidly attached to
+        them (UR's ``base``, ``flange``, ``tool0``), links off the chain (held at 0), links above the base
+    chain : the chain's link names, n + 1 of them: the base link, then the child link of each joint
+    tip : the link whose frame is the tool (J_{n+1}); None if unknown
     shapes, inertials : visual/collision shapes and mass properties, on bodies 0..n
-    world_link, world_joint : names of the root link above the base and of the joint joining them
     """
 
-    links: tuple[str, ...] = ()
+    links: tuple[Link, ...] = ()
+    chain: tuple[str, ...] = ()
     tip: str | None = None
-    joint_parents: tuple[str, ...] = ()
-    attached: tuple[AttachedLink, ...] = ()
     shapes: tuple[Shape, ...] = ()
     inertials: tuple[Inertial, ...] = ()
-    world_link: str | None = None
-    world_joint: str | None = None
 
     def __bool__(self) -> bool:
-        return bool(self.links or self.attached or self.shapes or self.inertials)
+        return bool(self.links or self.shapes or self.inertials)
 
     def visuals(self) -> tuple[Shape, ...]:
         return tuple(s for s in self.shapes if s.role == "visual")
@@ -215,7 +251,7 @@ def body_motions(robot: "Robot", q: ArrayLike) -> np.ndarray:
     return out
 
 
-def shape_poses(robot: "Robot", q: ArrayLike, shapes: tuple[Shape, ...] | None = None) -> np.ndarray:
+def shape_poses(robot: "Robot", q: ArrayLike, shapes: Sequence[Shape] | None = None) -> np.ndarray:
     """Poses of shapes at q in the robot base frame: (n,) -> (S, 4, 4), (N, n) -> (N, S, 4, 4).
 
     ``shapes`` defaults to all of ``robot.bodies.shapes`` (visuals and collisions, in that order).
