@@ -78,11 +78,10 @@ def _origin(T: np.ndarray, xyz_rpy: tuple[float, ...] | None = None, scale: floa
 
 
 def _limit(jtype: str, lower, upper, effort, velocity) -> str | None:
-    """<limit> for a joint of a URDF type (None for fixed and for a continuous joint with nothing)."""
-    if jtype in ("fixed", "floating", "planar"):
-        return None
+    """<limit> for a joint of a URDF type: bounds for revolute and prismatic joints (+-NO_LIMIT where
+    absent), effort and velocity for every type that was given them (None: no element)."""
     ev = f'effort="{_num(effort or 0.0)}" velocity="{_num(velocity or 0.0)}"'
-    if jtype == "continuous":
+    if jtype not in ("revolute", "prismatic"):
         return None if effort is None and velocity is None else f"<limit {ev}/>"
     lo = _num(-NO_LIMIT if lower is None else lower)
     hi = _num(NO_LIMIT if upper is None else upper)
