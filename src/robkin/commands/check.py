@@ -6,6 +6,8 @@ import argparse
 import json
 import math
 
+from ._chains import add_chain_options
+
 EPILOG = """\
 Two descriptions are the same robot when the tool pose is the same at every joint vector q. If they
 are not, the joints are compared in order and the first one that differs is named, with how: joint
@@ -19,6 +21,8 @@ examples:
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0
   robkin check vendor_dh.yaml robot.urdf --tol 1e-4       # a table typed with 4 decimals
   robkin check a.yaml b.yaml --json
+  robkin check ur5.urdf ur5_out.urdf --base-link base --tip-link tool0
+  robkin check vendor.urdf robkin_out.urdf --tip-link tool0 --tip-link flange   # A's tip, then B's
 """
 
 
@@ -29,8 +33,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("a", metavar="A", help="first robot (document .yaml/.yml/.json or .urdf/.xacro)")
     p.add_argument("b", metavar="B", help="second robot")
-    p.add_argument("--base-link", metavar="LINK", help="URDF input(s): first link of the serial chain")
-    p.add_argument("--tip-link", metavar="LINK", help="URDF input(s): last link of the serial chain (the tool)")
+    add_chain_options(p)
     p.add_argument("--tol", type=float, default=1e-6,  # = equivalence.DEFAULT_TOL (not imported: startup time)
                    help="relative tolerance on angles (rad) and lengths / robot size (default 1e-06)")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
@@ -43,8 +46,12 @@ def run(args: argparse.Namespace) -> int:
 
     if not (math.isfinite(args.tol) and args.tol > 0):
         raise InputError(f"--tol: {args.tol} is not a positive number")
-    a = _load(args.a, args)
-    b = _load(args.b, args)
+    from ._chains import chain_ends
+    from ..io import load
+
+    (base_a, tip_a), (base_b, tip_b) = chain_ends(args, [args.a, args.b])
+    a = load(args.a, base_link=base_a, tip_link=tip_a)
+    b = load(args.b, base_link=base_b, tip_link=tip_b)
     result = compare(a, b, tol=args.tol)
     if args.json:
         d = result.to_dict()
@@ -67,16 +74,6 @@ def run(args: argparse.Namespace) -> int:
             print(f"note: {note}")
         print(f"verdict: {result.verdict()}")
     return 0 if result.same else 1
-
-
-def _load(path: str, args: argparse.Namespace):
-    """Load one input; --base-link/--tip-link only reach URDF inputs (a document has one chain)."""
-    from ..io import URDF_EXTENSIONS, load
-    from pathlib import Path
-
-    if Path(path).suffix.lower() in URDF_EXTENSIONS:
-        return load(path, base_link=args.base_link, tip_link=args.tip_link)
-    return load(path)
 
 
 def _jsonable(x):

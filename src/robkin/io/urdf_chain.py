@@ -19,7 +19,7 @@ from ..errors import InputError, ProjectionWarning
 from ..robot import Joint, Robot
 from .urdf import AXIS_UNIT_TOL, AXIS_ZERO_TOL, UNSUPPORTED_TYPES, UrdfJoint, UrdfModel, parse_urdf
 
-__all__ = ["robot_from_urdf", "robot_from_model", "axis_frame", "select_chain"]
+__all__ = ["robot_from_urdf", "robot_from_model", "axis_frame", "select_chain", "chains_of"]
 
 
 def _tree_leaves(kids: dict[str, list[UrdfJoint]], top: str, rigid_too: bool) -> list[str]:
@@ -32,6 +32,36 @@ def _tree_leaves(kids: dict[str, list[UrdfJoint]], top: str, rigid_too: bool) ->
         if not kids[link] and (rigid_too or not rigid):
             out.append(link)
         stack.extend((j.child, rigid and j.type == "fixed") for j in reversed(kids[link]))
+    return out
+
+
+def _default_base(model: UrdfModel) -> str:
+    """The root link, or its child when the root is a ``world`` link fixed to it (a virtual world
+    link is the world->base transform, not the robot)."""
+    root = model.root()
+    kids = model.children()[root]
+    if root == "world" and len(kids) == 1 and kids[0].type == "fixed":
+        return kids[0].child
+    return root
+
+
+def _tip_candidates(model: UrdfModel, base_link: str) -> list[str]:
+    """Leaves below the base that end a chain: not those rigidly part of the base itself."""
+    parents = model.parent_joint()
+    top = base_link  # the highest link rigidly joined to the base: chains start below it
+    while top in parents and parents[top].type == "fixed":
+        top = parents[top].parent
+    return _tree_leaves(model.children(), top, rigid_too=False)
+
+
+def chains_of(model: UrdfModel, base_link: str | None = None) -> list[tuple[str, str, list[UrdfJoint]]]:
+    """Every serial chain the tree offers from the base: (base, tip leaf, its moving joints), in file
+    order. Chains that climb through a moving joint (a base in the middle of the tree) are left out."""
+    base = _default_base(model) if base_link is None else base_link
+    out = []
+    for tip in _tip_candidates(model, base):
+        _, _, _, down = select_chain(model, base, tip)
+        out.append((base, tip, [j for j in down if j.type != "fixed"]))
     return out
 
 
@@ -52,20 +82,14 @@ def select_chain(model: UrdfModel, base_link: str | None, tip_link: str | None
     parents = model.parent_joint()
     kids = model.children()
     if base_link is None:
-        root = model.root()
-        base_link = root
-        # a virtual 'world' root fixed to the robot: it is the world->base transform, not the robot
-        if root == "world" and len(kids[root]) == 1 and kids[root][0].type == "fixed":
-            base_link = kids[root][0].child
+        base_link = _default_base(model)
     if tip_link is None:
-        top = base_link  # the highest link rigidly joined to the base: chains start below it
-        while top in parents and parents[top].type == "fixed":
-            top = parents[top].parent
-        leaves = _tree_leaves(kids, top, rigid_too=False)
+        leaves = _tip_candidates(model, base_link)
         if len(leaves) > 1:
             shown = ", ".join(leaves[:24]) + (f", ... ({len(leaves) - 24} more)" if len(leaves) > 24 else "")
             raise InputError(f"{src}: the links below '{base_link}' form a tree with {len(leaves)} leaf links; "
-                             f"pick the chain's end with --tip-link, one of: {shown}")
+                             f"pick the chain's end with --tip-link, one of: {shown} (robkin info lists the "
+                             f"chains)")
         tip_link = leaves[0] if leaves else base_link
     above_tip: dict[str, int] = {}  # link -> depth, on the path from the tip up to the root
     link = tip_link
