@@ -215,14 +215,14 @@ class Bodies:
     shapes, inertials : visual/collision shapes and mass properties, on bodies 0..n
     """
 
-    links: tuple[Link, ...] = ()
+    links: Sequence[Link] = ()
     chain: tuple[str, ...] = ()
     tip: str | None = None
     shapes: tuple[Shape, ...] = ()
     inertials: tuple[Inertial, ...] = ()
 
     def __bool__(self) -> bool:
-        return bool(self.links or self.shapes or self.inertials)
+        return bool(self.chain or self.links or self.shapes or self.inertials)
 
     def visuals(self) -> tuple[Shape, ...]:
         return tuple(s for s in self.shapes if s.role == "visual")

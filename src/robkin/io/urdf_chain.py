@@ -9,6 +9,7 @@ moves with, in ``Robot.bodies`` (see ``robkin.bodies``); joints off the chain ar
 
 from __future__ import annotations
 
+import math
 import os
 import warnings
 import numpy as np
@@ -175,10 +176,11 @@ def robot_from_urdf(source: str | os.PathLike, base_link: str | None = None, tip
 
 
 def _link_joint(j: UrdfJoint) -> LinkJoint:
-    k = float(np.linalg.norm(j.axis))
-    axis = j.axis / k if k >= AXIS_ZERO_TOL else j.axis
-    return LinkJoint(j.name, j.type, tuple(float(a) for a in axis), j.lower, j.upper,  # type: ignore[arg-type]
-                     j.effort, j.velocity, j.damping, j.friction, j.mimic, j.xyz_rpy)
+    x, y, z = (float(a) for a in j.axis)
+    k = math.sqrt(x * x + y * y + z * z)
+    axis = (x / k, y / k, z / k) if k >= AXIS_ZERO_TOL else (x, y, z)
+    return LinkJoint(j.name, j.type, axis, j.lower, j.upper, j.effort, j.velocity, j.damping, j.friction, j.mimic,
+                     j.xyz_rpy)
 
 
 def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: str | None = None,
@@ -197,7 +199,15 @@ def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: s
     if not chain:
         raise InputError(f"{src}: no revolute, continuous or prismatic joint between '{base}' and "
                          f"'{tip}'; a robot needs at least one")
-    poses, body = _home_poses(model, base, {j.name: i + 1 for i, j in enumerate(chain)})
+    # poses along the path base -> tip (climbing, then descending): all the kinematics needs
+    T = np.eye(4)
+    poses = {base: T}
+    for j in up:
+        T = np.dot(T, se3.inv(j.origin))
+        poses[j.parent] = T
+    for j in down:
+        T = np.dot(T, j.origin)
+        poses[j.child] = T
     frames: list[np.ndarray] = []
     joints: list[Joint] = []
     for j in chain:
@@ -210,19 +220,32 @@ def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: s
                             j.damping, j.friction))
     frames.append(poses[tip])
     world = _world(model, base)
-    parents = model.parent_joint()
-    links = tuple(Link(link, body[link], poses[link], None if parents.get(link) is None else parents[link].parent,
-                       None if parents.get(link) is None else _link_joint(parents[link])) for link in model.links)
-    shapes, inertials = _contents(model, poses, body)
-    bodies = Bodies(links, (base,) + tuple(j.child for j in chain), tip, LazyTuple(shapes), LazyTuple(inertials))
+    links, shapes, inertials = _rest_of_the_file(model, base, {j.name: i + 1 for i, j in enumerate(chain)})
+    bodies = Bodies(LazyTuple(links), (base,) + tuple(j.child for j in chain), tip, LazyTuple(shapes),
+                    LazyTuple(inertials))
     return Robot(np.stack(frames), tuple(joints), world=world, name=name or model.name, bodies=bodies)
 
 
-def _contents(model: UrdfModel, poses: dict[str, np.ndarray], body: dict[str, int]):
-    """Two functions giving the shapes and the inertials of every link, moved onto their bodies (parsed
-    on first use: see ``LazyTuple``)."""
+def _rest_of_the_file(model: UrdfModel, base: str, chain_index: dict[str, int]):
+    """Three functions giving the links, the shapes and the inertials of the whole file, each on its
+    body, made on first use (see ``LazyTuple``): loading a robot for its kinematics costs none of it."""
+    memo: list = []
+
+    def tree() -> tuple[dict[str, np.ndarray], dict[str, int]]:
+        if not memo:
+            memo.append(_home_poses(model, base, chain_index))
+        return memo[0]
+
+    def links():
+        poses, body = tree()
+        parents = model.parent_joint()
+        for link in model.links:
+            pj = parents.get(link)
+            yield Link(link, body[link], poses[link], None if pj is None else pj.parent,
+                       None if pj is None else _link_joint(pj))
 
     def shapes():
+        poses, body = tree()
         for link in model.links:
             content = model.content.get(link)
             if content is not None:
@@ -231,13 +254,14 @@ def _contents(model: UrdfModel, poses: dict[str, np.ndarray], body: dict[str, in
                     yield Shape(s.link, b, s.role, np.dot(P, s.pose), s.geometry, s.material, s.name, s.origin)
 
     def inertials():
+        poses, body = tree()
         for link in model.links:
             content = model.content.get(link)
             if content is not None and content.inertial is not None:
                 m = content.inertial
                 yield Inertial(m.link, body[link], np.dot(poses[link], m.pose), m.mass, m.inertia, m.origin)
 
-    return shapes, inertials
+    return links, shapes, inertials
 
 
 def _home_poses(model: UrdfModel, base: str, chain_index: dict[str, int]

@@ -30,7 +30,7 @@ def _material(el, where: str, named: Mapping[str, Material]) -> Material | None:
     color, texture = el.find("color"), el.find("texture")
     if color is None and texture is None:
         return named.get(name or "", Material(name))
-    rgba = None if color is None else _floats(color.get("rgba"), 4, f"{where}: material color rgba", (0, 0, 0, 1))
+    rgba = None if color is None else _floats(color.get("rgba"), 4, where, "material color rgba", (0, 0, 0, 1))
     return Material(name, rgba, None if texture is None else texture.get("filename"))  # type: ignore[arg-type]
 
 
@@ -41,17 +41,17 @@ def _geometry(el, where: str) -> Geometry:
         raise InputError(f"{where}: no <geometry> with one of {', '.join(GEOMETRY_TAGS)}")
     tag = shape.tag
     if tag == "box":
-        return Geometry("box", _floats(shape.get("size"), 3, f"{where}: box size", (0.0, 0.0, 0.0)))
+        return Geometry("box", _floats(shape.get("size"), 3, where, "box size", (0.0, 0.0, 0.0)))
     if tag == "sphere":
-        return Geometry("sphere", _floats(shape.get("radius"), 1, f"{where}: sphere radius", (0.0,)))
+        return Geometry("sphere", _floats(shape.get("radius"), 1, where, "sphere radius", (0.0,)))
     if tag == "cylinder":
-        r = _floats(shape.get("radius"), 1, f"{where}: cylinder radius", (0.0,))
-        h = _floats(shape.get("length"), 1, f"{where}: cylinder length", (0.0,))
+        r = _floats(shape.get("radius"), 1, where, "cylinder radius", (0.0,))
+        h = _floats(shape.get("length"), 1, where, "cylinder length", (0.0,))
         return Geometry("cylinder", r + h)
     filename = shape.get("filename")
     if not filename:
         raise InputError(f"{where}: <mesh> has no filename")
-    return Geometry("mesh", _floats(shape.get("scale"), 3, f"{where}: mesh scale", (1.0, 1.0, 1.0)), filename)
+    return Geometry("mesh", _floats(shape.get("scale"), 3, where, "mesh scale", (1.0, 1.0, 1.0)), filename)
 
 
 def parse_link_content(el, src: str, named: Mapping[str, Material]) -> LinkContent:
@@ -71,10 +71,10 @@ def parse_link_content(el, src: str, named: Mapping[str, Material]) -> LinkConte
         where = f"{src}: link '{link}' inertial"
         pose, xyz_rpy = parse_origin(iel, where)
         mass_el = iel.find("mass")
-        mass = _number(None if mass_el is None else mass_el.get("value"), f"{where}: mass value") or 0.0
+        mass = _number(None if mass_el is None else mass_el.get("value"), where, "mass value") or 0.0
         i_el = iel.find("inertia")
         get = (lambda key: None) if i_el is None else i_el.get
-        ixx, ixy, ixz, iyy, iyz, izz = (_number(get(k), f"{where}: inertia {k}") or 0.0
+        ixx, ixy, ixz, iyy, iyz, izz = (_number(get(k), where, f"inertia {k}") or 0.0
                                         for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
         inertial = Inertial(link, 0, pose, mass, np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]),
                             xyz_rpy)
