@@ -43,3 +43,24 @@ def test_shape_poses_do_not_depend_on_the_choice_of_gjd_frames():
 
 def test_empty_bodies_by_default():
     assert not _robot().bodies
+
+
+def test_shapes_without_link_names_are_written_on_their_body(tmp_path):
+    from robkin.bodies import Inertial
+    from robkin.io.urdf import robot_from_urdf, urdf_from_robot
+
+    robot = _robot()
+    shapes = tuple(Shape(f"b{b}", b, "visual", se3.homogeneous(se3.matrix_from_rpy([0.3, -0.2, 0.1 * b]), [b, 0.5, 0.1]),
+                         Geometry("cylinder", (0.05, 0.3)), name=f"s{b}") for b in range(robot.n + 1))
+    inertial = Inertial("b2", 2, se3.trans(0.1, 0.2, 0.3), 2.5, np.diag([0.1, 0.2, 0.3]))
+    a = robot.replace(bodies=Bodies(shapes=shapes, inertials=(inertial,)))
+    back = robot_from_urdf(urdf_from_robot(a))
+    q = robot.random_q(4, rng=5)
+    np.testing.assert_allclose(back.fk(q), a.fk(q), atol=1e-12)
+    assert [s.name for s in back.bodies.shapes] == [s.name for s in shapes]
+    np.testing.assert_allclose(shape_poses(back, q), shape_poses(a, q), atol=1e-12)
+    (m,) = back.bodies.inertials
+    assert m.body == 2 and m.mass == 2.5
+    np.testing.assert_allclose(body_motions(back, q)[:, 2] @ m.pose, body_motions(a, q)[:, 2] @ inertial.pose,
+                               atol=1e-12)
+    np.testing.assert_array_equal(m.inertia, inertial.inertia)

@@ -13,7 +13,8 @@ From a robot file (``Robot.bodies`` holds its links)
 Otherwise (a robot from a table or a document)
     links ``world``, ``base``, one per joint and ``tool``: each joint's origin relative to the
     previous joint frame, axis ``0 0 1`` (``0 0 -1`` for a flipped joint), and the world->base
-    transform as a fixed joint.
+    transform as a fixed joint. Shapes and inertials the robot carries without link names go on the
+    link of their body.
 
 Limit-free joints: a revolute joint without limits is written as ``revolute`` with limits
 +-``NO_LIMIT`` (1e10), so pinocchio gives it one coordinate (nq = n; a ``continuous`` joint takes two,
@@ -245,21 +246,31 @@ def _unique_names(robot: Robot) -> tuple[str, str, list[str], str, str, str]:
 
 
 def _plain(robot: Robot) -> list[str]:
+    """world, base, link1..linkN, tool; shapes and inertials (if any) on the link of their body."""
     from ..representations.dh import flip_frame
 
     world, base, links, tool, base_joint, tool_joint = _unique_names(robot)
     scale = max(robot.scale, 1.0)
-    out = [f"  <link name={quoteattr(name)}/>" for name in [world, base] + links + [tool]]
+    D = [np.eye(4)] + [flip_frame(robot.frames[i], j.flip) for i, j in enumerate(robot.joints)]
+    shapes: dict[int, list[Shape]] = defaultdict(list)
+    for s in robot.bodies.shapes:
+        shapes[s.body].append(s)
+    inertials = {}
+    for m in robot.bodies.inertials:  # URDF has one inertial per link: the first one of a body is kept
+        inertials.setdefault(m.body, m)
+    out = [f"  <link name={quoteattr(world)}/>"]
+    for b, name in enumerate([base] + links):
+        out += _link_xml(name, D[b], shapes.get(b, []), inertials.get(b), scale)
+    out.append(f"  <link name={quoteattr(tool)}/>")
     out += _joint_xml(base_joint, "fixed", world, base, _origin(robot.world, None, scale), None, None)
-    prev_name, prev = base, np.eye(4)
+    prev_name = base
     for i, j in enumerate(robot.joints):
-        D = flip_frame(robot.frames[i], j.flip)
         jtype = j.type
-        out += _joint_xml(j.name, jtype, prev_name, links[i], _origin(se3.inv(prev) @ D, None, scale),
+        out += _joint_xml(j.name, jtype, prev_name, links[i], _origin(se3.inv(D[i]) @ D[i + 1], None, scale),
                           f"0 0 {'-1' if j.flip else '1'}", _limit(jtype, j.lower, j.upper, j.effort, j.velocity),
                           j.damping, j.friction)
-        prev_name, prev = links[i], D
-    out += _joint_xml(tool_joint, "fixed", prev_name, tool, _origin(se3.inv(prev) @ robot.tool, None, scale),
+        prev_name = links[i]
+    out += _joint_xml(tool_joint, "fixed", prev_name, tool, _origin(se3.inv(D[-1]) @ robot.tool, None, scale),
                       None, None)
     return out
 
@@ -279,8 +290,7 @@ def urdf_from_robot(robot: Robot) -> str:
     frames = _faithful_frames(robot) if robot.bodies.links else None
     body = _plain(robot) if frames is None else _faithful(robot, frames)
     unknown = [j.name for j in robot.joints if j.effort is None or j.velocity is None]
-    head = ['<?xml version="1.0"?>', f"<!-- written by robkin {__version__}"
-            + (": kinematics only (no meshes, no inertias)" if frames is None else "") + " -->"]
+    head = ['<?xml version="1.0"?>', f"<!-- written by robkin {__version__} -->"]
     if unknown:
         names = ", ".join(unknown[:8]).replace("--", "- -")  # '--' may not appear inside a comment
         head.append(f"<!-- effort and velocity of joint(s) {names}"
