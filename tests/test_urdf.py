@@ -328,3 +328,21 @@ def test_exported_urdf_loads_in_yourdfpy_with_same_fk(tmp_path):
             for q in sample_q(r, 4, seed=5):
                 u.update_cfg(dict(zip(names, q)))
                 np.testing.assert_allclose(u.get_transform(tip, root), r.world @ r.fk(q), atol=FK_TOL)
+
+
+def test_both_xml_parsers_read_the_same_and_refuse_the_same(monkeypatch):
+    """Small files go through the standard library's parser, big ones through lxml (see LXML_FROM)."""
+    import robkin.io.urdf as urdf_module
+
+    text = TILTED_SILENT()
+    small = robot_from_urdf(text)
+    monkeypatch.setattr(urdf_module, "LXML_FROM", 0)
+    big = robot_from_urdf(text)
+    np.testing.assert_array_equal(big.frames, small.frames)
+    assert big.joints == small.joints
+    for bad, msg in ((text[:300], "not well-formed XML \\(line"),
+                     ('<!DOCTYPE r [<!ENTITY a "b">]><robot name="&a;"/>', "refused XML construct")):
+        for limit in (0, 10**9):
+            monkeypatch.setattr(urdf_module, "LXML_FROM", limit)
+            with pytest.raises(InputError, match=msg):
+                robot_from_urdf(bad)
