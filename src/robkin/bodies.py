@@ -213,13 +213,15 @@ class Bodies:
     chain : the chain's link names, n + 1 of them: the base link, then the child link of each joint
     tip : the link whose frame is the tool (J_{n+1}); None if unknown
     shapes, inertials : visual/collision shapes and mass properties, on bodies 0..n
+
+    links, shapes and inertials are tuples, or ``LazyTuple``s that a reader fills on first use.
     """
 
     links: Sequence[Link] = ()
     chain: tuple[str, ...] = ()
     tip: str | None = None
-    shapes: tuple[Shape, ...] = ()
-    inertials: tuple[Inertial, ...] = ()
+    shapes: Sequence[Shape] = ()
+    inertials: Sequence[Inertial] = ()
 
     def __bool__(self) -> bool:
         return bool(self.chain or self.links or self.shapes or self.inertials)

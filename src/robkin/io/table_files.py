@@ -98,11 +98,13 @@ def _link_table(robot: Robot, rep: str):
         return dh_from_robot(robot)
     if rep == "mdh":
         return mdh_from_robot(robot)
+    import importlib
+
     try:  # the Hayati representation, where this version of robkin has it
-        from ..representations.hayati import hayati_from_robot  # type: ignore[import-not-found]
+        hayati = importlib.import_module("robkin.representations.hayati")
     except ImportError:
         raise InputError("--to hayati: this version of robkin has no Hayati representation") from None
-    return hayati_from_robot(robot)
+    return hayati.hayati_from_robot(robot)
 
 
 def table_of(robot: Robot, rep: str) -> Table:

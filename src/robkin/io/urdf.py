@@ -30,7 +30,7 @@ import math
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterable, Mapping
+from typing import Mapping
 
 import numpy as np
 
@@ -187,7 +187,7 @@ def _parse_xml(text: str, source: str):
     if len(text) < LXML_FROM and "lxml.etree" not in sys.modules:
         return _parse_xml_stdlib(text, source)
     try:
-        from lxml import etree
+        from lxml import etree  # type: ignore[import-untyped]
     except ImportError:  # pragma: no cover - lxml is a dependency; the standard library still works
         return _parse_xml_stdlib(text, source)
     parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False,
@@ -212,8 +212,8 @@ def _parse_xml_stdlib(text: str, source: str):
         parser.feed(text)
         return parser.close()
     except ParseError as exc:
-        line, col = getattr(exc, "position", (None, None))
-        where = f" (line {line}, column {col + 1})" if line else ""
+        line, col = exc.position
+        where = f" (line {line}, column {col + 1})"
         raise InputError(f"{source}: not well-formed XML{where}") from None
     except (ValueError, RecursionError) as exc:
         raise InputError(f"{source}: not valid XML ({exc})") from None
@@ -237,29 +237,23 @@ def _floats(text: str | None, count: int, where: str, what: str, default: tuple[
     return values
 
 
-def _number(text: str | None, where: str, what: str) -> float | None:
-    """One finite number from an attribute's text, None if absent."""
+def _number(text: str | None, where: str, what: str, infinite_ok: bool = False) -> float | None:
+    """One number from an attribute's text (finite unless ``infinite_ok``), None if absent."""
     if text is None:
         return None
     try:
         v = float(text)
     except ValueError:
         raise InputError(f"{where}: {what}: '{text}' is not a number") from None
-    if not math.isfinite(v):
+    if math.isnan(v) or not (infinite_ok or math.isfinite(v)):
         raise InputError(f"{where}: {what}: '{text}' is NaN or infinite; expected a finite number")
     return v
 
 
-def _limit(text: str | None, where: str) -> float | None:
-    if text is None:
-        return None
-    try:
-        v = float(text)
-    except ValueError:
-        raise InputError(f"{where}: '{text}' is not a number") from None
-    if math.isnan(v):
-        raise InputError(f"{where}: is NaN; expected a number")
-    return v if abs(v) < NO_LIMIT else None  # no limit on that side (as urdf_from_robot writes it)
+def _limit(text: str, where: str, what: str) -> float | None:
+    """A joint limit; None (no limit on that side) at +-inf or beyond +-NO_LIMIT, as written out."""
+    v = _number(text, where, what, infinite_ok=True)
+    return v if v is not None and abs(v) < NO_LIMIT else None
 
 
 ZERO3 = (0.0, 0.0, 0.0)
@@ -331,8 +325,8 @@ def _joint(el, source: str, index: int) -> UrdfJoint:
         velocity = _number(lim.get("velocity"), where, "limit velocity")
         if jtype in ("revolute", "prismatic"):
             # URDF: lower/upper default to 0 when <limit> is present but an attribute is not
-            lower = _limit(lim.get("lower", "0"), f"{where}: limit lower")
-            upper = _limit(lim.get("upper", "0"), f"{where}: limit upper")
+            lower = _limit(lim.get("lower", "0"), where, "limit lower")
+            upper = _limit(lim.get("upper", "0"), where, "limit upper")
             if lower is not None and upper is not None and lower > upper:
                 raise InputError(f"{where}: limit lower {lower} > upper {upper}")
     dyn = kids.get("dynamics")

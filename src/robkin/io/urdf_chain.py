@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import os
 import warnings
+
 import numpy as np
 
 from .. import se3
@@ -78,7 +79,8 @@ def select_chain(model: UrdfModel, base_link: str | None, tip_link: str | None
     known = set(model.links)
     for opt, link in (("--base-link", base_link), ("--tip-link", tip_link)):
         if link is not None and link not in known:
-            close = ", ".join(sorted(known, key=lambda s: (not s.startswith(link[:3]), s))[:8])
+            stem = link[:3]
+            close = ", ".join(sorted(known, key=lambda s: (not s.startswith(stem), s))[:8])
             raise InputError(f"{src}: {opt} '{link}' is not a link of the file (links include: {close})")
     parents = model.parent_joint()
     kids = model.children()
@@ -92,10 +94,10 @@ def select_chain(model: UrdfModel, base_link: str | None, tip_link: str | None
                              f"pick the chain's end with --tip-link, one of: {shown} (robkin info lists the "
                              f"chains)")
         tip_link = leaves[0] if leaves else base_link
-    above_tip: dict[str, int] = {}  # link -> depth, on the path from the tip up to the root
+    above_tip = {tip_link}  # the path from the tip up to the root
     link = tip_link
     while True:
-        above_tip[link] = len(above_tip)
+        above_tip.add(link)
         if link not in parents:
             break
         link = parents[link].parent

@@ -36,7 +36,7 @@ from collections import defaultdict
 import numpy as np
 
 from .. import se3
-from ..bodies import Link, Shape
+from ..bodies import Inertial, Link, Shape
 from ..robot import Robot
 from .urdf import NO_LIMIT, origin_matrix
 from .xmltext import quoteattr
@@ -121,7 +121,8 @@ def _geometry(s: Shape) -> str:
     return f"<mesh filename={quoteattr(g.filename or '')}{scale}/>"
 
 
-def _link_xml(name: str, frame: np.ndarray, shapes: list[Shape], inertial, scale: float) -> list[str]:
+def _link_xml(name: str, frame: np.ndarray, shapes: list[Shape], inertial: Inertial | None,
+              scale: float) -> list[str]:
     if not shapes and inertial is None:
         return [f"  <link name={quoteattr(name)}/>"]
     out = [f"  <link name={quoteattr(name)}>"]
@@ -185,7 +186,7 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[str]:
     shapes: dict[str, list[Shape]] = defaultdict(list)
     for s in b.shapes:
         shapes[s.link if s.link in frames else b.chain[s.body]].append(s)
-    inertials = {}
+    inertials: dict[str, Inertial] = {}
     for m in b.inertials:  # URDF has one inertial per link: the first one found for a link is kept
         inertials.setdefault(m.link if m.link in frames else b.chain[m.body], m)
     out: list[str] = []
@@ -255,7 +256,7 @@ def _plain(robot: Robot) -> list[str]:
     shapes: dict[int, list[Shape]] = defaultdict(list)
     for s in robot.bodies.shapes:
         shapes[s.body].append(s)
-    inertials = {}
+    inertials: dict[int, Inertial] = {}
     for m in robot.bodies.inertials:  # URDF has one inertial per link: the first one of a body is kept
         inertials.setdefault(m.body, m)
     out = [f"  <link name={quoteattr(world)}/>"]
