@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Mapping
@@ -344,6 +345,15 @@ def _joint(el, source: str, index: int) -> UrdfJoint:
                      damping, friction, xyz_rpy)
 
 
+_XACRO_NS = re.compile(r"""xmlns:([\w.-]+)\s*=\s*["']http://www\.ros\.org/wiki/xacro["']""")
+
+
+def _may_hold_xacro(text: str) -> bool:
+    """Whether an element may use a prefix bound to xacro's namespace (a quick look at the text; the
+    tree is searched only then: most URDFs declare the namespace, few keep xacro elements)."""
+    return any(f"<{prefix}:" in text for prefix in _XACRO_NS.findall(text))
+
+
 def parse_urdf(source: str | os.PathLike) -> UrdfModel:
     """Parse and validate the kinematic tree of a URDF (path, .xacro path, or XML string).
 
@@ -359,7 +369,7 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
     from .urdf_content import LazyLinkContent
 
     root = _parse_xml(text, src)
-    if "xacro" in text and next(root.iterfind(".//{http://www.ros.org/wiki/xacro}*"), None) is not None:
+    if _may_hold_xacro(text) and next(root.iterfind(".//{http://www.ros.org/wiki/xacro}*"), None) is not None:
         raise InputError(f"{src}: contains xacro macros; give the file a .xacro extension (robkin expands it "
                          f"with the 'xacro' package) or expand it first: xacro {Path(src).name} > robot.urdf")
     if root.tag != "robot":

@@ -131,6 +131,8 @@ def axis_frame(axis: np.ndarray) -> tuple[np.ndarray, bool]:
     """
     flip = bool(axis[2] < 0)
     b = -axis if flip else axis
+    if b[0] == 0 and b[1] == 0:  # the axis is +-z: the rotation is exact (no rounding from K)
+        return (np.diag([1.0, -1.0, -1.0]) if flip else np.eye(3)), flip
     # minimal rotation e_z -> b (b_z >= 0): R = I + K + K^2 / (1 + c), K = [e_z x b], c = b_z;
     # 1 + c >= 1, so this is well conditioned for every b in the upper half sphere.
     K = se3.skew(np.array([-b[1], b[0], 0.0]))
