@@ -68,6 +68,16 @@ def test_names_limits_and_mimic_are_kept(trip):
                                                                             j.mimic.offset)
 
 
+def test_transmissions_and_gazebo_tags_are_kept(trip):
+    rel, base, tip, robot, out = trip
+    tags = lambda path: sorted(c.tag for c in ET.parse(path).getroot() if c.tag not in ("link", "joint",  # noqa: E731
+                                                                                        "material", "mujoco"))
+    assert tags(out) == tags(robot_file(rel))
+    # as the source wrote them: the same elements, attributes and text
+    strip = lambda path: [ET.tostring(c) for c in ET.parse(path).getroot() if c.tag == "transmission"]  # noqa: E731
+    assert [b"".join(s.split()) for s in strip(out)] == [b"".join(s.split()) for s in strip(robot_file(rel))]
+
+
 def test_robkin_check_calls_it_the_same_robot(trip, capsys):
     rel, base, tip, robot, out = trip
     argv = ["check", robot_file(rel), str(out)] + (["--base-link", base] if base else []) + \

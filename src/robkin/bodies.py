@@ -213,8 +213,10 @@ class Bodies:
     chain : the chain's link names, n + 1 of them: the base link, then the child link of each joint
     tip : the link whose frame is the tool (J_{n+1}); None if unknown
     shapes, inertials : visual/collision shapes and mass properties, on bodies 0..n
+    extras : elements of the source that robkin does not interpret (URDF: ``<transmission>``,
+        ``<gazebo>``, ``<ros2_control>``...), as XML text; the writer of the same format repeats them
 
-    links, shapes and inertials are tuples, or ``LazyTuple``s that a reader fills on first use.
+    links, shapes, inertials and extras are tuples, or ``LazyTuple``s that a reader fills on first use.
     """
 
     links: Sequence[Link] = ()
@@ -222,6 +224,7 @@ class Bodies:
     tip: str | None = None
     shapes: Sequence[Shape] = ()
     inertials: Sequence[Inertial] = ()
+    extras: Sequence[str] = ()
 
     def __bool__(self) -> bool:
         return bool(self.chain or self.links or self.shapes or self.inertials)

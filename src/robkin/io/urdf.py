@@ -31,12 +31,12 @@ import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Mapping
+from typing import Mapping, Sequence
 
 import numpy as np
 
 from .files import read_text_file
-from ..bodies import Inertial, Mimic, Shape
+from ..bodies import Inertial, LazyTuple, Mimic, Shape
 from ..errors import InputError
 
 __all__ = ["robot_from_urdf", "robot_from_model", "urdf_from_robot", "parse_urdf", "parse_urdf_text",
@@ -100,7 +100,8 @@ class UrdfModel:
     """The tree of a URDF: robot name, links in file order, joints, and the links' contents.
 
     ``content`` maps a link name to its ``LinkContent`` (missing: an empty link). Readers of other
-    formats (MJCF, SDF) may fill it with a plain dict.
+    formats (MJCF, SDF) may fill it with a plain dict. ``extras`` gives the top-level elements robkin
+    does not interpret (transmissions, Gazebo and ros2_control tags) as XML text, for the URDF writer.
     """
 
     name: str | None
@@ -108,6 +109,7 @@ class UrdfModel:
     joints: tuple[UrdfJoint, ...]
     source: str
     content: Mapping[str, LinkContent] = field(default_factory=dict)
+    extras: Sequence[str] = ()
 
     def parent_joint(self) -> dict[str, UrdfJoint]:
         return {j.child: j for j in self.joints}
@@ -345,6 +347,27 @@ def _joint(el, source: str, index: int) -> UrdfJoint:
                      damping, friction, xyz_rpy)
 
 
+#: top-level elements that robkin reads (or, for <mujoco>, writes its own of)
+_KNOWN_TOP = {"link", "joint", "material", "mujoco"}
+
+
+def _extras(root) -> list[str]:
+    """The top-level elements robkin does not interpret, as XML text (see ``UrdfModel.extras``)."""
+    if "lxml.etree" in type(root).__module__:
+        from lxml import etree  # type: ignore[import-untyped]
+
+        return [etree.tostring(el, encoding="unicode", with_tail=False) for el in root
+                if isinstance(el.tag, str) and el.tag not in _KNOWN_TOP]
+    from xml.etree.ElementTree import tostring
+
+    out = []
+    for el in root:
+        if el.tag not in _KNOWN_TOP:
+            el.tail = None
+            out.append(tostring(el, encoding="unicode"))
+    return out
+
+
 _XACRO_NS = re.compile(r"""xmlns:([\w.-]+)\s*=\s*["']http://www\.ros\.org/wiki/xacro["']""")
 
 
@@ -407,7 +430,7 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
         parent_of[j.child] = j.name
     roots = [name for name in links if name not in parent_of]
     content = LazyLinkContent(link_elements, root.findall("material"), src)
-    model = UrdfModel(root.get("name"), tuple(links), tuple(joints), src, content)
+    model = UrdfModel(root.get("name"), tuple(links), tuple(joints), src, content, LazyTuple(lambda: _extras(root)))
     if not roots:
         raise InputError(f"{src}: the joints form a cycle (every link has a parent); a URDF is a tree")
     reach = {roots[0]}

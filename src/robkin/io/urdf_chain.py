@@ -226,7 +226,7 @@ def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: s
     world = _world(model, base)
     links, shapes, inertials = _rest_of_the_file(model, base, {j.name: i + 1 for i, j in enumerate(chain)})
     bodies = Bodies(LazyTuple(links), (base,) + tuple(j.child for j in chain), tip, LazyTuple(shapes),
-                    LazyTuple(inertials))
+                    LazyTuple(inertials), model.extras)
     return Robot(np.stack(frames), tuple(joints), world=world, name=name or model.name, bodies=bodies)
 
 

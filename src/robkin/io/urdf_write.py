@@ -4,7 +4,8 @@ From a robot file (``Robot.bodies`` holds its links)
     every link and joint of the source under its own name, in its order: the chain's joints with
     the robot's limits, effort, velocity and dynamics; the joints off the chain (gripper fingers,
     the rest of a humanoid) as the source gave them, mimic included; fixed links (``base``,
-    ``flange``, ``tool0``) where they were; visuals, collisions and inertials. A link keeps its
+    ``flange``, ``tool0``) where they were; visuals, collisions and inertials; and the elements robkin
+    does not interpret (transmissions, Gazebo and ros2_control tags) as the source wrote them. A link keeps its
     source frame wherever that frame still fits the robot (its origin on the joint axis), so a
     round trip repeats the source's numbers; where a conversion moved a joint frame, the link gets
     the new frame and everything on it (origins of shapes, inertials, child joints) is re-expressed
@@ -196,6 +197,7 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[str]:
         if link.parent is None or link.joint is None:
             continue
         out += _link_joint_xml(robot, link, frames, chain_joint.get(link.name), scale)
+    out += ["  " + x for x in b.extras]  # transmissions, Gazebo tags...: as the source wrote them
     return out
 
 
