@@ -25,7 +25,7 @@ formats:
   dh        standard DH table (+ base, + residual tool)     mdh       modified (Craig) DH table
   poe       Product of Exponentials, space frame            poe-body  PoE, body frame
   rpy-xyz   RPY-XYZ table, n+2 rows (URDF convention)       gjd       Global Joint Description frames
-  json/yaml a robot document with every section             urdf      a URDF file
+  json/yaml a robot document with every section             urdf      a URDF file (a URDF input's whole file)
   mjcf      a MuJoCo model (MJCF), tool as site 'tool'
 
 Without -o a readable table (or the document/URDF/MJCF text) goes to stdout; --json prints the
@@ -60,8 +60,7 @@ examples:
   robkin convert a.yaml b.yaml c.urdf --to yaml -o converted/
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format latex --pi
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format csv -o ur5_dh.csv
-  robkin convert ur5.urdf panda.urdf robot.yaml --tip-link tool0 --tip-link panda_hand_tcp --tip-link - \
-      --to mdh --format markdown -o tables/
+  robkin convert ur5.urdf panda.urdf a.yaml --tip-link tool0 --tip-link panda_hand_tcp --tip-link - --to mdh -o out/
 """
 
 
