@@ -223,3 +223,79 @@ def test_limit_free_joints_give_pinocchio_nq_equal_n():
     path = robot_file("double_pendulum_description/urdf/double_pendulum_continuous.urdf")
     again = robot_from_urdf(urdf_from_robot(robot_from_urdf(path)))
     assert pin.buildModelFromXML(urdf_from_robot(again)).nq == pin.buildModelFromUrdf(path).nq
+
+
+SHAPED = """<robot name="shaped">
+  <material name="blue"><color rgba="0 0 1 1"/></material>
+  <link name="a"><visual name="v"><origin xyz="0 0 0.1" rpy="0 0.2 0"/><geometry><box size="0.1 0.2 0.3"/></geometry>
+    <material name="blue"/></visual>
+    <collision><geometry><cylinder radius="0.05" length="0.2"/></geometry></collision>
+    <inertial><origin xyz="0 0 0.05"/><mass value="1.5"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.2" iyz="0" izz="0.3"/>
+    </inertial></link>
+  <link name="b"><visual><geometry><sphere radius="0.04"/></geometry></visual>
+    <visual><geometry><mesh filename="package://x/m.stl" scale="0.001 0.001 0.001"/></geometry></visual></link>
+  <joint name="j" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0 0 0.4"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="10" velocity="2"/><dynamics damping="0.5" friction="0.1"/></joint>
+</robot>"""
+
+
+def test_shapes_materials_and_inertials_are_read_and_written_back():
+    robot = robot_from_urdf(SHAPED)
+    b = robot.bodies
+    kinds = [(s.link, s.role, s.geometry.kind, s.geometry.size, s.geometry.filename) for s in b.shapes]
+    assert kinds == [("a", "visual", "box", (0.1, 0.2, 0.3), None), ("a", "collision", "cylinder", (0.05, 0.2), None),
+                     ("b", "visual", "sphere", (0.04,), None),
+                     ("b", "visual", "mesh", (0.001, 0.001, 0.001), "package://x/m.stl")]
+    assert b.shapes[0].material.rgba == (0.0, 0.0, 1.0, 1.0) and b.shapes[0].name == "v"
+    (m,) = b.inertials
+    assert m.mass == 1.5 and m.inertia[2, 2] == 0.3
+    j = robot.joints[0]
+    assert (j.effort, j.velocity, j.damping, j.friction) == (10.0, 2.0, 0.5, 0.1)
+    again = robot_from_urdf(urdf_from_robot(robot))
+    assert [(s.link, s.role, s.geometry, s.name) for s in again.bodies.shapes] == \
+        [(s.link, s.role, s.geometry, s.name) for s in b.shapes]
+    assert again.bodies.shapes[0].material.rgba == (0.0, 0.0, 1.0, 1.0)
+    assert again.joints == robot.joints
+    q = np.array([[0.7], [-0.3]])
+    np.testing.assert_allclose(shape_poses(again, q), shape_poses(robot, q), atol=POSE_TOL)
+
+
+def test_a_broken_shape_fails_only_what_needs_shapes(tmp_path, capsys):
+    bad = tmp_path / "bad.urdf"
+    bad.write_text(SHAPED.replace('<sphere radius="0.04"/>', '<sphere radius="x"/>'))
+    # kinematics never looks at shapes
+    assert main(["convert", str(bad), "--to", "dh"]) == 0
+    capsys.readouterr()
+    out = tmp_path / "out.urdf"
+    assert main(["convert", str(bad), "--to", "urdf", "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "link 'b' visual #1: sphere radius: 'x' is not a number" in err and not out.exists()
+
+
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+_NASTY = ["nan", "-inf", "1e400", "x", "", "1 2", "0 0 0 0", "<", "&amp;", '"', "9" * 400, "-1e300"]
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.data())
+def test_shape_parsing_fuzz_reads_or_says_why(data):
+    """Every number of SHAPED replaced by junk: the whole file is read and written, or one InputError."""
+    from robkin.errors import InputError
+
+    import re
+
+    spans = [m.span() for m in re.finditer(r'="[^"]*"', SHAPED)]
+    text = SHAPED
+    for _ in range(data.draw(st.integers(1, 3))):
+        i, k = data.draw(st.sampled_from(spans))
+        text = text[:i] + '="' + data.draw(st.sampled_from(_NASTY)) + '"' + text[k:]
+        spans = [m.span() for m in re.finditer(r'="[^"]*"', text)]
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            robot = robot_from_urdf(text)
+            urdf_from_robot(robot)
+    except InputError as exc:
+        assert "\n" not in str(exc)

@@ -227,12 +227,13 @@ def _floats(text: str | None, count: int, where: str, what: str, default: tuple[
     messages name ``where`` (file and element) and ``what`` (the attribute)."""
     if text is None:
         return default
+    wanted = "a number" if count == 1 else f"{count} numbers"
     try:
         values = tuple(map(float, text.split()))
     except ValueError:
-        raise InputError(f"{where}: {what}: '{text}' is not {count} numbers") from None
+        raise InputError(f"{where}: {what}: '{text}' is not {wanted}") from None
     if len(values) != count:
-        raise InputError(f"{where}: {what}: '{text}' has {len(values)} numbers; expected {count}")
+        raise InputError(f"{where}: {what}: '{text}' has {len(values)} numbers; expected {wanted}")
     for v in values:
         if not -MAX_ABS <= v <= MAX_ABS:  # also false for NaN
             bad = "contains NaN or infinity" if not math.isfinite(v) else f"has a number beyond +-{MAX_ABS:g}"
