@@ -346,3 +346,15 @@ def test_both_xml_parsers_read_the_same_and_refuse_the_same(monkeypatch):
             monkeypatch.setattr(urdf_module, "LXML_FROM", limit)
             with pytest.raises(InputError, match=msg):
                 robot_from_urdf(bad)
+
+
+def test_a_model_built_by_another_reader_loads_and_writes():
+    """Readers of other formats build UrdfModels by hand: positional fields, a mimic flag, no content."""
+    from robkin.io.urdf import UrdfJoint, UrdfModel, robot_from_model
+
+    joints = (UrdfJoint("j1", "revolute", "base", "l1", se3.trans(0, 0, 0.3), np.array([0.0, 0, 1]), -1.0, 1.0, False),
+              UrdfJoint("fix", "fixed", "l1", "tip", se3.trans(0.2, 0, 0), np.array([1.0, 0, 0]), None, None, False))
+    robot = robot_from_model(UrdfModel("m", ("base", "l1", "tip"), joints, "m.xml"))
+    back = robot_from_urdf(urdf_from_robot(robot))
+    assert back.bodies.tip == "tip" and [j.name for j in back.joints] == ["j1"]
+    np.testing.assert_allclose(back.fk([0.5]), robot.fk([0.5]), atol=1e-15)

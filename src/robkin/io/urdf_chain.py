@@ -183,8 +183,9 @@ def _link_joint(j: UrdfJoint) -> LinkJoint:
     x, y, z = (float(a) for a in j.axis)
     k = math.sqrt(x * x + y * y + z * z)
     axis = (x / k, y / k, z / k) if k >= AXIS_ZERO_TOL else (x, y, z)
-    return LinkJoint(j.name, j.type, axis, j.lower, j.upper, j.effort, j.velocity, j.damping, j.friction, j.mimic,
-                     j.xyz_rpy)
+    # ``or None``: readers of other formats may give mimic=False (the field was a flag once)
+    return LinkJoint(j.name, j.type, axis, j.lower, j.upper, j.effort, j.velocity, j.damping, j.friction,
+                     j.mimic or None, j.xyz_rpy)
 
 
 def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: str | None = None,
