@@ -14,6 +14,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
+from robkin import Joint, Robot, se3
 from robkin.bodies import Link, shape_poses
 from robkin.cli import main
 from robkin.io.urdf import parse_urdf, robot_from_urdf, urdf_from_robot
@@ -299,3 +300,25 @@ def test_shape_parsing_fuzz_reads_or_says_why(data):
             urdf_from_robot(robot)
     except InputError as exc:
         assert "\n" not in str(exc)
+
+
+def test_what_pinocchio_and_mujoco_make_of_each_limit_free_encoding():
+    """The README's statement: continuous -> pinocchio nq 2 (cos, sin), MuJoCo unlimited hinge;
+    revolute with +-1e10 (robkin's encoding of 'no limit') -> pinocchio nq 1, MuJoCo hinge whose range
+    never binds."""
+    mujoco = pytest.importorskip("mujoco")
+    robot = Robot(np.stack([np.eye(4), se3.trans(0, 0, 0.5), se3.trans(0, 0.3, 0.5)]),
+                  (Joint("free"), Joint("cont")))
+    text = urdf_from_robot(robot)
+    assert 'type="revolute"' in text and "1e10" in text.replace("10000000000.0", "1e10")
+    head, block = text.split('<joint name="cont" type="revolute">')
+    block = block.replace('<limit lower="-10000000000.0" upper="10000000000.0" effort="0" velocity="0"/>', "", 1)
+    cont = head + '<joint name="cont" type="continuous">' + block
+    m = pin.buildModelFromXML(text)
+    assert m.nq == 2 and m.upperPositionLimit[0] == 1e10
+    mc = pin.buildModelFromXML(cont)
+    assert mc.nq == 3 and mc.nv == 2  # the continuous joint takes (cos, sin)
+    mj = mujoco.MjModel.from_xml_string(text)
+    assert mj.nq == 2 and list(mj.jnt_limited) == [1, 1] and mj.jnt_range[0][1] == 1e10
+    mjc = mujoco.MjModel.from_xml_string(cont)
+    assert mjc.nq == 2 and mjc.jnt_limited[mjc.joint("cont").id] == 0
