@@ -64,3 +64,18 @@ def test_shapes_without_link_names_are_written_on_their_body(tmp_path):
     np.testing.assert_allclose(body_motions(back, q)[:, 2] @ m.pose, body_motions(a, q)[:, 2] @ inertial.pose,
                                atol=1e-12)
     np.testing.assert_array_equal(m.inertia, inertial.inertia)
+
+
+def test_a_robot_read_from_a_urdf_pickles_and_copies():
+    import copy
+    import pickle
+
+    from test_urdf import robot_file
+    from robkin.io.urdf import robot_from_urdf
+
+    robot = robot_from_urdf(robot_file("panda_description/urdf/panda.urdf"), tip_link="panda_hand_tcp")
+    for again in (pickle.loads(pickle.dumps(robot)), copy.deepcopy(robot)):
+        assert [s.geometry for s in again.bodies.shapes] == [s.geometry for s in robot.bodies.shapes]
+        assert [k.name for k in again.bodies.links] == [k.name for k in robot.bodies.links]
+        q = robot.random_q(rng=1)
+        np.testing.assert_array_equal(shape_poses(again, q), shape_poses(robot, q))

@@ -75,6 +75,10 @@ class LazyTuple(Sequence[T]):
     def __repr__(self) -> str:
         return repr(self._get()) if self._make is None else "LazyTuple(<not made yet>)"
 
+    def __reduce__(self):
+        # pickled (for another process) and copied as the plain tuple: the maker is a closure
+        return (tuple, (self._get(),))
+
 
 def _pose(T: ArrayLike) -> np.ndarray:
     A = np.array(T, dtype=float)
