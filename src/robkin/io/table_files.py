@@ -25,6 +25,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..robot import Robot
+from .float_text import float_text as _num
 
 __all__ = ["TABLE_FORMATS", "TABLE_EXTENSIONS", "TABLE_REPRESENTATIONS", "Table", "table_of", "render_table",
            "pi_text"]
@@ -62,15 +63,6 @@ def pi_text(x: float) -> str | None:
             sign, k = ("-" if k < 0 else ""), abs(k)
             return sign + ("" if k == 1 else f"{k}*") + "pi" + ("" if m == 1 else f"/{m}")
     return None
-
-
-def _num(x: float) -> str:
-    """Shortest text that reads back to the same float; integers without '.0', zero without a sign."""
-    x = float(x)
-    if x == 0:
-        return "0"
-    text = repr(x)
-    return text[:-2] if text.endswith(".0") else text
 
 
 def _tex(text: str) -> str:

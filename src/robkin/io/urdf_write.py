@@ -40,6 +40,7 @@ from .. import se3
 from ..bodies import Inertial, Link, Shape
 from ..robot import Robot
 from .urdf import NO_LIMIT, origin_matrix
+from .float_text import float_text as _num
 from .xmltext import quoteattr
 
 __all__ = ["urdf_from_robot"]
@@ -56,12 +57,6 @@ UNIT_NOISE = 1e-15
 _HEADER = ["  <!-- for MuJoCo's URDF reader: keep fixed links (the tool frame) as bodies, and give the",
            "       massless links a tiny placeholder mass so that the model compiles -->",
            '  <mujoco><compiler fusestatic="false" boundmass="1e-06" boundinertia="1e-12"/></mujoco>']
-
-
-def _num(x: float) -> str:
-    """Full-precision text of a float (repr round-trips exactly); exact zeros without a sign."""
-    x = float(x)
-    return "0" if x == 0 else repr(x)
 
 
 def _unit(v) -> str:
