@@ -263,13 +263,18 @@ def body_motions(robot: "Robot", q: ArrayLike) -> np.ndarray:
 def shape_poses(robot: "Robot", q: ArrayLike, shapes: Sequence[Shape] | None = None) -> np.ndarray:
     """Poses of shapes at q in the robot base frame: (n,) -> (S, 4, 4), (N, n) -> (N, S, 4, 4).
 
-    ``shapes`` defaults to all of ``robot.bodies.shapes`` (visuals and collisions, in that order).
+    ``shapes`` defaults to all of ``robot.bodies.shapes`` (in their order). Prefix ``robot.world``
+    for world poses.
     """
     shapes = robot.bodies.shapes if shapes is None else shapes
     M = body_motions(robot, q)
     if not shapes:
         return np.empty(M.shape[:-3] + (0, 4, 4))
     idx = np.array([s.body for s in shapes])
+    bad = [s.name or s.link for s in shapes if not 0 <= s.body <= robot.n]
+    if bad:
+        raise ValueError(f"shape(s) {', '.join(map(str, bad[:5]))} on a body outside 0..{robot.n}: the bodies "
+                         f"belong to another robot")
     P = np.stack([s.pose for s in shapes])
     return M[..., idx, :, :] @ P
 
