@@ -206,3 +206,12 @@ def test_info_lists_the_chains_of_a_tree(capsys):
         warnings.simplefilter("ignore")
         assert main(["info", robot_file("talos_data/robots/talos_full_v2.urdf"), "--base-link", "torso_2_link"]) == 0
     assert "gripper_left_base_link" not in capsys.readouterr().out  # not a leaf: the gripper hangs below it
+
+
+def test_a_single_input_into_a_new_folder(tmp_path):
+    import os
+
+    doc = __import__("robkin").__path__[0] + "/examples/rrpr.yaml"
+    out = tmp_path / "a" / "b"
+    assert main(["convert", doc, "--to", "dh", "-o", str(out) + os.sep]) == 0
+    assert [p.name for p in out.iterdir()] == ["rrpr.yaml"]
