@@ -287,7 +287,7 @@ def test_xacro_input(tmp_path):
   <xacro:seg i="1" parent="base"/>
   <xacro:seg i="2" parent="l1"/>
 </robot>""")
-    robot = robot_from_urdf(tmp_path / "arm.xacro")
+    robot = robot_from_urdf(tmp_path / "arm.xacro", allow_xacro=True)
     assert robot.n == 2 and robot.name == "arm"
     # joint 1 at z = 0.25, tool (= joint 2's link) 0.25 above it on z: turning joint 1 by pi/2 about
     # y swings the tool from (0, 0, 0.5) to (0.25, 0, 0.25)

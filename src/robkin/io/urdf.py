@@ -58,6 +58,10 @@ NO_LIMIT = 1e10
 #: near 1e154 would overflow float64 in robot size and tolerance computations; 1e100 leaves margin
 #: and is still absurd for any length unit.
 MAX_ABS = 1e100
+#: The one-line refusal of a .xacro file read without the opt-in (why, and the two ways out).
+XACRO_REFUSED = ("{path}: not expanded: a .xacro file is a program (it can run code, read files and environment "
+                 "variables); if you trust it, pass --allow-xacro (Python: allow_xacro=True) or expand it "
+                 "yourself: xacro {path} > {stem}.urdf")
 SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 UNSUPPORTED_TYPES = ("floating", "planar")
 
@@ -138,12 +142,14 @@ class UrdfModel:
 
 
 # ------------------------------------------------------------------------------------------ reading
-def _read_source(source: str | os.PathLike) -> tuple[str, str]:
+def _read_source(source: str | os.PathLike, allow_xacro: bool = False) -> tuple[str, str]:
     """(XML text, name of the source for messages) from a path or an XML string."""
     if isinstance(source, str) and source.lstrip().startswith("<"):
         return source, "<urdf string>"
     p = Path(source)
     if p.suffix.lower() == ".xacro":
+        if not allow_xacro:
+            raise InputError(XACRO_REFUSED.format(path=p, stem=p.stem))
         return _expand_xacro(p), str(p)
     text = read_text_file(p, MAX_BYTES, "a URDF")
     if not text or text.isspace():
@@ -378,13 +384,16 @@ def _may_hold_xacro(text: str) -> bool:
     return any(f"<{prefix}:" in text for prefix in _XACRO_NS.findall(text))
 
 
-def parse_urdf(source: str | os.PathLike) -> UrdfModel:
+def parse_urdf(source: str | os.PathLike, *, allow_xacro: bool = False) -> UrdfModel:
     """Parse and validate the kinematic tree of a URDF (path, .xacro path, or XML string).
+
+    A .xacro path is expanded only with ``allow_xacro=True``: xacro evaluates Python expressions and
+    reads files and environment variables named in the file, so only trusted files may be expanded.
 
     Checks: a <robot> root; unique link and joint names; every joint's parent and child link exist;
     each link has at most one parent joint; one root link; no cycles. Messages name file, joint, link.
     """
-    text, src = _read_source(source)
+    text, src = _read_source(source, allow_xacro)
     return parse_urdf_text(text, src)
 
 
@@ -394,8 +403,8 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
 
     root = _parse_xml(text, src)
     if _may_hold_xacro(text) and next(root.iterfind(".//{http://www.ros.org/wiki/xacro}*"), None) is not None:
-        raise InputError(f"{src}: contains xacro macros; give the file a .xacro extension (robkin expands it "
-                         f"with the 'xacro' package) or expand it first: xacro {Path(src).name} > robot.urdf")
+        raise InputError(f"{src}: contains xacro macros; give the file a .xacro extension and, if you trust it, "
+                         f"pass --allow-xacro, or expand it first: xacro {Path(src).name} > robot.urdf")
     if root.tag != "robot":
         raise InputError(f"{src}: root element is <{root.tag}>; a URDF has <robot>")
     links: list[str] = []
@@ -406,7 +415,7 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
         if not name:
             raise InputError(f"{src}: link #{i + 1} has no name attribute")
         if name in known:
-            raise InputError(f"{src}: duplicate link name {name}")
+            raise InputError(f"{src}: duplicate link name(s) '{name}'")
         known.add(name)
         links.append(name)
         link_elements[name] = el
@@ -416,7 +425,7 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
     names: set[str] = set()
     for j in joints:
         if j.name in names:
-            raise InputError(f"{src}: duplicate joint name {j.name}")
+            raise InputError(f"{src}: duplicate joint name(s) '{j.name}'")
         names.add(j.name)
     parent_of: dict[str, str] = {}
     for j in joints:

@@ -154,7 +154,7 @@ def _unit_axis(j: UrdfJoint, src: str) -> np.ndarray:
 
 
 def robot_from_urdf(source: str | os.PathLike, base_link: str | None = None, tip_link: str | None = None,
-                    *, name: str | None = None) -> Robot:
+                    *, name: str | None = None, allow_xacro: bool = False) -> Robot:
     """The serial chain base_link -> tip_link of a URDF (path, .xacro path, or XML string) as a Robot.
 
     Parameters
@@ -168,6 +168,9 @@ def robot_from_urdf(source: str | os.PathLike, base_link: str | None = None, tip
         part of it; with several an InputError lists them.
     name : str, optional
         Robot name; default the URDF's ``<robot name>``.
+    allow_xacro : bool
+        Expand a .xacro file (default False: refused). xacro runs code and reads files and
+        environment variables named in the file; pass True only for files you trust.
 
     Returns
     -------
@@ -176,7 +179,7 @@ def robot_from_urdf(source: str | os.PathLike, base_link: str | None = None, tip
         joints with the URDF names, limits, effort, velocity and dynamics, ``world`` = root link ->
         base link at q = 0, and ``bodies``: every link, shape and inertial of the file.
     """
-    return robot_from_model(parse_urdf(source), base_link, tip_link, name=name)
+    return robot_from_model(parse_urdf(source, allow_xacro=allow_xacro), base_link, tip_link, name=name)
 
 
 def _link_joint(j: UrdfJoint) -> LinkJoint:
