@@ -16,9 +16,9 @@ from typing import Iterable, Literal, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .bodies import EMPTY_BODIES, Bodies, Mimic
 from .errors import InputError, ProjectionWarning
 from . import se3
+from .bodies import EMPTY_BODIES, Bodies, Mimic
 
 __all__ = ["Joint", "Robot", "JOINT_TYPES", "check_pose", "check_q"]
 
@@ -245,7 +245,7 @@ class Robot:
         return S
 
     def replace(self, **changes) -> "Robot":
-        """A copy with some fields changed (frames, joints, world, name, bodies)."""
+        """A copy with some fields changed (frames, joints, world, name)."""
         return replace(self, **changes)
 
     # ------------------------------------------------------------------ kinematics
