@@ -156,7 +156,7 @@ def test_convert_format_to_stdout_and_file(tmp_path, capsys):
 def test_batch_with_a_chain_per_input_into_a_new_folder(tmp_path, capsys):
     doc = tmp_path / "rrpr.yaml"
     doc.write_text(open(__import__("robkin").__path__[0] + "/examples/rrpr.yaml").read())
-    out = tmp_path / "new" / "tables"
+    out = tmp_path / "tables"
     argv = ["convert", robot_file(UR5), robot_file(PANDA), str(doc), "--tip-link", "tool0", "--tip-link",
             "panda_hand_tcp", "--tip-link", "-", "--to", "mdh", "--format", "csv", "-o", str(out)]
     assert main(argv) == 0
@@ -212,6 +212,7 @@ def test_a_single_input_into_a_new_folder(tmp_path):
     import os
 
     doc = __import__("robkin").__path__[0] + "/examples/rrpr.yaml"
-    out = tmp_path / "a" / "b"
+    out = tmp_path / "a"
     assert main(["convert", doc, "--to", "dh", "-o", str(out) + os.sep]) == 0
     assert [p.name for p in out.iterdir()] == ["rrpr.yaml"]
+    assert main(["convert", doc, "--to", "dh", "-o", str(tmp_path / "b" / "c") + os.sep]) == 2  # one level only

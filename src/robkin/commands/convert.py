@@ -44,8 +44,8 @@ such (-pi/2, 3*pi/4).
 Chains: --base-link / --tip-link given once apply to every robot file among the inputs; given once
 per input, in input order, the k-th belongs to the k-th input ('-' = that file's default, and what a
 robot document takes). A base or tip may be any link rigidly attached to the chain's end (UR's
-'base', 'tool0'). A folder given with -o that does not exist is created, once every input has
-been converted.
+'base', 'tool0'). A folder given with -o (several inputs, or a name ending in '/') that does not exist
+is created in an existing one, once every input has been converted.
 
 Joint variables are the same in every output: q_i means the same configuration in the DH table, the
 PoE and the URDF it came from (same sign, same zero); a note on stderr says so for URDF input.
@@ -182,19 +182,17 @@ def run(args: argparse.Namespace) -> int:
         _check_path(out_dir)
         if out_dir.exists() and not out_dir.is_dir():
             raise InputError(f"{out_dir}: not a folder; with several inputs -o names a folder")
+        if not out_dir.exists() and not (out_dir.parent if str(out_dir.parent) else Path(".")).is_dir():
+            raise InputError(f"{out_dir}: folder {out_dir.parent} does not exist")
         targets = [out_dir / (Path(i).stem + ext) for i in inputs]
         for t in targets:
             _check_path(t)
         dup = {str(t) for t in targets if targets.count(t) > 1}
         if dup:
             raise InputError(f"several inputs would write the same file(s): {', '.join(sorted(dup))}")
+        check_writable_dir(targets[0] if out_dir.is_dir() else out_dir)  # the folder, or where it will be made
         texts = [_render_file(robot, fmt, ext, args) for robot in _load_all(inputs, args)]
-        # every input converted: only now create the folder (so a failed batch leaves nothing behind)
-        try:
-            out_dir.mkdir(parents=True, exist_ok=True)
-        except OSError as exc:
-            raise InputError(f"{out_dir}: cannot create the folder ({exc.strerror or exc})") from None
-        check_writable_dir(targets[0])
+        out_dir.mkdir(exist_ok=True)  # only now: a failed conversion leaves no empty folder behind
         for target, text in zip(targets, texts):
             write_text_atomic(target, text)
         print(f"wrote {len(targets)} files to {out_dir}", file=sys.stderr)
