@@ -21,8 +21,7 @@ examples:
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0
   robkin check vendor_dh.yaml robot.urdf --tol 1e-4       # a table typed with 4 decimals
   robkin check a.yaml b.yaml --json
-  robkin check ur5.urdf ur5_out.urdf --base-link base --tip-link tool0
-  robkin check vendor.urdf robkin_out.urdf --tip-link tool0 --tip-link flange   # A's tip, then B's
+  robkin check ur5.urdf ur5_dh.yaml --tip-link tool0 --tip-link -     # a chain per input, in order
 """
 
 

@@ -23,7 +23,7 @@ examples:
   robkin info rrpr.yaml
   robkin info panda.urdf --tip-link panda_hand_tcp
   robkin info ur5.urdf --tip-link tool0 --json
-  robkin info talos.urdf --base-link torso_2_link          # lists the chains of a tree
+  robkin info panda.urdf                                   # a tree: lists the chains it offers
 """
 
 
