@@ -18,6 +18,7 @@ __all__ = ["DEFAULT", "CHAIN_HELP", "add_chain_options", "chain_ends"]
 DEFAULT = "-"
 CHAIN_HELP = ("once for every robot file, or once per input in input order ('-' = the file's default); "
               "may be any link rigidly attached to the chain's end")
+#: = io.DOCUMENT_EXTENSIONS, not imported: robkin.io imports numpy, and this module loads with every command
 _DOCUMENTS = (".yaml", ".yml", ".json")
 
 
