@@ -31,7 +31,7 @@ import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Mapping, Sequence
+from typing import Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -180,25 +180,47 @@ def _expand_xacro(path: Path) -> str:
 LXML_FROM = 64 * 1024
 
 
-def _parse_xml(text: str, source: str):
-    """Root element of the XML (lxml for big inputs, see LXML_FROM; else the standard library's C
-    parser); InputError for malformed or refused XML.
-
-    A URDF never needs a DTD, and without one there can be no entity declarations (so no entity
-    expansion attacks, no external entities): a document that declares one is refused before parsing.
-    lxml is also told to resolve no entities and touch no network; expat resolves no external ones.
-    """
-    import sys
-
+def _refuse_dtd(text: str, source: str) -> None:
+    """A URDF (or MJCF, SDF) never needs a DTD, and without one there can be no entity declarations (so
+    no entity expansion attacks, no external entities): a document that declares one is refused."""
     if "<!DOCTYPE" in text or "<!ENTITY" in text:
         raise InputError(f"{source}: refused XML construct (a DTD or entity declaration); a URDF needs no DTD, "
                          f"entities or external references")
+
+
+def _parse_xml(text: str, source: str):
+    """Root element (``xml.etree``) of XML with no DTD, parsed by the standard library's C parser;
+    InputError for malformed or refused XML. Shared with the MJCF and SDF readers."""
+    from xml.etree.ElementTree import ParseError, XMLParser
+
+    _refuse_dtd(text, source)
+    try:
+        parser = XMLParser()
+        parser.feed(text)
+        return parser.close()
+    except ParseError as exc:
+        line, col = exc.position
+        raise InputError(f"{source}: not well-formed XML (line {line}, column {col + 1})") from None
+    except (ValueError, RecursionError) as exc:
+        raise InputError(f"{source}: not valid XML ({exc})") from None
+
+
+def _parse_urdf_xml(text: str, source: str):
+    """Root element of a URDF: lxml's (libxml2) for big inputs (see LXML_FROM), else ``_parse_xml``'s.
+
+    lxml is told to resolve no entities, touch no network and load no DTD (and ``_refuse_dtd`` runs
+    first); expat resolves no external entities either. Both trees answer the ElementTree calls the
+    URDF reader makes.
+    """
+    import sys
+
     if len(text) < LXML_FROM and "lxml.etree" not in sys.modules:
-        return _parse_xml_stdlib(text, source)
+        return _parse_xml(text, source)
     try:
         from lxml import etree  # type: ignore[import-untyped]
     except ImportError:  # pragma: no cover - lxml is a dependency; the standard library still works
-        return _parse_xml_stdlib(text, source)
+        return _parse_xml(text, source)
+    _refuse_dtd(text, source)
     parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False,
                              remove_comments=True, remove_pis=True, encoding="utf-8")
     try:
@@ -213,38 +235,30 @@ def _parse_xml(text: str, source: str):
         raise InputError(f"{source}: not valid XML ({exc})") from None
 
 
-def _parse_xml_stdlib(text: str, source: str):
-    from xml.etree.ElementTree import ParseError, XMLParser
-
-    try:
-        parser = XMLParser()
-        parser.feed(text)
-        return parser.close()
-    except ParseError as exc:
-        line, col = exc.position
-        where = f" (line {line}, column {col + 1})"
-        raise InputError(f"{source}: not well-formed XML{where}") from None
-    except (ValueError, RecursionError) as exc:
-        raise InputError(f"{source}: not valid XML ({exc})") from None
-
-
-def _floats(text: str | None, count: int, where: str, what: str, default: tuple[float, ...]) -> tuple[float, ...]:
+def numbers(text: str | None, count: int, where: str, what: str | None,
+            default: tuple[float, ...]) -> tuple[float, ...]:
     """``count`` finite numbers of bounded size from an attribute's text (``default`` if absent);
-    messages name ``where`` (file and element) and ``what`` (the attribute)."""
+    messages name ``where`` (file and element) and ``what`` (the attribute, if not in ``where``)."""
     if text is None:
         return default
+    at = where if what is None else f"{where}: {what}"
     wanted = "a number" if count == 1 else f"{count} numbers"
     try:
         values = tuple(map(float, text.split()))
     except ValueError:
-        raise InputError(f"{where}: {what}: '{text}' is not {wanted}") from None
+        raise InputError(f"{at}: '{text}' is not {wanted}") from None
     if len(values) != count:
-        raise InputError(f"{where}: {what}: '{text}' has {len(values)} numbers; expected {wanted}")
+        raise InputError(f"{at}: '{text}' has {len(values)} numbers; expected {wanted}")
     for v in values:
         if not -MAX_ABS <= v <= MAX_ABS:  # also false for NaN
             bad = "contains NaN or infinity" if not math.isfinite(v) else f"has a number beyond +-{MAX_ABS:g}"
-            raise InputError(f"{where}: {what}: '{text}' {bad}; expected {count} finite numbers of a robot's size")
+            raise InputError(f"{at}: '{text}' {bad}; expected {count} finite numbers of a robot's size")
     return values
+
+
+def _floats(text: str | None, count: int, where: str, default: Iterable[float]) -> np.ndarray:
+    """``numbers`` as an array (the form the MJCF and SDF readers use)."""
+    return np.array(numbers(text, count, where, None, tuple(default)), dtype=float)
 
 
 def _number(text: str | None, where: str, what: str, infinite_ok: bool = False) -> float | None:
@@ -302,8 +316,8 @@ def parse_origin(el, where: str, kids: dict | None = None) -> tuple[np.ndarray, 
     origin_el = (first_children(el) if kids is None else kids).get("origin")
     if origin_el is None:
         return origin_matrix(ZERO3, ZERO3), ZERO3 + ZERO3
-    xyz = _floats(origin_el.get("xyz"), 3, where, "origin xyz", ZERO3)
-    rpy = _floats(origin_el.get("rpy"), 3, where, "origin rpy", ZERO3)
+    xyz = numbers(origin_el.get("xyz"), 3, where, "origin xyz", ZERO3)
+    rpy = numbers(origin_el.get("rpy"), 3, where, "origin rpy", ZERO3)
     return origin_matrix(xyz, rpy), xyz + rpy
 
 
@@ -327,7 +341,7 @@ def _joint(el, source: str, index: int) -> UrdfJoint:
         links.append(link)
     origin, xyz_rpy = parse_origin(el, where, kids)
     axis_el = kids.get("axis")
-    axis = np.array(_floats(None if axis_el is None else axis_el.get("xyz"), 3, where, "axis xyz", (1.0, 0.0, 0.0)))
+    axis = np.array(numbers(None if axis_el is None else axis_el.get("xyz"), 3, where, "axis xyz", (1.0, 0.0, 0.0)))
     lower = upper = effort = velocity = damping = friction = mimic = None
     lim = kids.get("limit")
     if lim is not None:
@@ -401,7 +415,7 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
     """``parse_urdf`` of URDF text; ``src`` names it in messages."""
     from .urdf_content import LazyLinkContent
 
-    root = _parse_xml(text, src)
+    root = _parse_urdf_xml(text, src)
     if _may_hold_xacro(text) and next(root.iterfind(".//{http://www.ros.org/wiki/xacro}*"), None) is not None:
         raise InputError(f"{src}: contains xacro macros; give the file a .xacro extension and, if you trust it, "
                          f"pass --allow-xacro, or expand it first: xacro {Path(src).name} > robot.urdf")

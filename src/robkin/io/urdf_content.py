@@ -14,7 +14,7 @@ import numpy as np
 
 from ..bodies import Geometry, Inertial, Material, Shape
 from ..errors import InputError
-from .urdf import LinkContent, _floats, _number, parse_origin
+from .urdf import LinkContent, _number, numbers, parse_origin
 
 __all__ = ["LazyLinkContent", "GEOMETRY_TAGS"]
 
@@ -30,7 +30,7 @@ def _material(el, where: str, named: Mapping[str, Material]) -> Material | None:
     color, texture = el.find("color"), el.find("texture")
     if color is None and texture is None:
         return named.get(name or "", Material(name))
-    rgba = None if color is None else _floats(color.get("rgba"), 4, where, "material color rgba", (0, 0, 0, 1))
+    rgba = None if color is None else numbers(color.get("rgba"), 4, where, "material color rgba", (0, 0, 0, 1))
     return Material(name, rgba, None if texture is None else texture.get("filename"))  # type: ignore[arg-type]
 
 
@@ -41,17 +41,17 @@ def _geometry(el, where: str) -> Geometry:
         raise InputError(f"{where}: no <geometry> with one of {', '.join(GEOMETRY_TAGS)}")
     tag = shape.tag
     if tag == "box":
-        return Geometry("box", _floats(shape.get("size"), 3, where, "box size", (0.0, 0.0, 0.0)))
+        return Geometry("box", numbers(shape.get("size"), 3, where, "box size", (0.0, 0.0, 0.0)))
     if tag == "sphere":
-        return Geometry("sphere", _floats(shape.get("radius"), 1, where, "sphere radius", (0.0,)))
+        return Geometry("sphere", numbers(shape.get("radius"), 1, where, "sphere radius", (0.0,)))
     if tag == "cylinder":
-        r = _floats(shape.get("radius"), 1, where, "cylinder radius", (0.0,))
-        h = _floats(shape.get("length"), 1, where, "cylinder length", (0.0,))
+        r = numbers(shape.get("radius"), 1, where, "cylinder radius", (0.0,))
+        h = numbers(shape.get("length"), 1, where, "cylinder length", (0.0,))
         return Geometry("cylinder", r + h)
     filename = shape.get("filename")
     if not filename:
         raise InputError(f"{where}: <mesh> has no filename")
-    return Geometry("mesh", _floats(shape.get("scale"), 3, where, "mesh scale", (1.0, 1.0, 1.0)), filename)
+    return Geometry("mesh", numbers(shape.get("scale"), 3, where, "mesh scale", (1.0, 1.0, 1.0)), filename)
 
 
 def parse_link_content(el, src: str, named: Mapping[str, Material]) -> LinkContent:
