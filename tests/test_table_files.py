@@ -145,7 +145,7 @@ def test_convert_format_to_stdout_and_file(tmp_path, capsys):
     target = tmp_path / "ur5.tex"
     assert main(["convert", path, "--tip-link", "tool0", "--to", "mdh", "--format", "latex", "-o", str(target)]) == 0
     assert target.read_text().startswith("\\begin{table}")
-    for argv, msg in (([path, "--tip-link", "tool0", "--to", "dh", "--format", "csv", "-o", str(tmp_path / "x.md")],
+    for argv, msg in (([path, "--tip-link", "tool0", "--to", "dh", "--format", "csv", "-o", str(tmp_path / "x.tex")],
                        "writes a .csv file"),
                       ([path, "--tip-link", "tool0", "--to", "urdf", "--format", "csv"], "is not a table"),
                       ([path, "--tip-link", "tool0", "--to", "dh", "--pi"], "--pi: applies to --format")):
