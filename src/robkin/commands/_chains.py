@@ -25,9 +25,9 @@ _DOCUMENTS = (".yaml", ".yml", ".json")
 def add_chain_options(p: argparse.ArgumentParser) -> None:
     """--base-link / --tip-link that may be repeated, once per input."""
     p.add_argument("--base-link", metavar="LINK", action="append",
-                   help="robot files: first link of the serial chain; " + CHAIN_HELP)
+                   help="URDF/SDF link or MJCF body/site: first of the serial chain; " + CHAIN_HELP)
     p.add_argument("--tip-link", metavar="LINK", action="append",
-                   help="robot files: last link of the serial chain (the tool); " + CHAIN_HELP)
+                   help="URDF/SDF link or MJCF body/site: last of the chain (the tool); " + CHAIN_HELP)
 
 
 def _per_input(values: list[str] | None, inputs: list[str], option: str) -> list[str | None]:
