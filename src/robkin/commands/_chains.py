@@ -35,8 +35,7 @@ def _per_input(values: list[str] | None, inputs: list[str], option: str) -> list
         return [None] * len(inputs)
     if len(values) == 1:
         if values[0] != DEFAULT and all(Path(i).suffix.lower() in _DOCUMENTS for i in inputs):
-            raise InputError(f"{inputs[0]}: --base-link/--tip-link apply to URDF input only (a robot document "
-                             f"holds one chain)")
+            return [values[0]] * len(inputs)  # no robot file to apply it to: the loader says so
         return [None if Path(i).suffix.lower() in _DOCUMENTS or values[0] == DEFAULT else values[0]
                 for i in inputs]
     if len(values) != len(inputs):
