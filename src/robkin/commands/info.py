@@ -104,6 +104,8 @@ def _show_chains(path: str, chains, as_json: bool) -> int:
               "joints": [j.name for j in js], "mimic": [j.name for j in js if j.mimic]}
              for base, tip, js in chains]
     if as_json:
+        import json  # (local: the module's own JSON printing may change apart from this)
+
         print(json.dumps({"file": path, "tree": True, "chains": items}, indent=2))
         return 0
     from ..io.tables import show_blocks
