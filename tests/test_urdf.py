@@ -332,7 +332,7 @@ def test_exported_urdf_loads_in_yourdfpy_with_same_fk(tmp_path):
 
 def test_both_xml_parsers_read_the_same_and_refuse_the_same(monkeypatch):
     """Small files go through the standard library's parser, big ones through lxml (see LXML_FROM)."""
-    import robkin.io.urdf as urdf_module
+    import robkin.io.urdf_xml as urdf_module
 
     text = TILTED_SILENT()
     small = robot_from_urdf(text)
