@@ -130,10 +130,12 @@ def test_exported_urdf_loads_in_pinocchio_with_same_fk(rel, base, tip, tmp_path)
     out = tmp_path / "out.urdf"
     out.write_text(urdf_from_robot(robot))
     model = pin.buildModelFromUrdf(str(out))
-    assert model.nq >= robot.n and model.njoints == robot.n + 1
+    # the whole file is written back: joints off the chain (the Panda's fingers) too
+    assert model.nq >= robot.n and model.njoints == len(pin.buildModelFromUrdf(robot_file(rel)).joints)
     Q = sample_q(robot, 8, seed=3)
     for q in Q:
-        np.testing.assert_allclose(pin_fk(model, robot, q, "tool"), robot.world @ robot.fk(q), atol=FK_TOL, rtol=0)
+        np.testing.assert_allclose(pin_fk(model, robot, q, robot.bodies.tip), robot.world @ robot.fk(q),
+                                   atol=FK_TOL, rtol=0)
     # and the limits survive
     for joint in robot.joints:
         jid = model.getJointId(joint.name)
@@ -225,7 +227,8 @@ def test_negative_z_axis_gives_rpy_rows_equal_to_urdf_origins():
 
 def test_chain_selection_in_a_tree():
     path = robot_file("ur_description/urdf/ur5_robot.urdf")
-    with pytest.raises(InputError, match=r"tree with 3 leaf links.*tip_link=.*tool0"):
+    # leaves: ee_link and tool0 (base, fixed to base_link, is part of the base and not a chain's end)
+    with pytest.raises(InputError, match=r"tree with 2 leaf links.*tip_link=.*tool0"):
         robot_from_urdf(path)
     robot = robot_from_urdf(path, tip_link="wrist_2_link")
     assert [j.name for j in robot.joints] == ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
@@ -319,7 +322,39 @@ def test_exported_urdf_loads_in_yourdfpy_with_same_fk(tmp_path):
             out = tmp_path / "y.urdf"
             out.write_text(urdf_from_robot(r))
             u = yourdfpy.URDF.load(str(out), load_meshes=False, build_scene_graph=True)
-            assert u.actuated_joint_names == [j.name for j in r.joints]
+            names = [j.name for j in r.joints]
+            assert set(names) <= set(u.actuated_joint_names)
+            tip, root = (r.bodies.tip, r.bodies.links[0].name) if r.bodies else ("tool", "world")
             for q in sample_q(r, 4, seed=5):
-                u.update_cfg(q)
-                np.testing.assert_allclose(u.get_transform("tool", "world"), r.world @ r.fk(q), atol=FK_TOL)
+                u.update_cfg(dict(zip(names, q)))
+                np.testing.assert_allclose(u.get_transform(tip, root), r.world @ r.fk(q), atol=FK_TOL)
+
+
+def test_both_xml_parsers_read_the_same_and_refuse_the_same(monkeypatch):
+    """Small files go through the standard library's parser, big ones through lxml (see LXML_FROM)."""
+    import robkin.io.urdf_xml as urdf_module
+
+    text = TILTED_SILENT()
+    small = robot_from_urdf(text)
+    monkeypatch.setattr(urdf_module, "LXML_FROM", 0)
+    big = robot_from_urdf(text)
+    np.testing.assert_array_equal(big.frames, small.frames)
+    assert big.joints == small.joints
+    for bad, msg in ((text[:300], "not well-formed XML \\(line"),
+                     ('<!DOCTYPE r [<!ENTITY a "b">]><robot name="&a;"/>', "refused XML construct")):
+        for limit in (0, 10**9):
+            monkeypatch.setattr(urdf_module, "LXML_FROM", limit)
+            with pytest.raises(InputError, match=msg):
+                robot_from_urdf(bad)
+
+
+def test_a_model_built_by_another_reader_loads_and_writes():
+    """Readers of other formats build UrdfModels by hand: positional fields, a mimic flag, no content."""
+    from robkin.io.urdf import UrdfJoint, UrdfModel, robot_from_model
+
+    joints = (UrdfJoint("j1", "revolute", "base", "l1", se3.trans(0, 0, 0.3), np.array([0.0, 0, 1]), -1.0, 1.0, False),
+              UrdfJoint("fix", "fixed", "l1", "tip", se3.trans(0.2, 0, 0), np.array([1.0, 0, 0]), None, None, False))
+    robot = robot_from_model(UrdfModel("m", ("base", "l1", "tip"), joints, "m.xml"))
+    back = robot_from_urdf(urdf_from_robot(robot))
+    assert back.bodies.tip == "tip" and [j.name for j in back.joints] == ["j1"]
+    np.testing.assert_allclose(back.fk([0.5]), robot.fk([0.5]), atol=1e-15)

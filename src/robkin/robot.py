@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike
 from .errors import InputError, ProjectionWarning, quote
 from .names import check_name, duplicates
 from . import se3
+from .bodies import EMPTY_BODIES, Bodies, Mimic
 
 if TYPE_CHECKING:  # pragma: no cover
     from .compiled.fk import Chain
@@ -46,6 +47,9 @@ class Joint:
     ``flip`` means the joint moves opposite to the z axis of its frame in frame-based representations
     (DH, modified DH, RPY-XYZ). The GJD and PoE always use the positive direction, so for them flip
     only decides how frame-based tables are written.
+
+    ``effort`` (N or N m), ``velocity`` (m/s or rad/s), ``damping``, ``friction`` and ``mimic`` are
+    kept from robot files and written back; kinematics never uses them.
     """
 
     name: str
@@ -53,6 +57,11 @@ class Joint:
     lower: float | None = None
     upper: float | None = None
     flip: bool = False
+    effort: float | None = None
+    velocity: float | None = None
+    damping: float | None = None
+    friction: float | None = None
+    mimic: Mimic | None = None
 
     def __post_init__(self) -> None:
         if self.type not in JOINT_TYPES:
@@ -173,6 +182,9 @@ class Robot:
         PoE, RPY-XYZ, GJD input, or frames computed otherwise). A conversion back to that same table
         keeps the given frames (so a table read in and written out comes back as it was); every other
         conversion places its frames by the canonical rules. Cleared by ``replace(frames=...)``.
+    bodies : Bodies, optional
+        What the source file said beyond kinematics (link names, shapes, inertials, attached links;
+        see ``robkin.bodies``), kept so that writers lose nothing. Empty by default.
     """
 
     frames: np.ndarray
@@ -180,6 +192,7 @@ class Robot:
     world: np.ndarray = field(default_factory=lambda: np.eye(4))
     name: str | None = None
     frames_from: str | None = None
+    bodies: Bodies = EMPTY_BODIES
 
     def __post_init__(self) -> None:
         frames = np.array(self.frames, dtype=float)

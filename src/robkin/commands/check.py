@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 import math
 
+from ._chains import add_chain_options
+
 EPILOG = """\
 Two descriptions are the same robot when the tool pose is the same at every joint vector q. If they
 are not, the joints are compared in order and the first one that differs is named, with how: joint
@@ -18,6 +20,7 @@ examples:
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0
   robkin check vendor_dh.yaml robot.urdf --tol 1e-4       # a table typed with 4 decimals
   robkin check a.yaml b.yaml --json
+  robkin check ur5.urdf ur5_dh.yaml --tip-link tool0 --tip-link -     # a chain per input, in order
 """
 
 
@@ -30,8 +33,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("a", metavar="A", help="first robot (document .yaml/.yml/.json, .urdf/.xacro, .xml/.mjcf or .sdf)")
     p.add_argument("b", metavar="B", help="second robot")
-    p.add_argument("--base-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: first of the serial chain")
-    p.add_argument("--tip-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: last of the chain (the tool)")
+    add_chain_options(p)
     add_allow_xacro(p)
     p.add_argument("--tol", type=float, default=1e-6,  # = equivalence.DEFAULT_TOL (not imported: startup time)
                    help="relative tolerance on angles (rad) and lengths / robot size (default 1e-06)")
@@ -45,8 +47,12 @@ def run(args: argparse.Namespace) -> int:
 
     if not (math.isfinite(args.tol) and args.tol > 0):
         raise InputError(f"--tol: {args.tol} is not a positive number")
-    a = _load(args.a, args)
-    b = _load(args.b, args)
+    from ._chains import chain_ends
+    from ..io import load
+
+    (base_a, tip_a), (base_b, tip_b) = chain_ends(args, [args.a, args.b])
+    a = load(args.a, base_link=base_a, tip_link=tip_a, allow_xacro=args.allow_xacro)
+    b = load(args.b, base_link=base_b, tip_link=tip_b, allow_xacro=args.allow_xacro)
     result = compare(a, b, tol=args.tol)
     if args.json:
         d = result.to_dict()
@@ -63,13 +69,4 @@ def run(args: argparse.Namespace) -> int:
         show_blocks(comparison_blocks(result, title))
     return 0 if result.same else 1
 
-
-def _load(path: str, args: argparse.Namespace):
-    """Load one input; --base-link/--tip-link only reach robot files (a document has one chain)."""
-    from ..io import ROBOT_FILE_EXTENSIONS, load
-    from pathlib import Path
-
-    if Path(path).suffix.lower() in ROBOT_FILE_EXTENSIONS:
-        return load(path, base_link=args.base_link, tip_link=args.tip_link, allow_xacro=args.allow_xacro)
-    return load(path)
 

@@ -7,7 +7,8 @@ import sys
 from pathlib import Path
 
 from ..errors import InputError
-from ._common import add_input, load_input
+from ._chains import add_chain_options, chain_ends
+from ._common import add_allow_xacro
 from ._output import wrote
 
 #: --to FORMAT -> document section written for it (None: a whole document or another file type)
@@ -16,6 +17,10 @@ SECTION_OF = {"dh": "dh", "mdh": "mdh", "hayati": "hayati", "poe": "poe", "poe-b
 #: Output file extensions accepted for each format (the first is used for batch output names).
 EXTENSIONS = {"urdf": (".urdf",), "mjcf": (".xml", ".mjcf"), "json": (".json",), "yaml": (".yaml", ".yml")}
 DOC_EXTENSIONS = (".yaml", ".yml", ".json")
+#: --format -> output file extension (kept here, not imported, for the start-up time of every convert)
+TABLE_EXTENSIONS = {"csv": ".csv", "markdown": ".md", "latex": ".tex"}
+#: --to values that have a table form for --format
+TABLE_REPRESENTATIONS = ("dh", "mdh", "hayati", "poe", "poe-body", "rpy-xyz", "gjd")
 
 EPILOG = """\
 formats:
@@ -24,7 +29,7 @@ formats:
             axes (exact and short there, the calibration standard)
   poe       Product of Exponentials, space frame            poe-body  PoE, body frame
   rpy-xyz   RPY-XYZ table, n+2 rows (URDF convention)       gjd       Global Joint Description frames
-  json/yaml a robot document with every section             urdf      a URDF file
+  json/yaml a robot document with every section             urdf      a URDF file (a URDF input's whole file)
   mjcf      a MuJoCo model (MJCF), tool as site 'tool'
 
 Without -o a readable table (or the document/URDF/MJCF text) goes to stdout; --json prints the
@@ -39,6 +44,18 @@ written robot document holds its angles in degrees and says 'angles: degrees'. T
 offset had to go into the base or tool transform, and warn (with the FK error measured) where a DH
 or modified DH table cannot be exact (nearly parallel axes: use --to hayati).
 
+Tables for papers and spreadsheets: --format csv|markdown|latex with a table --to (dh, mdh, poe,
+poe-body, rpy-xyz, gjd) writes the table as CSV (reads back: the fixed transforms follow the rows
+after an empty line), Markdown or LaTeX (a table environment; matrices use amsmath), every number in
+full precision; -o names a .csv, .md or .tex file. --pi writes angles that are exactly k*pi/m as
+such (-pi/2, 3*pi/4).
+
+Chains: --base-link / --tip-link given once apply to every robot file among the inputs; given once
+per input, in input order, the k-th belongs to the k-th input ('-' = that file's default, and what a
+robot document takes). A base or tip may be any link rigidly attached to the chain's end (UR's
+'base', 'tool0'). A folder given with -o (several inputs, or a name ending in '/') that does not exist
+is created in an existing one, once every input has been converted.
+
 Joint variables are the same in every output: q_i means the same configuration in the DH table, the
 PoE and the URDF it came from (same sign, same zero); a note on stderr says so for URDF input.
 
@@ -52,6 +69,9 @@ examples:
   robkin convert robot.yaml --to urdf -o robot.urdf
   robkin convert robot.yaml --to mjcf -o robot.xml
   robkin convert a.yaml b.yaml c.urdf --to yaml -o converted/
+  robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format latex --pi
+  robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format csv -o ur5_dh.csv
+  robkin convert ur5.urdf panda.urdf a.yaml --tip-link tool0 --tip-link panda_hand_tcp --tip-link - --to mdh -o out/
 """
 
 
@@ -60,9 +80,18 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                        description="Convert a robot description into another representation, exactly: "
                                    "forward kinematics of the output equals that of the input at every q.",
                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_input(p, many=True)
+    p.add_argument("input", nargs="+", metavar="INPUT",
+                   help="robot document (.yaml/.yml/.json) or robot file: URDF (.urdf; .xacro with --allow-xacro), "
+                        "MJCF (.xml/.mjcf) or SDF (.sdf) (one or more)")
+    add_chain_options(p)
+    add_allow_xacro(p)
     p.add_argument("--to", required=True, choices=list(SECTION_OF), metavar="FORMAT",
                    help="output representation: " + ", ".join(SECTION_OF))
+    p.add_argument("--format", choices=["csv", "markdown", "latex"],
+                   help="write a table representation (--to dh, mdh, poe, poe-body, rpy-xyz, gjd) as CSV, "
+                        "Markdown or LaTeX, full precision")
+    p.add_argument("--pi", action="store_true",
+                   help="with --format: angles that are exactly k*pi/m written as such (-pi/2, 3*pi/4)")
     p.add_argument("-o", "--output", metavar="OUT", help="output file, or folder for several inputs")
     p.add_argument("--json", action="store_true",
                    help="print the robot document with the chosen section as JSON (instead of a table)")
@@ -74,10 +103,16 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     return p
 
 
-def _render_file(robot, fmt: str, out_ext: str, degrees: bool = False) -> str:
+def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None = None) -> str:
     """Text of the output file for one robot."""
     from ..io.document import document_from_robot, dump
 
+    degrees = bool(args is not None and args.degrees)
+
+    if args is not None and args.format:
+        from ..io.table_files import render_table
+
+        return render_table(robot, fmt, args.format, pi=args.pi)
     if fmt == "urdf":
         from ..io.urdf import urdf_from_robot
 
@@ -93,13 +128,15 @@ def _render_file(robot, fmt: str, out_ext: str, degrees: bool = False) -> str:
     return dump(doc, doc_fmt)
 
 
-def _out_ext(fmt: str) -> str:
+def _out_ext(fmt: str, table_format: str | None = None) -> str:
+    if table_format:
+        return TABLE_EXTENSIONS[table_format]
     return EXTENSIONS.get(fmt, (".yaml",))[0]
 
 
-def _check_ext(out: Path, fmt: str) -> None:
+def _check_ext(out: Path, fmt: str, table_format: str | None = None) -> None:
     """The output file's extension must fit the format (a URDF in 'x.yaml' would mislead every reader)."""
-    ok = EXTENSIONS.get(fmt, DOC_EXTENSIONS)
+    ok = (TABLE_EXTENSIONS[table_format],) if table_format else EXTENSIONS.get(fmt, DOC_EXTENSIONS)
     if out.suffix.lower() not in ok:
         raise InputError(f"{out}: --to {fmt} writes a {' or '.join(ok)} file; name the output accordingly")
 
@@ -134,56 +171,79 @@ def _mapping_note(path: str, robot, fmt: str) -> str | None:
     return note
 
 
+def _load_all(inputs: list[str], args: argparse.Namespace) -> list:
+    from ..io import load
+
+    return [load(i, base_link=base, tip_link=tip, allow_xacro=args.allow_xacro)
+            for i, (base, tip) in zip(inputs, chain_ends(args, inputs))]
+
+
+def _check_table_options(args: argparse.Namespace) -> None:
+    if args.format and args.to not in TABLE_REPRESENTATIONS:
+        raise InputError(f"--format {args.format}: --to {args.to} is not a table; --format works with --to "
+                         f"{', '.join(t for t in TABLE_REPRESENTATIONS if t in SECTION_OF)}")
+    if args.pi and not args.format:
+        raise InputError("--pi: applies to --format csv|markdown|latex tables")
+    if args.format and args.json:
+        raise InputError(f"--json prints a robot document; it does not combine with --format {args.format}")
+
+
 def run(args: argparse.Namespace) -> int:
     from ..io.atomic import check_writable_dir, write_text_atomic, write_texts_atomic
 
     inputs: list[str] = args.input
     fmt: str = args.to
+    _check_table_options(args)
     if args.json and (args.output or fmt in ("urdf", "mjcf", "yaml")):
         raise InputError(f"--json prints a table format as JSON to stdout; it does not combine with "
                          f"{'-o' if args.output else '--to ' + fmt}")
-    if len(inputs) > 1:
-        if not args.output:
-            raise InputError("several inputs need -o DIR (a folder for the converted files)")
+    ext = _out_ext(fmt, args.format)
+    folder = args.output and (len(inputs) > 1 or args.output.endswith(("/", "\\")))
+    if folder:
         out_dir = Path(args.output)
         _check_path(out_dir)
         if out_dir.exists() and not out_dir.is_dir():
             raise InputError(f"{out_dir}: not a folder; with several inputs -o names a folder")
         if not out_dir.exists() and not (out_dir.parent if str(out_dir.parent) else Path(".")).is_dir():
             raise InputError(f"{out_dir}: folder {out_dir.parent} does not exist")
-        targets = [out_dir / (Path(i).stem + _out_ext(fmt)) for i in inputs]
+        targets = [out_dir / (Path(i).stem + ext) for i in inputs]
         for t in targets:
             _check_path(t)
         dup = {str(t) for t in targets if targets.count(t) > 1}
         if dup:
             raise InputError(f"several inputs would write the same file(s): {', '.join(sorted(dup))}")
         check_writable_dir(targets[0] if out_dir.is_dir() else out_dir)  # the folder, or where it will be made
-        texts = [_render_file(load_input(i, args), fmt, _out_ext(fmt), args.degrees) for i in inputs]
+        texts = [_render_file(robot, fmt, ext, args) for robot in _load_all(inputs, args)]
         out_dir.mkdir(exist_ok=True)  # only now: a failed conversion leaves no empty folder behind
         write_texts_atomic(list(zip(targets, texts)))  # all or nothing
         for target in targets:
             wrote(target)
         return 0
-    robot = load_input(inputs[0], args)
+    if len(inputs) > 1:
+        raise InputError("several inputs need -o DIR (a folder for the converted files)")
+    robot = _load_all(inputs, args)[0]
     note = _mapping_note(inputs[0], robot, fmt)
     if args.output:
         out = Path(args.output)
         _check_path(out)
         if out.is_dir():
-            out = out / (Path(inputs[0]).stem + _out_ext(fmt))
+            out = out / (Path(inputs[0]).stem + ext)
             _check_path(out)
-        _check_ext(out, fmt)
-        text = _render_file(robot, fmt, out.suffix.lower(), args.degrees)
+        _check_ext(out, fmt, args.format)
+        text = _render_file(robot, fmt, out.suffix.lower(), args)
         write_text_atomic(out, text)
         wrote(out)
         if note:
             print(f"robkin: note: {note}", file=sys.stderr)
         return 0
+    if args.format:
+        sys.stdout.write(_render_file(robot, fmt, ext, args))
+        return 0
     if args.json:
-        sys.stdout.write(_render_file(robot, fmt if SECTION_OF[fmt] else "json", ".json", args.degrees))
+        sys.stdout.write(_render_file(robot, fmt if SECTION_OF[fmt] else "json", ".json", args))
         return 0
     if SECTION_OF[fmt] is None:
-        sys.stdout.write(_render_file(robot, fmt, ".json" if fmt == "json" else ".yaml", args.degrees))
+        sys.stdout.write(_render_file(robot, fmt, ".json" if fmt == "json" else ".yaml", args))
         return 0
     from ..io.tables import blocks, show_blocks
 

@@ -14,10 +14,15 @@ anti-parallel, coincident, anti-coincident or intersecting, with the angle and d
 A prismatic joint is a direction, not a line: next to one, only parallel / anti-parallel / not
 parallel and the angle are given.
 
+A URDF that is a tree (several chains end below the base) and no --tip-link: the chains it offers
+are listed instead (tip link, number of joints, joint types, first and last joint), to pick one
+with --tip-link.
+
 examples:
   robkin info rrpr.yaml
   robkin info panda.urdf --tip-link panda_hand_tcp
   robkin info ur5.urdf --tip-link tool0 --json
+  robkin info panda.urdf                                   # a tree: lists the chains it offers
 """
 
 
@@ -75,8 +80,53 @@ def _clean(v) -> list[float]:
     return [_c(x) for x in v]
 
 
+def _tree_chains(args: argparse.Namespace):
+    """(model, chains) when the input is a URDF tree and no --tip-link picks one of its chains; else
+    (model or None, None). Plain .urdf only: a .xacro goes through the loader and its opt-in."""
+    from pathlib import Path
+
+    if Path(args.input).suffix.lower() != ".urdf":
+        return None, None
+    from ..io.urdf import parse_urdf
+    from ..io.urdf_chain import chains_of
+
+    model = parse_urdf(args.input)
+    if args.tip_link:
+        return model, None
+    chains = chains_of(model, args.base_link)
+    return model, (chains if len(chains) > 1 else None)
+
+
+def _show_chains(path: str, chains, as_json: bool) -> int:
+    items = [{"base": base, "tip": tip, "n": len(js), "types": "".join("P" if j.type == "prismatic" else "R"
+                                                                       for j in js),
+              "joints": [j.name for j in js], "mimic": [j.name for j in js if j.mimic]}
+             for base, tip, js in chains]
+    if as_json:
+        import json  # (local: the module's own JSON printing may change apart from this)
+
+        print(json.dumps({"file": path, "tree": True, "chains": items}, indent=2))
+        return 0
+    from ..io.tables import show_blocks
+
+    rows = [[c["tip"], str(c["n"]), c["types"], c["joints"][0] if c["joints"] else "-",
+             c["joints"][-1] if c["joints"] else "-",
+             f"mimic joint {c['mimic'][0]}: end before it" if c["mimic"] else ""] for c in items]
+    show_blocks([(f"{path}: a tree; {len(items)} chains from '{items[0]['base']}' (pick one with --tip-link)",
+                  ["tip link", "joints", "types", "first joint", "last joint", "note"], rows)])
+    return 0
+
+
 def run(args: argparse.Namespace) -> int:
-    robot = load_input(args.input, args)
+    model, chains = _tree_chains(args)
+    if chains is not None:
+        return _show_chains(args.input, chains, args.json)
+    if model is not None:
+        from ..io.urdf import robot_from_model
+
+        robot = robot_from_model(model, args.base_link, args.tip_link)
+    else:
+        robot = load_input(args.input, args)
     d = describe(robot)
     if args.json:
         from ._output import print_json

@@ -48,4 +48,4 @@ def refuse_on_chain(model: UrdfModel, kinds: dict[str, str], base: str | None, t
     for j in joints_between(model, base, tip):
         if j.name in kinds:
             raise InputError(f"{model.source}: joint '{j.name}' is a {kinds[j.name]} joint; only {supported} "
-                             f"joints make a serial chain (pick a chain without it with --base-link/--tip-link)")
+                             f"joints make a serial chain (pick a chain without it with base_link=/tip_link=)")

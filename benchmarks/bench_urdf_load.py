@@ -1,0 +1,75 @@
+"""URDF load time of robkin against pinocchio, measured in the same run.
+
+For each file (example-robot-data's Talos, 103 joints, the largest; a UR5; a Panda), the time from a
+path on disk to a usable model: ``robkin.load(path, base_link, tip_link)`` (parse, chain selection,
+GJD, and the kept links; shapes are parsed on first use) against ``pinocchio.buildModelFromUrdf(path)``
+(its whole tree, no geometry). The two are interleaved, one call each per round, so that a busy
+machine slows both alike; the table gives medians, and (in brackets) how much of robkin's time is the
+construction of the ``Robot`` itself (validating every frame as a rigid transform).
+
+Goal (a ratio, never an absolute time, since the machine varies): robkin no slower than pinocchio
+on the Talos file (ratio <= 1).
+
+Run: ``python benchmarks/bench_urdf_load.py`` (``--rounds N``, default 60).
+"""
+
+from __future__ import annotations
+
+import argparse
+import glob
+import os
+import statistics
+import sys
+import time
+import warnings
+
+import robkin
+
+#: (file under example-robot-data/robots, base link, tip link)
+FILES = [
+    ("talos_data/robots/talos_full_v2.urdf", "torso_2_link", "gripper_left_base_link"),
+    ("ur_description/urdf/ur5_robot.urdf", "base", "tool0"),
+    ("panda_description/urdf/panda.urdf", None, "panda_hand_tcp"),
+]
+
+
+def robots_dir() -> str:
+    found = glob.glob(os.path.join(sys.prefix, "lib", "python*", "site-packages", "cmeel.prefix", "share",
+                                   "example-robot-data", "robots"))
+    if not found:
+        raise SystemExit("example-robot-data is not installed (pip install example-robot-data)")
+    return found[0]
+
+
+def main(argv: list[str] | None = None) -> int:
+    import pinocchio as pin
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--rounds", type=int, default=60)
+    args = parser.parse_args(argv)
+    warnings.simplefilter("ignore")  # talos: torso joints above the chosen base are held at 0
+    base_dir = robots_dir()
+    print(f"{'file':<24} {'joints':>6} {'robkin ms':>10} {'(Robot() ms)':>12} {'pinocchio ms':>13} {'ratio':>6}")
+    for rel, base, tip in FILES:
+        path = os.path.join(base_dir, rel)
+        robkin.load(path, base, tip), pin.buildModelFromUrdf(path)  # warm-up: imports, file cache
+        ours, theirs, construct = [], [], []
+        for _ in range(args.rounds):
+            t0 = time.perf_counter()
+            r = robkin.load(path, base, tip)
+            t1 = time.perf_counter()
+            model = pin.buildModelFromUrdf(path)
+            t2 = time.perf_counter()
+            # the share of robkin's time spent in validating the Robot (frames checked to be rigid)
+            robkin.Robot(r.frames, r.joints, r.world, r.name, r.bodies)
+            t3 = time.perf_counter()
+            ours.append(t1 - t0)
+            theirs.append(t2 - t1)
+            construct.append(t3 - t2)
+        a, b, c = (statistics.median(x) * 1e3 for x in (ours, theirs, construct))
+        print(f"{os.path.basename(rel):<24} {model.njoints - 1:>6} {a:>10.2f} {c:>12.2f} {b:>13.2f} {a / b:>6.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,317 @@
+"""A serial chain out of a URDF tree (``UrdfModel``), as a Robot that keeps the rest of the file.
+
+The chain runs from ``base_link`` to ``tip_link``. Either end may be any link rigidly attached to the
+chain: the path between them may first climb from the base through fixed joints (UR's ``base`` is a
+fixed child of ``base_link``, turned by pi) and then descends to the tip, through the chain's joints
+and any fixed ones (a ``flange``, a ``tool0``). Every other link of the file is kept, on the body it
+moves with, in ``Robot.bodies`` (see ``robkin.bodies``); joints off the chain are held at 0.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import warnings
+
+import numpy as np
+
+from .. import se3
+from ..bodies import Bodies, Inertial, LazyTuple, Link, LinkJoint, Shape
+from ..errors import InputError, ProjectionWarning
+from ..robot import Joint, Robot
+from .urdf import AXIS_UNIT_TOL, AXIS_ZERO_TOL, UNSUPPORTED_TYPES, UrdfJoint, UrdfModel, parse_urdf
+
+__all__ = ["robot_from_urdf", "robot_from_model", "axis_frame", "select_chain", "chains_of"]
+
+
+def _tree_leaves(kids: dict[str, list[UrdfJoint]], top: str, rigid_too: bool) -> list[str]:
+    """Leaf links below ``top`` in file order; without ``rigid_too``, not those joined to ``top`` by
+    fixed joints only (they are part of the base, not the end of a chain)."""
+    out: list[str] = []
+    stack: list[tuple[str, bool]] = [(top, True)]
+    while stack:
+        link, rigid = stack.pop()
+        if not kids[link] and (rigid_too or not rigid):
+            out.append(link)
+        stack.extend((j.child, rigid and j.type == "fixed") for j in reversed(kids[link]))
+    return out
+
+
+def _default_base(model: UrdfModel) -> str:
+    """The root link, or its child when the root is a ``world`` link fixed to it (a virtual world
+    link is the world->base transform, not the robot)."""
+    root = model.root()
+    kids = model.children()[root]
+    if root == "world" and len(kids) == 1 and kids[0].type == "fixed":
+        return kids[0].child
+    return root
+
+
+def _tip_candidates(model: UrdfModel, base_link: str) -> list[str]:
+    """Leaves below the base that end a chain: not those rigidly part of the base itself."""
+    parents = model.parent_joint()
+    top = base_link  # the highest link rigidly joined to the base: chains start below it
+    while top in parents and parents[top].type == "fixed":
+        top = parents[top].parent
+    return _tree_leaves(model.children(), top, rigid_too=False)
+
+
+def chains_of(model: UrdfModel, base_link: str | None = None) -> list[tuple[str, str, list[UrdfJoint]]]:
+    """Every serial chain the tree offers from the base: (base, tip leaf, its moving joints), in file
+    order. Chains that climb through a moving joint (a base in the middle of the tree) are left out."""
+    base = _default_base(model) if base_link is None else base_link
+    out = []
+    for tip in _tip_candidates(model, base):
+        _, _, _, down = select_chain(model, base, tip)
+        out.append((base, tip, [j for j in down if j.type != "fixed"]))
+    return out
+
+
+def select_chain(model: UrdfModel, base_link: str | None, tip_link: str | None
+                 ) -> tuple[str, str, list[UrdfJoint], list[UrdfJoint]]:
+    """(base link, tip link, joints climbed from the base (all fixed), joints descended to the tip).
+
+    Defaults: the base is the root link (its child when the root is a ``world`` link fixed to it); the
+    tip is the only leaf below the base that is not rigidly part of the base. InputError otherwise,
+    listing the choices.
+    """
+    src = model.source
+    known = set(model.links)
+    for opt, link in (("base_link=", base_link), ("tip_link=", tip_link)):
+        if link is not None and link not in known:
+            stem = link[:3]
+            close = ", ".join(sorted(known, key=lambda s: (not s.startswith(stem), s))[:8])
+            raise InputError(f"{src}: {opt}'{link}' is not a link of the file (links include: {close})")
+    parents = model.parent_joint()
+    kids = model.children()
+    if base_link is None:
+        base_link = _default_base(model)
+    if tip_link is None:
+        leaves = _tip_candidates(model, base_link)
+        if len(leaves) > 1:
+            shown = ", ".join(leaves[:24]) + (f", ... ({len(leaves) - 24} more)" if len(leaves) > 24 else "")
+            raise InputError(f"{src}: the links below '{base_link}' form a tree with {len(leaves)} leaf links; "
+                             f"pick the chain's end with tip_link=, one of: {shown} (robkin info lists the "
+                             f"chains)")
+        tip_link = leaves[0] if leaves else base_link
+    above_tip = {tip_link}  # the path from the tip up to the root
+    link = tip_link
+    while True:
+        above_tip.add(link)
+        if link not in parents:
+            break
+        link = parents[link].parent
+    up: list[UrdfJoint] = []
+    link = base_link
+    while link not in above_tip:
+        up.append(parents[link])
+        link = parents[link].parent
+    meet = link
+    down: list[UrdfJoint] = []
+    link = tip_link
+    while link != meet:
+        down.append(parents[link])
+        link = parents[link].parent
+    down.reverse()
+    moving = [j.name for j in up if j.type != "fixed"]
+    if moving:
+        raise InputError(f"{src}: tip_link='{tip_link}' is not below base_link='{base_link}': the path "
+                         f"between them climbs through joint '{moving[0]}', which moves; a base may hang from "
+                         f"the chain through fixed joints only (links below '{base_link}' end in: "
+                         f"{', '.join(_tree_leaves(kids, base_link, rigid_too=True)[:12])})")
+    return base_link, tip_link, up, down
+
+
+def axis_frame(axis: np.ndarray) -> tuple[np.ndarray, bool]:
+    """Rotation (3, 3) whose z column is the unit ``axis``, and whether the joint is flipped.
+
+    Axes with a non-negative z component get the minimal rotation taking z onto the axis (identity for
+    ``0 0 1``). Axes pointing against z get flip = True and the minimal rotation onto -axis, turned
+    by pi about x: its z is the axis, and the flipped frame used by DH/RPY tables is the minimal one.
+    """
+    flip = bool(axis[2] < 0)
+    b = -axis if flip else axis
+    if b[0] == 0 and b[1] == 0:  # the axis is +-z: the rotation is exact (no rounding from K)
+        return (np.diag([1.0, -1.0, -1.0]) if flip else np.eye(3)), flip
+    # minimal rotation e_z -> b (b_z >= 0): R = I + K + K^2 / (1 + c), K = [e_z x b], c = b_z;
+    # 1 + c >= 1, so this is well conditioned for every b in the upper half sphere.
+    K = se3.skew(np.array([-b[1], b[0], 0.0]))
+    R = np.eye(3) + K + K @ K / (1.0 + b[2])
+    if flip:
+        R = R @ np.diag([1.0, -1.0, -1.0])  # Rx(pi)
+    return R, flip
+
+
+def _unit_axis(j: UrdfJoint, src: str) -> np.ndarray:
+    k = float(np.linalg.norm(j.axis))
+    if k < AXIS_ZERO_TOL:
+        raise InputError(f"{src}: joint '{j.name}': axis xyz is zero; a {j.type} joint needs a direction "
+                         f"such as '0 0 1'")
+    if abs(k - 1.0) > AXIS_UNIT_TOL:
+        warnings.warn(f"{src}: joint '{j.name}': axis has length {k:.6g}; normalised to a unit vector",
+                      ProjectionWarning, stacklevel=5)
+    return j.axis / k
+
+
+def robot_from_urdf(source: str | os.PathLike, base_link: str | None = None, tip_link: str | None = None,
+                    *, name: str | None = None, allow_xacro: bool = False) -> Robot:
+    """The serial chain base_link -> tip_link of a URDF (path, .xacro path, or XML string) as a Robot.
+
+    Parameters
+    ----------
+    source : path or str
+        A .urdf or .xacro file, or URDF XML text (a string starting with '<').
+    base_link, tip_link : str, optional
+        Ends of the chain; each may be any link rigidly attached to the chain's ends (through fixed
+        joints in either direction). Default base: the root link (its child when the root is a
+        ``world`` link fixed to it). Default tip: the only leaf below the base that is not rigidly
+        part of it; with several an InputError lists them.
+    name : str, optional
+        Robot name; default the URDF's ``<robot name>``.
+    allow_xacro : bool
+        Expand a .xacro file (default False: refused). xacro runs code and reads files and
+        environment variables named in the file; pass True only for files you trust.
+
+    Returns
+    -------
+    Robot
+        GJD frames (n+1, 4, 4) in the base link frame (lengths in the file's unit, normally metres),
+        joints with the URDF names, limits, effort, velocity and dynamics, ``world`` = root link ->
+        base link at q = 0, and ``bodies``: every link, shape and inertial of the file.
+    """
+    return robot_from_model(parse_urdf(source, allow_xacro=allow_xacro), base_link, tip_link, name=name)
+
+
+def _link_joint(j: UrdfJoint) -> LinkJoint:
+    x, y, z = (float(a) for a in j.axis)
+    k = math.sqrt(x * x + y * y + z * z)
+    axis = (x / k, y / k, z / k) if k >= AXIS_ZERO_TOL else (x, y, z)
+    # ``or None``: readers of other formats may give mimic=False (the field was a flag once)
+    return LinkJoint(j.name, j.type, axis, j.lower, j.upper, j.effort, j.velocity, j.damping, j.friction,
+                     j.mimic or None, j.xyz_rpy)
+
+
+def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: str | None = None,
+                     *, name: str | None = None) -> Robot:
+    """``robot_from_urdf`` of an already parsed URDF (see ``parse_urdf_text`` for text input)."""
+    src = model.source
+    base, tip, up, down = select_chain(model, base_link, tip_link)
+    chain = [j for j in down if j.type != "fixed"]
+    for j in chain:
+        if j.type in UNSUPPORTED_TYPES:
+            raise InputError(f"{src}: joint '{j.name}' is {j.type}; only revolute, continuous, prismatic and "
+                             f"fixed joints make a serial chain (pick another chain with base_link=/tip_link=)")
+        if j.mimic:
+            raise InputError(f"{src}: joint '{j.name}' mimics another joint; robkin needs independent joints "
+                             f"(end the chain before it with tip_link=)")
+    if not chain:
+        raise InputError(f"{src}: no revolute, continuous or prismatic joint between '{base}' and "
+                         f"'{tip}'; a robot needs at least one")
+    # poses along the path base -> tip (climbing, then descending): all the kinematics needs
+    T = np.eye(4)
+    poses = {base: T}
+    for j in up:
+        T = np.dot(T, se3.inv(j.origin))
+        poses[j.parent] = T
+    for j in down:
+        T = np.dot(T, j.origin)
+        poses[j.child] = T
+    frames: list[np.ndarray] = []
+    joints: list[Joint] = []
+    for j in chain:
+        R, flip = axis_frame(_unit_axis(j, src))
+        F = poses[j.child].copy()
+        F[:3, :3] = F[:3, :3] @ R
+        frames.append(F)
+        jtype = "prismatic" if j.type == "prismatic" else "revolute"
+        joints.append(Joint(j.name, jtype, j.lower, j.upper, flip, j.effort, j.velocity,  # type: ignore[arg-type]
+                            j.damping, j.friction))
+    frames.append(poses[tip])
+    world = _world(model, base)
+    links, shapes, inertials = _rest_of_the_file(model, base, {j.name: i + 1 for i, j in enumerate(chain)})
+    bodies = Bodies(LazyTuple(links), (base,) + tuple(j.child for j in chain), tip, LazyTuple(shapes),
+                    LazyTuple(inertials), model.extras)
+    return Robot(np.stack(frames), tuple(joints), world=world, name=name or model.name, bodies=bodies)
+
+
+def _rest_of_the_file(model: UrdfModel, base: str, chain_index: dict[str, int]):
+    """Three functions giving the links, the shapes and the inertials of the whole file, each on its
+    body, made on first use (see ``LazyTuple``): loading a robot for its kinematics costs none of it."""
+    memo: list = []
+
+    def tree() -> tuple[dict[str, np.ndarray], dict[str, int]]:
+        if not memo:
+            memo.append(_home_poses(model, base, chain_index))
+        return memo[0]
+
+    def links():
+        poses, body = tree()
+        parents = model.parent_joint()
+        for link in model.links:
+            pj = parents.get(link)
+            yield Link(link, body[link], poses[link], None if pj is None else pj.parent,
+                       None if pj is None else _link_joint(pj))
+
+    def shapes():
+        poses, body = tree()
+        for link in model.links:
+            content = model.content.get(link)
+            if content is not None:
+                P, b = poses[link], body[link]
+                for s in content.shapes:
+                    yield Shape(s.link, b, s.role, np.dot(P, s.pose), s.geometry, s.material, s.name, s.origin)
+
+    def inertials():
+        poses, body = tree()
+        for link in model.links:
+            content = model.content.get(link)
+            if content is not None and content.inertial is not None:
+                m = content.inertial
+                yield Inertial(m.link, body[link], np.dot(poses[link], m.pose), m.mass, m.inertia, m.origin)
+
+    return links, shapes, inertials
+
+
+def _home_poses(model: UrdfModel, base: str, chain_index: dict[str, int]
+                ) -> tuple[dict[str, np.ndarray], dict[str, int]]:
+    """Pose (4, 4) of every link in the base link frame with every joint at 0, and the body each moves
+    with (0 = the base; i = after chain joint i). A walk over the tree from the base, climbing
+    (inverse origins) as well as descending; joints off the chain count as held at 0."""
+    parents = model.parent_joint()
+    kids = model.children()
+    poses = {base: np.eye(4)}
+    body = {base: 0}
+    stack = [base]
+    while stack:
+        link = stack.pop()
+        P, b = poses[link], body[link]
+        for j in kids[link]:
+            if j.child not in poses:
+                poses[j.child] = np.dot(P, j.origin)
+                body[j.child] = chain_index.get(j.name, b)
+                stack.append(j.child)
+        pj = parents.get(link)
+        if pj is not None and pj.parent not in poses:
+            # climbing: the chain's joints all lie below the base, so a climbed joint is never one
+            poses[pj.parent] = np.dot(P, se3.inv(pj.origin))
+            body[pj.parent] = b
+            stack.append(pj.parent)
+    return poses, body
+
+
+def _world(model: UrdfModel, base: str) -> np.ndarray:
+    """World (root link) -> base link with the joints between them held at 0 (warned if any moves)."""
+    parents = model.parent_joint()
+    above: list[UrdfJoint] = []
+    link = base
+    while link in parents:
+        above.append(parents[link])
+        link = parents[link].parent
+    moving = [j.name for j in above if j.type != "fixed"]
+    if moving:
+        warnings.warn(f"{model.source}: joint(s) {', '.join(reversed(moving))} above base link '{base}' are "
+                      f"held at 0 in the world->base transform", UserWarning, stacklevel=4)
+    world = np.eye(4)
+    for j in reversed(above):
+        world = world @ j.origin
+    return world

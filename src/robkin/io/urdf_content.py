@@ -1,0 +1,116 @@
+"""The contents of URDF links (visuals, collisions, inertials), parsed when first asked for.
+
+Most uses of a URDF need only its joints; a whole humanoid has hundreds of shapes. ``LazyLinkContent``
+keeps the ``<link>`` elements and parses one link's ``<visual>``, ``<collision>`` and ``<inertial>``
+children the first time that link is looked up. Poses are relative to the link frame; mesh file names
+are kept as written and never opened.
+"""
+
+from __future__ import annotations
+
+from typing import Iterator, Mapping
+
+import numpy as np
+
+from ..bodies import Geometry, Inertial, Material, Shape
+from ..errors import InputError
+from .urdf import LinkContent, _number, numbers, parse_origin
+
+__all__ = ["LazyLinkContent", "GEOMETRY_TAGS"]
+
+GEOMETRY_TAGS = ("box", "cylinder", "sphere", "mesh")
+_EMPTY = LinkContent()
+
+
+def _material(el, where: str, named: Mapping[str, Material]) -> Material | None:
+    """A visual's <material>: inline colour/texture, or a reference by name to a top-level one."""
+    if el is None:
+        return None
+    name = el.get("name")
+    color, texture = el.find("color"), el.find("texture")
+    if color is None and texture is None:
+        return named.get(name or "", Material(name))
+    rgba = None if color is None else numbers(color.get("rgba"), 4, where, "material color rgba", (0, 0, 0, 1))
+    return Material(name, rgba, None if texture is None else texture.get("filename"))  # type: ignore[arg-type]
+
+
+def _geometry(el, where: str) -> Geometry:
+    g = el.find("geometry")
+    shape = None if g is None else next((c for c in g if c.tag in GEOMETRY_TAGS), None)
+    if shape is None:
+        raise InputError(f"{where}: no <geometry> with one of {', '.join(GEOMETRY_TAGS)}")
+    tag = shape.tag
+    if tag == "box":
+        return Geometry("box", numbers(shape.get("size"), 3, where, "box size", (0.0, 0.0, 0.0)))
+    if tag == "sphere":
+        return Geometry("sphere", numbers(shape.get("radius"), 1, where, "sphere radius", (0.0,)))
+    if tag == "cylinder":
+        r = numbers(shape.get("radius"), 1, where, "cylinder radius", (0.0,))
+        h = numbers(shape.get("length"), 1, where, "cylinder length", (0.0,))
+        return Geometry("cylinder", r + h)
+    filename = shape.get("filename")
+    if not filename:
+        raise InputError(f"{where}: <mesh> has no filename")
+    return Geometry("mesh", numbers(shape.get("scale"), 3, where, "mesh scale", (1.0, 1.0, 1.0)), filename)
+
+
+def parse_link_content(el, src: str, named: Mapping[str, Material]) -> LinkContent:
+    """Shapes and inertial of one <link> element (poses relative to the link frame)."""
+    link = el.get("name")
+    shapes: list[Shape] = []
+    for role in ("visual", "collision"):
+        for k, sub in enumerate(el.iterfind(role)):
+            where = f"{src}: link '{link}' {role} #{k + 1}"
+            pose, xyz_rpy = parse_origin(sub, where)
+            material = _material(sub.find("material"), where, named) if role == "visual" else None
+            shapes.append(Shape(link, 0, role, pose, _geometry(sub, where), material,  # type: ignore[arg-type]
+                                sub.get("name"), xyz_rpy))
+    inertial = None
+    iel = el.find("inertial")
+    if iel is not None:
+        where = f"{src}: link '{link}' inertial"
+        pose, xyz_rpy = parse_origin(iel, where)
+        mass_el = iel.find("mass")
+        mass = _number(None if mass_el is None else mass_el.get("value"), where, "mass value") or 0.0
+        i_el = iel.find("inertia")
+        get = (lambda key: None) if i_el is None else i_el.get
+        ixx, ixy, ixz, iyy, iyz, izz = (_number(get(k), where, f"inertia {k}") or 0.0
+                                        for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
+        inertial = Inertial(link, 0, pose, mass, np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]),
+                            xyz_rpy)
+    if not shapes and inertial is None:
+        return _EMPTY
+    return LinkContent(tuple(shapes), inertial)
+
+
+class LazyLinkContent(Mapping[str, LinkContent]):
+    """link name -> LinkContent, parsed on first lookup from the kept <link> elements."""
+
+    def __init__(self, elements: Mapping[str, object], materials: list, src: str) -> None:
+        self._elements = dict(elements)
+        self._material_elements = materials
+        self._named: dict[str, Material] | None = None
+        self._src = src
+        self._cache: dict[str, LinkContent] = {}
+
+    def _materials(self) -> dict[str, Material]:
+        if self._named is None:
+            named: dict[str, Material] = {}
+            for el in self._material_elements:
+                m = _material(el, f"{self._src}: material '{el.get('name')}'", {})
+                if m is not None and m.name:
+                    named[m.name] = m
+            self._named = named
+        return self._named
+
+    def __getitem__(self, link: str) -> LinkContent:
+        if link not in self._cache:
+            el = self._elements.get(link)
+            self._cache[link] = _EMPTY if el is None else parse_link_content(el, self._src, self._materials())
+        return self._cache[link]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._elements)
+
+    def __len__(self) -> int:
+        return len(self._elements)
