@@ -21,7 +21,6 @@ import pytest
 
 import robkin
 from robkin import se3
-from robkin.errors import InputError
 from test_urdf import robot_file
 
 H = math.pi / 2
@@ -54,15 +53,7 @@ EXACT = 1e-12
 def load_ur(name: str) -> robkin.Robot:
     """The UR arm from its URDF with UR's controller base frame (the ``base`` link) and ``tool0``."""
     path = robot_file(f"ur_description/urdf/{name}_robot.urdf")
-    try:
-        return robkin.load(path, base_link="base", tip_link="tool0")
-    except InputError:
-        # Until the base may be a link fixed *above* the chain's root (issue 11's item 2, in
-        # io/urdf.py), move the frames into `base` here: the URDF's base_link-base_fixed_joint turns
-        # `base` by -pi (as the file writes it) about z.
-        robot = robkin.load(path, tip_link="tool0")
-        base = se3.rot_z(-3.14159265359)
-        return robkin.Robot(se3.inv(base) @ robot.frames, robot.joints, name=robot.name)
+    return robkin.load(path, base_link="base", tip_link="tool0")  # `base` is fixed above base_link
 
 
 def assert_rows(got: np.ndarray, published, tol: float) -> None:
