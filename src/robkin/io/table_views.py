@@ -80,6 +80,15 @@ class _Display:
         return [DISPLAY_NOTE] if self.hid else []
 
 
+def _robot_scale(table: "LinkTable | PoE | RPYTable") -> float:
+    """``Robot.scale`` of the robot a table describes (1 for a bare LinkTable, which has no robot)."""
+    from ..representations import DHTable, HayatiTable, MDHTable, PoE, RPYTable
+
+    if isinstance(table, (DHTable, MDHTable, HayatiTable, PoE, RPYTable)):
+        return table.to_robot().scale
+    return 1.0
+
+
 def _joint_cols(joints: Sequence["Joint"]) -> list[list[object]]:
     return [[str(i + 1), j.name, j.type + (" (flip)" if j.flip else "")] for i, j in enumerate(joints)]
 
@@ -99,7 +108,7 @@ def table_blocks(table: "LinkTable | PoE | RPYTable", title: str | None = None,
 
     jc = _joint_cols(table.joints)
     unit = " (deg)" if degrees else ""
-    shown = _Display(table.to_robot().scale if scale is None else scale)
+    shown = _Display(_robot_scale(table) if scale is None else scale)
     if isinstance(table, LinkTable):
         standard = isinstance(table, (DHTable, HayatiTable))
         heads = ["i", "joint", "type", "a", "d", f"alpha{unit}", f"theta{unit}"] if standard else \
