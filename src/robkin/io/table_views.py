@@ -33,7 +33,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..representations.link_table import LinkTable
     from ..robot import Joint
 
-__all__ = ["Block", "DISPLAY_ZERO", "DISPLAY_NOTE", "table_text", "table_blocks", "solutions_block", "ik_result_blocks", "comparison_blocks", "blocks_text"]
+__all__ = ["Block", "DISPLAY_ZERO", "DISPLAY_NOTE", "table_text", "table_blocks", "frames_blocks", "solutions_block",
+           "ik_result_blocks", "comparison_blocks", "blocks_text"]
 
 #: Rows of a batch IK result shown by str(); a batch of 1e5 targets stays a screenful.
 MAX_ROWS = 20
