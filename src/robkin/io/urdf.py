@@ -35,7 +35,8 @@ from typing import Any, Iterable, Mapping, Sequence
 import numpy as np
 
 from .files import read_text_file
-from .urdf_xml import _extras, _may_hold_xacro, _parse_urdf_xml, _parse_xml  # noqa: F401 (_parse_xml: MJCF, SDF)
+from .urdf_xml import _extras, _may_hold_xacro, _parse_urdf_xml
+from .urdf_xml import _parse_xml as _parse_xml  # re-exported: the MJCF and SDF readers import it from here
 from ..bodies import Inertial, LazyTuple, Mimic, Shape
 from ..errors import InputError
 
