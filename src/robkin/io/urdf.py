@@ -61,7 +61,7 @@ NO_LIMIT = 1e10
 MAX_ABS = 1e100
 #: The one-line refusal of a .xacro file read without the opt-in (why, and the two ways out).
 XACRO_REFUSED = ("{path}: not expanded: a .xacro file is a program (it can run code, read files and environment "
-                 "variables); if you trust it, pass --allow-xacro (Python: allow_xacro=True) or expand it "
+                 "variables); if you trust it, pass allow_xacro=True or expand it "
                  "yourself: xacro {path} > {stem}.urdf")
 SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 UNSUPPORTED_TYPES = ("floating", "planar")
@@ -328,7 +328,7 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
     root = _parse_urdf_xml(text, src)
     if _may_hold_xacro(text) and next(root.iterfind(".//{http://www.ros.org/wiki/xacro}*"), None) is not None:
         raise InputError(f"{src}: contains xacro macros; give the file a .xacro extension and, if you trust it, "
-                         f"pass --allow-xacro, or expand it first: xacro {Path(src).name} > robot.urdf")
+                         f"pass allow_xacro=True, or expand it first: xacro {Path(src).name} > robot.urdf")
     if root.tag != "robot":
         raise InputError(f"{src}: root element is <{root.tag}>; a URDF has <robot>")
     links: list[str] = []

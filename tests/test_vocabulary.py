@@ -1,5 +1,6 @@
-"""The pictures' and the GUI's errors in the caller's vocabulary: ``overlay=`` / ``host=`` / ``port=`` from
-Python, ``--overlay`` / ``--host`` / ``--port`` from the command line (see ``robkin.messages``)."""
+"""Library errors in the caller's vocabulary (see ``robkin.messages``): ``overlay=`` / ``host=`` / ``port=`` /
+``allow_xacro=True`` from Python, ``--overlay`` / ``--host`` / ``--port`` / ``--allow-xacro`` from the command
+line."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import pytest
 
 import robkin
 from robkin.cli import main
+from robkin.messages import render_options
 from robkin.viz.assets import missing_assets
 
 RRPR = Path(robkin.__file__).parent / "examples" / "rrpr.yaml"
@@ -51,3 +53,21 @@ def test_gui_port_in_use_names_the_keyword_in_python_and_the_flag_on_the_cli(cap
         assert main(["gui", str(RRPR), "--port", str(port)]) == 2
         err = capsys.readouterr().err.strip()
         assert err.startswith(f"robkin: error: --port {port}: cannot listen") and err.endswith("--port 0")
+
+
+def test_a_switch_turned_on_is_rendered_as_the_bare_flag():
+    names = {"allow_xacro": "--allow-xacro", "tip_link": "--tip-link"}
+    assert render_options("pass allow_xacro=True, or expand it", names) == "pass --allow-xacro, or expand it"
+    # only the word True, and only for the names given
+    assert render_options("allow_xacro=Truer; other=True", names) == "--allow-xacro Truer; other=True"
+
+
+def test_xacro_refusal_names_the_keyword_in_python_and_the_flag_on_the_cli(tmp_path, capsys):
+    xacro = tmp_path / "arm.xacro"
+    xacro.write_text('<robot name="arm"><link name="base"/></robot>')
+    with pytest.raises(robkin.InputError) as info:
+        robkin.load(xacro)
+    assert "pass allow_xacro=True or expand it" in str(info.value) and "--" not in str(info.value)
+    assert main(["info", str(xacro)]) == 2
+    err = capsys.readouterr().err
+    assert "pass --allow-xacro or expand it" in err and "True" not in err
