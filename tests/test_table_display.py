@@ -93,3 +93,12 @@ def test_table_object_keeps_the_exact_values_it_displays_as_zero():
     table = dh_from_robot(_one_joint_table(d=0.5, theta=5e-10, a=0.0).to_robot())
     assert table.rows[0, 3] == 5e-10
     assert table.to_dict()["dh"]["rows"][0]["theta"] == 5e-10
+
+
+def test_every_ur5_text_table_hides_the_urdf_noise_and_says_so(capsys):
+    path = robot_file(UR5)
+    for fmt in ("mdh", "hayati", "poe", "poe-body", "rpy-xyz", "gjd"):
+        assert main(["convert", path, "--base-link", "base", "--tip-link", "tool0", "--to", fmt]) == 0
+        out = capsys.readouterr().out
+        assert "e-12" not in out and "e-11" not in out, fmt
+        assert DISPLAY_NOTE in out.splitlines(), fmt
