@@ -240,4 +240,4 @@ def test_host_parsing_is_strict():
 def test_gui_refuses_to_listen_beyond_loopback(host, capsys):
     assert main(["gui", "--host", host, "--port", "0"]) == 2
     err = capsys.readouterr().err
-    assert err.startswith(f"robkin: error: --host {host}: not a loopback address") and len(err.splitlines()) == 1
+    assert err.startswith(f"robkin: error: --host '{host}': not a loopback address") and len(err.splitlines()) == 1

@@ -63,7 +63,7 @@ class LazyTuple(Sequence[T]):
     @overload
     def __getitem__(self, i: slice) -> tuple[T, ...]: ...
 
-    def __getitem__(self, i):
+    def __getitem__(self, i: int | slice) -> T | tuple[T, ...]:
         return self._get()[i]
 
     def __len__(self) -> int:
@@ -75,7 +75,7 @@ class LazyTuple(Sequence[T]):
     def __repr__(self) -> str:
         return repr(self._get()) if self._make is None else "LazyTuple(<not made yet>)"
 
-    def __reduce__(self):
+    def __reduce__(self) -> tuple[type[tuple[T, ...]], tuple[tuple[T, ...]]]:
         # pickled (for another process) and copied as the plain tuple: the maker is a closure
         return (tuple, (self._get(),))
 

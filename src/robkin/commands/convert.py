@@ -42,9 +42,11 @@ place, so a failed run never leaves a partial or clobbered file.
 Angles are in radians unless --degrees is given: then the table on stdout shows degrees, and a
 written robot document holds its angles in degrees and says 'angles: degrees'. Tables note where an
 offset had to go into the base or tool transform, and warn (with the FK error measured) where a DH
-or modified DH table cannot be exact (nearly parallel axes: use --to hayati).
+or modified DH table cannot be exact (nearly parallel axes: use --to hayati). The table on stdout shows
+values closer to 0 than 1e-9 (lengths: times the robot's size) as 0 and says so in a note; -o, --format
+and --json keep every digit.
 
-Tables for papers and spreadsheets: --format csv|markdown|latex with a table --to (dh, mdh, poe,
+Tables for papers and spreadsheets: --format csv|markdown|latex with a table --to (dh, mdh, hayati, poe,
 poe-body, rpy-xyz, gjd) writes the table as CSV (reads back: the fixed transforms follow the rows
 after an empty line), Markdown or LaTeX (a table environment; matrices use amsmath), every number in
 full precision; -o names a .csv, .md or .tex file. --pi writes angles that are exactly k*pi/m as
@@ -88,7 +90,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--to", required=True, choices=list(SECTION_OF), metavar="FORMAT",
                    help="output representation: " + ", ".join(SECTION_OF))
     p.add_argument("--format", choices=["csv", "markdown", "latex"],
-                   help="write a table representation (--to dh, mdh, poe, poe-body, rpy-xyz, gjd) as CSV, "
+                   help="write a table representation (--to dh, mdh, hayati, poe, poe-body, rpy-xyz, gjd) as CSV, "
                         "Markdown or LaTeX, full precision")
     p.add_argument("--pi", action="store_true",
                    help="with --format: angles that are exactly k*pi/m written as such (-pi/2, 3*pi/4)")

@@ -68,13 +68,13 @@ class AngleUnitWarning(UserWarning):
 
 
 # ---------------------------------------------------------------------------------------- reading
-def read_document(path: str | os.PathLike) -> Robot:
+def read_document(path: str | os.PathLike[str]) -> Robot:
     """Read a robot document (.yaml, .yml or .json) into a Robot; InputError names file and field."""
     text, fmt = read_text(path)
     return parse_document(text, fmt, source=str(path))
 
 
-def read_text(path: str | os.PathLike) -> tuple[str, str]:
+def read_text(path: str | os.PathLike[str]) -> tuple[str, str]:
     """The text of a document file and its format ('yaml' or 'json'); InputError names the problem."""
     p = Path(path)
     ext = p.suffix.lower()
@@ -130,7 +130,7 @@ def parse_document(text: str, fmt: str = "yaml", source: str = "<document>") -> 
         raise exc.in_source(source) from None
 
 
-def read_sections(path: str | os.PathLike) -> dict[str, Robot]:
+def read_sections(path: str | os.PathLike[str]) -> dict[str, Robot]:
     """Each representation section of a document as its own Robot (for comparing them)."""
     text, fmt = read_text(path)
     data = parse_text(text, fmt, str(path))
@@ -169,7 +169,7 @@ def _sections(data: Any) -> tuple[dict[str, Any], tuple[Joint, ...], str | None]
     return sections, joints, None if name is None else str(name)
 
 
-def _angle_unit(data: Mapping) -> str:
+def _angle_unit(data: Mapping[str, Any]) -> str:
     """The document's ``angles`` key: 'radians' (default) or 'degrees'; InputError otherwise."""
     unit = data.get("angles", "radians")
     if unit not in ANGLE_UNITS:
@@ -239,7 +239,7 @@ def _joints(value: Any, unit: str = "radians") -> tuple[Joint, ...]:
     return tuple(out)
 
 
-def _mapping(value: Any, key: str, allowed: tuple[str, ...]) -> Mapping:
+def _mapping(value: Any, key: str, allowed: tuple[str, ...]) -> Mapping[str, Any]:
     if not isinstance(value, Mapping):
         raise InputError(f"{key}: expected a mapping with {', '.join(allowed)}")
     extra = sorted(str(k) for k in value if k not in allowed)
@@ -272,7 +272,7 @@ def _rows(value: Any, key: str, columns: tuple[str, ...], unit: str = "radians")
     return rows
 
 
-def _pose(section: Mapping, key: str, prefix: str) -> np.ndarray:
+def _pose(section: Mapping[str, Any], key: str, prefix: str) -> np.ndarray:
     if section.get(key) is None:
         return np.eye(4)
     return np.array(matrix(section[key], f"{prefix}.{key}"))
@@ -465,10 +465,10 @@ def dump(doc: Mapping[str, Any], fmt: str = "yaml") -> str:
         raise InputError(f"format '{fmt}' is not one of yaml, json")
     import yaml
 
-    class _Dumper(yaml.SafeDumper):
+    class _Dumper(yaml.SafeDumper):  # type: ignore[misc]  # yaml has no type hints here
         pass
 
-    def _repr_float(dumper: yaml.SafeDumper, value: float):
+    def _repr_float(dumper: yaml.SafeDumper, value: float) -> Any:
         # repr: the shortest string that reads back to the same float (full precision). YAML 1.1
         # resolves "1e-17" as a string, so the mantissa gets a ".0" ("1.0e-17").
         text = repr(value) if math.isfinite(value) else ".nan"

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 import os
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 import numpy as np
 
@@ -142,7 +142,7 @@ class _TreeBuilder:
     def _add(self, name: str, jtype: str, parent: str, child: str, origin: np.ndarray,
              axis: np.ndarray = np.array([0.0, 0.0, 1.0]), lower: float | None = None,
              upper: float | None = None) -> None:
-        self.joints.append(UrdfJoint(name, jtype, parent, child, origin, axis, lower, upper, False))
+        self.joints.append(UrdfJoint(name, jtype, parent, child, origin, axis, lower, upper, None))
 
     def _flatten(self, el: Any, cls: str) -> list[tuple[Any, np.ndarray, str]]:
         """(element, pose relative to el, active class) of el's content, ``<frame>``s dissolved."""
@@ -171,7 +171,8 @@ class _TreeBuilder:
             el, parent, T, cls = todo.pop()
             self._body(el, parent, T, cls, todo)
 
-    def _contents(self, link: str, parts: list[tuple[Any, np.ndarray, str]], todo: list) -> None:
+    def _contents(self, link: str, parts: list[tuple[Any, np.ndarray, str]],
+                  todo: list[tuple[Any, str, np.ndarray, str]]) -> None:
         for el, T, cls in parts:
             if el.tag == "site":
                 i = self._id("site")
@@ -183,7 +184,8 @@ class _TreeBuilder:
                 self._add(f"{name}:fixed", "fixed", link, self._link(name), T @ _pose(attrs, self.src, where))
         todo.extend((el, link, T, cls) for el, T, cls in reversed(parts) if el.tag == "body")
 
-    def _body(self, el: Any, parent: str, T: np.ndarray, cls: str, todo: list) -> None:
+    def _body(self, el: Any, parent: str, T: np.ndarray, cls: str,
+              todo: list[tuple[Any, str, np.ndarray, str]]) -> None:
         i = self._id("body")
         name = el.get("name") or f"body{i}"
         where = f"{self.src.source}: body '{name}'"
@@ -202,7 +204,8 @@ class _TreeBuilder:
             self._add(f"{name}:fixed", "fixed", link, self._link(name), pending)
         self._contents(name, parts, todo)
 
-    def _joint(self, el: Any, cls: str, body: str, frame: np.ndarray):
+    def _joint(self, el: Any, cls: str, body: str, frame: np.ndarray
+               ) -> tuple[str, str, np.ndarray, np.ndarray, np.ndarray, float | None, float | None]:
         """(name, URDF type, unit axis, origin relative to the body frame before the joint,
         offset to apply after it, lower, upper) of one MJCF joint; ``frame`` (4, 4) is the pose of
         the ``<frame>`` holding it in its body (identity when it sits directly in the body)."""
@@ -230,7 +233,8 @@ class _TreeBuilder:
         origin = se3.homogeneous(_rodrigues(axis, -ref), pos)
         return name, "revolute" if lo is not None else "continuous", axis, origin, -pos, lo, hi
 
-    def _limits(self, attrs: Mapping[str, str], where: str, scale) -> tuple[float | None, float | None]:
+    def _limits(self, attrs: Mapping[str, str], where: str,
+                scale: Callable[[float], float]) -> tuple[float | None, float | None]:
         limited = attrs.get("limited", "auto")
         if limited not in ("auto", "true", "false"):
             raise InputError(f"{where}: limited '{limited}' is not one of auto, true, false")
@@ -249,7 +253,7 @@ class _TreeBuilder:
         return scale(float(lo)), scale(float(hi))
 
 
-def model_from_mjcf(source: str | os.PathLike) -> tuple[UrdfModel, dict[str, str]]:
+def model_from_mjcf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str, str]]:
     """The kinematic tree of an MJCF file (path) or MJCF text, and the ball/free joints by name."""
     src = read_mjcf_source(source)
     tree = _TreeBuilder(src)
@@ -257,7 +261,7 @@ def model_from_mjcf(source: str | os.PathLike) -> tuple[UrdfModel, dict[str, str
     return UrdfModel(src.root.get("model"), tuple(tree.links), tuple(tree.joints), src.source), tree.kinds
 
 
-def robot_from_mjcf(source: str | os.PathLike, base_link: str | None = None, tip_link: str | None = None,
+def robot_from_mjcf(source: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None,
                     *, name: str | None = None) -> Robot:
     """The serial chain base_link -> tip_link of an MJCF model as a Robot (q = MuJoCo's qpos).
 

@@ -207,7 +207,7 @@ def _limit(text: str | None, where: str) -> float | None:
     return v if abs(v) < NO_LIMIT else None  # SDF's default limits are +-1e16: no limit
 
 
-def model_from_sdf(source: str | os.PathLike) -> tuple[UrdfModel, dict[str, str]]:
+def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str, str]]:
     """The kinematic tree of an SDF file (path) or SDF text, and the joints robkin cannot model."""
     if isinstance(source, str) and source.lstrip().startswith("<"):
         text, src = source, "<sdf string>"
@@ -259,10 +259,10 @@ def model_from_sdf(source: str | os.PathLike) -> tuple[UrdfModel, dict[str, str]
         mid = child if exact else f"{child}@{name}"
         if not exact:
             links.append(mid)
-        joints.append(UrdfJoint(name, moving, parent, mid, origin, axis, lower, upper, False))
+        joints.append(UrdfJoint(name, moving, parent, mid, origin, axis, lower, upper, None))
         if not exact:
             joints.append(UrdfJoint(f"{name}:child", "fixed", mid, child, rest, np.array([0.0, 0.0, 1.0]),
-                                    None, None, False))
+                                    None, None, None))
     for name, attached in j.attached.items():
         base = attached
         while j.kind.get(base) == "frame":
@@ -274,13 +274,13 @@ def model_from_sdf(source: str | os.PathLike) -> tuple[UrdfModel, dict[str, str]
             raise InputError(f"{src}: frame '{name}' is attached to '{attached}', which is not a link, joint or "
                              f"frame of the model's top level; attach it to a link (attached_to=\"LINK\")")
         joints.append(UrdfJoint(f"{name}:frame", "fixed", base, name, se3.inv(j.pose(base, src)) @ j.pose(name, src),
-                                np.array([0.0, 0.0, 1.0]), None, None, False))
+                                np.array([0.0, 0.0, 1.0]), None, None, None))
     if uses_world:
         links.insert(0, "world")
     return UrdfModel(models[0].get("name"), tuple(links), tuple(joints), src), kinds
 
 
-def robot_from_sdf(source: str | os.PathLike, base_link: str | None = None, tip_link: str | None = None,
+def robot_from_sdf(source: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None,
                    *, name: str | None = None) -> Robot:
     """The serial chain base_link -> tip_link of an SDF model as a Robot (q = the SDF joint positions).
 

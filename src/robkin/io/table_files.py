@@ -19,13 +19,16 @@ import csv
 import io
 import math
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
 from ..errors import InputError
 from ..robot import Robot
 from .float_text import float_text as _num
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..representations.link_table import LinkTable
 
 __all__ = ["TABLE_FORMATS", "TABLE_EXTENSIONS", "TABLE_REPRESENTATIONS", "Table", "table_of", "render_table",
            "pi_text"]
@@ -83,20 +86,10 @@ def _joint_labels(robot: Robot) -> list[list[str]]:
     return [[str(i + 1), j.name, j.type + (" (flip)" if j.flip else "")] for i, j in enumerate(robot.joints)]
 
 
-def _link_table(robot: Robot, rep: str):
-    from ..representations import dh_from_robot, mdh_from_robot
+def _link_table(robot: Robot, rep: str) -> "LinkTable":
+    from ..representations import dh_from_robot, hayati_from_robot, mdh_from_robot
 
-    if rep == "dh":
-        return dh_from_robot(robot)
-    if rep == "mdh":
-        return mdh_from_robot(robot)
-    import importlib
-
-    try:  # the Hayati representation, where this version of robkin has it
-        hayati = importlib.import_module("robkin.representations.hayati")
-    except ImportError:
-        raise InputError("--to hayati: this version of robkin has no Hayati representation") from None
-    return hayati.hayati_from_robot(robot)
+    return {"dh": dh_from_robot, "mdh": mdh_from_robot, "hayati": hayati_from_robot}[rep](robot)
 
 
 def table_of(robot: Robot, rep: str) -> Table:
@@ -135,7 +128,7 @@ def table_of(robot: Robot, rep: str) -> Table:
         cols = [(m, f"${m[0]}_{{{m[1:]}}}$", False) for m in _BLOCK]
         return Table(f"{name}: Global Joint Description (frames at q = 0)", ["i", "frame", "type"], cols,
                      [(lab, list(map(float, F[:3].ravel()))) for lab, F in zip(labels, robot.frames)])
-    raise InputError(f"--to {rep}: no table form; tables exist for {', '.join(TABLE_REPRESENTATIONS)}")
+    raise InputError(f"'{rep}' has no table form; tables exist for {', '.join(TABLE_REPRESENTATIONS)}")
 
 
 def to_csv(t: Table, pi: bool = False) -> str:

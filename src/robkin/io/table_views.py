@@ -9,11 +9,19 @@ One layout per type, shared by ``str(table)``, ``robkin convert`` (through ``io.
 - ``comparison_blocks(comparison)``: the joint-by-joint diagnosis of ``equivalence.compare``.
 
 Blocks are printed by ``io.tables.show_blocks`` (rich on a terminal) or joined by ``blocks_text``.
+
+Display rule of the representation tables (``table_blocks``, ``io.tables.blocks``): they are for reading,
+so a value closer to 0 than ``DISPLAY_ZERO`` (an angle or a unitless entry, such as a rotation-matrix or
+axis component, in radians / as is; a length relative to the robot's size) is shown as 0, and one note
+line under the table says so. A URDF that writes pi/2 as 1.57079632679 describes a real 4.9e-12 rad
+tilt, which conversions keep; printed as ``-4.89657e-12`` it reads as an error. Files (YAML, JSON, CSV,
+Markdown, LaTeX, URDF, MJCF), ``to_dict()`` and JSON output are not display: they keep every digit.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Sequence, Union
 
 import numpy as np
@@ -25,7 +33,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..representations.link_table import LinkTable
     from ..robot import Joint
 
-__all__ = ["Block", "table_text", "table_blocks", "solutions_block", "ik_result_blocks", "comparison_blocks", "blocks_text"]
+__all__ = ["Block", "DISPLAY_ZERO", "DISPLAY_NOTE", "table_text", "table_blocks", "frames_blocks", "solutions_block",
+           "ik_result_blocks", "comparison_blocks", "blocks_text"]
 
 #: Rows of a batch IK result shown by str(); a batch of 1e5 targets stays a screenful.
 MAX_ROWS = 20
@@ -34,17 +43,65 @@ MAX_ROWS = 20
 Block = Union[tuple[Union[str, None], Sequence[str], Sequence[Sequence[object]]], str]
 
 
+#: Values closer to 0 than this (radians, unitless, or times the robot's size for lengths) are shown as
+#: 0 in the text tables. 1e-9: far above the noise of decimals such as 1.57079632679 for pi/2 (5e-12)
+#: and of the frame algebra (~1e-15), far below any real angle or offset a table would be read for
+#: (a 1e-9 rad tilt moves a 1 m arm by 1 nm); the exact values stay in every file written.
+DISPLAY_ZERO = 1e-9
+#: The note printed under a table in which the display rule hid a value.
+DISPLAY_NOTE = ("note: values closer to 0 than 1e-9 (angles in rad; lengths times the robot's "
+                "size) are shown as 0; files and JSON output keep full precision")
+
+
+@dataclass
+class _Display:
+    """The display rule for one table: zeroes what it hides, remembers whether it hid anything shown."""
+
+    scale: float
+    hid: bool = False
+
+    def values(self, values: np.ndarray, length_cols: Sequence[int]) -> np.ndarray:
+        """``values`` (..., k) with the entries below the threshold of their column set to 0."""
+        from .tables import fmt_num
+
+        v = np.array(values, dtype=float)
+        limit = np.full(v.shape[-1], DISPLAY_ZERO)
+        limit[list(length_cols)] = DISPLAY_ZERO * self.scale
+        small = (np.abs(v) < limit) & (v != 0)
+        # a value fmt_num prints as 0 anyway is no news: only values that would show count for the note
+        self.hid |= any(fmt_num(x) != "0" for x in v[small])
+        v[small] = 0.0
+        return v
+
+    def matrix(self, T: np.ndarray) -> np.ndarray:
+        """A 4x4 pose: rotation entries are unitless, the translation column is a length."""
+        return self.values(T, [3])
+
+    def note(self) -> list[str]:
+        return [DISPLAY_NOTE] if self.hid else []
+
+
+def _robot_scale(table: "LinkTable | PoE | RPYTable") -> float:
+    """``Robot.scale`` of the robot a table describes (1 for a bare LinkTable, which has no robot)."""
+    from ..representations import DHTable, HayatiTable, MDHTable, PoE, RPYTable
+
+    if isinstance(table, (DHTable, MDHTable, HayatiTable, PoE, RPYTable)):
+        return table.to_robot().scale
+    return 1.0
+
+
 def _joint_cols(joints: Sequence["Joint"]) -> list[list[object]]:
     return [[str(i + 1), j.name, j.type + (" (flip)" if j.flip else "")] for i, j in enumerate(joints)]
 
 
 def table_blocks(table: "LinkTable | PoE | RPYTable", title: str | None = None,
-                 layout: str = "robkin", degrees: bool = False) -> list[Block]:
+                 layout: str = "robkin", degrees: bool = False, scale: float | None = None) -> list[Block]:
     """A representation as tables and text lines (see the module docstring).
 
     ``layout='paper'`` puts a DH table in the conversion paper's n+1-row layout (row 0 is the fixed
     base row) when the base is one DH row. ``degrees`` shows the angle columns (alpha, theta, beta;
-    roll, pitch, yaw) in degrees.
+    roll, pitch, yaw) in degrees. ``scale`` is the robot's size (``Robot.scale``) for the display rule
+    of lengths; by default the table's own robot's.
     """
     from ..representations import DHTable, HayatiTable, PoE, RPYTable
     from ..representations.link_table import LinkTable, placement_notes
@@ -52,6 +109,7 @@ def table_blocks(table: "LinkTable | PoE | RPYTable", title: str | None = None,
 
     jc = _joint_cols(table.joints)
     unit = " (deg)" if degrees else ""
+    shown = _Display(_robot_scale(table) if scale is None else scale)
     if isinstance(table, LinkTable):
         standard = isinstance(table, (DHTable, HayatiTable))
         heads = ["i", "joint", "type", "a", "d", f"alpha{unit}", f"theta{unit}"] if standard else \
@@ -64,27 +122,39 @@ def table_blocks(table: "LinkTable | PoE | RPYTable", title: str | None = None,
         if base_row is not None:
             values = np.vstack([base_row, values])
             labels = [["0", "(base)", "fixed"], *jc]
+        values = shown.values(values, [0, 1])  # a, d are lengths; alpha, theta, beta angles
         if degrees:
             values[:, 2:] = np.degrees(values[:, 2:])
         out: list[Block] = [(title, heads, [c + list(r) for c, r in zip(labels, values)])]
         out.append("theta (revolute) and d (prismatic) are the values at q = 0; joint i adds q_i"
                    + (" (subtracts, if flipped)" if any(j.flip for j in table.joints) else "") + ".")
         if base_row is None:
-            out.append(matrix_text(table.base, "base"))
-        out.append(matrix_text(table.tool, "tool (residual T_t)" if isinstance(table, DHTable) else "tool"))
+            out.append(matrix_text(shown.matrix(table.base), "base"))
+        out.append(matrix_text(shown.matrix(table.tool),
+                               "tool (residual T_t)" if isinstance(table, DHTable) else "tool"))
         out.extend(f"note: {line}" for line in placement_notes(table))
-        return out
+        return out + shown.note()
     if isinstance(table, PoE):
         heads = ["i", "joint", "type", "wx", "wy", "wz", "vx", "vy", "vz"]
-        return [(title, heads, [c + list(s) for c, s in zip(jc, table.screws)]), matrix_text(table.M, "M")]
+        screws = shown.values(table.screws, [3, 4, 5])  # omega is unitless, v a length
+        return [(title, heads, [c + list(s) for c, s in zip(jc, screws)]),
+                matrix_text(shown.matrix(table.M), "M"), *shown.note()]
     if isinstance(table, RPYTable):
-        values = np.array(table.rows)
+        values = shown.values(table.rows, [3, 4, 5])  # roll, pitch, yaw; x, y, z
         if degrees:
             values[:, :3] = np.degrees(values[:, :3])
         rpy_labels: list[list[object]] = [["0", "world->base", ""], *jc, [str(table.n + 1), "tool", ""]]
         return [(title, ["row", "frame", "type", f"roll{unit}", f"pitch{unit}", f"yaw{unit}", "x", "y", "z"],
-                 [lab + list(r) for lab, r in zip(rpy_labels, values)])]
+                 [lab + list(r) for lab, r in zip(rpy_labels, values)]), *shown.note()]
     raise TypeError(f"no table layout for {type(table).__name__}")
+
+
+def frames_blocks(frames: np.ndarray, labels: Sequence[str], scale: float) -> list[Block]:
+    """GJD frames (k, 4, 4) as labelled matrix blocks, with the display rule of the tables."""
+    from .tables import matrix_text
+
+    shown = _Display(scale)
+    return [*(matrix_text(shown.matrix(F), label) for F, label in zip(frames, labels)), *shown.note()]
 
 
 def table_text(table: "LinkTable | PoE | RPYTable") -> str:

@@ -69,26 +69,24 @@ def blocks(robot: Robot, fmt: str, layout: str = "robkin", degrees: bool = False
 
     ``layout='paper'`` puts a DH table in the conversion paper's n+1-row layout (row 0 is the fixed
     base row) when the base is one DH row. ``degrees`` shows the angle columns of DH, modified DH,
-    Hayati and RPY-XYZ tables in degrees.
+    Hayati and RPY-XYZ tables in degrees. Values within ``table_views.DISPLAY_ZERO`` of 0 are shown
+    as 0, with a note (the display rule; files keep full precision).
     """
     from ..representations import (dh_from_robot, hayati_from_robot, mdh_from_robot, poe_from_robot,
                                    rpy_from_robot)
-    from .table_views import table_blocks
+    from .table_views import frames_blocks, table_blocks
 
     title = f"{robot.name or 'robot'}: {FORMATS[fmt]}"
     if fmt in ("dh", "mdh", "hayati"):
         t = {"dh": dh_from_robot, "mdh": mdh_from_robot, "hayati": hayati_from_robot}[fmt](robot)
-        return table_blocks(t, title, layout, degrees)
+        return table_blocks(t, title, layout, degrees, robot.scale)
     if fmt in ("poe", "poe-body"):
-        return table_blocks(poe_from_robot(robot, "space" if fmt == "poe" else "body"), title)
+        return table_blocks(poe_from_robot(robot, "space" if fmt == "poe" else "body"), title, scale=robot.scale)
     if fmt == "rpy-xyz":
-        return table_blocks(rpy_from_robot(robot), title, degrees=degrees)
+        return table_blocks(rpy_from_robot(robot), title, degrees=degrees, scale=robot.scale)
     if fmt == "gjd":
-        parts: list[Block] = [title]
-        for i, F in enumerate(robot.frames):
-            label = f"J{i + 1} ({robot.joints[i].name}, {robot.joints[i].type})" if i < robot.n else f"J{i + 1} (tool)"
-            parts.append(matrix_text(F, label))
-        return parts
+        labels = [f"J{i + 1} ({j.name}, {j.type})" for i, j in enumerate(robot.joints)] + [f"J{robot.n + 1} (tool)"]
+        return [title, *frames_blocks(robot.frames, labels, robot.scale)]
     raise ValueError(f"unknown format {fmt}")  # pragma: no cover - callers validate
 
 

@@ -30,12 +30,13 @@ import math
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterable, Mapping, Sequence
+from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
 
 from .files import read_text_file
-from .urdf_xml import _extras, _may_hold_xacro, _parse_urdf_xml, _parse_xml  # noqa: F401 (_parse_xml: MJCF, SDF)
+from .urdf_xml import _extras, _may_hold_xacro, _parse_urdf_xml
+from .urdf_xml import _parse_xml as _parse_xml  # re-exported: the MJCF and SDF readers import it from here
 from ..bodies import Inertial, LazyTuple, Mimic, Shape
 from ..errors import InputError
 
@@ -60,7 +61,7 @@ NO_LIMIT = 1e10
 MAX_ABS = 1e100
 #: The one-line refusal of a .xacro file read without the opt-in (why, and the two ways out).
 XACRO_REFUSED = ("{path}: not expanded: a .xacro file is a program (it can run code, read files and environment "
-                 "variables); if you trust it, pass --allow-xacro (Python: allow_xacro=True) or expand it "
+                 "variables); if you trust it, pass allow_xacro=True or expand it "
                  "yourself: xacro {path} > {stem}.urdf")
 SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 UNSUPPORTED_TYPES = ("floating", "planar")
@@ -142,7 +143,7 @@ class UrdfModel:
 
 
 # ------------------------------------------------------------------------------------------ reading
-def _read_source(source: str | os.PathLike, allow_xacro: bool = False) -> tuple[str, str]:
+def _read_source(source: str | os.PathLike[str], allow_xacro: bool = False) -> tuple[str, str]:
     """(XML text, name of the source for messages) from a path or an XML string."""
     if isinstance(source, str) and source.lstrip().startswith("<"):
         return source, "<urdf string>"
@@ -240,17 +241,17 @@ def origin_matrix(xyz: tuple[float, ...], rpy: tuple[float, ...]) -> np.ndarray:
                      (0.0, 0.0, 0.0, 1.0)))
 
 
-def first_children(el) -> dict:
+def first_children(el: Any) -> dict[str, Any]:
     """The first child element of each tag (one pass over the children; lxml makes a proxy object
     for every element it hands out, so one pass beats a ``find`` per tag)."""
-    out: dict = {}
+    out: dict[str, Any] = {}
     for c in el:
         if c.tag not in out:
             out[c.tag] = c
     return out
 
 
-def parse_origin(el, where: str, kids: dict | None = None) -> tuple[np.ndarray, tuple[float, ...]]:
+def parse_origin(el: Any, where: str, kids: dict[str, Any] | None = None) -> tuple[np.ndarray, tuple[float, ...]]:
     """(pose (4, 4), the six numbers xyz + rpy) of an element's <origin> child (identity if none)."""
     origin_el = (first_children(el) if kids is None else kids).get("origin")
     if origin_el is None:
@@ -260,7 +261,7 @@ def parse_origin(el, where: str, kids: dict | None = None) -> tuple[np.ndarray, 
     return origin_matrix(xyz, rpy), xyz + rpy
 
 
-def _joint(el, source: str, index: int) -> UrdfJoint:
+def _joint(el: Any, source: str, index: int) -> UrdfJoint:
     name = el.get("name")
     if not name:
         raise InputError(f"{source}: joint #{index + 1} has no name attribute")
@@ -307,7 +308,7 @@ def _joint(el, source: str, index: int) -> UrdfJoint:
                      damping, friction, xyz_rpy)
 
 
-def parse_urdf(source: str | os.PathLike, *, allow_xacro: bool = False) -> UrdfModel:
+def parse_urdf(source: str | os.PathLike[str], *, allow_xacro: bool = False) -> UrdfModel:
     """Parse and validate the kinematic tree of a URDF (path, .xacro path, or XML string).
 
     A .xacro path is expanded only with ``allow_xacro=True``: xacro evaluates Python expressions and
@@ -327,7 +328,7 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
     root = _parse_urdf_xml(text, src)
     if _may_hold_xacro(text) and next(root.iterfind(".//{http://www.ros.org/wiki/xacro}*"), None) is not None:
         raise InputError(f"{src}: contains xacro macros; give the file a .xacro extension and, if you trust it, "
-                         f"pass --allow-xacro, or expand it first: xacro {Path(src).name} > robot.urdf")
+                         f"pass allow_xacro=True, or expand it first: xacro {Path(src).name} > robot.urdf")
     if root.tag != "robot":
         raise InputError(f"{src}: root element is <{root.tag}>; a URDF has <robot>")
     links: list[str] = []

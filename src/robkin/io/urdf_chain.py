@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import os
 import warnings
+from typing import Callable, Iterator
 
 import numpy as np
 
@@ -153,7 +154,7 @@ def _unit_axis(j: UrdfJoint, src: str) -> np.ndarray:
     return j.axis / k
 
 
-def robot_from_urdf(source: str | os.PathLike, base_link: str | None = None, tip_link: str | None = None,
+def robot_from_urdf(source: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None,
                     *, name: str | None = None, allow_xacro: bool = False) -> Robot:
     """The serial chain base_link -> tip_link of a URDF (path, .xacro path, or XML string) as a Robot.
 
@@ -234,17 +235,18 @@ def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: s
     return Robot(np.stack(frames), tuple(joints), world=world, name=name or model.name, bodies=bodies)
 
 
-def _rest_of_the_file(model: UrdfModel, base: str, chain_index: dict[str, int]):
+def _rest_of_the_file(model: UrdfModel, base: str, chain_index: dict[str, int]) -> tuple[
+        Callable[[], Iterator[Link]], Callable[[], Iterator[Shape]], Callable[[], Iterator[Inertial]]]:
     """Three functions giving the links, the shapes and the inertials of the whole file, each on its
     body, made on first use (see ``LazyTuple``): loading a robot for its kinematics costs none of it."""
-    memo: list = []
+    memo: list[tuple[dict[str, np.ndarray], dict[str, int]]] = []
 
     def tree() -> tuple[dict[str, np.ndarray], dict[str, int]]:
         if not memo:
             memo.append(_home_poses(model, base, chain_index))
         return memo[0]
 
-    def links():
+    def links() -> Iterator[Link]:
         poses, body = tree()
         parents = model.parent_joint()
         for link in model.links:
@@ -252,7 +254,7 @@ def _rest_of_the_file(model: UrdfModel, base: str, chain_index: dict[str, int]):
             yield Link(link, body[link], poses[link], None if pj is None else pj.parent,
                        None if pj is None else _link_joint(pj))
 
-    def shapes():
+    def shapes() -> Iterator[Shape]:
         poses, body = tree()
         for link in model.links:
             content = model.content.get(link)
@@ -261,7 +263,7 @@ def _rest_of_the_file(model: UrdfModel, base: str, chain_index: dict[str, int]):
                 for s in content.shapes:
                     yield Shape(s.link, b, s.role, np.dot(P, s.pose), s.geometry, s.material, s.name, s.origin)
 
-    def inertials():
+    def inertials() -> Iterator[Inertial]:
         poses, body = tree()
         for link in model.links:
             content = model.content.get(link)

@@ -8,7 +8,7 @@ are kept as written and never opened.
 
 from __future__ import annotations
 
-from typing import Iterator, Mapping
+from typing import Any, Iterator, Mapping
 
 import numpy as np
 
@@ -22,7 +22,7 @@ GEOMETRY_TAGS = ("box", "cylinder", "sphere", "mesh")
 _EMPTY = LinkContent()
 
 
-def _material(el, where: str, named: Mapping[str, Material]) -> Material | None:
+def _material(el: Any, where: str, named: Mapping[str, Material]) -> Material | None:
     """A visual's <material>: inline colour/texture, or a reference by name to a top-level one."""
     if el is None:
         return None
@@ -34,7 +34,7 @@ def _material(el, where: str, named: Mapping[str, Material]) -> Material | None:
     return Material(name, rgba, None if texture is None else texture.get("filename"))  # type: ignore[arg-type]
 
 
-def _geometry(el, where: str) -> Geometry:
+def _geometry(el: Any, where: str) -> Geometry:
     g = el.find("geometry")
     shape = None if g is None else next((c for c in g if c.tag in GEOMETRY_TAGS), None)
     if shape is None:
@@ -54,7 +54,7 @@ def _geometry(el, where: str) -> Geometry:
     return Geometry("mesh", numbers(shape.get("scale"), 3, where, "mesh scale", (1.0, 1.0, 1.0)), filename)
 
 
-def parse_link_content(el, src: str, named: Mapping[str, Material]) -> LinkContent:
+def parse_link_content(el: Any, src: str, named: Mapping[str, Material]) -> LinkContent:
     """Shapes and inertial of one <link> element (poses relative to the link frame)."""
     link = el.get("name")
     shapes: list[Shape] = []
@@ -63,7 +63,7 @@ def parse_link_content(el, src: str, named: Mapping[str, Material]) -> LinkConte
             where = f"{src}: link '{link}' {role} #{k + 1}"
             pose, xyz_rpy = parse_origin(sub, where)
             material = _material(sub.find("material"), where, named) if role == "visual" else None
-            shapes.append(Shape(link, 0, role, pose, _geometry(sub, where), material,  # type: ignore[arg-type]
+            shapes.append(Shape(link, 0, role, pose, _geometry(sub, where), material,
                                 sub.get("name"), xyz_rpy))
     inertial = None
     iel = el.find("inertial")
@@ -86,7 +86,7 @@ def parse_link_content(el, src: str, named: Mapping[str, Material]) -> LinkConte
 class LazyLinkContent(Mapping[str, LinkContent]):
     """link name -> LinkContent, parsed on first lookup from the kept <link> elements."""
 
-    def __init__(self, elements: Mapping[str, object], materials: list, src: str) -> None:
+    def __init__(self, elements: Mapping[str, object], materials: list[Any], src: str) -> None:
         self._elements = dict(elements)
         self._material_elements = materials
         self._named: dict[str, Material] | None = None

@@ -33,11 +33,12 @@ products, not information).
 from __future__ import annotations
 
 from collections import defaultdict
+from typing import Iterable
 
 import numpy as np
 
 from .. import se3
-from ..bodies import Inertial, Link, Shape
+from ..bodies import Inertial, Link, Mimic, Shape
 from ..robot import Robot
 from .urdf import NO_LIMIT, origin_matrix
 from .float_text import float_text as _num
@@ -59,7 +60,7 @@ _HEADER = ["  <!-- for MuJoCo's URDF reader: keep fixed links (the tool frame) a
            '  <mujoco><compiler fusestatic="false" boundmass="1e-06" boundinertia="1e-12"/></mujoco>']
 
 
-def _unit(v) -> str:
+def _unit(v: Iterable[float]) -> str:
     return " ".join("0" if abs(float(c)) < UNIT_NOISE else _num(c) for c in v)
 
 
@@ -74,7 +75,8 @@ def _origin(T: np.ndarray, xyz_rpy: tuple[float, ...] | None = None, scale: floa
     return f'<origin xyz="{xyz}" rpy="{rpy}"/>'
 
 
-def _limit(jtype: str, lower, upper, effort, velocity) -> str | None:
+def _limit(jtype: str, lower: float | None, upper: float | None, effort: float | None,
+           velocity: float | None) -> str | None:
     """<limit> for a joint of a URDF type: bounds for revolute and prismatic joints (+-NO_LIMIT where
     absent), effort and velocity for every type that was given them (None: no element)."""
     ev = f'effort="{_num(effort or 0.0)}" velocity="{_num(velocity or 0.0)}"'
@@ -86,7 +88,8 @@ def _limit(jtype: str, lower, upper, effort, velocity) -> str | None:
 
 
 def _joint_xml(name: str, jtype: str, parent: str, child: str, origin: str, axis: str | None,
-               limit: str | None, damping=None, friction=None, mimic=None) -> list[str]:
+               limit: str | None, damping: float | None = None, friction: float | None = None,
+               mimic: Mimic | None = None) -> list[str]:
     out = [f"  <joint name={quoteattr(name)} type=\"{jtype}\">",
            f"    <parent link={quoteattr(parent)}/>", f"    <child link={quoteattr(child)}/>"]
     if origin:

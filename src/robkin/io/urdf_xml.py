@@ -7,6 +7,7 @@ elements, and the top-level elements robkin keeps as text.
 from __future__ import annotations
 
 import re
+from typing import Any
 
 from ..errors import InputError
 
@@ -26,7 +27,7 @@ def _refuse_dtd(text: str, source: str) -> None:
                          f"entities or external references")
 
 
-def _parse_xml(text: str, source: str):
+def _parse_xml(text: str, source: str) -> Any:
     """Root element (``xml.etree``) of XML with no DTD, parsed by the standard library's C parser;
     InputError for malformed or refused XML. Shared with the MJCF and SDF readers."""
     from xml.etree.ElementTree import ParseError, XMLParser
@@ -43,7 +44,7 @@ def _parse_xml(text: str, source: str):
         raise InputError(f"{source}: not valid XML ({exc})") from None
 
 
-def _parse_urdf_xml(text: str, source: str):
+def _parse_urdf_xml(text: str, source: str) -> Any:
     """Root element of a URDF: lxml's (libxml2) for big inputs (see LXML_FROM), else ``_parse_xml``'s.
 
     lxml is told to resolve no entities, touch no network and load no DTD (and ``_refuse_dtd`` runs
@@ -55,7 +56,7 @@ def _parse_urdf_xml(text: str, source: str):
     if len(text) < LXML_FROM and "lxml.etree" not in sys.modules:
         return _parse_xml(text, source)
     try:
-        from lxml import etree  # type: ignore[import-untyped]
+        from lxml import etree  # type: ignore[import-untyped, unused-ignore]
     except ImportError:  # pragma: no cover - lxml is a dependency; the standard library still works
         return _parse_xml(text, source)
     _refuse_dtd(text, source)
@@ -77,10 +78,10 @@ def _parse_urdf_xml(text: str, source: str):
 _KNOWN_TOP = {"link", "joint", "material", "mujoco"}
 
 
-def _extras(root) -> list[str]:
+def _extras(root: Any) -> list[str]:
     """The top-level elements robkin does not interpret, as XML text (see ``UrdfModel.extras``)."""
     if "lxml.etree" in type(root).__module__:
-        from lxml import etree  # type: ignore[import-untyped]
+        from lxml import etree  # type: ignore[import-untyped, unused-ignore]
 
         return [etree.tostring(el, encoding="unicode", with_tail=False) for el in root
                 if isinstance(el.tag, str) and el.tag not in _KNOWN_TOP]

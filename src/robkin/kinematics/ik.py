@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike
 from ..compiled.lm import pose_errors
 from ..errors import InputError
 from ..robot import Robot
-from .closed_form import closed_form_solver
+from .closed_form import ClosedFormSolver, closed_form_solver
 from .limits import wrap_into_limits, within_limits
 from .lm import LMSettings, solve_lm
 from .pose_error import check_mask, check_targets
@@ -170,7 +170,7 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
             iters[r], attempts[r] = sub.iterations, sub.attempts
             for j, i in enumerate(r):
                 out.reasons[i] = sub.reasons[j]
-                if all_solutions:
+                if out.solutions is not None and sub.solutions is not None:  # all_solutions: both are lists
                     out.solutions[i] = sub.solutions[j]
     else:
         out = _numeric(robot, targets, q_ref, m, settings, rng, all_solutions)
@@ -271,7 +271,7 @@ def _joint_scale(robot: Robot) -> np.ndarray:
     return np.where(robot.revolute, 1.0, robot.scale)
 
 
-def _closed_form(robot: Robot, solver, targets: np.ndarray, q_ref: np.ndarray, settings: LMSettings,
+def _closed_form(robot: Robot, solver: ClosedFormSolver, targets: np.ndarray, q_ref: np.ndarray, settings: LMSettings,
                  all_solutions: bool) -> _Found:
     """Verified closed-form solutions: the one nearest q_ref per target (and all, if asked)."""
     N, n = q_ref.shape
@@ -318,7 +318,7 @@ def _numeric(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndar
         attempts = np.full(N, K)
         ep, eo = _errors(robot, Q.reshape(-1, n), np.repeat(targets, K, axis=0), mask)
         E = np.hypot(ep, eo).reshape(N, K)
-        success = ok.any(axis=1)
+        success: np.ndarray = np.any(ok, axis=1)
         best = Q[np.arange(N), np.argmin(E, axis=1)]
         q = np.where(success[:, None], np.array([s[0] if len(s) else np.zeros(n) for s in sols]), best)
     else:

@@ -80,16 +80,17 @@ class GuiServer(ThreadingHTTPServer):
                  meshes: MeshRegistry | None = None) -> None:
         if ":" in address[0]:
             self.address_family = socket.AF_INET6
-        super().__init__(address, _Handler)
-        self.start_payload = start
-        self.meshes = meshes or MeshRegistry()
-        self.quiet = quiet
-        self.script_src = f"'self' {_inline_script_hashes()}"
+        # Before binding: a failed bind calls server_close, which needs the pool and the event.
         self._pool = ThreadPoolExecutor(MAX_WORKERS, thread_name_prefix="robkin-gui-worker")
         self._slots = threading.BoundedSemaphore(MAX_WORKERS + MAX_PENDING)
         self._deadlines: dict[socket.socket, float] = {}
         self._lock = threading.Lock()
         self._closed = threading.Event()
+        super().__init__(address, _Handler)
+        self.start_payload = start
+        self.meshes = meshes or MeshRegistry()
+        self.quiet = quiet
+        self.script_src = f"'self' {_inline_script_hashes()}"
         threading.Thread(target=self._watchdog, name="robkin-gui-watchdog", daemon=True).start()
 
     def process_request(self, request: Any, client_address: Any) -> None:
@@ -166,7 +167,7 @@ def make_server(host: str = "127.0.0.1", port: int = 8765, text: str = "", fmt: 
     from .gui_api import parse_robot
 
     if not is_loopback(host):
-        raise InputError(f"--host {host}: not a loopback address; the GUI serves this machine only "
+        raise InputError(f"host={host!r}: not a loopback address; the GUI serves this machine only "
                          f"(127.0.0.1, another 127.x.y.z, ::1 or localhost)")
     require_assets()
     examples = {p.stem: p.read_text(encoding="utf-8") for p in sorted(EXAMPLES_DIR.glob("*.yaml"))}
@@ -179,8 +180,8 @@ def make_server(host: str = "127.0.0.1", port: int = 8765, text: str = "", fmt: 
     try:
         return GuiServer((host, port), start, quiet=quiet, meshes=meshes)
     except OSError as exc:
-        raise InputError(f"--port {port}: cannot listen on {host}:{port} ({exc.strerror or exc}); "
-                         f"try another port or --port 0") from None
+        raise InputError(f"port={port}: cannot listen on {host}:{port} ({exc.strerror or exc}); "
+                         f"try another port or port=0") from None
 
 
 class _Handler(BaseHTTPRequestHandler):

@@ -97,7 +97,7 @@ def plot_metrics(entries: Sequence[MetricEntry], title: str | None = None) -> "F
     from matplotlib.figure import Figure
 
     if not entries:
-        raise InputError("plot --metrics: give at least one result document")
+        raise InputError("no metrics to plot: give at least one result document")
     keys = [(e.group, e.series) for e in entries]
     if len(set(keys)) < len(keys):  # e.g. two pose1_A files from different folders: one bar each
         entries = [MetricEntry(f"{e.label} ({i + 1})", "", f"{e.label} ({i + 1})", e.length,

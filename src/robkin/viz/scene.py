@@ -149,7 +149,8 @@ def rebuild(robot: Robot, representation: str) -> tuple[Robot, object | None]:
     Returns the rebuilt robot and the representation object (None for "gjd").
     """
     if representation not in REPRESENTATIONS:
-        raise InputError(f"--overlay: unknown representation '{representation}'; one of "
+        # overlay= as the callers (plot_robot, the GUI API) name it; the CLI renders it as --overlay
+        raise InputError(f"unknown representation '{representation}' in overlay=; one of "
                          f"{', '.join(REPRESENTATIONS)}")
     _, convert = REPRESENTATIONS[representation]
     if convert is None:
