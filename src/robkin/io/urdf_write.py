@@ -113,6 +113,8 @@ def _geometry(s: Shape) -> str:
         return f'<sphere radius="{_num(g.size[0])}"/>'
     if g.kind == "cylinder":
         return f'<cylinder radius="{_num(g.size[0])}" length="{_num(g.size[1])}"/>'
+    if g.kind == "capsule":  # URDF has no capsule: the cylinder of its radius that spans both caps
+        return f'<cylinder radius="{_num(g.size[0])}" length="{_num(g.size[1] + 2 * g.size[0])}"/>'
     scale = "" if tuple(g.size) == (1.0, 1.0, 1.0) else f' scale="{" ".join(_num(v) for v in g.size)}"'
     return f"<mesh filename={quoteattr(g.filename or '')}{scale}/>"
 
