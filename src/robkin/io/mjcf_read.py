@@ -44,6 +44,8 @@ __all__ = ["robot_from_mjcf", "model_from_mjcf", "rotation_from_mjcf"]
 
 ORIENTATIONS = ("quat", "axisangle", "xyaxes", "zaxis", "euler")
 JOINT_TYPES = ("hinge", "slide", "ball", "free")
+#: The joint kinds that make a serial chain, as messages word them.
+CHAIN_JOINTS = "hinge and slide"
 #: A direction (quaternion, axis, xyaxes, zaxis, fromto) shorter than this is no direction: MuJoCo
 #: refuses such vectors too; typed directions have lengths ~1 (at least ~1e-6 with few decimals).
 ZERO_VECTOR = 1e-10
@@ -291,5 +293,5 @@ def robot_from_mjcf(source: str | os.PathLike, base_link: str | None = None, tip
         its MJCF name and ``range`` limits (radians, metres); ``world`` = world -> base at qpos = 0.
     """
     model, kinds = model_from_mjcf(source)
-    refuse_on_chain(model, kinds, base_link, tip_link, "hinge and slide")
+    refuse_on_chain(model, kinds, base_link, tip_link, CHAIN_JOINTS)
     return robot_from_model(model, base_link, tip_link, name=name)

@@ -44,6 +44,8 @@ MAX_BYTES = 64 * 1024 * 1024
 MAX_NESTING = 16
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 OTHER_JOINTS = ("ball", "universal", "revolute2", "screw", "gearbox")
+#: The joint kinds that make a serial chain, as messages word them.
+CHAIN_JOINTS = "revolute, continuous, prismatic and fixed"
 
 
 def _version(root: Any, source: str) -> tuple[int, int]:
@@ -301,5 +303,5 @@ def robot_from_sdf(source: str | os.PathLike, base_link: str | None = None, tip_
         (radians, metres); ``world`` = world -> base at q = 0 when the model is fixed to the world.
     """
     model, kinds = model_from_sdf(source)
-    refuse_on_chain(model, kinds, base_link, tip_link, "revolute, continuous, prismatic and fixed")
+    refuse_on_chain(model, kinds, base_link, tip_link, CHAIN_JOINTS)
     return robot_from_model(model, base_link, tip_link, name=name)
