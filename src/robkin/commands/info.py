@@ -110,7 +110,7 @@ def _show_chains(path: str, chains, kinds: dict[str, str], as_json: bool) -> int
 
     def note(c) -> str:
         if c["unsupported"]:
-            return f"{kinds[c['unsupported'][0]]} joint {c['unsupported'][0]}: start below it"
+            return f"{kinds[c['unsupported'][0]]} joint {c['unsupported'][0]}: no chain through it"
         return f"mimic joint {c['mimic'][0]}: end before it" if c["mimic"] else ""
 
     rows = [[c["tip"], str(c["n"]), c["types"], c["joints"][0] if c["joints"] else "-",
