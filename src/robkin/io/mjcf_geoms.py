@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import warnings
 from pathlib import Path, PurePosixPath
-from typing import Any, Callable, Iterator, Mapping
+from typing import Any, Callable
 
 import numpy as np
 
@@ -44,8 +44,9 @@ from ..bodies import Geometry, Inertial, Material, Shape
 from ..errors import InputError
 from .mjcf_source import MjcfSource
 from .urdf import LinkContent, _floats
+from .urdf_content import ContentOnce
 
-__all__ = ["MjcfContent", "VISIBLE_GROUPS", "DEFAULT_RGBA"]
+__all__ = ["MjcfContent", "file_inside", "VISIBLE_GROUPS", "DEFAULT_RGBA"]
 
 #: Geom groups MuJoCo's viewer shows by default (``mjVisOption.geomgroup``: groups 0, 1 and 2 on).
 VISIBLE_GROUPS = (0, 1, 2)
@@ -75,7 +76,19 @@ def _sizes(text: str | None, where: str) -> list[float]:
     return [float(_floats(p, 1, where, ())[0]) for p in parts] + [0.0] * (3 - len(parts))
 
 
-class MjcfContent(Mapping[str, LinkContent]):
+def file_inside(name: str, folder: Path | None) -> str | None:
+    """``name`` (a relative file name, / separated) when it stays inside ``folder`` (symbolic links
+    followed; without a folder, when it has no ``..``), else None: absolute, a drive or scheme, or out."""
+    rel = PurePosixPath(name.replace("\\", "/"))
+    if rel.is_absolute() or ":" in name:
+        return None
+    if folder is None:
+        return None if ".." in rel.parts else str(rel)
+    top = folder.resolve()
+    return str(rel) if (top / Path(rel)).resolve().is_relative_to(top) else None
+
+
+class MjcfContent(ContentOnce):
     """link (body) name -> LinkContent of its geoms and inertial, all made on the first lookup.
 
     Parameters
@@ -91,32 +104,22 @@ class MjcfContent(Mapping[str, LinkContent]):
 
     def __init__(self, src: MjcfSource, parts: dict[str, list[tuple[Any, np.ndarray, str]]], attrs: Attrs):
         self._src, self._parts, self._attrs = src, parts, attrs
-        self._made: dict[str, LinkContent] | None = None
+        super().__init__(self._build)
 
-    def _all(self) -> dict[str, LinkContent]:
-        if self._made is None:
-            meshes, materials = self._assets()
-            self._made = {}
-            for link, parts in self._parts.items():
-                shapes: list[Shape] = []
-                inertial = None
-                for k, (el, T, cls) in enumerate(parts):
-                    if el.tag == "inertial":
-                        inertial = self._inertial(el, T, link)
-                    else:
-                        shapes += self._geom(el, T, cls, link, k, meshes, materials)
-                if shapes or inertial is not None:
-                    self._made[link] = LinkContent(tuple(shapes), inertial)
-        return self._made
-
-    def __getitem__(self, link: str) -> LinkContent:
-        return self._all()[link]
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._all())
-
-    def __len__(self) -> int:
-        return len(self._all())
+    def _build(self) -> dict[str, LinkContent]:
+        meshes, materials = self._assets()
+        out = {}
+        for link, parts in self._parts.items():
+            shapes: list[Shape] = []
+            inertial = None
+            for k, (el, T, cls) in enumerate(parts):
+                if el.tag == "inertial":
+                    inertial = self._inertial(el, T, link)
+                else:
+                    shapes += self._geom(el, T, cls, link, k, meshes, materials)
+            if shapes or inertial is not None:
+                out[link] = LinkContent(tuple(shapes), inertial)
+        return out
 
     def _assets(self) -> tuple[dict[str, tuple[str | None, tuple[float, ...]]], dict[str, Material]]:
         """Mesh name -> (file name relative to the model folder or None if refused, scale); material
@@ -142,17 +145,8 @@ class MjcfContent(Mapping[str, LinkContent]):
 
     def _mesh_file(self, file: str) -> str | None:
         """meshdir/file relative to the model's folder, or None when it would lead outside it."""
-        rel = PurePosixPath(self._src.meshdir.replace("\\", "/")) / file.replace("\\", "/")
-        if rel.is_absolute() or ":" in str(rel):
-            return None
-        folder = self._src.folder
-        if folder is not None:
-            top = folder.resolve()
-            if not (top / Path(rel)).resolve().is_relative_to(top):
-                return None
-        elif ".." in rel.parts:
-            return None
-        return str(rel)
+        return file_inside(str(PurePosixPath(self._src.meshdir.replace("\\", "/")) / file.replace("\\", "/")),
+                           self._src.folder)
 
     def _geom(self, el: Any, T: np.ndarray, cls: str, link: str, k: int, meshes: dict, materials: dict
               ) -> list[Shape]:
