@@ -234,3 +234,26 @@ def test_text_input_keeps_relative_mesh_names_and_refuses_escapes():
         warnings.simplefilter("always")
         assert [s.geometry.filename for s in robot.bodies.visuals()] == ["meshes/arm/link1.stl"]
     assert any("geom 'bad'" in str(w.message) for w in caught)
+
+
+def test_gui_lists_and_serves_the_meshes_of_an_mjcf_file(tmp_path):
+    """``robkin gui ur5.xml``: the page's start data lists the visuals, and each mesh is served by its id."""
+    import urllib.request
+
+    from robkin.viz.gui import make_server
+
+    path = _ur5_mjcf(tmp_path)
+    srv = make_server(port=0, text=path.read_text(), fmt="mjcf", tip_link="tool0", source=str(path))
+    srv.serve_in_thread()
+    try:
+        start = srv.start_payload
+        meshes = [v for v in start["visuals"] if v["kind"] == "mesh"]
+        assert start["missing_meshes"] == [] and len(meshes) == 7
+        assert sorted({v["mesh"] for v in meshes}) == [f"m{i}" for i in range(7)]
+        for v in meshes:
+            with urllib.request.urlopen(srv.url + "api/mesh/" + v["mesh"], timeout=10) as r:
+                assert r.headers["Content-Type"] == "model/stl"
+                assert r.read() == srv.meshes.files[v["mesh"]].read_bytes()
+    finally:
+        srv.shutdown()
+        srv.server_close()
