@@ -75,6 +75,17 @@ def test_sdf_inertials_match_the_urdf_twin():
                                twin.world @ body_motions(twin, q)[0] @ b.pose, atol=POSE_TOL)
 
 
+def test_sdf_inertia_defaults_are_sdformats():
+    """SDFormat's defaults: mass 1 and the identity inertia, each element on its own and <inertia> absent."""
+    text = ('<sdf version="1.9"><model name="m"><link name="a"><inertial><inertia><ixy>0.5</ixy><iyy>2</iyy></inertia>'
+            '</inertial></link><link name="b"><inertial><mass>4</mass></inertial></link><joint name="j" '
+            'type="revolute"><parent>a</parent><child>b</child><axis><xyz>0 0 1</xyz></axis></joint></model></sdf>')
+    a, b = robot_from_sdf(text).bodies.inertials
+    assert (a.mass, b.mass) == (1.0, 4.0)
+    np.testing.assert_array_equal(a.inertia, [[1, 0.5, 0], [0.5, 2, 0], [0, 0, 1]])
+    np.testing.assert_array_equal(b.inertia, np.eye(3))
+
+
 def _mesh_sdf(uri: str) -> str:
     return (f'<sdf version="1.9"><model name="m"><link name="a"/><link name="b"><visual name="v"><geometry>'
             f'<mesh><uri>{uri}</uri><scale>1 2 3</scale></mesh></geometry></visual></link>'

@@ -148,8 +148,8 @@ class MjcfContent(ContentOnce):
         return file_inside(str(PurePosixPath(self._src.meshdir.replace("\\", "/")) / file.replace("\\", "/")),
                            self._src.folder)
 
-    def _geom(self, el: Any, T: np.ndarray, cls: str, link: str, k: int, meshes: dict, materials: dict
-              ) -> list[Shape]:
+    def _geom(self, el: Any, T: np.ndarray, cls: str, link: str, k: int,
+              meshes: dict[str, tuple[str | None, tuple[float, ...]]], materials: dict[str, Material]) -> list[Shape]:
         from .mjcf_read import geom_pose
 
         name = el.get("name")

@@ -90,7 +90,11 @@ def _material(el: Any, where: str) -> Material | None:
 
 def _inertial(el: Any, link: str, X: np.ndarray, where: str) -> Inertial:
     i = el.find("inertia")
-    get = (lambda k: 0.0) if i is None else (lambda k: _number(i, k, where, 0.0))
+    # SDFormat's defaults: mass 1, inertia the identity (also when <inertia> is absent)
+    def get(key: str) -> float:
+        default = 1.0 if key[1] == key[2] else 0.0
+        return default if i is None else _number(i, key, where, default)
+
     xx, xy, xz, yy, yz, zz = (get(k) for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
     return Inertial(link, 0, X, _number(el, "mass", where, 1.0),
                     np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]))
@@ -125,8 +129,7 @@ def sdf_content(model: "_Model", folder: Path | None) -> ContentOnce:
                     geometry = _geometry(sub, where, folder)
                     if geometry is not None:
                         material = _material(sub, where) if role == "visual" else None
-                        shapes.append(Shape(link, 0, role, placed(sub, where), geometry,  # type: ignore[arg-type]
-                                            material, sub.get("name")))
+                        shapes.append(Shape(link, 0, role, placed(sub, where), geometry, material, sub.get("name")))
             iel = el.find("inertial")
             inertial = None if iel is None else \
                 _inertial(iel, link, placed(iel, f"{model.source}: link '{link}' inertial"),
