@@ -257,3 +257,22 @@ def test_gui_lists_and_serves_the_meshes_of_an_mjcf_file(tmp_path):
     finally:
         srv.shutdown()
         srv.server_close()
+
+
+@pytest.mark.parametrize("geom, message", [
+    ('type="mesh" mesh="nope"', r"geom 'g' \(body 'a'\): mesh 'nope' is not a <mesh> of the <asset>s"),
+    ('type="cone"', r"geom 'g' \(body 'a'\): type 'cone' is not one of sphere, box"),
+    ('size="1 2 3 4"', r"geom 'g' \(body 'a'\): size: '1 2 3 4' has 4 numbers; expected 1 to 3"),
+    ('group="two"', r"geom 'g' \(body 'a'\): group: 'two' is not a whole number"),
+    ('size="nan"', r"geom 'g' \(body 'a'\): size"),
+])
+def test_bad_geoms_are_one_clear_line_from_the_cli(tmp_path, capsys, geom, message):
+    from robkin.cli import main
+
+    path = tmp_path / "bad.xml"
+    path.write_text(f'<mujoco><worldbody><body name="a"><joint name="j"/><geom name="g" {geom}/></body>'
+                    f'</worldbody></mujoco>')
+    out = tmp_path / "out.urdf"
+    assert main(["convert", str(path), "--to", "urdf", "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert re.search(message, err) and len(err.strip().splitlines()) == 1 and not out.exists()
