@@ -17,8 +17,8 @@ Geometry
     ``sphere``, ``box`` (MJCF half sizes become full side lengths), ``cylinder`` and ``capsule``
     (MJCF radius and half-length become radius and length; ``fromto`` gives the length), ``mesh``
     (the ``<asset><mesh file scale>`` named by the geom). ``plane``, ``hfield``, ``ellipsoid`` and
-    ``sdf`` geoms, and primitives fitted to a mesh (a ``mesh`` attribute with a primitive ``type``),
-    are skipped. Colour: the geom's ``rgba`` when it differs from MuJoCo's default, else its
+    ``sdf`` geoms, meshes given by their vertices (no ``file``) and primitives fitted to a mesh (a
+    ``mesh`` attribute with a primitive ``type``) are skipped. Colour: the geom's ``rgba`` when it differs from MuJoCo's default, else its
     ``material``'s, else MuJoCo's default grey.
 
 Mesh files
@@ -35,18 +35,19 @@ draws the file.)
 from __future__ import annotations
 
 import warnings
-from pathlib import Path, PurePosixPath
+from pathlib import PurePosixPath
 from typing import Any, Callable
 
 import numpy as np
 
 from ..bodies import Geometry, Inertial, Material, Shape
 from ..errors import InputError
+from .files import file_inside
 from .mjcf_source import MjcfSource
 from .urdf import LinkContent, _floats
 from .urdf_content import ContentOnce
 
-__all__ = ["MjcfContent", "file_inside", "VISIBLE_GROUPS", "DEFAULT_RGBA"]
+__all__ = ["MjcfContent", "VISIBLE_GROUPS", "DEFAULT_RGBA"]
 
 #: Geom groups MuJoCo's viewer shows by default (``mjVisOption.geomgroup``: groups 0, 1 and 2 on).
 VISIBLE_GROUPS = (0, 1, 2)
@@ -55,7 +56,7 @@ DEFAULT_RGBA = (0.5, 0.5, 0.5, 1.0)
 PRIMITIVES = ("sphere", "box", "cylinder", "capsule")
 SKIPPED = ("plane", "hfield", "ellipsoid", "sdf")
 
-#: (element, pose (4, 4) of the frame it sits in relative to its body, active class) -> its attributes
+#: (element, class, where) -> the element's attributes, its class's defaults applied
 Attrs = Callable[[Any, str, str], dict[str, str]]
 
 
@@ -74,18 +75,6 @@ def _sizes(text: str | None, where: str) -> list[float]:
     if not 1 <= len(parts) <= 3:
         raise InputError(f"{where}: '{(text or '')[:60]}' has {len(parts)} numbers; expected 1 to 3")
     return [float(_floats(p, 1, where, ())[0]) for p in parts] + [0.0] * (3 - len(parts))
-
-
-def file_inside(name: str, folder: Path | None) -> str | None:
-    """``name`` (a relative file name, / separated) when it stays inside ``folder`` (symbolic links
-    followed; without a folder, when it has no ``..``), else None: absolute, a drive or scheme, or out."""
-    rel = PurePosixPath(name.replace("\\", "/"))
-    if rel.is_absolute() or ":" in name:
-        return None
-    if folder is None:
-        return None if ".." in rel.parts else str(rel)
-    top = folder.resolve()
-    return str(rel) if (top / Path(rel)).resolve().is_relative_to(top) else None
 
 
 class MjcfContent(ContentOnce):
@@ -122,8 +111,8 @@ class MjcfContent(ContentOnce):
         return out
 
     def _assets(self) -> tuple[dict[str, tuple[str | None, tuple[float, ...]]], dict[str, Material]]:
-        """Mesh name -> (file name relative to the model folder or None if refused, scale); material
-        name -> Material."""
+        """Mesh name -> (file name relative to the model folder, "" for a mesh without a file (given
+        by its vertices), None if refused; scale); material name -> Material."""
         meshes: dict[str, tuple[str | None, tuple[float, ...]]] = {}
         materials: dict[str, Material] = {}
         for asset in self._src.root.findall("asset"):
@@ -134,7 +123,7 @@ class MjcfContent(ContentOnce):
                 if name:
                     where = f"{self._src.source}: mesh '{name}'"
                     scale = tuple(float(x) for x in _floats(a.get("scale"), 3, f"{where}: scale", (1, 1, 1)))
-                    meshes[name] = (self._mesh_file(file) if file else None, scale)
+                    meshes[name] = (self._mesh_file(file) if file else "", scale)
             for el in asset.findall("material"):
                 name = el.get("name")
                 if name:
@@ -178,6 +167,8 @@ class MjcfContent(ContentOnce):
             if mesh not in meshes:
                 raise InputError(f"{where}: mesh '{mesh}' is not a <mesh> of the <asset>s")
             file, scale = meshes[mesh]
+            if file == "":  # a mesh given by its vertices in the file: no file to draw
+                return []
             if file is None:
                 warnings.warn(f"{where}: mesh '{mesh}' file is outside the model's folder (or absolute); the geom "
                               f"is skipped: only files inside the folder are used", UserWarning, stacklevel=2)

@@ -25,7 +25,7 @@ import numpy as np
 from .. import se3
 from ..bodies import Geometry, Inertial, Material, Shape
 from ..errors import InputError
-from .mjcf_geoms import file_inside
+from .files import file_inside
 from .urdf import LinkContent, _floats
 from .urdf_content import ContentOnce
 
