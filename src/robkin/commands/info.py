@@ -23,7 +23,6 @@ examples:
   robkin info panda.urdf --tip-link panda_hand_tcp
   robkin info ur5.urdf --tip-link tool0 --json
   robkin info panda.urdf                                   # a tree: lists the chains it offers
-  robkin info scene.xml                                    # MJCF (and .sdf) trees too
 """
 
 
