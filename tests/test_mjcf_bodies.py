@@ -159,10 +159,26 @@ def test_inertials_match_mujoco(tmp_path):
             assert inertial.mass == pytest.approx(model.body_mass[b], rel=1e-15)
 
 
-def test_capsule_written_to_urdf_as_the_cylinder_spanning_it(tmp_path):
-    robot = robot_from_mjcf(_write(tmp_path, HAND_WRITTEN), tip_link="tip")
-    text = urdf_from_robot(robot)
+def test_urdf_written_from_mjcf_keeps_the_shapes_where_mujoco_has_them(tmp_path):
+    path = _write(tmp_path, HAND_WRITTEN)
+    robot = robot_from_mjcf(path, tip_link="tip")
+    out = tmp_path / "out.urdf"  # next to the MJCF: the mesh's relative name still finds it
+    out.write_text(urdf_from_robot(robot))
+    text = out.read_text()
     assert '<cylinder radius="0.03" length="0.26"/>' in text  # g_cap2: 0.2 between the caps + 2 x 0.03
+    assert '<material name="rgba 0 1 0 1"><color rgba="0 1 0 1"/></material>' in text  # URDF needs a name
+    back = load(out, tip_link="tip")
+    model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    q = np.array([0.4, 0.05, -0.7])
+    _set_q(model, data, robot, q)
+    for s, T in zip(back.bodies.shapes, back.world @ shape_poses(back, q)):
+        g = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, s.name)
+        assert np.abs(_geom_world(model, data, g) - T).max() < POSE_TOL, s.name
+    pin = pytest.importorskip("pinocchio")
+    geoms = pin.buildGeomFromUrdf(pin.buildModelFromUrdf(str(out)), str(out), pin.GeometryType.VISUAL,
+                                  package_dirs=[str(tmp_path)])
+    assert len(geoms.geometryObjects) == len(robot.bodies.visuals()) == 8  # none dropped by urdfdom
 
 
 def _ur5_mjcf(folder: Path) -> Path:

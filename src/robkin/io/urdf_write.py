@@ -139,7 +139,9 @@ def _link_xml(name: str, frame: np.ndarray, shapes: list[Shape], inertial: Inert
         if m is not None:
             inner = ("" if m.rgba is None else f'<color rgba="{" ".join(_num(v) for v in m.rgba)}"/>') + \
                 ("" if m.texture is None else f"<texture filename={quoteattr(m.texture)}/>")
-            name = f" name={quoteattr(m.name)}" if m.name else ""
+            # URDF needs a name on every material; a colour without one (MJCF, SDF) is named by its numbers
+            label = m.name or ("rgba " + " ".join(_num(v) for v in m.rgba) if m.rgba is not None else None)
+            name = f" name={quoteattr(label)}" if label else ""
             out.append(f"      <material{name}>{inner}</material>" if inner else f"      <material{name}/>")
         out.append(f"    </{s.role}>")
     out = [line for line in out if line.strip()]
