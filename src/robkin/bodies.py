@@ -40,7 +40,7 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["Geometry", "Material", "Shape", "Inertial", "Mimic", "LinkJoint", "Link", "Bodies",
            "EMPTY_BODIES", "LazyTuple", "body_motions", "shape_poses"]
 
-GeometryKind = Literal["mesh", "box", "cylinder", "sphere"]
+GeometryKind = Literal["mesh", "box", "cylinder", "sphere", "capsule"]
 T = TypeVar("T")
 
 
@@ -92,9 +92,11 @@ def _pose(T: ArrayLike) -> np.ndarray:
 class Geometry:
     """A shape's geometry, in the units of the file (normally metres).
 
-    kind : 'mesh' | 'box' | 'cylinder' | 'sphere'
+    kind : 'mesh' | 'box' | 'cylinder' | 'sphere' | 'capsule'
     size : box (x, y, z) full side lengths; cylinder (radius, length) along its z axis; sphere
-        (radius,); mesh (sx, sy, sz), the scale applied to the mesh file's coordinates.
+        (radius,); capsule (radius, length) along its z axis, the length between the centres of its
+        two half-sphere caps (MJCF, SDF); mesh (sx, sy, sz), the scale applied to the mesh file's
+        coordinates.
     filename : for a mesh, the file name exactly as the source wrote it (``package://...``); robkin
         never opens it.
     """

@@ -20,8 +20,9 @@ takes another 127.x.y.z, ::1 or localhost, nothing else) and answers only reques
 (loopback Host header, same origin), so other web sites open in the browser cannot use it. It needs
 no internet. Open the printed address in a browser; stop with Ctrl-C. In the page, paste or load a robot document (YAML/JSON) or a URDF; every
 representation is shown as a table and can be downloaded. Bad input is shown as a message in the page.
-Drag the pink tool frame's handles and the robot follows by inverse kinematics. A URDF given here is
-drawn with the meshes it references (package:// found above the file or on ROS_PACKAGE_PATH). The
+Drag the pink tool frame's handles and the robot follows by inverse kinematics. A URDF, MJCF or SDF
+given here is drawn with the meshes it references (package:// found above the file or on
+ROS_PACKAGE_PATH, MJCF meshes in its meshdir, SDF model:// above the file or on GZ_SIM_RESOURCE_PATH). The
 3D view needs three.js, installed by `make assets` (or `make demo` / `make test`) from npm.
 The GUI never expands .xacro files (they are programs); expand one yourself with xacro first.
 """

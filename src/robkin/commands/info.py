@@ -14,9 +14,9 @@ anti-parallel, coincident, anti-coincident or intersecting, with the angle and d
 A prismatic joint is a direction, not a line: next to one, only parallel / anti-parallel / not
 parallel and the angle are given.
 
-A URDF that is a tree (several chains end below the base) and no --tip-link: the chains it offers
-are listed instead (tip link, number of joints, joint types, first and last joint), to pick one
-with --tip-link.
+A URDF, MJCF or SDF file that is a tree (several chains end below the base) and no --tip-link: the
+chains it offers are listed instead (tip link, number of joints, joint types, first and last joint),
+to pick one with --tip-link.
 
 examples:
   robkin info rrpr.yaml
@@ -81,49 +81,54 @@ def _clean(v) -> list[float]:
 
 
 def _tree_chains(args: argparse.Namespace):
-    """(model, chains) when the input is a URDF tree and no --tip-link picks one of its chains; else
-    (model or None, None). Plain .urdf only: a .xacro goes through the loader and its opt-in."""
-    from pathlib import Path
-
-    if Path(args.input).suffix.lower() != ".urdf":
-        return None, None
-    from ..io.urdf import parse_urdf
+    """(tree, chains): the input's tree (see ``io.chain_path.tree_of_file``; None for a document or a
+    .xacro) and, when no --tip-link picks one of several chains it offers, those chains (else None)."""
+    from ..io.chain_path import tree_of_file
     from ..io.urdf_chain import chains_of
 
-    model = parse_urdf(args.input)
-    if args.tip_link:
-        return model, None
-    chains = chains_of(model, args.base_link)
-    return model, (chains if len(chains) > 1 else None)
+    tree = tree_of_file(args.input)
+    if tree is None or args.tip_link:
+        return tree, None
+    chains = chains_of(tree[0], args.base_link)
+    return tree, (chains if len(chains) > 1 else None)
 
 
-def _show_chains(path: str, chains, as_json: bool) -> int:
+def _show_chains(path: str, chains, kinds: dict[str, str], as_json: bool) -> int:
+    """The chains a tree offers; ``kinds`` names the joints that make no chain (MJCF ball/free...)."""
     items = [{"base": base, "tip": tip, "n": len(js), "types": "".join("P" if j.type == "prismatic" else "R"
                                                                        for j in js),
-              "joints": [j.name for j in js], "mimic": [j.name for j in js if j.mimic]}
+              "joints": [j.name for j in js], "mimic": [j.name for j in js if j.mimic],
+              "unsupported": [j.name for j in js if j.name in kinds]}
              for base, tip, js in chains]
     if as_json:
-        import json  # (local: the module's own JSON printing may change apart from this)
+        from ._output import print_json
 
-        print(json.dumps({"file": path, "tree": True, "chains": items}, indent=2))
+        print_json({"file": path, "tree": True, "chains": items})
         return 0
     from ..io.tables import show_blocks
 
+    def note(c) -> str:
+        if c["unsupported"]:
+            return f"{kinds[c['unsupported'][0]]} joint {c['unsupported'][0]}: no chain through it"
+        return f"mimic joint {c['mimic'][0]}: end before it" if c["mimic"] else ""
+
     rows = [[c["tip"], str(c["n"]), c["types"], c["joints"][0] if c["joints"] else "-",
-             c["joints"][-1] if c["joints"] else "-",
-             f"mimic joint {c['mimic'][0]}: end before it" if c["mimic"] else ""] for c in items]
+             c["joints"][-1] if c["joints"] else "-", note(c)] for c in items]
     show_blocks([(f"{path}: a tree; {len(items)} chains from '{items[0]['base']}' (pick one with --tip-link)",
                   ["tip link", "joints", "types", "first joint", "last joint", "note"], rows)])
     return 0
 
 
 def run(args: argparse.Namespace) -> int:
-    model, chains = _tree_chains(args)
+    tree, chains = _tree_chains(args)
     if chains is not None:
-        return _show_chains(args.input, chains, args.json)
-    if model is not None:
+        return _show_chains(args.input, chains, tree[1], args.json)
+    if tree is not None:
+        from ..io.chain_path import refuse_on_chain
         from ..io.urdf import robot_from_model
 
+        model, kinds, supported = tree
+        refuse_on_chain(model, kinds, args.base_link, args.tip_link, supported)
         robot = robot_from_model(model, args.base_link, args.tip_link)
     else:
         robot = load_input(args.input, args)

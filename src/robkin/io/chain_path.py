@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
+
 from .urdf import UrdfJoint, UrdfModel
 from ..errors import InputError
 
-__all__ = ["joints_between", "refuse_on_chain"]
+__all__ = ["joints_between", "refuse_on_chain", "tree_of_file"]
 
 
 def joints_between(model: UrdfModel, a: str, b: str) -> list[UrdfJoint]:
@@ -49,3 +52,27 @@ def refuse_on_chain(model: UrdfModel, kinds: dict[str, str], base: str | None, t
         if j.name in kinds:
             raise InputError(f"{model.source}: joint '{j.name}' is a {kinds[j.name]} joint; only {supported} "
                              f"joints make a serial chain (pick a chain without it with base_link=/tip_link=)")
+
+
+def tree_of_file(path: str | os.PathLike) -> tuple[UrdfModel, dict[str, str], str] | None:
+    """The tree of a .urdf, MJCF (.xml, .mjcf) or SDF (.sdf) file, for commands that list its chains.
+
+    Returns (tree, joints on it that make no chain (name -> kind), wording of the joint kinds that do),
+    or None for any other file (a document, a .xacro, which goes through the loader and its opt-in).
+    """
+    from . import MJCF_EXTENSIONS, SDF_EXTENSIONS
+
+    ext = Path(path).suffix.lower()
+    if ext == ".urdf":
+        from .urdf import parse_urdf
+
+        return parse_urdf(path), {}, ""
+    if ext in MJCF_EXTENSIONS:
+        from .mjcf_read import CHAIN_JOINTS, model_from_mjcf
+
+        return (*model_from_mjcf(path), CHAIN_JOINTS)
+    if ext in SDF_EXTENSIONS:
+        from .sdf import CHAIN_JOINTS as SDF_CHAIN_JOINTS, model_from_sdf
+
+        return (*model_from_sdf(path), SDF_CHAIN_JOINTS)
+    return None

@@ -6,7 +6,8 @@ What is read, with MuJoCo's own semantics
     site's ``fromto``); ``hinge`` and ``slide`` joints with ``pos`` (a hinge axis need not pass through
     the body origin), ``axis``, ``ref``, ``range``/``limited`` (and ``autolimits``), several joints in
     one body; ``<default>`` classes with inheritance, ``class`` and ``childclass``; ``<include>``
-    (see ``mjcf_source``). Geoms, meshes, inertias, actuators and everything dynamic are ignored.
+    (see ``mjcf_source``); geoms (visual and collision shapes) and ``<inertial>``s as ``Robot.bodies``
+    (see ``mjcf_geoms``). Actuators and everything dynamic are ignored.
 
 The tree becomes a ``UrdfModel`` (links = bodies and sites) and the chain is picked by the URDF
 reader's ``robot_from_model``, so ``base_link``/``tip_link`` name bodies or sites. A body whose
@@ -43,6 +44,8 @@ __all__ = ["robot_from_mjcf", "model_from_mjcf", "rotation_from_mjcf"]
 
 ORIENTATIONS = ("quat", "axisangle", "xyaxes", "zaxis", "euler")
 JOINT_TYPES = ("hinge", "slide", "ball", "free")
+#: The joint kinds that make a serial chain, as messages word them.
+CHAIN_JOINTS = "hinge and slide"
 #: A direction (quaternion, axis, xyaxes, zaxis, fromto) shorter than this is no direction: MuJoCo
 #: refuses such vectors too; typed directions have lengths ~1 (at least ~1e-6 with few decimals).
 ZERO_VECTOR = 1e-10
@@ -99,12 +102,18 @@ def rotation_from_mjcf(attrs: Mapping[str, str], src: MjcfSource, where: str) ->
 
 
 def _pose(attrs: Mapping[str, str], src: MjcfSource, where: str) -> np.ndarray:
-    """Pose (4, 4) of a body, site or frame relative to its parent."""
-    if attrs.get("fromto") is not None:  # sites: centre of the segment, z from 'to' towards 'from' (MuJoCo's)
+    """Pose (4, 4) of a body, site, geom or frame relative to its parent."""
+    return geom_pose(attrs, src, where)[0]
+
+
+def geom_pose(attrs: Mapping[str, str], src: MjcfSource, where: str) -> tuple[np.ndarray, float | None]:
+    """(pose (4, 4) relative to the parent, length of the ``fromto`` segment or None) of an element."""
+    if attrs.get("fromto") is not None:  # centre of the segment, z from 'to' towards 'from' (MuJoCo's)
         v = _floats(attrs["fromto"], 6, f"{where}: fromto", ())
-        return se3.homogeneous(_z_to(_unit(v[:3] - v[3:], f"{where}: fromto")), (v[:3] + v[3:]) / 2)
+        d = v[:3] - v[3:]
+        return se3.homogeneous(_z_to(_unit(d, f"{where}: fromto")), (v[:3] + v[3:]) / 2), float(np.linalg.norm(d))
     pos = _floats(attrs.get("pos"), 3, f"{where}: pos", (0, 0, 0))
-    return se3.homogeneous(rotation_from_mjcf(attrs, src, where), pos)
+    return se3.homogeneous(rotation_from_mjcf(attrs, src, where), pos), None
 
 
 class _TreeBuilder:
@@ -115,6 +124,7 @@ class _TreeBuilder:
         self.links: list[str] = ["world"]
         self.joints: list[UrdfJoint] = []
         self.kinds: dict[str, str] = {}  # chain joint name -> MuJoCo type, for ball/free refusal
+        self.content: dict[str, list[tuple[Any, np.ndarray, str]]] = {}  # link -> its geoms and inertial
         self.counts = {"body": 0, "joint": 0, "site": 0}
         self.names: set[str] = {"world"}
         # every body's name, known before the walk so that a site named like a later body steps aside
@@ -174,7 +184,9 @@ class _TreeBuilder:
     def _contents(self, link: str, parts: list[tuple[Any, np.ndarray, str]],
                   todo: list[tuple[Any, str, np.ndarray, str]]) -> None:
         for el, T, cls in parts:
-            if el.tag == "site":
+            if el.tag in ("geom", "inertial"):
+                self.content.setdefault(link, []).append((el, T, cls))
+            elif el.tag == "site":
                 i = self._id("site")
                 name = el.get("name") or f"site{i}"
                 where = f"{self.src.source}: site '{name}'"
@@ -255,10 +267,13 @@ class _TreeBuilder:
 
 def model_from_mjcf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str, str]]:
     """The kinematic tree of an MJCF file (path) or MJCF text, and the ball/free joints by name."""
+    from .mjcf_geoms import MjcfContent
+
     src = read_mjcf_source(source)
     tree = _TreeBuilder(src)
     tree.build()
-    return UrdfModel(src.root.get("model"), tuple(tree.links), tuple(tree.joints), src.source), tree.kinds
+    content = MjcfContent(src, tree.content, tree._attrs)
+    return UrdfModel(src.root.get("model"), tuple(tree.links), tuple(tree.joints), src.source, content), tree.kinds
 
 
 def robot_from_mjcf(source: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None,
@@ -282,5 +297,5 @@ def robot_from_mjcf(source: str | os.PathLike[str], base_link: str | None = None
         its MJCF name and ``range`` limits (radians, metres); ``world`` = world -> base at qpos = 0.
     """
     model, kinds = model_from_mjcf(source)
-    refuse_on_chain(model, kinds, base_link, tip_link, "hinge and slide")
+    refuse_on_chain(model, kinds, base_link, tip_link, CHAIN_JOINTS)
     return robot_from_model(model, base_link, tip_link, name=name)

@@ -27,7 +27,7 @@ MAX_BYTES = 64 * 1024 * 1024
 MAX_INCLUDES = 256
 MAX_INCLUDE_DEPTH = 8
 #: The element kinds whose attributes ``<default>`` classes carry and that this reader uses.
-DEFAULTED = ("joint", "site")
+DEFAULTED = ("joint", "site", "geom", "mesh", "material")
 #: Known ``<compiler eulerseq>`` letters; lower case rotate with the frame, upper case stay fixed.
 EULER_LETTERS = set("xyzXYZ")
 
@@ -49,8 +49,12 @@ class MjcfSource:
     autolimits : bool
         ``<compiler autolimits>`` (default True): a ``range`` alone makes a joint limited.
     defaults : dict
-        Class name -> element kind ("joint", "site") -> attributes, with inheritance applied;
-        the top-level class is "main".
+        Class name -> element kind ("joint", "site", "geom", "mesh", "material") -> attributes, with
+        inheritance applied; the top-level class is "main".
+    folder : Path or None
+        The main file's folder (None for text input): mesh files are looked up inside it.
+    meshdir : str
+        ``<compiler meshdir>`` (else ``assetdir``), the folder of mesh files relative to ``folder``.
     """
 
     root: Any
@@ -59,6 +63,8 @@ class MjcfSource:
     eulerseq: str = "xyz"
     autolimits: bool = True
     defaults: dict[str, dict[str, dict[str, str]]] = field(default_factory=dict)
+    folder: Path | None = None
+    meshdir: str = ""
 
     def angle(self, value: float) -> float:
         """An angle of the file in radians."""
@@ -166,6 +172,9 @@ def _compiler(src: MjcfSource) -> None:
                 raise InputError(f"{src.source}: <compiler eulerseq=\"{seq}\">: expected three of x y z X Y Z "
                                  f"(lower case: rotating axes, upper case: fixed axes)")
             src.eulerseq = seq
+        meshdir = el.get("meshdir") or (el.get("assetdir") if not src.meshdir else None)
+        if meshdir is not None:
+            src.meshdir = meshdir
         auto = el.get("autolimits")
         if auto is not None:
             if auto not in ("true", "false"):
@@ -187,7 +196,7 @@ def read_mjcf_source(source: str | os.PathLike) -> MjcfSource:
     includes = _Includes(folder, len(text.encode("utf-8")))
     main = (Path(source).resolve(),) if folder is not None else ()
     includes.expand(root, name, main)
-    src = MjcfSource(root, name)
+    src = MjcfSource(root, name, folder=folder)
     _compiler(src)
     src.defaults = _defaults(root, name)
     return src

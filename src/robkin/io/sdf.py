@@ -4,8 +4,9 @@ What is read
     ``<link>``, ``<joint>`` (revolute, continuous, prismatic, fixed), explicit ``<frame>``s and
     nested ``<model>``s (their names scoped as ``inner::link``), each ``<pose>`` with ``relative_to``
     (SDFormat 1.8; also ``degrees`` and ``rotation_format="quat_xyzw"`` of 1.9), joint axes
-    ``<axis><xyz expressed_in>`` with ``<limit><lower><upper>``. Visuals, collisions, inertias,
-    sensors and plugins are ignored; ``<include>`` (a model from a URI) is refused.
+    ``<axis><xyz expressed_in>`` with ``<limit><lower><upper>``; visuals, collisions and inertials as
+    ``Robot.bodies`` (see ``sdf_shapes``). Sensors and plugins are ignored; ``<include>`` (a model from
+    a URI) is refused.
 
 Default frames (every version)
     a link's or nested model's pose is in its model frame; a joint's pose is in its child link's
@@ -44,6 +45,8 @@ MAX_BYTES = 64 * 1024 * 1024
 MAX_NESTING = 16
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 OTHER_JOINTS = ("ball", "universal", "revolute2", "screw", "gearbox")
+#: The joint kinds that make a serial chain, as messages word them.
+CHAIN_JOINTS = "revolute, continuous, prismatic and fixed"
 
 
 def _version(root: Any, source: str) -> tuple[int, int]:
@@ -93,6 +96,7 @@ class _Model:
         self.joints: list[tuple[str, Any, str]] = []         # (scoped name, element, scope prefix)
         self.resolved: dict[str, np.ndarray] = {}
         self.joint_child: dict[str, str] = {}                # joint -> its child link
+        self.link_elements: list[tuple[str, Any, str]] = []  # (scoped link name, <link>, scope prefix)
 
     def _frame(self, name: str, kind: str, pose: np.ndarray, rel: str) -> None:
         if name in self.kind:
@@ -125,6 +129,7 @@ class _Model:
                     self._frame(name, "frame", pose, self.scoped(rel, prefix) if rel else attached)
                 elif tag == "link":
                     self.links.append(name)
+                    self.link_elements.append((name, el, prefix))
                     self._frame(name, "link", pose, self.scoped(rel, prefix) if rel else scope)
                 else:
                     self._frame(name + "::__model__", "model", pose, self.scoped(rel, prefix) if rel else scope)
@@ -209,10 +214,13 @@ def _limit(text: str | None, where: str) -> float | None:
 
 def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str, str]]:
     """The kinematic tree of an SDF file (path) or SDF text, and the joints robkin cannot model."""
+    from .sdf_shapes import sdf_content
+
+    folder = None
     if isinstance(source, str) and source.lstrip().startswith("<"):
         text, src = source, "<sdf string>"
     else:
-        text, src = read_text_file(Path(source), MAX_BYTES, "an SDF model"), str(source)
+        text, src, folder = read_text_file(Path(source), MAX_BYTES, "an SDF model"), str(source), Path(source).parent
         if not text.strip():
             raise InputError(f"{src}: file is empty; expected an SDF <sdf> element")
     root = _parse_xml(text, src)
@@ -277,7 +285,7 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
                                 np.array([0.0, 0.0, 1.0]), None, None, None))
     if uses_world:
         links.insert(0, "world")
-    return UrdfModel(models[0].get("name"), tuple(links), tuple(joints), src), kinds
+    return UrdfModel(models[0].get("name"), tuple(links), tuple(joints), src, sdf_content(j, folder)), kinds
 
 
 def robot_from_sdf(source: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None,
@@ -301,5 +309,5 @@ def robot_from_sdf(source: str | os.PathLike[str], base_link: str | None = None,
         (radians, metres); ``world`` = world -> base at q = 0 when the model is fixed to the world.
     """
     model, kinds = model_from_sdf(source)
-    refuse_on_chain(model, kinds, base_link, tip_link, "revolute, continuous, prismatic and fixed")
+    refuse_on_chain(model, kinds, base_link, tip_link, CHAIN_JOINTS)
     return robot_from_model(model, base_link, tip_link, name=name)

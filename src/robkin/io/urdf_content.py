@@ -8,7 +8,7 @@ are kept as written and never opened.
 
 from __future__ import annotations
 
-from typing import Any, Iterator, Mapping
+from typing import Any, Callable, Iterator, Mapping
 
 import numpy as np
 
@@ -16,7 +16,7 @@ from ..bodies import Geometry, Inertial, Material, Shape
 from ..errors import InputError
 from .urdf import LinkContent, _number, numbers, parse_origin
 
-__all__ = ["LazyLinkContent", "GEOMETRY_TAGS"]
+__all__ = ["LazyLinkContent", "ContentOnce", "GEOMETRY_TAGS"]
 
 GEOMETRY_TAGS = ("box", "cylinder", "sphere", "mesh")
 _EMPTY = LinkContent()
@@ -114,3 +114,25 @@ class LazyLinkContent(Mapping[str, LinkContent]):
 
     def __len__(self) -> int:
         return len(self._elements)
+
+
+class ContentOnce(Mapping[str, LinkContent]):
+    """link name -> LinkContent, all made by ``make()`` on the first lookup (the MJCF and SDF readers')."""
+
+    def __init__(self, make: Callable[[], dict[str, LinkContent]]) -> None:
+        self._make: Callable[[], dict[str, LinkContent]] | None = make
+        self._made: dict[str, LinkContent] = {}
+
+    def _all(self) -> dict[str, LinkContent]:
+        if self._make is not None:
+            self._made, self._make = self._make(), None
+        return self._made
+
+    def __getitem__(self, link: str) -> LinkContent:
+        return self._all()[link]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._all())
+
+    def __len__(self) -> int:
+        return len(self._all())

@@ -116,6 +116,8 @@ def _geometry(s: Shape) -> str:
         return f'<sphere radius="{_num(g.size[0])}"/>'
     if g.kind == "cylinder":
         return f'<cylinder radius="{_num(g.size[0])}" length="{_num(g.size[1])}"/>'
+    if g.kind == "capsule":  # URDF has no capsule: the cylinder of its radius that spans both caps
+        return f'<cylinder radius="{_num(g.size[0])}" length="{_num(g.size[1] + 2 * g.size[0])}"/>'
     scale = "" if tuple(g.size) == (1.0, 1.0, 1.0) else f' scale="{" ".join(_num(v) for v in g.size)}"'
     return f"<mesh filename={quoteattr(g.filename or '')}{scale}/>"
 
@@ -140,7 +142,9 @@ def _link_xml(name: str, frame: np.ndarray, shapes: list[Shape], inertial: Inert
         if m is not None:
             inner = ("" if m.rgba is None else f'<color rgba="{" ".join(_num(v) for v in m.rgba)}"/>') + \
                 ("" if m.texture is None else f"<texture filename={quoteattr(m.texture)}/>")
-            name = f" name={quoteattr(m.name)}" if m.name else ""
+            # URDF needs a name on every material; a colour without one (MJCF, SDF) is named by its numbers
+            label = m.name or ("rgba " + " ".join(_num(v) for v in m.rgba) if m.rgba is not None else None)
+            name = f" name={quoteattr(label)}" if label else ""
             out.append(f"      <material{name}>{inner}</material>" if inner else f"      <material{name}/>")
         out.append(f"    </{s.role}>")
     out = [line for line in out if line.strip()]

@@ -1,7 +1,8 @@
 """The visuals (meshes and primitive shapes) the GUI draws for a robot given on the command line.
 
-A URDF (or MJCF) names its meshes by file name: ``package://pkg/path/link.stl``, a path relative to
-the file, or ``file:///abs/path``. :func:`resolve_mesh` finds such a file the way ROS does:
+A URDF (or MJCF, SDF) names its meshes by file name: ``package://pkg/path/link.stl``, a path relative
+to the file (an MJCF's already joined with its ``meshdir``), SDF's ``model://name/path``, or
+``file:///abs/path``. :func:`resolve_mesh` finds such a file the way ROS does:
 ``package://pkg/...`` in a folder named ``pkg`` above the robot file or on ``ROS_PACKAGE_PATH``.
 
 The server never opens a path that comes from a request: :class:`MeshRegistry` is built once, when
@@ -34,10 +35,16 @@ MAX_MESH_BYTES = 64 * 1024 * 1024
 MAX_MESHES = 1000
 
 
-def _package_roots(package: str, robot_file: Path) -> list[Path]:
-    """Folders that may be ROS package ``package``: named so, above the robot file or on ROS_PACKAGE_PATH."""
+#: Where each URI scheme's first component is looked up besides the folders above the robot file: ROS
+#: packages, and Gazebo's models (SDF ``model://NAME/...``).
+SEARCH_PATHS = {"package": ("ROS_PACKAGE_PATH",), "model": ("GZ_SIM_RESOURCE_PATH", "GAZEBO_MODEL_PATH")}
+
+
+def _package_roots(package: str, robot_file: Path, variables: tuple[str, ...]) -> list[Path]:
+    """Folders that may be package (or model) ``package``: named so, above the robot file or on the
+    search path environment ``variables``."""
     roots = [d for d in robot_file.resolve().parents if d.name == package]
-    for entry in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep):
+    for entry in (e for var in variables for e in os.environ.get(var, "").split(os.pathsep)):
         if entry:
             base = Path(entry)
             roots += [base] if base.name == package else [base / package]
@@ -50,14 +57,16 @@ def resolve_mesh(filename: str, robot_file: Path) -> Path | None:
     Parameters
     ----------
     filename : str
-        As written in the robot file: ``package://pkg/rel``, ``file:///abs``, or a relative path.
+        As written in the robot file: ``package://pkg/rel``, ``model://name/rel`` (SDF; in a folder
+        ``name`` above the file or on GZ_SIM_RESOURCE_PATH / GAZEBO_MODEL_PATH), ``file:///abs``, or
+        a relative path.
     robot_file : Path
         The robot file (relative names are relative to its folder).
     """
     url = urlparse(filename)
-    if url.scheme == "package":
+    if url.scheme in SEARCH_PATHS:
         rel = unquote(url.path).lstrip("/")
-        candidates = [root / rel for root in _package_roots(url.netloc, robot_file)]
+        candidates = [root / rel for root in _package_roots(url.netloc, robot_file, SEARCH_PATHS[url.scheme])]
     elif url.scheme == "file":
         candidates = [Path(unquote(url.path))]
     elif url.scheme == "" or len(url.scheme) == 1:  # a plain path (a Windows drive letter parses as a scheme)

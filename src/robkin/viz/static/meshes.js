@@ -37,7 +37,8 @@ function primitive(v) {
   const s = v.size;
   const geometry = v.kind === "box" ? new THREE.BoxGeometry(s[0], s[1], s[2]) :
     v.kind === "sphere" ? new THREE.SphereGeometry(s[0], 24, 16) :
-    new THREE.CylinderGeometry(s[0], s[0], s[1], 24).rotateX(Math.PI / 2);  // URDF cylinders lie along z
+    v.kind === "capsule" ? new THREE.CapsuleGeometry(s[0], s[1], 8, 24).rotateX(Math.PI / 2) :
+    new THREE.CylinderGeometry(s[0], s[0], s[1], 24).rotateX(Math.PI / 2);  // cylinders, capsules lie along z
   return new THREE.Mesh(geometry, material(v.rgba));
 }
 
