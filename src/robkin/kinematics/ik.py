@@ -30,7 +30,7 @@ from ..compiled.lm import pose_errors
 from ..errors import InputError
 from ..robot import Robot
 from .closed_form import closed_form_solver
-from .limits import wrap_into_limits, within_limits
+from .limits import LIMIT_TOL, wrap_into_limits, within_limits
 from .lm import LMSettings, solve_lm
 from .pose_error import check_mask, check_targets
 
@@ -273,25 +273,32 @@ def _joint_scale(robot: Robot) -> np.ndarray:
 
 def _closed_form(robot: Robot, solver, targets: np.ndarray, q_ref: np.ndarray, settings: LMSettings,
                  all_solutions: bool) -> _Found:
-    """Verified closed-form solutions: the one nearest q_ref per target (and all, if asked)."""
-    N, n = q_ref.shape
+    """Verified closed-form solutions: the one nearest q_ref per target (and all, if asked).
+
+    The branches' forward-kinematics check and the choice of the nearest are one compiled pass
+    (``compiled.solutions.nearest_verified``), so a single target pays no batch plumbing.
+    """
+    from ..compiled.solutions import nearest_verified
+
+    N = len(q_ref)
     branches = solver.solve(targets, q_ref)
-    S = branches.q.shape[1]
-    reached = _verify(robot, branches.q, np.repeat(targets[:, None], S, axis=1), np.ones(6), settings)
-    valid = branches.valid & reached
     scale = _joint_scale(robot)
-    dist = np.where(valid, np.linalg.norm((branches.q - q_ref[:, None]) / scale, axis=-1), np.inf)
-    success = valid.any(axis=1)
-    q = np.where(success[:, None], branches.q[np.arange(N), np.argmin(dist, axis=1)], np.nan)
+    lim = robot.limits
+    q, success, reached, ep, eo = nearest_verified(
+        robot._chain, branches.q, branches.valid, targets, q_ref, scale, lim[:, 0], lim[:, 1],
+        settings.tol_position, settings.tol_orientation, LIMIT_TOL)
     reasons = list(branches.reason)
-    retry = ~success & branches.valid.any(axis=1)
-    for i in np.flatnonzero(retry):
-        reasons[i] = "closed-form solutions failed the forward-kinematics check (near a singularity)"
-    if branches.uncertain is not None:
-        retry |= ~success & branches.uncertain
-    sols = [_distinct_sorted(branches.q[i][valid[i]], q_ref[i], scale) for i in range(N)] \
+    retry = np.zeros(N, bool)
+    if not success.all():
+        failed = ~success
+        retry = failed & branches.valid.any(axis=1)
+        for i in np.flatnonzero(retry):
+            reasons[i] = "closed-form solutions failed the forward-kinematics check (near a singularity)"
+        if branches.uncertain is not None:
+            retry |= failed & branches.uncertain
+    sols = [_distinct_sorted(branches.q[i][reached[i]], q_ref[i], scale) for i in range(N)] \
         if all_solutions else None
-    return _Found(q, success, reasons, np.zeros(N, int), np.ones(N, int), sols, retry)
+    return _Found(q, success, reasons, np.zeros(N, int), np.ones(N, int), sols, retry, (ep, eo))
 
 
 def _numeric(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndarray,
