@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from functools import cached_property
+from functools import cache, cached_property
 from typing import TYPE_CHECKING, Any, Callable, Iterable, Literal, Sequence
 
 import numpy as np
@@ -387,9 +387,7 @@ class Robot:
             ``.q``, ``.success``, the errors reached, iterations, attempts, method and messages.
             Joint limits are always respected.
         """
-        from .kinematics.ik import ik
-
-        return ik(self, T, q0=q0, mask=mask, method=method, all_solutions=all_solutions,
+        return _ik_function()(self, T, q0=q0, mask=mask, method=method, all_solutions=all_solutions,
                   tol_position=tol_position, tol_orientation=tol_orientation,
                   max_iterations=max_iterations, restarts=restarts, rng=rng)
 
@@ -463,6 +461,15 @@ class Robot:
 
 #: row order that turns a (w, v) twist into [v; w]
 _V_THEN_W = [3, 4, 5, 0, 1, 2]
+
+
+@cache
+def _ik_function() -> Callable[..., "IKResult"]:
+    """``kinematics.ik.ik``, imported on first use (``import robkin`` stays light) and then kept: an
+    import statement in ``Robot.ik`` would cost about a fifth of a closed-form solve per call."""
+    from .kinematics.ik import ik
+
+    return ik
 
 
 def robot_from_frames(frames: Sequence[ArrayLike], types: Sequence[str] | None = None,

@@ -82,19 +82,21 @@ def distinct_sorted(Q, ref, scale, double tol):
 cdef double[6] FULL_POSE = [1.0, 1.0, 1.0, 1.0, 1.0, 1.0]
 
 
-def nearest_verified(Chain chain, Q, valid, targets, q_ref, scale, lower, upper, double tol_position,
-                     double tol_orientation, double limit_tol):
+def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double length_unit,
+                     double tol_position, double tol_orientation, double limit_tol):
     """Per target, the closed-form branch nearest the preference among those that truly reach it.
 
     A branch Q[k, s] (n,) counts when ``valid[k, s]`` (it exists and respects the limits, as the solver
     says), and an independent forward kinematics (the walk of ``Robot.fk``, ``pose_check.tool_errors``)
     puts the tool within ``tol_position`` (length units) and ``tol_orientation`` (radians) of
-    targets[k] (full pose), with every joint within [lower - limit_tol, upper + limit_tol]. Among those,
-    the nearest to q_ref[k] (n,) by |(q - q_ref) / scale| (the first on ties, as ``numpy.argmin``).
+    targets[k] (full pose), with every joint within its limits (n, 2) up to ``limit_tol``. Among those,
+    the nearest to q_ref[k] (n,) by |(q - q_ref) / unit| (the first on ties, as ``numpy.argmin``), the
+    unit being 1 rad for revolute joints and ``length_unit`` (the robot's size) for prismatic ones.
 
-    Parameters: Q (N, S, n), valid (N, S) bool, targets (N, 4, 4), q_ref (N, n), scale, lower, upper
-    (n,). Returns q (N, n) (NaN where no branch counts), success (N,) bool, reached (N, S) bool (the
-    branches that count), position and orientation errors (N,) of q (inf where q is NaN).
+    Parameters: Q (N, S, n), valid (N, S) bool, targets (N, 4, 4), q_ref (N, n), limits (n, 2).
+    Returns q (N, n) (NaN where no branch counts), success (N,) bool, reached (N, S) bool (the
+    branches that count), position and orientation errors (N,) of q (inf where q is NaN), and the
+    number of targets without a branch that counts.
     """
     cdef Py_ssize_t n = chain.n
     cdef cnp.ndarray Qa = cnp.PyArray_FROM_OTF(Q, cnp.NPY_DOUBLE, cnp.NPY_ARRAY_C_CONTIGUOUS | cnp.NPY_ARRAY_ALIGNED)
@@ -104,19 +106,17 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, scale, lower, upper,
     cdef cnp.ndarray Va = cnp.PyArray_FROM_OTF(valid, cnp.NPY_BOOL, cnp.NPY_ARRAY_C_CONTIGUOUS | cnp.NPY_ARRAY_ALIGNED)
     cdef cnp.ndarray Ta = c_doubles(targets, 3, 4, "targets")
     cdef cnp.ndarray Ra = c_doubles(q_ref, 2, n, "q_ref")
-    cdef cnp.ndarray Ua = c_doubles(scale, 1, n, "scale")
-    cdef cnp.ndarray loa = c_doubles(lower, 1, n, "lower")
-    cdef cnp.ndarray hia = c_doubles(upper, 1, n, "upper")
+    cdef cnp.ndarray La = c_doubles(limits, 2, 2, "limits")
     if cnp.PyArray_NDIM(Va) != 2 or cnp.PyArray_DIM(Va, 0) != N or cnp.PyArray_DIM(Va, 1) != S \
-            or cnp.PyArray_DIM(Ta, 0) != N or cnp.PyArray_DIM(Ra, 0) != N:
-        raise ValueError(f"nearest_verified: expected valid ({N}, {S}), targets ({N}, 4, 4), q_ref ({N}, {n})")
+            or cnp.PyArray_DIM(Ta, 0) != N or cnp.PyArray_DIM(Ra, 0) != N or cnp.PyArray_DIM(La, 0) != n:
+        raise ValueError(f"nearest_verified: expected valid ({N}, {S}), targets ({N}, 4, 4), q_ref ({N}, {n}), "
+                         f"limits ({n}, 2)")
     cdef const double* q = <const double*>cnp.PyArray_DATA(Qa)
     cdef const unsigned char* v = <const unsigned char*>cnp.PyArray_DATA(Va)
     cdef const double* T = <const double*>cnp.PyArray_DATA(Ta)
     cdef const double* r = <const double*>cnp.PyArray_DATA(Ra)
-    cdef const double* u = <const double*>cnp.PyArray_DATA(Ua)
-    cdef const double* lo = <const double*>cnp.PyArray_DATA(loa)
-    cdef const double* hi = <const double*>cnp.PyArray_DATA(hia)
+    cdef const double* lim = <const double*>cnp.PyArray_DATA(La)
+    cdef const unsigned char* rev = chain.rev
     cdef cnp.ndarray q_out = new_array(2, N, n, 0, cnp.NPY_DOUBLE)
     cdef cnp.ndarray ok_out = new_array(1, N, 0, 0, cnp.NPY_BOOL)
     cdef cnp.ndarray reached_out = new_array(2, N, S, 0, cnp.NPY_BOOL)
@@ -130,6 +130,7 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, scale, lower, upper,
     cdef const double* b
     cdef double e_p, e_o, x, d, best_d, best_p, best_o
     cdef bint fits
+    cdef Py_ssize_t failed = 0
     with nogil:
         for k in range(N):
             best = -1
@@ -143,7 +144,7 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, scale, lower, upper,
                 b = q + (k * S + s) * n
                 fits = True
                 for j in range(n):
-                    if not (b[j] >= lo[j] - limit_tol and b[j] <= hi[j] + limit_tol):
+                    if not (b[j] >= lim[2 * j] - limit_tol and b[j] <= lim[2 * j + 1] + limit_tol):
                         fits = False
                         break
                 if not fits:
@@ -154,14 +155,17 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, scale, lower, upper,
                 reached[k * S + s] = 1
                 d = 0.0
                 for j in range(n):
-                    x = (b[j] - r[k * n + j]) / u[j]
+                    x = b[j] - r[k * n + j]
+                    if not rev[j]:
+                        x /= length_unit
                     d += x * x
                 d = sqrt(d)
                 if best < 0 or d < best_d:
                     best, best_d, best_p, best_o = s, d, e_p, e_o
             ok[k] = best >= 0
+            failed += best < 0
             ep[k] = best_p
             eo[k] = best_o
             for j in range(n):
                 qo[k * n + j] = q[(k * S + best) * n + j] if best >= 0 else NAN
-    return q_out, ok_out, reached_out, ep_out, eo_out
+    return q_out, ok_out, reached_out, ep_out, eo_out, failed
