@@ -332,7 +332,12 @@ cdef bint solve_one(Chain chain, const Params* P, const double* w, const double*
 cdef inline cnp.ndarray _doubles(object a, int ndim, Py_ssize_t d0, Py_ssize_t d1, Py_ssize_t d2, str what):
     """a as a C-contiguous float64 array of the given shape (d < 0: any length); ValueError if not.
     (Raw data pointers of such arrays cost far less than typed memoryviews per call.)"""
-    cdef cnp.ndarray arr = np.ascontiguousarray(a, dtype=np.float64)
+    cdef cnp.ndarray arr
+    if cnp.PyArray_Check(a) and cnp.PyArray_TYPE(<cnp.ndarray>a) == cnp.NPY_DOUBLE \
+            and cnp.PyArray_IS_C_CONTIGUOUS(<cnp.ndarray>a):
+        arr = <cnp.ndarray>a        # the usual case, without numpy's conversion call (a single IK call
+    else:                           # makes several of these)
+        arr = np.ascontiguousarray(a, dtype=np.float64)
     cdef Py_ssize_t* want = [d0, d1, d2]
     cdef int i
     if cnp.PyArray_NDIM(arr) != ndim:
