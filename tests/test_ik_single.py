@@ -9,9 +9,6 @@ Successful answers are also checked by pinocchio's forward kinematics (independe
 
 from __future__ import annotations
 
-import glob
-import os
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -19,26 +16,12 @@ import pytest
 
 import robkin
 
-pin = pytest.importorskip("pinocchio")
+from test_ik import load_arm, pin_fk      # the arms and pinocchio's FK of them, as test_ik uses them
 
-ROBOTS_DIR = (glob.glob(os.path.join(sys.prefix, "lib", "python*", "site-packages", "cmeel.prefix", "share",
-                                     "example-robot-data", "robots")) or [""])[0]
-ARMS = {  # name: (file, tip link)
-    "ur5": ("ur_description/urdf/ur5_robot.urdf", "tool0"),
-    "kinova": ("kinova_description/robots/kinova.urdf", "j2s6s200_end_effector"),
-    "panda": ("panda_description/urdf/panda.urdf", "panda_hand_tcp"),
-}
 SCARA = Path(robkin.__file__).parent / "examples" / "scara.yaml"
 #: pinocchio's FK of a reported solution agrees with the target to this: ten times the default IK
 #: tolerance (1e-9), far above pinocchio's own rounding over a ~1 m chain (~1e-15)
 CHECK = 1e-8
-
-
-def load_arm(name: str) -> tuple[robkin.Robot, str]:
-    path = os.path.join(ROBOTS_DIR, ARMS[name][0])
-    if not os.path.isfile(path):
-        pytest.skip(f"example-robot-data file {ARMS[name][0]} not installed")
-    return robkin.load(path, tip_link=ARMS[name][1]), path
 
 
 def targets_and_starts(robot: robkin.Robot, n: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
@@ -59,25 +42,16 @@ def assert_same(single, batch, i: int) -> None:
     assert isinstance(single.success, bool) and single.q.shape == (batch.q.shape[1],)
 
 
-def pinocchio_error(path: str, tip: str, robot: robkin.Robot, q: np.ndarray, T: np.ndarray) -> float:
-    """max |pose - target| by pinocchio's FK of the URDF at q (joints matched by name; a continuous
-    joint is (cos, sin) in pinocchio)."""
-    model = pin.buildModelFromUrdf(path)
-    data = model.createData()
-    qp = pin.neutral(model)
-    for joint, value in zip(robot.joints, q):
-        jm = model.joints[model.getJointId(joint.name)]
-        if jm.nq == 2:
-            qp[jm.idx_q], qp[jm.idx_q + 1] = np.cos(value), np.sin(value)
-        else:
-            qp[jm.idx_q] = value
-    pin.framesForwardKinematics(model, data, qp)
-    return float(np.abs(data.oMf[model.getFrameId(tip)].homogeneous - T).max())
+def pinocchio_error(arm: tuple, q: np.ndarray, T: np.ndarray) -> float:
+    """max |pose - target| by pinocchio's FK of the arm's URDF at q."""
+    robot, model, tip = arm
+    return float(np.abs(pin_fk(model, robot, q, tip) - T).max())
 
 
 @pytest.mark.parametrize("name", ["ur5", "kinova"])
 def test_closed_form_single_calls_equal_the_batch(name):
-    robot, path = load_arm(name)
+    arm = load_arm(name)
+    robot = arm[0]
     T, q0 = targets_and_starts(robot, 40, seed=7)
     batch = robot.ik(T, q0=q0)
     assert batch.method != "numeric" and 0 < batch.success.sum() < len(T)
@@ -85,7 +59,7 @@ def test_closed_form_single_calls_equal_the_batch(name):
         single = robot.ik(T[i], q0=q0[i])
         assert_same(single, batch, i)
         if single.success:
-            assert pinocchio_error(path, ARMS[name][1], robot, single.q, T[i]) < CHECK
+            assert pinocchio_error(arm, single.q, T[i]) < CHECK
     # the default preference (zero, clipped into the limits) too
     plain = robot.ik(T)
     for i in (0, 1, 2):
@@ -104,7 +78,8 @@ def test_scara_single_calls_equal_the_batch():
 
 
 def test_numeric_single_calls_equal_a_batch_of_one():
-    robot, path = load_arm("panda")
+    arm = load_arm("panda")
+    robot = arm[0]
     T, q0 = targets_and_starts(robot, 12, seed=5)
     T = T[1:]                        # the first target is out of reach: keep the test quick
     q0 = q0[1:]
@@ -114,12 +89,12 @@ def test_numeric_single_calls_equal_a_batch_of_one():
         assert single.method == "numeric"
         assert_same(single, one, 0)
         if single.success:
-            assert pinocchio_error(path, ARMS["panda"][1], robot, single.q, T[i]) < CHECK
+            assert pinocchio_error(arm, single.q, T[i]) < CHECK
 
 
 def test_single_call_results_are_the_callers_to_keep():
     """Cached defaults (start, mask) never leak into results: q is a fresh, writable array."""
-    robot, _ = load_arm("ur5")
+    robot = load_arm("ur5")[0]
     T = robot.fk(robot.random_q(1, rng=2)[0])
     a = robot.ik(T)
     a.q[:] = 99.0

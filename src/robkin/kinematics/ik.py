@@ -33,7 +33,7 @@ from ..compiled.lm import pose_errors
 from ..compiled.solutions import distinct_sorted, nearest_verified
 from ..errors import InputError
 from ..robot import Robot, check_q
-from .closed_form import closed_form_solver
+from .closed_form import ClosedFormSolver, closed_form_solver
 from .limits import LIMIT_TOL, wrap_into_limits, within_limits
 from .lm import LMSettings, solve_lm
 from .pose_error import FULL_POSE, check_mask, check_targets
@@ -292,7 +292,7 @@ def _joint_scale(robot: Robot) -> np.ndarray:
     return np.where(robot.revolute, 1.0, robot.scale)
 
 
-def _closed_form(robot: Robot, solver, targets: np.ndarray, q_ref: np.ndarray, settings: LMSettings,
+def _closed_form(robot: Robot, solver: ClosedFormSolver, targets: np.ndarray, q_ref: np.ndarray, settings: LMSettings,
                  all_solutions: bool) -> _Found:
     """Verified closed-form solutions: the one nearest q_ref per target (and all, if asked).
 
@@ -301,12 +301,12 @@ def _closed_form(robot: Robot, solver, targets: np.ndarray, q_ref: np.ndarray, s
     """
     N = len(q_ref)
     branches = solver.solve(targets, q_ref)
-    q, success, reached, ep, eo, failed = nearest_verified(
+    q, success, reached, ep, eo, n_failed = nearest_verified(
         robot._chain, branches.q, branches.valid, targets, q_ref, robot.limits, robot.scale,
         settings.tol_position, settings.tol_orientation, LIMIT_TOL)
     reasons = branches.reason       # the solver's own list, fresh per call: ours to amend
     retry = None
-    if failed:
+    if n_failed:
         failed = ~success
         retry = failed & branches.valid.any(axis=1)
         for i in np.flatnonzero(retry):
