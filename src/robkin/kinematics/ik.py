@@ -319,7 +319,8 @@ def _closed_form(robot: Robot, solver: ClosedFormSolver, targets: np.ndarray, q_
     if all_solutions:
         scale = _joint_scale(robot)
         sols = [_distinct_sorted(branches.q[i][reached[i]], q_ref[i], scale) for i in range(N)]
-    return _Found(q, success, reasons, np.zeros(N, int), np.ones(N, int), sols, retry, (ep, eo))
+    iterations = np.zeros(N, int)     # no iterations, one attempt (np.ones costs 4x np.zeros + 1)
+    return _Found(q, success, reasons, iterations, iterations + 1, sols, retry, (ep, eo))
 
 
 def _numeric(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndarray,
