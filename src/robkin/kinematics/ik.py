@@ -297,13 +297,14 @@ def _closed_form(robot: Robot, solver: ClosedFormSolver, targets: np.ndarray, q_
     """Verified closed-form solutions: the one nearest q_ref per target (and all, if asked).
 
     The branches' forward-kinematics check and the choice of the nearest are one compiled pass
-    (``compiled.solutions.nearest_verified``), so a single target pays no batch plumbing.
+    (``compiled.solutions.nearest_verified``: nearest first, every branch only for all_solutions), so a
+    single target pays no batch plumbing.
     """
     N = len(q_ref)
     branches = solver.solve(targets, q_ref)
     q, success, reached, ep, eo, n_failed = nearest_verified(
         robot._chain, branches.q, branches.valid, targets, q_ref, robot.limits, robot.scale,
-        settings.tol_position, settings.tol_orientation, LIMIT_TOL)
+        settings.tol_position, settings.tol_orientation, LIMIT_TOL, all_solutions)
     reasons = branches.reason       # the solver's own list, fresh per call: ours to amend
     retry = None
     if n_failed:
