@@ -171,7 +171,7 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
             out.iterations[r], out.attempts[r] = sub.iterations, sub.attempts
             for j, i in enumerate(r):
                 out.reasons[i] = sub.reasons[j]
-                if all_solutions:
+                if out.solutions is not None and sub.solutions is not None:  # all_solutions: both are lists
                     out.solutions[i] = sub.solutions[j]
     else:
         out = _numeric(robot, targets, q_ref, m, settings, rng, all_solutions)
@@ -348,7 +348,7 @@ def _numeric(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndar
         attempts = np.full(N, K)
         ep, eo = _errors(robot, Q.reshape(-1, n), np.repeat(targets, K, axis=0), mask)
         E = np.hypot(ep, eo).reshape(N, K)
-        success = ok.any(axis=1)
+        success: np.ndarray = np.any(ok, axis=1)
         best = Q[np.arange(N), np.argmin(E, axis=1)]
         q = np.where(success[:, None], np.array([s[0] if len(s) else np.zeros(n) for s in sols]), best)
     else:
