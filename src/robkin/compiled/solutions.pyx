@@ -16,6 +16,17 @@ from robkin.compiled.subproblems cimport c_doubles, new_array
 cnp.import_array()
 
 
+cdef inline void insert_by_distance(Py_ssize_t* order, Py_ssize_t m, const double* dist,
+                                    Py_ssize_t i) noexcept nogil:
+    """Insert index i into order[0:m] (indices sorted by dist) after those at the same distance:
+    insertion sort, stable, and the lists are short (8 branches, or 1 + restarts starts)."""
+    cdef Py_ssize_t a = m
+    while a > 0 and dist[order[a - 1]] > dist[i]:
+        order[a] = order[a - 1]
+        a -= 1
+    order[a] = i
+
+
 def distinct_sorted(Q, ref, scale, double tol):
     """Rows of Q (k, n) sorted by the distance |(q - ref) / scale| to ref (n,) (stable: ties keep their
     order), each dropped if a row kept before it differs by at most ``tol`` in every |dq / scale|.
@@ -48,12 +59,7 @@ def distinct_sorted(Q, ref, scale, double tol):
                 x = (q[i * n + j] - r[j]) / u[j]
                 s += x * x
             dist[i] = sqrt(s)
-            # insertion sort: stable, and k is small (8 branches, or 1 + restarts starts)
-            a = i
-            while a > 0 and dist[order[a - 1]] > dist[i]:
-                order[a] = order[a - 1]
-                a -= 1
-            order[a] = i
+            insert_by_distance(order, i, dist, i)
         for a in range(k):
             i = order[a]
             duplicate = False
@@ -142,8 +148,8 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
         raise MemoryError()
     with nogil:
         for k in range(N):
-            # candidates (valid, within the limits) sorted by distance; insertion sort keeps ties in
-            # index order, so the first that counts is numpy.argmin's choice
+            # candidates (valid, within the limits) sorted by distance, ties in index order: the
+            # first that counts is numpy.argmin's choice
             m = 0
             for s in range(S):
                 reached[k * S + s] = 0
@@ -163,11 +169,7 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
                 if not fits:
                     continue
                 dist[s] = sqrt(d)
-                a = m
-                while a > 0 and dist[order[a - 1]] > dist[s]:
-                    order[a] = order[a - 1]
-                    a -= 1
-                order[a] = s
+                insert_by_distance(order, m, dist, s)
                 m += 1
             best = -1
             ep[k] = INFINITY
