@@ -14,8 +14,8 @@ rounds (robkin, EAIK, robkin, EAIK, ...):
 - single target, all solutions: the same two, one call per target (``solve`` on a batch of one vs
   ``calculate_IK``);
 - ``Robot.ik``, one target per call, and a whole batch with and without ``all_solutions=True``: the
-  full user call (validation, the closed form, the forward-kinematics check of every branch, the
-  nearest solution, de-duplication), for reference.
+  full user call (validation, the closed form, the forward-kinematics check of the branches - nearest
+  first until one reaches the target, or every branch with all solutions - and de-duplication), for reference.
 
 First use: importing the compiled module in a fresh process, and per robot the detection of its
 closed form plus the kernel's construction (cached on the robot) and the first solve.

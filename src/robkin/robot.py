@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from functools import cached_property
+from functools import cache, cached_property
 from typing import TYPE_CHECKING, Any, Callable, Iterable, Literal, Sequence
 
 import numpy as np
@@ -123,6 +123,8 @@ def check_pose(T: ArrayLike, field_name: str, *, warn: bool = True) -> np.ndarra
 _FAST_ORTHONORMAL_TOL = 1e-12
 _I3 = np.eye(3)
 _I3.setflags(write=False)
+_LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0])
+_LAST_ROW.setflags(write=False)
 
 
 def check_poses(A: np.ndarray, field_name: Callable[[int], str]) -> np.ndarray:
@@ -133,18 +135,21 @@ def check_poses(A: np.ndarray, field_name: Callable[[int], str]) -> np.ndarray:
     ``field_name(i)``) for its projection, warning or error. Returns a new array.
     """
     out = np.array(A, dtype=float)
+    R = out[:, :3, :3]
+    # The common case (frames computed by robkin, or read exactly) in as few whole-stack operations as
+    # possible: finite, last rows exactly [0, 0, 0, 1], columns orthonormal, det > 0.
+    finite = bool(np.isfinite(out).all())
+    if finite and (out[:, 3] == _LAST_ROW).all() \
+            and np.abs(R.transpose(0, 2, 1) @ R - _I3).max() <= _FAST_ORTHONORMAL_TOL \
+            and np.linalg.det(R).min() > 0:
+        return out
     ok = np.zeros(len(out), bool)
-    if np.isfinite(out).all():
-        R = out[:, :3, :3]
-        dev = np.abs(np.swapaxes(R, 1, 2) @ R - _I3)
-        last = np.abs(out[:, 3] - (0.0, 0.0, 0.0, 1.0))
-        det_positive = np.linalg.det(R) > 0
-        # whole-stack reductions first (the usual case: every pose valid), per pose only if not
-        if dev.max() <= _FAST_ORTHONORMAL_TOL and last.max() <= EXACT_TOL and det_positive.all():
-            out[:, 3] = (0.0, 0.0, 0.0, 1.0)
-            return out
-        ok = (dev.max(axis=(1, 2)) <= _FAST_ORTHONORMAL_TOL) & det_positive & (last.max(axis=1) <= EXACT_TOL)
-    out[:, 3] = (0.0, 0.0, 0.0, 1.0)
+    if finite:
+        dev = np.abs(R.transpose(0, 2, 1) @ R - _I3)
+        last = np.abs(out[:, 3] - _LAST_ROW)
+        ok = (dev.max(axis=(1, 2)) <= _FAST_ORTHONORMAL_TOL) & (np.linalg.det(R) > 0) & \
+            (last.max(axis=1) <= EXACT_TOL)
+    out[:, 3] = _LAST_ROW
     for i in np.flatnonzero(~ok):
         out[i] = check_pose(A[i], field_name(int(i)))
     return out
@@ -208,7 +213,7 @@ class Robot:
             check_name(j.name, f"joints[{i}].name")
         if self.name is not None:
             check_name(self.name, "name")
-        dup = duplicates(j.name for j in joints)
+        dup = duplicates(j.name for j in joints) if len({j.name for j in joints}) < n else None
         if dup:
             raise InputError(f"joints: duplicate joint name(s) {', '.join(quote(d) for d in dup[:8])}")
         if np.shape(self.world) == (4, 4):   # frames and world checked in one vectorised pass
@@ -387,9 +392,7 @@ class Robot:
             ``.q``, ``.success``, the errors reached, iterations, attempts, method and messages.
             Joint limits are always respected.
         """
-        from .kinematics.ik import ik
-
-        return ik(self, T, q0=q0, mask=mask, method=method, all_solutions=all_solutions,
+        return _ik_function()(self, T, q0=q0, mask=mask, method=method, all_solutions=all_solutions,
                   tol_position=tol_position, tol_orientation=tol_orientation,
                   max_iterations=max_iterations, restarts=restarts, rng=rng)
 
@@ -463,6 +466,15 @@ class Robot:
 
 #: row order that turns a (w, v) twist into [v; w]
 _V_THEN_W = [3, 4, 5, 0, 1, 2]
+
+
+@cache
+def _ik_function() -> Callable[..., "IKResult"]:
+    """``kinematics.ik.ik``, imported on first use (``import robkin`` stays light) and then kept: an
+    import statement in ``Robot.ik`` would cost about a fifth of a closed-form solve per call."""
+    from .kinematics.ik import ik
+
+    return ik
 
 
 def robot_from_frames(frames: Sequence[ArrayLike], types: Sequence[str] | None = None,

@@ -26,6 +26,7 @@ from libc.stdint cimport uint64_t
 from robkin.compiled.fk cimport Chain, walk_tool
 from robkin.compiled.jacobian cimport jacobian_one
 from robkin.compiled.linalg cimport rot_log
+from robkin.compiled.pose_check cimport tool_errors
 
 import numpy as np
 
@@ -331,7 +332,12 @@ cdef bint solve_one(Chain chain, const Params* P, const double* w, const double*
 cdef inline cnp.ndarray _doubles(object a, int ndim, Py_ssize_t d0, Py_ssize_t d1, Py_ssize_t d2, str what):
     """a as a C-contiguous float64 array of the given shape (d < 0: any length); ValueError if not.
     (Raw data pointers of such arrays cost far less than typed memoryviews per call.)"""
-    cdef cnp.ndarray arr = np.ascontiguousarray(a, dtype=np.float64)
+    cdef cnp.ndarray arr
+    if cnp.PyArray_Check(a) and cnp.PyArray_TYPE(<cnp.ndarray>a) == cnp.NPY_DOUBLE \
+            and cnp.PyArray_IS_C_CONTIGUOUS(<cnp.ndarray>a):
+        arr = <cnp.ndarray>a        # the usual case, without numpy's conversion call (a single IK call
+    else:                           # makes several of these)
+        arr = np.ascontiguousarray(a, dtype=np.float64)
     cdef Py_ssize_t* want = [d0, d1, d2]
     cdef int i
     if cnp.PyArray_NDIM(arr) != ndim:
@@ -441,32 +447,9 @@ def pose_errors(Chain chain, q, targets, mask):
     cdef cnp.ndarray eo_arr = cnp.PyArray_EMPTY(1, dims, cnp.NPY_DOUBLE, 0)
     cdef double* ep = <double*>cnp.PyArray_DATA(ep_arr)
     cdef double* eo = <double*>cnp.PyArray_DATA(eo_arr)
-    cdef double T[16]
-    cdef double R[9]
-    cdef double e[6]
-    cdef const double* D
-    cdef int i, j
-    cdef bint finite
     with nogil:
         for k in range(M):
-            finite = True
-            for j in range(n):
-                finite = finite and isfinite(Q[n * k + j])
-            if not finite:
-                ep[k] = INFINITY
-                eo[k] = INFINITY
-                continue
-            walk_tool(chain.L, chain.rev, n, Q + n * k, T)
-            D = Td + 16 * k
-            for i in range(3):
-                e[i] = (D[4 * i + 3] - T[4 * i + 3]) * msk[i]
-                for j in range(3):
-                    R[3 * i + j] = D[4 * i] * T[4 * j] + D[4 * i + 1] * T[4 * j + 1] + D[4 * i + 2] * T[4 * j + 2]
-            rot_log(R, e + 3)
-            for i in range(3, 6):
-                e[i] *= msk[i]
-            ep[k] = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
-            eo[k] = sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
+            tool_errors(chain.L, chain.rev, n, Q + n * k, Td + 16 * k, msk, ep + k, eo + k)
     return ep_arr, eo_arr
 
 

@@ -3,4 +3,12 @@
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .fk import Chain
+
 def distinct_sorted(Q: ArrayLike, ref: ArrayLike, scale: ArrayLike, tol: float) -> NDArray[np.float64]: ...
+
+def nearest_verified(chain: Chain, Q: ArrayLike, valid: ArrayLike, targets: ArrayLike, q_ref: ArrayLike,
+                     limits: ArrayLike, length_unit: float, tol_position: float, tol_orientation: float,
+                     limit_tol: float, every: bool) -> tuple[NDArray[np.float64], NDArray[np.bool_],
+                                                             NDArray[np.bool_], NDArray[np.float64],
+                                                             NDArray[np.float64], int]: ...

@@ -2,14 +2,29 @@
 
 ``distinct_sorted`` replaces a Python loop over rows (dozens of small numpy calls per target) by one
 compiled pass; ``kinematics.ik`` calls it for every target of an ``all_solutions=True`` request.
+``nearest_verified`` checks closed-form branches by forward kinematics and picks the one nearest the
+preferred configuration, for a batch or a single target alike (one pass, no per-call numpy plumbing).
 """
 
 cimport numpy as cnp
-from libc.math cimport fabs, sqrt
+from libc.math cimport fabs, sqrt, NAN, INFINITY
 from libc.stdlib cimport free, malloc
+from robkin.compiled.fk cimport Chain
+from robkin.compiled.pose_check cimport tool_errors
 from robkin.compiled.subproblems cimport c_doubles, new_array
 
 cnp.import_array()
+
+
+cdef inline void insert_by_distance(Py_ssize_t* order, Py_ssize_t m, const double* dist,
+                                    Py_ssize_t i) noexcept nogil:
+    """Insert index i into order[0:m] (indices sorted by dist) after those at the same distance:
+    insertion sort, stable, and the lists are short (8 branches, or 1 + restarts starts)."""
+    cdef Py_ssize_t a = m
+    while a > 0 and dist[order[a - 1]] > dist[i]:
+        order[a] = order[a - 1]
+        a -= 1
+    order[a] = i
 
 
 def distinct_sorted(Q, ref, scale, double tol):
@@ -44,12 +59,7 @@ def distinct_sorted(Q, ref, scale, double tol):
                 x = (q[i * n + j] - r[j]) / u[j]
                 s += x * x
             dist[i] = sqrt(s)
-            # insertion sort: stable, and k is small (8 branches, or 1 + restarts starts)
-            a = i
-            while a > 0 and dist[order[a - 1]] > dist[i]:
-                order[a] = order[a - 1]
-                a -= 1
-            order[a] = i
+            insert_by_distance(order, i, dist, i)
         for a in range(k):
             i = order[a]
             duplicate = False
@@ -73,3 +83,113 @@ def distinct_sorted(Q, ref, scale, double tol):
         free(dist)
         free(order)
         free(kept)
+
+
+cdef double[6] FULL_POSE = [1.0, 1.0, 1.0, 1.0, 1.0, 1.0]
+
+
+def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double length_unit,
+                     double tol_position, double tol_orientation, double limit_tol, bint every):
+    """Per target, the closed-form branch nearest the preference among those that truly reach it.
+
+    A branch Q[k, s] (n,) counts when ``valid[k, s]`` (it exists and respects the limits, as the solver
+    says), every joint is within its limits (n, 2) up to ``limit_tol``, and an independent forward
+    kinematics (the walk of ``Robot.fk``, ``pose_check.tool_errors``) puts the tool within
+    ``tol_position`` (length units) and ``tol_orientation`` (radians) of targets[k] (full pose). Among
+    those, the nearest to q_ref[k] (n,) by |(q - q_ref) / unit| (the first on ties, as
+    ``numpy.argmin``), the unit being 1 rad for revolute joints and ``length_unit`` (the robot's size)
+    for prismatic ones. Branches are checked nearest first: with ``every`` False the search stops at
+    the first that counts (one forward kinematics per target in the usual case); with ``every`` True
+    all are checked, for the list of all solutions.
+
+    Parameters: Q (N, S, n), valid (N, S) bool, targets (N, 4, 4), q_ref (N, n), limits (n, 2).
+    Returns q (N, n) (NaN where no branch counts), success (N,) bool, reached (N, S) bool (the
+    branches found to count; all of them if ``every``), position and orientation errors (N,) of q (inf
+    where q is NaN), and the number of targets without a branch that counts.
+    """
+    cdef Py_ssize_t n = chain.n
+    cdef cnp.ndarray Qa = cnp.PyArray_FROM_OTF(Q, cnp.NPY_DOUBLE, cnp.NPY_ARRAY_C_CONTIGUOUS | cnp.NPY_ARRAY_ALIGNED)
+    if cnp.PyArray_NDIM(Qa) != 3 or cnp.PyArray_DIM(Qa, 2) != n:
+        raise ValueError(f"Q: expected shape (N, S, {n}), got {(<object>Qa).shape}")
+    cdef Py_ssize_t N = cnp.PyArray_DIM(Qa, 0), S = cnp.PyArray_DIM(Qa, 1), k, s, j, a, m, best
+    cdef cnp.ndarray Va = cnp.PyArray_FROM_OTF(valid, cnp.NPY_BOOL, cnp.NPY_ARRAY_C_CONTIGUOUS | cnp.NPY_ARRAY_ALIGNED)
+    cdef cnp.ndarray Ta = c_doubles(targets, 3, 4, "targets")
+    cdef cnp.ndarray Ra = c_doubles(q_ref, 2, n, "q_ref")
+    cdef cnp.ndarray La = c_doubles(limits, 2, 2, "limits")
+    if cnp.PyArray_NDIM(Va) != 2 or cnp.PyArray_DIM(Va, 0) != N or cnp.PyArray_DIM(Va, 1) != S \
+            or cnp.PyArray_DIM(Ta, 0) != N or cnp.PyArray_DIM(Ra, 0) != N or cnp.PyArray_DIM(La, 0) != n:
+        raise ValueError(f"nearest_verified: expected valid ({N}, {S}), targets ({N}, 4, 4), q_ref ({N}, {n}), "
+                         f"limits ({n}, 2)")
+    cdef const double* q = <const double*>cnp.PyArray_DATA(Qa)
+    cdef const unsigned char* v = <const unsigned char*>cnp.PyArray_DATA(Va)
+    cdef const double* T = <const double*>cnp.PyArray_DATA(Ta)
+    cdef const double* r = <const double*>cnp.PyArray_DATA(Ra)
+    cdef const double* lim = <const double*>cnp.PyArray_DATA(La)
+    cdef const unsigned char* rev = chain.rev
+    cdef cnp.ndarray q_out = new_array(2, N, n, 0, cnp.NPY_DOUBLE)
+    cdef cnp.ndarray ok_out = new_array(1, N, 0, 0, cnp.NPY_BOOL)
+    cdef cnp.ndarray reached_out = new_array(2, N, S, 0, cnp.NPY_BOOL)
+    cdef cnp.ndarray ep_out = new_array(1, N, 0, 0, cnp.NPY_DOUBLE)
+    cdef cnp.ndarray eo_out = new_array(1, N, 0, 0, cnp.NPY_DOUBLE)
+    cdef double* qo = <double*>cnp.PyArray_DATA(q_out)
+    cdef unsigned char* ok = <unsigned char*>cnp.PyArray_DATA(ok_out)
+    cdef unsigned char* reached = <unsigned char*>cnp.PyArray_DATA(reached_out)
+    cdef double* ep = <double*>cnp.PyArray_DATA(ep_out)
+    cdef double* eo = <double*>cnp.PyArray_DATA(eo_out)
+    cdef double* dist = <double*>malloc(max(S, 1) * sizeof(double))
+    cdef Py_ssize_t* order = <Py_ssize_t*>malloc(max(S, 1) * sizeof(Py_ssize_t))
+    cdef const double* b
+    cdef double e_p, e_o, x, d
+    cdef bint fits
+    cdef Py_ssize_t failed = 0
+    if dist == NULL or order == NULL:
+        free(dist)
+        free(order)
+        raise MemoryError()
+    with nogil:
+        for k in range(N):
+            # candidates (valid, within the limits) sorted by distance, ties in index order: the
+            # first that counts is numpy.argmin's choice
+            m = 0
+            for s in range(S):
+                reached[k * S + s] = 0
+                if not v[k * S + s]:
+                    continue
+                b = q + (k * S + s) * n
+                fits = True
+                d = 0.0
+                for j in range(n):
+                    if not (b[j] >= lim[2 * j] - limit_tol and b[j] <= lim[2 * j + 1] + limit_tol):
+                        fits = False
+                        break
+                    x = b[j] - r[k * n + j]
+                    if not rev[j]:
+                        x /= length_unit
+                    d += x * x
+                if not fits:
+                    continue
+                dist[s] = sqrt(d)
+                insert_by_distance(order, m, dist, s)
+                m += 1
+            best = -1
+            ep[k] = INFINITY
+            eo[k] = INFINITY
+            for a in range(m):
+                s = order[a]
+                tool_errors(chain.L, chain.rev, n, q + (k * S + s) * n, T + 16 * k, FULL_POSE, &e_p, &e_o)
+                if not (e_p <= tol_position and e_o <= tol_orientation):
+                    continue
+                reached[k * S + s] = 1
+                if best < 0:
+                    best = s
+                    ep[k] = e_p
+                    eo[k] = e_o
+                    if not every:
+                        break
+            ok[k] = best >= 0
+            failed += best < 0
+            for j in range(n):
+                qo[k * n + j] = q[(k * S + best) * n + j] if best >= 0 else NAN
+    free(dist)
+    free(order)
+    return q_out, ok_out, reached_out, ep_out, eo_out, failed

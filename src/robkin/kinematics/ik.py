@@ -20,19 +20,23 @@ Methods:
 
 from __future__ import annotations
 
+import math
+import weakref
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ..compiled.lm import pose_errors
+from ..compiled.solutions import distinct_sorted, nearest_verified
 from ..errors import InputError
-from ..robot import Robot
+from ..robot import Robot, check_q
 from .closed_form import ClosedFormSolver, closed_form_solver
-from .limits import wrap_into_limits, within_limits
+from .limits import LIMIT_TOL, wrap_into_limits, within_limits
 from .lm import LMSettings, solve_lm
-from .pose_error import check_mask, check_targets
+from .pose_error import FULL_POSE, check_mask, check_targets
 
 __all__ = ["IKResult", "ik", "METHODS"]
 
@@ -139,47 +143,43 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
     m = check_mask(mask)
     if method not in METHODS:
         raise InputError(f"method: '{method}' is not one of {', '.join(METHODS)}")
-    for name, v in (("tol_position", tol_position), ("tol_orientation", tol_orientation)):
-        if not (np.isfinite(v) and v > 0):
-            raise InputError(f"{name}: must be a positive number, got {v}")
-    if int(max_iterations) < 1 or int(restarts) < 0:
-        raise InputError(f"max_iterations must be >= 1 and restarts >= 0, got {max_iterations}, {restarts}")
     q_ref = _start(robot, q0, N)
-    settings = LMSettings(tol_position=float(tol_position), tol_orientation=float(tol_orientation),
-                          max_iterations=int(max_iterations), restarts=int(restarts))
+    try:
+        settings = _settings(tol_position, tol_orientation, max_iterations, restarts)
+    except TypeError:   # unhashable (a list, an array): not a number
+        raise InputError(f"tol_position, tol_orientation, max_iterations, restarts: expected numbers, got "
+                         f"{tol_position!r}, {tol_orientation!r}, {max_iterations!r}, {restarts!r}") from None
 
     solver = None
     if method != "numeric":
-        solver = closed_form_solver(robot) if m.all() else None
+        full_pose = m is FULL_POSE or bool(m.all())     # the identity test spares a reduction
+        solver = closed_form_solver(robot) if full_pose else None
         if solver is None and method == "analytic":
-            why = "the mask is not the full pose" if not m.all() else \
+            why = "the mask is not the full pose" if not full_pose else \
                 ("no closed-form solver fits this robot (SCARA-type; 6R with axes 2 || 3 and a spherical "
                  "wrist; or 6R with axes 2 || 3 || 4 and axes 5, 6 meeting)")
             raise InputError(f"method 'analytic': {why}; use method 'numeric'")
 
-    iters = np.zeros(N, int)
-    attempts = np.ones(N, int)
     if solver is not None:
         out = _closed_form(robot, solver, targets, q_ref, settings, all_solutions)
         used = solver.name
-        if method == "auto" and out.retry.any():
+        if method == "auto" and out.retry is not None:
             r = np.flatnonzero(out.retry)
             sub = _numeric(robot, targets[r], q_ref[r], m, settings, rng, all_solutions)
             out.q[r], out.success[r] = sub.q, sub.success
             out.errors = None
-            iters[r], attempts[r] = sub.iterations, sub.attempts
+            out.iterations[r], out.attempts[r] = sub.iterations, sub.attempts
             for j, i in enumerate(r):
                 out.reasons[i] = sub.reasons[j]
                 if out.solutions is not None and sub.solutions is not None:  # all_solutions: both are lists
                     out.solutions[i] = sub.solutions[j]
     else:
         out = _numeric(robot, targets, q_ref, m, settings, rng, all_solutions)
-        iters, attempts = out.iterations, out.attempts
         used = "numeric"
 
     # inf where q is NaN (no closed-form solution)
     ep, eo = out.errors if out.errors is not None else _errors(robot, out.q, targets, m)
-    sols = out.solutions
+    sols, iters, attempts = out.solutions, out.iterations, out.attempts
     return IKResult(
         q=out.q[0] if single else out.q,
         success=bool(out.success[0]) if single else out.success,
@@ -203,8 +203,25 @@ class _Found:
     iterations: np.ndarray              # (N,) int
     attempts: np.ndarray                # (N,) int
     solutions: list[np.ndarray] | None  # per target (S_i, n), with all_solutions
-    retry: np.ndarray                   # (N,) bool: closed-form trouble, worth a numeric try
+    retry: np.ndarray | None            # (N,) bool: closed-form trouble, worth a numeric try (None: none)
     errors: tuple[np.ndarray, np.ndarray] | None = None   # (N,) position, orientation errors of q
+
+
+@lru_cache(maxsize=64)
+def _settings(tol_position: float, tol_orientation: float, max_iterations: int, restarts: int) -> LMSettings:
+    """Checked solver settings, cached: building the frozen dataclass costs as much as a closed-form
+    solve, and callers repeat the same few values."""
+    for name, v in (("tol_position", tol_position), ("tol_orientation", tol_orientation)):
+        try:
+            usable = math.isfinite(v) and v > 0
+        except TypeError:
+            usable = False
+        if not usable:
+            raise InputError(f"{name}: must be a positive number, got {v}")
+    if int(max_iterations) < 1 or int(restarts) < 0:
+        raise InputError(f"max_iterations must be >= 1 and restarts >= 0, got {max_iterations}, {restarts}")
+    return LMSettings(tol_position=float(tol_position), tol_orientation=float(tol_orientation),
+                      max_iterations=int(max_iterations), restarts=int(restarts))
 
 
 def _generator(rng: np.random.Generator | int | None) -> np.random.Generator:
@@ -223,20 +240,26 @@ def _seed(rng: np.random.Generator | int | None) -> int:
     return int(_generator(rng).integers(0, 2**63))
 
 
-def _start(robot: Robot, q0: ArrayLike | None, N: int) -> np.ndarray:
-    """Preferred configurations (N, n), clipped into the limits."""
-    from ..robot import check_q
+#: per Robot (immutable), zero clipped into its limits (n,): the default preference, built once
+_ZERO_STARTS: "weakref.WeakKeyDictionary[Robot, np.ndarray]" = weakref.WeakKeyDictionary()
 
+
+def _start(robot: Robot, q0: ArrayLike | None, N: int) -> np.ndarray:
+    """Preferred configurations (N, n), clipped into the limits (read-only when q0 is None)."""
     lim = robot.limits
     if q0 is None:
-        Q = np.zeros((N, robot.n))
-    else:
-        Q = check_q(q0, robot.n)
-        if Q.ndim == 1:
-            Q = np.broadcast_to(Q, (N, robot.n))
-        elif Q.shape[0] != N:
-            raise InputError(f"q0: expected shape ({robot.n},) or ({N}, {robot.n}) for {N} targets, "
-                             f"got {Q.shape}")
+        zero = _ZERO_STARTS.get(robot)
+        if zero is None:
+            zero = np.minimum(np.maximum(0.0, lim[:, 0]), lim[:, 1])
+            zero.setflags(write=False)
+            _ZERO_STARTS[robot] = zero
+        return zero[None] if N == 1 else np.broadcast_to(zero, (N, robot.n))
+    Q = check_q(q0, robot.n)
+    if Q.ndim == 1:
+        Q = Q[None] if N == 1 else np.broadcast_to(Q, (N, robot.n))
+    elif Q.shape[0] != N:
+        raise InputError(f"q0: expected shape ({robot.n},) or ({N}, {robot.n}) for {N} targets, "
+                         f"got {Q.shape}")
     return np.minimum(np.maximum(Q, lim[:, 0]), lim[:, 1])     # np.clip, without its wrapper cost
 
 
@@ -261,8 +284,6 @@ def _errors(robot: Robot, q: np.ndarray, targets: np.ndarray, mask: np.ndarray
 
 def _distinct_sorted(Q: np.ndarray, ref: np.ndarray, scale: np.ndarray) -> np.ndarray:
     """Rows of Q (k, n) without near-duplicates, sorted by distance to ref (n,) (compiled)."""
-    from ..compiled.solutions import distinct_sorted
-
     return distinct_sorted(Q, ref, scale, SAME_SOLUTION_TOL)
 
 
@@ -273,25 +294,34 @@ def _joint_scale(robot: Robot) -> np.ndarray:
 
 def _closed_form(robot: Robot, solver: ClosedFormSolver, targets: np.ndarray, q_ref: np.ndarray, settings: LMSettings,
                  all_solutions: bool) -> _Found:
-    """Verified closed-form solutions: the one nearest q_ref per target (and all, if asked)."""
-    N, n = q_ref.shape
+    """Verified closed-form solutions: the one nearest q_ref per target (and all, if asked).
+
+    The branches' forward-kinematics check and the choice of the nearest are one compiled pass
+    (``compiled.solutions.nearest_verified``: nearest first, every branch only for all_solutions), so a
+    single target pays no batch plumbing.
+    """
+    N = len(q_ref)
     branches = solver.solve(targets, q_ref)
-    S = branches.q.shape[1]
-    reached = _verify(robot, branches.q, np.repeat(targets[:, None], S, axis=1), np.ones(6), settings)
-    valid = branches.valid & reached
-    scale = _joint_scale(robot)
-    dist = np.where(valid, np.linalg.norm((branches.q - q_ref[:, None]) / scale, axis=-1), np.inf)
-    success = valid.any(axis=1)
-    q = np.where(success[:, None], branches.q[np.arange(N), np.argmin(dist, axis=1)], np.nan)
-    reasons = list(branches.reason)
-    retry = ~success & branches.valid.any(axis=1)
-    for i in np.flatnonzero(retry):
-        reasons[i] = "closed-form solutions failed the forward-kinematics check (near a singularity)"
-    if branches.uncertain is not None:
-        retry |= ~success & branches.uncertain
-    sols = [_distinct_sorted(branches.q[i][valid[i]], q_ref[i], scale) for i in range(N)] \
-        if all_solutions else None
-    return _Found(q, success, reasons, np.zeros(N, int), np.ones(N, int), sols, retry)
+    q, success, reached, ep, eo, n_failed = nearest_verified(
+        robot._chain, branches.q, branches.valid, targets, q_ref, robot.limits, robot.scale,
+        settings.tol_position, settings.tol_orientation, LIMIT_TOL, all_solutions)
+    reasons = branches.reason       # the solver's own list, fresh per call: ours to amend
+    retry = None
+    if n_failed:
+        failed = ~success
+        retry = failed & branches.valid.any(axis=1)
+        for i in np.flatnonzero(retry):
+            reasons[i] = "closed-form solutions failed the forward-kinematics check (near a singularity)"
+        if branches.uncertain is not None:
+            retry |= failed & branches.uncertain
+        if not retry.any():
+            retry = None
+    sols = None
+    if all_solutions:
+        scale = _joint_scale(robot)
+        sols = [_distinct_sorted(branches.q[i][reached[i]], q_ref[i], scale) for i in range(N)]
+    iterations = np.zeros(N, int)     # no iterations, one attempt (np.ones costs 4x np.zeros + 1)
+    return _Found(q, success, reasons, iterations, iterations + 1, sols, retry, (ep, eo))
 
 
 def _numeric(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndarray,
@@ -331,5 +361,5 @@ def _numeric(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndar
     for i in ([] if success.all() else np.flatnonzero(~success)):
         reasons[i] = (f"no solution found from {attempts[i]} start(s) (the target may be unreachable, "
                       f"or need more restarts)")
-    return _Found(q, success, reasons, iters, attempts, sols, np.zeros(N, bool),
+    return _Found(q, success, reasons, iters, attempts, sols, None,
                   None if all_solutions else errors)

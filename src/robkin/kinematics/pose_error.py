@@ -16,7 +16,7 @@ from ..compiled.lm import exact_poses
 from ..errors import InputError
 from ..robot import check_pose
 
-__all__ = ["check_targets", "check_mask", "MASKS"]
+__all__ = ["check_targets", "check_mask", "MASKS", "FULL_POSE"]
 
 #: named masks over the residual components (x, y, z, rx, ry, rz)
 MASKS: dict[str, tuple[float, ...]] = {
@@ -25,15 +25,29 @@ MASKS: dict[str, tuple[float, ...]] = {
 }
 
 
+def _read_only(values: tuple[float, ...]) -> np.ndarray:
+    a = np.array(values)
+    a.setflags(write=False)
+    return a
+
+
+#: the named masks as read-only arrays, built once (a single IK call should not pay for them)
+_MASK_ARRAYS = {name: _read_only(values) for name, values in MASKS.items()}
+FULL_POSE = _MASK_ARRAYS["pose"]
+
+
 def check_mask(mask: str | ArrayLike | None) -> np.ndarray:
-    """A mask (6,) of 0/1 over (x, y, z, rx, ry, rz) from a name ('pose', 'position') or 6 values."""
+    """A mask (6,) of 0/1 over (x, y, z, rx, ry, rz) from a name ('pose', 'position') or 6 values.
+
+    Named masks (and None, the full pose) come back as shared read-only arrays (``FULL_POSE`` for the
+    full pose), values as a new array."""
     if mask is None:
-        return np.array(MASKS["pose"])
+        return FULL_POSE
     if isinstance(mask, str):
         if mask not in MASKS:
             raise InputError(f"mask: '{mask}' is not one of {', '.join(MASKS)} (or give 6 values 0/1 "
                              f"for x, y, z, rx, ry, rz)")
-        return np.array(MASKS[mask])
+        return _MASK_ARRAYS[mask]
     try:
         m = np.array(mask, dtype=float).reshape(-1)
     except (TypeError, ValueError):
@@ -60,7 +74,7 @@ def check_targets(T: ArrayLike, field_name: str = "target") -> tuple[np.ndarray,
     # compiled loop; the others go through check_pose one by one for its projection and messages
     # (the first non-finite pose raises there). Targets are only read, never written.
     ok = exact_poses(A)
-    if ok.all():
+    if ok[0] if single else ok.all():      # one pose: indexing costs far less than a reduction
         return A, single
     out = A.copy()
     for i in np.flatnonzero(~ok):

@@ -1,0 +1,36 @@
+# cython: language_level=3
+"""The forward-kinematics check of one configuration against its target, as a ``cdef inline`` function.
+
+Shared by ``lm.pose_errors`` (the check of every IK answer) and ``solutions.nearest_verified`` (the
+closed-form branches), so both judge a solution by the same walk and the same residual.
+"""
+
+from libc.math cimport sqrt, isfinite, INFINITY
+from robkin.compiled.fk cimport walk_tool
+from robkin.compiled.linalg cimport rot_log
+
+
+cdef inline void tool_errors(const double* L, const unsigned char* rev, int n, const double* q,
+                             const double* D, const double* msk, double* ep, double* eo) noexcept nogil:
+    """ep, eo = masked |p_d - p| (length units) and |log(R_d R^T)| (radians) of the tool at q (n,)
+    towards the target D (4x4 row-major); the 0/1 ``msk`` (6,) selects components. inf if q is not
+    finite."""
+    cdef double T[16]
+    cdef double R[9]
+    cdef double e[6]
+    cdef int i, j
+    for j in range(n):
+        if not isfinite(q[j]):
+            ep[0] = INFINITY
+            eo[0] = INFINITY
+            return
+    walk_tool(L, rev, n, q, T)
+    for i in range(3):
+        e[i] = (D[4 * i + 3] - T[4 * i + 3]) * msk[i]
+        for j in range(3):
+            R[3 * i + j] = D[4 * i] * T[4 * j] + D[4 * i + 1] * T[4 * j + 1] + D[4 * i + 2] * T[4 * j + 2]
+    rot_log(R, e + 3)
+    for i in range(3, 6):
+        e[i] *= msk[i]
+    ep[0] = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
+    eo[0] = sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])

@@ -1,0 +1,102 @@
+"""One target per call (``Robot.ik(T)`` with T (4, 4)) gives exactly what the batch gives for that target.
+
+The single-target path shares the batch's kernels and bookkeeping, so q, success, the errors, the
+iteration counts and the messages must agree bit for bit: closed forms (UR5, Kinova Jaco2, the SCARA
+example) against the whole batch, the numeric solver (Panda) against a batch of one (its restart
+streams are seeded per position in the batch, so a target alone is compared with itself alone).
+Successful answers are also checked by pinocchio's forward kinematics (independent of robkin).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import robkin
+
+from test_ik import load_arm, pin_fk      # the arms and pinocchio's FK of them, as test_ik uses them
+
+SCARA = Path(robkin.__file__).parent / "examples" / "scara.yaml"
+#: pinocchio's FK of a reported solution agrees with the target to this: ten times the default IK
+#: tolerance (1e-9), far above pinocchio's own rounding over a ~1 m chain (~1e-15)
+CHECK = 1e-8
+
+
+def targets_and_starts(robot: robkin.Robot, n: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """Reachable targets (FK of random q), a few pushed out of reach, and random preferred q0."""
+    T = robot.fk(robot.random_q(n, rng=seed))
+    T[::5, :3, 3] *= 10.0            # every fifth target far out of reach: failures must agree too
+    return T, robot.random_q(n, rng=seed + 1)
+
+
+def assert_same(single, batch, i: int) -> None:
+    """The single-call result equals row i of the batch result, field by field."""
+    np.testing.assert_array_equal(single.q, batch.q[i])
+    assert single.success == bool(batch.success[i])
+    assert single.position_error == float(batch.position_error[i])
+    assert single.orientation_error == float(batch.orientation_error[i])
+    assert single.iterations == int(batch.iterations[i]) and single.attempts == int(batch.attempts[i])
+    assert single.message == batch.message[i] and single.method == batch.method
+    assert isinstance(single.success, bool) and single.q.shape == (batch.q.shape[1],)
+
+
+def pinocchio_error(arm: tuple, q: np.ndarray, T: np.ndarray) -> float:
+    """max |pose - target| by pinocchio's FK of the arm's URDF at q."""
+    robot, model, tip = arm
+    return float(np.abs(pin_fk(model, robot, q, tip) - T).max())
+
+
+@pytest.mark.parametrize("name", ["ur5", "kinova"])
+def test_closed_form_single_calls_equal_the_batch(name):
+    arm = load_arm(name)
+    robot = arm[0]
+    T, q0 = targets_and_starts(robot, 40, seed=7)
+    batch = robot.ik(T, q0=q0)
+    assert batch.method != "numeric" and 0 < batch.success.sum() < len(T)
+    for i in range(len(T)):
+        single = robot.ik(T[i], q0=q0[i])
+        assert_same(single, batch, i)
+        if single.success:
+            assert pinocchio_error(arm, single.q, T[i]) < CHECK
+    # the default preference (zero, clipped into the limits) too
+    plain = robot.ik(T)
+    for i in (0, 1, 2):
+        assert_same(robot.ik(T[i]), plain, i)
+
+
+def test_scara_single_calls_equal_the_batch():
+    robot = robkin.load(SCARA)
+    T, q0 = targets_and_starts(robot, 30, seed=3)
+    batch = robot.ik(T, q0=q0)
+    assert batch.method == "scara" and 0 < batch.success.sum() < len(T)
+    for i in range(len(T)):
+        assert_same(robot.ik(T[i], q0=q0[i]), batch, i)
+    ok = batch.success
+    assert np.abs(robot.fk(batch.q[ok]) - T[ok]).max() < CHECK
+
+
+def test_numeric_single_calls_equal_a_batch_of_one():
+    arm = load_arm("panda")
+    robot = arm[0]
+    T, q0 = targets_and_starts(robot, 12, seed=5)
+    T = T[1:]                        # the first target is out of reach: keep the test quick
+    q0 = q0[1:]
+    for i in range(len(T)):
+        single = robot.ik(T[i], q0=q0[i], rng=9)
+        one = robot.ik(T[i:i + 1], q0=q0[i:i + 1], rng=9)
+        assert single.method == "numeric"
+        assert_same(single, one, 0)
+        if single.success:
+            assert pinocchio_error(arm, single.q, T[i]) < CHECK
+
+
+def test_single_call_results_are_the_callers_to_keep():
+    """Cached defaults (start, mask) never leak into results: q is a fresh, writable array."""
+    robot = load_arm("ur5")[0]
+    T = robot.fk(robot.random_q(1, rng=2)[0])
+    a = robot.ik(T)
+    a.q[:] = 99.0
+    b = robot.ik(T)
+    assert b.success and np.abs(b.q).max() < 2 * np.pi
