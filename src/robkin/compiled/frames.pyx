@@ -636,3 +636,72 @@ def robots_fk(L, revolute, Q):
             for c in range(m):
                 walk_tool(l + 16 * (n + 1) * k, r + n * k, <int>n, q + n * (m * k + c), o + 16 * (m * k + c))
     return out
+
+
+cdef void mdh_matrix_c(const double* row, double* A) noexcept nogil:
+    """Rx(alpha) Tx(a) Rz(theta) Tz(d) for row (a, d, alpha, theta)."""
+    cdef double ct = cos(row[3]), st = sin(row[3]), ca = cos(row[2]), sa = sin(row[2])
+    A[0], A[1], A[2], A[3] = ct, -st, 0.0, row[0]
+    A[4], A[5], A[6], A[7] = st * ca, ct * ca, -sa, -sa * row[1]
+    A[8], A[9], A[10], A[11] = st * sa, ct * sa, ca, ca * row[1]
+    A[12], A[13], A[14], A[15] = 0.0, 0.0, 0.0, 1.0
+
+
+def tables_fk(bint modified, base, rows, tool, revolute, sign, Q):
+    """Tool poses (B, m, 4, 4) of B standard (``modified`` false) or modified DH tables with n joints
+    each at m configurations each, from their rows: base A_1(q_1) ... A_n(q_n) tool, where a revolute
+    joint adds sign * q to theta and a prismatic one to d (``LinkTable.fk``, compiled for the
+    conversions' FK self-check).
+
+    Parameters
+    ----------
+    base, tool : (B, 4, 4) float arrays
+    rows : (B, n, 4) float array
+        (a, d, alpha, theta) per joint.
+    revolute : (B, n) bool array
+    sign : (B, n) float array
+        +1, or -1 for a flipped joint.
+    Q : (B, m, n) float array
+    """
+    cdef cnp.ndarray Ba = _f64(base), Ra = _f64(rows), Ta = _f64(tool), Sa = _f64(sign), Qa = _f64(Q)
+    cdef cnp.ndarray ra = np.ascontiguousarray(revolute, dtype=np.uint8)
+    if Qa.ndim != 3 or Ra.ndim != 3 or Ba.ndim != 3 or Ta.ndim != 3 or ra.ndim != 2 or Sa.ndim != 2:
+        raise ValueError("expected base, tool (B, 4, 4), rows (B, n, 4), revolute, sign (B, n), Q (B, m, n)")
+    cdef Py_ssize_t B = Qa.shape[0], m = Qa.shape[1], n = Qa.shape[2], k, c, i
+    if Ra.shape[0] != B or Ra.shape[1] != n or Ra.shape[2] != 4 or Ba.shape[0] != B or Ta.shape[0] != B \
+            or Ba.shape[1] != 4 or Ba.shape[2] != 4 or Ta.shape[1] != 4 or Ta.shape[2] != 4 \
+            or ra.shape[0] != B or ra.shape[1] != n or Sa.shape[0] != B or Sa.shape[1] != n:
+        raise ValueError("expected base, tool (B, 4, 4), rows (B, n, 4), revolute, sign (B, n), Q (B, m, n)")
+    out = np.empty((B, m, 4, 4))
+    cdef double* bp = _ptr(Ba)
+    cdef double* rp = _ptr(Ra)
+    cdef double* tp = _ptr(Ta)
+    cdef double* sp = _ptr(Sa)
+    cdef double* qp = _ptr(Qa)
+    cdef unsigned char* rev = <unsigned char*>cnp.PyArray_DATA(ra)
+    cdef double* o = _ptr(out)
+    cdef double row[4]
+    cdef double A[16]
+    cdef double T[16]
+    cdef double U[16]
+    cdef double q
+    with nogil:
+        for k in range(B):
+            for c in range(m):
+                tf_copy(bp + 16 * k, T)
+                for i in range(n):
+                    row[0], row[1], row[2], row[3] = (rp[4 * (n * k + i)], rp[4 * (n * k + i) + 1],
+                                                      rp[4 * (n * k + i) + 2], rp[4 * (n * k + i) + 3])
+                    q = sp[n * k + i] * qp[n * (m * k + c) + i]
+                    if rev[n * k + i]:
+                        row[3] = row[3] + q
+                    else:
+                        row[1] = row[1] + q
+                    if modified:
+                        mdh_matrix_c(row, A)
+                    else:
+                        dh_matrix_c(row, A)
+                    tf_mul(T, A, U)
+                    tf_copy(U, T)
+                tf_mul(T, tp + 16 * k, o + 16 * (m * k + c))
+    return out

@@ -26,8 +26,8 @@ import numpy as np
 from ..errors import InputError
 from ..robot import Robot, check_poses, frame_scales, local_transforms
 from .frames import relative_pose
-from .link_table import (FLIP_X, WARN_TOL, LinkTable, chain_poses, joint_links, pose_difference,
-                         report_fk_error, residual_tool, sample_configurations)
+from .link_table import (FLIP_X, WARN_TOL, LinkTable, pose_difference, report_fk_error, residual_tool,
+                         sample_configurations)
 from .rounding import snap_many
 
 __all__ = ["tables_from_robots", "place_frames"]
@@ -96,7 +96,7 @@ def tables_from_robots(cls: type[Table], robots: Sequence[Robot], *, label: bool
 def _convert_group(cls: type[Table], robots: list[Robot], idx: list[int], label: bool,
                    stacklevel: int) -> list[Table]:
     """``tables_from_robots`` for robots that all have the same joint count."""
-    from ..compiled.frames import robots_fk
+    from ..compiled.frames import robots_fk, tables_fk
 
     section = cls.SECTION
     frames = np.stack([r.frames for r in robots])  # (B, n + 1, 4, 4)
@@ -126,9 +126,7 @@ def _convert_group(cls: type[Table], robots: list[Robot], idx: list[int], label:
     # the FK self-check: each table's FK from its rows against the robot's compiled FK, at the same
     # configurations
     Q = sample_configurations(revolute, limits, scale)  # (B, m, n)
-    sign = np.where(flip, -1.0, 1.0)[:, None]
-    table_fk = chain_poses(base[:, None], joint_links(cls.link_matrix, rows[:, None], revolute[:, None], sign, Q),
-                           tool[:, None])
+    table_fk = tables_fk(section == "mdh", base, rows, tool, revolute, np.where(flip, -1.0, 1.0), Q)
     err = pose_difference(table_fk, robots_fk(local_transforms(frames), revolute, Q), scale)
     for k in np.flatnonzero(err > WARN_TOL * scale):
         report_fk_error(float(err[k]), robots[k], section, where=f"robots[{idx[k]}]: " if label else "",
