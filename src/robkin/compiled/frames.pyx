@@ -547,19 +547,20 @@ def _batch(cand, scale, keep):
     return C, S, K
 
 
-def dh_placement(cand, tool, scale, keep):
-    """Standard DH frames and rows of B robots with n joints each.
+def placement(bint modified, cand, tool, scale, keep):
+    """Standard (``modified`` false) or modified DH frames and rows of B robots with n joints each.
 
     Parameters
     ----------
     cand : (B, n, 4, 4) float array
         Each robot's joint frames, turned by pi about x for flipped joints.
     tool : (B, 4, 4) float array
-        Each robot's tool pose.
+        Each robot's tool pose (standard DH's last frame depends on it; modified DH's does not).
     scale : (B,) float array
         Each robot's size (``Robot.scale``), for the relative length tolerances.
     keep : (B,) bool array
-        Keep a robot's own frames where they satisfy the convention (they came from a DH table).
+        Keep a robot's own frames where they satisfy the convention (they came from a table of the
+        same kind).
 
     Returns
     -------
@@ -584,27 +585,11 @@ def dh_placement(cand, tool, scale, keep):
     cdef double* r = _ptr(R)
     with nogil:
         for k in range(B):
-            dh_chain(c + 16 * n * k, n, t + 16 * k, s[k], kp[k], f + 16 * (n + 1) * k, r + 4 * n * k)
+            if modified:
+                mdh_chain(c + 16 * n * k, n, s[k], kp[k], f + 16 * (n + 1) * k, r + 4 * n * k)
+            else:
+                dh_chain(c + 16 * n * k, n, t + 16 * k, s[k], kp[k], f + 16 * (n + 1) * k, r + 4 * n * k)
     return F, R
-
-
-def mdh_placement(cand, scale, keep):
-    """Modified DH frames {0}..{n} (B, n + 1, 4, 4) and rows (B, n, 4) of B robots; arguments as for
-    ``dh_placement`` (the tool plays no part: frame {n} is fixed by joint n's axis)."""
-    cdef cnp.ndarray C, S, K
-    C, S, K = _batch(cand, scale, keep)
-    cdef Py_ssize_t B = C.shape[0], n = C.shape[1], k
-    M = np.empty((B, n + 1, 4, 4))
-    R = np.empty((B, n, 4))
-    cdef double* c = _ptr(C)
-    cdef double* s = _ptr(S)
-    cdef unsigned char* kp = <unsigned char*>cnp.PyArray_DATA(K)
-    cdef double* m = _ptr(M)
-    cdef double* r = _ptr(R)
-    with nogil:
-        for k in range(B):
-            mdh_chain(c + 16 * n * k, n, s[k], kp[k], m + 16 * (n + 1) * k, r + 4 * n * k)
-    return M, R
 
 
 def robots_fk(L, revolute, Q):

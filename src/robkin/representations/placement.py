@@ -55,13 +55,11 @@ def place_frames(section: str, robots: Sequence[Robot]) -> tuple[np.ndarray, np.
 
 def _place(section: str, robots: Sequence[Robot], frames: np.ndarray, flip: np.ndarray,
            scale: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    from ..compiled.frames import dh_placement, mdh_placement
+    from ..compiled.frames import placement
 
     cand = joint_frames(frames, flip)
     keep = np.array([r.frames_from == section for r in robots])
-    if section == "dh":
-        return dh_placement(cand, frames[:, -1], scale, keep)  # type: ignore[no-any-return]
-    return mdh_placement(cand, scale, keep)  # type: ignore[no-any-return]
+    return placement(section == "mdh", cand, frames[:, -1], scale, keep)  # type: ignore[no-any-return]
 
 
 def tables_from_robots(cls: type[Table], robots: Sequence[Robot], *, label: bool = True,
