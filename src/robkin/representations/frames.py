@@ -66,7 +66,7 @@ def satisfies_normal(frame: np.ndarray, p_other: np.ndarray, u_other: np.ndarray
     (the DH requirement), to ``tol`` (cosine) and ``tol * scale`` (distance)?"""
     from ..compiled.frames import satisfies_normal as compiled
 
-    return compiled(frame, p_other, u_other, scale, tol)  # type: ignore[no-any-return]
+    return compiled(frame, p_other, u_other, scale, tol)
 
 
 def common_normal_frame(p_a: np.ndarray, u_a: np.ndarray, p_b: np.ndarray, u_b: np.ndarray, *,
@@ -130,14 +130,14 @@ def dh_params_between(prev: np.ndarray, frame: np.ndarray) -> tuple[float, float
     angles in (-pi, pi] as ``tidy_angle`` writes them."""
     from ..compiled.frames import dh_params_between as compiled
 
-    return compiled(prev, frame)  # type: ignore[no-any-return]
+    return compiled(prev, frame)
 
 
 def mdh_params_between(prev: np.ndarray, frame: np.ndarray) -> tuple[float, float, float, float]:
     """(a, d, alpha, theta) with prev^-1 frame = Rx(alpha) Tx(a) Rz(theta) Tz(d) (exact if it is MDH)."""
     from ..compiled.frames import mdh_params_between as compiled
 
-    return compiled(prev, frame)  # type: ignore[no-any-return]
+    return compiled(prev, frame)
 
 
 def approx_dh_params(prev: np.ndarray, target: np.ndarray) -> tuple[float, float, float, float]:
@@ -157,4 +157,4 @@ def approx_dh_params(prev: np.ndarray, target: np.ndarray) -> tuple[float, float
     """
     from ..compiled.frames import approx_dh_params as compiled
 
-    return compiled(prev, target)  # type: ignore[no-any-return]
+    return compiled(prev, target)

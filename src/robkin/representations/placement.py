@@ -59,7 +59,7 @@ def _place(section: str, robots: Sequence[Robot], frames: np.ndarray, flip: np.n
 
     cand = joint_frames(frames, flip)
     keep = np.array([r.frames_from == section for r in robots])
-    return placement(section == "mdh", cand, frames[:, -1], scale, keep)  # type: ignore[no-any-return]
+    return placement(section == "mdh", cand, frames[:, -1], scale, keep)
 
 
 def tables_from_robots(cls: type[Table], robots: Sequence[Robot], *, label: bool = True,
