@@ -20,14 +20,20 @@ import numpy as np
 
 cnp.import_array()
 
-# the tolerances of robkin.lines and robkin.representations.frames (reasons stated there)
-cdef double ANGLE_TOL = 1.5e-8
-cdef double LENGTH_TOL = 1e-10
-cdef double KEEP_TOL = 1e-12
-cdef double TIE_TOL = 1e-9
-# robkin.representations.mdh: a tilt of joint 1 below _NOISE_TILT is rounding noise; a frame {0}
-# farther than _FAR robot sizes from the base comes from a nearly parallel joint 1 axis
+from robkin.lines import ANGLE_TOL as _ANGLE_TOL, LENGTH_TOL as _LENGTH_TOL
+from robkin.representations.frames import KEEP_TOL as _KEEP_TOL, TIE_TOL as _TIE_TOL
+
+# the tolerances of robkin.lines and robkin.representations.frames, read from there (reasons stated there)
+cdef double ANGLE_TOL = _ANGLE_TOL
+cdef double LENGTH_TOL = _LENGTH_TOL
+cdef double KEEP_TOL = _KEEP_TOL
+cdef double TIE_TOL = _TIE_TOL
+#: sin of a tilt of joint 1 from the base z axis below which it is rounding noise of a unit vector
+#: (~1e-16 per component), not geometry: no tilted MDH base frame is made for it.
 cdef double NOISE_TILT = 1e-15
+#: An MDH frame {0} on the base z axis farther than this many robot sizes from the base comes from a
+#: joint 1 axis nearly parallel to that axis (the common normal lies ~offset / tilt away): the base is
+#: then tilted onto joint 1's axis instead, which keeps every length of the table short.
 cdef double FAR = 10.0
 
 cdef enum Relation:
@@ -492,7 +498,7 @@ def common_normal_frame(p_a, u_a, p_b, u_b, bint on_b, prev, double scale, keep=
     return out
 
 
-def satisfies_normal(frame, p_other, u_other, double scale, double tol=KEEP_TOL):
+def satisfies_normal(frame, p_other, u_other, double scale, double tol=_KEEP_TOL):
     """Does the frame's x axis cross the line (p_other, u_other) at a right angle (to tol)?"""
     cdef cnp.ndarray f = _f64(frame), p = _f64(p_other), u = _f64(u_other)
     return bool(satisfies(_ptr(f), _ptr(p), _ptr(u), scale, tol))

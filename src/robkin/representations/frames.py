@@ -30,8 +30,8 @@ __all__ = ["common_normal_frame", "frame_from_zx", "satisfies_normal", "dh_param
            "mdh_params_between", "approx_dh_params", "is_identity", "identity_mask", "x_line_on",
            "relative_pose"]
 
-#: The tolerances below, and those of ``robkin.lines``, are the compiled kernel's (compiled/frames.pyx)
-#: constants too: change them in both places.
+#: The compiled kernel (compiled/frames.pyx) reads the tolerances below and those of ``robkin.lines``
+#: when it is imported.
 #: A given frame is kept only if it satisfies the convention to rounding noise: the DH parameters read
 #: back from it then reproduce it to ~1e-12 relative, well inside the 1e-9 FK agreement we promise.
 KEEP_TOL = 1e-12

@@ -28,7 +28,7 @@ from ..robot import Robot, check_poses, frame_scales, local_transforms
 from .frames import relative_pose
 from .link_table import (FLIP_X, WARN_TOL, LinkTable, pose_difference, report_fk_error, residual_tool,
                          sample_configurations)
-from .rounding import snap_many
+from .rounding import snap_many, travel
 
 __all__ = ["tables_from_robots", "place_frames"]
 
@@ -108,10 +108,8 @@ def _convert_group(cls: type[Table], robots: list[Robot], idx: list[int], label:
     base, last = F[:, 0], F[:, -1]
     snap = np.array([r.frames_from != section for r in robots])
     if snap.any():
-        # a prismatic joint's travel is its largest limit (``rounding.joint_travel``)
-        travel = np.where(revolute, 0.0, np.abs(limits).max(axis=-1))
-        rows[snap] = snap_many(rows[snap], travel[snap], relative_pose(last[snap], tool_pose[snap]),
-                               scale[snap])
+        rows[snap] = snap_many(rows[snap], travel(revolute[snap], limits[snap]),
+                               relative_pose(last[snap], tool_pose[snap]), scale[snap])
     tool = residual_tool(base, rows, cls.link_matrix, tool_pose, scale)
     if not np.isfinite(rows).all():  # cannot happen for a valid robot: let the table explain
         bad = int(np.flatnonzero(~np.isfinite(rows).all(axis=(1, 2)))[0])

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..robot import Joint
 
-__all__ = ["SNAP_WINDOW", "SNAP_BUDGET", "snap_rows", "snap_many", "joint_travel"]
+__all__ = ["SNAP_WINDOW", "SNAP_BUDGET", "snap_rows", "snap_many", "joint_travel", "travel"]
 
 #: Only values this close (radians, or relative to the robot's size for lengths) to a round one are
 #: candidates: far above the rounding noise of the frame algebra (~1e-15 relative) and of inputs
@@ -35,9 +35,14 @@ _QUARTER = math.pi / 2
 def joint_travel(joints: Sequence[Joint]) -> np.ndarray:
     """How far each joint moves its successors along its axis (n,): 0 for a revolute joint, the largest
     limit of a prismatic one (infinite if it has none)."""
-    return np.array([0.0 if j.revolute else max(abs(j.lower if j.lower is not None else math.inf),
-                                                abs(j.upper if j.upper is not None else math.inf))
-                     for j in joints])
+    limits = np.array([[-math.inf if j.lower is None else j.lower, math.inf if j.upper is None else j.upper]
+                       for j in joints])
+    return travel(np.array([j.revolute for j in joints], dtype=bool), limits)
+
+
+def travel(revolute: np.ndarray, limits: np.ndarray) -> np.ndarray:
+    """``joint_travel`` from joint types (..., n) and limits (..., n, 2) (-inf / +inf where none)."""
+    return np.where(revolute, 0.0, np.abs(limits).max(axis=-1))
 
 
 def _levers(rows: np.ndarray, travel: np.ndarray, tool: np.ndarray, scale: np.ndarray) -> np.ndarray:
