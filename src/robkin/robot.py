@@ -167,7 +167,8 @@ def frame_scales(frames: np.ndarray) -> np.ndarray:
     """``Robot.scale`` of B robots at once from their GJD frames (B, n+1, 4, 4): (B,) lengths."""
     p, z = frames[:, :-1, :3, 3], frames[:, :-1, :3, 2]
     feet = p - np.einsum("bij,bij->bi", p, z)[..., None] * z
-    s = np.maximum(np.linalg.norm(frames[:, -1, :3, 3], axis=-1), np.linalg.norm(feet, axis=-1).max(axis=-1))
+    s = np.maximum(np.linalg.norm(frames[:, -1, :3, 3], axis=-1),
+                   np.linalg.norm(feet, axis=-1).max(axis=-1))
     # Every axis through the base origin and the tool at it, up to rounding (a robot along one
     # line: coincident axes offset only along them): the axis distances are rounding noise
     # (seen: 1e-28) and say nothing about size, while the frame origins along the axes do.

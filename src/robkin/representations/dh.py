@@ -21,7 +21,8 @@ from .frames import dh_params_between
 from .link_table import COLUMNS, LinkTable, check_dh_rows, flip_frame
 from .placement import place_frames, tables_from_robots
 
-__all__ = ["DHTable", "dh_from_robot", "dh_from_robots", "robot_from_dh", "check_dh_rows", "flip_frame", "COLUMNS"]
+__all__ = ["DHTable", "dh_from_robot", "dh_from_robots", "robot_from_dh", "check_dh_rows", "flip_frame",
+           "COLUMNS"]
 
 
 @dataclass(frozen=True, eq=False)

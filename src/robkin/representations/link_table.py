@@ -18,9 +18,8 @@ from ..robot import Joint, Robot, check_pose, check_q
 from .frames import identity_mask, is_identity, relative_pose
 
 __all__ = ["LinkTable", "check_dh_rows", "flip_frame", "residual_tool", "fk_error", "warn_fk_error",
-           "report_fk_error", "check_configurations", "sample_configurations", "pose_difference", "joint_signs", "joint_links",
-           "chain_poses",
-           "placement_notes", "COLUMNS", "WARN_TOL"]
+           "report_fk_error", "check_configurations", "sample_configurations", "pose_difference",
+           "joint_signs", "joint_links", "chain_poses", "placement_notes", "COLUMNS", "FLIP_X", "WARN_TOL"]
 
 COLUMNS = ("a", "d", "alpha", "theta")
 #: The turn by pi about x that takes a joint frame to a flipped joint's frame (``flip_frame``).
@@ -143,7 +142,8 @@ def warn_fk_error(fk: Callable[[np.ndarray], np.ndarray], robot: Robot, section:
     return err
 
 
-def report_fk_error(err: float, robot: Robot, section: str, *, where: str = "", stacklevel: int = 3) -> None:
+def report_fk_error(err: float, robot: Robot, section: str, *, where: str = "",
+                    stacklevel: int = 3) -> None:
     """Issue a ConditioningWarning stating a measured ``fk_error`` when it is above WARN_TOL (relative to
     the robot's size), saying why (nearly parallel axes, or rounding); ``where`` prefixes the message
     (which robot of a batch)."""
@@ -159,8 +159,8 @@ def report_fk_error(err: float, robot: Robot, section: str, *, where: str = "", 
         why = (", ".join(tilts) if tilts else
                "of rounding in the table's parameters")
         hint = "" if section == "hayati" else "; the hayati table is exact there"
-        warnings.warn(f"{where}{section}: this table reproduces the robot's FK only to {err:.2g} (robot size "
-                      f"{robot.scale:.3g}; measured at q = 0 and {_CHECK_SAMPLES} configurations) because "
+        warnings.warn(f"{where}{section}: this table reproduces the robot's FK only to {err:.2g} (robot "
+                      f"size {robot.scale:.3g}; measured at q = 0 and {_CHECK_SAMPLES} configurations) because "
                       f"{why}{hint}", ConditioningWarning, stacklevel=stacklevel)
 
 
@@ -239,7 +239,8 @@ class LinkTable:
     def link_transforms(self, q: ArrayLike) -> np.ndarray:
         """A_i(q_i) for q (..., n) -> (..., n, 4, 4): revolute joints add to theta, prismatic to d
         (flipped joints subtract)."""
-        return joint_links(type(self).link_matrix, self.rows, *joint_signs(self.joints), np.asarray(q, dtype=float))
+        revolute, sign = joint_signs(self.joints)
+        return joint_links(type(self).link_matrix, self.rows, revolute, sign, np.asarray(q, dtype=float))
 
     def fk(self, q: ArrayLike) -> np.ndarray:
         """Tool pose: q (n,) -> (4, 4) or (N, n) -> (N, 4, 4), evaluated from the table itself."""
