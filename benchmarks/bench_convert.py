@@ -1,16 +1,19 @@
-"""Conversion benchmark: how long one table costs, per robot, and where the time goes.
+"""Conversion benchmark: how long one table costs, per robot, single and batch, and where the time goes.
 
 For random 6-joint robots (random RPY-XYZ rows: skew axes, the common case of synthesis candidates)
 and for example-robot-data's UR5, it times ``dh_from_robot``, ``mdh_from_robot`` and
-``hayati_from_robot`` (median of interleaved rounds, one thread), and splits ``dh_from_robot`` into
-its stages: frame placement, parameter extraction, rounding of near-round values, residual tool,
-table construction (validation) and the FK check that measures the table's error.
+``hayati_from_robot`` one robot per call, and ``dh_from_robots`` / ``mdh_from_robots`` on the whole
+list (median of interleaved rounds, one thread); then ``--batch`` (default 10^4) fresh robots, never
+converted before (so their cached ``Robot`` properties are not yet computed, as for the candidates
+of a synthesis run), through the batch API once. Finally it splits the single call into its stages:
+frame placement (compiled), rounding of near-round values, residual tool, pose validation and the
+FK check that measures the table's error.
 
 The goal (issue 10) is 0.2 ms per 6-joint robot, or 10^4 robots per second through a batch API.
 
 usage:
-  python benchmarks/bench_convert.py              # 200 random robots, 5 rounds
-  python benchmarks/bench_convert.py --robots 50 --rounds 3
+  python benchmarks/bench_convert.py              # 200 random robots, 5 rounds, a batch of 10^4
+  python benchmarks/bench_convert.py --robots 50 --rounds 3 --batch 1000
 """
 
 from __future__ import annotations
@@ -27,10 +30,11 @@ import numpy as np
 
 import robkin
 from robkin import se3
-from robkin.representations.dh import dh_frames
-from robkin.representations.frames import dh_params_between
-from robkin.representations.link_table import fk_error, residual_tool
-from robkin.representations.rounding import snap_rows
+from robkin.representations.frames import relative_pose
+from robkin.representations.link_table import pose_difference, residual_tool, sample_configurations
+from robkin.representations.placement import place_frames
+from robkin.representations.rounding import joint_travel, snap_many
+from robkin.robot import check_poses, local_transforms
 from robkin.representations.rpy_xyz import RPYTable
 
 
@@ -55,20 +59,31 @@ def per_robot_ms(fn, robots, rounds: int) -> float:
     return statistics.median(times)
 
 
+def fk_check(robot: robkin.Robot, rows: np.ndarray, base: np.ndarray, tool: np.ndarray) -> np.ndarray:
+    """The FK self-check of the conversions (as ``placement._convert_group`` runs it) for one robot."""
+    from robkin.compiled.frames import robots_fk, tables_fk
+
+    revolute, limits, scale = robot.revolute[None], robot.limits[None], np.array([robot.scale])
+    Q = sample_configurations(revolute, limits, scale)
+    sign = np.array([[-1.0 if j.flip else 1.0 for j in robot.joints]])
+    return pose_difference(tables_fk(False, base, rows, tool, revolute, sign, Q),
+                           robots_fk(local_transforms(robot.frames[None]), revolute, Q), scale)
+
+
 def stages(robot: robkin.Robot) -> dict:
     """Callables for each stage of dh_from_robot on one robot (inputs precomputed)."""
-    F, last = dh_frames(robot)
-    chain = list(F) + [last]
-    rows = np.array([dh_params_between(chain[i], chain[i + 1]) for i in range(robot.n)])
-    tool = residual_tool(F[0], rows, se3.dh_matrix, robot.tool, robot.scale)
-    table = robkin.DHTable(rows, robot.joints, base=F[0], tool=tool)
+    F, rows = place_frames("dh", [robot])
+    base, last = F[:, 0], F[:, -1]
+    travel = joint_travel(robot.joints)[None]
+    tool_pose = robot.tool[None]
+    scale = np.array([robot.scale])
+    tool = residual_tool(base, rows, se3.dh_matrix, tool_pose, scale)
     return {
-        "frame placement": lambda: dh_frames(robot),
-        "parameters": lambda: [dh_params_between(chain[i], chain[i + 1]) for i in range(robot.n)],
-        "round values": lambda: snap_rows(rows, robot.joints, np.eye(4), robot.scale),
-        "residual tool": lambda: residual_tool(F[0], rows, se3.dh_matrix, robot.tool, robot.scale),
-        "table (validation)": lambda: robkin.DHTable(rows, robot.joints, base=F[0], tool=tool),
-        "FK check": lambda: fk_error(table.fk, robot),
+        "frame placement": lambda: place_frames("dh", [robot]),
+        "round values": lambda: snap_many(rows, travel, relative_pose(last, tool_pose), scale),
+        "residual tool": lambda: residual_tool(base, rows, se3.dh_matrix, tool_pose, scale),
+        "pose validation": lambda: check_poses(np.concatenate([base, tool]), str),
+        "FK check": lambda: fk_check(robot, rows, base, tool),
     }
 
 
@@ -76,6 +91,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--robots", type=int, default=200)
     ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--batch", type=int, default=10_000, help="fresh robots converted in one batch call")
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")  # random robots may have nearly parallel axes: warnings are not timed
     robots = random_robots(args.robots)
@@ -85,6 +101,19 @@ def main(argv: list[str] | None = None) -> int:
     for fn in (robkin.dh_from_robot, robkin.mdh_from_robot, robkin.hayati_from_robot):
         ms = per_robot_ms(fn, robots, args.rounds)
         print(f"  {fn.__name__:20s} {ms:7.3f} ms   ({1e3 / ms:7.0f} robots/s)")
+    for fn in (robkin.dh_from_robots, robkin.mdh_from_robots):
+        ms = per_robot_ms(lambda rs: fn(rs), [robots], args.rounds) / len(robots)
+        print(f"  {fn.__name__:20s} {ms:7.3f} ms   ({1e3 / ms:7.0f} robots/s)  ({args.robots} robots per call)")
+    if args.batch:
+        print(f"\n{args.batch} fresh random 6-joint robots, one batch call each:")
+        for fn in (robkin.dh_from_robots, robkin.mdh_from_robots):
+            fresh = random_robots(args.batch, seed=1 + (fn is robkin.mdh_from_robots))
+            t, c = time.perf_counter(), time.process_time()
+            fn(fresh)
+            s, cpu = time.perf_counter() - t, time.process_time() - c
+            # CPU time as well: on a shared machine the wall time includes waiting for a core
+            print(f"  {fn.__name__:20s} {s:7.3f} s    ({args.batch / s:7.0f} robots/s)   CPU {cpu:.3f} s "
+                  f"({args.batch / cpu:7.0f} robots/s)")
     print("\ndh_from_robot by stage, ms per robot:")
     parts = [stages(r) for r in robots[: max(1, args.robots // 4)]]
     for name in parts[0]:

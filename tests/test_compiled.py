@@ -1,7 +1,8 @@
 """The compiled core is loaded lazily: `import robkin` and `robkin info` never import it; the first
 kinematics call does. ``check`` confirms its verdict by FK at random configurations and ``convert``
 measures every DH/MDH/Hayati table it writes against the robot's FK (its near-parallel warnings state
-that error), so both load the FK module alone (~0.6 ms) and nothing else."""
+that error), so both load the FK module (~0.6 ms); ``convert`` to a DH-type table also loads the frame
+placement (``robkin.compiled.frames``), and nothing else."""
 
 from __future__ import annotations
 
@@ -29,7 +30,8 @@ def test_import_and_non_kinematic_commands_do_not_load_the_compiled_core():
     assert _loaded_after("import robkin") == []
     assert _loaded_after(command("info", str(EXAMPLE))) == []
     assert _loaded_after(command("convert", str(EXAMPLE), "--to", "poe")) == []
-    assert _loaded_after(command("convert", str(EXAMPLE), "--to", "dh")) == ["robkin.compiled.fk"]
+    assert _loaded_after(command("convert", str(EXAMPLE), "--to", "dh")) == ["robkin.compiled.fk",
+                                                                              "robkin.compiled.frames"]
     check = ("from robkin.cli import main\nwith contextlib.redirect_stdout(io.StringIO()):\n"
              f"    main(['check', {str(EXAMPLE)!r}, {str(EXAMPLE)!r}])")
     assert _loaded_after(check) == ["robkin.compiled.fk"]

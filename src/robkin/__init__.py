@@ -27,7 +27,8 @@ import os
 from .errors import ConditioningWarning, InputError, ProjectionWarning, RobkinError
 from .robot import Joint, Robot
 from .representations import (DHTable, HayatiTable, MDHTable, PoE, RPYTable, dh_from_robot,
-                              hayati_from_robot, mdh_from_robot, poe_from_robot, robot_from_dh,
+                              dh_from_robots, hayati_from_robot, mdh_from_robot, mdh_from_robots,
+                              poe_from_robot, robot_from_dh,
                               robot_from_gjd, robot_from_hayati, robot_from_mdh, robot_from_poe,
                               robot_from_rpy, rpy_from_robot)
 
@@ -35,7 +36,8 @@ __version__ = "0.1.0"
 
 __all__ = [
     "Joint", "Robot", "DHTable", "MDHTable", "HayatiTable", "PoE", "RPYTable",
-    "dh_from_robot", "mdh_from_robot", "hayati_from_robot", "poe_from_robot", "rpy_from_robot",
+    "dh_from_robot", "dh_from_robots", "mdh_from_robot", "mdh_from_robots", "hayati_from_robot",
+    "poe_from_robot", "rpy_from_robot",
     "robot_from_dh", "robot_from_mdh", "robot_from_hayati", "robot_from_poe", "robot_from_rpy",
     "robot_from_gjd",
     "RobkinError", "InputError", "ProjectionWarning", "ConditioningWarning", "load", "__version__",

@@ -11,17 +11,18 @@ a DH table is its frames {0}..{n-1} plus the tool.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, ClassVar
+from typing import Callable, ClassVar, Iterable
 
 import numpy as np
 
 from .. import se3
 from ..robot import Robot
-from .frames import approx_dh_params, common_normal_frame, dh_params_between, relative_pose, satisfies_normal
-from .link_table import COLUMNS, LinkTable, check_dh_rows, flip_frame, residual_tool, warn_fk_error
-from .rounding import snap_rows
+from .frames import dh_params_between
+from .link_table import COLUMNS, LinkTable, check_dh_rows, flip_frame
+from .placement import place_frames, tables_from_robots
 
-__all__ = ["DHTable", "dh_from_robot", "robot_from_dh", "check_dh_rows", "flip_frame", "COLUMNS"]
+__all__ = ["DHTable", "dh_from_robot", "dh_from_robots", "robot_from_dh", "check_dh_rows", "flip_frame",
+           "COLUMNS"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,23 +73,12 @@ def dh_frames(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     one fixed DH row, and the identity when joint 1's axis is the base z axis. The robot's own frames
     are kept (when they satisfy the convention) only if they are a DH table's frames
     (``robot.frames_from == 'dh'``), so a DH table read in comes back unchanged; frames from any
-    other input are placed by the canonical rules of ``frames.common_normal_frame``.
+    other input are placed by the canonical rules of ``frames.common_normal_frame``. The last frame
+    is the tool when its x axis crosses joint n's axis at a right angle, else the paper's
+    approximating row (``frames.approx_dh_params``) from frame {n-1}.
     """
-    n, scale = robot.n, robot.scale
-    cand = np.stack([flip_frame(robot.frames[i], j.flip) for i, j in enumerate(robot.joints)])
-    keep = robot.frames_from == "dh"
-    F = np.empty((n, 4, 4))
-    prev = np.eye(4)
-    for i in range(n):
-        F[i] = common_normal_frame(prev[:3, 3], prev[:3, 2], cand[i, :3, 3], cand[i, :3, 2],
-                                   on="b", prev=prev, scale=scale, keep=cand[i] if keep else None)
-        prev = F[i]
-    tool = robot.tool
-    if satisfies_normal(tool, prev[:3, 3], prev[:3, 2], scale):
-        last = tool
-    else:
-        last = prev @ se3.dh_matrix(*approx_dh_params(prev, tool))
-    return F, last
+    F, _ = place_frames("dh", [robot])
+    return F[0, :-1], F[0, -1]
 
 
 def dh_from_robot(robot: Robot) -> DHTable:
@@ -96,14 +86,27 @@ def dh_from_robot(robot: Robot) -> DHTable:
 
     Values within rounding of 0 or of a multiple of pi/2 are written exactly (``rounding.snap_rows``);
     where the table cannot reproduce FK to WARN_TOL (nearly parallel axes) a ConditioningWarning
-    states the error it has.
+    states the error it has. The same as ``dh_from_robots([robot])[0]``.
     """
-    F, last = dh_frames(robot)
-    chain = list(F) + [last]
-    rows = np.array([dh_params_between(chain[i], chain[i + 1]) for i in range(robot.n)])
-    if robot.frames_from != "dh":
-        rows = snap_rows(rows, robot.joints, relative_pose(last, robot.tool), robot.scale)
-    tool = residual_tool(F[0], rows, se3.dh_matrix, robot.tool, robot.scale)
-    table = DHTable(rows, robot.joints, base=F[0], tool=tool)
-    warn_fk_error(table.fk, robot, "dh")
-    return table
+    return tables_from_robots(DHTable, [robot], label=False)[0]
+
+
+def dh_from_robots(robots: Iterable[Robot]) -> list[DHTable]:
+    """Standard DH tables of many robots at once (e.g. the candidates of a synthesis run), in order.
+
+    Each table is the one ``dh_from_robot`` gives for that robot, bit for bit; converted together, the
+    robots cost a fraction of one call each (robots with the same joint count go through every stage
+    as whole arrays). A table that reproduces its robot's FK only to more than WARN_TOL gets a
+    ConditioningWarning starting with ``robots[i]:``.
+
+    Parameters
+    ----------
+    robots : iterable of Robot
+        Any joint counts.
+
+    Returns
+    -------
+    list of DHTable
+        One per robot, in the order given.
+    """
+    return tables_from_robots(DHTable, list(robots))

@@ -7,7 +7,7 @@ which frame a joint's GJD frame is; everything else lives here once.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Callable, ClassVar
+from typing import Any, Callable, ClassVar, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -15,18 +15,20 @@ from numpy.typing import ArrayLike
 from .. import se3
 from ..errors import InputError
 from ..robot import Joint, Robot, check_pose, check_q
-from .frames import is_identity, relative_pose
+from .frames import identity_mask, is_identity, relative_pose
 
 __all__ = ["LinkTable", "check_dh_rows", "flip_frame", "residual_tool", "fk_error", "warn_fk_error",
-           "placement_notes", "COLUMNS", "WARN_TOL"]
+           "report_fk_error", "check_configurations", "sample_configurations", "pose_difference",
+           "joint_signs", "joint_links", "chain_poses", "placement_notes", "COLUMNS", "FLIP_X", "WARN_TOL"]
 
 COLUMNS = ("a", "d", "alpha", "theta")
-_FLIP = se3.rot_x(np.pi)
+#: The turn by pi about x that takes a joint frame to a flipped joint's frame (``flip_frame``).
+FLIP_X = se3.rot_x(np.pi)
 
 
 def flip_frame(frame: np.ndarray, flip: bool) -> np.ndarray:
     """A joint frame turned by pi about x when the joint moves against its frame's z (``flip``)."""
-    return frame @ _FLIP if flip else frame
+    return frame @ FLIP_X if flip else frame
 
 
 def check_dh_rows(rows: ArrayLike, n: int | None = None, field_name: str = "dh.rows",
@@ -49,17 +51,20 @@ def check_dh_rows(rows: ArrayLike, n: int | None = None, field_name: str = "dh.r
 
 
 def residual_tool(base: np.ndarray, rows: np.ndarray, link_matrix: Callable[..., np.ndarray],
-                  tool_pose: np.ndarray, scale: float) -> np.ndarray:
+                  tool_pose: np.ndarray, scale: float | np.ndarray) -> np.ndarray:
     """The tool transform that makes base * A_1(0) ... A_n(0) * tool equal ``tool_pose`` exactly.
 
     Computed from the rows as written (not from the frames they came from), so the table reproduces the
     GJD tool to rounding; a residual that is the identity to rounding is returned as the identity.
+    Batched over leading axes: base and tool_pose (..., 4, 4), rows (..., n, k), scale (...).
     """
+    A = link_matrix(*np.moveaxis(rows, -1, 0))
     T = base
-    for A in link_matrix(*rows.T):
-        T = T @ A
+    for i in range(rows.shape[-2]):
+        T = T @ A[..., i, :, :]
     tool = relative_pose(T, tool_pose)
-    return np.eye(4) if is_identity(tool, scale) else tool
+    tool[identity_mask(tool, np.asarray(scale))] = np.eye(4)
+    return tool
 
 
 #: A table whose FK differs from the robot's by more than this (relative to the robot's size) at any
@@ -87,24 +92,61 @@ def _unit_sample(n: int) -> np.ndarray:
     return U
 
 
+def check_configurations(robot: Robot) -> np.ndarray:
+    """The configurations (1 + _CHECK_SAMPLES, n) at which a converted table is compared with the
+    robot (``sample_configurations`` of one robot)."""
+    return sample_configurations(robot.revolute[None], robot.limits[None], np.array([robot.scale]))[0]
+
+
+def sample_configurations(revolute: np.ndarray, limits: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """The check configurations (B, 1 + _CHECK_SAMPLES, n) of B robots with n joints each: q = 0, then
+    the fixed sample scaled to each joint's range (revolute within [-pi, pi], prismatic within +-1
+    robot size, both inside the joint's limits).
+
+    Parameters
+    ----------
+    revolute : (B, n) bool array
+    limits : (B, n, 2) array
+        Lower and upper limits, -inf / +inf where none are given.
+    scale : (B,) array
+        Each robot's size.
+    """
+    B, n = revolute.shape
+    span = np.where(revolute, np.pi, scale[:, None])
+    lo = np.where(np.isfinite(limits[..., 0]), np.maximum(limits[..., 0], -span), -span)
+    hi = np.where(np.isfinite(limits[..., 1]), np.minimum(limits[..., 1], span), span)
+    Q = np.zeros((B, 1 + _CHECK_SAMPLES, n))
+    Q[:, 1:] = lo[:, None] + _unit_sample(n) * (hi - lo)[:, None]
+    return Q
+
+
+def pose_difference(A: np.ndarray, B: np.ndarray, scale: float | np.ndarray) -> np.ndarray:
+    """Largest difference of two pose sets (..., m, 4, 4) over their m poses, in length units (...):
+    position difference plus the rotation difference (largest matrix entry) times ``scale`` (...)."""
+    pos = np.linalg.norm(A[..., :3, 3] - B[..., :3, 3], axis=-1)
+    rot = np.abs(A[..., :3, :3] - B[..., :3, :3]).max(axis=(-2, -1))
+    return (pos + rot * np.asarray(scale)[..., None]).max(axis=-1)
+
+
 def fk_error(fk: Callable[[np.ndarray], np.ndarray], robot: Robot) -> float:
-    """Largest FK difference of a table from the robot, in length units: position difference plus
-    the rotation difference (largest matrix entry) times the robot's size, over q = 0 and a fixed
-    sample of configurations."""
-    lim = robot.limits
-    span = np.where(robot.revolute, np.pi, robot.scale)
-    lo = np.where(np.isfinite(lim[:, 0]), np.maximum(lim[:, 0], -span), -span)
-    hi = np.where(np.isfinite(lim[:, 1]), np.minimum(lim[:, 1], span), span)
-    Q = np.vstack([np.zeros(robot.n), lo + _unit_sample(robot.n) * (hi - lo)])
-    A, B = fk(Q), robot.fk(Q)
-    pos = np.linalg.norm(A[:, :3, 3] - B[:, :3, 3], axis=1)
-    rot = np.abs(A[:, :3, :3] - B[:, :3, :3]).max(axis=(1, 2))
-    return float((pos + rot * robot.scale).max())
+    """Largest FK difference of a table from the robot, in length units (``pose_difference``), over
+    the ``check_configurations``."""
+    Q = check_configurations(robot)
+    return float(pose_difference(fk(Q), robot.fk(Q), robot.scale))
 
 
 def warn_fk_error(fk: Callable[[np.ndarray], np.ndarray], robot: Robot, section: str) -> float:
     """Measure ``fk_error`` and issue a ConditioningWarning stating it when above WARN_TOL; returns it."""
     err = fk_error(fk, robot)
+    report_fk_error(err, robot, section, stacklevel=4)
+    return err
+
+
+def report_fk_error(err: float, robot: Robot, section: str, *, where: str = "",
+                    stacklevel: int = 3) -> None:
+    """Issue a ConditioningWarning stating a measured ``fk_error`` when it is above WARN_TOL (relative to
+    the robot's size), saying why (nearly parallel axes, or rounding); ``where`` prefixes the message
+    (which robot of a batch)."""
     if err > WARN_TOL * robot.scale:
         import warnings
 
@@ -117,10 +159,9 @@ def warn_fk_error(fk: Callable[[np.ndarray], np.ndarray], robot: Robot, section:
         why = (", ".join(tilts) if tilts else
                "of rounding in the table's parameters")
         hint = "" if section == "hayati" else "; the hayati table is exact there"
-        warnings.warn(f"{section}: this table reproduces the robot's FK only to {err:.2g} (robot size "
-                      f"{robot.scale:.3g}; measured at q = 0 and {_CHECK_SAMPLES} configurations) because "
-                      f"{why}{hint}", ConditioningWarning, stacklevel=3)
-    return err
+        warnings.warn(f"{where}{section}: this table reproduces the robot's FK only to {err:.2g} (robot "
+                      f"size {robot.scale:.3g}; measured at q = 0 and {_CHECK_SAMPLES} configurations) because "
+                      f"{why}{hint}", ConditioningWarning, stacklevel=stacklevel)
 
 
 def _tilted_pairs(robot: Robot, below: float) -> list[str]:
@@ -198,18 +239,44 @@ class LinkTable:
     def link_transforms(self, q: ArrayLike) -> np.ndarray:
         """A_i(q_i) for q (..., n) -> (..., n, 4, 4): revolute joints add to theta, prismatic to d
         (flipped joints subtract)."""
-        Q = np.asarray(q, dtype=float)
-        rev = np.array([j.revolute for j in self.joints])
-        sign = np.array([-1.0 if j.flip else 1.0 for j in self.joints])
-        a, d, alpha, theta, *extra = self.rows.T
-        return type(self).link_matrix(a, d + np.where(rev, 0.0, sign * Q), alpha,
-                                      theta + np.where(rev, sign * Q, 0.0), *extra)
+        revolute, sign = joint_signs(self.joints)
+        return joint_links(type(self).link_matrix, self.rows, revolute, sign, np.asarray(q, dtype=float))
 
     def fk(self, q: ArrayLike) -> np.ndarray:
         """Tool pose: q (n,) -> (4, 4) or (N, n) -> (N, 4, 4), evaluated from the table itself."""
         Q = check_q(q, self.n)
-        A = self.link_transforms(Q)
-        T = np.broadcast_to(self.base, Q.shape[:-1] + (4, 4))
-        for i in range(self.n):
-            T = T @ A[..., i, :, :]
-        return T @ self.tool
+        return chain_poses(self.base, self.link_transforms(Q), self.tool)
+
+    @classmethod
+    def _from_checked(cls, rows: np.ndarray, joints: tuple[Joint, ...], base: np.ndarray,
+                      tool: np.ndarray) -> "LinkTable":
+        """A table from parts already validated as ``__post_init__`` would (finite float rows of the
+        right shape, poses through ``check_pose(s)``), without validating them again."""
+        table = cls.__new__(cls)
+        for name, value in (("rows", rows), ("joints", joints), ("base", base), ("tool", tool)):
+            object.__setattr__(table, name, value)
+        return table
+
+
+def joint_signs(joints: Sequence[Joint]) -> tuple[np.ndarray, np.ndarray]:
+    """Which joints are revolute (n,) bool, and the sign (n,) with which each adds its value (-1 for a
+    flipped joint)."""
+    return (np.array([j.revolute for j in joints], dtype=bool),
+            np.array([-1.0 if j.flip else 1.0 for j in joints]))
+
+
+def joint_links(link_matrix: Callable[..., np.ndarray], rows: np.ndarray, revolute: np.ndarray,
+                sign: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """Link transforms (..., n, 4, 4) of rows (..., n, k) at joint values Q (..., n), all broadcast
+    together with ``joint_signs`` (..., n): revolute joints add to theta, prismatic ones to d."""
+    a, d, alpha, theta, *extra = np.moveaxis(rows, -1, 0)
+    return link_matrix(a, d + np.where(revolute, 0.0, sign * Q), alpha,
+                       theta + np.where(revolute, sign * Q, 0.0), *extra)
+
+
+def chain_poses(base: np.ndarray, links: np.ndarray, tool: np.ndarray) -> np.ndarray:
+    """base A_1 ... A_n tool for links (..., n, 4, 4) and base, tool broadcastable to (..., 4, 4)."""
+    T = np.broadcast_to(base, links.shape[:-3] + (4, 4))
+    for i in range(links.shape[-3]):
+        T = T @ links[..., i, :, :]
+    return T @ tool

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..robot import Joint
 
-__all__ = ["SNAP_WINDOW", "SNAP_BUDGET", "snap_rows"]
+__all__ = ["SNAP_WINDOW", "SNAP_BUDGET", "snap_rows", "snap_many", "joint_travel", "travel"]
 
 #: Only values this close (radians, or relative to the robot's size for lengths) to a round one are
 #: candidates: far above the rounding noise of the frame algebra (~1e-15 relative) and of inputs
@@ -32,26 +32,33 @@ SNAP_BUDGET = 1e-12
 _QUARTER = math.pi / 2
 
 
-def _levers(rows: np.ndarray, joints: Sequence[Joint], tool: np.ndarray, scale: float) -> np.ndarray:
-    """For each row i, a bound on how far any point from row i to the tool lies from row i's frames.
-
-    The sum of |a| + |d| over rows i..n, plus the travel of every prismatic joint among them (its
-    largest limit; unbounded if it has none), plus the tool's offset. Turning row i's alpha or theta by
-    delta moves the tool by at most delta times this, at every configuration.
-    """
-    n = len(joints)
-    own = np.abs(rows[:, 0]) + np.abs(rows[:, 1])
-    travel = np.array([0.0 if j.revolute else max(abs(j.lower if j.lower is not None else math.inf),
-                                                    abs(j.upper if j.upper is not None else math.inf))
+def joint_travel(joints: Sequence[Joint]) -> np.ndarray:
+    """How far each joint moves its successors along its axis (n,): 0 for a revolute joint, the largest
+    limit of a prismatic one (infinite if it has none)."""
+    limits = np.array([[-math.inf if j.lower is None else j.lower, math.inf if j.upper is None else j.upper]
                        for j in joints])
-    tail = own + travel
-    levers = np.empty(n)
-    acc = float(np.linalg.norm(tool[:3, 3]))
-    for i in range(n - 1, -1, -1):
-        acc += float(tail[i])
-        levers[i] = acc
+    return travel(np.array([j.revolute for j in joints], dtype=bool), limits)
+
+
+def travel(revolute: np.ndarray, limits: np.ndarray) -> np.ndarray:
+    """``joint_travel`` from joint types (..., n) and limits (..., n, 2) (-inf / +inf where none)."""
+    return np.where(revolute, 0.0, np.abs(limits).max(axis=-1))
+
+
+def _levers(rows: np.ndarray, travel: np.ndarray, tool: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """For each row i (B robots, (B, n)), a bound on how far any point from row i to the tool lies from
+    row i's frames.
+
+    The sum of |a| + |d| over rows i..n, plus the travel of every prismatic joint among them, plus the
+    tool's offset. Turning row i's alpha or theta by delta moves the tool by at most delta times this,
+    at every configuration.
+    """
+    tail = np.abs(rows[..., 0]) + np.abs(rows[..., 1]) + travel
+    # summed from the tool backwards, the tool's offset first (a running sum, in that order)
+    acc = np.concatenate([np.linalg.norm(tool[:, :3, 3], axis=1)[:, None], tail[:, ::-1]], axis=1)
+    levers = np.cumsum(acc, axis=1)[:, :0:-1]
     # a rotation's own effect on the tool's orientation, in length units of the robot's size
-    return np.maximum(levers, scale)
+    return np.maximum(levers, scale[:, None])
 
 
 def snap_rows(rows: np.ndarray, joints: Sequence[Joint], tool: np.ndarray, scale: float,
@@ -76,24 +83,55 @@ def snap_rows(rows: np.ndarray, joints: Sequence[Joint], tool: np.ndarray, scale
     (n, k) array
         A copy; candidates are taken cheapest first while the summed bound stays below the budget.
     """
+    return snap_many(np.asarray(rows, dtype=float)[None], joint_travel(joints)[None], tool[None],
+                     np.array([scale]), budget)[0]
+
+
+def snap_many(rows: np.ndarray, travel: np.ndarray, tool: np.ndarray, scale: np.ndarray,
+              budget: float = SNAP_BUDGET) -> np.ndarray:
+    """``snap_rows`` for B robots with n joints each at once.
+
+    Parameters
+    ----------
+    rows : (B, n, k) array
+        Each robot's rows (lengths a, d, then angles in radians).
+    travel : (B, n) array
+        ``joint_travel`` of each robot's joints.
+    tool : (B, 4, 4) array
+        The tool transform after each robot's last row.
+    scale : (B,) array
+        Each robot's size.
+    budget : float
+        Total FK change allowed per robot, relative to its size.
+
+    Returns
+    -------
+    (B, n, k) array
+        A copy with each robot's candidates taken cheapest first (ties in row-major order) while its
+        summed bound stays below its budget.
+    """
     out = np.array(rows, dtype=float)
-    levers = _levers(out, joints, tool, scale)
-    cands: list[tuple[float, int, int, float]] = []
-    for i, row in enumerate(out):
-        for j, v in enumerate(row):
-            if j < 2:  # lengths: a change moves the tool by exactly that much
-                target, window, lever = 0.0, SNAP_WINDOW * scale, 1.0
-            else:
-                target, window, lever = _QUARTER * round(v / _QUARTER) + 0.0, SNAP_WINDOW, levers[i]
-            if v != target and abs(v - target) <= window and math.isfinite(lever):
-                cands.append((abs(v - target) * lever, i, j, target))
-    spent, allowed = 0.0, budget * scale
-    for cost, i, j, target in sorted(cands):
-        if spent + cost >= allowed:
-            break
-        spent += cost
-        out[i, j] = target
+    B, n, k = out.shape
+    target = np.zeros_like(out)
+    target[..., 2:] = _QUARTER * np.round(out[..., 2:] / _QUARTER) + 0.0
+    window = np.empty_like(out)
+    window[..., :2] = SNAP_WINDOW * scale[:, None, None]
+    window[..., 2:] = SNAP_WINDOW
+    lever = np.ones_like(out)  # lengths: a change moves the tool by exactly that much
+    lever[..., 2:] = _levers(out, travel, tool, scale)[..., None]
+    off = np.abs(out - target)
+    cand = (out != target) & (off <= window) & np.isfinite(lever)
+    if cand.any():
+        cost = np.full_like(out, np.inf)
+        cost[cand] = off[cand] * lever[cand]  # (an unbounded lever times 0 elsewhere would be NaN)
+        cost = cost.reshape(B, n * k)
+        order = np.argsort(cost, axis=1, kind="stable")  # cheapest first; ties in row-major order
+        spent = np.cumsum(np.take_along_axis(cost, order, axis=1), axis=1)
+        take = np.zeros((B, n * k), dtype=bool)
+        np.put_along_axis(take, order, spent < budget * scale[:, None], axis=1)
+        take = take.reshape(B, n, k) & cand
+        out[take] = target[take]
     # pi/2 multiples that came out as -pi are written as +pi, as tidy_angle does for computed angles
-    angles = out[:, 2:]
+    angles = out[..., 2:]
     angles[angles == -math.pi] = math.pi
     return out

@@ -1,0 +1,130 @@
+"""DH and modified DH tables of many robots at once: the one pipeline behind ``dh_from_robot(s)`` and
+``mdh_from_robot(s)``.
+
+Robots are grouped by joint count; each group goes through every stage as whole arrays:
+
+1. frame placement and the rows between the frames, compiled (``robkin.compiled.frames``: the
+   canonical rules of ``frames.common_normal_frame`` along the whole chain, one robot after another
+   in C);
+2. values within rounding of 0 or a multiple of pi/2 written exactly (``rounding.snap_many``), for
+   robots whose frames are not already those of a table of the same kind;
+3. the residual tool, and validation of every base and tool pose (``robot.check_poses``);
+4. the FK self-check: each table's FK (from its rows) against the robot's compiled FK at q = 0 and
+   the fixed sample of ``link_table.check_configurations``; a table off by more than WARN_TOL gets a
+   ConditioningWarning stating its measured error.
+
+A single robot is a batch of one, so ``dh_from_robot(robot)`` and ``dh_from_robots([robot])[0]`` are
+the same table, bit for bit.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence, TypeVar
+
+import numpy as np
+
+from ..errors import InputError
+from ..robot import Robot, check_poses, frame_scales, local_transforms
+from .frames import relative_pose
+from .link_table import (FLIP_X, WARN_TOL, LinkTable, pose_difference, report_fk_error, residual_tool,
+                         sample_configurations)
+from .rounding import snap_many, travel
+
+__all__ = ["tables_from_robots", "place_frames"]
+
+Table = TypeVar("Table", bound=LinkTable)
+
+
+def joint_frames(frames: np.ndarray, flip: np.ndarray) -> np.ndarray:
+    """Joint frames (B, n, 4, 4) from GJD frames (B, n + 1, 4, 4), each turned by pi about x where its
+    joint is flipped (``flip`` (B, n); ``link_table.flip_frame``)."""
+    cand = frames[:, :-1].copy()
+    if flip.any():
+        cand[flip] = cand[flip] @ FLIP_X
+    return cand
+
+
+def place_frames(section: str, robots: Sequence[Robot]) -> tuple[np.ndarray, np.ndarray]:
+    """Frames {0}..{n} (B, n + 1, 4, 4) and unrounded rows (B, n, 4) of ``section`` ('dh' or 'mdh')
+    for robots with n joints each; a robot's own frames are kept (where they satisfy the convention)
+    only if they are a table of that section's frames (``Robot.frames_from``)."""
+    frames = np.stack([r.frames for r in robots])
+    flip = np.array([[j.flip for j in r.joints] for r in robots], dtype=bool)
+    return _place(section, robots, frames, flip, frame_scales(frames))
+
+
+def _place(section: str, robots: Sequence[Robot], frames: np.ndarray, flip: np.ndarray,
+           scale: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    from ..compiled.frames import placement
+
+    cand = joint_frames(frames, flip)
+    keep = np.array([r.frames_from == section for r in robots])
+    return placement(section == "mdh", cand, frames[:, -1], scale, keep)
+
+
+def tables_from_robots(cls: type[Table], robots: Sequence[Robot], *, label: bool = True,
+                       stacklevel: int = 3) -> list[Table]:
+    """Tables of class ``cls`` (DHTable or MDHTable) of the robots, in their order.
+
+    Parameters
+    ----------
+    cls : type
+        The table class; its ``SECTION`` ('dh' or 'mdh') selects the frame rules.
+    robots : sequence of Robot
+        Any joint counts (>= 1); robots with the same count are converted together.
+    label : bool
+        Prefix each warning with the robot's position (``robots[i]: ``), for batches.
+    stacklevel : int
+        Of the warnings, counted from this function (so that they point at the caller's caller).
+    """
+    robots = list(robots)
+    for i, r in enumerate(robots):
+        if not isinstance(r, Robot):
+            raise InputError(f"robots[{i}]: expected a robkin.Robot, got {type(r).__name__}")
+    out: list[Table | None] = [None] * len(robots)
+    groups: dict[int, list[int]] = {}
+    for i, r in enumerate(robots):
+        groups.setdefault(r.n, []).append(i)
+    for idx in groups.values():
+        for i, table in zip(idx, _convert_group(cls, [robots[i] for i in idx], idx, label, stacklevel + 1)):
+            out[i] = table
+    return out  # type: ignore[return-value]
+
+
+def _convert_group(cls: type[Table], robots: list[Robot], idx: list[int], label: bool,
+                   stacklevel: int) -> list[Table]:
+    """``tables_from_robots`` for robots that all have the same joint count."""
+    from ..compiled.frames import robots_fk, tables_fk
+
+    section = cls.SECTION
+    frames = np.stack([r.frames for r in robots])  # (B, n + 1, 4, 4)
+    tool_pose = frames[:, -1]
+    scale = frame_scales(frames)  # Robot.scale, for all at once
+    # every joint's (revolute, flip, lower, upper) in one pass: (B, n, 4)
+    J = np.array([[(j.revolute, j.flip, -np.inf if j.lower is None else j.lower,
+                    np.inf if j.upper is None else j.upper) for j in r.joints] for r in robots], dtype=float)
+    revolute, flip, limits = J[..., 0] > 0, J[..., 1] > 0, J[..., 2:]
+    F, rows = _place(section, robots, frames, flip, scale)
+    base, last = F[:, 0], F[:, -1]
+    snap = np.array([r.frames_from != section for r in robots])
+    if snap.any():
+        rows[snap] = snap_many(rows[snap], travel(revolute[snap], limits[snap]),
+                               relative_pose(last[snap], tool_pose[snap]), scale[snap])
+    tool = residual_tool(base, rows, cls.link_matrix, tool_pose, scale)
+    if not np.isfinite(rows).all():  # cannot happen for a valid robot: let the table explain
+        bad = int(np.flatnonzero(~np.isfinite(rows).all(axis=(1, 2)))[0])
+        cls(rows[bad], robots[bad].joints, base=base[bad], tool=tool[bad])
+    B = len(robots)
+    poses = check_poses(np.concatenate([base, tool]),
+                        lambda k: f"{section}.{'base' if k < B else 'tool'}")
+    base, tool = poses[:B], poses[B:]
+    tables = [cls._from_checked(rows[k], r.joints, base[k], tool[k]) for k, r in enumerate(robots)]
+    # the FK self-check: each table's FK from its rows against the robot's compiled FK, at the same
+    # configurations
+    Q = sample_configurations(revolute, limits, scale)  # (B, m, n)
+    table_fk = tables_fk(section == "mdh", base, rows, tool, revolute, np.where(flip, -1.0, 1.0), Q)
+    err = pose_difference(table_fk, robots_fk(local_transforms(frames), revolute, Q), scale)
+    for k in np.flatnonzero(err > WARN_TOL * scale):
+        report_fk_error(float(err[k]), robots[k], section, where=f"robots[{idx[k]}]: " if label else "",
+                        stacklevel=stacklevel + 1)
+    return tables  # type: ignore[return-value]
