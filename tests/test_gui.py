@@ -814,6 +814,8 @@ def test_browser_panda_orbit_drag_paste_check(panda_page, tmp_path):
     # copies are full precision: the d column of the DH table has 0.107, not a rounded number
     pg.click("#section-mdh button.copy")
     assert "0.316" in pg.get_attribute("body", "data-copied")
+    # the Hayati table is shown too: a header row and one row per joint
+    assert len(pg.query_selector_all("#table-hayati tr")) == 8
     before = _updates(pg)
     pg.select_option("#last-row", "joint")
     _wait_update(pg, before)

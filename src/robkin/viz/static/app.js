@@ -300,6 +300,12 @@ function showTables(res) {
   parts.push(section("Modified DH  A = Rx(α) Tx(a) Rz(θ) Tz(d)", "mdh",
     rowsTable("table-mdh", ["joint", "a(i-1)", "d", "α(i-1)", "θ"], names, dhRows(doc.mdh), [2, 3]),
     el("div", { class: "matrices" }, matrixTable(doc.mdh.base, "base"), matrixTable(doc.mdh.tool, "tool"))));
+  if (doc.hayati) {  // Hayati: DH with a tilt beta about y (d = 0) where consecutive axes are nearly parallel
+    parts.push(section("Hayati  A = Rz(θ) Tz(d) Tx(a) Rx(α) Ry(β)", "hayati",
+      rowsTable("table-hayati", ["joint", "a", "d", "α", "θ", "β"], names,
+                doc.hayati.rows.map((r) => [r.a, r.d, r.alpha, r.theta, r.beta]), [2, 3, 4]),
+      el("div", { class: "matrices" }, matrixTable(doc.hayati.base, "base"), matrixTable(doc.hayati.tool, "tool"))));
+  }
   for (const [key, title] of [["poe", "PoE, space frame  T = exp(S1 q1)…exp(Sn qn) M"],
                               ["poe_body", "PoE, body frame  T = M exp(B1 q1)…exp(Bn qn)"]]) {
     parts.push(section(title, key,
