@@ -272,13 +272,13 @@ def test_random_robots_every_success_is_real(robot, seed):
     Q = robot.random_q(10, rng=seed)
     Q = np.where(robot.revolute, Q, Q * robot.scale / np.pi)      # slides of the robot's own size
     targets = robot.fk(Q)
-    # Position tolerance 1e-9 of the robot's size (its axis distances, or the targets' reach if larger:
-    # the numbers FK computes with), the same requirement in every length unit. The default (1e-9
-    # length units) is 1e-12 of a robot drawn with unit 1e3 (mm-sized numbers), below what a nearly
-    # degenerate geometry allows: seen, an RRPRP whose joints 2 and 4 (and 3 and 5) move along the same
-    # line, solved to 3.7e-10 of its size on every target, which the solver's damping floor (1e-12
-    # relative, a step condition number <= 1e12) cannot take further.
-    size = max(robot.scale, float(np.abs(targets[:, :3, 3]).max()))
+    # Position tolerance: the default 1e-9 length units, but never below 1e-9 of the robot's size (its
+    # axis distances, or the targets' reach if larger: the numbers FK computes with). The default alone
+    # is 1e-12 of a robot drawn with unit 1e3 (mm-sized numbers), below what a nearly degenerate
+    # geometry allows: seen, an RRPRP whose joints 2 and 4 (and 3 and 5) move along the same line,
+    # solved to 3.7e-10 of its size on every target, which the solver's damping floor (1e-12 relative,
+    # a step condition number <= 1e12) cannot take further.
+    size = max(1.0, robot.scale, float(np.abs(targets[:, :3, 3]).max()))
     res = robot.ik(targets, tol_position=1e-9 * size)
     ok = res.success
     err = robot.fk(np.where(ok[:, None], res.q, 0.0)) - targets
