@@ -232,3 +232,22 @@ def test_cli_ik_on_the_example(capsys):
     assert main(["ik", str(EXAMPLE), "--pose", "10,5,-2,0,0,0.5"]) == 0
     text = capsys.readouterr().out
     assert "IK solutions (scara" in text and "P1" in text
+
+
+def test_two_link_arm_with_the_tool_next_to_its_second_axis():
+    # A planar RR arm (hypothesis drew it) whose tool origin is 1.5e-8 from the second axis (7e-8 of
+    # the arm): the position fixes joint 2 only to rounding / 1.5e-8 ~ 3e-9 rad, and every target was
+    # refused as "orientation does not match the position"; the orientation fixes it exactly.
+    u = np.array([0.6173476151310878, -0.7866904868447046, 0.0])
+    x = np.cross(u, [0.0, 0.0, 1.0])
+    R = np.column_stack([x, np.cross(u, x), u])
+    frames = [se3.homogeneous(R, [-0.0393345, -0.0308674, 0.0]),
+              se3.homogeneous(R, [-0.2000914, 0.0939152, -0.0075171]),
+              se3.homogeneous(R @ se3.rot_x(0.8)[:3, :3], [-0.2000914, 0.0939152, -0.0075171] + 1.5e-8 * x)]
+    robot = robkin.Robot(frames, [Joint("j1"), Joint("j2")])
+    assert isinstance(closed_form_solver(robot), ScaraSolver)
+    Q = robot.random_q(20, rng=0)
+    targets = robot.fk(Q)
+    res = robot.ik(targets)
+    assert res.success.all(), res.message
+    assert np.abs(robot.fk(res.q) - targets).max() <= TOL

@@ -35,8 +35,9 @@ JOINT_TYPES: tuple[str, ...] = ("revolute", "prismatic")
 #: matrices typed with 3 decimals (error up to ~sqrt(9) * 5e-4 ~ 1.5e-3, plus cross-terms) with margin,
 #: while anything visibly wrong (a typo in one entry of 0.1) is still refused.
 PROJECTION_TOL = 1e-2
-#: Below this the input is taken as valid as it is (rounding noise of float64 products); between this
-#: and PROJECTION_TOL it is projected and a warning names the field.
+#: Below this the input is taken as valid without a warning (rounding noise of float64 products; a
+#: rotation is still projected onto SO(3), see ``check_pose``); between this and PROJECTION_TOL it is
+#: projected and a warning names the field.
 EXACT_TOL = 1e-9
 
 
@@ -87,7 +88,8 @@ def check_pose(T: ArrayLike, field_name: str, *, warn: bool = True) -> np.ndarra
     """Validate and normalise one 4x4 rigid transform.
 
     Returns a float array whose rotation block is exactly orthonormal (projected if the input was
-    within PROJECTION_TOL, with a ProjectionWarning naming ``field_name``). Raises InputError otherwise.
+    within PROJECTION_TOL, with a ProjectionWarning naming ``field_name`` if it was farther than
+    EXACT_TOL; kept bit for bit if it is rigid to rounding). Raises InputError otherwise.
     """
     import warnings
 
@@ -109,12 +111,21 @@ def check_pose(T: ArrayLike, field_name: str, *, warn: bool = True) -> np.ndarra
         what = "has det <= 0 (a reflection)" if not np.isfinite(err) else f"is {err:.3g} from a rotation"
         raise InputError(f"{field_name}: rotation block {what}; a rotation matrix is needed "
                          f"(tolerance {PROJECTION_TOL})")
-    if err > EXACT_TOL:
-        if warn:
-            warnings.warn(f"{field_name}: rotation block is {err:.2g} from orthonormal; projected onto "
-                          f"the nearest rotation", ProjectionWarning, stacklevel=3)
+    if err > EXACT_TOL and warn:
+        warnings.warn(f"{field_name}: rotation block is {err:.2g} from orthonormal; projected onto "
+                      f"the nearest rotation", ProjectionWarning, stacklevel=3)
+    if err > _ROTATION_ROUNDING_TOL:
+        # below EXACT_TOL silently, but projected all the same: a rotation 1e-10 from SO(3) (a rounded
+        # table that happens to land close) is not rigid, and everything that relies on R^-1 = R^T
+        # (se3.inv, adjoints, a PoE's body screws) is then off by that much times the robot's size
         A[:3, :3] = se3.nearest_rotation(A[:3, :3])
     return A
+
+
+#: A rotation within this (Frobenius norm) of SO(3) is kept bit for bit: frames computed by robkin
+#: itself (a chain of ~10 rounded products per joint) are orthonormal to ~1e-15, and documents robkin
+#: wrote must read back unchanged. Farther than this, the input was not made by rotations in float64.
+_ROTATION_ROUNDING_TOL = 1e-12
 
 
 #: A rotation block whose columns are orthonormal to this (max |R^T R - I|) with det > 0 is within

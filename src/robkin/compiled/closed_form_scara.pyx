@@ -201,7 +201,15 @@ cdef class ScaraKernel:
                 wrist_ok[e] = True
             else:
                 miss = phi - x1[e] - x2[e]
-                wrist_ok[e] = fabs(atan2(sin(miss), cos(miss))) <= _ORIENTATION_SLACK
+                miss = atan2(sin(miss), cos(miss))
+                wrist_ok[e] = fabs(miss) <= _ORIENTATION_SLACK
+                if not wrist_ok[e] and fabs(miss) * self.chain.lb <= COS_SLACK * self.scale:
+                    # a tool origin close to the second axis (|b| ~1e-7 of the robot, seen) fixes that
+                    # joint's angle only to rounding / |b|, beyond the slack above, while the target's
+                    # orientation fixes it exactly: the orientation's angle, which moves the tool
+                    # origin by |b| |miss| <= rounding of the robot's size (FK checks it afterwards)
+                    ang[1] = x2[e] + miss
+                    wrist_ok[e] = True
             for j in range(self.nr):
                 Q[e * n + self.ridx[j]] = ang[j] * self.sigma[j]
             for j in range(self.m):

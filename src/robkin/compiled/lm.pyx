@@ -8,6 +8,12 @@ position rows divided by the robot's size (unit-free) and W the 0/1 component ma
 the same step through a 6 x 6 system); it is accepted when E falls, and mu follows the gain ratio of
 actual to predicted decrease (Nielsen's update).
 
+Unit-free joint variables: the step is taken in radians for revolute joints and in robot sizes for
+prismatic ones (J's prismatic columns multiplied by the robot's size, h's entries by it on the way
+back). In length units the damping mu I would weigh a slide of one unit like a turn of one radian, so
+the same robot solved far worse written in mm than in m (prismatic columns 1000x smaller, their steps
+damped 1e6x more); now the iterations are the same in every unit.
+
 Joint limits: a joint already on a limit and pushed past it is frozen for that step and the step is
 solved again without it; the trial is then projected onto the limits (revolute joints whose range
 spans a full turn are turned back by 2 pi instead, which changes no pose). The predicted decrease is
@@ -142,9 +148,16 @@ cdef inline void damped_step(const double* J, const double* e, double mu, int n,
             h[k] = 0.0
 
 
+cdef inline double joint_unit(Chain chain, const Params* P, int j) noexcept nogil:
+    """The unit of joint j's step (module doc): 1 rad for a revolute joint, the robot's size for a
+    prismatic one."""
+    return 1.0 if chain.rev[j] else P.scale
+
+
 cdef inline double evaluate(Chain chain, const Params* P, const double* w, const double* Td,
                             const double* q, double* e, double* J) noexcept nogil:
-    """Weighted residual e (6) and Jacobian J (6 x n) at q; returns E = |e|^2 / 2."""
+    """Weighted residual e (6) and Jacobian J (6 x n, per unit-free joint step) at q; returns
+    E = |e|^2 / 2."""
     cdef double T[16]
     cdef double M[9]
     cdef int i, j, n = P.n
@@ -160,7 +173,7 @@ cdef inline double evaluate(Chain chain, const Params* P, const double* w, const
     for i in range(6):
         e[i] *= w[i]
         for j in range(n):
-            J[i * n + j] *= w[i]
+            J[i * n + j] *= w[i] * joint_unit(chain, P, j)
     return 0.5 * (e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
 
 
@@ -257,7 +270,7 @@ cdef bint solve_one(Chain chain, const Params* P, const double* w, const double*
                 # is solved again without them, so the others keep making progress along the limit
                 any_blocked = False
                 for j in range(n):
-                    x = q[j] + h[j]
+                    x = q[j] + h[j] * joint_unit(chain, P, j)
                     at_limit = (x < lo[j] and q[j] <= lo[j] + LIMIT_TOL) or (x > hi[j] and q[j] >= hi[j] - LIMIT_TOL)
                     blocked[j] = 1.0 if at_limit else 0.0
                     any_blocked = any_blocked or at_limit
@@ -269,7 +282,7 @@ cdef bint solve_one(Chain chain, const Params* P, const double* w, const double*
                     for j in range(n):
                         h[j] = 0.0 if blocked[j] != 0.0 else hb[j]
                 for j in range(n):
-                    x = q[j] + h[j]
+                    x = q[j] + h[j] * joint_unit(chain, P, j)
                     if wrap[j]:
                         if x > hi[j]:
                             x -= two_pi * ceil((x - hi[j]) / two_pi)
@@ -279,10 +292,10 @@ cdef bint solve_one(Chain chain, const Params* P, const double* w, const double*
                     qt[j] = x
                     # the step actually taken, before whole turns (which change no pose) are taken off
                     if not wrap[j]:
-                        h[j] = x - q[j]
+                        h[j] = (x - q[j]) / joint_unit(chain, P, j)
             else:
                 for j in range(n):
-                    qt[j] = q[j] + h[j]
+                    qt[j] = q[j] + h[j] * joint_unit(chain, P, j)
             predicted = 0.0
             x = 0.0
             for i in range(6):

@@ -8,7 +8,9 @@ Method (Madsen, Nielsen & Tingleff, *Methods for non-linear least squares proble
 minimise E(q) = 1/2 |W e(q)|^2, with e the base-frame pose residual (position scaled by the robot's
 size so that the problem is unit-free, orientation a rotation vector) and W the component mask. A
 step h solves (J^T J + mu I) h = J^T e with J the geometric Jacobian; it is accepted when E falls,
-and mu follows the gain ratio of actual to predicted decrease (Nielsen's update).
+and mu follows the gain ratio of actual to predicted decrease (Nielsen's update). The step is in
+unit-free joint variables (radians, and robot sizes for prismatic joints), so the solver iterates the
+same whatever length unit the robot is written in.
 
 Joint limits: a joint already on a limit and pushed past it is frozen for that step and the step is
 solved again without it; the trial is then projected onto the limits (revolute joints whose range

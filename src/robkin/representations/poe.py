@@ -30,12 +30,16 @@ Frame = Literal["space", "body"]
 
 
 def check_screws(screws: ArrayLike, joints: tuple[Joint, ...], field_name: str = "poe.screws",
-                 *, warn: bool = True) -> np.ndarray:
+                 *, warn: bool = True, size: float = 0.0) -> np.ndarray:
     """Validate unit screws (n, 6) against joint types; project near-valid ones with a warning.
 
     Revolute: |w| = 1 and w . v = 0 (no pitch). Prismatic: w = 0 and |v| = 1. Within PROJECTION_TOL
-    (relative: |w . v| is compared with the largest revolute |v|, the robot's size) the screw is
-    projected onto the nearest valid one.
+    (relative: |w . v| is compared with the robot's size, the largest of ``size`` and the revolute
+    |v|) the screw is projected onto the nearest valid one.
+
+    ``size`` is a length of the robot the screws do not show, in the screws' length unit: the
+    distance from the PoE's reference frame to the tool (|translation of M|). In the body frame every
+    axis may pass through the tool origin (all |v| ~ 0) while the tool is 1000 units from the base.
     """
     try:
         S = np.array(screws, dtype=float)
@@ -48,10 +52,11 @@ def check_screws(screws: ArrayLike, joints: tuple[Joint, ...], field_name: str =
         raise InputError(f"{field_name}: expected {n} screws (one per joint), got {S.shape[0]}")
     out = S.copy()
     # The pitch tolerance is relative to the robot's size (the farthest revolute axis from the
-    # origin, |v| = distance): relative to each screw's own |v| it refused an axis passing 10 um from
-    # the origin typed to the um, where rounding is 5 % of that |v| but 1e-3 of the robot.
+    # origin, |v| = distance, or the tool: ``size``): relative to each screw's own |v| it refused an
+    # axis passing 10 um from the origin typed to the um, where rounding is 5 % of that |v| but 1e-3
+    # of the robot.
     finite = np.all(np.isfinite(S), axis=1) & np.array([j.revolute for j in joints])
-    size = float(np.linalg.norm(S[finite, 3:], axis=1).max()) if finite.any() else 0.0
+    size = max(float(np.linalg.norm(S[finite, 3:], axis=1).max()) if finite.any() else 0.0, size)
     for i, (s, joint) in enumerate(zip(S, joints)):
         where = f"{field_name}[{i}] (joint '{joint.name}', {joint.type})"
         if not np.all(np.isfinite(s)):
@@ -107,7 +112,8 @@ class PoE:
         section = "poe" if self.frame == "space" else "poe_body"
         object.__setattr__(self, "joints", tuple(self.joints))
         object.__setattr__(self, "M", check_pose(self.M, f"{section}.M"))
-        object.__setattr__(self, "screws", check_screws(self.screws, self.joints, f"{section}.screws"))
+        object.__setattr__(self, "screws", check_screws(self.screws, self.joints, f"{section}.screws",
+                                                        size=float(np.linalg.norm(self.M[:3, 3]))))
 
     @property
     def n(self) -> int:
