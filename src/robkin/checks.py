@@ -1,0 +1,124 @@
+"""Validation of the numbers a Robot is made of: rigid transforms and joint vectors.
+
+``check_pose`` / ``check_poses`` accept a 4x4 (or 3x4) rigid transform, project one that is within
+``PROJECTION_TOL`` of a rotation (with a ProjectionWarning naming the field) and refuse the rest with
+one line; ``check_q`` checks joint vectors (n,) or (N, n). Kept apart from ``robot.py`` so that the hub
+module holds the Robot itself; ``robkin.robot`` re-exports every name here.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .errors import InputError, ProjectionWarning
+from . import se3
+
+__all__ = ["PROJECTION_TOL", "EXACT_TOL", "check_pose", "check_poses", "check_q"]
+
+#: An input rotation farther than this (Frobenius norm) from SO(3), or a unit vector whose norm is
+#: farther than this from 1, is an error; closer than this it is projected with a warning. 1e-2 admits
+#: matrices typed with 3 decimals (error up to ~sqrt(9) * 5e-4 ~ 1.5e-3, plus cross-terms) with margin,
+#: while anything visibly wrong (a typo in one entry of 0.1) is still refused.
+PROJECTION_TOL = 1e-2
+#: Below this the input is taken as valid without a warning (rounding noise of float64 products; a
+#: rotation is still projected onto SO(3), see ``check_pose``); between this and PROJECTION_TOL it is
+#: projected and a warning names the field.
+EXACT_TOL = 1e-9
+
+
+def check_pose(T: ArrayLike, field_name: str, *, warn: bool = True) -> np.ndarray:
+    """Validate and normalise one 4x4 rigid transform.
+
+    Returns a float array whose rotation block is exactly orthonormal (projected if the input was
+    within PROJECTION_TOL, with a ProjectionWarning naming ``field_name`` if it was farther than
+    EXACT_TOL; kept bit for bit if it is rigid to rounding). Raises InputError otherwise.
+    """
+    import warnings
+
+    try:
+        A = np.array(T, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{field_name}: expected a 4x4 matrix of numbers") from None
+    if A.shape == (3, 4):
+        A = np.vstack([A, [0.0, 0.0, 0.0, 1.0]])
+    if A.shape != (4, 4):
+        raise InputError(f"{field_name}: expected a 4x4 matrix, got shape {A.shape}")
+    if not np.all(np.isfinite(A)):
+        raise InputError(f"{field_name}: contains NaN or infinity")
+    if np.max(np.abs(A[3] - [0, 0, 0, 1])) > EXACT_TOL:
+        raise InputError(f"{field_name}: last row must be [0, 0, 0, 1], got {A[3].tolist()}")
+    A[3] = [0.0, 0.0, 0.0, 1.0]
+    err = float(se3.rotation_error(A[:3, :3]))
+    if err > PROJECTION_TOL:
+        what = "has det <= 0 (a reflection)" if not np.isfinite(err) else f"is {err:.3g} from a rotation"
+        raise InputError(f"{field_name}: rotation block {what}; a rotation matrix is needed "
+                         f"(tolerance {PROJECTION_TOL})")
+    if err > EXACT_TOL and warn:
+        warnings.warn(f"{field_name}: rotation block is {err:.2g} from orthonormal; projected onto "
+                      f"the nearest rotation", ProjectionWarning, stacklevel=3)
+    if err > _ROTATION_ROUNDING_TOL:
+        # below EXACT_TOL silently, but projected all the same: a rotation 1e-10 from SO(3) (a rounded
+        # table that happens to land close) is not rigid, and everything that relies on R^-1 = R^T
+        # (se3.inv, adjoints, a PoE's body screws) is then off by that much times the robot's size
+        A[:3, :3] = se3.nearest_rotation(A[:3, :3])
+    return A
+
+
+#: A rotation within this (Frobenius norm) of SO(3) is kept bit for bit: frames computed by robkin
+#: itself (a chain of ~10 rounded products per joint) are orthonormal to ~1e-15, and documents robkin
+#: wrote must read back unchanged. Farther than this, the input was not made by rotations in float64.
+_ROTATION_ROUNDING_TOL = 1e-12
+
+
+#: A rotation block whose columns are orthonormal to this (max |R^T R - I|) with det > 0 is within
+#: ~1e-12 of a rotation, far inside EXACT_TOL: ``check_poses`` takes it as it is without check_pose's
+#: SVD (the usual case: frames computed by robkin itself are orthonormal to ~1e-15).
+_FAST_ORTHONORMAL_TOL = 1e-12
+_I3 = np.eye(3)
+_I3.setflags(write=False)
+_LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0])
+_LAST_ROW.setflags(write=False)
+
+
+def check_poses(A: np.ndarray, field_name: Callable[[int], str]) -> np.ndarray:
+    """``check_pose`` for a stack (m, 4, 4) of float poses, vectorised for the usual valid case.
+
+    Poses that are finite, rigid to rounding and have the last row [0, 0, 0, 1] (within EXACT_TOL) are
+    checked in a few whole-array operations; any other goes through ``check_pose`` (named
+    ``field_name(i)``) for its projection, warning or error. Returns a new array.
+    """
+    out = np.array(A, dtype=float)
+    R = out[:, :3, :3]
+    # The common case (frames computed by robkin, or read exactly) in as few whole-stack operations as
+    # possible: finite, last rows exactly [0, 0, 0, 1], columns orthonormal, det > 0.
+    finite = bool(np.isfinite(out).all())
+    if finite and (out[:, 3] == _LAST_ROW).all() \
+            and np.abs(R.transpose(0, 2, 1) @ R - _I3).max() <= _FAST_ORTHONORMAL_TOL \
+            and np.linalg.det(R).min() > 0:
+        return out
+    ok = np.zeros(len(out), bool)
+    if finite:
+        dev = np.abs(R.transpose(0, 2, 1) @ R - _I3)
+        last = np.abs(out[:, 3] - _LAST_ROW)
+        ok = (dev.max(axis=(1, 2)) <= _FAST_ORTHONORMAL_TOL) & (np.linalg.det(R) > 0) & \
+            (last.max(axis=1) <= EXACT_TOL)
+    out[:, 3] = _LAST_ROW
+    for i in np.flatnonzero(~ok):
+        out[i] = check_pose(A[i], field_name(int(i)))
+    return out
+
+
+def check_q(q: ArrayLike, n: int) -> np.ndarray:
+    """Joint values as float array (n,) or (N, n); InputError for wrong shapes or non-finite values."""
+    try:
+        Q = np.asarray(q, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"q: expected {n} numbers") from None
+    if Q.ndim == 0 or Q.shape[-1] != n or Q.ndim > 2:
+        raise InputError(f"q: expected shape ({n},) or (N, {n}), got {Q.shape}")
+    if not np.all(np.isfinite(Q)):
+        raise InputError("q: contains NaN or infinity")
+    return Q
