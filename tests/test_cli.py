@@ -118,3 +118,14 @@ def test_demo_reports_agreement(capsys):
     assert len(lines) == 2
     for ln in lines:
         assert float(ln.rsplit(" ", 1)[1]) < 1e-12
+
+
+def test_batch_refuses_two_inputs_that_would_write_the_same_file(tmp_path, capsys):
+    (tmp_path / "x").mkdir()
+    for p in (tmp_path / "a.yaml", tmp_path / "x" / "a.yaml"):
+        p.write_text(open(RRPR).read())
+    out = tmp_path / "out"
+    assert main(["convert", str(tmp_path / "a.yaml"), str(tmp_path / "x" / "a.yaml"), "--to", "yaml",
+                 "-o", str(out) + "/"]) == 2
+    assert "would write the same file(s)" in capsys.readouterr().err
+    assert not out.exists()  # nothing written, not even the folder

@@ -211,7 +211,8 @@ def run(args: argparse.Namespace) -> int:
         targets = [out_dir / (Path(i).stem + ext) for i in inputs]
         for t in targets:
             _check_path(t)
-        dup = {str(t) for t in targets if targets.count(t) > 1}
+        seen: set[Path] = set()
+        dup = {str(t) for t in targets if t in seen or seen.add(t)}  # linear: a batch may hold 10^4 inputs
         if dup:
             raise InputError(f"several inputs would write the same file(s): {', '.join(sorted(dup))}")
         check_writable_dir(targets[0] if out_dir.is_dir() else out_dir)  # the folder, or where it will be made
