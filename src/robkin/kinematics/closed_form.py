@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import weakref
 from dataclasses import dataclass
-from typing import Callable, Protocol
+from typing import Callable, Protocol, cast
 
 import numpy as np
 
@@ -58,16 +58,18 @@ class ClosedFormSolver(Protocol):
 
 #: detection result per Robot (robots are immutable), so repeated single-target calls detect once
 _SOLVERS: "weakref.WeakKeyDictionary[Robot, ClosedFormSolver | None]" = weakref.WeakKeyDictionary()
+_UNKNOWN = object()     # not detected yet (None is a result: no closed form fits)
 
 
 def closed_form_solver(robot: Robot) -> ClosedFormSolver | None:
     """The closed-form solver that fits the robot's geometry, or None."""
-    if robot in _SOLVERS:
-        return _SOLVERS[robot]
+    cached = _SOLVERS.get(robot, _UNKNOWN)      # one lookup: this runs on every single-target call
+    if cached is not _UNKNOWN:
+        return cast("ClosedFormSolver | None", cached)
+    found = None
     from .analytic6r import SphericalWrist6R, ThreeParallel6R
     from .scara import ScaraSolver
 
-    found = None
     for cls in (ScaraSolver, SphericalWrist6R, ThreeParallel6R):
         found = cls.detect(robot)
         if found is not None:

@@ -47,6 +47,12 @@ METHODS = ("auto", "analytic", "numeric")
 #: along different branches or restarts, far below any real difference between branches.
 SAME_SOLUTION_TOL = 1e-6
 
+#: Defaults of ``ik``: 1e-9 (length units, radians) is ~1e6 times the rounding of a closed-form solve
+#: and what the numeric method reliably reaches; 40 iterations per attempt and 50 restarts.
+_TOL = 1e-9
+_MAX_ITERATIONS = 40
+_RESTARTS = 50
+
 
 @dataclass(frozen=True)
 class IKResult:
@@ -86,6 +92,15 @@ class IKResult:
     message: list[str] | str
     solutions: list[np.ndarray] | np.ndarray | None = None
 
+    @classmethod
+    def _build(cls, **fields: Any) -> "IKResult":
+        """The result from every field, without the frozen dataclass's ``__init__`` (one guarded
+        ``object.__setattr__`` per field: ~2.5 us, as much as the closed-form kernel of one target).
+        Frozen all the same: attribute assignment still raises."""
+        result = object.__new__(cls)
+        result.__dict__.update(fields)
+        return result
+
     def __str__(self) -> str:
         """One row per target (success, errors, q), or per solution for one target with solutions."""
         from ..io.table_views import blocks_text, ik_result_blocks
@@ -102,8 +117,8 @@ class IKResult:
 
 
 def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
-       method: str = "auto", all_solutions: bool = False, tol_position: float = 1e-9,
-       tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 50,
+       method: str = "auto", all_solutions: bool = False, tol_position: float = _TOL,
+       tol_orientation: float = _TOL, max_iterations: int = _MAX_ITERATIONS, restarts: int = _RESTARTS,
        rng: np.random.Generator | int | None = 0) -> IKResult:
     """Joint values that put the tool at T.
 
@@ -145,7 +160,10 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         raise InputError(f"method: '{method}' is not one of {', '.join(METHODS)}")
     q_ref = _start(robot, q0, N)
     try:
-        settings = _settings(tol_position, tol_orientation, max_iterations, restarts)
+        # the defaults themselves (identity: cheap, and safe for arrays) skip even the cache's hashing
+        settings = _DEFAULT_SETTINGS if tol_position is _TOL and tol_orientation is _TOL and \
+            max_iterations is _MAX_ITERATIONS and restarts is _RESTARTS else \
+            _settings(tol_position, tol_orientation, max_iterations, restarts)
     except TypeError:   # unhashable (a list, an array): not a number
         raise InputError(f"tol_position, tol_orientation, max_iterations, restarts: expected numbers, got "
                          f"{tol_position!r}, {tol_orientation!r}, {max_iterations!r}, {restarts!r}") from None
@@ -180,7 +198,7 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
     # inf where q is NaN (no closed-form solution)
     ep, eo = out.errors if out.errors is not None else _errors(robot, out.q, targets, m)
     sols, iters, attempts = out.solutions, out.iterations, out.attempts
-    return IKResult(
+    return IKResult._build(
         q=out.q[0] if single else out.q,
         success=bool(out.success[0]) if single else out.success,
         iterations=int(iters[0]) if single else iters,
@@ -224,6 +242,9 @@ def _settings(tol_position: float, tol_orientation: float, max_iterations: int, 
                       max_iterations=int(max_iterations), restarts=int(restarts))
 
 
+_DEFAULT_SETTINGS = _settings(_TOL, _TOL, _MAX_ITERATIONS, _RESTARTS)
+
+
 def _generator(rng: np.random.Generator | int | None) -> np.random.Generator:
     """A numpy Generator from a Generator, an int seed or None (fresh entropy)."""
     try:
@@ -240,7 +261,7 @@ def _seed(rng: np.random.Generator | int | None) -> int:
     return int(_generator(rng).integers(0, 2**63))
 
 
-#: per Robot (immutable), zero clipped into its limits (n,): the default preference, built once
+#: per Robot (immutable), zero clipped into its limits (1, n): the default preference, built once
 _ZERO_STARTS: "weakref.WeakKeyDictionary[Robot, np.ndarray]" = weakref.WeakKeyDictionary()
 
 
@@ -250,10 +271,10 @@ def _start(robot: Robot, q0: ArrayLike | None, N: int) -> np.ndarray:
     if q0 is None:
         zero = _ZERO_STARTS.get(robot)
         if zero is None:
-            zero = np.minimum(np.maximum(0.0, lim[:, 0]), lim[:, 1])
+            zero = np.minimum(np.maximum(0.0, lim[:, 0]), lim[:, 1])[None]
             zero.setflags(write=False)
             _ZERO_STARTS[robot] = zero
-        return zero[None] if N == 1 else np.broadcast_to(zero, (N, robot.n))
+        return zero if N == 1 else np.broadcast_to(zero, (N, robot.n))
     Q = check_q(q0, robot.n)
     if Q.ndim == 1:
         Q = Q[None] if N == 1 else np.broadcast_to(Q, (N, robot.n))
