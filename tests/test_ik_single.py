@@ -100,3 +100,21 @@ def test_single_call_results_are_the_callers_to_keep():
     a.q[:] = 99.0
     b = robot.ik(T)
     assert b.success and np.abs(b.q).max() < 2 * np.pi
+
+
+def test_single_call_results_stay_frozen_and_settings_are_still_checked():
+    """The light result construction keeps IKResult immutable; the shortcut for the default settings
+    neither skips the checks of other values nor changes the answer when the defaults are spelled out."""
+    import dataclasses
+
+    robot = load_arm("ur5")[0]
+    T = robot.fk(robot.random_q(1, rng=4)[0])
+    res = robot.ik(T)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        res.success = False
+    spelled = robot.ik(T, tol_position=1e-9, tol_orientation=1e-9, max_iterations=40, restarts=50)
+    assert_same(spelled, robot.ik(T[None]), 0)
+    np.testing.assert_array_equal(spelled.q, res.q)
+    for bad in (np.array([1e-9, 1e-9]), -1.0, float("nan")):
+        with pytest.raises(robkin.InputError, match="tol_position"):
+            robot.ik(T, tol_position=bad)

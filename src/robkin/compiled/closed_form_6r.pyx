@@ -19,6 +19,8 @@ import numpy as np
 
 cimport numpy as cnp
 from libc.math cimport hypot, INFINITY
+from robkin.compiled.nearest cimport nearest_branch
+from robkin.compiled.fk cimport Chain
 from robkin.compiled.linalg cimport cross3, dot3, mat3_mul, mat3_vec, mat3T_vec, rodrigues
 from robkin.compiled.subproblems cimport (angle_about, c_doubles, cos_sin_equation, mat3T_mul, new_array,
                                           planar_two_link, read_pose, TwoLink, two_axes,
@@ -78,6 +80,7 @@ cdef class _Kernel6R:
     cdef double e2[3]              # the plane normal to the parallel axes (complex coordinates)
     cdef double lo[6]
     cdef double hi[6]
+    cdef double lim[12]            # the limits (6, 2) row-major, as nearest_branch reads them
     cdef unsigned char rev[6]
     cdef double scale, C2r, C2i, limit_tol
     cdef TwoLink chain             # joints 2-3 as a planar two-link chain
@@ -89,6 +92,8 @@ cdef class _Kernel6R:
             _copy3(c[i], self.c[i])
             self.lo[i] = float(limits[i][0])
             self.hi[i] = float(limits[i][1])
+            self.lim[2 * i] = self.lo[i]
+            self.lim[2 * i + 1] = self.hi[i]
             self.rev[i] = 1
         _copy3(w_tool, self.w_tool)
         _copy33(np.asarray(R_M).T, self.RMt)
@@ -132,6 +137,42 @@ cdef class _Kernel6R:
                 c[n] = self._solve_one(Rd, pd, ref + 6 * n, q + 48 * n, geometric, v + 8 * n, det + n, u + n)
                 failed += c[n] != 0
         return Q, valid, code, detail, unc, failed
+
+    def nearest(self, Chain chain, target, q_ref, double tol_position, double tol_orientation):
+        """One target (4, 4): the verified branch nearest q_ref (6,), all in one call (no batch arrays).
+
+        The same solve as ``solve`` and the same choice as ``solutions.nearest_verified`` (``chain``:
+        the robot's compiled chain, for the forward-kinematics check to ``tol_position`` (length units)
+        and ``tol_orientation`` (radians)). Returns (q (6,), position error, orientation error), or None
+        when no branch counts (the caller then takes the batch path for its reasons and retries).
+        """
+        cdef cnp.ndarray T = c_doubles(target, 2, 4, "target")
+        cdef cnp.ndarray R = c_doubles(q_ref, 1, 6, "q_ref")
+        if cnp.PyArray_DIM(T, 0) != 4 or chain.n != 6:
+            raise ValueError("nearest: expected one 4x4 target and a 6-joint chain")
+        cdef const double* t = <const double*>cnp.PyArray_DATA(T)
+        cdef const double* ref = <const double*>cnp.PyArray_DATA(R)
+        cdef double Q[48]
+        cdef double Rd[9]
+        cdef double pd[3]
+        cdef double detail, dist[8], ep, eo
+        cdef unsigned char geometric[8]
+        cdef unsigned char valid[8]
+        cdef unsigned char reached[8]
+        cdef unsigned char uncertain
+        cdef Py_ssize_t order[8], best, j
+        with nogil:
+            read_pose(t, Rd, pd)
+            self._solve_one(Rd, pd, ref, Q, geometric, valid, &detail, &uncertain)
+            best = nearest_branch(chain.L, chain.rev, 6, Q, valid, 8, t, ref, self.lim, self.scale,
+                                  tol_position, tol_orientation, self.limit_tol, False, reached, dist,
+                                  order, &ep, &eo)
+        if best < 0:
+            return None
+        cdef cnp.ndarray q = new_array(1, 6, 0, 0, cnp.NPY_DOUBLE)
+        for j in range(6):
+            (<double*>cnp.PyArray_DATA(q))[j] = Q[6 * best + j]
+        return q, ep, eo
 
     cdef signed char _solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
                                 unsigned char* geometric, unsigned char* valid, double* detail,

@@ -7,24 +7,13 @@ preferred configuration, for a batch or a single target alike (one pass, no per-
 """
 
 cimport numpy as cnp
-from libc.math cimport fabs, sqrt, NAN, INFINITY
+from libc.math cimport fabs, sqrt, NAN
 from libc.stdlib cimport free, malloc
 from robkin.compiled.fk cimport Chain
-from robkin.compiled.pose_check cimport tool_errors
+from robkin.compiled.nearest cimport insert_by_distance, nearest_branch
 from robkin.compiled.subproblems cimport c_doubles, new_array
 
 cnp.import_array()
-
-
-cdef inline void insert_by_distance(Py_ssize_t* order, Py_ssize_t m, const double* dist,
-                                    Py_ssize_t i) noexcept nogil:
-    """Insert index i into order[0:m] (indices sorted by dist) after those at the same distance:
-    insertion sort, stable, and the lists are short (8 branches, or 1 + restarts starts)."""
-    cdef Py_ssize_t a = m
-    while a > 0 and dist[order[a - 1]] > dist[i]:
-        order[a] = order[a - 1]
-        a -= 1
-    order[a] = i
 
 
 def distinct_sorted(Q, ref, scale, double tol):
@@ -85,9 +74,6 @@ def distinct_sorted(Q, ref, scale, double tol):
         free(kept)
 
 
-cdef double[6] FULL_POSE = [1.0, 1.0, 1.0, 1.0, 1.0, 1.0]
-
-
 def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double length_unit,
                      double tol_position, double tol_orientation, double limit_tol, bint every):
     """Per target, the closed-form branch nearest the preference among those that truly reach it.
@@ -111,7 +97,7 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
     cdef cnp.ndarray Qa = cnp.PyArray_FROM_OTF(Q, cnp.NPY_DOUBLE, cnp.NPY_ARRAY_C_CONTIGUOUS | cnp.NPY_ARRAY_ALIGNED)
     if cnp.PyArray_NDIM(Qa) != 3 or cnp.PyArray_DIM(Qa, 2) != n:
         raise ValueError(f"Q: expected shape (N, S, {n}), got {(<object>Qa).shape}")
-    cdef Py_ssize_t N = cnp.PyArray_DIM(Qa, 0), S = cnp.PyArray_DIM(Qa, 1), k, s, j, a, m, best
+    cdef Py_ssize_t N = cnp.PyArray_DIM(Qa, 0), S = cnp.PyArray_DIM(Qa, 1), k, j, best
     cdef cnp.ndarray Va = cnp.PyArray_FROM_OTF(valid, cnp.NPY_BOOL, cnp.NPY_ARRAY_C_CONTIGUOUS | cnp.NPY_ARRAY_ALIGNED)
     cdef cnp.ndarray Ta = c_doubles(targets, 3, 4, "targets")
     cdef cnp.ndarray Ra = c_doubles(q_ref, 2, n, "q_ref")
@@ -138,9 +124,6 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
     cdef double* eo = <double*>cnp.PyArray_DATA(eo_out)
     cdef double* dist = <double*>malloc(max(S, 1) * sizeof(double))
     cdef Py_ssize_t* order = <Py_ssize_t*>malloc(max(S, 1) * sizeof(Py_ssize_t))
-    cdef const double* b
-    cdef double e_p, e_o, x, d
-    cdef bint fits
     cdef Py_ssize_t failed = 0
     if dist == NULL or order == NULL:
         free(dist)
@@ -148,44 +131,9 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
         raise MemoryError()
     with nogil:
         for k in range(N):
-            # candidates (valid, within the limits) sorted by distance, ties in index order: the
-            # first that counts is numpy.argmin's choice
-            m = 0
-            for s in range(S):
-                reached[k * S + s] = 0
-                if not v[k * S + s]:
-                    continue
-                b = q + (k * S + s) * n
-                fits = True
-                d = 0.0
-                for j in range(n):
-                    if not (b[j] >= lim[2 * j] - limit_tol and b[j] <= lim[2 * j + 1] + limit_tol):
-                        fits = False
-                        break
-                    x = b[j] - r[k * n + j]
-                    if not rev[j]:
-                        x /= length_unit
-                    d += x * x
-                if not fits:
-                    continue
-                dist[s] = sqrt(d)
-                insert_by_distance(order, m, dist, s)
-                m += 1
-            best = -1
-            ep[k] = INFINITY
-            eo[k] = INFINITY
-            for a in range(m):
-                s = order[a]
-                tool_errors(chain.L, chain.rev, n, q + (k * S + s) * n, T + 16 * k, FULL_POSE, &e_p, &e_o)
-                if not (e_p <= tol_position and e_o <= tol_orientation):
-                    continue
-                reached[k * S + s] = 1
-                if best < 0:
-                    best = s
-                    ep[k] = e_p
-                    eo[k] = e_o
-                    if not every:
-                        break
+            best = nearest_branch(chain.L, rev, n, q + k * S * n, v + k * S, S, T + 16 * k, r + k * n, lim,
+                                  length_unit, tol_position, tol_orientation, limit_tol, every,
+                                  reached + k * S, dist, order, ep + k, eo + k)
             ok[k] = best >= 0
             failed += best < 0
             for j in range(n):

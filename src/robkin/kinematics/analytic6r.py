@@ -105,6 +105,13 @@ class _Closed6R:
         reasons = reasons_from_codes(code, detail, self.messages) if failed else [""] * len(Q)
         return Branches(Q, valid, reasons, uncertain)
 
+    def nearest(self, target: np.ndarray, q_ref: np.ndarray, tol_position: float,
+                tol_orientation: float) -> tuple[np.ndarray, float, float] | None:
+        """One target (4, 4): the branch nearest q_ref (6,) that the forward-kinematics check accepts,
+        as (q (6,), position error, orientation error), or None if no branch does (one compiled call:
+        the same solve and choice as ``solve`` followed by ``solutions.nearest_verified``)."""
+        return self._kernel.nearest(self.robot._chain, target, q_ref, tol_position, tol_orientation)
+
 
 class SphericalWrist6R(_Closed6R):
     """All closed-form solutions of a 6R arm with axes 2 || 3 and a spherical wrist."""

@@ -178,6 +178,16 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
                  "wrist; or 6R with axes 2 || 3 || 4 and axes 5, 6 meeting)")
             raise InputError(f"method 'analytic': {why}; use method 'numeric'")
 
+    if solver is not None and single and not all_solutions:
+        # One target: one compiled call solves, checks and picks (6R solvers). Only a success is
+        # answered here; a failure takes the general path below for its reasons and numeric retry.
+        nearest = getattr(solver, "nearest", None)
+        found = None if nearest is None else \
+            nearest(targets[0], q_ref[0], settings.tol_position, settings.tol_orientation)
+        if found is not None:
+            return IKResult._build(q=found[0], success=True, iterations=0, attempts=1, position_error=found[1],
+                                   orientation_error=found[2], method=solver.name, message="", solutions=None)
+
     if solver is not None:
         out = _closed_form(robot, solver, targets, q_ref, settings, all_solutions)
         used = solver.name

@@ -1,0 +1,79 @@
+# cython: language_level=3
+"""The choice among closed-form branches of one target, as a ``cdef inline`` function.
+
+Shared by ``solutions.nearest_verified`` (a batch) and the 6R kernels' single-target ``nearest``
+(``closed_form_6r``), so one target and a batch pick their answer by the same code.
+"""
+
+from libc.math cimport sqrt, INFINITY
+from robkin.compiled.pose_check cimport tool_errors
+
+
+cdef inline void insert_by_distance(Py_ssize_t* order, Py_ssize_t m, const double* dist,
+                                    Py_ssize_t i) noexcept nogil:
+    """Insert index i into order[0:m] (indices sorted by dist) after those at the same distance:
+    insertion sort, stable, and the lists are short (8 branches, or 1 + restarts starts)."""
+    cdef Py_ssize_t a = m
+    while a > 0 and dist[order[a - 1]] > dist[i]:
+        order[a] = order[a - 1]
+        a -= 1
+    order[a] = i
+
+
+cdef inline Py_ssize_t nearest_branch(const double* L, const unsigned char* rev, Py_ssize_t n,
+                                      const double* q, const unsigned char* v, Py_ssize_t S,
+                                      const double* T, const double* r, const double* lim,
+                                      double length_unit, double tol_position, double tol_orientation,
+                                      double limit_tol, bint every, unsigned char* reached,
+                                      double* dist, Py_ssize_t* order, double* ep, double* eo) noexcept nogil:
+    """The index of the branch q[s] (S, n) nearest r (n,) that truly reaches the target T (4x4
+    row-major), or -1; see ``solutions.nearest_verified`` for what counts and the order of the search.
+
+    v (S,): the solver's valid flags; lim (n, 2) row-major; dist, order: scratch of S entries;
+    reached (S,) is set (1 for the branches found to count); ep, eo: the errors of the chosen branch
+    (inf if none).
+    """
+    cdef Py_ssize_t m = 0, s, j, a, best = -1
+    cdef const double* b
+    cdef double x, d, e_p, e_o
+    cdef bint fits
+    cdef double full_pose[6]        # the mask of tool_errors: every component
+    for j in range(6):
+        full_pose[j] = 1.0
+    # candidates (valid, within the limits) sorted by distance, ties in index order: the first that
+    # counts is numpy.argmin's choice
+    for s in range(S):
+        reached[s] = 0
+        if not v[s]:
+            continue
+        b = q + s * n
+        fits = True
+        d = 0.0
+        for j in range(n):
+            if not (b[j] >= lim[2 * j] - limit_tol and b[j] <= lim[2 * j + 1] + limit_tol):
+                fits = False
+                break
+            x = b[j] - r[j]
+            if not rev[j]:
+                x /= length_unit
+            d += x * x
+        if not fits:
+            continue
+        dist[s] = sqrt(d)
+        insert_by_distance(order, m, dist, s)
+        m += 1
+    ep[0] = INFINITY
+    eo[0] = INFINITY
+    for a in range(m):
+        s = order[a]
+        tool_errors(L, rev, n, q + s * n, T, full_pose, &e_p, &e_o)
+        if not (e_p <= tol_position and e_o <= tol_orientation):
+            continue
+        reached[s] = 1
+        if best < 0:
+            best = s
+            ep[0] = e_p
+            eo[0] = e_o
+            if not every:
+                break
+    return best
