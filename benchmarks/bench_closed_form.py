@@ -158,7 +158,6 @@ def bench_arm(name: str, robot, solver, n_targets: int, rounds: int) -> list[tup
     cf = closed_form_solver(robot)
     ref = np.zeros((n_targets, 6))
     ref1 = np.zeros((1, 6))
-    few = targets[: max(n_targets // 10, 20)]
 
     def ours_batch():
         cf.solve(targets, ref)
@@ -175,12 +174,8 @@ def bench_arm(name: str, robot, solver, n_targets: int, rounds: int) -> list[tup
             solver.calculate_IK(T)
 
     def ours_ik_single():
-        for T in few:
+        for T in listed:
             robot.ik(T)
-
-    def theirs_few():
-        for T in few:
-            solver.calculate_IK(T)
 
     def ours_ik_batch():
         robot.ik(targets)
@@ -190,7 +185,7 @@ def bench_arm(name: str, robot, solver, n_targets: int, rounds: int) -> list[tup
 
     cases = [("all solutions, batch", ours_batch, theirs_batch, n_targets, n_targets),
              ("all solutions, one target per call", ours_single, theirs_single, n_targets, n_targets),
-             ("Robot.ik(T), one target per call", ours_ik_single, theirs_few, len(few), len(few)),
+             ("Robot.ik(T), one target per call", ours_ik_single, theirs_single, n_targets, n_targets),
              ("Robot.ik(targets), batch", ours_ik_batch, theirs_batch, n_targets, n_targets),
              ("Robot.ik(targets, all_solutions=True)", ours_ik_batch_all, theirs_batch, n_targets, n_targets)]
     cf.solve(targets[:2], ref[:2])                 # first calls (imports, caches) outside the clock
