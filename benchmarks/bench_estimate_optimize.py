@@ -42,14 +42,15 @@ def command(out_path: str) -> list[str]:
 
 def run_once(args: list[str]) -> tuple[float, float]:
     """(wall s, CPU s of the child) for one run of ``args``; raises if the command fails."""
-    start = time.perf_counter()
-    proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    _, status, usage = os.wait4(proc.pid, 0)
-    wall = time.perf_counter() - start
-    proc.returncode = os.waitstatus_to_exitcode(status)
-    err = proc.stderr.read().decode() if proc.stderr else ""
-    if proc.returncode != 0:
-        raise SystemExit(f"command failed (exit {proc.returncode}): {err.strip()}")
+    with tempfile.TemporaryFile() as err:  # a file, not a pipe: the child can never block on it
+        start = time.perf_counter()
+        proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=err)
+        _, status, usage = os.wait4(proc.pid, 0)
+        wall = time.perf_counter() - start
+        proc.returncode = os.waitstatus_to_exitcode(status)
+        if proc.returncode != 0:
+            err.seek(0)
+            raise SystemExit(f"command failed (exit {proc.returncode}): {err.read().decode().strip()}")
     return wall, usage.ru_utime + usage.ru_stime
 
 
