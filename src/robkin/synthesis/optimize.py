@@ -314,16 +314,21 @@ COSTS = tuple(COST_WEIGHTS)
 
 def _cost_residual(model: _Model, cost: str, z: np.ndarray, jacobian: bool = True
                    ) -> tuple[np.ndarray, np.ndarray | None]:
-    """Cost residuals c(z) and (if ``jacobian``) their Jacobian; the cost is |c|^2."""
+    """Cost residuals c(z) and (if ``jacobian``) their Jacobian (``_cost_jacobian``); the cost is |c|^2."""
     wl, wd = COST_WEIGHTS[cost]
-    h, Jh = _link_lengths(model, z)
+    h, _ = _link_lengths(model, z)
+    c = wl * h if wd == 0.0 else np.concatenate([wl * h, wd * _dexterity(model, z)])
+    return c, (_cost_jacobian(model, cost, z) if jacobian else None)
+
+
+def _cost_jacobian(model: _Model, cost: str, z: np.ndarray) -> np.ndarray:
+    """d c / d z (n [+ K], size) of the cost residuals, without evaluating c itself (the optimiser asks
+    for the values and the Jacobian at different times)."""
+    wl, wd = COST_WEIGHTS[cost]
+    _, Jh = _link_lengths(model, z)
     if wd == 0.0:
-        return wl * h, wl * Jh
-    dex = _dexterity(model, z)
-    if not jacobian:
-        return np.concatenate([wl * h, wd * dex]), None
-    Jd = _fd_jacobian(lambda x: _dexterity(model, x), z)
-    return np.concatenate([wl * h, wd * dex]), np.vstack([wl * Jh, wd * Jd])
+        return wl * Jh
+    return np.vstack([wl * Jh, wd * _fd_jacobian(lambda x: _dexterity(model, x), z)])
 
 
 def _fd_jacobian(f: Callable[[np.ndarray], np.ndarray], z: np.ndarray) -> np.ndarray:
@@ -411,7 +416,7 @@ def synthesize(task: Task, n: int, start: str | np.ndarray = "D", cost: str = "l
         return np.concatenate([REACH_WEIGHT * model.residual(z), _cost_residual(model, cost, z, False)[0]])
 
     def jac(z: np.ndarray) -> np.ndarray:
-        return np.vstack([REACH_WEIGHT * model.jacobian(z), _cost_residual(model, cost, z)[1]])
+        return np.vstack([REACH_WEIGHT * model.jacobian(z), _cost_jacobian(model, cost, z)])
 
     t0 = time.perf_counter()
     z1, nfev1 = reach(z0)
