@@ -1,4 +1,4 @@
-"""The robot document (YAML or JSON): reading, validating, cross-checking and writing.
+"""The robot document (YAML or JSON): reading, validating and cross-checking (writing: ``document_write``).
 
 Schema (docs/conventions.md): ``robkin: 1``, optional ``name``, ``joints`` (one entry per joint: name, type
 revolute|prismatic, optional limits {lower, upper} and flip), and at least one representation section:
@@ -35,22 +35,15 @@ from ..errors import InputError
 from ..representations import DHTable, HayatiTable, MDHTable, PoE, RPYTable
 from ..representations.gjd import robot_from_gjd
 from ..robot import JOINT_TYPES, Joint, Robot, check_pose
+from .document_format import (ANGLE_COLUMNS, ANGLE_UNITS, DH_KEYS, DOC_VERSION, HAYATI_KEYS, RPY_KEYS,
+                              SECTIONS)
+from .document_write import document_from_robot, dump, section_key, table_document
 from .files import read_text_file
 from .numbers import MAX_INT_DIGITS, matrix, number, number_list
 
 __all__ = ["SECTIONS", "ANGLE_UNITS", "AngleUnitWarning", "read_document", "parse_document", "read_sections",
            "document_from_robot", "dump", "same_robot", "read_text", "parse_text", "table_document", "section_key"]
 
-#: Representation sections, in the order that decides which one defines the GJD when several are given.
-SECTIONS = ("gjd", "dh", "mdh", "hayati", "rpy_xyz", "poe", "poe_body")
-DOC_VERSION = 1
-_DH_KEYS = ("a", "d", "alpha", "theta")
-_RPY_KEYS = ("roll", "pitch", "yaw", "x", "y", "z")
-_HAYATI_KEYS = ("a", "d", "alpha", "theta", "beta")
-#: Which columns of each section's rows are angles (converted for ``angles: degrees``).
-_ANGLE_COLUMNS = {"dh": ("alpha", "theta"), "mdh": ("alpha", "theta"), "hayati": ("alpha", "theta", "beta"),
-                  "rpy_xyz": ("roll", "pitch", "yaw")}
-ANGLE_UNITS = ("radians", "degrees")
 #: An angle in radians larger than this in magnitude draws a warning: a full turn is the most any
 #: table parameter or joint limit needs in practice (UR's limits are exactly +-2 pi, hence the
 #: margin of rounding), and 90 or 180 in radians is almost surely a value typed in degrees.
@@ -266,7 +259,7 @@ def _rows(value: Any, key: str, columns: tuple[str, ...], unit: str = "radians")
             rows.append(number_list(row, where, len(columns)))
     section = key.split(".")[0]
     for j, c in enumerate(columns):
-        if c in _ANGLE_COLUMNS.get(section, ()):
+        if c in ANGLE_COLUMNS.get(section, ()):
             for i, row in enumerate(rows):
                 row[j] = _angle(row[j], f"{key}[{i}].{c}", unit)
     return rows
@@ -283,12 +276,12 @@ def _robot_of(key: str, value: Any, joints: tuple[Joint, ...], name: str | None,
     n = len(joints)
     if key == "hayati":
         sec = _mapping(value, key, ("base", "rows", "tool"))
-        rows = _rows(sec.get("rows"), "hayati.rows", _HAYATI_KEYS, unit)
+        rows = _rows(sec.get("rows"), "hayati.rows", HAYATI_KEYS, unit)
         return HayatiTable(np.array(rows), joints, base=_pose(sec, "base", key),
                            tool=_pose(sec, "tool", key)).to_robot(name)
     if key in ("dh", "mdh"):
         sec = _mapping(value, key, ("base", "rows", "tool"))
-        rows = _rows(sec.get("rows"), f"{key}.rows", _DH_KEYS, unit)
+        rows = _rows(sec.get("rows"), f"{key}.rows", DH_KEYS, unit)
         base = _pose(sec, "base", key)
         if key == "dh" and len(rows) == n + 1 and sec.get("base") is None:
             base = se3.dh_matrix(*rows[0])  # the paper's layout: row 0 is a fixed base row
@@ -310,7 +303,7 @@ def _robot_of(key: str, value: Any, joints: tuple[Joint, ...], name: str | None,
                    frame).to_robot(name)
     if key == "rpy_xyz":
         sec = _mapping(value, key, ("rows",))
-        return RPYTable(np.array(_rows(sec.get("rows"), "rpy_xyz.rows", _RPY_KEYS, unit)), joints).to_robot(name)
+        return RPYTable(np.array(_rows(sec.get("rows"), "rpy_xyz.rows", RPY_KEYS, unit)), joints).to_robot(name)
     if key == "gjd":
         sec = _mapping(value, key, ("frames",))
         frames = sec.get("frames")
@@ -360,121 +353,3 @@ def same_robot(a: Robot, b: Robot, tol: float = AGREE_TOL) -> str | None:
     k = int(bad[0])
     where = "at q = 0" if k == 0 else f"at q = [{', '.join(f'{v:.3g}' for v in Q[k])}]"
     return f"tool poses differ {where}: position by {pos[k] * scale:.3g}, rotation by {rot[k]:.3g}"
-
-
-# ---------------------------------------------------------------------------------------- writing
-def _clean(x: float) -> float:
-    """A plain float for output: the value itself (written with repr, so it reads back bit-exact),
-    with -0.0 written as 0."""
-    return float(x) + 0.0
-
-
-def _mat(T: np.ndarray) -> list[list[float]]:
-    return [[_clean(v) for v in row] for row in np.asarray(T)]
-
-
-def _joint_entry(j: Joint, degrees: bool) -> dict[str, Any]:
-    entry: dict[str, Any] = {"name": j.name, "type": j.type}
-    if j.lower is not None or j.upper is not None:
-        conv = math.degrees if degrees and j.revolute else float
-        entry["limits"] = {k: _clean(conv(v)) for k, v in (("lower", j.lower), ("upper", j.upper))
-                           if v is not None}
-    if j.flip:
-        entry["flip"] = True
-    return entry
-
-
-def document_from_robot(robot: Robot, sections: tuple[str, ...] = SECTIONS, *,
-                        degrees: bool = False) -> dict[str, Any]:
-    """A robot document (dict) with ``joints`` and the requested sections (default: all).
-
-    With ``degrees`` every angle (table angle columns, revolute joint limits) is written in degrees
-    and the document says ``angles: degrees``.
-    """
-    from ..representations import (dh_from_robot, hayati_from_robot, mdh_from_robot, poe_from_robot,
-                                   rpy_from_robot)
-
-    doc: dict[str, Any] = {"robkin": DOC_VERSION}
-    if robot.name:
-        doc["name"] = robot.name
-    if degrees:
-        doc["angles"] = "degrees"
-    doc["joints"] = [_joint_entry(j, degrees) for j in robot.joints]
-    if not np.allclose(robot.world, np.eye(4), rtol=0, atol=1e-15):
-        doc["world"] = _mat(robot.world)  # world -> robot base: kept, but not part of FK
-    tables = {"dh": dh_from_robot, "mdh": mdh_from_robot, "hayati": hayati_from_robot}
-    for key in sections:
-        if key in tables:
-            doc[key] = _section(tables[key](robot), degrees)
-        elif key in ("poe", "poe_body"):
-            doc[key] = _section(poe_from_robot(robot, "space" if key == "poe" else "body"))
-        elif key == "rpy_xyz":
-            doc["rpy_xyz"] = _section(rpy_from_robot(robot), degrees)
-        elif key == "gjd":
-            doc["gjd"] = {"frames": [_mat(F) for F in robot.frames]}
-        else:
-            raise InputError(f"unknown section '{key}'; one of {', '.join(SECTIONS)}")
-    return doc
-
-
-def section_key(table: Any) -> str:
-    """The document section a DHTable, MDHTable, HayatiTable, PoE or RPYTable is written to."""
-    from ..representations import PoE, RPYTable
-
-    if isinstance(table, PoE):
-        return "poe" if table.frame == "space" else "poe_body"
-    return "rpy_xyz" if isinstance(table, RPYTable) else table.SECTION
-
-
-def _section(table: Any, degrees: bool = False) -> dict[str, Any]:
-    """The section of a DHTable, MDHTable, HayatiTable, PoE or RPYTable as a document holds it (angle
-    columns in degrees if asked)."""
-    key = section_key(table)
-    if key in ("dh", "mdh", "hayati"):
-        keys = _HAYATI_KEYS if key == "hayati" else _DH_KEYS
-        return {"base": _mat(table.base), "rows": _named_rows(table.rows, keys, key, degrees),
-                "tool": _mat(table.tool)}
-    if key in ("poe", "poe_body"):
-        return {"frame": table.frame, "M": _mat(table.M), "screws": _mat(table.screws)}
-    return {"rows": _named_rows(table.rows, _RPY_KEYS, key, degrees)}
-
-
-def table_document(table: Any, degrees: bool = False) -> dict[str, Any]:
-    """A robot document (dict) holding one table (DHTable, MDHTable, HayatiTable, PoE or RPYTable) and
-    its joints (angles in degrees if asked)."""
-    doc: dict[str, Any] = {"robkin": DOC_VERSION}
-    if degrees:
-        doc["angles"] = "degrees"
-    doc["joints"] = [_joint_entry(j, degrees) for j in table.joints]
-    doc[section_key(table)] = _section(table, degrees)
-    return doc
-
-
-def _named_rows(rows: np.ndarray, keys: tuple[str, ...], section: str, degrees: bool) -> list[dict[str, float]]:
-    angles = _ANGLE_COLUMNS.get(section, ()) if degrees else ()
-    return [{k: _clean(math.degrees(v) if k in angles else v) for k, v in zip(keys, row)} for row in rows]
-
-
-def dump(doc: Mapping[str, Any], fmt: str = "yaml") -> str:
-    """Serialise a document as 'yaml' (flow-style rows and matrices) or 'json' (indented)."""
-    if fmt == "json":
-        from .jsontext import dumps
-
-        return dumps(doc, exact=True) + "\n"
-    if fmt != "yaml":
-        raise InputError(f"format '{fmt}' is not one of yaml, json")
-    import yaml
-
-    class _Dumper(yaml.SafeDumper):  # type: ignore[misc]  # yaml has no type hints here
-        pass
-
-    def _repr_float(dumper: yaml.SafeDumper, value: float) -> Any:
-        # repr: the shortest string that reads back to the same float (full precision). YAML 1.1
-        # resolves "1e-17" as a string, so the mantissa gets a ".0" ("1.0e-17").
-        text = repr(value) if math.isfinite(value) else ".nan"
-        if "e" in text and "." not in text:
-            text = text.replace("e", ".0e")
-        return dumper.represent_scalar("tag:yaml.org,2002:float", text)
-
-    _Dumper.add_representer(float, _repr_float)
-    return yaml.dump(dict(doc), Dumper=_Dumper, sort_keys=False, default_flow_style=None, width=120)
