@@ -3,7 +3,7 @@
 check that every joint lies within them (the kernels behind ``kinematics.limits``)."""
 
 cimport numpy as cnp
-from libc.math cimport ceil, floor, rint, M_PI
+from robkin.compiled.subproblems cimport wrap_into_limits
 
 import numpy as np
 
@@ -38,22 +38,10 @@ def wrap(Q, lower, upper, revolute, ref, double tol):
     cdef cnp.ndarray ok_arr = cnp.PyArray_EMPTY(1, dims, cnp.NPY_BOOL, 0)
     cdef double* out = <double*>cnp.PyArray_DATA(out_arr)
     cdef unsigned char* ok = <unsigned char*>cnp.PyArray_DATA(ok_arr)
-    cdef double two_pi = 2.0 * M_PI, x, k, k_lo, k_hi
     with nogil:
         for i in range(M):
-            ok[i] = 1
             for j in range(n):
-                x = q[n * i + j]
-                if rev[j]:
-                    k_lo = ceil((lo[j] - tol - x) / two_pi)      # -inf where unlimited
-                    k_hi = floor((hi[j] + tol - x) / two_pi)     # +inf where unlimited
-                    k = rint((r[n * i + j] - x) / two_pi)        # half to even, as numpy.round
-                    if k < k_lo:
-                        k = k_lo
-                    if k > k_hi:
-                        k = k_hi
-                    x = x + k * two_pi
-                out[n * i + j] = x
-                if not (x >= lo[j] - tol and x <= hi[j] + tol):
-                    ok[i] = 0
+                out[n * i + j] = q[n * i + j]
+            # the one wrapping rule, shared with the closed-form kernels
+            ok[i] = wrap_into_limits(out + n * i, r + n * i, lo, hi, rev, n, tol)
     return out_arr, ok_arr
