@@ -208,3 +208,26 @@ def test_batch_solutions_are_the_distinct_verified_branches():
         reached = Q[np.array([np.abs(robot.fk(x) - T[i]).max() < 1e-8 for x in Q], bool).reshape(-1)]
         expected = distinct_sorted(reached, ref[i], unit, SAME_SOLUTION_TOL)
         np.testing.assert_allclose(res.solutions[i], expected, atol=0)
+
+
+def test_the_solver_cache_neither_keeps_robots_alive_nor_mixes_them_up():
+    """closed_form_solver caches per robot by identity: a robot that goes away is dropped (its solver
+    does not keep it alive), and a new robot gets its own solver."""
+    import gc
+    import weakref
+
+    from robkin.kinematics import closed_form
+
+    robot = robkin.load(SCARA)
+    T = robot.fk(robot.random_q(1, rng=1)[0])
+    assert robot.ik(T).success
+    solver = closed_form.closed_form_solver(robot)
+    assert closed_form.closed_form_solver(robot) is solver
+    gone = weakref.ref(robot)
+    before = len(closed_form._SOLVERS)
+    del robot
+    gc.collect()
+    assert gone() is None and len(closed_form._SOLVERS) == before - 1
+    other = robkin.load(SCARA)
+    assert closed_form.closed_form_solver(other) is not solver
+    assert closed_form.closed_form_solver(load_arm("ur5")[0]).name == "three-parallel-6r"

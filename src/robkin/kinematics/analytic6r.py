@@ -59,7 +59,6 @@ class _Closed6R(KernelSolver):
     detection steps (six revolute joints, axis angles, the length tolerance). The compiled kernel
     (``robkin.compiled.closed_form_6r``) is built per robot; ``messages`` explain its outcome codes."""
 
-    robot: Robot
     e1: np.ndarray
     e2: np.ndarray
     a: complex
@@ -104,7 +103,6 @@ class SphericalWrist6R(_Closed6R):
     def __init__(self, robot: Robot, w0: np.ndarray) -> None:
         from ..compiled.closed_form_6r import SphericalWristKernel
 
-        self.robot = robot
         z, c = robot.axes, robot.points
         self.w0 = w0
         self._plane(z[1], np.array([c[1], c[2], w0]))
@@ -170,7 +168,6 @@ class ThreeParallel6R(_Closed6R):
     def __init__(self, robot: Robot, w: np.ndarray) -> None:
         from ..compiled.closed_form_6r import ThreeParallelKernel
 
-        self.robot = robot
         z, c = robot.axes, robot.points
         u = z[1]
         sigma = np.sign(z[1:4] @ u)                          # senses of axes 2-4 along u

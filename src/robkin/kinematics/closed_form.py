@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import weakref
 from dataclasses import dataclass
-from typing import Any, Callable, Protocol, cast
+from typing import Any, Callable, Protocol
 
 import numpy as np
 
@@ -90,16 +90,18 @@ class KernelSolver:
         return Branches(Q, valid, reasons, uncertain)
 
 
-#: detection result per Robot (robots are immutable), so repeated single-target calls detect once
-_SOLVERS: "weakref.WeakKeyDictionary[Robot, ClosedFormSolver | None]" = weakref.WeakKeyDictionary()
-_UNKNOWN = object()     # not detected yet (None is a result: no closed form fits)
+#: detection result per Robot (robots are immutable), so repeated single-target calls detect once:
+#: keyed by id(robot), with a weak reference that proves the robot is the same one and whose callback
+#: drops the entry when the robot goes (a WeakKeyDictionary lookup costs twice as much, on every call)
+_SOLVERS: dict[int, tuple[weakref.ref[Robot], ClosedFormSolver | None]] = {}
 
 
 def closed_form_solver(robot: Robot) -> ClosedFormSolver | None:
     """The closed-form solver that fits the robot's geometry, or None."""
-    cached = _SOLVERS.get(robot, _UNKNOWN)      # one lookup: this runs on every single-target call
-    if cached is not _UNKNOWN:
-        return cast("ClosedFormSolver | None", cached)
+    key = id(robot)
+    cached = _SOLVERS.get(key)          # one lookup: this runs on every single-target call
+    if cached is not None and cached[0]() is robot:
+        return cached[1]
     found = None
     from .analytic6r import SphericalWrist6R, ThreeParallel6R
     from .scara import ScaraSolver
@@ -108,7 +110,12 @@ def closed_form_solver(robot: Robot) -> ClosedFormSolver | None:
         found = cls.detect(robot)
         if found is not None:
             break
-    _SOLVERS[robot] = found
+
+    def forget(ref: weakref.ref[Robot], key: int = key) -> None:
+        if _SOLVERS.get(key, (None,))[0] is ref:       # not an entry of a later robot with the same id
+            del _SOLVERS[key]
+
+    _SOLVERS[key] = (weakref.ref(robot, forget), found)
     return found
 
 

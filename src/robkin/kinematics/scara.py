@@ -61,7 +61,6 @@ class ScaraSolver(KernelSolver):
     def __init__(self, robot: Robot, u: np.ndarray) -> None:
         from ..compiled.closed_form_scara import ScaraKernel
 
-        self.robot = robot
         self.u = u
         z, c = robot.axes, robot.points
         ridx = np.flatnonzero(robot.revolute)
