@@ -19,7 +19,6 @@ cdef class ClosedFormKernel:
     cdef double* Q1                     # single-target scratch: (S, n) branches
     cdef double* dist1                  # (S,)
     cdef double* work1                  # (work_size,)
-    cdef double* F1                     # (16 (n + 1),): the frames of a forward-kinematics walk
     cdef Py_ssize_t* order1             # (2 S,): the candidates' order, then the kept rows
     cdef unsigned char* valid1          # (S,)
     cdef unsigned char* reached1        # (S,)

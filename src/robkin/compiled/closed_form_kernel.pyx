@@ -55,10 +55,10 @@ cdef class ClosedFormKernel:
         ref0 = np.array(ref0, dtype=np.float64)
         if ref0.shape != (n,):
             raise ValueError(f"ref0: expected shape ({n},)")
-        Q1, dist1, work1, F1 = np.empty(S * n), np.empty(S), np.empty(self.work_size), np.empty(16 * (n + 1))
+        Q1, dist1, work1 = np.empty(S * n), np.empty(S), np.empty(self.work_size)
         order1 = np.empty(2 * S, np.intp)
         flags = np.empty(2 * S, np.uint8)
-        self._owners = (lim, rev, lo, hi, unit, ref0, Q1, dist1, work1, F1, order1, flags)
+        self._owners = (lim, rev, lo, hi, unit, ref0, Q1, dist1, work1, order1, flags)
         self.lim = <double*>cnp.PyArray_DATA(lim)
         self.rev = <unsigned char*>cnp.PyArray_DATA(rev)
         self.lo = <double*>cnp.PyArray_DATA(lo)
@@ -68,7 +68,6 @@ cdef class ClosedFormKernel:
         self.Q1 = <double*>cnp.PyArray_DATA(Q1)
         self.dist1 = <double*>cnp.PyArray_DATA(dist1)
         self.work1 = <double*>cnp.PyArray_DATA(work1)
-        self.F1 = <double*>cnp.PyArray_DATA(F1)
         self.order1 = <Py_ssize_t*>cnp.PyArray_DATA(order1)
         self.valid1 = <unsigned char*>cnp.PyArray_DATA(flags)
         self.reached1 = self.valid1 + S
@@ -166,7 +165,7 @@ cdef class ClosedFormKernel:
         self.solve_one(Rd, pd, ref, self.Q1, self.valid1, &detail, &uncertain, self.work1)
         best = nearest_branch(self.chain.L, self.rev, n, self.Q1, self.valid1, S, t, ref, self.lim,
                               self.scale, <double>tol_position, <double>tol_orientation, self.limit_tol,
-                              every, self.reached1, self.dist1, self.order1, &m, self.F1, &ep, &eo)
+                              every, self.reached1, self.dist1, self.order1, &m, &ep, &eo)
         if best < 0:
             return None
         cdef cnp.ndarray q = new_array(1, n, 0, 0, cnp.NPY_DOUBLE)

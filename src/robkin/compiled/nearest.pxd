@@ -8,9 +8,7 @@ Shared by ``solutions`` (a batch) and the closed-form kernels' single-target ent
 
 from libc.math cimport fabs, sqrt, INFINITY
 cimport numpy as cnp
-from robkin.compiled.fk cimport move_joint
-from robkin.compiled.linalg cimport tf_copy, tf_mul
-from robkin.compiled.pose_check cimport finite_q, pose_residual
+from robkin.compiled.pose_check cimport tool_errors
 
 
 cdef inline void insert_by_distance(Py_ssize_t* order, Py_ssize_t m, const double* dist,
@@ -24,43 +22,20 @@ cdef inline void insert_by_distance(Py_ssize_t* order, Py_ssize_t m, const doubl
     order[a] = i
 
 
-cdef inline void walk_from(const double* L, const unsigned char* rev, Py_ssize_t n, const double* q,
-                           const double* prev, double* F) noexcept nogil:
-    """F (n+1 poses of 16): F[i] the frame of joint i after its motion, F[n] the tool pose at q (n,),
-    walked as ``fk.walk_tool`` walks (the same operations, so the same numbers), but starting at the
-    first joint where q differs from ``prev``, the q that F holds (NULL: from the base). Branches of
-    one target share their first joints (a shoulder, an elbow), so most walks are short."""
-    cdef Py_ssize_t i, j = 0
-    if prev != NULL:
-        while j < n and q[j] == prev[j]:
-            j += 1
-    for i in range(j, n):
-        if i == 0:
-            tf_copy(L, F)
-        else:
-            tf_mul(F + 16 * (i - 1), L + 16 * i, F + 16 * i)
-        move_joint(F + 16 * i, rev[i], q[i])
-    if j < n:
-        tf_mul(F + 16 * (n - 1), L + 16 * n, F + 16 * n)
-
-
 cdef inline Py_ssize_t nearest_branch(const double* L, const unsigned char* rev, Py_ssize_t n,
                                       const double* q, const unsigned char* v, Py_ssize_t S,
                                       const double* T, const double* r, const double* lim,
                                       double length_unit, double tol_position, double tol_orientation,
                                       double limit_tol, bint every, unsigned char* reached,
-                                      double* dist, Py_ssize_t* order, Py_ssize_t* m_out, double* F,
-                                      double* ep, double* eo) noexcept nogil:
+                                      double* dist, Py_ssize_t* order, Py_ssize_t* m_out, double* ep,
+                                      double* eo) noexcept nogil:
     """The index of the branch q[s] (S, n) nearest r (n,) that truly reaches the target T (4x4
     row-major), or -1; see ``solutions.nearest_verified`` for what counts and the order of the search.
 
     v (S,): the solver's valid flags; lim (n, 2) row-major; dist: scratch of S entries; order (S,)
     and m_out: the candidates (valid, within the limits), nearest first, and their number; reached
-    (S,) is set (1 for the branches found to count); F: scratch of 16 (n + 1); ep, eo: the errors of
-    the chosen branch (inf if none).
-
-    With ``every`` the candidates are walked in branch order (neighbours share joints, see
-    ``walk_from``), and the nearest that counts is chosen afterwards: the same choice.
+    (S,) is set (1 for the branches found to count); ep, eo: the errors of the chosen branch (inf if
+    none).
     """
     cdef Py_ssize_t m = 0, s, j, a, best = -1
     cdef const double* b
@@ -94,43 +69,18 @@ cdef inline Py_ssize_t nearest_branch(const double* L, const unsigned char* rev,
     m_out[0] = m
     ep[0] = INFINITY
     eo[0] = INFINITY
-    cdef const double* prev = NULL
-    if every:
-        # dist is free now: it holds each candidate's rank (-1: not a candidate), so the walk in branch
-        # order keeps the errors of the best-ranked branch that counts
-        for s in range(S):
-            dist[s] = -1.0
-        for a in range(m):
-            dist[order[a]] = a
-        for s in range(S):
-            b = q + s * n
-            if dist[s] < 0.0 or not finite_q(b, n):
-                continue
-            walk_from(L, rev, n, b, prev, F)
-            prev = b
-            pose_residual(F + 16 * n, T, full_pose, &e_p, &e_o)
-            if e_p <= tol_position and e_o <= tol_orientation:
-                reached[s] = 1
-                if best < 0 or dist[s] < dist[best]:
-                    best = s
-                    ep[0] = e_p
-                    eo[0] = e_o
-        return best
     for a in range(m):
         s = order[a]
-        b = q + s * n
-        if not finite_q(b, n):
-            continue
-        walk_from(L, rev, n, b, prev, F)
-        prev = b
-        pose_residual(F + 16 * n, T, full_pose, &e_p, &e_o)
+        tool_errors(L, rev, n, q + s * n, T, full_pose, &e_p, &e_o)
         if not (e_p <= tol_position and e_o <= tol_orientation):
             continue
         reached[s] = 1
-        best = s
-        ep[0] = e_p
-        eo[0] = e_o
-        break
+        if best < 0:
+            best = s
+            ep[0] = e_p
+            eo[0] = e_o
+            if not every:
+                break
     return best
 
 

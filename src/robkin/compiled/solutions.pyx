@@ -106,22 +106,19 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
     cdef unsigned char* ok = <unsigned char*>cnp.PyArray_DATA(ok_out)
     cdef double* ep = <double*>cnp.PyArray_DATA(ep_out)
     cdef double* eo = <double*>cnp.PyArray_DATA(eo_out)
-    # scratch: per branch a distance, an order and a kept slot (S each), reached flags (S), units (n),
-    # the frames of a walk (16 (n + 1))
+    # scratch: per branch a distance, an order and a kept slot (S each), reached flags (S), units (n)
     cdef double* dist = <double*>malloc(max(S, 1) * sizeof(double))
     cdef double* unit = <double*>malloc(max(n, 1) * sizeof(double))
     cdef Py_ssize_t* order = <Py_ssize_t*>malloc(2 * max(S, 1) * sizeof(Py_ssize_t))
     cdef unsigned char* reached = <unsigned char*>malloc(max(S, 1))
-    cdef double* F = <double*>malloc(16 * (n + 1) * sizeof(double))
     cdef Py_ssize_t* kept = order + max(S, 1)
     cdef Py_ssize_t failed = 0
     cdef list sols = [None] * N if every else None
-    if dist == NULL or unit == NULL or order == NULL or reached == NULL or F == NULL:
+    if dist == NULL or unit == NULL or order == NULL or reached == NULL:
         free(dist)
         free(unit)
         free(order)
         free(reached)
-        free(F)
         raise MemoryError()
     for j in range(n):
         unit[j] = 1.0 if rev[j] else length_unit
@@ -129,7 +126,7 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
         for k in range(N):
             best = nearest_branch(chain.L, rev, n, q + k * S * n, v + k * S, S, T + 16 * k, r + k * n, lim,
                                   length_unit, tol_position, tol_orientation, limit_tol, every, reached,
-                                  dist, order, &m, F, ep + k, eo + k)
+                                  dist, order, &m, ep + k, eo + k)
             ok[k] = best >= 0
             failed += best < 0
             for j in range(n):
@@ -142,5 +139,4 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
         free(unit)
         free(order)
         free(reached)
-        free(F)
     return q_out, ok_out, sols, ep_out, eo_out, failed
