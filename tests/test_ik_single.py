@@ -231,3 +231,18 @@ def test_the_solver_cache_neither_keeps_robots_alive_nor_mixes_them_up():
     other = robkin.load(SCARA)
     assert closed_form.closed_form_solver(other) is not solver
     assert closed_form.closed_form_solver(load_arm("ur5")[0]).name == "three-parallel-6r"
+
+
+def test_single_calls_from_several_threads_give_the_serial_answers():
+    """The one-call path keeps no per-robot scratch: threads sharing a robot get the serial results."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    robot = load_arm("ur5")[0]
+    T = robot.fk(robot.random_q(200, rng=17))
+    serial = [robot.ik(t, all_solutions=bool(i % 2)) for i, t in enumerate(T)]
+    with ThreadPoolExecutor(4) as pool:
+        threaded = list(pool.map(lambda i: robot.ik(T[i], all_solutions=bool(i % 2)), range(len(T))))
+    for a, b in zip(serial, threaded):
+        np.testing.assert_array_equal(a.q, b.q)
+        if a.solutions is not None:
+            np.testing.assert_array_equal(a.solutions, b.solutions)

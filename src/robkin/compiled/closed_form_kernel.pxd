@@ -16,12 +16,6 @@ cdef class ClosedFormKernel:
     cdef unsigned char* rev             # (n,) 1 = revolute
     cdef double* unit                   # (n,) 1 rad for revolute joints, scale for prismatic ones
     cdef double* ref0                   # (n,) the default preference: zero clipped into the limits
-    cdef double* Q1                     # single-target scratch: (S, n) branches
-    cdef double* dist1                  # (S,)
-    cdef double* work1                  # (work_size,)
-    cdef Py_ssize_t* order1             # (2 S,): the candidates' order, then the kept rows
-    cdef unsigned char* valid1          # (S,)
-    cdef unsigned char* reached1        # (S,)
     cdef object _owners                 # the numpy arrays owning the memory above
 
     cdef signed char solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,

@@ -18,6 +18,7 @@ import numpy as np
 
 cimport numpy as cnp
 from libc.math cimport isfinite
+from libc.stdlib cimport free, malloc
 from robkin.compiled.fk cimport Chain
 from robkin.compiled.nearest cimport keep_distinct, nearest_branch, rows_array
 from robkin.compiled.pose_check cimport exact_pose
@@ -35,7 +36,8 @@ cdef inline bint _positive(object x):
 
 
 cdef class ClosedFormKernel:
-    """Limits, units, the chain and scratch of one robot; subclasses add the geometry and ``solve_one``."""
+    """Limits, units, the chain and the default preference of one robot; subclasses add the geometry
+    and ``solve_one``."""
 
     def __init__(self, Chain chain, limits, revolute, double scale, double limit_tol, ref0, Py_ssize_t S,
                  Py_ssize_t work_size):
@@ -55,22 +57,13 @@ cdef class ClosedFormKernel:
         ref0 = np.array(ref0, dtype=np.float64)
         if ref0.shape != (n,):
             raise ValueError(f"ref0: expected shape ({n},)")
-        Q1, dist1, work1 = np.empty(S * n), np.empty(S), np.empty(self.work_size)
-        order1 = np.empty(2 * S, np.intp)
-        flags = np.empty(2 * S, np.uint8)
-        self._owners = (lim, rev, lo, hi, unit, ref0, Q1, dist1, work1, order1, flags)
+        self._owners = (lim, rev, lo, hi, unit, ref0)
         self.lim = <double*>cnp.PyArray_DATA(lim)
         self.rev = <unsigned char*>cnp.PyArray_DATA(rev)
         self.lo = <double*>cnp.PyArray_DATA(lo)
         self.hi = <double*>cnp.PyArray_DATA(hi)
         self.unit = <double*>cnp.PyArray_DATA(unit)
         self.ref0 = <double*>cnp.PyArray_DATA(ref0)
-        self.Q1 = <double*>cnp.PyArray_DATA(Q1)
-        self.dist1 = <double*>cnp.PyArray_DATA(dist1)
-        self.work1 = <double*>cnp.PyArray_DATA(work1)
-        self.order1 = <Py_ssize_t*>cnp.PyArray_DATA(order1)
-        self.valid1 = <unsigned char*>cnp.PyArray_DATA(flags)
-        self.reached1 = self.valid1 + S
 
     cdef signed char solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
                                unsigned char* valid, double* detail, unsigned char* uncertain,
@@ -160,22 +153,39 @@ cdef class ClosedFormKernel:
         cdef double pd[3]
         cdef double detail, ep, eo
         cdef unsigned char uncertain
-        # the scratch is the kernel's own: safe because the GIL is held throughout (no re-entry)
-        read_pose(t, Rd, pd)
-        self.solve_one(Rd, pd, ref, self.Q1, self.valid1, &detail, &uncertain, self.work1)
-        best = nearest_branch(self.chain.L, self.rev, n, self.Q1, self.valid1, S, t, ref, self.lim,
-                              self.scale, <double>tol_position, <double>tol_orientation, self.limit_tol,
-                              every, self.reached1, self.dist1, self.order1, &m, &ep, &eo)
-        if best < 0:
-            return None
-        cdef cnp.ndarray q = new_array(1, n, 0, 0, cnp.NPY_DOUBLE)
-        cdef double* qo = <double*>cnp.PyArray_DATA(q)
-        for j in range(n):
-            qo[j] = self.Q1[best * n + j]
-        solutions = None
-        if every:
-            m = keep_distinct(self.Q1, n, self.order1, m, self.reached1, self.unit, same_tol, self.order1 + S)
-            solutions = rows_array(self.Q1, n, self.order1 + S, m)
+        # scratch per call (not per kernel: another thread may run the same kernel whenever this one
+        # runs Python code, e.g. a garbage collection during an allocation): branches (S, n), distances
+        # (S), solve_one's work, the order and the kept rows (2 S), valid and reached flags (2 S)
+        cdef char* buf = <char*>malloc((S * n + S + self.work_size) * sizeof(double)
+                                       + 2 * S * sizeof(Py_ssize_t) + 2 * S)
+        if buf == NULL:
+            raise MemoryError()
+        cdef double* Q = <double*>buf
+        cdef double* dist = Q + S * n
+        cdef double* work = dist + S
+        cdef Py_ssize_t* order = <Py_ssize_t*>(work + self.work_size)
+        cdef unsigned char* valid = <unsigned char*>(order + 2 * S)
+        cdef unsigned char* reached = valid + S
+        cdef cnp.ndarray q
+        cdef double* qo
+        try:
+            read_pose(t, Rd, pd)
+            self.solve_one(Rd, pd, ref, Q, valid, &detail, &uncertain, work)
+            best = nearest_branch(self.chain.L, self.rev, n, Q, valid, S, t, ref, self.lim, self.scale,
+                                  <double>tol_position, <double>tol_orientation, self.limit_tol, every,
+                                  reached, dist, order, &m, &ep, &eo)
+            if best < 0:
+                return None
+            q = new_array(1, n, 0, 0, cnp.NPY_DOUBLE)
+            qo = <double*>cnp.PyArray_DATA(q)
+            for j in range(n):
+                qo[j] = Q[best * n + j]
+            solutions = None
+            if every:
+                m = keep_distinct(Q, n, order, m, reached, self.unit, same_tol, order + S)
+                solutions = rows_array(Q, n, order + S, m)
+        finally:
+            free(buf)
         result = result_type.__new__(result_type)
         # the fields as a new instance dictionary, set past the frozen class's __setattr__
         PyObject_GenericSetDict(result, {"q": q, "success": True, "iterations": 0, "attempts": 1,
