@@ -2,8 +2,10 @@
 
 Each kernel is built once per robot from the geometry the Python detector found (joint axes z_i and
 points c_i at q = 0, the tool pose M, the plane of the parallel axes) and solves targets one by one
-in C: all 8 branches, wrapped into the joint limits, each marked valid or not, and per target a code
-saying which step failed first. The Python side only validates, and turns codes into messages.
+in C (``solve_one``; the batch loop and the single-target entry are the base class's,
+``closed_form_kernel.ClosedFormKernel``): all 8 branches, wrapped into the joint limits, each marked
+valid or not, and per target a code saying which step failed first. The Python side only validates,
+and turns codes into messages.
 
 Outcome codes per target (``code``):
 
@@ -19,12 +21,11 @@ import numpy as np
 
 cimport numpy as cnp
 from libc.math cimport hypot, INFINITY
-from robkin.compiled.nearest cimport nearest_branch
+from robkin.compiled.closed_form_kernel cimport ClosedFormKernel
 from robkin.compiled.fk cimport Chain
 from robkin.compiled.linalg cimport cross3, dot3, mat3_mul, mat3_vec, mat3T_vec, rodrigues
-from robkin.compiled.subproblems cimport (angle_about, c_doubles, cos_sin_equation, mat3T_mul, new_array,
-                                          planar_two_link, read_pose, TwoLink, two_axes,
-                                          two_link, wrap_branches)
+from robkin.compiled.subproblems cimport (angle_about, cos_sin_equation, mat3T_mul, planar_two_link,
+                                          TwoLink, two_axes, two_link, wrap_branches)
 
 cnp.import_array()
 
@@ -68,8 +69,8 @@ cdef void _copy33(object src, double* dst):
             dst[3 * i + j] = float(src[i][j])
 
 
-cdef class _Kernel6R:
-    """Geometry shared by both families: axes, points, tool, limits, the plane of the parallel axes."""
+cdef class _Kernel6R(ClosedFormKernel):
+    """Geometry shared by both families: axes, points, tool, the plane of the parallel axes."""
 
     cdef double z[6][3]
     cdef double c[6][3]
@@ -78,106 +79,22 @@ cdef class _Kernel6R:
     cdef double x6[3]              # a direction normal to axis 6
     cdef double e1[3]
     cdef double e2[3]              # the plane normal to the parallel axes (complex coordinates)
-    cdef double lo[6]
-    cdef double hi[6]
-    cdef double lim[12]            # the limits (6, 2) row-major, as nearest_branch reads them
-    cdef unsigned char rev[6]
-    cdef double scale, C2r, C2i, limit_tol
-    cdef TwoLink chain             # joints 2-3 as a planar two-link chain
+    cdef double C2r, C2i
+    cdef TwoLink chain23           # joints 2-3 as a planar two-link chain
 
-    def __init__(self, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol):
+    def __init__(self, Chain chain, ref0, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol):
+        super().__init__(chain, limits, [True] * 6, scale, limit_tol, ref0, 8, 0)
         cdef int i
         for i in range(6):
             _copy3(z[i], self.z[i])
             _copy3(c[i], self.c[i])
-            self.lo[i] = float(limits[i][0])
-            self.hi[i] = float(limits[i][1])
-            self.lim[2 * i] = self.lo[i]
-            self.lim[2 * i + 1] = self.hi[i]
-            self.rev[i] = 1
         _copy3(w_tool, self.w_tool)
         _copy33(np.asarray(R_M).T, self.RMt)
         _copy3(x6, self.x6)
         _copy3(e1, self.e1)
         _copy3(e2, self.e2)
-        self.chain = two_link(a, b)
+        self.chain23 = two_link(a, b)
         self.C2r, self.C2i = C2.real, C2.imag
-        self.scale = scale
-        self.limit_tol = limit_tol
-
-    def solve(self, targets, q_ref):
-        """Branches of targets (N, 4, 4), preferring q_ref (N, 6) for free joints.
-
-        Returns Q (N, 8, 6), valid (N, 8) bool, code (N,) int8, detail (N,) float, uncertain (N,)
-        bool and the number of targets without a valid branch.
-        """
-        cdef cnp.ndarray T = c_doubles(targets, 3, 4, "targets")
-        cdef cnp.ndarray R = c_doubles(q_ref, 2, 6, "q_ref")
-        cdef Py_ssize_t N = cnp.PyArray_DIM(T, 0), n, failed = 0
-        if cnp.PyArray_DIM(R, 0) != N:
-            raise ValueError(f"q_ref: expected {N} rows, got {cnp.PyArray_DIM(R, 0)}")
-        cdef cnp.ndarray Q = new_array(3, N, 8, 6, cnp.NPY_DOUBLE)
-        cdef cnp.ndarray valid = new_array(2, N, 8, 0, cnp.NPY_BOOL)
-        cdef cnp.ndarray code = new_array(1, N, 0, 0, cnp.NPY_INT8)
-        cdef cnp.ndarray detail = new_array(1, N, 0, 0, cnp.NPY_DOUBLE)
-        cdef cnp.ndarray unc = new_array(1, N, 0, 0, cnp.NPY_BOOL)
-        cdef const double* t = <const double*>cnp.PyArray_DATA(T)
-        cdef const double* ref = <const double*>cnp.PyArray_DATA(R)
-        cdef double* q = <double*>cnp.PyArray_DATA(Q)
-        cdef unsigned char* v = <unsigned char*>cnp.PyArray_DATA(valid)
-        cdef signed char* c = <signed char*>cnp.PyArray_DATA(code)
-        cdef double* det = <double*>cnp.PyArray_DATA(detail)
-        cdef unsigned char* u = <unsigned char*>cnp.PyArray_DATA(unc)
-        cdef double Rd[9]
-        cdef double pd[3]
-        cdef unsigned char geometric[8]
-        with nogil:
-            for n in range(N):
-                read_pose(t + 16 * n, Rd, pd)
-                c[n] = self._solve_one(Rd, pd, ref + 6 * n, q + 48 * n, geometric, v + 8 * n, det + n, u + n)
-                failed += c[n] != 0
-        return Q, valid, code, detail, unc, failed
-
-    def nearest(self, Chain chain, target, q_ref, double tol_position, double tol_orientation):
-        """One target (4, 4): the verified branch nearest q_ref (6,), all in one call (no batch arrays).
-
-        The same solve as ``solve`` and the same choice as ``solutions.nearest_verified`` (``chain``:
-        the robot's compiled chain, for the forward-kinematics check to ``tol_position`` (length units)
-        and ``tol_orientation`` (radians)). Returns (q (6,), position error, orientation error), or None
-        when no branch counts (the caller then takes the batch path for its reasons and retries).
-        """
-        cdef cnp.ndarray T = c_doubles(target, 2, 4, "target")
-        cdef cnp.ndarray R = c_doubles(q_ref, 1, 6, "q_ref")
-        if cnp.PyArray_DIM(T, 0) != 4 or chain.n != 6:
-            raise ValueError("nearest: expected one 4x4 target and a 6-joint chain")
-        cdef const double* t = <const double*>cnp.PyArray_DATA(T)
-        cdef const double* ref = <const double*>cnp.PyArray_DATA(R)
-        cdef double Q[48]
-        cdef double Rd[9]
-        cdef double pd[3]
-        cdef double detail, dist[8], ep, eo
-        cdef unsigned char geometric[8]
-        cdef unsigned char valid[8]
-        cdef unsigned char reached[8]
-        cdef unsigned char uncertain
-        cdef Py_ssize_t order[8], best, j
-        with nogil:
-            read_pose(t, Rd, pd)
-            self._solve_one(Rd, pd, ref, Q, geometric, valid, &detail, &uncertain)
-            best = nearest_branch(chain.L, chain.rev, 6, Q, valid, 8, t, ref, self.lim, self.scale,
-                                  tol_position, tol_orientation, self.limit_tol, False, reached, dist,
-                                  order, &ep, &eo)
-        if best < 0:
-            return None
-        cdef cnp.ndarray q = new_array(1, 6, 0, 0, cnp.NPY_DOUBLE)
-        for j in range(6):
-            (<double*>cnp.PyArray_DATA(q))[j] = Q[6 * best + j]
-        return q, ep, eo
-
-    cdef signed char _solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
-                                unsigned char* geometric, unsigned char* valid, double* detail,
-                                unsigned char* uncertain) noexcept nogil:
-        return 0
 
     cdef bint _shoulder(self, const double* Rd, const double* pd, const double* u, double K0,
                         double q1_ref, double* q1, double* r, double* rho) noexcept nogil:
@@ -205,14 +122,16 @@ cdef class SphericalWristKernel(_Kernel6R):
 
     cdef double K0, sigma3
 
-    def __init__(self, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol, k, sigma3):
-        super().__init__(z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol)
+    def __init__(self, Chain chain, ref0, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol,
+                 k, sigma3):
+        super().__init__(chain, ref0, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol)
         self.K0 = k - dot3(self.z[1], self.c[0])
         self.sigma3 = sigma3
 
-    cdef signed char _solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
-                                unsigned char* geometric, unsigned char* valid, double* detail,
-                                unsigned char* uncertain) noexcept nogil:
+    cdef signed char solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
+                               unsigned char* valid, double* detail, unsigned char* uncertain,
+                               double* work) noexcept nogil:
+        cdef unsigned char geometric[8]
         cdef double q1[2]
         cdef double x2[2]
         cdef double x3[2]
@@ -248,7 +167,7 @@ cdef class SphericalWristKernel(_Kernel6R):
                 y[i] += self.c[0][i]
             self._plane_offset(y, d)
             detail[0] = min(detail[0], hypot(d[0], d[1]))
-            ok23 = planar_two_link(&self.chain, d[0], d[1], ref[1], x2, x3)
+            ok23 = planar_two_link(&self.chain23, d[0], d[1], ref[1], x2, x3)
             any_ok1 |= ok1
             any_ok123 |= ok1 and ok23
             rodrigues(z0, q1[s1], R)
@@ -290,8 +209,9 @@ cdef class ThreeParallelKernel(_Kernel6R):
     cdef double Minv_R[9]
     cdef double Minv_p[3]
 
-    def __init__(self, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol, w, sigma, M_inv):
-        super().__init__(z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol)
+    def __init__(self, Chain chain, ref0, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol,
+                 w, sigma, M_inv):
+        super().__init__(chain, ref0, z, c, w_tool, R_M, x6, e1, e2, a, b, C2, scale, limits, limit_tol)
         cdef double* u = self.z[1]
         cdef double* g = self.z[5]
         cdef double wc[3]
@@ -346,12 +266,13 @@ cdef class ThreeParallelKernel(_Kernel6R):
             x[i] += self.c[0][i]
         self._plane_offset(x, d)
         dist[0] = hypot(d[0], d[1])
-        return planar_two_link(&self.chain, d[0], d[1], self.sigma[0] * q2_ref,
+        return planar_two_link(&self.chain23, d[0], d[1], self.sigma[0] * q2_ref,
                                psi2, psi3)
 
-    cdef signed char _solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
-                                unsigned char* geometric, unsigned char* valid, double* detail,
-                                unsigned char* uncertain) noexcept nogil:
+    cdef signed char solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
+                               unsigned char* valid, double* detail, unsigned char* uncertain,
+                               double* work) noexcept nogil:
+        cdef unsigned char geometric[8]
         cdef double* u = self.z[1]
         cdef double* g = self.z[5]
         cdef double q1[2]

@@ -3,7 +3,9 @@
 Every joint axis is parallel to one direction u; 2 or 3 revolute joints and any number of prismatic
 ones. Per target: the orientation must be a turn about u, the travel along u is split among the
 prismatic joints (``split_travel``), the first two revolute joints are a planar two-link chain, and a
-third (the wrist) takes the remaining turn. Both elbows are returned, wrapped into the limits.
+third (the wrist) takes the remaining turn. Both elbows are returned, wrapped into the limits
+(``solve_one``; the batch loop and the single-target entry are the base class's,
+``closed_form_kernel.ClosedFormKernel``).
 
 Outcome codes per target (``code``), the first step that fails when no branch is valid:
 0 a valid branch exists; 1 the orientation is not a turn about u (``detail``: the tilt, radians);
@@ -16,9 +18,10 @@ import numpy as np
 
 cimport numpy as cnp
 from libc.math cimport atan2, cos, fabs, hypot, sin, sqrt
+from robkin.compiled.closed_form_kernel cimport ClosedFormKernel
+from robkin.compiled.fk cimport Chain
 from robkin.compiled.linalg cimport dot3, mat3_mul, mat3_vec
-from robkin.compiled.subproblems cimport (COS_SLACK, c_doubles, new_array, planar_two_link, read_pose,
-                                          TwoLink, two_link, wrap_branches)
+from robkin.compiled.subproblems cimport COS_SLACK, planar_two_link, TwoLink, two_link, wrap_branches
 
 cnp.import_array()
 
@@ -84,7 +87,7 @@ def split_travel(h, s, ref, lo, hi):
     return out
 
 
-cdef class ScaraKernel:
+cdef class ScaraKernel(ClosedFormKernel):
     """Built once per robot by ``kinematics.scara.ScaraSolver`` from the geometry it detected."""
 
     cdef double u[3]
@@ -93,68 +96,37 @@ cdef class ScaraKernel:
     cdef double RMt[9]
     cdef double pM[3]
     cdef double pit[3]                         # the wrist point (or tool origin) in tool coordinates
-    cdef double C1r, C1i, scale, limit_tol
-    cdef TwoLink chain                         # the first two revolute joints, planar
-    cdef Py_ssize_t n, nr, m
+    cdef double C1r, C1i
+    cdef TwoLink planar                        # the first two revolute joints, planar
+    cdef Py_ssize_t nr, m
     cdef Py_ssize_t[::1] ridx, pidx
-    cdef double[::1] sigma, s, lo, hi, p_lo, p_hi          # p_: limits of the prismatic joints
-    cdef unsigned char[::1] rev
+    cdef double[::1] sigma, s, p_lo, p_hi      # p_: limits of the prismatic joints
 
-    def __init__(self, u, e1, e2, R_M, p_M, point_in_tool, a, b, C1, scale, ridx, pidx, sigma, s, limits,
-                 revolute, limit_tol):
+    def __init__(self, Chain chain, ref0, u, e1, e2, R_M, p_M, point_in_tool, a, b, C1, scale, ridx, pidx,
+                 sigma, s, limits, revolute, limit_tol):
+        # scratch of solve_one: the prismatic joints' preferences, their values and flags (m each)
+        super().__init__(chain, limits, revolute, scale, limit_tol, ref0, 2, 3 * max(len(pidx), 1))
         cdef int i, j
         for i in range(3):
             self.u[i], self.e1[i], self.e2[i] = u[i], e1[i], e2[i]
             self.pM[i], self.pit[i] = p_M[i], point_in_tool[i]
             for j in range(3):
                 self.RMt[3 * i + j] = R_M[j][i]
-        self.chain = two_link(a, b)
-        self.C1r, self.C1i, self.scale, self.limit_tol = C1.real, C1.imag, scale, limit_tol
+        self.planar = two_link(a, b)
+        self.C1r, self.C1i = C1.real, C1.imag
         self.ridx, self.pidx = np.array(ridx, np.intp), np.array(pidx, np.intp)
-        self.n, self.nr, self.m = len(revolute), len(ridx), len(pidx)
+        self.nr, self.m = len(ridx), len(pidx)
         self.sigma, self.s = np.array(sigma, float), np.array(s, float)
         lim = np.asarray(limits, float)
-        self.lo, self.hi = lim[:, 0].copy(), lim[:, 1].copy()
         self.p_lo, self.p_hi = lim[pidx, 0].copy(), lim[pidx, 1].copy()
-        self.rev = np.array(revolute, np.uint8)
 
-    def solve(self, targets, q_ref):
-        """Both elbows of targets (N, 4, 4), preferring q_ref (N, n) for the free choices.
-
-        Returns Q (N, 2, n), valid (N, 2) bool, code (N,) int8, detail (N,) float and the number of
-        targets without a valid branch.
-        """
-        cdef Py_ssize_t n = self.n, k, failed = 0, m1 = max(self.m, 1)
-        cdef cnp.ndarray T = c_doubles(targets, 3, 4, "targets")
-        cdef cnp.ndarray R = c_doubles(q_ref, 2, n, "q_ref")
-        cdef Py_ssize_t N = cnp.PyArray_DIM(T, 0)
-        if cnp.PyArray_DIM(R, 0) != N:
-            raise ValueError(f"q_ref: expected {N} rows, got {cnp.PyArray_DIM(R, 0)}")
-        cdef cnp.ndarray Q = new_array(3, N, 2, n, cnp.NPY_DOUBLE)
-        cdef cnp.ndarray valid = new_array(2, N, 2, 0, cnp.NPY_BOOL)
-        cdef cnp.ndarray code = new_array(1, N, 0, 0, cnp.NPY_INT8)
-        cdef cnp.ndarray detail = new_array(1, N, 0, 0, cnp.NPY_DOUBLE)
-        cdef cnp.ndarray scratch = new_array(1, 3 * m1, 0, 0, cnp.NPY_DOUBLE)   # pref, qp, free flags
-        cdef const double* t = <const double*>cnp.PyArray_DATA(T)
-        cdef const double* ref = <const double*>cnp.PyArray_DATA(R)
-        cdef double* q = <double*>cnp.PyArray_DATA(Q)
-        cdef unsigned char* v = <unsigned char*>cnp.PyArray_DATA(valid)
-        cdef signed char* c = <signed char*>cnp.PyArray_DATA(code)
-        cdef double* det = <double*>cnp.PyArray_DATA(detail)
-        cdef double* work = <double*>cnp.PyArray_DATA(scratch)
-        cdef double Rd[9]
-        cdef double pd[3]
-        with nogil:
-            for k in range(N):
-                read_pose(t + 16 * k, Rd, pd)
-                c[k] = self._solve_one(Rd, pd, ref + n * k, q + 2 * n * k, v + 2 * k, det + k, work,
-                                       work + m1, <unsigned char*>(work + 2 * m1))
-                failed += c[k] != 0
-        return Q, valid, code, detail, failed
-
-    cdef signed char _solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
-                                unsigned char* valid, double* detail, double* pref, double* qp,
-                                unsigned char* scratch) noexcept nogil:
+    cdef signed char solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
+                               unsigned char* valid, double* detail, unsigned char* uncertain,
+                               double* work) noexcept nogil:
+        cdef Py_ssize_t m1 = max(self.m, 1)
+        cdef double* pref = work
+        cdef double* qp = work + m1
+        cdef unsigned char* scratch = <unsigned char*>(work + 2 * m1)
         cdef double rel[9]
         cdef double v[3]
         cdef double point[3]
@@ -192,7 +164,7 @@ cdef class ScaraKernel:
             point[j] += pd[j]
         dr = dot3(point, self.e1) - self.C1r
         di = dot3(point, self.e2) - self.C1i
-        reach_ok = planar_two_link(&self.chain, dr, di,
+        reach_ok = planar_two_link(&self.planar, dr, di,
                                    self.sigma[0] * ref[self.ridx[0]], x1, x2)
         for e in range(2):
             ang[0], ang[1] = x1[e], x2[e]
@@ -203,7 +175,7 @@ cdef class ScaraKernel:
                 miss = phi - x1[e] - x2[e]
                 miss = atan2(sin(miss), cos(miss))
                 wrist_ok[e] = fabs(miss) <= _ORIENTATION_SLACK
-                if not wrist_ok[e] and fabs(miss) * self.chain.lb <= COS_SLACK * self.scale:
+                if not wrist_ok[e] and fabs(miss) * self.planar.lb <= COS_SLACK * self.scale:
                     # a tool origin close to the second axis (|b| ~1e-7 of the robot, seen) fixes that
                     # joint's angle only to rounding / |b|, beyond the slack above, while the target's
                     # orientation fixes it exactly: the orientation's angle, which moves the tool
@@ -215,8 +187,8 @@ cdef class ScaraKernel:
             for j in range(self.m):
                 Q[e * n + self.pidx[j]] = qp[j]
             geometric[e] = reach_ok and wrist_ok[e] and orient_ok and vert_ok
-        j = wrap_branches(Q, geometric, valid, ref, &self.lo[0], &self.hi[0], &self.rev[0], 2, n,
-                          self.limit_tol)
+        uncertain[0] = False
+        j = wrap_branches(Q, geometric, valid, ref, self.lo, self.hi, self.rev, 2, n, self.limit_tol)
         if j == 0:
             return 0
         if not orient_ok:

@@ -32,7 +32,7 @@ from libc.stdint cimport uint64_t
 from robkin.compiled.fk cimport Chain, walk_tool
 from robkin.compiled.jacobian cimport jacobian_one
 from robkin.compiled.linalg cimport rot_log
-from robkin.compiled.pose_check cimport tool_errors
+from robkin.compiled.pose_check cimport exact_pose, tool_errors
 
 import numpy as np
 
@@ -467,38 +467,16 @@ def pose_errors(Chain chain, q, targets, mask):
 
 
 def exact_poses(A):
-    """(N,) bool: which poses A (N, 4, 4) are finite, have the last row exactly [0, 0, 0, 1] and a
-    rotation block orthonormal to 1e-12 (max |R^T R - I|) with det > 0.
-
-    Rotations produced by products of exact rotations are orthonormal to ~1e-15; anything farther goes
-    through the documented checks (projection or refusal) of ``robot.check_pose``.
-    """
+    """(N,) bool: which poses A (N, 4, 4) are exact (``pose_check.exact_pose``: finite, last row
+    [0, 0, 0, 1], rotation orthonormal to 1e-12 with det > 0)."""
     cdef cnp.ndarray Aa = _doubles(A, 3, -1, 4, 4, "poses")
     cdef Py_ssize_t N = cnp.PyArray_DIM(Aa, 0), k
     cdef const double* T0 = <const double*>cnp.PyArray_DATA(Aa)
-    cdef const double* T
     cdef cnp.npy_intp dims[1]
     dims[0] = N
     cdef cnp.ndarray ok_arr = cnp.PyArray_ZEROS(1, dims, cnp.NPY_BOOL, 0)
     cdef unsigned char* ok = <unsigned char*>cnp.PyArray_DATA(ok_arr)
-    cdef int i, j, r
-    cdef double s, det
-    cdef bint good
     with nogil:
         for k in range(N):
-            T = T0 + 16 * k
-            good = T[12] == 0.0 and T[13] == 0.0 and T[14] == 0.0 and T[15] == 1.0
-            for i in range(12):
-                good = good and isfinite(T[i])
-            if good:
-                for i in range(3):
-                    for j in range(i, 3):
-                        s = 0.0
-                        for r in range(3):
-                            s += T[4 * r + i] * T[4 * r + j]
-                        good = good and fabs(s - (1.0 if i == j else 0.0)) <= 1e-12
-                det = (T[0] * (T[5] * T[10] - T[6] * T[9]) - T[1] * (T[4] * T[10] - T[6] * T[8])
-                       + T[2] * (T[4] * T[9] - T[5] * T[8]))
-                good = good and det > 0.0
-            ok[k] = good
+            ok[k] = exact_pose(T0 + 16 * k)
     return ok_arr

@@ -1,11 +1,13 @@
 # cython: language_level=3
-"""The choice among closed-form branches of one target, as a ``cdef inline`` function.
+"""The choice among closed-form branches of one target, and the distinct solutions, as ``cdef inline``
+functions.
 
-Shared by ``solutions.nearest_verified`` (a batch) and the 6R kernels' single-target ``nearest``
-(``closed_form_6r``), so one target and a batch pick their answer by the same code.
+Shared by ``solutions`` (a batch) and the closed-form kernels' single-target entries
+(``closed_form_kernel``), so one target and a batch pick their answers by the same code.
 """
 
-from libc.math cimport sqrt, INFINITY
+from libc.math cimport fabs, sqrt, INFINITY
+cimport numpy as cnp
 from robkin.compiled.pose_check cimport tool_errors
 
 
@@ -25,13 +27,15 @@ cdef inline Py_ssize_t nearest_branch(const double* L, const unsigned char* rev,
                                       const double* T, const double* r, const double* lim,
                                       double length_unit, double tol_position, double tol_orientation,
                                       double limit_tol, bint every, unsigned char* reached,
-                                      double* dist, Py_ssize_t* order, double* ep, double* eo) noexcept nogil:
+                                      double* dist, Py_ssize_t* order, Py_ssize_t* m_out, double* ep,
+                                      double* eo) noexcept nogil:
     """The index of the branch q[s] (S, n) nearest r (n,) that truly reaches the target T (4x4
     row-major), or -1; see ``solutions.nearest_verified`` for what counts and the order of the search.
 
-    v (S,): the solver's valid flags; lim (n, 2) row-major; dist, order: scratch of S entries;
-    reached (S,) is set (1 for the branches found to count); ep, eo: the errors of the chosen branch
-    (inf if none).
+    v (S,): the solver's valid flags; lim (n, 2) row-major; dist: scratch of S entries; order (S,)
+    and m_out: the candidates (valid, within the limits), nearest first, and their number; reached
+    (S,) is set (1 for the branches found to count); ep, eo: the errors of the chosen branch (inf if
+    none).
     """
     cdef Py_ssize_t m = 0, s, j, a, best = -1
     cdef const double* b
@@ -62,6 +66,7 @@ cdef inline Py_ssize_t nearest_branch(const double* L, const unsigned char* rev,
         dist[s] = sqrt(d)
         insert_by_distance(order, m, dist, s)
         m += 1
+    m_out[0] = m
     ep[0] = INFINITY
     eo[0] = INFINITY
     for a in range(m):
@@ -77,3 +82,45 @@ cdef inline Py_ssize_t nearest_branch(const double* L, const unsigned char* rev,
             if not every:
                 break
     return best
+
+
+cdef inline Py_ssize_t keep_distinct(const double* q, Py_ssize_t n, const Py_ssize_t* order, Py_ssize_t m,
+                                     const unsigned char* take, const double* unit, double tol,
+                                     Py_ssize_t* kept) noexcept nogil:
+    """The rows q[order[a]] (n,) for a = 0..m-1 (only those with ``take[row]``, all if take is NULL),
+    each dropped if a row kept before it differs by at most ``tol`` in every |dq / unit| (unit (n,):
+    1 rad for revolute joints, the robot's size for prismatic ones). Writes the kept row indices, in
+    order, to kept and returns their number."""
+    cdef Py_ssize_t a, b, i, j, k = 0
+    cdef bint duplicate
+    for a in range(m):
+        i = order[a]
+        if take != NULL and not take[i]:
+            continue
+        duplicate = False
+        for b in range(k):
+            duplicate = True
+            for j in range(n):
+                if fabs(q[i * n + j] - q[kept[b] * n + j]) / unit[j] > tol:
+                    duplicate = False
+                    break
+            if duplicate:
+                break
+        if not duplicate:
+            kept[k] = i
+            k += 1
+    return k
+
+
+cdef inline cnp.ndarray rows_array(const double* q, Py_ssize_t n, const Py_ssize_t* kept, Py_ssize_t k):
+    """A new (k, n) float64 array of the rows q[kept[a]] (n,)."""
+    cdef cnp.npy_intp dims[2]
+    dims[0] = k
+    dims[1] = n
+    cdef cnp.ndarray out = cnp.PyArray_EMPTY(2, dims, cnp.NPY_DOUBLE, 0)
+    cdef double* o = <double*>cnp.PyArray_DATA(out)
+    cdef Py_ssize_t a, j
+    for a in range(k):
+        for j in range(n):
+            o[a * n + j] = q[kept[a] * n + j]
+    return out

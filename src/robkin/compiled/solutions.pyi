@@ -9,6 +9,6 @@ def distinct_sorted(Q: ArrayLike, ref: ArrayLike, scale: ArrayLike, tol: float) 
 
 def nearest_verified(chain: Chain, Q: ArrayLike, valid: ArrayLike, targets: ArrayLike, q_ref: ArrayLike,
                      limits: ArrayLike, length_unit: float, tol_position: float, tol_orientation: float,
-                     limit_tol: float, every: bool) -> tuple[NDArray[np.float64], NDArray[np.bool_],
-                                                             NDArray[np.bool_], NDArray[np.float64],
-                                                             NDArray[np.float64], int]: ...
+                     limit_tol: float, every: bool, same_tol: float = ...
+                     ) -> tuple[NDArray[np.float64], NDArray[np.bool_], list[NDArray[np.float64]] | None,
+                                NDArray[np.float64], NDArray[np.float64], int]: ...

@@ -1,16 +1,17 @@
 """Solution bookkeeping shared by the IK methods: distinct solutions, nearest to a preference first.
 
 ``distinct_sorted`` replaces a Python loop over rows (dozens of small numpy calls per target) by one
-compiled pass; ``kinematics.ik`` calls it for every target of an ``all_solutions=True`` request.
+compiled pass; ``kinematics.ik`` calls it for the numeric method's ``all_solutions=True``.
 ``nearest_verified`` checks closed-form branches by forward kinematics and picks the one nearest the
-preferred configuration, for a batch or a single target alike (one pass, no per-call numpy plumbing).
+preferred configuration for a batch, and with ``every`` lists every distinct verified solution per
+target in the same pass (one pass, no per-target numpy plumbing).
 """
 
 cimport numpy as cnp
-from libc.math cimport fabs, sqrt, NAN
+from libc.math cimport sqrt, NAN
 from libc.stdlib cimport free, malloc
 from robkin.compiled.fk cimport Chain
-from robkin.compiled.nearest cimport insert_by_distance, nearest_branch
+from robkin.compiled.nearest cimport insert_by_distance, keep_distinct, nearest_branch, rows_array
 from robkin.compiled.subproblems cimport c_doubles, new_array
 
 cnp.import_array()
@@ -27,7 +28,7 @@ def distinct_sorted(Q, ref, scale, double tol):
     cdef cnp.ndarray A = c_doubles(Q, 2, n, "Q")
     cdef cnp.ndarray R = c_doubles(ref, 1, n, "ref")
     cdef cnp.ndarray U = c_doubles(scale, 1, n, "scale")
-    cdef Py_ssize_t k = cnp.PyArray_DIM(A, 0), i, j, a, m = 0
+    cdef Py_ssize_t k = cnp.PyArray_DIM(A, 0), i, j, m
     cdef const double* q = <const double*>cnp.PyArray_DATA(A)
     cdef const double* r = <const double*>cnp.PyArray_DATA(R)
     cdef const double* u = <const double*>cnp.PyArray_DATA(U)
@@ -35,7 +36,6 @@ def distinct_sorted(Q, ref, scale, double tol):
     cdef Py_ssize_t* order = <Py_ssize_t*>malloc(max(k, 1) * sizeof(Py_ssize_t))
     cdef Py_ssize_t* kept = <Py_ssize_t*>malloc(max(k, 1) * sizeof(Py_ssize_t))
     cdef double s, x
-    cdef bint duplicate
     if dist == NULL or order == NULL or kept == NULL:
         free(dist)
         free(order)
@@ -49,25 +49,8 @@ def distinct_sorted(Q, ref, scale, double tol):
                 s += x * x
             dist[i] = sqrt(s)
             insert_by_distance(order, i, dist, i)
-        for a in range(k):
-            i = order[a]
-            duplicate = False
-            for b in range(m):
-                duplicate = True
-                for j in range(n):
-                    if fabs(q[i * n + j] - q[kept[b] * n + j]) / u[j] > tol:
-                        duplicate = False
-                        break
-                if duplicate:
-                    break
-            if not duplicate:
-                kept[m] = i
-                m += 1
-        out = new_array(2, m, n, 0, cnp.NPY_DOUBLE)
-        for a in range(m):
-            for j in range(n):
-                (<double*>cnp.PyArray_DATA(out))[a * n + j] = q[kept[a] * n + j]
-        return out
+        m = keep_distinct(q, n, order, k, NULL, u, tol, kept)
+        return rows_array(q, n, kept, m)
     finally:
         free(dist)
         free(order)
@@ -75,7 +58,8 @@ def distinct_sorted(Q, ref, scale, double tol):
 
 
 def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double length_unit,
-                     double tol_position, double tol_orientation, double limit_tol, bint every):
+                     double tol_position, double tol_orientation, double limit_tol, bint every,
+                     double same_tol=0.0):
     """Per target, the closed-form branch nearest the preference among those that truly reach it.
 
     A branch Q[k, s] (n,) counts when ``valid[k, s]`` (it exists and respects the limits, as the solver
@@ -88,16 +72,18 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
     the first that counts (one forward kinematics per target in the usual case); with ``every`` True
     all are checked, for the list of all solutions.
 
-    Parameters: Q (N, S, n), valid (N, S) bool, targets (N, 4, 4), q_ref (N, n), limits (n, 2).
-    Returns q (N, n) (NaN where no branch counts), success (N,) bool, reached (N, S) bool (the
-    branches found to count; all of them if ``every``), position and orientation errors (N,) of q (inf
-    where q is NaN), and the number of targets without a branch that counts.
+    Parameters: Q (N, S, n), valid (N, S) bool, targets (N, 4, 4), q_ref (N, n), limits (n, 2);
+    same_tol: with ``every``, two solutions are the same when no |dq / unit| exceeds it.
+    Returns q (N, n) (NaN where no branch counts), success (N,) bool, the solutions (with ``every``:
+    per target a new (S_k, n) array of the distinct branches that count, nearest q_ref first, as
+    ``distinct_sorted`` orders them; else None), position and orientation errors (N,) of q (inf where
+    q is NaN), and the number of targets without a branch that counts.
     """
     cdef Py_ssize_t n = chain.n
     cdef cnp.ndarray Qa = cnp.PyArray_FROM_OTF(Q, cnp.NPY_DOUBLE, cnp.NPY_ARRAY_C_CONTIGUOUS | cnp.NPY_ARRAY_ALIGNED)
     if cnp.PyArray_NDIM(Qa) != 3 or cnp.PyArray_DIM(Qa, 2) != n:
         raise ValueError(f"Q: expected shape (N, S, {n}), got {(<object>Qa).shape}")
-    cdef Py_ssize_t N = cnp.PyArray_DIM(Qa, 0), S = cnp.PyArray_DIM(Qa, 1), k, j, best
+    cdef Py_ssize_t N = cnp.PyArray_DIM(Qa, 0), S = cnp.PyArray_DIM(Qa, 1), k, j, best, m
     cdef cnp.ndarray Va = cnp.PyArray_FROM_OTF(valid, cnp.NPY_BOOL, cnp.NPY_ARRAY_C_CONTIGUOUS | cnp.NPY_ARRAY_ALIGNED)
     cdef cnp.ndarray Ta = c_doubles(targets, 3, 4, "targets")
     cdef cnp.ndarray Ra = c_doubles(q_ref, 2, n, "q_ref")
@@ -114,30 +100,43 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
     cdef const unsigned char* rev = chain.rev
     cdef cnp.ndarray q_out = new_array(2, N, n, 0, cnp.NPY_DOUBLE)
     cdef cnp.ndarray ok_out = new_array(1, N, 0, 0, cnp.NPY_BOOL)
-    cdef cnp.ndarray reached_out = new_array(2, N, S, 0, cnp.NPY_BOOL)
     cdef cnp.ndarray ep_out = new_array(1, N, 0, 0, cnp.NPY_DOUBLE)
     cdef cnp.ndarray eo_out = new_array(1, N, 0, 0, cnp.NPY_DOUBLE)
     cdef double* qo = <double*>cnp.PyArray_DATA(q_out)
     cdef unsigned char* ok = <unsigned char*>cnp.PyArray_DATA(ok_out)
-    cdef unsigned char* reached = <unsigned char*>cnp.PyArray_DATA(reached_out)
     cdef double* ep = <double*>cnp.PyArray_DATA(ep_out)
     cdef double* eo = <double*>cnp.PyArray_DATA(eo_out)
+    # scratch: per branch a distance, an order and a kept slot (S each), reached flags (S), units (n)
     cdef double* dist = <double*>malloc(max(S, 1) * sizeof(double))
-    cdef Py_ssize_t* order = <Py_ssize_t*>malloc(max(S, 1) * sizeof(Py_ssize_t))
+    cdef double* unit = <double*>malloc(max(n, 1) * sizeof(double))
+    cdef Py_ssize_t* order = <Py_ssize_t*>malloc(2 * max(S, 1) * sizeof(Py_ssize_t))
+    cdef unsigned char* reached = <unsigned char*>malloc(max(S, 1))
+    cdef Py_ssize_t* kept = order + max(S, 1)
     cdef Py_ssize_t failed = 0
-    if dist == NULL or order == NULL:
+    cdef list sols = [None] * N if every else None
+    if dist == NULL or unit == NULL or order == NULL or reached == NULL:
         free(dist)
+        free(unit)
         free(order)
+        free(reached)
         raise MemoryError()
-    with nogil:
+    for j in range(n):
+        unit[j] = 1.0 if rev[j] else length_unit
+    try:
         for k in range(N):
             best = nearest_branch(chain.L, rev, n, q + k * S * n, v + k * S, S, T + 16 * k, r + k * n, lim,
-                                  length_unit, tol_position, tol_orientation, limit_tol, every,
-                                  reached + k * S, dist, order, ep + k, eo + k)
+                                  length_unit, tol_position, tol_orientation, limit_tol, every, reached,
+                                  dist, order, &m, ep + k, eo + k)
             ok[k] = best >= 0
             failed += best < 0
             for j in range(n):
                 qo[k * n + j] = q[(k * S + best) * n + j] if best >= 0 else NAN
-    free(dist)
-    free(order)
-    return q_out, ok_out, reached_out, ep_out, eo_out, failed
+            if every:
+                m = keep_distinct(q + k * S * n, n, order, m, reached, unit, same_tol, kept)
+                sols[k] = rows_array(q + k * S * n, n, kept, m)
+    finally:
+        free(dist)
+        free(unit)
+        free(order)
+        free(reached)
+    return q_out, ok_out, sols, ep_out, eo_out, failed

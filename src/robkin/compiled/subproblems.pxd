@@ -169,7 +169,10 @@ cdef inline bint wrap_into_limits(double* q, const double* ref, const double* lo
     cdef double k, k_lo, k_hi
     cdef bint ok = True
     for j in range(n):
-        if revolute[j]:
+        if revolute[j] and not (fabs(ref[j] - q[j]) <= TWO_PI * 0.5 and lo[j] - tol - q[j] <= 0.0
+                                and hi[j] + tol - q[j] >= 0.0):
+            # (skipped where the turn is plainly zero: q within its limits and within pi of ref make
+            # k_lo <= 0 <= k_hi and round k to (-)0 below, from the same rounded numbers)
             k_lo = ceil((lo[j] - tol - q[j]) / TWO_PI)             # -inf where unlimited
             k_hi = floor((hi[j] + tol - q[j]) / TWO_PI)            # +inf where unlimited
             k = nearbyint((ref[j] - q[j]) / TWO_PI)                # half to even, as numpy rounds

@@ -27,15 +27,15 @@ Detection runs here, once per robot; the solving runs in the compiled kernels of
 
 from __future__ import annotations
 
-from typing import Any, Callable
+from typing import Callable
 
 import numpy as np
 
 from .. import se3
 from ..lines import closest_points, perpendicular
 from ..robot import Robot
-from .closed_form import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, Branches, reasons_from_codes
-from .limits import LIMIT_TOL
+from .closed_form import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, KernelSolver
+from .limits import LIMIT_TOL, default_preference
 
 __all__ = ["SphericalWrist6R", "ThreeParallel6R", "wrist_centre"]
 
@@ -54,20 +54,15 @@ def wrist_centre(points: np.ndarray, axes: np.ndarray) -> tuple[np.ndarray, floa
     return x, float(np.sqrt(np.sum(off_axis * off_axis, axis=1)).max())
 
 
-class _Closed6R:
-    """What both 6R families share: the plane of the parallel axes as complex numbers, the first
-    detection steps (six revolute joints, axis angles, the length tolerance), and the call into the
-    compiled kernel."""
+class _Closed6R(KernelSolver):
+    """What both 6R families share: the plane of the parallel axes as complex numbers and the first
+    detection steps (six revolute joints, axis angles, the length tolerance). The compiled kernel
+    (``robkin.compiled.closed_form_6r``) is built per robot; ``messages`` explain its outcome codes."""
 
-    name: str
-    robot: Robot
     e1: np.ndarray
     e2: np.ndarray
     a: complex
     b: complex
-    _kernel: Any                   # the compiled kernel (robkin.compiled.closed_form_6r), built per robot
-    #: per kernel outcome code (see ``robkin.compiled.closed_form_6r``), the message for a failed target
-    messages: tuple[str | Callable[[float], str], ...]
 
     def _complex(self, x: np.ndarray) -> complex:
         """A point (3,) as a complex coordinate in the plane spanned by e1, e2."""
@@ -99,19 +94,6 @@ class _Closed6R:
         return lambda d: (f"out of reach: {what} {d:.6g} from axis 2, joints 2-3 reach {abs(la - lb):.6g} "
                           f"to {la + lb:.6g}")
 
-    def solve(self, targets: np.ndarray, q_ref: np.ndarray) -> Branches:
-        """Up to 8 branches (N, 8, 6) for targets (N, 4, 4); q_ref (N, 6) decides free joints."""
-        Q, valid, code, detail, uncertain, failed = self._kernel.solve(targets, q_ref)
-        reasons = reasons_from_codes(code, detail, self.messages) if failed else [""] * len(Q)
-        return Branches(Q, valid, reasons, uncertain)
-
-    def nearest(self, target: np.ndarray, q_ref: np.ndarray, tol_position: float,
-                tol_orientation: float) -> tuple[np.ndarray, float, float] | None:
-        """One target (4, 4): the branch nearest q_ref (6,) that the forward-kinematics check accepts,
-        as (q (6,), position error, orientation error), or None if no branch does (one compiled call:
-        the same solve and choice as ``solve`` followed by ``solutions.nearest_verified``)."""
-        return self._kernel.nearest(self.robot._chain, target, q_ref, tol_position, tol_orientation)
-
 
 class SphericalWrist6R(_Closed6R):
     """All closed-form solutions of a 6R arm with axes 2 || 3 and a spherical wrist."""
@@ -121,7 +103,6 @@ class SphericalWrist6R(_Closed6R):
     def __init__(self, robot: Robot, w0: np.ndarray) -> None:
         from ..compiled.closed_form_6r import SphericalWristKernel
 
-        self.robot = robot
         z, c = robot.axes, robot.points
         self.w0 = w0
         self._plane(z[1], np.array([c[1], c[2], w0]))
@@ -129,9 +110,9 @@ class SphericalWrist6R(_Closed6R):
         self.w_tool = (se3.inv(M) @ np.append(w0, 1.0))[:3]  # wrist centre in tool coordinates
         sigma3 = float(np.sign(z[2] @ z[1]))
         k = float(z[1] @ w0)                                 # the plane joints 2-3 keep the wrist centre in
-        self._kernel = SphericalWristKernel(z, c, self.w_tool, M[:3, :3], perpendicular(z[5]), self.e1,
-                                            self.e2, self.a, self.b, self.C2, robot.scale, robot.limits,
-                                            LIMIT_TOL, k, sigma3)
+        self._use(SphericalWristKernel(robot._chain, default_preference(robot.limits), z, c, self.w_tool,
+                                       M[:3, :3], perpendicular(z[5]), self.e1, self.e2, self.a, self.b,
+                                       self.C2, robot.scale, robot.limits, LIMIT_TOL, k, sigma3))
         self.messages = (
             "",
             "singular target (wrist centre on axis 1): no solution found with the preferred joint 1 angle",
@@ -187,7 +168,6 @@ class ThreeParallel6R(_Closed6R):
     def __init__(self, robot: Robot, w: np.ndarray) -> None:
         from ..compiled.closed_form_6r import ThreeParallelKernel
 
-        self.robot = robot
         z, c = robot.axes, robot.points
         u = z[1]
         sigma = np.sign(z[1:4] @ u)                          # senses of axes 2-4 along u
@@ -195,9 +175,9 @@ class ThreeParallel6R(_Closed6R):
         M = robot.tool
         M_inv = se3.inv(M)
         self.w_tool = (M_inv @ np.append(w, 1.0))[:3]
-        self._kernel = ThreeParallelKernel(z, c, self.w_tool, M[:3, :3], perpendicular(z[5]), self.e1,
-                                           self.e2, self.a, self.b, self.C2, robot.scale, robot.limits,
-                                           LIMIT_TOL, w, sigma, M_inv)
+        self._use(ThreeParallelKernel(robot._chain, default_preference(robot.limits), z, c, self.w_tool,
+                                      M[:3, :3], perpendicular(z[5]), self.e1, self.e2, self.a, self.b,
+                                      self.C2, robot.scale, robot.limits, LIMIT_TOL, w, sigma, M_inv))
         self.messages = (
             "",
             "singular target (a free joint): no solution found with the preferred value",

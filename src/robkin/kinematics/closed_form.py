@@ -9,14 +9,14 @@ from __future__ import annotations
 
 import weakref
 from dataclasses import dataclass
-from typing import Callable, Protocol, cast
+from typing import Any, Callable, Protocol
 
 import numpy as np
 
 from ..robot import Robot
 
-__all__ = ["Branches", "ClosedFormSolver", "closed_form_solver", "reasons_from_codes", "DETECT_ANGLE_TOL",
-           "DETECT_LENGTH_TOL"]
+__all__ = ["Branches", "ClosedFormSolver", "KernelSolver", "closed_form_solver", "reasons_from_codes",
+           "DETECT_ANGLE_TOL", "DETECT_LENGTH_TOL"]
 
 #: Axes count as parallel when the sine of their angle is below this, and as meeting when their
 #: distance is below DETECT_LENGTH_TOL * robot size. Both 1e-9: far above the rounding of exact
@@ -55,17 +55,53 @@ class ClosedFormSolver(Protocol):
     def solve(self, targets: np.ndarray, q_ref: np.ndarray) -> Branches:
         """All branches for targets (N, 4, 4), preferring q_ref (N, n) where a joint is free."""
 
+    def nearest(self, target: Any, q_ref: np.ndarray | None, tol_position: Any, tol_orientation: Any,
+                every: bool, same_tol: float, result_type: type, method: str) -> Any:
+        """One target: the finished result, or None (see ``compiled.closed_form_kernel``)."""
 
-#: detection result per Robot (robots are immutable), so repeated single-target calls detect once
-_SOLVERS: "weakref.WeakKeyDictionary[Robot, ClosedFormSolver | None]" = weakref.WeakKeyDictionary()
-_UNKNOWN = object()     # not detected yet (None is a result: no closed form fits)
+
+class KernelSolver:
+    """What every closed-form solver shares: a compiled kernel (a ``compiled.closed_form_kernel
+    .ClosedFormKernel`` built per robot by the subclass, which then calls ``_use``) and the messages for
+    its outcome codes.
+
+    ``nearest`` is the kernel's own single-target entry (an attribute: no Python frame in between):
+    ``nearest(target (4, 4), q_ref (n,) or None, tol_position, tol_orientation, every, same_tol,
+    result_type, method)`` -> the finished result of one target, or None when no branch counts or an
+    input is not a plain float64 4x4 exact pose / float tolerance (the caller then takes the general
+    path). The same solve and choice as ``solve`` followed by ``solutions.nearest_verified``.
+    """
+
+    name: str
+    _kernel: Any
+    nearest: Callable[..., Any]
+    #: per kernel outcome code, the message for a failed target ('' for code 0)
+    messages: tuple[str | Callable[[float], str], ...]
+
+    def _use(self, kernel: Any) -> None:
+        """Take the compiled kernel built for this robot."""
+        self._kernel = kernel
+        self.nearest = kernel.nearest
+
+    def solve(self, targets: np.ndarray, q_ref: np.ndarray) -> Branches:
+        """Every branch (N, S, n) for targets (N, 4, 4); q_ref (N, n) decides the free choices."""
+        Q, valid, code, detail, uncertain, failed = self._kernel.solve(targets, q_ref)
+        reasons = reasons_from_codes(code, detail, self.messages) if failed else [""] * len(Q)
+        return Branches(Q, valid, reasons, uncertain)
+
+
+#: detection result per Robot (robots are immutable), so repeated single-target calls detect once:
+#: keyed by id(robot), with a weak reference that proves the robot is the same one and whose callback
+#: drops the entry when the robot goes (a WeakKeyDictionary lookup costs twice as much, on every call)
+_SOLVERS: dict[int, tuple[weakref.ref[Robot], ClosedFormSolver | None]] = {}
 
 
 def closed_form_solver(robot: Robot) -> ClosedFormSolver | None:
     """The closed-form solver that fits the robot's geometry, or None."""
-    cached = _SOLVERS.get(robot, _UNKNOWN)      # one lookup: this runs on every single-target call
-    if cached is not _UNKNOWN:
-        return cast("ClosedFormSolver | None", cached)
+    key = id(robot)
+    cached = _SOLVERS.get(key)          # one lookup: this runs on every single-target call
+    if cached is not None and cached[0]() is robot:
+        return cached[1]
     found = None
     from .analytic6r import SphericalWrist6R, ThreeParallel6R
     from .scara import ScaraSolver
@@ -74,7 +110,12 @@ def closed_form_solver(robot: Robot) -> ClosedFormSolver | None:
         found = cls.detect(robot)
         if found is not None:
             break
-    _SOLVERS[robot] = found
+
+    def forget(ref: weakref.ref[Robot], key: int = key) -> None:
+        if _SOLVERS.get(key, (None,))[0] is ref:       # not an entry of a later robot with the same id
+            del _SOLVERS[key]
+
+    _SOLVERS[key] = (weakref.ref(robot, forget), found)
     return found
 
 

@@ -34,7 +34,7 @@ from ..compiled.solutions import distinct_sorted, nearest_verified
 from ..errors import InputError
 from ..robot import Robot, check_q
 from .closed_form import ClosedFormSolver, closed_form_solver
-from .limits import LIMIT_TOL, wrap_into_limits, within_limits
+from .limits import LIMIT_TOL, default_preference, wrap_into_limits, within_limits
 from .lm import LMSettings, solve_lm
 from .pose_error import FULL_POSE, check_mask, check_targets
 
@@ -153,6 +153,18 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
     -------
     IKResult
     """
+    if q0 is None and mask is None and (method == "auto" or method == "analytic") \
+            and max_iterations is _MAX_ITERATIONS and restarts is _RESTARTS:    # else: checked below
+        # The single-target path: one compiled call checks the target (a float64 4x4 exact pose) and
+        # the tolerances (floats), solves, verifies and picks, and one small result is built. Anything
+        # else - a batch, other input kinds, a failure (for its reasons and the numeric retry) - comes
+        # back as None and takes the general path below, which gives the same answer.
+        solver = closed_form_solver(robot)
+        if solver is not None:
+            one = solver.nearest(T, None, tol_position, tol_orientation, all_solutions, SAME_SOLUTION_TOL,
+                                 IKResult, solver.name)
+            if one is not None:
+                return one
     targets, single = check_targets(T)
     N = len(targets)
     m = check_mask(mask)
@@ -178,15 +190,13 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
                  "wrist; or 6R with axes 2 || 3 || 4 and axes 5, 6 meeting)")
             raise InputError(f"method 'analytic': {why}; use method 'numeric'")
 
-    if solver is not None and single and not all_solutions:
-        # One target: one compiled call solves, checks and picks (6R solvers). Only a success is
-        # answered here; a failure takes the general path below for its reasons and numeric retry.
-        nearest = getattr(solver, "nearest", None)
-        found = None if nearest is None else \
-            nearest(targets[0], q_ref[0], settings.tol_position, settings.tol_orientation)
-        if found is not None:
-            return IKResult._build(q=found[0], success=True, iterations=0, attempts=1, position_error=found[1],
-                                   orientation_error=found[2], method=solver.name, message="", solutions=None)
+    if solver is not None and single:
+        # One target with a preference or a checked (projected) target: the same one compiled call.
+        # Only a success is answered here; a failure takes the path below for its reasons and retry.
+        one = solver.nearest(targets[0], q_ref[0], settings.tol_position, settings.tol_orientation,
+                             all_solutions, SAME_SOLUTION_TOL, IKResult, solver.name)
+        if one is not None:
+            return one
 
     if solver is not None:
         out = _closed_form(robot, solver, targets, q_ref, settings, all_solutions)
@@ -281,7 +291,7 @@ def _start(robot: Robot, q0: ArrayLike | None, N: int) -> np.ndarray:
     if q0 is None:
         zero = _ZERO_STARTS.get(robot)
         if zero is None:
-            zero = np.minimum(np.maximum(0.0, lim[:, 0]), lim[:, 1])[None]
+            zero = default_preference(lim)[None]
             zero.setflags(write=False)
             _ZERO_STARTS[robot] = zero
         return zero if N == 1 else np.broadcast_to(zero, (N, robot.n))
@@ -327,15 +337,14 @@ def _closed_form(robot: Robot, solver: ClosedFormSolver, targets: np.ndarray, q_
                  all_solutions: bool) -> _Found:
     """Verified closed-form solutions: the one nearest q_ref per target (and all, if asked).
 
-    The branches' forward-kinematics check and the choice of the nearest are one compiled pass
-    (``compiled.solutions.nearest_verified``: nearest first, every branch only for all_solutions), so a
-    single target pays no batch plumbing.
+    The branches' forward-kinematics check, the choice of the nearest and (for all_solutions) the
+    distinct verified branches per target are one compiled pass (``compiled.solutions.nearest_verified``).
     """
     N = len(q_ref)
     branches = solver.solve(targets, q_ref)
-    q, success, reached, ep, eo, n_failed = nearest_verified(
+    q, success, sols, ep, eo, n_failed = nearest_verified(
         robot._chain, branches.q, branches.valid, targets, q_ref, robot.limits, robot.scale,
-        settings.tol_position, settings.tol_orientation, LIMIT_TOL, all_solutions)
+        settings.tol_position, settings.tol_orientation, LIMIT_TOL, all_solutions, SAME_SOLUTION_TOL)
     reasons = branches.reason       # the solver's own list, fresh per call: ours to amend
     retry = None
     if n_failed:
@@ -347,10 +356,6 @@ def _closed_form(robot: Robot, solver: ClosedFormSolver, targets: np.ndarray, q_
             retry |= failed & branches.uncertain
         if not retry.any():
             retry = None
-    sols = None
-    if all_solutions:
-        scale = _joint_scale(robot)
-        sols = [_distinct_sorted(branches.q[i][reached[i]], q_ref[i], scale) for i in range(N)]
     iterations = np.zeros(N, int)     # no iterations, one attempt (np.ones costs 4x np.zeros + 1)
     return _Found(q, success, reasons, iterations, iterations + 1, sols, retry, (ep, eo))
 

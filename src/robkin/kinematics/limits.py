@@ -6,7 +6,7 @@ import numpy as np
 
 from ..compiled.limits import wrap
 
-__all__ = ["wrap_into_limits", "within_limits", "LIMIT_TOL"]
+__all__ = ["wrap_into_limits", "within_limits", "default_preference", "LIMIT_TOL"]
 
 #: Slack on limit checks: a solution computed on a limit (clipped there, or a closed-form angle equal
 #: to it) may differ from it by rounding of a few ulps of 2*pi; 1e-12 covers that and nothing more.
@@ -47,3 +47,8 @@ def wrap_into_limits(Q: np.ndarray, limits: np.ndarray, revolute: np.ndarray,
 def within_limits(Q: np.ndarray, limits: np.ndarray) -> np.ndarray:
     """(...) bool: every joint of Q (..., n) within [lower, upper] up to LIMIT_TOL."""
     return np.all((Q >= limits[:, 0] - LIMIT_TOL) & (Q <= limits[:, 1] + LIMIT_TOL), axis=-1)
+
+
+def default_preference(limits: np.ndarray) -> np.ndarray:
+    """(n,) the preferred configuration when the caller gives none: zero, clipped into the limits (n, 2)."""
+    return np.minimum(np.maximum(0.0, limits[:, 0]), limits[:, 1])

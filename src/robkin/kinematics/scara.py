@@ -35,8 +35,8 @@ import numpy as np
 from .. import se3
 from ..lines import perpendicular
 from ..robot import Robot
-from .closed_form import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, Branches, reasons_from_codes
-from .limits import LIMIT_TOL
+from .closed_form import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, KernelSolver
+from .limits import LIMIT_TOL, default_preference
 
 __all__ = ["ScaraSolver", "split_travel"]
 
@@ -53,7 +53,7 @@ def split_travel(h: np.ndarray, s: np.ndarray, ref: np.ndarray, lo: np.ndarray, 
     return kernel(h, s, ref, lo, hi)
 
 
-class ScaraSolver:
+class ScaraSolver(KernelSolver):
     """All closed-form solutions (two elbows) of a SCARA-type arm; see the module docstring."""
 
     name = "scara"
@@ -61,7 +61,6 @@ class ScaraSolver:
     def __init__(self, robot: Robot, u: np.ndarray) -> None:
         from ..compiled.closed_form_scara import ScaraKernel
 
-        self.robot = robot
         self.u = u
         z, c = robot.axes, robot.points
         ridx = np.flatnonzero(robot.revolute)
@@ -81,9 +80,9 @@ class ScaraSolver:
             home = self._complex(M[:3, 3])
         self.a = C[1] - C[0]
         self.b = home - C[1]
-        self._kernel = ScaraKernel(u, self.e1, self.e2, M[:3, :3], M[:3, 3], point_in_tool, self.a, self.b,
-                                   C[0], robot.scale, ridx, pidx, sigma, s, robot.limits, robot.revolute,
-                                   LIMIT_TOL)
+        self._use(ScaraKernel(robot._chain, default_preference(robot.limits), u, self.e1, self.e2, M[:3, :3],
+                              M[:3, 3], point_in_tool, self.a, self.b, C[0], robot.scale, ridx, pidx, sigma, s,
+                              robot.limits, robot.revolute, LIMIT_TOL))
         la, lb = abs(self.a), abs(self.b)
         #: per kernel outcome code (see ``robkin.compiled.closed_form_scara``), the message for a failure
         self.messages: tuple[str | Callable[[float], str], ...] = (
@@ -118,12 +117,6 @@ class ScaraSolver:
     def _complex(self, x: np.ndarray) -> complex:
         """A point (3,) in the plane normal to u as a complex number."""
         return complex(x @ self.e1, x @ self.e2)
-
-    def solve(self, targets: np.ndarray, q_ref: np.ndarray) -> Branches:
-        """Both elbow branches (N, 2, n) for targets (N, 4, 4); q_ref (N, n) decides the free choices."""
-        Q, valid, code, detail, failed = self._kernel.solve(targets, q_ref)
-        reasons = reasons_from_codes(code, detail, self.messages) if failed else [""] * len(Q)
-        return Branches(Q, valid, reasons)
 
 
 def _vec(v: np.ndarray) -> str:
