@@ -29,6 +29,7 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 from typing import Any, Iterable, Mapping, Sequence
 
@@ -67,28 +68,55 @@ SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 UNSUPPORTED_TYPES = ("floating", "planar")
 
 
-@dataclass(frozen=True, eq=False)
 class UrdfJoint:
-    """One <joint> element, parsed: origin (4, 4), unit axis (3,), limits (None where absent).
+    """One <joint> element, parsed: origin (4, 4), axis (3,), limits (None where absent).
 
     ``xyz_rpy`` are the six origin numbers as the file wrote them (so that a writer can repeat them
     exactly); effort, velocity, damping, friction and mimic are None where the file gave none.
+
+    The URDF reader gives ``origin`` as None and ``axis`` as three floats: the (4, 4) and (3,) arrays
+    are then made from ``xyz_rpy`` and those on first use, so that joints off the chosen chain cost
+    no arrays. Read-only by convention (the attributes are not to be changed).
     """
 
-    name: str
-    type: str
-    parent: str
-    child: str
-    origin: np.ndarray
-    axis: np.ndarray
-    lower: float | None
-    upper: float | None
-    mimic: Mimic | None = None
-    effort: float | None = None
-    velocity: float | None = None
-    damping: float | None = None
-    friction: float | None = None
-    xyz_rpy: tuple[float, ...] | None = None
+    __slots__ = ("name", "type", "parent", "child", "_origin", "_axis", "lower", "upper", "mimic", "effort",
+                 "velocity", "damping", "friction", "xyz_rpy")
+
+    def __init__(self, name: str, type: str, parent: str, child: str, origin: np.ndarray | None,
+                 axis: np.ndarray | tuple[float, float, float], lower: float | None, upper: float | None,
+                 mimic: Mimic | None = None, effort: float | None = None, velocity: float | None = None,
+                 damping: float | None = None, friction: float | None = None,
+                 xyz_rpy: tuple[float, ...] | None = None) -> None:
+        if origin is None and xyz_rpy is None:
+            raise TypeError("UrdfJoint needs an origin or its xyz_rpy numbers")
+        self.name, self.type, self.parent, self.child = name, type, parent, child
+        self._origin, self._axis = origin, axis
+        self.lower, self.upper, self.mimic = lower, upper, mimic
+        self.effort, self.velocity, self.damping, self.friction = effort, velocity, damping, friction
+        self.xyz_rpy = xyz_rpy
+
+    @property
+    def origin(self) -> np.ndarray:
+        """Pose (4, 4) of the child link in the parent link frame at q = 0."""
+        if self._origin is None:
+            v: tuple[float, ...] = self.xyz_rpy  # type: ignore[assignment]  # set: see __init__
+            self._origin = origin_matrix(v[:3], v[3:])
+        return self._origin
+
+    @property
+    def axis(self) -> np.ndarray:
+        """The axis (3,) as the file gave it (not normalised)."""
+        if not isinstance(self._axis, np.ndarray):
+            self._axis = np.array(self._axis, dtype=float)
+        return self._axis
+
+    def axis_xyz(self) -> tuple[float, float, float]:
+        """The axis as three plain floats (no array made)."""
+        x, y, z = self._axis if not isinstance(self._axis, np.ndarray) else self._axis.tolist()
+        return float(x), float(y), float(z)
+
+    def __repr__(self) -> str:
+        return f"UrdfJoint({self.name!r}, {self.type!r}, parent={self.parent!r}, child={self.child!r})"
 
 
 @dataclass(frozen=True)
@@ -117,9 +145,19 @@ class UrdfModel:
     extras: Sequence[str] = ()
 
     def parent_joint(self) -> dict[str, UrdfJoint]:
-        return {j.child: j for j in self.joints}
+        """link name -> the joint whose child it is (made once; callers must not change it)."""
+        return self._parent_joint
 
     def children(self) -> dict[str, list[UrdfJoint]]:
+        """link name -> the joints whose parent it is, in file order (made once; not to be changed)."""
+        return self._children
+
+    @cached_property
+    def _parent_joint(self) -> dict[str, UrdfJoint]:
+        return {j.child: j for j in self.joints}
+
+    @cached_property
+    def _children(self) -> dict[str, list[UrdfJoint]]:
         out: dict[str, list[UrdfJoint]] = {name: [] for name in self.links}
         for j in self.joints:
             out[j.parent].append(j)
@@ -221,6 +259,8 @@ def _limit(text: str, where: str, what: str) -> float | None:
 
 
 ZERO3 = (0.0, 0.0, 0.0)
+ZERO6 = ZERO3 + ZERO3
+X_AXIS = (1.0, 0.0, 0.0)  # URDF's default joint axis
 
 
 def origin_matrix(xyz: tuple[float, ...], rpy: tuple[float, ...]) -> np.ndarray:
@@ -251,37 +291,46 @@ def first_children(el: Any) -> dict[str, Any]:
     return out
 
 
-def parse_origin(el: Any, where: str, kids: dict[str, Any] | None = None) -> tuple[np.ndarray, tuple[float, ...]]:
-    """(pose (4, 4), the six numbers xyz + rpy) of an element's <origin> child (identity if none)."""
-    origin_el = (first_children(el) if kids is None else kids).get("origin")
+def origin_numbers(origin_el: Any, where: str) -> tuple[float, ...]:
+    """The six numbers xyz + rpy of an <origin> element (zeros for None or a missing attribute)."""
     if origin_el is None:
-        return origin_matrix(ZERO3, ZERO3), ZERO3 + ZERO3
-    xyz = numbers(origin_el.get("xyz"), 3, where, "origin xyz", ZERO3)
-    rpy = numbers(origin_el.get("rpy"), 3, where, "origin rpy", ZERO3)
-    return origin_matrix(xyz, rpy), xyz + rpy
+        return ZERO6
+    return (numbers(origin_el.get("xyz"), 3, where, "origin xyz", ZERO3)
+            + numbers(origin_el.get("rpy"), 3, where, "origin rpy", ZERO3))
+
+
+def parse_origin(el: Any, where: str) -> tuple[np.ndarray, tuple[float, ...]]:
+    """(pose (4, 4), the six numbers xyz + rpy) of an element's <origin> child (identity if none)."""
+    xyz_rpy = origin_numbers(el.find("origin"), where)
+    return origin_matrix(xyz_rpy[:3], xyz_rpy[3:]), xyz_rpy
 
 
 def _joint(el: Any, source: str, index: int) -> UrdfJoint:
-    name = el.get("name")
+    """One <joint> element, every attribute checked (the numbers stay plain floats: see UrdfJoint)."""
+    get = el.get
+    name = get("name")
     if not name:
         raise InputError(f"{source}: joint #{index + 1} has no name attribute")
     where = f"{source}: joint '{name}'"
-    jtype = el.get("type")
-    if jtype is None:
-        raise InputError(f"{where}: no type attribute; one of {', '.join(SUPPORTED_TYPES)}")
-    if jtype not in SUPPORTED_TYPES and jtype not in UNSUPPORTED_TYPES:
-        raise InputError(f"{where}: unknown type '{jtype}'; one of {', '.join(SUPPORTED_TYPES + UNSUPPORTED_TYPES)}")
+    jtype = get("type")
+    if jtype not in SUPPORTED_TYPES:
+        if jtype is None:
+            raise InputError(f"{where}: no type attribute; one of {', '.join(SUPPORTED_TYPES)}")
+        if jtype not in UNSUPPORTED_TYPES:
+            raise InputError(f"{where}: unknown type '{jtype}'; one of "
+                             f"{', '.join(SUPPORTED_TYPES + UNSUPPORTED_TYPES)}")
     kids = first_children(el)
-    links = []
-    for tag in ("parent", "child"):
-        sub = kids.get(tag)
-        link = None if sub is None else sub.get("link")
-        if not link:
-            raise InputError(f"{where}: missing <{tag} link=\"...\"/>")
-        links.append(link)
-    origin, xyz_rpy = parse_origin(el, where, kids)
+    sub = kids.get("parent")
+    parent = None if sub is None else sub.get("link")
+    if not parent:
+        raise InputError(f"{where}: missing <parent link=\"...\"/>")
+    sub = kids.get("child")
+    child = None if sub is None else sub.get("link")
+    if not child:
+        raise InputError(f"{where}: missing <child link=\"...\"/>")
+    xyz_rpy = origin_numbers(kids.get("origin"), where)
     axis_el = kids.get("axis")
-    axis = np.array(numbers(None if axis_el is None else axis_el.get("xyz"), 3, where, "axis xyz", (1.0, 0.0, 0.0)))
+    axis = numbers(None if axis_el is None else axis_el.get("xyz"), 3, where, "axis xyz", X_AXIS)
     lower = upper = effort = velocity = damping = friction = mimic = None
     lim = kids.get("limit")
     if lim is not None:
@@ -304,8 +353,8 @@ def _joint(el: Any, source: str, index: int) -> UrdfJoint:
         mult = _number(mim.get("multiplier"), where, "mimic multiplier")
         off = _number(mim.get("offset"), where, "mimic offset")
         mimic = Mimic(mim.get("joint"), 1.0 if mult is None else mult, 0.0 if off is None else off)
-    return UrdfJoint(name, jtype, links[0], links[1], origin, axis, lower, upper, mimic, effort, velocity,
-                     damping, friction, xyz_rpy)
+    return UrdfJoint(name, jtype, parent, child, None, axis, lower, upper, mimic,  # type: ignore[arg-type]
+                     effort, velocity, damping, friction, xyz_rpy)
 
 
 def parse_urdf(source: str | os.PathLike[str], *, allow_xacro: bool = False) -> UrdfModel:

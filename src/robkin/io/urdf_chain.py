@@ -22,7 +22,7 @@ from ..errors import InputError, ProjectionWarning
 from ..robot import Joint, Robot
 from .urdf import AXIS_UNIT_TOL, AXIS_ZERO_TOL, UNSUPPORTED_TYPES, UrdfJoint, UrdfModel, parse_urdf
 
-__all__ = ["robot_from_urdf", "robot_from_model", "axis_frame", "select_chain", "chains_of"]
+__all__ = ["robot_from_urdf", "robot_from_model", "axis_frame", "axis_rotation", "select_chain", "chains_of"]
 
 
 def _tree_leaves(kids: dict[str, list[UrdfJoint]], top: str, rigid_too: bool) -> list[str]:
@@ -123,6 +123,27 @@ def select_chain(model: UrdfModel, base_link: str | None, tip_link: str | None
     return base_link, tip_link, up, down
 
 
+def axis_rotation(x: float, y: float, z: float) -> tuple[tuple[float, float, float], ...]:
+    """``axis_frame`` of the unit axis (x, y, z) as three rows of plain floats (see there), and flip last.
+
+    Scalar arithmetic: it runs for every joint of a chain, where numpy's per-call overhead on 3x3
+    arrays was most of the load time of a small URDF.
+    """
+    flip = z < 0
+    bx, by, bz = (-x, -y, -z) if flip else (x, y, z)
+    if bx == 0 and by == 0:  # the axis is +-z: the rotation is exact (no rounding)
+        return ((1.0, 0.0, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, -1.0)) if flip else \
+            ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+    # minimal rotation e_z -> b (b_z >= 0): R = I + K + K^2 / (1 + c), K = [e_z x b], c = b_z;
+    # 1 + c >= 1, so this is well conditioned for every b in the upper half sphere.
+    c = 1.0 + bz
+    xy = -bx * by / c
+    R = ((1.0 - bx * bx / c, xy, bx), (xy, 1.0 - by * by / c, by), (-bx, -by, 1.0 - (bx * bx + by * by) / c))
+    if flip:  # turned by pi about x: columns 2 and 3 change sign
+        R = tuple((r0, -r1, -r2) for r0, r1, r2 in R)
+    return R
+
+
 def axis_frame(axis: np.ndarray) -> tuple[np.ndarray, bool]:
     """Rotation (3, 3) whose z column is the unit ``axis``, and whether the joint is flipped.
 
@@ -130,28 +151,21 @@ def axis_frame(axis: np.ndarray) -> tuple[np.ndarray, bool]:
     ``0 0 1``). Axes pointing against z get flip = True and the minimal rotation onto -axis, turned
     by pi about x: its z is the axis, and the flipped frame used by DH/RPY tables is the minimal one.
     """
-    flip = bool(axis[2] < 0)
-    b = -axis if flip else axis
-    if b[0] == 0 and b[1] == 0:  # the axis is +-z: the rotation is exact (no rounding from K)
-        return (np.diag([1.0, -1.0, -1.0]) if flip else np.eye(3)), flip
-    # minimal rotation e_z -> b (b_z >= 0): R = I + K + K^2 / (1 + c), K = [e_z x b], c = b_z;
-    # 1 + c >= 1, so this is well conditioned for every b in the upper half sphere.
-    K = se3.skew(np.array([-b[1], b[0], 0.0]))
-    R = np.eye(3) + K + K @ K / (1.0 + b[2])
-    if flip:
-        R = R @ np.diag([1.0, -1.0, -1.0])  # Rx(pi)
-    return R, flip
+    x, y, z = (float(v) for v in axis)
+    return np.array(axis_rotation(x, y, z)), z < 0
 
 
-def _unit_axis(j: UrdfJoint, src: str) -> np.ndarray:
-    k = float(np.linalg.norm(j.axis))
+def _unit_axis(j: UrdfJoint, src: str) -> tuple[float, float, float]:
+    """The joint's axis as a unit vector of plain floats (InputError if zero, warned if not unit)."""
+    x, y, z = j.axis_xyz()
+    k = math.sqrt(x * x + y * y + z * z)
     if k < AXIS_ZERO_TOL:
         raise InputError(f"{src}: joint '{j.name}': axis xyz is zero; a {j.type} joint needs a direction "
                          f"such as '0 0 1'")
     if abs(k - 1.0) > AXIS_UNIT_TOL:
         warnings.warn(f"{src}: joint '{j.name}': axis has length {k:.6g}; normalised to a unit vector",
                       ProjectionWarning, stacklevel=5)
-    return j.axis / k
+    return x / k, y / k, z / k
 
 
 def robot_from_urdf(source: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None,
@@ -184,7 +198,7 @@ def robot_from_urdf(source: str | os.PathLike[str], base_link: str | None = None
 
 
 def _link_joint(j: UrdfJoint) -> LinkJoint:
-    x, y, z = (float(a) for a in j.axis)
+    x, y, z = j.axis_xyz()
     k = math.sqrt(x * x + y * y + z * z)
     axis = (x / k, y / k, z / k) if k >= AXIS_ZERO_TOL else (x, y, z)
     # ``or None``: readers of other formats may give mimic=False (the field was a flag once)
@@ -217,22 +231,21 @@ def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: s
     for j in down:
         T = np.dot(T, j.origin)
         poses[j.child] = T
-    frames: list[np.ndarray] = []
-    joints: list[Joint] = []
+    # each joint's frame: its child link's frame turned so that z is the axis (one batched product)
+    rotations, joints = [], []
     for j in chain:
-        R, flip = axis_frame(_unit_axis(j, src))
-        F = poses[j.child].copy()
-        F[:3, :3] = F[:3, :3] @ R
-        frames.append(F)
+        x, y, z = _unit_axis(j, src)
+        rotations.append(axis_rotation(x, y, z))
         jtype = "prismatic" if j.type == "prismatic" else "revolute"
-        joints.append(Joint(j.name, jtype, j.lower, j.upper, flip, j.effort, j.velocity,  # type: ignore[arg-type]
+        joints.append(Joint(j.name, jtype, j.lower, j.upper, z < 0, j.effort, j.velocity,  # type: ignore[arg-type]
                             j.damping, j.friction))
-    frames.append(poses[tip])
+    frames = np.array([poses[j.child] for j in chain] + [poses[tip]])
+    frames[:-1, :3, :3] = frames[:-1, :3, :3] @ np.array(rotations)
     world = _world(model, base)
     links, shapes, inertials = _rest_of_the_file(model, base, {j.name: i + 1 for i, j in enumerate(chain)})
     bodies = Bodies(LazyTuple(links), (base,) + tuple(j.child for j in chain), tip, LazyTuple(shapes),
                     LazyTuple(inertials), model.extras)
-    return Robot(np.stack(frames), tuple(joints), world=world, name=name or model.name, bodies=bodies)
+    return Robot(frames, tuple(joints), world=world, name=name or model.name, bodies=bodies)
 
 
 def _rest_of_the_file(model: UrdfModel, base: str, chain_index: dict[str, int]) -> tuple[
