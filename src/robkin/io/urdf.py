@@ -35,6 +35,7 @@ from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
 
+from . import pose_rows
 from .files import read_text_file
 from .urdf_xml import _extras, _may_hold_xacro, _parse_urdf_xml
 from .urdf_xml import _parse_xml as _parse_xml  # re-exported: the MJCF and SDF readers import it from here
@@ -99,9 +100,15 @@ class UrdfJoint:
     def origin(self) -> np.ndarray:
         """Pose (4, 4) of the child link in the parent link frame at q = 0."""
         if self._origin is None:
-            v: tuple[float, ...] = self.xyz_rpy  # type: ignore[assignment]  # set: see __init__
-            self._origin = origin_matrix(v[:3], v[3:])
+            self._origin = pose_rows.matrix(self.pose())
         return self._origin
+
+    def pose(self) -> pose_rows.Pose:
+        """``origin`` as twelve plain floats (see ``pose_rows``; no array made for a URDF joint)."""
+        if self._origin is None:
+            v: tuple[float, ...] = self.xyz_rpy  # type: ignore[assignment]  # set: see __init__
+            return pose_rows.from_xyz_rpy(v[:3], v[3:])
+        return pose_rows.from_matrix(self._origin)
 
     @property
     def axis(self) -> np.ndarray:
@@ -264,21 +271,8 @@ X_AXIS = (1.0, 0.0, 0.0)  # URDF's default joint axis
 
 
 def origin_matrix(xyz: tuple[float, ...], rpy: tuple[float, ...]) -> np.ndarray:
-    """Pose (4, 4) of a URDF origin: translation xyz, rotation Rz(yaw) Ry(pitch) Rx(roll).
-
-    Scalar arithmetic (no array temporaries): this runs for every joint, visual and collision of a
-    file, and is most of the non-XML load time written with arrays.
-    """
-    x, y, z = xyz
-    if rpy == ZERO3:
-        return np.array(((1.0, 0.0, 0.0, x), (0.0, 1.0, 0.0, y), (0.0, 0.0, 1.0, z), (0.0, 0.0, 0.0, 1.0)))
-    cr, sr = math.cos(rpy[0]), math.sin(rpy[0])
-    cp, sp = math.cos(rpy[1]), math.sin(rpy[1])
-    cy, sy = math.cos(rpy[2]), math.sin(rpy[2])
-    return np.array(((cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr, x),
-                     (sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr, y),
-                     (-sp, cp * sr, cp * cr, z),
-                     (0.0, 0.0, 0.0, 1.0)))
+    """Pose (4, 4) of a URDF origin: translation xyz, rotation Rz(yaw) Ry(pitch) Rx(roll)."""
+    return pose_rows.matrix(pose_rows.from_xyz_rpy(xyz, rpy))
 
 
 def first_children(el: Any) -> dict[str, Any]:

@@ -20,7 +20,10 @@ from .. import se3
 from ..bodies import Bodies, Inertial, LazyTuple, Link, LinkJoint, Shape
 from ..errors import InputError, ProjectionWarning
 from ..robot import Joint, Robot
+from . import pose_rows
 from .urdf import AXIS_UNIT_TOL, AXIS_ZERO_TOL, UNSUPPORTED_TYPES, UrdfJoint, UrdfModel, parse_urdf
+
+Rows3 = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
 
 __all__ = ["robot_from_urdf", "robot_from_model", "axis_frame", "axis_rotation", "select_chain", "chains_of"]
 
@@ -123,8 +126,8 @@ def select_chain(model: UrdfModel, base_link: str | None, tip_link: str | None
     return base_link, tip_link, up, down
 
 
-def axis_rotation(x: float, y: float, z: float) -> tuple[tuple[float, float, float], ...]:
-    """``axis_frame`` of the unit axis (x, y, z) as three rows of plain floats (see there), and flip last.
+def axis_rotation(x: float, y: float, z: float) -> Rows3:
+    """``axis_frame``'s rotation for the unit axis (x, y, z), as three rows of plain floats.
 
     Scalar arithmetic: it runs for every joint of a chain, where numpy's per-call overhead on 3x3
     arrays was most of the load time of a small URDF.
@@ -140,7 +143,8 @@ def axis_rotation(x: float, y: float, z: float) -> tuple[tuple[float, float, flo
     xy = -bx * by / c
     R = ((1.0 - bx * bx / c, xy, bx), (xy, 1.0 - by * by / c, by), (-bx, -by, 1.0 - (bx * bx + by * by) / c))
     if flip:  # turned by pi about x: columns 2 and 3 change sign
-        R = tuple((r0, -r1, -r2) for r0, r1, r2 in R)
+        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = R
+        R = ((r00, -r01, -r02), (r10, -r11, -r12), (r20, -r21, -r22))
     return R
 
 
@@ -223,29 +227,29 @@ def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: s
         raise InputError(f"{src}: no revolute, continuous or prismatic joint between '{base}' and "
                          f"'{tip}'; a robot needs at least one")
     # poses along the path base -> tip (climbing, then descending): all the kinematics needs
-    T = np.eye(4)
+    T = pose_rows.IDENTITY
     poses = {base: T}
     for j in up:
-        T = np.dot(T, se3.inv(j.origin))
+        T = pose_rows.compose(T, pose_rows.inverse(j.pose()))
         poses[j.parent] = T
     for j in down:
-        T = np.dot(T, j.origin)
+        T = pose_rows.compose(T, j.pose())
         poses[j.child] = T
-    # each joint's frame: its child link's frame turned so that z is the axis (one batched product)
-    rotations, joints = [], []
+    # each joint's frame: its child link's frame turned so that z is the axis
+    frames, joints = [], []
     for j in chain:
         x, y, z = _unit_axis(j, src)
-        rotations.append(axis_rotation(x, y, z))
+        (a, b, c), (d, e, f), (g, h, i) = axis_rotation(x, y, z)
+        frames.append(pose_rows.compose(poses[j.child], (a, b, c, 0.0, d, e, f, 0.0, g, h, i, 0.0)))
         jtype = "prismatic" if j.type == "prismatic" else "revolute"
         joints.append(Joint(j.name, jtype, j.lower, j.upper, z < 0, j.effort, j.velocity,  # type: ignore[arg-type]
                             j.damping, j.friction))
-    frames = np.array([poses[j.child] for j in chain] + [poses[tip]])
-    frames[:-1, :3, :3] = frames[:-1, :3, :3] @ np.array(rotations)
+    frames.append(poses[tip])
     world = _world(model, base)
     links, shapes, inertials = _rest_of_the_file(model, base, {j.name: i + 1 for i, j in enumerate(chain)})
     bodies = Bodies(LazyTuple(links), (base,) + tuple(j.child for j in chain), tip, LazyTuple(shapes),
                     LazyTuple(inertials), model.extras)
-    return Robot(frames, tuple(joints), world=world, name=name or model.name, bodies=bodies)
+    return Robot(pose_rows.matrices(frames), tuple(joints), world=world, name=name or model.name, bodies=bodies)
 
 
 def _rest_of_the_file(model: UrdfModel, base: str, chain_index: dict[str, int]) -> tuple[
@@ -294,7 +298,7 @@ def _home_poses(model: UrdfModel, base: str, chain_index: dict[str, int]
     (inverse origins) as well as descending; joints off the chain count as held at 0."""
     parents = model.parent_joint()
     kids = model.children()
-    poses = {base: np.eye(4)}
+    poses = {base: pose_rows.IDENTITY}
     body = {base: 0}
     stack = [base]
     while stack:
@@ -302,16 +306,17 @@ def _home_poses(model: UrdfModel, base: str, chain_index: dict[str, int]
         P, b = poses[link], body[link]
         for j in kids[link]:
             if j.child not in poses:
-                poses[j.child] = np.dot(P, j.origin)
+                poses[j.child] = pose_rows.compose(P, j.pose())
                 body[j.child] = chain_index.get(j.name, b)
                 stack.append(j.child)
         pj = parents.get(link)
         if pj is not None and pj.parent not in poses:
             # climbing: the chain's joints all lie below the base, so a climbed joint is never one
-            poses[pj.parent] = np.dot(P, se3.inv(pj.origin))
+            poses[pj.parent] = pose_rows.compose(P, pose_rows.inverse(pj.pose()))
             body[pj.parent] = b
             stack.append(pj.parent)
-    return poses, body
+    arrays = pose_rows.matrices(list(poses.values()))
+    return dict(zip(poses, arrays)), body
 
 
 def _world(model: UrdfModel, base: str) -> np.ndarray:
@@ -326,7 +331,7 @@ def _world(model: UrdfModel, base: str) -> np.ndarray:
     if moving:
         warnings.warn(f"{model.source}: joint(s) {', '.join(reversed(moving))} above base link '{base}' are "
                       f"held at 0 in the world->base transform", UserWarning, stacklevel=4)
-    world = np.eye(4)
+    world = pose_rows.IDENTITY
     for j in reversed(above):
-        world = world @ j.origin
-    return world
+        world = pose_rows.compose(world, j.pose())
+    return pose_rows.matrix(world)
