@@ -42,7 +42,7 @@ def read_bytes_file(path: str | os.PathLike, max_bytes: int, kind: str) -> bytes
 
     ``kind`` ("a robot document", "a URDF") words the messages.
     """
-    p = Path(path)
+    p = path if isinstance(path, Path) else Path(path)  # a Path is not parsed again
     try:
         st = os.stat(p)
         if not stat.S_ISREG(st.st_mode):

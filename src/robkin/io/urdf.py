@@ -192,7 +192,7 @@ def _read_source(source: str | os.PathLike[str], allow_xacro: bool = False) -> t
     """(XML text, name of the source for messages) from a path or an XML string."""
     if isinstance(source, str) and source.lstrip().startswith("<"):
         return source, "<urdf string>"
-    p = Path(source)
+    p = source if isinstance(source, Path) else Path(source)  # a Path is not parsed again
     if p.suffix.lower() == ".xacro":
         if not allow_xacro:
             raise InputError(XACRO_REFUSED.format(path=p, stem=p.stem))
@@ -226,19 +226,26 @@ def numbers(text: str | None, count: int, where: str, what: str | None,
     messages name ``where`` (file and element) and ``what`` (the attribute, if not in ``where``)."""
     if text is None:
         return default
-    at = where if what is None else f"{where}: {what}"
-    wanted = "a number" if count == 1 else f"{count} numbers"
     try:
         values = tuple(map(float, text.split()))
     except ValueError:
-        raise InputError(f"{at}: '{text}' is not {wanted}") from None
+        values = None
+    if values is not None and len(values) == count:
+        for v in values:
+            if not -MAX_ABS <= v <= MAX_ABS:  # also false for NaN
+                break
+        else:
+            return values
+    # the messages, made only for a bad attribute
+    at = where if what is None else f"{where}: {what}"
+    wanted = "a number" if count == 1 else f"{count} numbers"
+    if values is None:
+        raise InputError(f"{at}: '{text}' is not {wanted}")
     if len(values) != count:
         raise InputError(f"{at}: '{text}' has {len(values)} numbers; expected {wanted}")
-    for v in values:
-        if not -MAX_ABS <= v <= MAX_ABS:  # also false for NaN
-            bad = "contains NaN or infinity" if not math.isfinite(v) else f"has a number beyond +-{MAX_ABS:g}"
-            raise InputError(f"{at}: '{text}' {bad}; expected {count} finite numbers of a robot's size")
-    return values
+    v = next(v for v in values if not -MAX_ABS <= v <= MAX_ABS)
+    bad = "contains NaN or infinity" if not math.isfinite(v) else f"has a number beyond +-{MAX_ABS:g}"
+    raise InputError(f"{at}: '{text}' {bad}; expected {count} finite numbers of a robot's size")
 
 
 def _floats(text: str | None, count: int, where: str, default: Iterable[float]) -> np.ndarray:
@@ -276,13 +283,10 @@ def origin_matrix(xyz: tuple[float, ...], rpy: tuple[float, ...]) -> np.ndarray:
 
 
 def first_children(el: Any) -> dict[str, Any]:
-    """The first child element of each tag (one pass over the children; lxml makes a proxy object
-    for every element it hands out, so one pass beats a ``find`` per tag)."""
-    out: dict[str, Any] = {}
-    for c in el:
-        if c.tag not in out:
-            out[c.tag] = c
-    return out
+    """The first child element of each tag (one pass over the children, backwards so that the first
+    of a tag is the one kept; lxml makes an object for every element it hands out, so one pass beats
+    a ``find`` per tag)."""
+    return {c.tag: c for c in reversed(el)}
 
 
 def origin_numbers(origin_el: Any, where: str) -> tuple[float, ...]:
@@ -374,10 +378,16 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
                          f"pass allow_xacro=True, or expand it first: xacro {Path(src).name} > robot.urdf")
     if root.tag != "robot":
         raise InputError(f"{src}: root element is <{root.tag}>; a URDF has <robot>")
+    link_els, joint_els, material_els = [], [], []
+    kinds = {"link": link_els, "joint": joint_els, "material": material_els}
+    for el in root:  # one pass over the top level (lxml makes an object for each element visited)
+        kind = kinds.get(el.tag)
+        if kind is not None:
+            kind.append(el)
     links: list[str] = []
     known: set[str] = set()
     link_elements = {}
-    for i, el in enumerate(root.iterfind("link")):
+    for i, el in enumerate(link_els):
         name = el.get("name")
         if not name:
             raise InputError(f"{src}: link #{i + 1} has no name attribute")
@@ -388,7 +398,7 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
         link_elements[name] = el
     if not links:
         raise InputError(f"{src}: no <link> elements; a URDF robot needs links joined by joints")
-    joints = [_joint(el, src, i) for i, el in enumerate(root.iterfind("joint"))]
+    joints = [_joint(el, src, i) for i, el in enumerate(joint_els)]
     names: set[str] = set()
     for j in joints:
         if j.name in names:
@@ -406,7 +416,7 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
                              f"'{j.name}'; a URDF is a tree")
         parent_of[j.child] = j.name
     roots = [name for name in links if name not in parent_of]
-    content = LazyLinkContent(link_elements, root.findall("material"), src)
+    content = LazyLinkContent(link_elements, material_els, src)
     model = UrdfModel(root.get("name"), tuple(links), tuple(joints), src, content, LazyTuple(lambda: _extras(root)))
     if not roots:
         raise InputError(f"{src}: the joints form a cycle (every link has a parent); a URDF is a tree")
