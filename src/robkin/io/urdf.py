@@ -378,7 +378,9 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
                          f"pass allow_xacro=True, or expand it first: xacro {Path(src).name} > robot.urdf")
     if root.tag != "robot":
         raise InputError(f"{src}: root element is <{root.tag}>; a URDF has <robot>")
-    link_els, joint_els, material_els = [], [], []
+    link_els: list[Any] = []
+    joint_els: list[Any] = []
+    material_els: list[Any] = []
     kinds = {"link": link_els, "joint": joint_els, "material": material_els}
     for el in root:  # one pass over the top level (lxml makes an object for each element visited)
         kind = kinds.get(el.tag)
