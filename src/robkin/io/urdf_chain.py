@@ -16,7 +16,6 @@ from typing import Callable, Iterator
 
 import numpy as np
 
-from .. import se3
 from ..bodies import Bodies, Inertial, LazyTuple, Link, LinkJoint, Shape
 from ..errors import InputError, ProjectionWarning
 from ..robot import Joint, Robot
