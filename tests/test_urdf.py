@@ -374,7 +374,9 @@ def test_repeated_joint_children_the_first_counts_as_in_urdfdom(monkeypatch):
     data = model.createData()
     q = np.array([0.7])
     pin.forwardKinematics(model, data, q)
-    for limit in (0, 10**9):  # lxml, then the standard library's parser
+    for limit in (0, 10**9):  # lxml, then the standard library's parser (used while lxml is not loaded)
         monkeypatch.setattr(urdf_module, "LXML_FROM", limit)
+        if limit:
+            monkeypatch.delitem(sys.modules, "lxml.etree", raising=False)
         robot = robot_from_urdf(text, tip_link="b")
         np.testing.assert_allclose(robot.fk(q), data.oMi[1].homogeneous, atol=1e-15)
