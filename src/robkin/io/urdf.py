@@ -2,7 +2,8 @@
 
 This module parses a URDF into a ``UrdfModel`` (the tree of links and joints; the contents of links,
 visuals, collisions and inertials, are parsed only when asked for, by ``urdf_content``; the XML
-itself by ``urdf_xml``). ``robot_from_model`` (in ``urdf_chain``) picks a serial chain out of the tree
+itself by ``urdf_xml``; a joint is a ``urdf_joint.UrdfJoint`` whose numbers stay plain floats, composed
+as ``pose_rows``). ``robot_from_model`` (in ``urdf_chain``) picks a serial chain out of the tree
 and ``urdf_from_robot`` (in ``urdf_write``) writes a robot back; both are importable from here.
 
 Import (``robot_from_urdf``)
