@@ -125,6 +125,10 @@ def select_chain(model: UrdfModel, base_link: str | None, tip_link: str | None
     return base_link, tip_link, up, down
 
 
+#: ``axis_rotation`` of the axis 0 0 1: the identity (the joint frame is its link's frame)
+_Z_UP: Rows3 = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+
+
 def axis_rotation(x: float, y: float, z: float) -> Rows3:
     """``axis_frame``'s rotation for the unit axis (x, y, z), as three rows of plain floats.
 
@@ -134,8 +138,7 @@ def axis_rotation(x: float, y: float, z: float) -> Rows3:
     flip = z < 0
     bx, by, bz = (-x, -y, -z) if flip else (x, y, z)
     if bx == 0 and by == 0:  # the axis is +-z: the rotation is exact (no rounding)
-        return ((1.0, 0.0, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, -1.0)) if flip else \
-            ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+        return ((1.0, 0.0, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, -1.0)) if flip else _Z_UP
     # minimal rotation e_z -> b (b_z >= 0): R = I + K + K^2 / (1 + c), K = [e_z x b], c = b_z;
     # 1 + c >= 1, so this is well conditioned for every b in the upper half sphere.
     c = 1.0 + bz
@@ -238,8 +241,12 @@ def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: s
     frames, joints = [], []
     for j in chain:
         x, y, z = _unit_axis(j, src)
-        (a, b, c), (d, e, f), (g, h, i) = axis_rotation(x, y, z)
-        frames.append(pose_rows.compose(poses[j.child], (a, b, c, 0.0, d, e, f, 0.0, g, h, i, 0.0)))
+        R = axis_rotation(x, y, z)
+        if R is _Z_UP:
+            frames.append(poses[j.child])
+        else:
+            (a, b, c), (d, e, f), (g, h, i) = R
+            frames.append(pose_rows.compose(poses[j.child], (a, b, c, 0.0, d, e, f, 0.0, g, h, i, 0.0)))
         jtype = "prismatic" if j.type == "prismatic" else "revolute"
         joints.append(Joint(j.name, jtype, j.lower, j.upper, z < 0, j.effort, j.velocity,  # type: ignore[arg-type]
                             j.damping, j.friction))
