@@ -20,7 +20,7 @@ __all__ = ["Pose", "IDENTITY", "from_xyz_rpy", "from_matrix", "compose", "invers
 Pose = tuple[float, float, float, float, float, float, float, float, float, float, float, float]
 
 IDENTITY: Pose = (1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0)
-_LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0])
+_LAST_ROW = (0.0, 0.0, 0.0, 1.0)
 
 
 def from_xyz_rpy(xyz: Sequence[float], rpy: Sequence[float]) -> Pose:
@@ -60,13 +60,10 @@ def inverse(A: Pose) -> Pose:
 
 
 def matrices(poses: Sequence[Pose]) -> np.ndarray:
-    """The poses as one array (m, 4, 4)."""
-    out = np.empty((len(poses), 4, 4))
-    out[:, :3, :] = np.array(poses, dtype=float).reshape(len(poses), 3, 4)
-    out[:, 3, :] = _LAST_ROW
-    return out
+    """The poses as one array (m, 4, 4) (made in one call: each numpy call costs more than the copying)."""
+    return np.array([p + _LAST_ROW for p in poses], dtype=float).reshape(len(poses), 4, 4)
 
 
 def matrix(pose: Pose) -> np.ndarray:
     """The pose as an array (4, 4)."""
-    return np.array((pose[0:4], pose[4:8], pose[8:12], (0.0, 0.0, 0.0, 1.0)))
+    return np.array(pose + _LAST_ROW).reshape(4, 4)
