@@ -1,6 +1,6 @@
 """URDF load time of robkin against pinocchio, measured in the same run.
 
-For each file (example-robot-data's Talos, 103 joints, the largest; a UR5; a Panda), the time from a
+For each file (example-robot-data's Talos, 59 joints of which 44 move, the largest; a UR5; a Panda), the time from a
 path on disk to a usable model: ``robkin.load(path, base_link, tip_link)`` (parse, chain selection,
 GJD, and the kept links; shapes are parsed on first use) against ``pinocchio.buildModelFromUrdf(path)``
 (its whole tree, no geometry). The two are interleaved, one call each per round, so that a busy
