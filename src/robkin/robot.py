@@ -135,7 +135,7 @@ class Robot:
     bodies: Bodies = EMPTY_BODIES
 
     def __post_init__(self) -> None:
-        frames = np.array(self.frames, dtype=float)
+        frames = np.asarray(self.frames, dtype=float)  # copied below (concatenate, check_poses)
         joints = tuple(self.joints)
         if frames.ndim != 3 or frames.shape[1:] != (4, 4):
             raise InputError(f"gjd.frames: expected n+1 4x4 matrices, got shape {frames.shape}")

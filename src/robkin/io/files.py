@@ -42,7 +42,7 @@ def read_bytes_file(path: str | os.PathLike, max_bytes: int, kind: str) -> bytes
 
     ``kind`` ("a robot document", "a URDF") words the messages.
     """
-    p = Path(path)
+    p = path if isinstance(path, Path) else Path(path)  # a Path is not parsed again
     try:
         st = os.stat(p)
         if not stat.S_ISREG(st.st_mode):
@@ -57,8 +57,13 @@ def read_bytes_file(path: str | os.PathLike, max_bytes: int, kind: str) -> bytes
                 raise InputError(f"{p}: {_kind(st.st_mode)}; {kind} is read from a regular file")
             chunks: list[bytes] = []
             size = 0
+            # the first read asks for the size stat gave plus one byte (so that one call reads the
+            # whole file and the next finds its end); a buffer of _CHUNK for a small file costs a
+            # fresh allocation of that size on every read
+            want = st.st_size + 1
             while True:
-                chunk = os.read(fd, min(_CHUNK, max_bytes + 1 - size))
+                chunk = os.read(fd, min(want, _CHUNK, max_bytes + 1 - size))
+                want = _CHUNK
                 if not chunk:
                     break
                 chunks.append(chunk)

@@ -2,7 +2,8 @@
 
 This module parses a URDF into a ``UrdfModel`` (the tree of links and joints; the contents of links,
 visuals, collisions and inertials, are parsed only when asked for, by ``urdf_content``; the XML
-itself by ``urdf_xml``). ``robot_from_model`` (in ``urdf_chain``) picks a serial chain out of the tree
+itself by ``urdf_xml``; a joint is a ``urdf_joint.UrdfJoint`` whose numbers stay plain floats, composed
+as ``pose_rows``). ``robot_from_model`` (in ``urdf_chain``) picks a serial chain out of the tree
 and ``urdf_from_robot`` (in ``urdf_write``) writes a robot back; both are importable from here.
 
 Import (``robot_from_urdf``)
@@ -29,12 +30,15 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
 
+from . import pose_rows
 from .files import read_text_file
+from .urdf_joint import UrdfJoint
 from .urdf_xml import _extras, _may_hold_xacro, _parse_urdf_xml
 from .urdf_xml import _parse_xml as _parse_xml  # re-exported: the MJCF and SDF readers import it from here
 from ..bodies import Inertial, LazyTuple, Mimic, Shape
@@ -67,30 +71,6 @@ SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 UNSUPPORTED_TYPES = ("floating", "planar")
 
 
-@dataclass(frozen=True, eq=False)
-class UrdfJoint:
-    """One <joint> element, parsed: origin (4, 4), unit axis (3,), limits (None where absent).
-
-    ``xyz_rpy`` are the six origin numbers as the file wrote them (so that a writer can repeat them
-    exactly); effort, velocity, damping, friction and mimic are None where the file gave none.
-    """
-
-    name: str
-    type: str
-    parent: str
-    child: str
-    origin: np.ndarray
-    axis: np.ndarray
-    lower: float | None
-    upper: float | None
-    mimic: Mimic | None = None
-    effort: float | None = None
-    velocity: float | None = None
-    damping: float | None = None
-    friction: float | None = None
-    xyz_rpy: tuple[float, ...] | None = None
-
-
 @dataclass(frozen=True)
 class LinkContent:
     """What a link holds besides its frame: shapes and mass properties, with poses relative to the
@@ -117,9 +97,19 @@ class UrdfModel:
     extras: Sequence[str] = ()
 
     def parent_joint(self) -> dict[str, UrdfJoint]:
-        return {j.child: j for j in self.joints}
+        """link name -> the joint whose child it is (made once; callers must not change it)."""
+        return self._parent_joint
 
     def children(self) -> dict[str, list[UrdfJoint]]:
+        """link name -> the joints whose parent it is, in file order (made once; not to be changed)."""
+        return self._children
+
+    @cached_property
+    def _parent_joint(self) -> dict[str, UrdfJoint]:
+        return {j.child: j for j in self.joints}
+
+    @cached_property
+    def _children(self) -> dict[str, list[UrdfJoint]]:
         out: dict[str, list[UrdfJoint]] = {name: [] for name in self.links}
         for j in self.joints:
             out[j.parent].append(j)
@@ -147,7 +137,7 @@ def _read_source(source: str | os.PathLike[str], allow_xacro: bool = False) -> t
     """(XML text, name of the source for messages) from a path or an XML string."""
     if isinstance(source, str) and source.lstrip().startswith("<"):
         return source, "<urdf string>"
-    p = Path(source)
+    p = source if isinstance(source, Path) else Path(source)  # a Path is not parsed again
     if p.suffix.lower() == ".xacro":
         if not allow_xacro:
             raise InputError(XACRO_REFUSED.format(path=p, stem=p.stem))
@@ -181,19 +171,26 @@ def numbers(text: str | None, count: int, where: str, what: str | None,
     messages name ``where`` (file and element) and ``what`` (the attribute, if not in ``where``)."""
     if text is None:
         return default
-    at = where if what is None else f"{where}: {what}"
-    wanted = "a number" if count == 1 else f"{count} numbers"
     try:
         values = tuple(map(float, text.split()))
     except ValueError:
-        raise InputError(f"{at}: '{text}' is not {wanted}") from None
+        values = None
+    if values is not None and len(values) == count:
+        for v in values:
+            if not -MAX_ABS <= v <= MAX_ABS:  # also false for NaN
+                break
+        else:
+            return values
+    # the messages, made only for a bad attribute
+    at = where if what is None else f"{where}: {what}"
+    wanted = "a number" if count == 1 else f"{count} numbers"
+    if values is None:
+        raise InputError(f"{at}: '{text}' is not {wanted}")
     if len(values) != count:
         raise InputError(f"{at}: '{text}' has {len(values)} numbers; expected {wanted}")
-    for v in values:
-        if not -MAX_ABS <= v <= MAX_ABS:  # also false for NaN
-            bad = "contains NaN or infinity" if not math.isfinite(v) else f"has a number beyond +-{MAX_ABS:g}"
-            raise InputError(f"{at}: '{text}' {bad}; expected {count} finite numbers of a robot's size")
-    return values
+    v = next(v for v in values if not -MAX_ABS <= v <= MAX_ABS)
+    bad = "contains NaN or infinity" if not math.isfinite(v) else f"has a number beyond +-{MAX_ABS:g}"
+    raise InputError(f"{at}: '{text}' {bad}; expected {count} finite numbers of a robot's size")
 
 
 def _floats(text: str | None, count: int, where: str, default: Iterable[float]) -> np.ndarray:
@@ -221,67 +218,62 @@ def _limit(text: str, where: str, what: str) -> float | None:
 
 
 ZERO3 = (0.0, 0.0, 0.0)
+ZERO6 = ZERO3 + ZERO3
+X_AXIS = (1.0, 0.0, 0.0)  # URDF's default joint axis
 
 
 def origin_matrix(xyz: tuple[float, ...], rpy: tuple[float, ...]) -> np.ndarray:
-    """Pose (4, 4) of a URDF origin: translation xyz, rotation Rz(yaw) Ry(pitch) Rx(roll).
-
-    Scalar arithmetic (no array temporaries): this runs for every joint, visual and collision of a
-    file, and is most of the non-XML load time written with arrays.
-    """
-    x, y, z = xyz
-    if rpy == ZERO3:
-        return np.array(((1.0, 0.0, 0.0, x), (0.0, 1.0, 0.0, y), (0.0, 0.0, 1.0, z), (0.0, 0.0, 0.0, 1.0)))
-    cr, sr = math.cos(rpy[0]), math.sin(rpy[0])
-    cp, sp = math.cos(rpy[1]), math.sin(rpy[1])
-    cy, sy = math.cos(rpy[2]), math.sin(rpy[2])
-    return np.array(((cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr, x),
-                     (sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr, y),
-                     (-sp, cp * sr, cp * cr, z),
-                     (0.0, 0.0, 0.0, 1.0)))
+    """Pose (4, 4) of a URDF origin: translation xyz, rotation Rz(yaw) Ry(pitch) Rx(roll)."""
+    return pose_rows.matrix(pose_rows.from_xyz_rpy(xyz, rpy))
 
 
 def first_children(el: Any) -> dict[str, Any]:
-    """The first child element of each tag (one pass over the children; lxml makes a proxy object
-    for every element it hands out, so one pass beats a ``find`` per tag)."""
-    out: dict[str, Any] = {}
-    for c in el:
-        if c.tag not in out:
-            out[c.tag] = c
-    return out
+    """The first child element of each tag (one pass over the children, backwards so that the first
+    of a tag is the one kept; lxml makes an object for every element it hands out, so one pass beats
+    a ``find`` per tag)."""
+    return {c.tag: c for c in reversed(el)}
 
 
-def parse_origin(el: Any, where: str, kids: dict[str, Any] | None = None) -> tuple[np.ndarray, tuple[float, ...]]:
-    """(pose (4, 4), the six numbers xyz + rpy) of an element's <origin> child (identity if none)."""
-    origin_el = (first_children(el) if kids is None else kids).get("origin")
+def origin_numbers(origin_el: Any, where: str) -> tuple[float, ...]:
+    """The six numbers xyz + rpy of an <origin> element (zeros for None or a missing attribute)."""
     if origin_el is None:
-        return origin_matrix(ZERO3, ZERO3), ZERO3 + ZERO3
-    xyz = numbers(origin_el.get("xyz"), 3, where, "origin xyz", ZERO3)
-    rpy = numbers(origin_el.get("rpy"), 3, where, "origin rpy", ZERO3)
-    return origin_matrix(xyz, rpy), xyz + rpy
+        return ZERO6
+    return (numbers(origin_el.get("xyz"), 3, where, "origin xyz", ZERO3)
+            + numbers(origin_el.get("rpy"), 3, where, "origin rpy", ZERO3))
+
+
+def parse_origin(el: Any, where: str) -> tuple[np.ndarray, tuple[float, ...]]:
+    """(pose (4, 4), the six numbers xyz + rpy) of an element's <origin> child (identity if none)."""
+    xyz_rpy = origin_numbers(el.find("origin"), where)
+    return origin_matrix(xyz_rpy[:3], xyz_rpy[3:]), xyz_rpy
 
 
 def _joint(el: Any, source: str, index: int) -> UrdfJoint:
-    name = el.get("name")
+    """One <joint> element, every attribute checked (the numbers stay plain floats: see UrdfJoint)."""
+    get = el.get
+    name = get("name")
     if not name:
         raise InputError(f"{source}: joint #{index + 1} has no name attribute")
     where = f"{source}: joint '{name}'"
-    jtype = el.get("type")
-    if jtype is None:
-        raise InputError(f"{where}: no type attribute; one of {', '.join(SUPPORTED_TYPES)}")
-    if jtype not in SUPPORTED_TYPES and jtype not in UNSUPPORTED_TYPES:
-        raise InputError(f"{where}: unknown type '{jtype}'; one of {', '.join(SUPPORTED_TYPES + UNSUPPORTED_TYPES)}")
+    jtype = get("type")
+    if jtype not in SUPPORTED_TYPES:
+        if jtype is None:
+            raise InputError(f"{where}: no type attribute; one of {', '.join(SUPPORTED_TYPES)}")
+        if jtype not in UNSUPPORTED_TYPES:
+            raise InputError(f"{where}: unknown type '{jtype}'; one of "
+                             f"{', '.join(SUPPORTED_TYPES + UNSUPPORTED_TYPES)}")
     kids = first_children(el)
-    links = []
-    for tag in ("parent", "child"):
-        sub = kids.get(tag)
-        link = None if sub is None else sub.get("link")
-        if not link:
-            raise InputError(f"{where}: missing <{tag} link=\"...\"/>")
-        links.append(link)
-    origin, xyz_rpy = parse_origin(el, where, kids)
+    sub = kids.get("parent")
+    parent = None if sub is None else sub.get("link")
+    if not parent:
+        raise InputError(f"{where}: missing <parent link=\"...\"/>")
+    sub = kids.get("child")
+    child = None if sub is None else sub.get("link")
+    if not child:
+        raise InputError(f"{where}: missing <child link=\"...\"/>")
+    xyz_rpy = origin_numbers(kids.get("origin"), where)
     axis_el = kids.get("axis")
-    axis = np.array(numbers(None if axis_el is None else axis_el.get("xyz"), 3, where, "axis xyz", (1.0, 0.0, 0.0)))
+    axis = numbers(None if axis_el is None else axis_el.get("xyz"), 3, where, "axis xyz", X_AXIS)
     lower = upper = effort = velocity = damping = friction = mimic = None
     lim = kids.get("limit")
     if lim is not None:
@@ -304,8 +296,8 @@ def _joint(el: Any, source: str, index: int) -> UrdfJoint:
         mult = _number(mim.get("multiplier"), where, "mimic multiplier")
         off = _number(mim.get("offset"), where, "mimic offset")
         mimic = Mimic(mim.get("joint"), 1.0 if mult is None else mult, 0.0 if off is None else off)
-    return UrdfJoint(name, jtype, links[0], links[1], origin, axis, lower, upper, mimic, effort, velocity,
-                     damping, friction, xyz_rpy)
+    return UrdfJoint(name, jtype, parent, child, None, axis, lower, upper, mimic,  # type: ignore[arg-type]
+                     effort, velocity, damping, friction, xyz_rpy)
 
 
 def parse_urdf(source: str | os.PathLike[str], *, allow_xacro: bool = False) -> UrdfModel:
@@ -331,10 +323,18 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
                          f"pass allow_xacro=True, or expand it first: xacro {Path(src).name} > robot.urdf")
     if root.tag != "robot":
         raise InputError(f"{src}: root element is <{root.tag}>; a URDF has <robot>")
+    link_els: list[Any] = []
+    joint_els: list[Any] = []
+    material_els: list[Any] = []
+    kinds = {"link": link_els, "joint": joint_els, "material": material_els}
+    for el in root:  # one pass over the top level (lxml makes an object for each element visited)
+        kind = kinds.get(el.tag)
+        if kind is not None:
+            kind.append(el)
     links: list[str] = []
     known: set[str] = set()
     link_elements = {}
-    for i, el in enumerate(root.iterfind("link")):
+    for i, el in enumerate(link_els):
         name = el.get("name")
         if not name:
             raise InputError(f"{src}: link #{i + 1} has no name attribute")
@@ -345,7 +345,7 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
         link_elements[name] = el
     if not links:
         raise InputError(f"{src}: no <link> elements; a URDF robot needs links joined by joints")
-    joints = [_joint(el, src, i) for i, el in enumerate(root.iterfind("joint"))]
+    joints = [_joint(el, src, i) for i, el in enumerate(joint_els)]
     names: set[str] = set()
     for j in joints:
         if j.name in names:
@@ -363,7 +363,7 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
                              f"'{j.name}'; a URDF is a tree")
         parent_of[j.child] = j.name
     roots = [name for name in links if name not in parent_of]
-    content = LazyLinkContent(link_elements, root.findall("material"), src)
+    content = LazyLinkContent(link_elements, material_els, src)
     model = UrdfModel(root.get("name"), tuple(links), tuple(joints), src, content, LazyTuple(lambda: _extras(root)))
     if not roots:
         raise InputError(f"{src}: the joints form a cycle (every link has a parent); a URDF is a tree")

@@ -16,13 +16,15 @@ from typing import Callable, Iterator
 
 import numpy as np
 
-from .. import se3
 from ..bodies import Bodies, Inertial, LazyTuple, Link, LinkJoint, Shape
 from ..errors import InputError, ProjectionWarning
 from ..robot import Joint, Robot
+from . import pose_rows
 from .urdf import AXIS_UNIT_TOL, AXIS_ZERO_TOL, UNSUPPORTED_TYPES, UrdfJoint, UrdfModel, parse_urdf
 
-__all__ = ["robot_from_urdf", "robot_from_model", "axis_frame", "select_chain", "chains_of"]
+Rows3 = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
+
+__all__ = ["robot_from_urdf", "robot_from_model", "axis_frame", "axis_rotation", "select_chain", "chains_of"]
 
 
 def _tree_leaves(kids: dict[str, list[UrdfJoint]], top: str, rigid_too: bool) -> list[str]:
@@ -123,6 +125,31 @@ def select_chain(model: UrdfModel, base_link: str | None, tip_link: str | None
     return base_link, tip_link, up, down
 
 
+#: ``axis_rotation`` of the axis 0 0 1: the identity (the joint frame is its link's frame)
+_Z_UP: Rows3 = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+
+
+def axis_rotation(x: float, y: float, z: float) -> Rows3:
+    """``axis_frame``'s rotation for the unit axis (x, y, z), as three rows of plain floats.
+
+    Scalar arithmetic: it runs for every joint of a chain, where numpy's per-call overhead on 3x3
+    arrays was most of the load time of a small URDF.
+    """
+    flip = z < 0
+    bx, by, bz = (-x, -y, -z) if flip else (x, y, z)
+    if bx == 0 and by == 0:  # the axis is +-z: the rotation is exact (no rounding)
+        return ((1.0, 0.0, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, -1.0)) if flip else _Z_UP
+    # minimal rotation e_z -> b (b_z >= 0): R = I + K + K^2 / (1 + c), K = [e_z x b], c = b_z;
+    # 1 + c >= 1, so this is well conditioned for every b in the upper half sphere.
+    c = 1.0 + bz
+    xy = -bx * by / c
+    R = ((1.0 - bx * bx / c, xy, bx), (xy, 1.0 - by * by / c, by), (-bx, -by, 1.0 - (bx * bx + by * by) / c))
+    if flip:  # turned by pi about x: columns 2 and 3 change sign
+        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = R
+        R = ((r00, -r01, -r02), (r10, -r11, -r12), (r20, -r21, -r22))
+    return R
+
+
 def axis_frame(axis: np.ndarray) -> tuple[np.ndarray, bool]:
     """Rotation (3, 3) whose z column is the unit ``axis``, and whether the joint is flipped.
 
@@ -130,28 +157,21 @@ def axis_frame(axis: np.ndarray) -> tuple[np.ndarray, bool]:
     ``0 0 1``). Axes pointing against z get flip = True and the minimal rotation onto -axis, turned
     by pi about x: its z is the axis, and the flipped frame used by DH/RPY tables is the minimal one.
     """
-    flip = bool(axis[2] < 0)
-    b = -axis if flip else axis
-    if b[0] == 0 and b[1] == 0:  # the axis is +-z: the rotation is exact (no rounding from K)
-        return (np.diag([1.0, -1.0, -1.0]) if flip else np.eye(3)), flip
-    # minimal rotation e_z -> b (b_z >= 0): R = I + K + K^2 / (1 + c), K = [e_z x b], c = b_z;
-    # 1 + c >= 1, so this is well conditioned for every b in the upper half sphere.
-    K = se3.skew(np.array([-b[1], b[0], 0.0]))
-    R = np.eye(3) + K + K @ K / (1.0 + b[2])
-    if flip:
-        R = R @ np.diag([1.0, -1.0, -1.0])  # Rx(pi)
-    return R, flip
+    x, y, z = (float(v) for v in axis)
+    return np.array(axis_rotation(x, y, z)), z < 0
 
 
-def _unit_axis(j: UrdfJoint, src: str) -> np.ndarray:
-    k = float(np.linalg.norm(j.axis))
+def _unit_axis(j: UrdfJoint, src: str) -> tuple[float, float, float]:
+    """The joint's axis as a unit vector of plain floats (InputError if zero, warned if not unit)."""
+    x, y, z = j.axis_xyz()
+    k = math.sqrt(x * x + y * y + z * z)
     if k < AXIS_ZERO_TOL:
         raise InputError(f"{src}: joint '{j.name}': axis xyz is zero; a {j.type} joint needs a direction "
                          f"such as '0 0 1'")
     if abs(k - 1.0) > AXIS_UNIT_TOL:
         warnings.warn(f"{src}: joint '{j.name}': axis has length {k:.6g}; normalised to a unit vector",
                       ProjectionWarning, stacklevel=5)
-    return j.axis / k
+    return x / k, y / k, z / k
 
 
 def robot_from_urdf(source: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None,
@@ -184,7 +204,7 @@ def robot_from_urdf(source: str | os.PathLike[str], base_link: str | None = None
 
 
 def _link_joint(j: UrdfJoint) -> LinkJoint:
-    x, y, z = (float(a) for a in j.axis)
+    x, y, z = j.axis_xyz()
     k = math.sqrt(x * x + y * y + z * z)
     axis = (x / k, y / k, z / k) if k >= AXIS_ZERO_TOL else (x, y, z)
     # ``or None``: readers of other formats may give mimic=False (the field was a flag once)
@@ -209,30 +229,33 @@ def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: s
         raise InputError(f"{src}: no revolute, continuous or prismatic joint between '{base}' and "
                          f"'{tip}'; a robot needs at least one")
     # poses along the path base -> tip (climbing, then descending): all the kinematics needs
-    T = np.eye(4)
+    T = pose_rows.IDENTITY
     poses = {base: T}
     for j in up:
-        T = np.dot(T, se3.inv(j.origin))
+        T = pose_rows.compose(T, pose_rows.inverse(j.pose()))
         poses[j.parent] = T
     for j in down:
-        T = np.dot(T, j.origin)
+        T = pose_rows.compose(T, j.pose())
         poses[j.child] = T
-    frames: list[np.ndarray] = []
-    joints: list[Joint] = []
+    # each joint's frame: its child link's frame turned so that z is the axis
+    frames, joints = [], []
     for j in chain:
-        R, flip = axis_frame(_unit_axis(j, src))
-        F = poses[j.child].copy()
-        F[:3, :3] = F[:3, :3] @ R
-        frames.append(F)
+        x, y, z = _unit_axis(j, src)
+        R = axis_rotation(x, y, z)
+        if R is _Z_UP:
+            frames.append(poses[j.child])
+        else:
+            (a, b, c), (d, e, f), (g, h, i) = R
+            frames.append(pose_rows.compose(poses[j.child], (a, b, c, 0.0, d, e, f, 0.0, g, h, i, 0.0)))
         jtype = "prismatic" if j.type == "prismatic" else "revolute"
-        joints.append(Joint(j.name, jtype, j.lower, j.upper, flip, j.effort, j.velocity,  # type: ignore[arg-type]
+        joints.append(Joint(j.name, jtype, j.lower, j.upper, z < 0, j.effort, j.velocity,  # type: ignore[arg-type]
                             j.damping, j.friction))
     frames.append(poses[tip])
     world = _world(model, base)
     links, shapes, inertials = _rest_of_the_file(model, base, {j.name: i + 1 for i, j in enumerate(chain)})
     bodies = Bodies(LazyTuple(links), (base,) + tuple(j.child for j in chain), tip, LazyTuple(shapes),
                     LazyTuple(inertials), model.extras)
-    return Robot(np.stack(frames), tuple(joints), world=world, name=name or model.name, bodies=bodies)
+    return Robot(pose_rows.matrices(frames), tuple(joints), world=world, name=name or model.name, bodies=bodies)
 
 
 def _rest_of_the_file(model: UrdfModel, base: str, chain_index: dict[str, int]) -> tuple[
@@ -281,7 +304,7 @@ def _home_poses(model: UrdfModel, base: str, chain_index: dict[str, int]
     (inverse origins) as well as descending; joints off the chain count as held at 0."""
     parents = model.parent_joint()
     kids = model.children()
-    poses = {base: np.eye(4)}
+    poses = {base: pose_rows.IDENTITY}
     body = {base: 0}
     stack = [base]
     while stack:
@@ -289,16 +312,17 @@ def _home_poses(model: UrdfModel, base: str, chain_index: dict[str, int]
         P, b = poses[link], body[link]
         for j in kids[link]:
             if j.child not in poses:
-                poses[j.child] = np.dot(P, j.origin)
+                poses[j.child] = pose_rows.compose(P, j.pose())
                 body[j.child] = chain_index.get(j.name, b)
                 stack.append(j.child)
         pj = parents.get(link)
         if pj is not None and pj.parent not in poses:
             # climbing: the chain's joints all lie below the base, so a climbed joint is never one
-            poses[pj.parent] = np.dot(P, se3.inv(pj.origin))
+            poses[pj.parent] = pose_rows.compose(P, pose_rows.inverse(pj.pose()))
             body[pj.parent] = b
             stack.append(pj.parent)
-    return poses, body
+    arrays = pose_rows.matrices(list(poses.values()))
+    return dict(zip(poses, arrays)), body
 
 
 def _world(model: UrdfModel, base: str) -> np.ndarray:
@@ -313,7 +337,7 @@ def _world(model: UrdfModel, base: str) -> np.ndarray:
     if moving:
         warnings.warn(f"{model.source}: joint(s) {', '.join(reversed(moving))} above base link '{base}' are "
                       f"held at 0 in the world->base transform", UserWarning, stacklevel=4)
-    world = np.eye(4)
+    world = pose_rows.IDENTITY
     for j in reversed(above):
-        world = world @ j.origin
-    return world
+        world = pose_rows.compose(world, j.pose())
+    return pose_rows.matrix(world)

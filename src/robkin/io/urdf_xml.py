@@ -101,4 +101,6 @@ _XACRO_NS = re.compile(r"""xmlns:([\w.-]+)\s*=\s*["']http://www\.ros\.org/wiki/x
 def _may_hold_xacro(text: str) -> bool:
     """Whether an element may use a prefix bound to xacro's namespace (a quick look at the text; the
     tree is searched only then: most URDFs declare the namespace, few keep xacro elements)."""
+    if "www.ros.org/wiki/xacro" not in text:  # a plain substring search first: most files lack it
+        return False
     return any(f"<{prefix}:" in text for prefix in _XACRO_NS.findall(text))
