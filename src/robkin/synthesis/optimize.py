@@ -392,7 +392,7 @@ def synthesize(task: Task, n: int, start: str | np.ndarray = "D", cost: str = "l
     -------
     SynthesisResult
     """
-    from scipy.optimize import least_squares
+    from ..compiled.box_lsq import MESSAGES, solve
 
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < MIN_JOINTS:
         raise InputError(f"joints: need an integer number of joints >= {MIN_JOINTS}, got {n!r}")
@@ -403,14 +403,11 @@ def synthesize(task: Task, n: int, start: str | np.ndarray = "D", cost: str = "l
     label, z0 = _start_vector(task, n, start, rng)
     K = task.poses.shape[0]
     hi = np.concatenate([np.full(2 * n, LENGTH_BOUND), np.full(n, 2 * math.pi), np.full(K * n, 4 * math.pi)])
-    z0 = np.clip(z0, -hi * (1 - 1e-12), hi * (1 - 1e-12))  # strictly inside: trf needs an interior start
 
     def reach(z0_: np.ndarray) -> tuple[np.ndarray, int]:
-        if np.linalg.norm(model.residual(z0_)) <= PHASE1_TOL:
-            return z0_, 1
-        ls = least_squares(model.residual, z0_, jac=model.jacobian, method="trf", bounds=(-hi, hi),
-                           xtol=None, ftol=None, gtol=PHASE1_TOL, max_nfev=max_iter)
-        return ls.x, int(ls.nfev)
+        z, _, nfev, _, _ = solve(model.residual, model.jacobian, z0_, -hi, hi, gtol=PHASE1_TOL,
+                                 rtol=PHASE1_TOL, max_nfev=max_iter)
+        return z, nfev
 
     def fun(z: np.ndarray) -> np.ndarray:
         return np.concatenate([REACH_WEIGHT * model.residual(z), _cost_residual(model, cost, z, False)[0]])
@@ -421,19 +418,18 @@ def synthesize(task: Task, n: int, start: str | np.ndarray = "D", cost: str = "l
     t0 = time.perf_counter()
     z1, nfev1 = reach(z0)
     r1 = bool(np.linalg.norm(model.residual(z1)) <= REACH_TOL)
-    opt = least_squares(fun, z1, jac=jac, method="trf", bounds=(-hi, hi), ftol=OPT_FTOL, xtol=OPT_XTOL,
-                        gtol=None, max_nfev=max_iter)
-    z3, nfev3 = reach(np.clip(opt.x, -hi * (1 - 1e-12), hi * (1 - 1e-12)))
+    z2, _, nfev2, _, status = solve(fun, jac, z1, -hi, hi, ftol=OPT_FTOL, xtol=OPT_XTOL, max_nfev=max_iter)
+    z3, nfev3 = reach(z2)
     seconds = time.perf_counter() - t0
     c = _cost_residual(model, cost, z3, False)[0]
     design = _design(task, model, z3, label)
     rows, table, robot, q, (pos, rot) = design
     reaches = pos <= REACH_TOL * model.R and rot <= REACH_TOL
-    converged = bool(opt.status > 0) and reaches
-    message = (f"reach: {nfev1} evaluations ({'reached' if r1 else 'not reached'}); optimise: {opt.message}; "
+    converged = status > 0 and reaches
+    message = (f"reach: {nfev1} evaluations ({'reached' if r1 else 'not reached'}); optimise: {MESSAGES[status]}; "
                f"polish: {nfev3} evaluations")
     return SynthesisResult(label, table, robot, q, converged, reaches, r1, float(c @ c), link_length(rows),
-                           pos, rot, nfev1, int(opt.nfev), nfev1 + int(opt.nfev) + nfev3, seconds, message)
+                           pos, rot, nfev1, nfev2, nfev1 + nfev2 + nfev3, seconds, message)
 
 
 def _start_vector(task: Task, n: int, start, rng) -> tuple[str, np.ndarray]:
