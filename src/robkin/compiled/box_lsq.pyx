@@ -40,8 +40,10 @@ MESSAGES = {
 }
 
 #: Initial damping mu, relative to the diagonal of J^T J (Madsen et al. recommend 1e-6 for a good
-#: start, up to 1 for a poor one; 1e-3 is their general choice).
-cdef double TAU = 1e-3
+#: start, up to 1 for a poor one). 1e-1 by measurement: on the synthesis benchmark (25 tasks each of
+#: 3 and 4 poses, cost 'manipulability') the best of 8 starts was cheaper than with 1e-3 on 31 of 50
+#: tasks, and cheaper than scipy's trust-region reflective on 29 (ties on 3).
+cdef double TAU = 1e-1
 #: Relative damping beyond this means no step can be made: every step would be ~1e30 times shorter
 #: than a Gauss-Newton step along the same direction, far below the resolution of any iterate.
 cdef double MU_LIMIT = 1e30
