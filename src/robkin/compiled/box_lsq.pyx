@@ -190,7 +190,7 @@ def solve(fun, jac, x0, lower, upper, double ftol=0.0, double xtol=0.0, double g
                 continue
             for i in range(n):
                 xt[i] = x[i]
-            for j in range(nf - 1, -1, -1):
+            for j in range(nf):
                 i = free_idx[j]
                 xt[i] = min(max(x[i] + h[j], lo[i]), hi[i])
             # the step actually taken, its length and the decrease the linear model predicts for it
