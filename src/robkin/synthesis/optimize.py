@@ -1,5 +1,6 @@
 """Dimensional synthesis: DH parameters of n revolute joints that reach every pose of a task, at the
-least cost, found by a local optimiser (a bounded Levenberg-Marquardt, ``compiled.box_lsq``) from a chosen start.
+least cost, found by a local optimiser (a bounded Levenberg-Marquardt, ``compiled.box_lsq``) from a
+chosen start.
 
 The estimation paper proposed its four estimates as starting points for exactly this kind of local
 search; ``synthesize`` takes a start (an estimate type 'A'-'D', 'random', or explicit values) and
@@ -57,7 +58,7 @@ PHASE1_TOL = 1e-12
 REACH_WEIGHT = 1e2
 #: Phase 2 stops when the cost changes by less than OPT_FTOL relative in a step, or the design by less
 #: than OPT_XTOL relative: 1e-6 is far below any design difference that matters; tighter values only
-#: add evaluations as the iterates creep towards the stretched-arm limit described at COST_WEIGHTS.
+#: add evaluations as the iterates creep towards the stretched-arm limit described at ``problem.COST_WEIGHTS``.
 OPT_FTOL = 1e-6
 OPT_XTOL = 1e-9
 
