@@ -29,10 +29,10 @@ cimport numpy as cnp
 from libc.math cimport sqrt, fabs, ceil, isfinite, INFINITY, M_PI
 from libc.stdlib cimport malloc, free
 from libc.stdint cimport uint64_t
+from robkin.compiled.dense cimport cholesky_solve
 from robkin.compiled.fk cimport Chain, walk_tool
 from robkin.compiled.jacobian cimport jacobian_one
 from robkin.compiled.linalg cimport rot_log
-from robkin.compiled.dense cimport cholesky_solve
 from robkin.compiled.pose_check cimport tool_errors
 
 import numpy as np
