@@ -9,7 +9,8 @@ import pytest
 
 from robkin import se3
 from robkin.errors import InputError
-from robkin.synthesis import optimize as opt
+from robkin.synthesis import optimize
+from robkin.synthesis import problem as opt
 from robkin.synthesis.optimize import REACH_TOL, make_task, random_start, synthesize
 from robkin.synthesis.sweep import (Job, make_jobs, progress_bar, random_task_poses, run_job, run_sweep,
                                     summarize)
@@ -30,7 +31,7 @@ def _fd(f, z, h=1e-6):
 @pytest.mark.parametrize("reach", ["pose", "position"])
 def test_reach_jacobian_matches_finite_differences(reach):
     task = make_task([T1, T2], reach=reach)
-    model = opt._Model(task, 5)
+    model = opt.Model(task, 5)
     z = random_start(task, 5, 3)
     # central differences, h = 1e-6 on O(1) variables: truncation ~1e-12, rounding ~1e-10
     np.testing.assert_allclose(model.jacobian(z), _fd(model.residual, z), atol=1e-8)
@@ -45,18 +46,27 @@ def test_left_jacobian_inverse_is_the_derivative_of_log():
         w = rng.normal(size=3) * 1e-7
         Rw = se3.exp_twist(np.r_[w / np.linalg.norm(w), 0, 0, 0], np.linalg.norm(w))[:3, :3]
         dphi = se3.log_rotation(Rw @ R) - se3.log_rotation(R)
-        predicted = opt._left_jacobian_inverse(phi[None])[0] @ w
+        predicted = opt.left_jacobian_inverse(phi[None])[0] @ w
         # first-order check: the error is O(|w|^2) ~ 1e-14 plus log rounding ~1e-16 / angle
         np.testing.assert_allclose(dphi, predicted, atol=1e-12)
 
 
+def test_log_of_an_exact_half_turn():
+    """diag(1, -1, -1) etc. have a skew part of exactly 0 (synthesis meets them when an estimate's tool is
+    turned by exactly pi from a target): the rotation vector is pi times the axis, without a warning
+    (the test run turns warnings into errors)."""
+    for axis in np.eye(3):
+        R = 2.0 * np.outer(axis, axis) - np.eye(3)
+        np.testing.assert_allclose(np.abs(se3.log_rotation(R)), math.pi * axis, atol=1e-15)
+
+
 def test_length_and_dexterity_gradients():
     task = make_task([T1, T2])
-    model = opt._Model(task, 4)
+    model = opt.Model(task, 4)
     z = random_start(task, 4, 1)
-    h, Jh = opt._link_lengths(model, z)
-    np.testing.assert_allclose(Jh, _fd(lambda x: opt._link_lengths(model, x)[0], z), atol=1e-8)
-    c, Jc = opt._cost_residual(model, "manipulability", z)
+    h, Jh = opt.link_lengths(model, z)
+    np.testing.assert_allclose(Jh, _fd(lambda x: opt.link_lengths(model, x)[0], z), atol=1e-8)
+    c, Jc = opt.cost_residual(model, "manipulability", z)
     assert c.shape == (4 + 2,) and np.all(np.isfinite(c))
 
 
@@ -65,7 +75,7 @@ def test_dexterity_matches_singular_values_of_the_chain_jacobian(reach, n):
     """The compiled dexterity (DH chain + Householder QR) against numpy's SVD of the same scaled
     Jacobian built from the model's frames: square, wide and tall Jacobians, one design and a batch."""
     task = make_task([T1, T2], reach=reach)
-    model = opt._Model(task, n)
+    model = opt.Model(task, n)
     Z = np.stack([random_start(task, n, seed) for seed in range(3)])
     o, zs, _, _ = model.chain(Z)
     L = np.sum(np.hypot(Z[:, :n], Z[:, n:2 * n]), axis=1) + opt.LENGTH_EPS
@@ -73,18 +83,18 @@ def test_dexterity_matches_singular_values_of_the_chain_jacobian(reach, n):
     J = np.concatenate([Jv, zs[..., :-1, :]], axis=-1) if reach == "pose" else Jv
     expected = -np.log(np.prod(np.linalg.svd(J, compute_uv=False), axis=-1) + opt.MANIP_FLOOR)
     # both are backward-stable factorisations of the same O(1) matrices: agreement to ~1e-14 relative
-    np.testing.assert_allclose(opt._dexterity(model, Z), expected, rtol=1e-12, atol=1e-12)
-    np.testing.assert_allclose(opt._dexterity(model, Z[1]), expected[1], rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(opt.dexterity(model, Z), expected, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(opt.dexterity(model, Z[1]), expected[1], rtol=1e-12, atol=1e-12)
 
 
 def test_dexterity_gradient_matches_one_design_at_a_time():
     """The batched finite differences equal differences of single-design evaluations."""
     task = make_task([T1, T2])
-    model = opt._Model(task, 6)
+    model = opt.Model(task, 6)
     z = random_start(task, 6, 2)
-    _, Jc = opt._cost_residual(model, "manipulability", z)
+    _, Jc = opt.cost_residual(model, "manipulability", z)
     wd = opt.COST_WEIGHTS["manipulability"][1]
-    np.testing.assert_allclose(Jc[6:], wd * _fd(lambda x: opt._dexterity(model, x), z), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(Jc[6:], wd * _fd(lambda x: opt.dexterity(model, x), z), rtol=0, atol=1e-9)
 
 
 def test_single_pose_from_pose_estimates_needs_no_reach_phase():
@@ -131,11 +141,11 @@ def test_position_task_and_world_base():
 
 def test_manipulability_cost_improves_dexterity():
     task = make_task(T1)
-    model = opt._Model(task, 4)
+    model = opt.Model(task, 4)
     by_cost = {c: synthesize(task, 4, "D", c, max_iter=300) for c in ("length", "manipulability")}
     for r in by_cost.values():
         assert r.reaches
-    dex = {c: float(opt._dexterity(model, opt._z_from_rows(r.table.rows, task))[0]) for c, r in by_cost.items()}
+    dex = {c: float(opt.dexterity(model, optimize._z_from_rows(r.table.rows, task))[0]) for c, r in by_cost.items()}
     # -log(dimensionless manipulability): smaller is more dexterous
     assert dex["manipulability"] < dex["length"]
     sq = {c: float(np.sum(r.table.rows[:, 0] ** 2 + r.table.rows[:, 1] ** 2)) for c, r in by_cost.items()}
@@ -247,3 +257,27 @@ def test_job_record_fields():
     rec = run_job(job)
     assert rec["reach_evaluations"] == 1 and rec["reached_first"]
     assert {"converged", "cost", "length", "evaluations", "seconds", "n", "K"} <= set(rec)
+
+
+def test_reaches_the_estimation_papers_three_poses_within_bounds():
+    """The paper's Poses (1)-(3) (Huczala et al. 2021, eqs. 8-10; Pose (2) projected onto SO(3)) as one
+    task for a 6-joint arm: every estimate start converges, and an independent FK of the returned robot
+    reaches each pose; the design stays inside the optimiser's bounds."""
+    P1 = np.array([[-0.5005, -0.1800, -0.8468, -1.0], [-0.0654, 0.9832, -0.1704, 0.9],
+                   [0.8633, -0.0299, -0.5039, 0.8], [0, 0, 0, 1]])
+    P2 = np.array([[0.81, -0.34, -0.46, -0.4], [0.48, -0.02, 0.87, 0.6], [-0.30, -0.93, 0.14, 0.7], [0, 0, 0, 1]])
+    P3 = np.array([[0, 1, 0, 0.4], [1, 0, 0, 0.6], [0, 0, -1, 0.7], [0, 0, 0, 1.0]])
+    poses = np.stack([P1, P2, P3])
+    for T in poses:
+        T[:3, :3] = se3.nearest_rotation(T[:3, :3])
+    task = make_task(poses)
+    for start in "ABCD":
+        res = synthesize(task, 6, start, "manipulability")
+        assert res.converged and res.reaches, (start, res.message)
+        T = res.robot.fk(res.q)
+        for k in range(3):
+            assert np.linalg.norm(T[k, :3, 3] - poses[k, :3, 3]) < REACH_TOL * task.size
+            rel = poses[k, :3, :3].T @ T[k, :3, :3]
+            assert math.acos(np.clip((np.trace(rel) - 1) / 2, -1, 1)) < 1e-5
+        assert np.all(np.abs(res.table.rows[:, :2]) <= optimize.LENGTH_BOUND * task.size)
+        assert np.all(np.abs(res.table.rows[:, 2]) <= 2 * math.pi)

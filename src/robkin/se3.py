@@ -196,7 +196,8 @@ def log_rotation(R: ArrayLike) -> Array:
     c = np.clip(0.5 * (R[..., 0, 0] + R[..., 1, 1] + R[..., 2, 2] - 1.0), -1.0, 1.0)
     theta = np.arctan2(s, c)
     small = theta < _SMALL_ANGLE
-    factor = np.where(small, 1.0 + theta * theta / 6.0, theta / np.where(small, 1.0, s))
+    # s = 0 beyond the small angles only at an exact half turn, which the near-pi branch below handles
+    factor = np.where(small, 1.0 + theta * theta / 6.0, theta / np.where(small | (s == 0.0), 1.0, s))
     out = factor[..., None] * v
     near_pi = c < _NEAR_PI_COS
     if np.any(near_pi):

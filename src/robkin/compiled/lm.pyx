@@ -29,6 +29,7 @@ cimport numpy as cnp
 from libc.math cimport sqrt, fabs, ceil, isfinite, INFINITY, M_PI
 from libc.stdlib cimport malloc, free
 from libc.stdint cimport uint64_t
+from robkin.compiled.dense cimport cholesky_solve
 from robkin.compiled.fk cimport Chain, walk_tool
 from robkin.compiled.jacobian cimport jacobian_one
 from robkin.compiled.linalg cimport rot_log
@@ -74,36 +75,6 @@ cdef inline uint64_t splitmix64(uint64_t* state) noexcept nogil:
 cdef inline double uniform01(uint64_t* state) noexcept nogil:
     """Uniform double in [0, 1) from the top 53 bits."""
     return <double>(splitmix64(state) >> 11) * (1.0 / 9007199254740992.0)
-
-
-cdef inline bint cholesky_solve(double* A, double* b, int m) noexcept nogil:
-    """Solve A x = b in place (x in b) for a symmetric positive definite A (m x m, lower triangle used,
-    overwritten by its Cholesky factor). False if A is not numerically positive definite."""
-    cdef int i, j, k
-    cdef double s
-    for j in range(m):
-        s = A[j * m + j]
-        for k in range(j):
-            s -= A[j * m + k] * A[j * m + k]
-        if not (s > 0.0):
-            return False
-        A[j * m + j] = sqrt(s)
-        for i in range(j + 1, m):
-            s = A[i * m + j]
-            for k in range(j):
-                s -= A[i * m + k] * A[j * m + k]
-            A[i * m + j] = s / A[j * m + j]
-    for i in range(m):
-        s = b[i]
-        for k in range(i):
-            s -= A[i * m + k] * b[k]
-        b[i] = s / A[i * m + i]
-    for i in range(m - 1, -1, -1):
-        s = b[i]
-        for k in range(i + 1, m):
-            s -= A[k * m + i] * b[k]
-        b[i] = s / A[i * m + i]
-    return True
 
 
 cdef inline void damped_step(const double* J, const double* e, double mu, int n, double* h) noexcept nogil:
