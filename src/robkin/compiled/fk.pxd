@@ -6,11 +6,12 @@ transforms between consecutive GJD frames and Z_i a rotation about z (revolute) 
 (prismatic). This is the product of exponentials exp([S_1] q_1) ... exp([S_n] q_n) M regrouped
 (exp([S_i] q) = J_i Z(q) J_i^-1): a joint's motion then mixes two columns of the running pose (revolute)
 or adds to its last column (prismatic), instead of a Rodrigues rotation and a 4x4 product per joint.
+Configurations are walked in blocks of up to ``BLOCK`` at once, one configuration being a block of one.
 """
 
 cimport numpy as cnp
-from libc.math cimport sin, cos, isfinite
-from robkin.compiled.linalg cimport tf_mul, tf_copy
+from libc.math cimport isfinite
+from robkin.compiled.sincos cimport rk_sincos_array
 
 
 cdef class Chain:
@@ -21,50 +22,123 @@ cdef class Chain:
     cdef object _rev_owner
 
 
-cdef inline void move_joint(double* T, bint revolute, double q) noexcept nogil:
-    """T <- T Z(q): revolute rotates columns x, y about z; prismatic moves the origin along z."""
-    cdef double c, s, x
-    cdef int r
-    if revolute:
-        c = cos(q)
-        s = sin(q)
-        for r in range(3):
-            x = T[4 * r]
-            T[4 * r] = c * x + s * T[4 * r + 1]
-            T[4 * r + 1] = c * T[4 * r + 1] - s * x
-    else:
-        for r in range(3):
-            T[4 * r + 3] += q * T[4 * r + 2]
+cdef enum:
+    BLOCK = 64      # configurations walked together (the SoA arrays below stay in L1: 15 x 64 doubles)
+
+
+cdef inline void walk_block(const double* L, const unsigned char* rev, int n, const double* Q, int m,
+                            double* P, double* F, double* J) noexcept nogil:
+    """Walk m <= BLOCK configurations Q (m x n, row-major) along the chain together.
+
+    The running poses are kept structure-of-arrays, P[BLOCK * e + b] = entry e (of the 12 of the top three
+    rows, row-major) of configuration b, so every step below is a loop over b that the compiler turns into
+    SIMD code. On return P holds the tool poses. Per joint: T <- T Z(q) (a revolute joint mixes columns x
+    and y with its cos and sin; a prismatic one moves the origin along z), then T <- T L_{i+1}; the
+    operations and their order are those of one 4x4 product, so m = 1 and m = BLOCK agree bit for bit.
+
+    F, if not NULL, receives the frames (m, n+1, 16): frame i after joint i's motion, frame n the tool.
+    J, if not NULL, receives (m, 6, n): joint i's frame origin p_i in rows 0-2 and axis z_i in rows 3-5 of
+    column i (``jacobian.pyx`` turns them into Jacobian columns).
+    """
+    cdef double qb[BLOCK]
+    cdef double sb[BLOCK]
+    cdef double cb[BLOCK]
+    cdef double a0, a1, a2, a3, x, c, s
+    cdef const double* A
+    cdef double* Fb
+    cdef double* Jb
+    cdef int i, b, e, r, w = 16 * (n + 1)
+    for e in range(12):
+        for b in range(m):
+            P[BLOCK * e + b] = L[e]
+    for i in range(n):
+        for b in range(m):
+            qb[b] = Q[n * b + i]
+        if rev[i]:
+            rk_sincos_array(qb, sb, cb, m)
+            for b in range(m):
+                c = cb[b]
+                s = sb[b]
+                for r in range(3):
+                    x = P[BLOCK * (4 * r) + b]
+                    P[BLOCK * (4 * r) + b] = c * x + s * P[BLOCK * (4 * r + 1) + b]
+                    P[BLOCK * (4 * r + 1) + b] = c * P[BLOCK * (4 * r + 1) + b] - s * x
+        else:
+            for b in range(m):
+                for r in range(3):
+                    P[BLOCK * (4 * r + 3) + b] += qb[b] * P[BLOCK * (4 * r + 2) + b]
+        if F != NULL:
+            for b in range(m):
+                Fb = F + w * b + 16 * i
+                for e in range(12):
+                    Fb[e] = P[BLOCK * e + b]
+                Fb[12] = 0.0
+                Fb[13] = 0.0
+                Fb[14] = 0.0
+                Fb[15] = 1.0
+        if J != NULL:
+            for b in range(m):
+                Jb = J + 6 * n * b + i
+                for r in range(3):
+                    Jb[n * r] = P[BLOCK * (4 * r + 3) + b]
+                    Jb[n * (r + 3)] = P[BLOCK * (4 * r + 2) + b]
+        A = L + 16 * (i + 1)
+        for b in range(m):
+            for r in range(3):
+                a0 = P[BLOCK * (4 * r) + b]
+                a1 = P[BLOCK * (4 * r + 1) + b]
+                a2 = P[BLOCK * (4 * r + 2) + b]
+                a3 = P[BLOCK * (4 * r + 3) + b]
+                P[BLOCK * (4 * r) + b] = a0 * A[0] + a1 * A[4] + a2 * A[8]
+                P[BLOCK * (4 * r + 1) + b] = a0 * A[1] + a1 * A[5] + a2 * A[9]
+                P[BLOCK * (4 * r + 2) + b] = a0 * A[2] + a1 * A[6] + a2 * A[10]
+                P[BLOCK * (4 * r + 3) + b] = a0 * A[3] + a1 * A[7] + a2 * A[11] + a3
+    if F != NULL:
+        store_poses(P, m, F + 16 * n, w)
+
+
+cdef inline void store_poses(const double* P, int m, double* T, int stride) noexcept nogil:
+    """T[stride * b : stride * b + 16] = pose b (4x4 row-major, last row 0 0 0 1) of the SoA block P."""
+    cdef int b, e
+    cdef double* Tb
+    for b in range(m):
+        Tb = T + stride * b
+        for e in range(12):
+            Tb[e] = P[BLOCK * e + b]
+        Tb[12] = 0.0
+        Tb[13] = 0.0
+        Tb[14] = 0.0
+        Tb[15] = 1.0
+
+
+cdef inline void tool_poses(const double* L, const unsigned char* rev, int n, const double* Q,
+                            Py_ssize_t m, double* T) noexcept nogil:
+    """T (m x 16) = tool poses (4x4 row-major) at the m configurations Q (m x n), any m >= 0."""
+    cdef double P[12 * BLOCK]
+    cdef Py_ssize_t j, k
+    cdef int size
+    for j in range((m + BLOCK - 1) // BLOCK):
+        k = BLOCK * j
+        size = <int>(m - k if m - k < BLOCK else BLOCK)
+        walk_block(L, rev, n, Q + n * k, size, P, NULL, NULL)
+        store_poses(P, size, T + 16 * k, 16)
+
+
+cdef inline void frame_poses(const double* L, const unsigned char* rev, int n, const double* Q,
+                             Py_ssize_t m, double* F) noexcept nogil:
+    """F (m x (n+1) x 16) = the frames along the chain (see ``walk_block``) at Q (m x n), any m >= 0."""
+    cdef double P[12 * BLOCK]
+    cdef Py_ssize_t j, k
+    for j in range((m + BLOCK - 1) // BLOCK):
+        k = BLOCK * j
+        walk_block(L, rev, n, Q + n * k, <int>(m - k if m - k < BLOCK else BLOCK), P, F + 16 * (n + 1) * k,
+                   NULL)
 
 
 cdef inline void walk_tool(const double* L, const unsigned char* rev, int n, const double* q,
                            double* T) noexcept nogil:
-    """T = tool pose at q (4x4 row-major)."""
-    cdef double A[16]
-    cdef double B[16]
-    cdef double* cur = A
-    cdef double* nxt = B
-    cdef double* tmp
-    cdef int i
-    tf_copy(L, cur)
-    for i in range(n - 1):
-        move_joint(cur, rev[i], q[i])
-        tf_mul(cur, L + 16 * (i + 1), nxt)     # ping-pong between two buffers: no copy per joint
-        tmp = cur
-        cur = nxt
-        nxt = tmp
-    move_joint(cur, rev[n - 1], q[n - 1])
-    tf_mul(cur, L + 16 * n, T)
-
-
-cdef inline void walk_frames(const double* L, const unsigned char* rev, int n, const double* q,
-                             double* F) noexcept nogil:
-    """F[i] (n+1 poses of 16) = frame of joint i after its own motion, F[n] = tool pose."""
-    cdef int i
-    tf_copy(L, F)
-    for i in range(n):
-        move_joint(F + 16 * i, rev[i], q[i])
-        tf_mul(F + 16 * i, L + 16 * (i + 1), F + 16 * (i + 1))
+    """T = tool pose (4x4 row-major) at one configuration q (n,): ``tool_poses`` with m = 1."""
+    tool_poses(L, rev, n, q, 1, T)
 
 
 cdef inline bint usable_q(object q, int n) noexcept:

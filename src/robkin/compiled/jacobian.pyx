@@ -8,9 +8,9 @@ and converts). ``kind``: 0 = geometric [v; w] at the tool origin in the base fra
 """
 
 cimport numpy as cnp
-from robkin.compiled.fk cimport Chain, empty_result, move_joint, usable_q
+from robkin.compiled.fk cimport BLOCK, Chain, empty_result, store_poses, usable_q, walk_block
 from libc.stdlib cimport malloc, free
-from robkin.compiled.linalg cimport tf_mul, tf_copy, tall_volume
+from robkin.compiled.linalg cimport tall_volume
 
 import numpy as np
 
@@ -23,35 +23,36 @@ BODY = 2
 
 cdef void jacobian_one(const double* L, const unsigned char* rev, int n, const double* q, int kind,
                        double* J, double* T) noexcept nogil:
-    """J (6 x n, row-major) at q, and the tool pose T (4x4); see the module docstring for ``kind``.
+    """J (6 x n, row-major) at one configuration q (n,), and the tool pose T (4x4); ``jacobians`` with
+    m = 1 (see the module docstring for ``kind``)."""
+    jacobians(L, rev, n, q, 1, kind, J, T)
 
-    While walking the chain, joint i's axis z_i and a point p_i on it (the origin of its frame) are
-    parked in column i (p in rows 0-2, z in rows 3-5); once the tool pose is known each column is
-    turned into its final form.
+
+cdef void jacobians(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t m,
+                    int kind, double* J, double* T) noexcept nogil:
+    """J (m x 6 x n, row-major) at the m configurations Q (m x n); T (4x4) = the last one's tool pose.
+
+    The walk (``fk.walk_block``, blocks of configurations together) parks joint i's axis z_i and a point
+    p_i on it (its frame's origin) in column i (p in rows 0-2, z in rows 3-5); once the tool pose is
+    known each column is turned into its final form.
     """
-    cdef double A[16]
-    cdef double B[16]
-    cdef double* cur = A
-    cdef double* nxt = B
-    cdef double* tmp
+    cdef double P[12 * BLOCK]
+    cdef Py_ssize_t j, k
+    cdef int size, b
+    for j in range((m + BLOCK - 1) // BLOCK):
+        k = BLOCK * j
+        size = <int>(m - k if m - k < BLOCK else BLOCK)
+        walk_block(L, rev, n, Q + n * k, size, P, NULL, J + 6 * n * k)
+        for b in range(size):
+            store_poses(P + b, 1, T, 16)
+            finish_columns(rev, n, kind, T, J + 6 * n * (k + b))
+
+
+cdef inline void finish_columns(const unsigned char* rev, int n, int kind, const double* T,
+                                double* J) noexcept nogil:
+    """Turn the parked (p_i; z_i) columns of J (6 x n) into Jacobian columns for the tool pose T."""
     cdef double z0, z1, z2, d0, d1, d2, v0, v1, v2, w0, w1, w2
-    cdef int i, r
-    tf_copy(L, cur)
-    for i in range(n):
-        move_joint(cur, rev[i], q[i])
-        J[i] = cur[3]
-        J[n + i] = cur[7]
-        J[2 * n + i] = cur[11]
-        J[3 * n + i] = cur[2]
-        J[4 * n + i] = cur[6]
-        J[5 * n + i] = cur[10]
-        if i == n - 1:
-            tf_mul(cur, L + 16 * n, T)
-        else:
-            tf_mul(cur, L + 16 * (i + 1), nxt)     # ping-pong between two buffers: no copy per joint
-            tmp = cur
-            cur = nxt
-            nxt = tmp
+    cdef int i
     for i in range(n):
         z0 = J[3 * n + i]
         z1 = J[4 * n + i]
@@ -112,7 +113,7 @@ cdef void jacobian_one(const double* L, const unsigned char* rev, int n, const d
 
 def jacobian(Chain chain, q, int kind):
     """(6, n) for q (n,), (N, 6, n) for q (N, n); None if q is not usable as is (see the module doc)."""
-    cdef Py_ssize_t N, k
+    cdef Py_ssize_t N
     cdef int n = chain.n
     cdef const double* Q
     cdef double* O
@@ -126,8 +127,7 @@ def jacobian(Chain chain, q, int kind):
     O = <double*>cnp.PyArray_DATA(out)
     N = cnp.PyArray_SIZE(q) // n
     with nogil:
-        for k in range(N):
-            jacobian_one(chain.L, chain.rev, n, Q + k * n, kind, O + 6 * n * k, T)
+        jacobians(chain.L, chain.rev, n, Q, N, kind, O, T)
     return out
 
 
