@@ -23,11 +23,11 @@ cdef class Chain:
 
 
 cdef enum:
-    BLOCK = 64      # configurations walked together (the SoA arrays below stay in L1: 15 x 64 doubles)
+    BLOCK = 32      # configurations walked together: a block's arrays (FK: 15 x 32 doubles; Jacobian: 6 n x 32 more, and its share of J) stay in L1
 
 
 cdef inline void walk_block(const double* L, const unsigned char* rev, int n, const double* Q, int m,
-                            double* P, double* F, double* J) noexcept nogil:
+                            double* P, double* F, double* Z, int ld) noexcept nogil:
     """Walk m <= BLOCK configurations Q (m x n, row-major) along the chain together.
 
     The running poses are kept structure-of-arrays, P[BLOCK * e + b] = entry e (of the 12 of the top three
@@ -37,20 +37,20 @@ cdef inline void walk_block(const double* L, const unsigned char* rev, int n, co
     operations and their order are those of one 4x4 product, so m = 1 and m = BLOCK agree bit for bit.
 
     F, if not NULL, receives the frames (m, n+1, 16): frame i after joint i's motion, frame n the tool.
-    J, if not NULL, receives (m, 6, n): joint i's frame origin p_i in rows 0-2 and axis z_i in rows 3-5 of
-    column i (``jacobian.pyx`` turns them into Jacobian columns).
+    Z, if not NULL, receives joint i's frame origin p_i and axis z_i after its motion, for the Jacobians:
+    Z[ld * (n * r + i) + b] = p_i[r], Z[ld * (n * (r + 3) + i) + b] = z_i[r] (r < 3) with ld >= m.
     """
     cdef double qb[BLOCK]
     cdef double sb[BLOCK]
     cdef double cb[BLOCK]
-    cdef double a0, a1, a2, a3, x, c, s
-    cdef const double* A
+    cdef double a0, a1, a2, a3, x, c, s, l
+    cdef double A[12]     # L_{i+1}'s top rows in locals: the compiler cannot know P's stores leave L alone
     cdef double* Fb
-    cdef double* Jb
     cdef int i, b, e, r, w = 16 * (n + 1)
     for e in range(12):
+        l = L[e]
         for b in range(m):
-            P[BLOCK * e + b] = L[e]
+            P[BLOCK * e + b] = l
     for i in range(n):
         for b in range(m):
             qb[b] = Q[n * b + i]
@@ -76,13 +76,12 @@ cdef inline void walk_block(const double* L, const unsigned char* rev, int n, co
                 Fb[13] = 0.0
                 Fb[14] = 0.0
                 Fb[15] = 1.0
-        if J != NULL:
-            for b in range(m):
-                Jb = J + 6 * n * b + i
-                for r in range(3):
-                    Jb[n * r] = P[BLOCK * (4 * r + 3) + b]
-                    Jb[n * (r + 3)] = P[BLOCK * (4 * r + 2) + b]
-        A = L + 16 * (i + 1)
+        if Z != NULL:
+            for r in range(3):
+                copy_row(P + BLOCK * (4 * r + 3), Z + ld * (n * r + i), m)
+                copy_row(P + BLOCK * (4 * r + 2), Z + ld * (n * (r + 3) + i), m)
+        for e in range(12):
+            A[e] = L[16 * (i + 1) + e]
         for b in range(m):
             for r in range(3):
                 a0 = P[BLOCK * (4 * r) + b]
@@ -95,6 +94,13 @@ cdef inline void walk_block(const double* L, const unsigned char* rev, int n, co
                 P[BLOCK * (4 * r + 3) + b] = a0 * A[3] + a1 * A[7] + a2 * A[11] + a3
     if F != NULL:
         store_poses(P, m, F + 16 * n, w)
+
+
+cdef inline void copy_row(const double* src, double* dst, int m) noexcept nogil:
+    """dst[:m] = src[:m] (one loop per row: the compiler vectorises it after one overlap check)."""
+    cdef int b
+    for b in range(m):
+        dst[b] = src[b]
 
 
 cdef inline void store_poses(const double* P, int m, double* T, int stride) noexcept nogil:
@@ -120,7 +126,7 @@ cdef inline void tool_poses(const double* L, const unsigned char* rev, int n, co
     for j in range((m + BLOCK - 1) // BLOCK):
         k = BLOCK * j
         size = <int>(m - k if m - k < BLOCK else BLOCK)
-        walk_block(L, rev, n, Q + n * k, size, P, NULL, NULL)
+        walk_block(L, rev, n, Q + n * k, size, P, NULL, NULL, 0)
         store_poses(P, size, T + 16 * k, 16)
 
 
@@ -132,7 +138,7 @@ cdef inline void frame_poses(const double* L, const unsigned char* rev, int n, c
     for j in range((m + BLOCK - 1) // BLOCK):
         k = BLOCK * j
         walk_block(L, rev, n, Q + n * k, <int>(m - k if m - k < BLOCK else BLOCK), P, F + 16 * (n + 1) * k,
-                   NULL)
+                   NULL, 0)
 
 
 cdef inline void walk_tool(const double* L, const unsigned char* rev, int n, const double* q,

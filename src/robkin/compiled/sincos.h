@@ -78,9 +78,19 @@ static inline void rk_sincos_core(double x, double *s, double *c)
     memcpy(c, &co, sizeof co);
 }
 
+/* With GCC on x86-64 Linux the array version is compiled twice, for AVX2 (4 doubles a vector) and for the
+ * baseline (SSE2, 2 doubles), and the loader picks the one the CPU runs (an ifunc, resolved once). Both
+ * do the same IEEE operations in the same order (AVX2 brings no FMA, and -ffp-contract=off forbids it
+ * anyway), so results do not depend on the clone. Elsewhere: the baseline only. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define RK_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define RK_SIMD_CLONES
+#endif
+
 /* s[b], c[b] = sin(x[b]), cos(x[b]) for b < m; the first loop vectorises, the second patches the rare
  * arguments outside the reduction's range (and non-finite ones) with libm. */
-static inline void rk_sincos_array(const double *x, double *s, double *c, int m)
+RK_SIMD_CLONES static void rk_sincos_array(const double *x, double *s, double *c, int m)
 {
     int b;
     for (b = 0; b < m; b++)
