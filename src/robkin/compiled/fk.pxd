@@ -11,7 +11,7 @@ Configurations are walked in blocks of up to ``BLOCK`` at once, one configuratio
 
 cimport numpy as cnp
 from libc.math cimport isfinite
-from robkin.compiled.sincos cimport rk_sincos_array
+from robkin.compiled.sincos cimport rk_sincos_array, rk_sincos_one
 
 
 cdef class Chain:
@@ -55,7 +55,10 @@ cdef inline void walk_block(const double* L, const unsigned char* rev, int n, co
         for b in range(m):
             qb[b] = Q[n * b + i]
         if rev[i]:
-            rk_sincos_array(qb, sb, cb, m)
+            if m == 1:
+                rk_sincos_one(qb[0], sb, cb)       # inline: no call, no loop set-up for one angle
+            else:
+                rk_sincos_array(qb, sb, cb, m)
             for b in range(m):
                 c = cb[b]
                 s = sb[b]
@@ -123,6 +126,10 @@ cdef inline void tool_poses(const double* L, const unsigned char* rev, int n, co
     cdef double P[12 * BLOCK]
     cdef Py_ssize_t j, k
     cdef int size
+    if m == 1:      # a literal block size of one lets the compiler drop the loops' set-up
+        walk_block(L, rev, n, Q, 1, P, NULL, NULL, 0)
+        store_poses(P, 1, T, 16)
+        return
     for j in range((m + BLOCK - 1) // BLOCK):
         k = BLOCK * j
         size = <int>(m - k if m - k < BLOCK else BLOCK)

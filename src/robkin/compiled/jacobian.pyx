@@ -38,15 +38,17 @@ cdef void jacobians(const double* L, const unsigned char* rev, int n, const doub
     """
     cdef double P[12 * BLOCK]
     cdef Py_ssize_t j, k
-    cdef int size, ld = BLOCK
-    if m == 1 and Z == NULL:
-        Z = J
-        ld = 1
+    cdef int size
+    if m == 1:      # one configuration: (p; z) parked in J itself; literal sizes drop the loops' set-up
+        walk_block(L, rev, n, Q, 1, P, NULL, J, 1)
+        finish_block(rev, n, kind, P, J, 1, 1, J)
+        store_poses(P, 1, T, 16)
+        return
     for j in range((m + BLOCK - 1) // BLOCK):
         k = BLOCK * j
         size = <int>(m - k if m - k < BLOCK else BLOCK)
-        walk_block(L, rev, n, Q + n * k, size, P, NULL, Z, ld)
-        finish_block(rev, n, kind, P, Z, ld, size, J + 6 * n * k)
+        walk_block(L, rev, n, Q + n * k, size, P, NULL, Z, BLOCK)
+        finish_block(rev, n, kind, P, Z, BLOCK, size, J + 6 * n * k)
         store_poses(P + size - 1, 1, T, 16)
 
 

@@ -54,17 +54,20 @@ static inline void rk_sincos_core(double x, double *s, double *c)
     double tail = (((r1 - r2) - kp2) - k * RK_PIO2_3) - k * RK_PIO2_4;   /* (r1 - r2) - kp2: r2's rounding error */
     double r = r2 + tail;                                 /* the one rounding of r that matters */
     double z = r * r;
-    /* 1/3!, 1/5!, ..., 1/17! and 1/4!, ..., 1/18!, each the double nearest the exact reciprocal */
-    double ps = r + r * (z * (-0x1.5555555555555p-3 + z * (0x1.1111111111111p-7
-              + z * (-0x1.a01a01a01a01ap-13 + z * (0x1.71de3a556c734p-19
-              + z * (-0x1.ae64567f544e4p-26 + z * (0x1.6124613a86d09p-33
-              + z * (-0x1.ae7f3e733b81fp-41 + z * 0x1.952c77030ad4ap-49))))))));
+    double z2 = z * z;
+    double z4 = z2 * z2;
+    /* 1/3!, 1/5!, ..., 1/17! and 1/4!, ..., 1/18!, each the double nearest the exact reciprocal, summed
+     * in Estrin's order (pairs, then pairs of pairs): a short dependency chain, for the one-angle calls */
+    double ps = r + r * (z * ((-0x1.5555555555555p-3 + z * 0x1.1111111111111p-7)
+              + z2 * (-0x1.a01a01a01a01ap-13 + z * 0x1.71de3a556c734p-19)
+              + z4 * ((-0x1.ae64567f544e4p-26 + z * 0x1.6124613a86d09p-33)
+              + z2 * (-0x1.ae7f3e733b81fp-41 + z * 0x1.952c77030ad4ap-49))));
     double hz = 0.5 * z;
     double w = 1.0 - hz;
-    double pc = w + (((1.0 - w) - hz) + z * z * (0x1.5555555555555p-5 + z * (-0x1.6c16c16c16c17p-10
-              + z * (0x1.a01a01a01a01ap-16 + z * (-0x1.27e4fb7789f5cp-22
-              + z * (0x1.1eed8eff8d898p-29 + z * (-0x1.93974a8c07c9dp-37
-              + z * (0x1.ae7f3e733b81fp-45 + z * -0x1.6827863b97d97p-53))))))));
+    double pc = w + (((1.0 - w) - hz) + z2 * ((0x1.5555555555555p-5 + z * -0x1.6c16c16c16c17p-10)
+              + z2 * (0x1.a01a01a01a01ap-16 + z * -0x1.27e4fb7789f5cp-22)
+              + z4 * ((0x1.1eed8eff8d898p-29 + z * -0x1.93974a8c07c9dp-37)
+              + z2 * (0x1.ae7f3e733b81fp-45 + z * -0x1.6827863b97d97p-53))));
     uint64_t q, sb, cb, swap, so, co;
     memcpy(&q, &t, sizeof q);        /* low bits of t's significand: k in two's complement */
     memcpy(&sb, &ps, sizeof sb);
@@ -78,11 +81,23 @@ static inline void rk_sincos_core(double x, double *s, double *c)
     memcpy(c, &co, sizeof co);
 }
 
-/* With GCC on x86-64 Linux the array version is compiled twice, for AVX2 (4 doubles a vector) and for the
+/* *s, *c = sin(x), cos(x) for one angle: the same computation inline (one configuration's walk calls this,
+ * a block's calls rk_sincos_array; both give the same bits). */
+static inline void rk_sincos_one(double x, double *s, double *c)
+{
+    if (fabs(x) <= RK_SINCOS_BOUND) {
+        rk_sincos_core(x, s, c);
+    } else {
+        *s = sin(x);
+        *c = cos(x);
+    }
+}
+
+/* With GCC on x86-64 Linux with glibc (which provides ifuncs) the array version is compiled twice, for AVX2 (4 doubles a vector) and for the
  * baseline (SSE2, 2 doubles), and the loader picks the one the CPU runs (an ifunc, resolved once). Both
  * do the same IEEE operations in the same order (AVX2 brings no FMA, and -ffp-contract=off forbids it
  * anyway), so results do not depend on the clone. Elsewhere: the baseline only. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && defined(__GLIBC__)
 #define RK_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define RK_SIMD_CLONES

@@ -8,3 +8,4 @@ many, so a batch and a single call agree bit for bit. Accuracy: within 1 ulp of 
 cdef extern from "sincos.h" nogil:
     const double RK_SINCOS_BOUND
     void rk_sincos_array(const double* x, double* s, double* c, int m)
+    void rk_sincos_one(double x, double* s, double* c)
