@@ -12,6 +12,9 @@ thread each:
 - Jacobian: ``jacobian_geometric`` ([v; w] at the tool, base frame) for one q and for N = 1e3,
   against ``computeFrameJacobian(..., LOCAL_WORLD_ALIGNED)`` (the same matrix) and a loop of it.
 
+Times are this thread's CPU time (``time.thread_time``), so other processes on a shared machine do not
+inflate them; on a quiet machine they equal wall time.
+
 Goals (issue 10): single FK and one-q Jacobian within 2x of pinocchio; batch FK and batch Jacobian at
 least 10x faster per configuration than pinocchio's loop at N >= 1e3; a batch of one at most 2x a
 single call.
@@ -47,14 +50,14 @@ def robots_dir() -> str:
 
 
 def interleaved(fns: dict, rounds: int) -> dict:
-    """Median seconds per call of each function over ``rounds`` interleaved rounds."""
+    """Median CPU seconds (this thread's) per call of each function over ``rounds`` interleaved rounds."""
     times: dict = {k: [] for k in fns}
     for _ in range(rounds):
         for k, (fn, reps) in fns.items():
-            t0 = time.perf_counter()
+            t0 = time.thread_time()
             for _ in range(reps):
                 fn()
-            times[k].append((time.perf_counter() - t0) / reps)
+            times[k].append((time.thread_time() - t0) / reps)
     return {k: float(np.median(v)) for k, v in times.items()}
 
 
@@ -108,16 +111,17 @@ def main(argv: list[str] | None = None) -> int:
         Q = robot.random_q(N, rng)
         n_pin = min(N, 2_000)  # the Python loop is linear in N: time a slice of it
         P = np.hstack([Q[:n_pin], np.tile(extra, (n_pin, 1))])
-        t = interleaved({"rk": (lambda: robot.fk(Q), 1), "pin": (lambda: [pin_fk(x) for x in P], 1)},
+        reps = max(1, 20_000 // N)  # robkin's batch of 1e3 takes ~0.1 ms: repeat it to time ~2 ms
+        t = interleaved({"rk": (lambda: robot.fk(Q), reps), "pin": (lambda: [pin_fk(x) for x in P], 1)},
                         max(3, rounds // 3))
         rows.append((f"FK, batch N={N:,}", t["rk"] / N, t["pin"] / n_pin))
         if N == sizes[0]:
-            t = interleaved({"rk": (lambda: jacobian_geometric(robot, Q), 1),
-                             "pin": (lambda: [pin_jac(x) for x in P], 1)}, max(3, rounds // 3))
+            t = interleaved({"rk": (lambda: jacobian_geometric(robot, Q), reps),
+                             "pin": (lambda: [pin_jac(x) for x in P], 1)}, rounds)
             rows.append((f"Jacobian, batch N={N:,}", t["rk"] / N, t["pin"] / n_pin))
 
     print(f"Panda (7 joints), robkin {robkin.__version__} (compiled core), pinocchio {pin.__version__}; "
-          f"medians of interleaved rounds, one thread")
+          f"medians of interleaved rounds, CPU time of one thread")
     print(f"{'case':<26}{'robkin us/cfg':>15}{'pinocchio us/cfg':>18}{'robkin/pin':>12}")
     for name, a, b in rows:
         print(f"{name:<26}{a * 1e6:>15.3f}{b * 1e6:>18.3f}{a / b:>11.2f}x")

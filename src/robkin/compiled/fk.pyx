@@ -8,7 +8,8 @@ finite values, and the Python wrapper (``Robot.fk``) then validates and explains
 """
 
 cimport numpy as cnp
-from robkin.compiled.fk cimport walk_tool, walk_frames, usable_q, empty_result
+from robkin.compiled.fk cimport BLOCK, tool_poses, frame_poses, usable_q, empty_result
+from robkin.compiled.sincos cimport rk_sincos_array
 
 import numpy as np
 
@@ -39,7 +40,7 @@ cdef class Chain:
 
     def fk(self, q):
         """Tool pose (4, 4) for q (n,), or (N, 4, 4) for q (N, n); None if q is not usable as is."""
-        cdef Py_ssize_t k, N
+        cdef Py_ssize_t N
         cdef const double* Q
         cdef double* O
         if not usable_q(q, self.n):
@@ -49,14 +50,13 @@ cdef class Chain:
         O = <double*>cnp.PyArray_DATA(out)
         N = cnp.PyArray_SIZE(q) // self.n
         with nogil:
-            for k in range(N):
-                walk_tool(self.L, self.rev, self.n, Q + k * self.n, O + 16 * k)
+            tool_poses(self.L, self.rev, self.n, Q, N, O)
         return out
 
     def frames(self, q):
         """Frames after each joint's motion and the tool: (n+1, 4, 4) for q (n,), (N, n+1, 4, 4) for
         q (N, n); None if q is not usable as is."""
-        cdef Py_ssize_t k, N, m = 16 * (self.n + 1)
+        cdef Py_ssize_t N
         cdef const double* Q
         cdef double* O
         if not usable_q(q, self.n):
@@ -66,6 +66,21 @@ cdef class Chain:
         O = <double*>cnp.PyArray_DATA(out)
         N = cnp.PyArray_SIZE(q) // self.n
         with nogil:
-            for k in range(N):
-                walk_frames(self.L, self.rev, self.n, Q + k * self.n, O + k * m)
+            frame_poses(self.L, self.rev, self.n, Q, N, O)
         return out
+
+
+def sincos(x):
+    """sin and cos of every entry of x, as the kernels compute them (``sincos.h``): (sin, cos) arrays of
+    x's shape. Within 1 ulp of glibc's sin and cos; for tests and for anyone who wants the same values."""
+    cdef cnp.ndarray xa = np.ascontiguousarray(x, dtype=np.float64)
+    cdef cnp.ndarray s = np.empty_like(xa), c = np.empty_like(xa)
+    cdef const double* X = <const double*>cnp.PyArray_DATA(xa)
+    cdef double* S = <double*>cnp.PyArray_DATA(s)
+    cdef double* C = <double*>cnp.PyArray_DATA(c)
+    cdef Py_ssize_t j, k, size = xa.size
+    with nogil:
+        for j in range((size + BLOCK - 1) // BLOCK):
+            k = BLOCK * j
+            rk_sincos_array(X + k, S + k, C + k, <int>(size - k if size - k < BLOCK else BLOCK))
+    return s, c

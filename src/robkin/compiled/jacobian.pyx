@@ -8,9 +8,9 @@ and converts). ``kind``: 0 = geometric [v; w] at the tool origin in the base fra
 """
 
 cimport numpy as cnp
-from robkin.compiled.fk cimport Chain, empty_result, move_joint, usable_q
+from robkin.compiled.fk cimport BLOCK, Chain, empty_result, store_poses, usable_q, walk_block
 from libc.stdlib cimport malloc, free
-from robkin.compiled.linalg cimport tf_mul, tf_copy, tall_volume
+from robkin.compiled.linalg cimport tall_volume
 
 import numpy as np
 
@@ -23,96 +23,125 @@ BODY = 2
 
 cdef void jacobian_one(const double* L, const unsigned char* rev, int n, const double* q, int kind,
                        double* J, double* T) noexcept nogil:
-    """J (6 x n, row-major) at q, and the tool pose T (4x4); see the module docstring for ``kind``.
+    """J (6 x n, row-major) at one configuration q (n,), and the tool pose T (4x4); ``jacobians`` with
+    m = 1 (see the module docstring for ``kind``)."""
+    jacobians(L, rev, n, q, 1, kind, J, T, NULL)
 
-    While walking the chain, joint i's axis z_i and a point p_i on it (the origin of its frame) are
-    parked in column i (p in rows 0-2, z in rows 3-5); once the tool pose is known each column is
-    turned into its final form.
+
+cdef void jacobians(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t m,
+                    int kind, double* J, double* T, double* Z) noexcept nogil:
+    """J (m x 6 x n, row-major) at the m configurations Q (m x n); T (4x4) = the last one's tool pose.
+
+    The walk (``fk.walk_block``, blocks of configurations together) parks each joint's origin p_i and
+    axis z_i in Z (6 x n x BLOCK doubles of scratch); once the tool poses are known ``finish_block``
+    turns them into columns. With m = 1, Z may be NULL: one configuration's (p; z) fit in J itself.
     """
-    cdef double A[16]
-    cdef double B[16]
-    cdef double* cur = A
-    cdef double* nxt = B
-    cdef double* tmp
-    cdef double z0, z1, z2, d0, d1, d2, v0, v1, v2, w0, w1, w2
-    cdef int i, r
-    tf_copy(L, cur)
+    cdef double P[12 * BLOCK]
+    cdef Py_ssize_t j, k
+    cdef int size
+    if m == 1:      # one configuration: (p; z) parked in J itself; literal sizes drop the loops' set-up
+        walk_block(L, rev, n, Q, 1, P, NULL, J, 1)
+        finish_block(rev, n, kind, P, J, 1, 1, J)
+        store_poses(P, 1, T, 16)
+        return
+    for j in range((m + BLOCK - 1) // BLOCK):
+        k = BLOCK * j
+        size = <int>(m - k if m - k < BLOCK else BLOCK)
+        walk_block(L, rev, n, Q + n * k, size, P, NULL, Z, BLOCK)
+        finish_block(rev, n, kind, P, Z, BLOCK, size, J + 6 * n * k)
+        store_poses(P + size - 1, 1, T, 16)
+
+
+cdef inline void finish_block(const unsigned char* rev, int n, int kind, const double* P, const double* Z,
+                              int ld, int m, double* J) noexcept nogil:
+    """J (m x 6 x n) from the parked p_i, z_i (Z, see ``fk.walk_block``) and the tool poses P of a block.
+
+    Column i of every configuration b of the block is computed in loops over b that vectorise (joint type
+    and kind are the same for the whole block), into W, V, then written to J. Z may be J itself when
+    m = 1 (a column is read before it is written).
+    """
+    cdef double W[3 * BLOCK]
+    cdef double V[3 * BLOCK]
+    cdef double z0, z1, z2, d0, d1, d2
+    cdef const double* p0
+    cdef const double* p1
+    cdef const double* p2
+    cdef const double* zi0
+    cdef const double* zi1
+    cdef const double* zi2
+    cdef double* Jb
+    cdef int i, b, r, top = 0 if kind == 0 else 3      # the rows of v: [v; w] (geometric), (w, v) otherwise
     for i in range(n):
-        move_joint(cur, rev[i], q[i])
-        J[i] = cur[3]
-        J[n + i] = cur[7]
-        J[2 * n + i] = cur[11]
-        J[3 * n + i] = cur[2]
-        J[4 * n + i] = cur[6]
-        J[5 * n + i] = cur[10]
-        if i == n - 1:
-            tf_mul(cur, L + 16 * n, T)
+        p0 = Z + ld * i
+        p1 = Z + ld * (n + i)
+        p2 = Z + ld * (2 * n + i)
+        zi0 = Z + ld * (3 * n + i)
+        zi1 = Z + ld * (4 * n + i)
+        zi2 = Z + ld * (5 * n + i)
+        if not rev[i]:
+            # prismatic: no rotation, the axis is the velocity
+            for b in range(m):
+                W[b] = 0.0
+                W[BLOCK + b] = 0.0
+                W[2 * BLOCK + b] = 0.0
+                V[b] = zi0[b]
+                V[BLOCK + b] = zi1[b]
+                V[2 * BLOCK + b] = zi2[b]
+        elif kind == 1:
+            # space: w = z, v = -z x p = p x z
+            for b in range(m):
+                z0 = zi0[b]
+                z1 = zi1[b]
+                z2 = zi2[b]
+                W[b] = z0
+                W[BLOCK + b] = z1
+                W[2 * BLOCK + b] = z2
+                V[b] = p1[b] * z2 - p2[b] * z1
+                V[BLOCK + b] = p2[b] * z0 - p0[b] * z2
+                V[2 * BLOCK + b] = p0[b] * z1 - p1[b] * z0
         else:
-            tf_mul(cur, L + 16 * (i + 1), nxt)     # ping-pong between two buffers: no copy per joint
-            tmp = cur
-            cur = nxt
-            nxt = tmp
-    for i in range(n):
-        z0 = J[3 * n + i]
-        z1 = J[4 * n + i]
-        z2 = J[5 * n + i]
-        if rev[i]:
-            w0 = z0
-            w1 = z1
-            w2 = z2
-            if kind == 1:
-                # space: v = -z x p = p x z
-                d0 = J[i]
-                d1 = J[n + i]
-                d2 = J[2 * n + i]
-                v0 = d1 * z2 - d2 * z1
-                v1 = d2 * z0 - d0 * z2
-                v2 = d0 * z1 - d1 * z0
-            else:
-                # geometric and body: v = z x (p_tool - p)
-                d0 = T[3] - J[i]
-                d1 = T[7] - J[n + i]
-                d2 = T[11] - J[2 * n + i]
-                v0 = z1 * d2 - z2 * d1
-                v1 = z2 * d0 - z0 * d2
-                v2 = z0 * d1 - z1 * d0
-        else:
-            w0 = 0.0
-            w1 = 0.0
-            w2 = 0.0
-            v0 = z0
-            v1 = z1
-            v2 = z2
+            # geometric and body: w = z, v = z x (p_tool - p)
+            for b in range(m):
+                z0 = zi0[b]
+                z1 = zi1[b]
+                z2 = zi2[b]
+                d0 = P[BLOCK * 3 + b] - p0[b]
+                d1 = P[BLOCK * 7 + b] - p1[b]
+                d2 = P[BLOCK * 11 + b] - p2[b]
+                W[b] = z0
+                W[BLOCK + b] = z1
+                W[2 * BLOCK + b] = z2
+                V[b] = z1 * d2 - z2 * d1
+                V[BLOCK + b] = z2 * d0 - z0 * d2
+                V[2 * BLOCK + b] = z0 * d1 - z1 * d0
         if kind == 2:
             # body: both halves seen from the tool frame, R^T w and R^T v (v = z x (p_tool - p) is
             # the space v minus p_tool x w, as Ad_{T^-1} prescribes)
-            d0 = T[0] * w0 + T[4] * w1 + T[8] * w2
-            d1 = T[1] * w0 + T[5] * w1 + T[9] * w2
-            d2 = T[2] * w0 + T[6] * w1 + T[10] * w2
-            w0, w1, w2 = d0, d1, d2
-            d0 = T[0] * v0 + T[4] * v1 + T[8] * v2
-            d1 = T[1] * v0 + T[5] * v1 + T[9] * v2
-            d2 = T[2] * v0 + T[6] * v1 + T[10] * v2
-            v0, v1, v2 = d0, d1, d2
-        if kind == 0:
-            J[i] = v0
-            J[n + i] = v1
-            J[2 * n + i] = v2
-            J[3 * n + i] = w0
-            J[4 * n + i] = w1
-            J[5 * n + i] = w2
-        else:
-            J[i] = w0
-            J[n + i] = w1
-            J[2 * n + i] = w2
-            J[3 * n + i] = v0
-            J[4 * n + i] = v1
-            J[5 * n + i] = v2
+            rotate_back(P, W, m)
+            rotate_back(P, V, m)
+        for b in range(m):
+            Jb = J + 6 * n * b + i
+            for r in range(3):
+                Jb[n * (top + r)] = V[BLOCK * r + b]
+                Jb[n * (3 - top + r)] = W[BLOCK * r + b]
+
+
+cdef inline void rotate_back(const double* P, double* X, int m) noexcept nogil:
+    """X[:, b] <- R_b^T X[:, b] for the tool rotations R_b of the SoA block P (X: 3 x BLOCK)."""
+    cdef double x0, x1, x2
+    cdef int b
+    for b in range(m):
+        x0 = X[b]
+        x1 = X[BLOCK + b]
+        x2 = X[2 * BLOCK + b]
+        X[b] = P[b] * x0 + P[BLOCK * 4 + b] * x1 + P[BLOCK * 8 + b] * x2
+        X[BLOCK + b] = P[BLOCK + b] * x0 + P[BLOCK * 5 + b] * x1 + P[BLOCK * 9 + b] * x2
+        X[2 * BLOCK + b] = P[BLOCK * 2 + b] * x0 + P[BLOCK * 6 + b] * x1 + P[BLOCK * 10 + b] * x2
 
 
 def jacobian(Chain chain, q, int kind):
     """(6, n) for q (n,), (N, 6, n) for q (N, n); None if q is not usable as is (see the module doc)."""
-    cdef Py_ssize_t N, k
+    cdef Py_ssize_t N
     cdef int n = chain.n
     cdef const double* Q
     cdef double* O
@@ -125,9 +154,14 @@ def jacobian(Chain chain, q, int kind):
     Q = <const double*>cnp.PyArray_DATA(q)
     O = <double*>cnp.PyArray_DATA(out)
     N = cnp.PyArray_SIZE(q) // n
+    cdef double* Z = NULL
+    if N > 1:
+        Z = <double*>malloc(6 * n * BLOCK * sizeof(double))
+        if Z == NULL:
+            raise MemoryError()
     with nogil:
-        for k in range(N):
-            jacobian_one(chain.L, chain.rev, n, Q + k * n, kind, O + 6 * n * k, T)
+        jacobians(chain.L, chain.rev, n, Q, N, kind, O, T, Z)
+    free(Z)
     return out
 
 
