@@ -35,6 +35,7 @@ import numpy as np
 
 from .equivalence_walk import Walk, pose_difference
 from .robot import Robot
+from .samples import unit_sample
 
 __all__ = ["JointMatch", "Comparison", "compare", "DEFAULT_TOL"]
 
@@ -183,8 +184,7 @@ def compare(a: Robot, b: Robot, tol: float = DEFAULT_TOL, samples: int = 64) -> 
     # joint mapping for 'equivalent'. Failing here would be a bug in the walk above; say so.
     max_err = math.nan
     if a.n == b.n and a.types == b.types:
-        rng = np.random.default_rng(12345)
-        Qb = rng.uniform(-math.pi, math.pi, size=(samples, a.n))
+        Qb = math.pi * (2.0 * unit_sample(samples, a.n) - 1.0)  # fixed, well spread in [-pi, pi)
         Qa = Qb * (signs if mapped else 1) + (offsets if mapped else 0)
         Ta, Tb = a.fk(Qa), b.fk(Qb)
         max_err = float(np.maximum(np.abs(Ta[:, :3, :3] - Tb[:, :3, :3]).max(axis=(1, 2)),

@@ -15,6 +15,7 @@ from numpy.typing import ArrayLike
 from .. import se3
 from ..errors import InputError
 from ..robot import Joint, Robot, check_pose, check_q
+from ..samples import unit_sample
 from .frames import identity_mask, is_identity, relative_pose
 
 __all__ = ["LinkTable", "check_dh_rows", "flip_frame", "residual_tool", "fk_error", "warn_fk_error",
@@ -78,20 +79,6 @@ WARN_TOL = 1e-10
 _CHECK_SAMPLES = 8
 
 
-_UNIT_SAMPLES: dict[int, np.ndarray] = {}
-
-
-def _unit_sample(n: int) -> np.ndarray:
-    """The fixed sample (_CHECK_SAMPLES, n) in [0, 1), made once per joint count (a random generator
-    costs more than the rest of the check)."""
-    U = _UNIT_SAMPLES.get(n)
-    if U is None:
-        U = np.random.default_rng(20261123).uniform(size=(_CHECK_SAMPLES, n))  # fixed: deterministic
-        U.setflags(write=False)
-        _UNIT_SAMPLES[n] = U
-    return U
-
-
 def check_configurations(robot: Robot) -> np.ndarray:
     """The configurations (1 + _CHECK_SAMPLES, n) at which a converted table is compared with the
     robot (``sample_configurations`` of one robot)."""
@@ -116,7 +103,7 @@ def sample_configurations(revolute: np.ndarray, limits: np.ndarray, scale: np.nd
     lo = np.where(np.isfinite(limits[..., 0]), np.maximum(limits[..., 0], -span), -span)
     hi = np.where(np.isfinite(limits[..., 1]), np.minimum(limits[..., 1], span), span)
     Q = np.zeros((B, 1 + _CHECK_SAMPLES, n))
-    Q[:, 1:] = lo[:, None] + _unit_sample(n) * (hi - lo)[:, None]
+    Q[:, 1:] = lo[:, None] + unit_sample(_CHECK_SAMPLES, n) * (hi - lo)[:, None]
     return Q
 
 
