@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import os
 import signal
-import tempfile
 import threading
 from contextlib import contextmanager
 from pathlib import Path
@@ -78,6 +77,8 @@ def signals_as_exit() -> Iterator[None]:
 
 
 def _temp_for(path: str | os.PathLike, folder: Path, created: list[str]) -> int:
+    import tempfile  # here, not at the top: it pulls in shutil, bz2, lzma and random (~3 ms of start-up)
+
     fd, tmp = tempfile.mkstemp(prefix=f".{Path(path).name}.", suffix=".tmp", dir=folder)
     created.append(tmp)
     os.chmod(tmp, 0o666 & ~_current_umask())  # ordinary permissions, not mkstemp's private 0600
