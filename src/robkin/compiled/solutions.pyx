@@ -106,8 +106,9 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
     cdef unsigned char* ok = <unsigned char*>cnp.PyArray_DATA(ok_out)
     cdef double* ep = <double*>cnp.PyArray_DATA(ep_out)
     cdef double* eo = <double*>cnp.PyArray_DATA(eo_out)
-    # scratch: per branch a distance, an order and a kept slot (S each), reached flags (S), units (n)
-    cdef double* dist = <double*>malloc(max(S, 1) * sizeof(double))
+    # scratch: per branch a distance, an order and a kept slot (S each), reached flags (S), units (n),
+    # and nearest_branch's work: a branch block, its tool poses and errors (S (n + 18))
+    cdef double* dist = <double*>malloc(max(S, 1) * (n + 19) * sizeof(double))
     cdef double* unit = <double*>malloc(max(n, 1) * sizeof(double))
     cdef Py_ssize_t* order = <Py_ssize_t*>malloc(2 * max(S, 1) * sizeof(Py_ssize_t))
     cdef unsigned char* reached = <unsigned char*>malloc(max(S, 1))
@@ -126,7 +127,7 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
         for k in range(N):
             best = nearest_branch(chain.L, rev, n, q + k * S * n, v + k * S, S, T + 16 * k, r + k * n, lim,
                                   length_unit, tol_position, tol_orientation, limit_tol, every, reached,
-                                  dist, order, &m, ep + k, eo + k)
+                                  dist, order, &m, ep + k, eo + k, dist + max(S, 1))
             ok[k] = best >= 0
             failed += best < 0
             for j in range(n):
