@@ -9,7 +9,7 @@ Shared by ``solutions`` (a batch) and the closed-form kernels' single-target ent
 from libc.math cimport fabs, sqrt, INFINITY
 cimport numpy as cnp
 from robkin.compiled.fk cimport tool_poses
-from robkin.compiled.pose_check cimport finite_row, pose_errors
+from robkin.compiled.pose_check cimport finite_row, tool_pose_errors
 
 
 cdef inline void insert_by_distance(Py_ssize_t* order, Py_ssize_t m, const double* dist,
@@ -28,13 +28,13 @@ cdef inline void check_branches(const double* L, const unsigned char* rev, Py_ss
                                 double* work, double* err) noexcept nogil:
     """The forward-kinematics check of the branches q[order[a]] (n,), a0 <= a < a1, towards the target
     T (4x4 row-major): their tool poses in one block walk of ``fk.pxd`` (``tool_poses``), then
-    err[2 a], err[2 a + 1] = position and orientation errors (``pose_check.pose_errors``, full pose;
-    inf for a branch that is not finite). work: (a1 - a0) (n + 16) doubles of scratch."""
+    err[2 a], err[2 a + 1] = position and orientation errors (``pose_check.tool_pose_errors``, full
+    pose; inf for a branch that is not finite). work: (a1 - a0) (n + 16) doubles of scratch."""
     cdef Py_ssize_t a, c = 0, j
     cdef const double* b
     cdef double* Qb = work
     cdef double* Tb = work + (a1 - a0) * n
-    cdef double full_pose[6]        # the mask of pose_errors: every component
+    cdef double full_pose[6]        # the mask of tool_pose_errors: every component
     for j in range(6):
         full_pose[j] = 1.0
     for a in range(a0, a1):         # the finite rows, in order, as one (c, n) block
@@ -47,7 +47,7 @@ cdef inline void check_branches(const double* L, const unsigned char* rev, Py_ss
     c = 0
     for a in range(a0, a1):
         if finite_row(q + order[a] * n, <int>n):
-            pose_errors(Tb + 16 * c, T, full_pose, err + 2 * a, err + 2 * a + 1)
+            tool_pose_errors(Tb + 16 * c, T, full_pose, err + 2 * a, err + 2 * a + 1)
             c += 1
         else:
             err[2 * a] = INFINITY

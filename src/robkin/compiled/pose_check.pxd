@@ -3,9 +3,10 @@
 
 ``exact_pose`` is the fast acceptance test of IK targets (``lm.exact_poses`` for a batch, the closed-form
 kernels' single-target entry for one). ``tool_errors`` is the forward-kinematics check of one
-configuration, used by ``lm.pose_errors`` (the check of every IK answer); the closed-form branch choice
-(``nearest.pxd``) walks its branches as one block of ``fk.pxd`` and measures them with the same
-``pose_errors``, so all judge a solution by the same walk and the same residual.
+configuration, used by ``lm.pose_errors`` (the check of every IK answer); the closed-form branch
+choice (``nearest.pxd``) walks its branches as one block of ``fk.pxd`` (the same bits as one walk each)
+and measures them with the same ``tool_pose_errors``, so all judge a solution by the same walk and the
+same residual.
 """
 
 from libc.math cimport fabs, sqrt, isfinite, INFINITY
@@ -22,7 +23,7 @@ cdef inline bint finite_row(const double* q, int n) noexcept nogil:
     return True
 
 
-cdef inline void pose_errors(const double* T, const double* D, const double* msk, double* ep,
+cdef inline void tool_pose_errors(const double* T, const double* D, const double* msk, double* ep,
                              double* eo) noexcept nogil:
     """ep, eo = masked |p_d - p| (length units) and |log(R_d R^T)| (radians) of the tool pose T towards
     the target D (both 4x4 row-major); the 0/1 ``msk`` (6,) selects components."""
@@ -42,7 +43,7 @@ cdef inline void pose_errors(const double* T, const double* D, const double* msk
 
 cdef inline void tool_errors(const double* L, const unsigned char* rev, int n, const double* q,
                              const double* D, const double* msk, double* ep, double* eo) noexcept nogil:
-    """``pose_errors`` of the tool at q (n,) (one walk of ``fk.pxd``) towards the target D (4x4
+    """``tool_pose_errors`` of the tool at q (n,) (one walk of ``fk.pxd``) towards the target D (4x4
     row-major); inf if q is not finite."""
     cdef double T[16]
     if not finite_row(q, n):
@@ -50,7 +51,7 @@ cdef inline void tool_errors(const double* L, const unsigned char* rev, int n, c
         eo[0] = INFINITY
         return
     walk_tool(L, rev, n, q, T)
-    pose_errors(T, D, msk, ep, eo)
+    tool_pose_errors(T, D, msk, ep, eo)
 
 
 cdef inline bint exact_pose(const double* T) noexcept nogil:

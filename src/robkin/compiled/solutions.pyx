@@ -64,13 +64,13 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
 
     A branch Q[k, s] (n,) counts when ``valid[k, s]`` (it exists and respects the limits, as the solver
     says), every joint is within its limits (n, 2) up to ``limit_tol``, and an independent forward
-    kinematics (the walk of ``Robot.fk``, ``pose_check.tool_errors``) puts the tool within
+    kinematics (the walk of ``Robot.fk``, ``nearest.check_branches``) puts the tool within
     ``tol_position`` (length units) and ``tol_orientation`` (radians) of targets[k] (full pose). Among
     those, the nearest to q_ref[k] (n,) by |(q - q_ref) / unit| (the first on ties, as
     ``numpy.argmin``), the unit being 1 rad for revolute joints and ``length_unit`` (the robot's size)
     for prismatic ones. Branches are checked nearest first: with ``every`` False the search stops at
     the first that counts (one forward kinematics per target in the usual case); with ``every`` True
-    all are checked, for the list of all solutions.
+    all are checked, in one block walk per target, for the list of all solutions.
 
     Parameters: Q (N, S, n), valid (N, S) bool, targets (N, 4, 4), q_ref (N, n), limits (n, 2);
     same_tol: with ``every``, two solutions are the same when no |dq / unit| exceeds it.
