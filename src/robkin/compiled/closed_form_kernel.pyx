@@ -20,7 +20,7 @@ cimport numpy as cnp
 from libc.math cimport isfinite
 from libc.stdlib cimport free, malloc
 from robkin.compiled.fk cimport Chain
-from robkin.compiled.nearest cimport keep_distinct, nearest_branch, rows_array
+from robkin.compiled.nearest cimport check_work_size, keep_distinct, nearest_branch, rows_array
 from robkin.compiled.pose_check cimport exact_pose
 from robkin.compiled.subproblems cimport c_doubles, new_array, read_pose
 
@@ -155,9 +155,10 @@ cdef class ClosedFormKernel:
         cdef unsigned char uncertain
         # scratch per call (not per kernel: another thread may run the same kernel whenever this one
         # runs Python code, e.g. a garbage collection during an allocation): branches (S, n), distances
-        # (S), solve_one's work, nearest_branch's work (S (n + 18)), the order and the kept rows (2 S),
-        # valid and reached flags (2 S)
-        cdef char* buf = <char*>malloc((S * n + S + self.work_size + S * (n + 18)) * sizeof(double)
+        # (S), solve_one's work, nearest_branch's work, the order and the kept rows (2 S), valid and
+        # reached flags (2 S)
+        cdef Py_ssize_t check_size = check_work_size(S, n, every)
+        cdef char* buf = <char*>malloc((S * n + S + self.work_size + check_size) * sizeof(double)
                                        + 2 * S * sizeof(Py_ssize_t) + 2 * S)
         if buf == NULL:
             raise MemoryError()
@@ -165,7 +166,7 @@ cdef class ClosedFormKernel:
         cdef double* dist = Q + S * n
         cdef double* work = dist + S
         cdef double* check_work = work + self.work_size
-        cdef Py_ssize_t* order = <Py_ssize_t*>(check_work + S * (n + 18))
+        cdef Py_ssize_t* order = <Py_ssize_t*>(check_work + check_size)
         cdef unsigned char* valid = <unsigned char*>(order + 2 * S)
         cdef unsigned char* reached = valid + S
         cdef cnp.ndarray q

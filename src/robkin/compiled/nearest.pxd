@@ -9,7 +9,7 @@ Shared by ``solutions`` (a batch) and the closed-form kernels' single-target ent
 from libc.math cimport fabs, sqrt, INFINITY
 cimport numpy as cnp
 from robkin.compiled.fk cimport tool_poses
-from robkin.compiled.pose_check cimport finite_row, tool_pose_errors
+from robkin.compiled.pose_check cimport finite_row, tool_errors, tool_pose_errors
 
 
 cdef inline void insert_by_distance(Py_ssize_t* order, Py_ssize_t m, const double* dist,
@@ -37,6 +37,9 @@ cdef inline void check_branches(const double* L, const unsigned char* rev, Py_ss
     cdef double full_pose[6]        # the mask of tool_pose_errors: every component
     for j in range(6):
         full_pose[j] = 1.0
+    if a1 - a0 == 1:                # one row: walked in place (the same bits as in a block)
+        tool_errors(L, rev, <int>n, q + order[a0] * n, T, full_pose, err + 2 * a0, err + 2 * a0 + 1)
+        return
     for a in range(a0, a1):         # the finite rows, in order, as one (c, n) block
         b = q + order[a] * n
         if finite_row(b, <int>n):
@@ -54,6 +57,12 @@ cdef inline void check_branches(const double* L, const unsigned char* rev, Py_ss
             err[2 * a + 1] = INFINITY
 
 
+cdef inline Py_ssize_t check_work_size(Py_ssize_t S, Py_ssize_t n, bint every) noexcept nogil:
+    """Doubles of scratch ``nearest_branch`` needs: the candidates' errors (2 S) and the block of rows
+    walked at once with their tool poses (all S with ``every``, else one)."""
+    return 2 * S + (S if every else 1) * (n + 16)
+
+
 cdef inline Py_ssize_t nearest_branch(const double* L, const unsigned char* rev, Py_ssize_t n,
                                       const double* q, const unsigned char* v, Py_ssize_t S,
                                       const double* T, const double* r, const double* lim,
@@ -67,14 +76,15 @@ cdef inline Py_ssize_t nearest_branch(const double* L, const unsigned char* rev,
     v (S,): the solver's valid flags; lim (n, 2) row-major; dist: scratch of S entries; order (S,)
     and m_out: the candidates (valid, within the limits), nearest first, and their number; reached
     (S,) is set (1 for the branches found to count); ep, eo: the errors of the chosen branch (inf if
-    none); work: S (n + 18) doubles of scratch. With ``every`` all candidates are checked in one block
-    FK walk; without, one at a time, nearest first, until one counts (usually the first).
+    none); work: ``check_work_size(S, n, every)`` doubles of scratch. With ``every`` all candidates
+    are checked in one block FK walk; without, one at a time, nearest first, until one counts (usually
+    the first).
     """
     cdef Py_ssize_t m = 0, s, j, a, best = -1
     cdef const double* b
     cdef double x, d, e_p, e_o
     cdef bint fits
-    cdef double* err = work + S * (n + 16)     # (S, 2): the candidates' errors, in their order
+    cdef double* err = work                 # (S, 2): the candidates' errors, in their order
     # candidates (valid, within the limits) sorted by distance, ties in index order: the first that
     # counts is numpy.argmin's choice
     for s in range(S):
@@ -101,10 +111,10 @@ cdef inline Py_ssize_t nearest_branch(const double* L, const unsigned char* rev,
     ep[0] = INFINITY
     eo[0] = INFINITY
     if every:
-        check_branches(L, rev, n, q, order, 0, m, T, work, err)
+        check_branches(L, rev, n, q, order, 0, m, T, work + 2 * S, err)
     for a in range(m):
         if not every:
-            check_branches(L, rev, n, q, order, a, a + 1, T, work, err)
+            check_branches(L, rev, n, q, order, a, a + 1, T, work + 2 * S, err)
         s = order[a]
         e_p = err[2 * a]
         e_o = err[2 * a + 1]

@@ -11,7 +11,8 @@ cimport numpy as cnp
 from libc.math cimport sqrt, NAN
 from libc.stdlib cimport free, malloc
 from robkin.compiled.fk cimport Chain
-from robkin.compiled.nearest cimport insert_by_distance, keep_distinct, nearest_branch, rows_array
+from robkin.compiled.nearest cimport (check_work_size, insert_by_distance, keep_distinct, nearest_branch,
+                                      rows_array)
 from robkin.compiled.subproblems cimport c_doubles, new_array
 
 cnp.import_array()
@@ -107,8 +108,8 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
     cdef double* ep = <double*>cnp.PyArray_DATA(ep_out)
     cdef double* eo = <double*>cnp.PyArray_DATA(eo_out)
     # scratch: per branch a distance, an order and a kept slot (S each), reached flags (S), units (n),
-    # and nearest_branch's work: a branch block, its tool poses and errors (S (n + 18))
-    cdef double* dist = <double*>malloc(max(S, 1) * (n + 19) * sizeof(double))
+    # and nearest_branch's work
+    cdef double* dist = <double*>malloc((max(S, 1) + check_work_size(S, n, every)) * sizeof(double))
     cdef double* unit = <double*>malloc(max(n, 1) * sizeof(double))
     cdef Py_ssize_t* order = <Py_ssize_t*>malloc(2 * max(S, 1) * sizeof(Py_ssize_t))
     cdef unsigned char* reached = <unsigned char*>malloc(max(S, 1))
