@@ -92,6 +92,26 @@ def test_batch_tables_reproduce_each_robots_fk(batch, specs, seed):
         assert np.abs(A[:, :3, 3] - B[:, :3, 3]).max() <= FK_TOL * size
 
 
+@settings(max_examples=20, **SETTINGS)
+@given(spec=robot_specs(max_joints=6), m=st.sampled_from([1, 2, 31, 33, 70]), seed=st.integers(0, 2**32 - 1))
+def test_robots_fk_is_each_robots_own_fk_bit_for_bit(spec, m, seed):
+    """The conversions' FK self-check walks each robot's m configurations as blocks (m across the block
+    size of the kernels): the same bits as ``Robot.fk``, batch and one configuration at a time."""
+    from robkin.compiled.frames import robots_fk
+    from robkin.robot import local_transforms
+
+    moved = se3.homogeneous(se3.matrix_from_rpy([0.1, -0.2, 0.3]), [0.5, 0.0, -0.1]) @ spec.robot.frames
+    robots = [spec.robot, Robot(moved, spec.robot.joints)]      # two robots of the same joint count
+    rng = np.random.default_rng(seed)
+    Q = rng.uniform(-np.pi, np.pi, (len(robots), m, spec.robot.n))
+    out = robots_fk(np.stack([local_transforms(r.frames) for r in robots]),
+                    np.stack([r.revolute for r in robots]), Q)
+    assert out.shape == (len(robots), m, 4, 4)
+    for k, robot in enumerate(robots):
+        np.testing.assert_array_equal(out[k], robot.fk(Q[k]))
+        np.testing.assert_array_equal(out[k, -1], robot.fk(Q[k, -1]))
+
+
 def test_a_table_read_in_comes_back_unchanged_in_a_batch():
     rows = np.array([[0.0, 0.089159, np.pi / 2, 0.0], [-0.425, 0.0, 0.0, 0.0], [-0.39225, 0.0, 0.0, 0.0],
                      [0.0, 0.10915, np.pi / 2, 0.0], [0.0, 0.09465, -np.pi / 2, 0.0], [0.0, 0.0823, 0.0, 0.0]])

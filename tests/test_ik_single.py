@@ -144,6 +144,20 @@ def test_single_calls_with_all_solutions_equal_the_batch(name):
                 assert_same(single, batch, i)
 
 
+@pytest.mark.parametrize("name", ["ur5", "kinova", "scara"])
+def test_the_block_check_of_all_branches_equals_the_one_by_one_check(name):
+    """With all_solutions every candidate branch of a target is checked in one block FK walk, without
+    it one walk per branch, nearest first, until one counts: the chosen q, success and errors must be
+    the same bits (a configuration gets the same bits in a block as alone), batch and single call."""
+    robot = robkin.load(SCARA) if name == "scara" else load_arm(name)[0]
+    T, q0 = targets_and_starts(robot, 25, seed=17)
+    every, first = robot.ik(T, q0=q0, all_solutions=True), robot.ik(T, q0=q0)
+    assert 0 < first.success.sum() < len(T)
+    for i in range(len(T)):
+        assert_same(robot.ik(T[i], q0=q0[i], all_solutions=True), first, i)
+        assert_same(robot.ik(T[i], q0=q0[i]), every, i)
+
+
 def test_scara_takes_the_single_target_kernel_path():
     """The SCARA solver answers one target in one compiled call, like the 6R solvers: the kernel's
     entry gives the result itself, and Robot.ik(T) without q0 equals the batch's row."""

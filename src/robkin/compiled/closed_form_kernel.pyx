@@ -20,7 +20,7 @@ cimport numpy as cnp
 from libc.math cimport isfinite
 from libc.stdlib cimport free, malloc
 from robkin.compiled.fk cimport Chain
-from robkin.compiled.nearest cimport keep_distinct, nearest_branch, rows_array
+from robkin.compiled.nearest cimport check_work_size, keep_distinct, nearest_branch, rows_array
 from robkin.compiled.pose_check cimport exact_pose
 from robkin.compiled.subproblems cimport c_doubles, new_array, read_pose
 
@@ -155,15 +155,18 @@ cdef class ClosedFormKernel:
         cdef unsigned char uncertain
         # scratch per call (not per kernel: another thread may run the same kernel whenever this one
         # runs Python code, e.g. a garbage collection during an allocation): branches (S, n), distances
-        # (S), solve_one's work, the order and the kept rows (2 S), valid and reached flags (2 S)
-        cdef char* buf = <char*>malloc((S * n + S + self.work_size) * sizeof(double)
+        # (S), solve_one's work, nearest_branch's work, the order and the kept rows (2 S), valid and
+        # reached flags (2 S)
+        cdef Py_ssize_t check_size = check_work_size(S, n, every)
+        cdef char* buf = <char*>malloc((S * n + S + self.work_size + check_size) * sizeof(double)
                                        + 2 * S * sizeof(Py_ssize_t) + 2 * S)
         if buf == NULL:
             raise MemoryError()
         cdef double* Q = <double*>buf
         cdef double* dist = Q + S * n
         cdef double* work = dist + S
-        cdef Py_ssize_t* order = <Py_ssize_t*>(work + self.work_size)
+        cdef double* check_work = work + self.work_size
+        cdef Py_ssize_t* order = <Py_ssize_t*>(check_work + check_size)
         cdef unsigned char* valid = <unsigned char*>(order + 2 * S)
         cdef unsigned char* reached = valid + S
         cdef cnp.ndarray q
@@ -173,7 +176,7 @@ cdef class ClosedFormKernel:
             self.solve_one(Rd, pd, ref, Q, valid, &detail, &uncertain, work)
             best = nearest_branch(self.chain.L, self.rev, n, Q, valid, S, t, ref, self.lim, self.scale,
                                   <double>tol_position, <double>tol_orientation, self.limit_tol, every,
-                                  reached, dist, order, &m, &ep, &eo)
+                                  reached, dist, order, &m, &ep, &eo, check_work)
             if best < 0:
                 return None
             q = new_array(1, n, 0, 0, cnp.NPY_DOUBLE)

@@ -21,7 +21,7 @@ the documented rules step by step (no -ffast-math), so results agree with them t
 cimport numpy as cnp
 from libc.math cimport sqrt, sin, cos, atan2, fabs, M_PI
 from robkin.compiled.linalg cimport dot3, norm3, cross3, tf_identity, tf_copy, tf_mul
-from robkin.compiled.fk cimport walk_tool
+from robkin.compiled.fk cimport tool_poses
 
 import numpy as np
 
@@ -187,16 +187,15 @@ def robots_fk(L, revolute, Q):
             or ra.shape[0] != Qa.shape[0] or La.shape[1] != Qa.shape[2] + 1 or ra.shape[1] != Qa.shape[2] \
             or La.shape[2] != 4 or La.shape[3] != 4 or Qa.shape[2] < 1:
         raise ValueError("expected L (B, n+1, 4, 4), revolute (B, n) and Q (B, m, n)")
-    cdef Py_ssize_t B = Qa.shape[0], m = Qa.shape[1], n = Qa.shape[2], k, c
+    cdef Py_ssize_t B = Qa.shape[0], m = Qa.shape[1], n = Qa.shape[2], k
     out = np.empty((B, m, 4, 4))
     cdef double* l = _ptr(La)
     cdef double* q = _ptr(Qa)
     cdef unsigned char* r = <unsigned char*>cnp.PyArray_DATA(ra)
     cdef double* o = _ptr(out)
     with nogil:
-        for k in range(B):
-            for c in range(m):
-                walk_tool(l + 16 * (n + 1) * k, r + n * k, <int>n, q + n * (m * k + c), o + 16 * (m * k + c))
+        for k in range(B):      # one block walk per robot over its m configurations
+            tool_poses(l + 16 * (n + 1) * k, r + n * k, <int>n, q + n * m * k, m, o + 16 * m * k)
     return out
 
 

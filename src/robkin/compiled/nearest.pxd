@@ -8,7 +8,8 @@ Shared by ``solutions`` (a batch) and the closed-form kernels' single-target ent
 
 from libc.math cimport fabs, sqrt, INFINITY
 cimport numpy as cnp
-from robkin.compiled.pose_check cimport tool_errors
+from robkin.compiled.fk cimport tool_poses
+from robkin.compiled.pose_check cimport finite_row, tool_errors, tool_pose_errors
 
 
 cdef inline void insert_by_distance(Py_ssize_t* order, Py_ssize_t m, const double* dist,
@@ -22,28 +23,68 @@ cdef inline void insert_by_distance(Py_ssize_t* order, Py_ssize_t m, const doubl
     order[a] = i
 
 
+cdef inline void check_branches(const double* L, const unsigned char* rev, Py_ssize_t n, const double* q,
+                                const Py_ssize_t* order, Py_ssize_t a0, Py_ssize_t a1, const double* T,
+                                double* work, double* err) noexcept nogil:
+    """The forward-kinematics check of the branches q[order[a]] (n,), a0 <= a < a1, towards the target
+    T (4x4 row-major): their tool poses in one block walk of ``fk.pxd`` (``tool_poses``), then
+    err[2 a], err[2 a + 1] = position and orientation errors (``pose_check.tool_pose_errors``, full
+    pose; inf for a branch that is not finite). work: (a1 - a0) (n + 16) doubles of scratch."""
+    cdef Py_ssize_t a, c = 0, j
+    cdef const double* b
+    cdef double* Qb = work
+    cdef double* Tb = work + (a1 - a0) * n
+    cdef double full_pose[6]        # the mask of tool_pose_errors: every component
+    for j in range(6):
+        full_pose[j] = 1.0
+    if a1 - a0 == 1:                # one row: walked in place (the same bits as in a block)
+        tool_errors(L, rev, <int>n, q + order[a0] * n, T, full_pose, err + 2 * a0, err + 2 * a0 + 1)
+        return
+    for a in range(a0, a1):         # the finite rows, in order, as one (c, n) block
+        b = q + order[a] * n
+        if finite_row(b, <int>n):
+            for j in range(n):
+                Qb[c * n + j] = b[j]
+            c += 1
+    tool_poses(L, rev, <int>n, Qb, c, Tb)
+    c = 0
+    for a in range(a0, a1):
+        if finite_row(q + order[a] * n, <int>n):
+            tool_pose_errors(Tb + 16 * c, T, full_pose, err + 2 * a, err + 2 * a + 1)
+            c += 1
+        else:
+            err[2 * a] = INFINITY
+            err[2 * a + 1] = INFINITY
+
+
+cdef inline Py_ssize_t check_work_size(Py_ssize_t S, Py_ssize_t n, bint every) noexcept nogil:
+    """Doubles of scratch ``nearest_branch`` needs: the candidates' errors (2 S) and the block of rows
+    walked at once with their tool poses (all S with ``every``, else one)."""
+    return 2 * S + (S if every else 1) * (n + 16)
+
+
 cdef inline Py_ssize_t nearest_branch(const double* L, const unsigned char* rev, Py_ssize_t n,
                                       const double* q, const unsigned char* v, Py_ssize_t S,
                                       const double* T, const double* r, const double* lim,
                                       double length_unit, double tol_position, double tol_orientation,
                                       double limit_tol, bint every, unsigned char* reached,
                                       double* dist, Py_ssize_t* order, Py_ssize_t* m_out, double* ep,
-                                      double* eo) noexcept nogil:
+                                      double* eo, double* work) noexcept nogil:
     """The index of the branch q[s] (S, n) nearest r (n,) that truly reaches the target T (4x4
     row-major), or -1; see ``solutions.nearest_verified`` for what counts and the order of the search.
 
     v (S,): the solver's valid flags; lim (n, 2) row-major; dist: scratch of S entries; order (S,)
     and m_out: the candidates (valid, within the limits), nearest first, and their number; reached
     (S,) is set (1 for the branches found to count); ep, eo: the errors of the chosen branch (inf if
-    none).
+    none); work: ``check_work_size(S, n, every)`` doubles of scratch. With ``every`` all candidates
+    are checked in one block FK walk; without, one at a time, nearest first, until one counts (usually
+    the first).
     """
     cdef Py_ssize_t m = 0, s, j, a, best = -1
     cdef const double* b
     cdef double x, d, e_p, e_o
     cdef bint fits
-    cdef double full_pose[6]        # the mask of tool_errors: every component
-    for j in range(6):
-        full_pose[j] = 1.0
+    cdef double* err = work                 # (S, 2): the candidates' errors, in their order
     # candidates (valid, within the limits) sorted by distance, ties in index order: the first that
     # counts is numpy.argmin's choice
     for s in range(S):
@@ -69,9 +110,14 @@ cdef inline Py_ssize_t nearest_branch(const double* L, const unsigned char* rev,
     m_out[0] = m
     ep[0] = INFINITY
     eo[0] = INFINITY
+    if every:
+        check_branches(L, rev, n, q, order, 0, m, T, work + 2 * S, err)
     for a in range(m):
+        if not every:
+            check_branches(L, rev, n, q, order, a, a + 1, T, work + 2 * S, err)
         s = order[a]
-        tool_errors(L, rev, n, q + s * n, T, full_pose, &e_p, &e_o)
+        e_p = err[2 * a]
+        e_o = err[2 * a + 1]
         if not (e_p <= tol_position and e_o <= tol_orientation):
             continue
         reached[s] = 1

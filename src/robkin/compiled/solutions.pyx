@@ -11,7 +11,8 @@ cimport numpy as cnp
 from libc.math cimport sqrt, NAN
 from libc.stdlib cimport free, malloc
 from robkin.compiled.fk cimport Chain
-from robkin.compiled.nearest cimport insert_by_distance, keep_distinct, nearest_branch, rows_array
+from robkin.compiled.nearest cimport (check_work_size, insert_by_distance, keep_distinct, nearest_branch,
+                                      rows_array)
 from robkin.compiled.subproblems cimport c_doubles, new_array
 
 cnp.import_array()
@@ -64,13 +65,13 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
 
     A branch Q[k, s] (n,) counts when ``valid[k, s]`` (it exists and respects the limits, as the solver
     says), every joint is within its limits (n, 2) up to ``limit_tol``, and an independent forward
-    kinematics (the walk of ``Robot.fk``, ``pose_check.tool_errors``) puts the tool within
+    kinematics (the walk of ``Robot.fk``, ``nearest.check_branches``) puts the tool within
     ``tol_position`` (length units) and ``tol_orientation`` (radians) of targets[k] (full pose). Among
     those, the nearest to q_ref[k] (n,) by |(q - q_ref) / unit| (the first on ties, as
     ``numpy.argmin``), the unit being 1 rad for revolute joints and ``length_unit`` (the robot's size)
     for prismatic ones. Branches are checked nearest first: with ``every`` False the search stops at
     the first that counts (one forward kinematics per target in the usual case); with ``every`` True
-    all are checked, for the list of all solutions.
+    all are checked, in one block walk per target, for the list of all solutions.
 
     Parameters: Q (N, S, n), valid (N, S) bool, targets (N, 4, 4), q_ref (N, n), limits (n, 2);
     same_tol: with ``every``, two solutions are the same when no |dq / unit| exceeds it.
@@ -106,8 +107,9 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
     cdef unsigned char* ok = <unsigned char*>cnp.PyArray_DATA(ok_out)
     cdef double* ep = <double*>cnp.PyArray_DATA(ep_out)
     cdef double* eo = <double*>cnp.PyArray_DATA(eo_out)
-    # scratch: per branch a distance, an order and a kept slot (S each), reached flags (S), units (n)
-    cdef double* dist = <double*>malloc(max(S, 1) * sizeof(double))
+    # scratch: per branch a distance, an order and a kept slot (S each), reached flags (S), units (n),
+    # and nearest_branch's work
+    cdef double* dist = <double*>malloc((max(S, 1) + check_work_size(S, n, every)) * sizeof(double))
     cdef double* unit = <double*>malloc(max(n, 1) * sizeof(double))
     cdef Py_ssize_t* order = <Py_ssize_t*>malloc(2 * max(S, 1) * sizeof(Py_ssize_t))
     cdef unsigned char* reached = <unsigned char*>malloc(max(S, 1))
@@ -126,7 +128,7 @@ def nearest_verified(Chain chain, Q, valid, targets, q_ref, limits, double lengt
         for k in range(N):
             best = nearest_branch(chain.L, rev, n, q + k * S * n, v + k * S, S, T + 16 * k, r + k * n, lim,
                                   length_unit, tol_position, tol_orientation, limit_tol, every, reached,
-                                  dist, order, &m, ep + k, eo + k)
+                                  dist, order, &m, ep + k, eo + k, dist + max(S, 1))
             ok[k] = best >= 0
             failed += best < 0
             for j in range(n):
