@@ -9,7 +9,10 @@
   ``.jacobian``, ``.lm``, ``.limits``) in a process that has imported robkin, median of fresh processes.
 
 All are measured in the same run, alternating, and the ratios of medians are reported (absolute
-times depend on the machine; the ratios much less).
+times depend on the machine; the ratios much less). Each process's wall time and its CPU time (user +
+system, from ``wait4``) are both recorded; the goals are judged on CPU time, because on a shared
+machine the wall time of a 0.2 s process swings by +-30 % with the neighbours' load (measured: the
+wall ratio of the same build read 1.06-1.64 in four runs within ten minutes).
 
 Run: ``.venv/bin/python benchmarks/bench_cli_startup.py [--runs 15]``. Exit status 0 whatever the
 result (a benchmark, not a test); the last line says whether the goal is met.
@@ -27,6 +30,9 @@ import sys
 import tempfile
 import time
 
+#: Every process runs with one BLAS/OpenMP thread: a multi-threaded OpenBLAS spends CPU starting its
+#: threads at import, which would inflate the CPU time of every process and shrink the ratios.
+ONE_THREAD = {**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 GOAL_CONVERT = 1.5
 GOAL_IK = 3.0
 
@@ -44,10 +50,16 @@ FIRST_CALL = ("import time, robkin; t0 = time.perf_counter(); "
               "print(time.perf_counter() - t0)")
 
 
-def _time(cmd: list[str]) -> float:
+def _time(cmd: list[str]) -> tuple[float, float]:
+    """Wall seconds and CPU seconds (user + system) of one run of ``cmd`` as a fresh process."""
     t0 = time.perf_counter()
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    return time.perf_counter() - t0
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=ONE_THREAD)
+    _, status, usage = os.wait4(proc.pid, 0)
+    wall = time.perf_counter() - t0
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    if proc.returncode != 0:
+        raise subprocess.CalledProcessError(proc.returncode, cmd)
+    return wall, usage.ru_utime + usage.ru_stime
 
 
 def main() -> int:
@@ -68,22 +80,25 @@ def main() -> int:
         }
         for cmd in cmds.values():  # warm the file cache
             _time(cmd)
-        times: dict[str, list[float]] = {k: [] for k in cmds}
+        times: dict[str, list[tuple[float, float]]] = {k: [] for k in cmds}
         first_call = []
         for _ in range(args.runs):
             for k, cmd in cmds.items():
                 times[k].append(_time(cmd))
             out = subprocess.run([sys.executable, "-c", FIRST_CALL], check=True, capture_output=True, text=True)
             first_call.append(float(out.stdout))
-    med = {k: statistics.median(v) for k, v in times.items()}
-    base = med["python -c 'import numpy'"]
-    for k, v in med.items():
-        print(f"{k:36s} median {v * 1000:7.1f} ms over {args.runs} runs  ({v / base:.2f}x numpy)")
+    wall = {k: statistics.median(w for w, _ in v) for k, v in times.items()}
+    cpu = {k: statistics.median(c for _, c in v) for k, v in times.items()}
+    base_wall, base_cpu = wall["python -c 'import numpy'"], cpu["python -c 'import numpy'"]
+    for k in times:
+        print(f"{k:36s} median wall {wall[k] * 1000:7.1f} ms ({wall[k] / base_wall:.2f}x numpy), "
+              f"CPU {cpu[k] * 1000:7.1f} ms ({cpu[k] / base_cpu:.2f}x numpy) over {args.runs} runs")
     print(f"{'first call: import the compiled core':36s} median {statistics.median(first_call) * 1000:7.2f} ms")
-    r_convert = med["robkin convert ur5.urdf --to dh"] / base
-    r_ik = med["robkin ik panda.urdf (numeric)"] / base
-    print(f"convert ratio {r_convert:.2f} (goal <= {GOAL_CONVERT}): {'goal met' if r_convert <= GOAL_CONVERT else 'GOAL MISSED'}")
-    print(f"ik ratio {r_ik:.2f} (goal <= {GOAL_IK}): {'goal met' if r_ik <= GOAL_IK else 'GOAL MISSED'}")
+    r_convert = cpu["robkin convert ur5.urdf --to dh"] / base_cpu
+    r_ik = cpu["robkin ik panda.urdf (numeric)"] / base_cpu
+    print(f"convert CPU ratio {r_convert:.2f} (goal <= {GOAL_CONVERT}): "
+          f"{'goal met' if r_convert <= GOAL_CONVERT else 'GOAL MISSED'}")
+    print(f"ik CPU ratio {r_ik:.2f} (goal <= {GOAL_IK}): {'goal met' if r_ik <= GOAL_IK else 'GOAL MISSED'}")
     return 0
 
 
