@@ -28,6 +28,25 @@ def test_version_and_help(capsys):
         assert "usage: robkin " + cmd in capsys.readouterr().out
 
 
+def test_a_command_line_builds_only_its_command_the_same_parser():
+    """``main`` builds only the named command's subparser (start-up time); it must be the very parser
+    the full ``robkin`` parser holds for that command: the same options, defaults and help."""
+    import argparse
+
+    from robkin.cli import COMMANDS, build_parser
+
+    def subparsers(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+        return next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
+
+    full = subparsers(build_parser())
+    assert list(full) == list(COMMANDS)
+    for name in COMMANDS:
+        one = subparsers(build_parser(name))
+        assert list(one) == [name]
+        assert one[name].format_help() == full[name].format_help()
+        assert one[name].get_default("_run") is full[name].get_default("_run")
+
+
 def test_fk_json_matches_library(capsys):
     assert main(["fk", RRPR, "--q", "3*pi/4,-pi/4,0.3,-3*pi/4", "--json"]) == 0
     T = np.array(json.loads(capsys.readouterr().out)["T"])

@@ -115,13 +115,31 @@ def test_rich_tables_on_a_terminal_plain_in_a_pipe(monkeypatch):
 
 def test_convert_startup_imports_nothing_heavy():
     """The start-up promise, checked without timing: the convert path of a URDF imports none of
-    the heavy optional libraries, nor numpy.random (~10 ms; the FK checks use fixed samples instead)
+    the heavy optional libraries, nor numpy.random (~10 ms; the FK checks use fixed samples instead),
+    nor the representations and command modules it does not use (each costs its import)
     (benchmarks/bench_cli_startup.py measures the time itself)."""
     code = ("import sys; from robkin.cli import main; "
             f"rc = main(['convert', {robot_file(PANDA)!r}, '--tip-link', 'panda_hand_tcp', '--to', 'dh']); "
             "heavy = {'scipy', 'matplotlib', 'rich', 'pinocchio', 'mujoco', 'yourdfpy', 'xacro', 'http', "
             "'email', 'hypothesis', 'trimesh'}; "
-            "print(rc, sorted({m.split('.')[0] for m in sys.modules} & heavy), 'numpy.random' in sys.modules)")
+            "unused = {'robkin.representations.' + m for m in ('mdh', 'hayati', 'poe', 'rpy_xyz')} "
+            "| {'robkin.commands.' + m for m in ('fk', 'ik', 'check', 'info', 'estimate', 'plot', 'gui', 'demo')}; "
+            "print(rc, sorted({m.split('.')[0] for m in sys.modules} & heavy), 'numpy.random' in sys.modules, "
+            "sorted(unused & set(sys.modules)), 'robkin.representations.dh' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          env={"ROBKIN_PLAIN": "1", "PATH": ""}).stdout.strip().splitlines()[-1]
-    assert out == "0 [] False"
+    assert out == "0 [] False [] True"
+
+
+def test_import_robkin_loads_no_representation_until_asked():
+    """``import robkin`` costs the hub only; robkin.DHTable & co. are imported on first use and then
+    are the classes of their modules (``from robkin import *`` gives every exported name)."""
+    code = ("import sys, robkin; before = sorted(m for m in sys.modules if m.startswith('robkin.representations')); "
+            "from robkin.representations.poe import PoE; ns = {}; exec('from robkin import *', ns); "
+            "print(before, robkin.PoE is PoE, sorted(set(robkin.__all__) - set(ns)), 'PoE' in dir(robkin))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    assert out == "[] True [] True"
+    import robkin
+
+    with pytest.raises(AttributeError, match="no attribute 'DHTabel'"):
+        robkin.DHTabel  # noqa: B018 - a typo is an AttributeError naming the name, as for any module

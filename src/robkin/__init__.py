@@ -23,25 +23,36 @@ Conventions (used everywhere in the package):
 from __future__ import annotations
 
 import os
+from typing import TYPE_CHECKING
 
 from .errors import ConditioningWarning, InputError, ProjectionWarning, RobkinError
+from .lazy_exports import lazy_exports
 from .robot import Joint, Robot
-from .representations import (DHTable, HayatiTable, MDHTable, PoE, RPYTable, dh_from_robot,
-                              dh_from_robots, hayati_from_robot, mdh_from_robot, mdh_from_robots,
-                              poe_from_robot, robot_from_dh,
-                              robot_from_gjd, robot_from_hayati, robot_from_mdh, robot_from_poe,
-                              robot_from_rpy, rpy_from_robot)
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "Joint", "Robot", "DHTable", "MDHTable", "HayatiTable", "PoE", "RPYTable",
+#: the representations' classes and converters, imported on first use (robkin.DHTable, robkin.dh_from_robot,
+#: ...; see robkin.lazy_exports): ``import robkin`` itself costs only the hub (Robot) and the errors
+_REPRESENTATIONS = (
+    "DHTable", "MDHTable", "HayatiTable", "PoE", "RPYTable",
     "dh_from_robot", "dh_from_robots", "mdh_from_robot", "mdh_from_robots", "hayati_from_robot",
     "poe_from_robot", "rpy_from_robot",
     "robot_from_dh", "robot_from_mdh", "robot_from_hayati", "robot_from_poe", "robot_from_rpy",
     "robot_from_gjd",
+)
+
+__all__ = [
+    "Joint", "Robot", *_REPRESENTATIONS,
     "RobkinError", "InputError", "ProjectionWarning", "ConditioningWarning", "load", "__version__",
 ]
+
+__getattr__, __dir__ = lazy_exports(__name__, globals(), dict.fromkeys(_REPRESENTATIONS, ".representations"))
+
+if TYPE_CHECKING:  # what static type checkers and IDEs see
+    from .representations import (DHTable, HayatiTable, MDHTable, PoE, RPYTable, dh_from_robot,
+                                  dh_from_robots, hayati_from_robot, mdh_from_robot, mdh_from_robots,
+                                  poe_from_robot, robot_from_dh, robot_from_gjd, robot_from_hayati,
+                                  robot_from_mdh, robot_from_poe, robot_from_rpy, rpy_from_robot)
 
 
 def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None, *,

@@ -31,7 +31,13 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The ``robkin`` parser; with ``command`` (one of COMMANDS) only that command's subparser.
+
+    Building all nine subparsers (~90 options) is a good part of a one-shot command's start-up, and a
+    command line naming its command needs only that one; ``robkin --help``, a bad command name and
+    ``robkin`` alone get them all.
+    """
     from . import __version__
 
     parser = _Parser(
@@ -44,7 +50,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"robkin {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
-    for name in COMMANDS:
+    for name in COMMANDS if command is None else (command,):
         try:
             module = importlib.import_module(f"robkin.commands.{name}")
         except ModuleNotFoundError as exc:
@@ -64,8 +70,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     from .commands._common import number_option_fix
 
-    parser = build_parser()
     argv = list(sys.argv[1:] if argv is None else argv)
+    parser = build_parser(argv[0] if argv and argv[0] in COMMANDS else None)
     args = parser.parse_args(number_option_fix(argv, NUMBER_OPTIONS))
     if not getattr(args, "_run", None):
         parser.print_help(sys.stderr)

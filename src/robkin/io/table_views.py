@@ -21,15 +21,16 @@ Markdown, LaTeX, URDF, MJCF), ``to_dict()`` and JSON output are not display: the
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Sequence, Union
+from typing import TYPE_CHECKING, Sequence, Union, cast
 
 import numpy as np
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..equivalence import Comparison
     from ..kinematics.ik import IKResult
-    from ..representations import PoE, RPYTable
+    from ..representations import DHTable, PoE, RPYTable
     from ..representations.link_table import LinkTable
     from ..robot import Joint
 
@@ -81,12 +82,19 @@ class _Display:
         return [DISPLAY_NOTE] if self.hid else []
 
 
+def _is_a(table: object, module: str, cls: str) -> bool:
+    """``isinstance(table, robkin.representations.<module>.<cls>)`` without importing that module: a
+    table of a class whose module is not loaded cannot exist (the representations are imported on
+    first use, and printing a DH table should not import the four others)."""
+    mod = sys.modules.get(f"robkin.representations.{module}")
+    return mod is not None and isinstance(table, getattr(mod, cls))
+
+
 def _robot_scale(table: "LinkTable | PoE | RPYTable") -> float:
     """``Robot.scale`` of the robot a table describes (1 for a bare LinkTable, which has no robot)."""
-    from ..representations import DHTable, HayatiTable, MDHTable, PoE, RPYTable
-
-    if isinstance(table, (DHTable, MDHTable, HayatiTable, PoE, RPYTable)):
-        return table.to_robot().scale
+    if any(_is_a(table, m, c) for m, c in (("dh", "DHTable"), ("mdh", "MDHTable"), ("hayati", "HayatiTable"),
+                                           ("poe", "PoE"), ("rpy_xyz", "RPYTable"))):
+        return table.to_robot().scale  # type: ignore[union-attr]
     return 1.0
 
 
@@ -103,7 +111,6 @@ def table_blocks(table: "LinkTable | PoE | RPYTable", title: str | None = None,
     roll, pitch, yaw) in degrees. ``scale`` is the robot's size (``Robot.scale``) for the display rule
     of lengths; by default the table's own robot's.
     """
-    from ..representations import DHTable, HayatiTable, PoE, RPYTable
     from ..representations.link_table import LinkTable, placement_notes
     from .tables import matrix_text
 
@@ -111,13 +118,14 @@ def table_blocks(table: "LinkTable | PoE | RPYTable", title: str | None = None,
     unit = " (deg)" if degrees else ""
     shown = _Display(_robot_scale(table) if scale is None else scale)
     if isinstance(table, LinkTable):
-        standard = isinstance(table, (DHTable, HayatiTable))
+        dh, hayati = _is_a(table, "dh", "DHTable"), _is_a(table, "hayati", "HayatiTable")
+        standard = dh or hayati
         heads = ["i", "joint", "type", "a", "d", f"alpha{unit}", f"theta{unit}"] if standard else \
             ["i", "joint", "type", "a(i-1)", "d", f"alpha(i-1){unit}", f"theta{unit}"]
-        if isinstance(table, HayatiTable):
+        if hayati:
             heads.append(f"beta{unit}")
         values = np.array(table.rows)
-        base_row = table.base_row() if isinstance(table, DHTable) and layout == "paper" else None
+        base_row = cast("DHTable", table).base_row() if dh and layout == "paper" else None
         labels: list[list[object]] = jc
         if base_row is not None:
             values = np.vstack([base_row, values])
@@ -131,16 +139,17 @@ def table_blocks(table: "LinkTable | PoE | RPYTable", title: str | None = None,
         if base_row is None:
             out.append(matrix_text(shown.matrix(table.base), "base"))
         out.append(matrix_text(shown.matrix(table.tool),
-                               "tool (residual T_t)" if isinstance(table, DHTable) else "tool"))
+                               "tool (residual T_t)" if dh else "tool"))
         out.extend(f"note: {line}" for line in placement_notes(table))
         return out + shown.note()
-    if isinstance(table, PoE):
+    if _is_a(table, "poe", "PoE"):
+        poe = cast("PoE", table)
         heads = ["i", "joint", "type", "wx", "wy", "wz", "vx", "vy", "vz"]
-        screws = shown.values(table.screws, [3, 4, 5])  # omega is unitless, v a length
+        screws = shown.values(poe.screws, [3, 4, 5])  # omega is unitless, v a length
         return [(title, heads, [c + list(s) for c, s in zip(jc, screws)]),
-                matrix_text(shown.matrix(table.M), "M"), *shown.note()]
-    if isinstance(table, RPYTable):
-        values = shown.values(table.rows, [3, 4, 5])  # roll, pitch, yaw; x, y, z
+                matrix_text(shown.matrix(poe.M), "M"), *shown.note()]
+    if _is_a(table, "rpy_xyz", "RPYTable"):
+        values = shown.values(cast("RPYTable", table).rows, [3, 4, 5])  # roll, pitch, yaw; x, y, z
         if degrees:
             values[:, :3] = np.degrees(values[:, :3])
         rpy_labels: list[list[object]] = [["0", "world->base", ""], *jc, [str(table.n + 1), "tool", ""]]

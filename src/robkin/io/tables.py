@@ -72,18 +72,18 @@ def blocks(robot: Robot, fmt: str, layout: str = "robkin", degrees: bool = False
     Hayati and RPY-XYZ tables in degrees. Values within ``table_views.DISPLAY_ZERO`` of 0 are shown
     as 0, with a note (the display rule; files keep full precision).
     """
-    from ..representations import (dh_from_robot, hayati_from_robot, mdh_from_robot, poe_from_robot,
-                                   rpy_from_robot)
+    from .. import representations  # each converter is imported on first use: only the one asked for
     from .table_views import frames_blocks, table_blocks
 
     title = f"{robot.name or 'robot'}: {FORMATS[fmt]}"
     if fmt in ("dh", "mdh", "hayati"):
-        t = {"dh": dh_from_robot, "mdh": mdh_from_robot, "hayati": hayati_from_robot}[fmt](robot)
+        t = getattr(representations, f"{fmt}_from_robot")(robot)
         return table_blocks(t, title, layout, degrees, robot.scale)
     if fmt in ("poe", "poe-body"):
-        return table_blocks(poe_from_robot(robot, "space" if fmt == "poe" else "body"), title, scale=robot.scale)
+        return table_blocks(representations.poe_from_robot(robot, "space" if fmt == "poe" else "body"), title,
+                            scale=robot.scale)
     if fmt == "rpy-xyz":
-        return table_blocks(rpy_from_robot(robot), title, degrees=degrees, scale=robot.scale)
+        return table_blocks(representations.rpy_from_robot(robot), title, degrees=degrees, scale=robot.scale)
     if fmt == "gjd":
         labels = [f"J{i + 1} ({j.name}, {j.type})" for i, j in enumerate(robot.joints)] + [f"J{robot.n + 1} (tool)"]
         return [title, *frames_blocks(robot.frames, labels, robot.scale)]
