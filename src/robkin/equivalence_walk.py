@@ -160,19 +160,36 @@ def _linear_solve(residual: Residual, k: int, extra: np.ndarray) -> tuple[np.nda
     return x, float(np.abs(residual(x)).max()), rank
 
 
+#: Forward-difference step of ``_nonlinear_solve``'s Jacobian, relative to max(1, |x|): sqrt(machine
+#: epsilon) balances truncation (~h) against rounding (~eps / h) for residuals of size ~1 (they are
+#: scaled screws), the usual choice (scipy's '2-point' default too).
+_FD_STEP = 2.0 ** -26
+
+
 def _nonlinear_solve(screws: list[np.ndarray], revolute: list[bool], residual: Residual,
                      tol: float) -> list[np.ndarray]:
     """Offsets of two or more open joints including a rotation (rare: a rotation and a slide along
-    the same line), from a few starts; scipy is imported only here."""
+    the same line), from a few starts, by robkin's compiled Levenberg-Marquardt (``box_lsq``, the
+    synthesis optimiser's solver; unbounded here) on a forward-difference Jacobian."""
     import itertools
 
-    from scipy.optimize import least_squares
+    from .compiled.box_lsq import solve
+
+    k = len(revolute)
+    free = np.full(k, np.inf)
+
+    def jacobian(x: np.ndarray) -> np.ndarray:
+        r0 = residual(x)
+        h = _FD_STEP * np.maximum(1.0, np.abs(x))
+        return np.column_stack([(residual(x + h[i] * e) - r0) / h[i] for i, e in enumerate(np.eye(k))])
 
     found: list[np.ndarray] = []
     choices = [(0.0, math.pi / 2, math.pi, -math.pi / 2) if r else (0.0,) for r in revolute]
     for x0 in itertools.islice(itertools.product(*choices), 16):
-        sol = least_squares(residual, np.array(x0), xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=200)
-        d = np.where(revolute, (sol.x + math.pi) % (2 * math.pi) - math.pi, sol.x)
+        # tolerances at rounding: the solution must meet ``tol`` (~1e-9 relative), far below any stop
+        x = solve(residual, jacobian, np.array(x0), -free, free, ftol=1e-15, xtol=1e-15, gtol=1e-15,
+                  max_nfev=200)[0]
+        d = np.where(revolute, (x + math.pi) % (2 * math.pi) - math.pi, x)
         if np.abs(residual(d)).max() <= tol and not any(np.allclose(d, f, atol=1e-9) for f in found):
             found.append(d)
     return found
