@@ -14,8 +14,6 @@ On any failure nothing is written and existing files are left untouched:
 from __future__ import annotations
 
 import os
-import signal
-import threading
 from contextlib import contextmanager
 from pathlib import Path
 from typing import IO, Iterator, Sequence
@@ -24,8 +22,8 @@ from ..errors import InputError
 
 __all__ = ["write_text_atomic", "write_texts_atomic", "atomic_file", "check_writable_dir", "signals_as_exit"]
 
-#: Signals that would otherwise end the process without running ``finally`` blocks.
-_FATAL_SIGNALS = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
+#: Names of the signals that would otherwise end the process without running ``finally`` blocks.
+_FATAL_SIGNALS = ("SIGTERM", "SIGHUP")
 
 
 def check_writable_dir(path: str | os.PathLike) -> Path:
@@ -60,11 +58,14 @@ def signals_as_exit() -> Iterator[None]:
 
     Only the main thread can install signal handlers; elsewhere (a GUI worker) this does nothing.
     """
+    import signal  # here, like threading: only a command that writes files needs them (start-up)
+    import threading
+
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     previous = {}
-    for sig in _FATAL_SIGNALS:
+    for sig in (getattr(signal, name) for name in _FATAL_SIGNALS if hasattr(signal, name)):
         handler = signal.getsignal(sig)
         if handler in (signal.SIG_DFL, None):  # leave a handler the embedding program installed alone
             previous[sig] = handler
