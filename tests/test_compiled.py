@@ -1,8 +1,9 @@
-"""The compiled core is loaded lazily: `import robkin` and `robkin info` never import it; the first
-kinematics call does. ``check`` confirms its verdict by FK at random configurations and ``convert``
-measures every DH/MDH/Hayati table it writes against the robot's FK (its near-parallel warnings state
-that error), so both load the FK module (~0.6 ms); ``convert`` to a DH-type table also loads the frame
-placement (``robkin.compiled.frames``), and nothing else."""
+"""The compiled core is loaded lazily, a module when first needed: `import robkin` imports none of it.
+Building a Robot loads only the rigid-transform test (``robkin.compiled.rigid``, no dependencies), so
+`robkin info` and a conversion to PoE load that alone. ``check`` confirms its verdict by FK at sample
+configurations and ``convert`` measures every DH/MDH/Hayati table it writes against the robot's FK
+(its near-parallel warnings state that error), so both load the FK module (~0.6 ms); ``convert`` to a
+DH-type table also loads the frame placement (``robkin.compiled.frames``), and nothing else."""
 
 from __future__ import annotations
 
@@ -22,21 +23,22 @@ def _loaded_after(statements: str) -> list[str]:
     return eval(out.stdout.strip().splitlines()[-1])  # noqa: S307 - our own printed list
 
 
-def test_import_and_non_kinematic_commands_do_not_load_the_compiled_core():
+def test_import_and_non_kinematic_commands_load_no_kinematics_module():
     def command(*argv: str) -> str:
         return ("from robkin.cli import main\n"
                 f"with contextlib.redirect_stdout(io.StringIO()):\n    main({list(argv)!r})")
 
     assert _loaded_after("import robkin") == []
-    assert _loaded_after(command("info", str(EXAMPLE))) == []
-    assert _loaded_after(command("convert", str(EXAMPLE), "--to", "poe")) == []
+    assert _loaded_after(command("info", str(EXAMPLE))) == ["robkin.compiled.rigid"]
+    assert _loaded_after(command("convert", str(EXAMPLE), "--to", "poe")) == ["robkin.compiled.rigid"]
     assert _loaded_after(command("convert", str(EXAMPLE), "--to", "dh")) == ["robkin.compiled.fk",
-                                                                              "robkin.compiled.frames"]
+                                                                              "robkin.compiled.frames",
+                                                                              "robkin.compiled.rigid"]
     check = ("from robkin.cli import main\nwith contextlib.redirect_stdout(io.StringIO()):\n"
              f"    main(['check', {str(EXAMPLE)!r}, {str(EXAMPLE)!r}])")
-    assert _loaded_after(check) == ["robkin.compiled.fk"]
+    assert _loaded_after(check) == ["robkin.compiled.fk", "robkin.compiled.rigid"]
 
 
 def test_first_kinematics_call_loads_it():
     loaded = _loaded_after(f"import robkin\nrobkin.load({str(EXAMPLE)!r}).fk([0, 0, 0, 0])")
-    assert loaded == ["robkin.compiled.fk"]
+    assert loaded == ["robkin.compiled.fk", "robkin.compiled.rigid"]

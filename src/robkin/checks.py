@@ -73,38 +73,25 @@ def check_pose(T: ArrayLike, field_name: str, *, warn: bool = True) -> np.ndarra
 _ROTATION_ROUNDING_TOL = 1e-12
 
 
-#: A rotation block whose columns are orthonormal to this (max |R^T R - I|) with det > 0 is within
-#: ~1e-12 of a rotation, far inside EXACT_TOL: ``check_poses`` takes it as it is without check_pose's
-#: SVD (the usual case: frames computed by robkin itself are orthonormal to ~1e-15).
-_FAST_ORTHONORMAL_TOL = 1e-12
-_I3 = np.eye(3)
-_I3.setflags(write=False)
 _LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0])
 _LAST_ROW.setflags(write=False)
 
 
 def check_poses(A: np.ndarray, field_name: Callable[[int], str]) -> np.ndarray:
-    """``check_pose`` for a stack (m, 4, 4) of float poses, vectorised for the usual valid case.
+    """``check_pose`` for a stack (m, 4, 4) of float poses, in one compiled pass for the usual valid case.
 
-    Poses that are finite, rigid to rounding and have the last row [0, 0, 0, 1] (within EXACT_TOL) are
-    checked in a few whole-array operations; any other goes through ``check_pose`` (named
-    ``field_name(i)``) for its projection, warning or error. Returns a new array.
+    Poses that are exact rigid transforms to rounding (finite, last row exactly [0, 0, 0, 1], rotation
+    orthonormal to 1e-12 with det > 0: ``robkin.compiled.rigid``, the test IK targets pass too) are
+    taken as they are; a rotation that close is within ~1e-12 of SO(3), far inside EXACT_TOL, and frames
+    computed by robkin itself are orthonormal to ~1e-15. Any other pose goes through ``check_pose``
+    (named ``field_name(i)``) for its projection, warning or error. Returns a new array.
     """
+    from .compiled.rigid import exact_poses  # ~0.1 ms once; `import robkin` itself loads no compiled code
+
     out = np.array(A, dtype=float)
-    R = out[:, :3, :3]
-    # The common case (frames computed by robkin, or read exactly) in as few whole-stack operations as
-    # possible: finite, last rows exactly [0, 0, 0, 1], columns orthonormal, det > 0.
-    finite = bool(np.isfinite(out).all())
-    if finite and (out[:, 3] == _LAST_ROW).all() \
-            and np.abs(R.transpose(0, 2, 1) @ R - _I3).max() <= _FAST_ORTHONORMAL_TOL \
-            and np.linalg.det(R).min() > 0:
+    ok = exact_poses(out)
+    if ok.all():
         return out
-    ok = np.zeros(len(out), bool)
-    if finite:
-        dev = np.abs(R.transpose(0, 2, 1) @ R - _I3)
-        last = np.abs(out[:, 3] - _LAST_ROW)
-        ok = (dev.max(axis=(1, 2)) <= _FAST_ORTHONORMAL_TOL) & (np.linalg.det(R) > 0) & \
-            (last.max(axis=1) <= EXACT_TOL)
     out[:, 3] = _LAST_ROW
     for i in np.flatnonzero(~ok):
         out[i] = check_pose(A[i], field_name(int(i)))

@@ -21,7 +21,7 @@ from libc.math cimport isfinite
 from libc.stdlib cimport free, malloc
 from robkin.compiled.fk cimport Chain
 from robkin.compiled.nearest cimport check_work_size, keep_distinct, nearest_branch, rows_array
-from robkin.compiled.pose_check cimport exact_pose
+from robkin.compiled.rigid cimport exact_pose
 from robkin.compiled.subproblems cimport c_doubles, new_array, read_pose
 
 cnp.import_array()
@@ -115,7 +115,7 @@ cdef class ClosedFormKernel:
         Parameters
         ----------
         target : (4, 4) float64 C-contiguous array
-            The tool pose; taken only if it is an exact pose (``pose_check.exact_pose``).
+            The tool pose; taken only if it is an exact pose (``rigid.exact_pose``).
         q_ref : (n,) array or None
             The preference; None: the default one given at construction.
         tol_position, tol_orientation : float

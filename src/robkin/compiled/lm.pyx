@@ -33,7 +33,7 @@ from robkin.compiled.dense cimport cholesky_solve
 from robkin.compiled.fk cimport Chain, walk_tool
 from robkin.compiled.jacobian cimport jacobian_one
 from robkin.compiled.linalg cimport rot_log
-from robkin.compiled.pose_check cimport exact_pose, tool_errors
+from robkin.compiled.pose_check cimport tool_errors
 
 import numpy as np
 
@@ -435,19 +435,3 @@ def pose_errors(Chain chain, q, targets, mask):
         for k in range(M):
             tool_errors(chain.L, chain.rev, n, Q + n * k, Td + 16 * k, msk, ep + k, eo + k)
     return ep_arr, eo_arr
-
-
-def exact_poses(A):
-    """(N,) bool: which poses A (N, 4, 4) are exact (``pose_check.exact_pose``: finite, last row
-    [0, 0, 0, 1], rotation orthonormal to 1e-12 with det > 0)."""
-    cdef cnp.ndarray Aa = _doubles(A, 3, -1, 4, 4, "poses")
-    cdef Py_ssize_t N = cnp.PyArray_DIM(Aa, 0), k
-    cdef const double* T0 = <const double*>cnp.PyArray_DATA(Aa)
-    cdef cnp.npy_intp dims[1]
-    dims[0] = N
-    cdef cnp.ndarray ok_arr = cnp.PyArray_ZEROS(1, dims, cnp.NPY_BOOL, 0)
-    cdef unsigned char* ok = <unsigned char*>cnp.PyArray_DATA(ok_arr)
-    with nogil:
-        for k in range(N):
-            ok[k] = exact_pose(T0 + 16 * k)
-    return ok_arr

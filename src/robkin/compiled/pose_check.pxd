@@ -1,15 +1,14 @@
 # cython: language_level=3
 """Pose checks as ``cdef inline`` functions: is a target an exact pose, and how far is the tool from it.
 
-``exact_pose`` is the fast acceptance test of IK targets (``lm.exact_poses`` for a batch, the closed-form
-kernels' single-target entry for one). ``tool_errors`` is the forward-kinematics check of one
+(The acceptance test of IK targets, ``exact_pose``, is in ``rigid.pxd``.) ``tool_errors`` is the forward-kinematics check of one
 configuration, used by ``lm.pose_errors`` (the check of every IK answer); the closed-form branch
 choice (``nearest.pxd``) walks its branches as one block of ``fk.pxd`` (the same bits as one walk each)
 and measures them with the same ``tool_pose_errors``, so all judge a solution by the same walk and the
 same residual.
 """
 
-from libc.math cimport fabs, sqrt, isfinite, INFINITY
+from libc.math cimport sqrt, isfinite, INFINITY
 from robkin.compiled.fk cimport walk_tool
 from robkin.compiled.linalg cimport rot_log
 
@@ -52,28 +51,3 @@ cdef inline void tool_errors(const double* L, const unsigned char* rev, int n, c
         return
     walk_tool(L, rev, n, q, T)
     tool_pose_errors(T, D, msk, ep, eo)
-
-
-cdef inline bint exact_pose(const double* T) noexcept nogil:
-    """Whether T (4x4 row-major) is finite, has the last row exactly [0, 0, 0, 1] and a rotation block
-    orthonormal to 1e-12 (max |R^T R - I|) with det > 0.
-
-    Rotations produced by products of exact rotations are orthonormal to ~1e-15; anything farther goes
-    through the documented checks (projection or refusal) of ``robot.check_pose``.
-    """
-    cdef int i, j, r
-    cdef double s
-    if not (T[12] == 0.0 and T[13] == 0.0 and T[14] == 0.0 and T[15] == 1.0):
-        return False
-    for i in range(12):
-        if not isfinite(T[i]):
-            return False
-    for i in range(3):
-        for j in range(i, 3):
-            s = 0.0
-            for r in range(3):
-                s += T[4 * r + i] * T[4 * r + j]
-            if fabs(s - (1.0 if i == j else 0.0)) > 1e-12:
-                return False
-    return (T[0] * (T[5] * T[10] - T[6] * T[9]) - T[1] * (T[4] * T[10] - T[6] * T[8])
-            + T[2] * (T[4] * T[9] - T[5] * T[8])) > 0.0

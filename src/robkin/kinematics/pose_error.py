@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..compiled.lm import exact_poses
+from ..compiled.rigid import exact_poses
 from ..errors import InputError
 from ..robot import check_pose
 
