@@ -42,7 +42,8 @@ def read_bytes_file(path: str | os.PathLike, max_bytes: int, kind: str) -> bytes
 
     ``kind`` ("a robot document", "a URDF") words the messages.
     """
-    p = path if isinstance(path, Path) else Path(path)  # a Path is not parsed again
+    # the name as given (messages repeat it; a Path made here would cost ~10 us of a small file's read)
+    p = os.fspath(path)
     try:
         st = os.stat(p)
         if not stat.S_ISREG(st.st_mode):
