@@ -48,7 +48,8 @@ def _load(p: str, base_link: str | None, tip_link: str | None, allow_xacro: bool
     if ext in URDF_EXTENSIONS:
         from .urdf import robot_from_urdf
 
-        return robot_from_urdf(Path(p), base_link=base_link, tip_link=tip_link, allow_xacro=allow_xacro)
+        # a str naming a file is read as one unless it starts with '<' (then it would be XML text)
+        return robot_from_urdf(Path(p) if p.lstrip().startswith("<") else p, base_link=base_link, tip_link=tip_link, allow_xacro=allow_xacro)
     if ext in MJCF_EXTENSIONS:
         from .mjcf_read import robot_from_mjcf
 
