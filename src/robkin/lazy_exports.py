@@ -16,24 +16,25 @@ __all__ = ["lazy_exports"]
 
 def lazy_exports(package: str, namespace: dict[str, Any], where: Mapping[str, str]
                  ) -> tuple[Callable[[str], Any], Callable[[], list[str]]]:
-    """``(__getattr__, __dir__)`` for ``package`` whose exported names are defined in submodules.
+    """``(__getattr__, __dir__)`` for a package (or module) whose exported names are defined elsewhere.
 
     Parameters
     ----------
     package : str
-        The package's ``__name__``.
+        The exporting module's ``__name__`` (for messages).
     namespace : dict
-        The package's ``globals()``: a name once imported is stored there, so later lookups are plain
-        attribute reads.
+        Its ``globals()``: a name once imported is stored there, so later lookups are plain attribute
+        reads.
     where : mapping of str to str
-        Exported name -> the module defining it, relative to the package (e.g. ``".dh"``).
+        Exported name -> the module defining it, relative to the module's package (e.g. ``".dh"``).
     """
 
     def __getattr__(name: str) -> Any:
         module = where.get(name)
         if module is None:
             raise AttributeError(f"module {package!r} has no attribute {name!r}")
-        value = getattr(importlib.import_module(module, package), name)
+        # relative to the package holding the module (the module itself, for a package's __init__)
+        value = getattr(importlib.import_module(module, namespace["__package__"]), name)
         namespace[name] = value
         return value
 

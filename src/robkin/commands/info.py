@@ -84,11 +84,12 @@ def _tree_chains(args: argparse.Namespace):
     """(tree, chains): the input's tree (see ``io.chain_path.tree_of_file``; None for a document or a
     .xacro) and, when no --tip-link picks one of several chains it offers, those chains (else None)."""
     from ..io.chain_path import tree_of_file
-    from ..io.urdf_chain import chains_of
 
     tree = tree_of_file(args.input)
     if tree is None or args.tip_link:
         return tree, None
+    from ..io.urdf_chain import chains_of
+
     chains = chains_of(tree[0], args.base_link)
     return tree, (chains if len(chains) > 1 else None)
 

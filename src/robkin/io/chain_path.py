@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from .urdf import UrdfJoint, UrdfModel
 from ..errors import InputError
+
+if TYPE_CHECKING:  # the tree types only: a robot document's info does not load the URDF reader
+    from .urdf import UrdfJoint, UrdfModel
 
 __all__ = ["joints_between", "refuse_on_chain", "tree_of_file"]
 

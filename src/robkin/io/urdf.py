@@ -32,17 +32,18 @@ import os
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
-from typing import Any, Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from . import pose_rows
+from ..compiled import pose_rows
 from .files import read_text_file
 from .urdf_joint import UrdfJoint
 from .urdf_xml import _extras, _may_hold_xacro, _parse_urdf_xml
 from .urdf_xml import _parse_xml as _parse_xml  # re-exported: the MJCF and SDF readers import it from here
 from ..bodies import Inertial, LazyTuple, Mimic, Shape
 from ..errors import InputError
+from ..lazy_exports import lazy_exports
 
 __all__ = ["robot_from_urdf", "robot_from_model", "urdf_from_robot", "parse_urdf", "parse_urdf_text",
            "UrdfModel", "UrdfJoint", "LinkContent", "axis_frame", "origin_matrix"]
@@ -385,6 +386,13 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
     return model
 
 
-# the chain reader and the writer, importable from here (they import this module's parser)
-from .urdf_chain import axis_frame, robot_from_model, robot_from_urdf  # noqa: E402
-from .urdf_write import urdf_from_robot  # noqa: E402
+# the chain reader and the writer, importable from here, imported on first use: they import this
+# module's parser (so either can be imported first), and loading a URDF for its kinematics does not
+# pay for the writer (see robkin.lazy_exports)
+__getattr__, __dir__ = lazy_exports(__name__, globals(), {
+    **dict.fromkeys(("axis_frame", "robot_from_model", "robot_from_urdf"), ".urdf_chain"),
+    "urdf_from_robot": ".urdf_write"})
+
+if TYPE_CHECKING:
+    from .urdf_chain import axis_frame, robot_from_model, robot_from_urdf
+    from .urdf_write import urdf_from_robot

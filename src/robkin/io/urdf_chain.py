@@ -19,7 +19,7 @@ import numpy as np
 from ..bodies import Bodies, Inertial, LazyTuple, Link, LinkJoint, Shape
 from ..errors import InputError, ProjectionWarning
 from ..robot import Joint, Robot
-from . import pose_rows
+from ..compiled import pose_rows
 from .urdf import AXIS_UNIT_TOL, AXIS_ZERO_TOL, UNSUPPORTED_TYPES, UrdfJoint, UrdfModel, parse_urdf
 
 Rows3 = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]

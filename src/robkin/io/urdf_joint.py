@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import pose_rows
+from ..compiled import pose_rows
 from ..bodies import Mimic
 
 __all__ = ["UrdfJoint"]
@@ -22,8 +22,8 @@ class UrdfJoint:
     convention (the attributes are not to be changed).
     """
 
-    __slots__ = ("name", "type", "parent", "child", "_origin", "_axis", "lower", "upper", "mimic", "effort",
-                 "velocity", "damping", "friction", "xyz_rpy")
+    __slots__ = ("name", "type", "parent", "child", "_origin", "_axis", "_pose", "lower", "upper", "mimic",
+                 "effort", "velocity", "damping", "friction", "xyz_rpy")
 
     def __init__(self, name: str, type: str, parent: str, child: str, origin: np.ndarray | None,
                  axis: np.ndarray | tuple[float, float, float], lower: float | None, upper: float | None,
@@ -33,7 +33,7 @@ class UrdfJoint:
         if origin is None and xyz_rpy is None:
             raise TypeError("UrdfJoint needs an origin or its xyz_rpy numbers")
         self.name, self.type, self.parent, self.child = name, type, parent, child
-        self._origin, self._axis = origin, axis
+        self._origin, self._axis, self._pose = origin, axis, None
         self.lower, self.upper, self.mimic = lower, upper, mimic
         self.effort, self.velocity, self.damping, self.friction = effort, velocity, damping, friction
         self.xyz_rpy = xyz_rpy
@@ -46,11 +46,14 @@ class UrdfJoint:
         return self._origin
 
     def pose(self) -> pose_rows.Pose:
-        """``origin`` as twelve plain floats (see ``pose_rows``; no array made for a URDF joint)."""
-        if self._origin is None:
-            v: tuple[float, ...] = self.xyz_rpy  # type: ignore[assignment]  # set: see __init__
-            return pose_rows.from_xyz_rpy(v[:3], v[3:])
-        return pose_rows.from_matrix(self._origin)
+        """``origin`` as twelve plain floats (see ``pose_rows``; no array made for a URDF joint), made once."""
+        if self._pose is None:
+            if self._origin is None:
+                v: tuple[float, ...] = self.xyz_rpy  # type: ignore[assignment]  # set: see __init__
+                self._pose = pose_rows.from_xyz_rpy(v[:3], v[3:])
+            else:
+                self._pose = pose_rows.from_matrix(self._origin)
+        return self._pose
 
     @property
     def axis(self) -> np.ndarray:
