@@ -18,6 +18,7 @@ from robkin.errors import InputError
 from robkin.io.urdf import parse_urdf_text, robot_from_urdf
 
 urdf_scan = pytest.importorskip("robkin.compiled.urdf_scan")
+attribute_numbers = pytest.importorskip("robkin.compiled.attribute_numbers")
 
 CHAIN = ('<robot name="r"><link name="a"/><link name="b"/>'
          '<joint name="j" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0 0 0.5" rpy="0 0 1"/>'
@@ -158,9 +159,9 @@ def test_numbers_read_exactly_as_float_does(parts, sep):
         expected = _float_semantics(text, count)
         if expected is None:
             with pytest.raises(InputError, match="^f: x: "):
-                urdf_scan.numbers(text, count, "f", "x", ())
+                attribute_numbers.numbers(text, count, "f", "x", ())
         else:
-            got = urdf_scan.numbers(text, count, "f", "x", ())
+            got = attribute_numbers.numbers(text, count, "f", "x", ())
             assert [math.copysign(1, v) for v in got] == [math.copysign(1, v) for v in expected]
             assert got == expected
     try:
@@ -169,9 +170,9 @@ def test_numbers_read_exactly_as_float_does(parts, sep):
         single = None
     if single is None or math.isnan(single):
         with pytest.raises(InputError):
-            urdf_scan.number(text, "f", "x", True)
+            attribute_numbers.number(text, "f", "x", True)
     else:
-        assert urdf_scan.number(text, "f", "x", True) == single
+        assert attribute_numbers.number(text, "f", "x", True) == single
 
 
 def test_numbers_near_the_fast_paths_edges():
@@ -180,9 +181,9 @@ def test_numbers_near_the_fast_paths_edges():
         expected = _float_semantics(text, 1)
         if expected is None:
             with pytest.raises(InputError):
-                urdf_scan.numbers(text, 1, "f", None, ())
+                attribute_numbers.numbers(text, 1, "f", None, ())
         else:
-            assert urdf_scan.numbers(text, 1, "f", None, ()) == expected, text
+            assert attribute_numbers.numbers(text, 1, "f", None, ()) == expected, text
 
 
 # ------------------------------------------------------------------------------------------ random trees

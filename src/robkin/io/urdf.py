@@ -42,8 +42,9 @@ from .urdf_joint import UrdfJoint
 from .urdf_xml import _extras, _parse_urdf_xml, _refuse_dtd
 from .urdf_xml import _parse_xml as _parse_xml  # re-exported: the MJCF and SDF readers import it from here
 from ..bodies import Inertial, LazyTuple, Shape
-from ..compiled.urdf_scan import MAX_ABS, NO_LIMIT, SUPPORTED_TYPES, UNSUPPORTED_TYPES, numbers, scan_urdf
-from ..compiled.urdf_scan import number as _number
+from ..compiled.attribute_numbers import MAX_ABS, numbers
+from ..compiled.attribute_numbers import number as _number
+from ..compiled.urdf_scan import NO_LIMIT, SUPPORTED_TYPES, UNSUPPORTED_TYPES, scan_urdf
 from ..errors import InputError
 
 __all__ = ["robot_from_urdf", "robot_from_model", "urdf_from_robot", "parse_urdf", "parse_urdf_text",
