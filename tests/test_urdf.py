@@ -330,16 +330,27 @@ def test_exported_urdf_loads_in_yourdfpy_with_same_fk(tmp_path):
                 np.testing.assert_allclose(u.get_transform(tip, root), r.world @ r.fk(q), atol=FK_TOL)
 
 
-def test_both_xml_parsers_read_the_same_and_refuse_the_same(monkeypatch):
-    """Small files go through the standard library's parser, big ones through lxml (see LXML_FROM)."""
+def test_both_xml_parsers_read_the_same_contents_and_refuse_the_same(monkeypatch):
+    """The kinematic tree is read by the compiled scan; link contents are parsed on first use, by the
+    standard library's parser for small files and lxml for big ones (see LXML_FROM): both agree."""
     import robkin.io.urdf_xml as urdf_module
 
-    text = TILTED_SILENT()
-    small = robot_from_urdf(text)
-    monkeypatch.setattr(urdf_module, "LXML_FROM", 0)
-    big = robot_from_urdf(text)
-    np.testing.assert_array_equal(big.frames, small.frames)
-    assert big.joints == small.joints
+    text = open(robot_file("panda_description/urdf/panda.urdf"), encoding="utf-8").read()
+    seen = []
+    for limit in (0, 10**9):
+        monkeypatch.setattr(urdf_module, "LXML_FROM", limit)
+        model = parse_urdf(text)
+        seen.append(({link: model.content[link] for link in model.links}, list(model.extras)))
+    (small, small_extras), (big, big_extras) = seen
+    assert small.keys() == big.keys() and small_extras == big_extras
+    assert sum(len(c.shapes) for c in small.values()) > 10
+    for link in small:
+        a, b = small[link], big[link]
+        assert [(s.role, s.geometry, s.material, s.name, s.origin) for s in a.shapes] == \
+            [(s.role, s.geometry, s.material, s.name, s.origin) for s in b.shapes]
+        assert (a.inertial is None) == (b.inertial is None)
+        if a.inertial is not None:
+            assert a.inertial.mass == b.inertial.mass and a.inertial.origin == b.inertial.origin
     for bad, msg in ((text[:300], "not well-formed XML \\(line"),
                      ('<!DOCTYPE r [<!ENTITY a "b">]><robot name="&a;"/>', "refused XML construct")):
         for limit in (0, 10**9):

@@ -39,38 +39,43 @@ for _k in range(1, 23):
     _POW10[_k] = _POW10[_k - 1] * 10.0
 
 
+cdef Py_ssize_t _digit_run(const char* s, Py_ssize_t n, Py_ssize_t i, unsigned long long* m,
+                           int* digits) noexcept nogil:
+    """The digits from s[i] on appended to the integer m (leading zeros not counted in ``digits``);
+    the index after them, or -1 past 17 significant digits (beyond them m could not stay exact)."""
+    while i < n and c'0' <= s[i] <= c'9':
+        if m[0] or s[i] != c'0':
+            digits[0] += 1
+            if digits[0] > 17:
+                return -1
+            m[0] = m[0] * 10 + <unsigned long long>(s[i] - c'0')
+        i += 1
+    return i
+
+
 cdef bint _decimal(const char* s, Py_ssize_t n, double* out) noexcept nogil:
     """Clinger's fast path: a number [+-]digits[.digits][e[+-]digits] of at most 2**53 as an integer
     times 10**k, |k| <= 22, is that integer (exact) times or divided by 10**|k| (exact): one correctly
     rounded operation, so the float ``float()`` gives. False for anything else (taken by the slow path;
     also malformed text, which that path then refuses). ``PyOS_string_to_double`` gives the same values
     but sets the x87 control word on each call, which costs more than the whole conversion here."""
-    cdef Py_ssize_t i = 0
+    cdef Py_ssize_t i = 0, j
     cdef unsigned long long m = 0
     cdef int digits = 0, exp10 = 0, e = 0, edigits = 0
-    cdef bint negative = False, eneg = False, any_digit = False
+    cdef bint negative = False, eneg = False, any_digit
     if i < n and (s[i] == c'+' or s[i] == c'-'):
         negative = s[i] == c'-'
         i += 1
-    while i < n and c'0' <= s[i] <= c'9':
-        any_digit = True
-        if m or s[i] != c'0':
-            digits += 1
-            if digits > 17:
-                return False
-            m = m * 10 + <unsigned long long>(s[i] - c'0')
-        i += 1
+    j = _digit_run(s, n, i, &m, &digits)
+    if j < 0:
+        return False
+    any_digit, i = j > i, j
     if i < n and s[i] == c'.':
         i += 1
-        while i < n and c'0' <= s[i] <= c'9':
-            any_digit = True
-            if m or s[i] != c'0':
-                digits += 1
-                if digits > 17:
-                    return False
-                m = m * 10 + <unsigned long long>(s[i] - c'0')
-            exp10 -= 1
-            i += 1
+        j = _digit_run(s, n, i, &m, &digits)
+        if j < 0:
+            return False
+        any_digit, exp10, i = any_digit or j > i, i - j, j
     if not any_digit:
         return False
     if i < n and (s[i] == c'e' or s[i] == c'E'):

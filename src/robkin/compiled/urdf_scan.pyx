@@ -24,6 +24,7 @@ import os.path
 
 from robkin.bodies import Mimic
 from robkin.errors import InputError
+from robkin.io.urdf import NO_LIMIT, SUPPORTED_TYPES, UNSUPPORTED_TYPES  # urdf.py imports this module lazily
 from robkin.io.urdf_joint import UrdfJoint
 
 cdef extern from "Python.h":
@@ -55,17 +56,11 @@ if strcmp(_capi.magic, PyExpat_CAPI_MAGIC) != 0 or <size_t>_capi.size < sizeof(P
                       f"'{PyExpat_CAPI_MAGIC.decode('ascii')}' of {sizeof(PyExpat_CAPI)} bytes: rebuild it "
                       f"(pip install -e . or make ext)")
 
-#: URDF has no way to say "no limit" on a prismatic joint (urdfdom, and so pinocchio, refuse ``inf``),
-#: so a missing limit is written as +-NO_LIMIT and a limit at least this large is read as none. No real
-#: joint travels 1e10 m or rad; the value is finite in float32 too (MuJoCo's limits).
-NO_LIMIT = 1e10
 #: Deepest element nesting accepted: libxml2's default limit (which lxml, used for the lazy content
 #: parse of big files, applies too); a URDF nests ~5 deep. Bounds expat's tag stack on hostile input.
 cdef enum:
     _MAX_DEPTH = 256
 MAX_DEPTH = _MAX_DEPTH
-SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
-UNSUPPORTED_TYPES = ("floating", "planar")
 # how expat names an element in xacro's namespace ("uri}local": separator '}', as xml.etree asks for)
 cdef const char* _XACRO_TAG = b"http://www.ros.org/wiki/xacro}"
 cdef size_t _XACRO_TAG_LEN = strlen(_XACRO_TAG)

@@ -1,10 +1,11 @@
 """URDF in and out: a serial chain of a URDF file as a Robot, and a Robot as a URDF.
 
-This module parses a URDF into a ``UrdfModel`` (the tree of links and joints; the contents of links,
-visuals, collisions and inertials, are parsed only when asked for, by ``urdf_content``; the XML
-itself by ``urdf_xml``; a joint is a ``urdf_joint.UrdfJoint`` whose numbers stay plain floats, composed
-as ``pose_rows``). ``robot_from_model`` (in ``urdf_chain``) picks a serial chain out of the tree
-and ``urdf_from_robot`` (in ``urdf_write``) writes a robot back; both are importable from here.
+This module parses a URDF into a ``UrdfModel`` (the tree of links and joints, read by one compiled pass
+of expat, ``compiled.urdf_scan``, that builds no XML tree; the contents of links, visuals, collisions
+and inertials, are parsed from the text only when asked for, by ``urdf_content`` on ``urdf_xml``'s tree;
+a joint is a ``urdf_joint.UrdfJoint`` whose numbers stay plain floats, composed as ``pose_rows``).
+``robot_from_model`` (in ``urdf_chain``) picks a serial chain out of the tree and ``urdf_from_robot``
+(in ``urdf_write``) writes a robot back; both are importable from here.
 
 Import (``robot_from_urdf``)
     revolute, continuous (revolute without limits), prismatic and fixed joints; any joint axis (a
@@ -32,7 +33,7 @@ import os
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -42,9 +43,6 @@ from .urdf_joint import UrdfJoint
 from .urdf_xml import _extras, _parse_urdf_xml, _refuse_dtd
 from .urdf_xml import _parse_xml as _parse_xml  # re-exported: the MJCF and SDF readers import it from here
 from ..bodies import Inertial, LazyTuple, Shape
-from ..compiled.attribute_numbers import MAX_ABS, numbers
-from ..compiled.attribute_numbers import number as _number
-from ..compiled.urdf_scan import NO_LIMIT, SUPPORTED_TYPES, UNSUPPORTED_TYPES, scan_urdf
 from ..errors import InputError
 
 __all__ = ["robot_from_urdf", "robot_from_model", "urdf_from_robot", "parse_urdf", "parse_urdf_text",
@@ -58,6 +56,12 @@ AXIS_UNIT_TOL = 1e-6
 #: A joint axis shorter than this is no direction at all (URDF axes are unit vectors, typed with a
 #: few decimals; anything this short is a zero or a typo).
 AXIS_ZERO_TOL = 1e-9
+#: URDF has no way to say "no limit" on a prismatic joint (urdfdom, and so pinocchio, refuse ``inf``),
+#: so a missing limit is written as +-NO_LIMIT and a limit at least this large is read as none. No real
+#: joint travels 1e10 m or rad; the value is finite in float32 too (MuJoCo's limits).
+NO_LIMIT = 1e10
+SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
+UNSUPPORTED_TYPES = ("floating", "planar")
 #: The one-line refusal of a .xacro file read without the opt-in (why, and the two ways out).
 XACRO_REFUSED = ("{path}: not expanded: a .xacro file is a program (it can run code, read files and environment "
                  "variables); if you trust it, pass allow_xacro=True or expand it "
@@ -160,30 +164,14 @@ def _expand_xacro(path: Path) -> str:
 
 def _floats(text: str | None, count: int, where: str, default: Iterable[float]) -> np.ndarray:
     """``numbers`` as an array (the form the MJCF and SDF readers use)."""
+    from ..compiled.attribute_numbers import numbers  # compiled: loaded by a reader, not by an import
+
     return np.array(numbers(text, count, where, None, tuple(default)), dtype=float)
-
-
-ZERO3 = (0.0, 0.0, 0.0)
-ZERO6 = ZERO3 + ZERO3
 
 
 def origin_matrix(xyz: tuple[float, ...], rpy: tuple[float, ...]) -> np.ndarray:
     """Pose (4, 4) of a URDF origin: translation xyz, rotation Rz(yaw) Ry(pitch) Rx(roll)."""
     return pose_rows.matrix(pose_rows.from_xyz_rpy(xyz, rpy))
-
-
-def origin_numbers(origin_el: Any, where: str) -> tuple[float, ...]:
-    """The six numbers xyz + rpy of an <origin> element (zeros for None or a missing attribute)."""
-    if origin_el is None:
-        return ZERO6
-    return (numbers(origin_el.get("xyz"), 3, where, "origin xyz", ZERO3)
-            + numbers(origin_el.get("rpy"), 3, where, "origin rpy", ZERO3))
-
-
-def parse_origin(el: Any, where: str) -> tuple[np.ndarray, tuple[float, ...]]:
-    """(pose (4, 4), the six numbers xyz + rpy) of an element's <origin> child (identity if none)."""
-    xyz_rpy = origin_numbers(el.find("origin"), where)
-    return origin_matrix(xyz_rpy[:3], xyz_rpy[3:]), xyz_rpy
 
 
 def parse_urdf(source: str | os.PathLike[str], *, allow_xacro: bool = False) -> UrdfModel:
@@ -201,6 +189,7 @@ def parse_urdf(source: str | os.PathLike[str], *, allow_xacro: bool = False) -> 
 
 def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
     """``parse_urdf`` of URDF text; ``src`` names it in messages."""
+    from ..compiled.urdf_scan import scan_urdf  # compiled: loaded by a read, not by an import
     from .urdf_content import LazyLinkContent
 
     _refuse_dtd(text, src)

@@ -14,12 +14,24 @@ import numpy as np
 
 from ..bodies import Geometry, Inertial, Material, Shape
 from ..errors import InputError
-from .urdf import LinkContent, _number, numbers, parse_origin
+from ..compiled.attribute_numbers import number as _number
+from ..compiled.attribute_numbers import numbers
+from .urdf import LinkContent, origin_matrix
 
 __all__ = ["LazyLinkContent", "ContentOnce", "GEOMETRY_TAGS"]
 
 GEOMETRY_TAGS = ("box", "cylinder", "sphere", "mesh")
 _EMPTY = LinkContent()
+_ZERO3 = (0.0, 0.0, 0.0)
+
+
+def parse_origin(el: Any, where: str) -> tuple[np.ndarray, tuple[float, ...]]:
+    """(pose (4, 4), the six numbers xyz + rpy) of an element's <origin> child (identity if none)."""
+    origin = el.find("origin")
+    get = (lambda key: None) if origin is None else origin.get
+    xyz_rpy = (numbers(get("xyz"), 3, where, "origin xyz", _ZERO3)
+               + numbers(get("rpy"), 3, where, "origin rpy", _ZERO3))
+    return origin_matrix(xyz_rpy[:3], xyz_rpy[3:]), xyz_rpy
 
 
 def _material(el: Any, where: str, named: Mapping[str, Material]) -> Material | None:
