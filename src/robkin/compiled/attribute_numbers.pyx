@@ -147,6 +147,8 @@ cpdef tuple numbers(text, Py_ssize_t count, where, what, tuple default):
     if text is None:
         return default
     if count <= _FAST_MAX and _fast_numbers(text, out, count) == count:
+        if count == 3:  # the common case (xyz, rpy, axis, box size) without a list in between
+            return (out[0], out[1], out[2])
         return tuple([out[i] for i in range(count)])
     try:
         values = tuple(map(float, text.split()))
