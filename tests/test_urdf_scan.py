@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import io
 import math
-import sys
 import warnings
 from xml.etree.ElementTree import ParseError, XMLParser
 
@@ -177,7 +176,7 @@ def test_numbers_read_exactly_as_float_does(parts, sep):
 
 
 def test_numbers_near_the_fast_paths_edges():
-    for text in ("9007199254740993", "9007199254740992e22", "1e22", "1e23", "123456789012345678", "0.1e-22",
+    for text in ("\ud800", "9007199254740993", "9007199254740992e22", "1e22", "1e23", "123456789012345678", "0.1e-22",
                  "4.9406564584124654e-324", "-0", "-0.0e5", "1_000", "\u0663", "1.7976931348623157e308"):
         expected = _float_semantics(text, 1)
         if expected is None:
@@ -252,10 +251,3 @@ def test_random_trees_read_as_yourdfpy_reads_them(text):
         if theirs.dynamics is not None:
             assert (ours.damping, ours.friction) == (float(theirs.dynamics.damping), float(theirs.dynamics.friction))
 
-
-def test_the_scan_module_is_not_loaded_by_import_robkin():
-    import subprocess
-
-    code = "import sys, robkin; print(any('urdf_scan' in m for m in sys.modules))"
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
-    assert out.strip() == "False"

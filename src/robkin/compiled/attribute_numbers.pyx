@@ -110,7 +110,11 @@ cdef Py_ssize_t _fast_numbers(str text, double* out, Py_ssize_t most) except -2:
     spaces and every one is within +-MAX_ABS; -1 otherwise (the caller then takes the general path,
     which gives the same values, or the message)."""
     cdef Py_ssize_t n, k = 0, i = 0, start
-    cdef const char* s = PyUnicode_AsUTF8AndSize(text, &n)
+    cdef const char* s
+    try:
+        s = PyUnicode_AsUTF8AndSize(text, &n)
+    except UnicodeError:  # a lone surrogate: float() refuses it, with the message
+        return -1
     cdef char* end
     cdef char buf[64]
     cdef double v
