@@ -96,6 +96,7 @@ cdef class _Joint:
 
 
 cdef class _Scan:
+    """What the callbacks keep while expat runs (their user data): depth, links, joints, refusals."""
     cdef int depth
     cdef bint xacro, doctype, too_deep
     cdef object root_tag, robot_name, error
