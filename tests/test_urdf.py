@@ -330,16 +330,27 @@ def test_exported_urdf_loads_in_yourdfpy_with_same_fk(tmp_path):
                 np.testing.assert_allclose(u.get_transform(tip, root), r.world @ r.fk(q), atol=FK_TOL)
 
 
-def test_both_xml_parsers_read_the_same_and_refuse_the_same(monkeypatch):
-    """Small files go through the standard library's parser, big ones through lxml (see LXML_FROM)."""
+def test_both_xml_parsers_read_the_same_contents_and_refuse_the_same(monkeypatch):
+    """The kinematic tree is read by the compiled scan; link contents are parsed on first use, by the
+    standard library's parser for small files and lxml for big ones (see LXML_FROM): both agree."""
     import robkin.io.urdf_xml as urdf_module
 
-    text = TILTED_SILENT()
-    small = robot_from_urdf(text)
-    monkeypatch.setattr(urdf_module, "LXML_FROM", 0)
-    big = robot_from_urdf(text)
-    np.testing.assert_array_equal(big.frames, small.frames)
-    assert big.joints == small.joints
+    text = open(robot_file("panda_description/urdf/panda.urdf"), encoding="utf-8").read()
+    seen = []
+    for limit in (0, 10**9):
+        monkeypatch.setattr(urdf_module, "LXML_FROM", limit)
+        model = parse_urdf(text)
+        seen.append(({link: model.content[link] for link in model.links}, list(model.extras)))
+    (small, small_extras), (big, big_extras) = seen
+    assert small.keys() == big.keys() and small_extras == big_extras
+    assert sum(len(c.shapes) for c in small.values()) > 10
+    for link in small:
+        a, b = small[link], big[link]
+        assert [(s.role, s.geometry, s.material, s.name, s.origin) for s in a.shapes] == \
+            [(s.role, s.geometry, s.material, s.name, s.origin) for s in b.shapes]
+        assert (a.inertial is None) == (b.inertial is None)
+        if a.inertial is not None:
+            assert a.inertial.mass == b.inertial.mass and a.inertial.origin == b.inertial.origin
     for bad, msg in ((text[:300], "not well-formed XML \\(line"),
                      ('<!DOCTYPE r [<!ENTITY a "b">]><robot name="&a;"/>', "refused XML construct")):
         for limit in (0, 10**9):
@@ -360,11 +371,8 @@ def test_a_model_built_by_another_reader_loads_and_writes():
     np.testing.assert_allclose(back.fk([0.5]), robot.fk([0.5]), atol=1e-15)
 
 
-def test_repeated_joint_children_the_first_counts_as_in_urdfdom(monkeypatch):
-    """urdfdom (and so pinocchio) reads the first <origin>/<axis> of a joint; so does robkin, with either
-    XML parser."""
-    import robkin.io.urdf_xml as urdf_module
-
+def test_repeated_joint_children_the_first_counts_as_in_urdfdom():
+    """urdfdom (and so pinocchio) reads the first <origin>/<axis> of a joint; so does robkin's scan."""
     text = """<robot name="r"><link name="a"/><link name="b"/>
       <joint name="j" type="revolute"><parent link="a"/><child link="b"/>
         <origin xyz="0.1 0.2 0.3" rpy="0.3 0.2 0.1"/><origin xyz="9 9 9"/>
@@ -374,9 +382,5 @@ def test_repeated_joint_children_the_first_counts_as_in_urdfdom(monkeypatch):
     data = model.createData()
     q = np.array([0.7])
     pin.forwardKinematics(model, data, q)
-    for limit in (0, 10**9):  # lxml, then the standard library's parser (used while lxml is not loaded)
-        monkeypatch.setattr(urdf_module, "LXML_FROM", limit)
-        if limit:
-            monkeypatch.delitem(sys.modules, "lxml.etree", raising=False)
-        robot = robot_from_urdf(text, tip_link="b")
-        np.testing.assert_allclose(robot.fk(q), data.oMi[1].homogeneous, atol=1e-15)
+    robot = robot_from_urdf(text, tip_link="b")
+    np.testing.assert_allclose(robot.fk(q), data.oMi[1].homogeneous, atol=1e-15)

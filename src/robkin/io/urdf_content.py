@@ -1,25 +1,37 @@
 """The contents of URDF links (visuals, collisions, inertials), parsed when first asked for.
 
 Most uses of a URDF need only its joints; a whole humanoid has hundreds of shapes. ``LazyLinkContent``
-keeps the ``<link>`` elements and parses one link's ``<visual>``, ``<collision>`` and ``<inertial>``
-children the first time that link is looked up. Poses are relative to the link frame; mesh file names
+builds the XML tree of the file the first time a link is looked up (a load for kinematics builds none)
+and parses one link's ``<visual>``, ``<collision>`` and ``<inertial>`` children when that link is. Poses are relative to the link frame; mesh file names
 are kept as written and never opened.
 """
 
 from __future__ import annotations
 
-from typing import Any, Callable, Iterator, Mapping
+from typing import Any, Callable, Iterator, Mapping, Sequence
 
 import numpy as np
 
 from ..bodies import Geometry, Inertial, Material, Shape
 from ..errors import InputError
-from .urdf import LinkContent, _number, numbers, parse_origin
+from ..compiled.attribute_numbers import number as _number
+from ..compiled.attribute_numbers import numbers
+from .urdf import LinkContent, origin_matrix
 
 __all__ = ["LazyLinkContent", "ContentOnce", "GEOMETRY_TAGS"]
 
 GEOMETRY_TAGS = ("box", "cylinder", "sphere", "mesh")
 _EMPTY = LinkContent()
+_ZERO3 = (0.0, 0.0, 0.0)
+
+
+def parse_origin(el: Any, where: str) -> tuple[np.ndarray, tuple[float, ...]]:
+    """(pose (4, 4), the six numbers xyz + rpy) of an element's <origin> child (identity if none)."""
+    origin = el.find("origin")
+    get = (lambda key: None) if origin is None else origin.get
+    xyz_rpy = (numbers(get("xyz"), 3, where, "origin xyz", _ZERO3)
+               + numbers(get("rpy"), 3, where, "origin rpy", _ZERO3))
+    return origin_matrix(xyz_rpy[:3], xyz_rpy[3:]), xyz_rpy
 
 
 def _material(el: Any, where: str, named: Mapping[str, Material]) -> Material | None:
@@ -84,14 +96,31 @@ def parse_link_content(el: Any, src: str, named: Mapping[str, Material]) -> Link
 
 
 class LazyLinkContent(Mapping[str, LinkContent]):
-    """link name -> LinkContent, parsed on first lookup from the kept <link> elements."""
+    """link name -> LinkContent, parsed on first lookup from the <link> elements of ``root()``.
 
-    def __init__(self, elements: Mapping[str, object], materials: list[Any], src: str) -> None:
-        self._elements = dict(elements)
-        self._material_elements = materials
+    ``links`` are the file's link names (unique, as the reader checked); ``root`` gives the parsed
+    <robot> element, and is called only on the first lookup of a link's content.
+    """
+
+    def __init__(self, links: Sequence[str], root: Callable[[], Any], src: str) -> None:
+        self._links = links
+        self._root = root
+        self._elements: dict[str, Any] | None = None
+        self._material_elements: list[Any] = []
         self._named: dict[str, Material] | None = None
         self._src = src
         self._cache: dict[str, LinkContent] = {}
+
+    def _element(self, link: str) -> Any:
+        if self._elements is None:
+            elements: dict[str, Any] = {}
+            for el in self._root():
+                if el.tag == "link":
+                    elements.setdefault(el.get("name"), el)
+                elif el.tag == "material":
+                    self._material_elements.append(el)
+            self._elements = elements
+        return self._elements.get(link)
 
     def _materials(self) -> dict[str, Material]:
         if self._named is None:
@@ -105,15 +134,15 @@ class LazyLinkContent(Mapping[str, LinkContent]):
 
     def __getitem__(self, link: str) -> LinkContent:
         if link not in self._cache:
-            el = self._elements.get(link)
+            el = self._element(link)
             self._cache[link] = _EMPTY if el is None else parse_link_content(el, self._src, self._materials())
         return self._cache[link]
 
     def __iter__(self) -> Iterator[str]:
-        return iter(self._elements)
+        return iter(self._links)
 
     def __len__(self) -> int:
-        return len(self._elements)
+        return len(self._links)
 
 
 class ContentOnce(Mapping[str, LinkContent]):

@@ -1,12 +1,12 @@
 """XML for the URDF reader (and the MJCF and SDF readers, which share ``_parse_xml``).
 
-Parsing with DTDs refused (so no entities of any kind), lxml for big files, the quick test for xacro
-elements, and the top-level elements robkin keeps as text.
+Parsing with DTDs refused (so no entities of any kind), lxml for big files, and the top-level elements
+robkin keeps as text. The kinematic tree of a URDF is read without a tree (``compiled.urdf_scan``); these
+trees are built only for the link contents and the extras, when first asked for.
 """
 
 from __future__ import annotations
 
-import re
 from typing import Any
 
 from ..errors import InputError
@@ -93,14 +93,3 @@ def _extras(root: Any) -> list[str]:
             el.tail = None
             out.append(tostring(el, encoding="unicode"))
     return out
-
-
-_XACRO_NS = re.compile(r"""xmlns:([\w.-]+)\s*=\s*["']http://www\.ros\.org/wiki/xacro["']""")
-
-
-def _may_hold_xacro(text: str) -> bool:
-    """Whether an element may use a prefix bound to xacro's namespace (a quick look at the text; the
-    tree is searched only then: most URDFs declare the namespace, few keep xacro elements)."""
-    if "www.ros.org/wiki/xacro" not in text:  # a plain substring search first: most files lack it
-        return False
-    return any(f"<{prefix}:" in text for prefix in _XACRO_NS.findall(text))

@@ -1,0 +1,7 @@
+"""Type stub of the compiled module ``robkin.compiled.urdf_scan`` (see urdf_scan.pyx)."""
+
+from robkin.io.urdf_joint import UrdfJoint
+
+MAX_DEPTH: int
+
+def scan_urdf(text: str, src: str) -> tuple[str | None, tuple[str, ...], tuple[UrdfJoint, ...]]: ...
