@@ -18,11 +18,9 @@ cdef extern from "Python.h":
     const char* PyUnicode_AsUTF8AndSize(object text, Py_ssize_t* size) except NULL
     double PyOS_string_to_double(const char* s, char** endptr, PyObject* overflow_exception) except? -1.0
 
-#: Largest magnitude accepted for an origin or axis number. Norms square their inputs, so numbers
-#: near 1e154 would overflow float64 in robot size and tolerance computations; 1e100 leaves margin
-#: and is still absurd for any length unit.
-cdef double _MAX_ABS = 1e100
-MAX_ABS = _MAX_ABS
+from robkin.io.numbers import MAX_ABS  # the one bound on any number of a robot description (see there)
+
+cdef double _MAX_ABS = MAX_ABS
 cdef enum:
     _FAST_MAX = 16  # at most this many numbers are read by the fast path of ``numbers`` (MJCF: 6)
 

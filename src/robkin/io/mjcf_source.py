@@ -72,7 +72,7 @@ class MjcfSource:
 
 
 def _parse(text: str, source: str) -> Any:
-    from .urdf import _parse_xml  # the hardened defusedxml parse shared with the URDF reader
+    from .urdf import _parse_xml  # xml.etree with any DTD refused first, shared with the URDF reader
 
     root = _parse_xml(text, source)
     if root.tag != "mujoco":

@@ -28,12 +28,11 @@ Import (``robot_from_urdf``)
 
 from __future__ import annotations
 
-import functools
 import os
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
-from typing import TYPE_CHECKING, Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -197,7 +196,13 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
     _refuse_dtd(text, src)
     name, links, joints = scan_urdf(text, src)
     # the tree is built only if link contents or the extras are asked for, once for both
-    root = functools.cache(lambda: _parse_urdf_xml(text, src))
+    tree: list[Any] = []
+
+    def root() -> Any:  # a plain memo: functools.cache builds a wrapper per call (~3 us of a small file's load)
+        if not tree:
+            tree.append(_parse_urdf_xml(text, src))
+        return tree[0]
+
     return UrdfModel(name, links, joints, src, LazyLinkContent(links, root, src), LazyTuple(lambda: _extras(root())))
 
 
