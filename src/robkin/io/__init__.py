@@ -37,7 +37,6 @@ def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: s
 
 
 def _load(p: str, base_link: str | None, tip_link: str | None, allow_xacro: bool) -> Robot:
-    # the robot-file readers take a Path (a str there may be XML text)
     ext = os.path.splitext(p.rstrip("/" + os.sep))[1].lower()
     if ext in DOCUMENT_EXTENSIONS:
         if base_link or tip_link:
@@ -48,8 +47,9 @@ def _load(p: str, base_link: str | None, tip_link: str | None, allow_xacro: bool
     if ext in URDF_EXTENSIONS:
         from .urdf import robot_from_urdf
 
-        # a str naming a file is read as one unless it starts with '<' (then it would be XML text)
-        return robot_from_urdf(Path(p) if p.lstrip().startswith("<") else p, base_link=base_link, tip_link=tip_link, allow_xacro=allow_xacro)
+        # the robot-file readers read a str starting with '<' as XML text: such a name goes as a Path
+        source = Path(p) if p.lstrip().startswith("<") else p
+        return robot_from_urdf(source, base_link=base_link, tip_link=tip_link, allow_xacro=allow_xacro)
     if ext in MJCF_EXTENSIONS:
         from .mjcf_read import robot_from_mjcf
 

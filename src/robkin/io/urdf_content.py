@@ -2,8 +2,8 @@
 
 Most uses of a URDF need only its joints; a whole humanoid has hundreds of shapes. ``LazyLinkContent``
 builds the XML tree of the file the first time a link is looked up (a load for kinematics builds none)
-and parses one link's ``<visual>``, ``<collision>`` and ``<inertial>`` children when that link is. Poses are relative to the link frame; mesh file names
-are kept as written and never opened.
+and parses one link's ``<visual>``, ``<collision>`` and ``<inertial>`` children when that link is.
+Poses are relative to the link frame; mesh file names are kept as written and never opened.
 """
 
 from __future__ import annotations
