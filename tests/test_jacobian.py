@@ -9,7 +9,7 @@ import sys
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import robkin
@@ -185,6 +185,9 @@ def test_jacobians_match_pinocchio(rel, tip):
 def test_manipulability_is_the_product_of_numpy_singular_values(robot, seed):
     """The compiled volume (Householder QR) against numpy's SVD of the same Jacobian rows, for wide,
     square and tall blocks (n below, at and above the number of rows)."""
+    # the strategy sometimes draws robots whose whole geometry is rounding noise at the origin (sizes down
+    # to 1e-179): their Jacobian entries square to below the smallest float, and a volume of them means nothing
+    assume(robot.scale > 1e-6)
     Q = sample_q(robot, seed, 3)
     J = jacobian_geometric(robot, Q)
     for kind, rows in (("translational", slice(0, 3)), ("rotational", slice(3, 6)), ("full", slice(0, 6))):

@@ -20,9 +20,10 @@ from .checks import EXACT_TOL, PROJECTION_TOL, check_pose, check_poses, check_q
 from .errors import InputError, quote
 from .names import check_name, duplicates
 from . import se3
-from .bodies import EMPTY_BODIES, Bodies, Mimic
+from .bodies import EMPTY_BODIES, Bodies
 
 if TYPE_CHECKING:  # pragma: no cover
+    from .body_parts import Mimic
     from .compiled.fk import Chain
     from .kinematics.ik import IKResult
 

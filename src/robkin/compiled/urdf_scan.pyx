@@ -22,7 +22,7 @@ from robkin.compiled.attribute_numbers cimport number, numbers
 
 import os.path
 
-from robkin.bodies import Mimic
+from robkin import bodies  # bodies.Mimic, imported only for a file with a <mimic>
 from robkin.errors import InputError
 from robkin.io.urdf import NO_LIMIT, SUPPORTED_TYPES, UNSUPPORTED_TYPES  # urdf.py imports this module lazily
 from robkin.io.urdf_joint import UrdfJoint
@@ -261,7 +261,7 @@ cdef object _joint(_Joint raw, str src, Py_ssize_t index):
             raise InputError(f"{where}: <mimic> has no joint attribute")
         mult = number(raw.multiplier, where, "mimic multiplier")
         off = number(raw.offset, where, "mimic offset")
-        mimic = Mimic(raw.mimic, 1.0 if mult is None else mult, 0.0 if off is None else off)
+        mimic = bodies.Mimic(raw.mimic, 1.0 if mult is None else mult, 0.0 if off is None else off)
     return UrdfJoint(name, jtype, raw.parent, raw.child, None, axis, lower, upper, mimic,
                      effort, velocity, damping, friction, xyz_rpy)
 

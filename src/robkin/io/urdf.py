@@ -41,7 +41,7 @@ from .files import read_text_file
 from .urdf_joint import UrdfJoint
 from .urdf_xml import _extras, _parse_urdf_xml, _refuse_dtd
 from .urdf_xml import _parse_xml as _parse_xml  # re-exported: the MJCF and SDF readers import it from here
-from ..bodies import Inertial, LazyTuple, Shape
+from ..bodies import LazyTuple
 from ..errors import InputError
 from ..lazy_exports import lazy_exports
 
@@ -214,5 +214,6 @@ __getattr__, __dir__ = lazy_exports(__name__, globals(), {
     "urdf_from_robot": ".urdf_write"})
 
 if TYPE_CHECKING:
+    from ..body_parts import Inertial, Shape
     from .urdf_chain import axis_frame, robot_from_model, robot_from_urdf
     from .urdf_write import urdf_from_robot

@@ -12,14 +12,16 @@ from __future__ import annotations
 import math
 import os
 import warnings
-from typing import Callable, Iterator
+from typing import TYPE_CHECKING, Callable, Iterator
 
 import numpy as np
 
-from ..bodies import Bodies, Inertial, LazyTuple, Link, LinkJoint, Shape
+from ..bodies import Bodies, LazyTuple
 from ..errors import InputError, ProjectionWarning
 from ..robot import Joint, Robot
 from ..compiled import pose_rows
+if TYPE_CHECKING:
+    from ..body_parts import Inertial, Link, LinkJoint, Shape
 from .urdf import AXIS_UNIT_TOL, AXIS_ZERO_TOL, UNSUPPORTED_TYPES, UrdfJoint, UrdfModel, parse_urdf
 
 Rows3 = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
@@ -204,6 +206,8 @@ def robot_from_urdf(source: str | os.PathLike[str], base_link: str | None = None
 
 
 def _link_joint(j: UrdfJoint) -> LinkJoint:
+    from ..body_parts import LinkJoint
+
     x, y, z = j.axis_xyz()
     k = math.sqrt(x * x + y * y + z * z)
     axis = (x / k, y / k, z / k) if k >= AXIS_ZERO_TOL else (x, y, z)
@@ -270,6 +274,8 @@ def _rest_of_the_file(model: UrdfModel, base: str, chain_index: dict[str, int]) 
         return memo[0]
 
     def links() -> Iterator[Link]:
+        from ..body_parts import Link
+
         poses, body = tree()
         parents = model.parent_joint()
         for link in model.links:
@@ -278,6 +284,8 @@ def _rest_of_the_file(model: UrdfModel, base: str, chain_index: dict[str, int]) 
                        None if pj is None else _link_joint(pj))
 
     def shapes() -> Iterator[Shape]:
+        from ..body_parts import Shape
+
         poses, body = tree()
         for link in model.links:
             content = model.content.get(link)
@@ -287,6 +295,8 @@ def _rest_of_the_file(model: UrdfModel, base: str, chain_index: dict[str, int]) 
                     yield Shape(s.link, b, s.role, np.dot(P, s.pose), s.geometry, s.material, s.name, s.origin)
 
     def inertials() -> Iterator[Inertial]:
+        from ..body_parts import Inertial
+
         poses, body = tree()
         for link in model.links:
             content = model.content.get(link)

@@ -8,11 +8,13 @@ Poses are relative to the link frame; mesh file names are kept as written and ne
 
 from __future__ import annotations
 
-from typing import Any, Callable, Iterator, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Iterator, Mapping, Sequence
 
 import numpy as np
 
-from ..bodies import Geometry, Inertial, Material, Shape
+# the records are imported where they are made: a load for kinematics imports this module, makes none
+if TYPE_CHECKING:
+    from ..body_parts import Geometry, Inertial, Material, Shape
 from ..errors import InputError
 from ..compiled.attribute_numbers import number as _number
 from ..compiled.attribute_numbers import numbers
@@ -36,6 +38,7 @@ def parse_origin(el: Any, where: str) -> tuple[np.ndarray, tuple[float, ...]]:
 
 def _material(el: Any, where: str, named: Mapping[str, Material]) -> Material | None:
     """A visual's <material>: inline colour/texture, or a reference by name to a top-level one."""
+    from ..body_parts import Material
     if el is None:
         return None
     name = el.get("name")
@@ -47,6 +50,7 @@ def _material(el: Any, where: str, named: Mapping[str, Material]) -> Material | 
 
 
 def _geometry(el: Any, where: str) -> Geometry:
+    from ..body_parts import Geometry
     g = el.find("geometry")
     shape = None if g is None else next((c for c in g if c.tag in GEOMETRY_TAGS), None)
     if shape is None:
@@ -68,6 +72,7 @@ def _geometry(el: Any, where: str) -> Geometry:
 
 def parse_link_content(el: Any, src: str, named: Mapping[str, Material]) -> LinkContent:
     """Shapes and inertial of one <link> element (poses relative to the link frame)."""
+    from ..body_parts import Inertial, Shape
     link = el.get("name")
     shapes: list[Shape] = []
     for role in ("visual", "collision"):

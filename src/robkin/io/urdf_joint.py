@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..compiled import pose_rows
-from ..bodies import Mimic
+
+if TYPE_CHECKING:
+    from ..body_parts import Mimic
 
 __all__ = ["UrdfJoint"]
 
