@@ -24,7 +24,8 @@ from typing import Sequence, TypeVar
 import numpy as np
 
 from ..errors import InputError
-from ..robot import Robot, check_poses, frame_scales, local_transforms
+from ..frame_stacks import frame_scales, local_transforms
+from ..robot import Robot, check_poses
 from .frames import relative_pose
 from .link_table import (FLIP_X, WARN_TOL, LinkTable, pose_difference, report_fk_error, residual_tool,
                          sample_configurations)
