@@ -25,7 +25,7 @@ examples:
 
 
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
-    from ._common import add_allow_xacro
+    from ._common import add_allow_xacro, add_from
 
     p = sub.add_parser("check", help="are two descriptions the same robot? (exit 0 if yes)",
                        description="Compare two robot descriptions joint by joint: are they the same robot, "
@@ -35,6 +35,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("b", metavar="B", help="second robot")
     add_chain_options(p)
     add_allow_xacro(p)
+    add_from(p)
     p.add_argument("--tol", type=float, default=1e-6,  # = equivalence.DEFAULT_TOL (not imported: startup time)
                    help="relative tolerance on angles (rad) and lengths / robot size (default 1e-06)")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
@@ -51,8 +52,11 @@ def run(args: argparse.Namespace) -> int:
     from ..io import load
 
     (base_a, tip_a), (base_b, tip_b) = chain_ends(args, [args.a, args.b])
-    a = load(args.a, base_link=base_a, tip_link=tip_a, allow_xacro=args.allow_xacro)
-    b = load(args.b, base_link=base_b, tip_link=tip_b, allow_xacro=args.allow_xacro)
+    rep = args.representation
+    a = load(args.a, base_link=base_a, tip_link=tip_a, allow_xacro=args.allow_xacro,
+             representation=rep if args.a.lower().endswith((".csv", ".tsv", ".txt")) else None)
+    b = load(args.b, base_link=base_b, tip_link=tip_b, allow_xacro=args.allow_xacro,
+             representation=rep if args.b.lower().endswith((".csv", ".tsv", ".txt")) else None)
     result = compare(a, b, tol=args.tol)
     if args.json:
         d = result.to_dict()

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ._chains import add_chain_options, chain_ends
-from ._common import add_allow_xacro
+from ._common import add_allow_xacro, add_from
 from ._output import wrote
 
 #: --to FORMAT -> document section written for it (None: a whole document or another file type)
@@ -87,6 +87,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                         "MJCF (.xml/.mjcf) or SDF (.sdf) (one or more)")
     add_chain_options(p)
     add_allow_xacro(p)
+    add_from(p)
     p.add_argument("--to", required=True, choices=list(SECTION_OF), metavar="FORMAT",
                    help="output representation: " + ", ".join(SECTION_OF))
     p.add_argument("--format", choices=["csv", "markdown", "latex"],
@@ -176,7 +177,11 @@ def _mapping_note(path: str, robot, fmt: str) -> str | None:
 def _load_all(inputs: list[str], args: argparse.Namespace) -> list:
     from ..io import load
 
-    return [load(i, base_link=base, tip_link=tip, allow_xacro=args.allow_xacro)
+    from ..io import TABLE_EXTENSIONS
+
+    # --from applies to the table files among the inputs (the others say what they hold)
+    return [load(i, base_link=base, tip_link=tip, allow_xacro=args.allow_xacro,
+                 representation=args.representation if i.lower().endswith(TABLE_EXTENSIONS) else None)
             for i, (base, tip) in zip(inputs, chain_ends(args, inputs))]
 
 

@@ -353,3 +353,13 @@ def same_robot(a: Robot, b: Robot, tol: float = AGREE_TOL) -> str | None:
     k = int(bad[0])
     where = "at q = 0" if k == 0 else f"at q = [{', '.join(f'{v:.3g}' for v in Q[k])}]"
     return f"tool poses differ {where}: position by {pos[k] * scale:.3g}, rotation by {rot[k]:.3g}"
+
+
+def robot_from_data(data: Any, source: str = "<document>") -> Robot:
+    """A Robot from a robot document already parsed into plain data (dicts, lists, numbers), with
+    the same checks and messages as a document file; InputError names ``source``."""
+    try:
+        sections, joints, name = _sections(data)
+        return _robot_from_sections(sections, joints, name, _angle_unit(data))
+    except InputError as exc:
+        raise exc.in_source(source) from None
