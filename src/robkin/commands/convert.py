@@ -46,6 +46,11 @@ or modified DH table cannot be exact (nearly parallel axes: use --to hayati). Th
 values closer to 0 than 1e-9 (lengths: times the robot's size) as 0 and says so in a note; -o, --format
 and --json keep every digit.
 
+Tables as input: a CSV table written with --format csv reads back as INPUT (its header says which
+table it is, except a PoE's frame: --from poe or poe-body), and so do bare rows as pasted from a paper
+('a d alpha theta [R|P]' per line, .txt/.csv/.tsv) with --from dh or mdh (poe: screw rows then 'M ...';
+rpy-xyz: n + 2 rows).
+
 Tables for papers and spreadsheets: --format csv|markdown|latex with a table --to (dh, mdh, hayati, poe,
 poe-body, rpy-xyz, gjd) writes the table as CSV (reads back: the fixed transforms follow the rows
 after an empty line), Markdown or LaTeX (a table environment; matrices use amsmath), every number in
@@ -73,6 +78,8 @@ examples:
   robkin convert a.yaml b.yaml c.urdf --to yaml -o converted/
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format latex --pi
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format csv -o ur5_dh.csv
+  robkin convert ur5_dh.csv --to mdh
+  robkin convert ur5_rows.txt --from dh --to urdf -o ur5_from_rows.urdf
   robkin convert ur5.urdf panda.urdf a.yaml --tip-link tool0 --tip-link panda_hand_tcp --tip-link - --to mdh -o out/
 """
 
