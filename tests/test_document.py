@@ -140,7 +140,7 @@ def test_bad_json_reports_line(tmp_path):
 
 def test_unknown_extension_and_missing_file(tmp_path):
     with pytest.raises(InputError, match="unknown extension"):
-        robkin.load(tmp_path / "robot.txt")
+        robkin.load(tmp_path / "robot.dat")
     with pytest.raises(InputError, match="no such file"):
         robkin.load(tmp_path / "missing.yaml")
 

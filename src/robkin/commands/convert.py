@@ -53,8 +53,13 @@ rpy-xyz: n + 2 rows).
 
 Tables for papers and spreadsheets: --format csv|markdown|latex with a table --to (dh, mdh, hayati, poe,
 poe-body, rpy-xyz, gjd) writes the table as CSV (reads back: the fixed transforms follow the rows
-after an empty line), Markdown or LaTeX (a table environment; matrices use amsmath), every number in
-full precision; -o names a .csv, .md or .tex file. --pi writes angles that are exactly k*pi/m as
+after an empty line), Markdown or LaTeX (a table environment; matrices use amsmath); -o names a .csv,
+.md or .tex file.
+
+Numbers in files: tables and YAML documents write each value as the shortest decimal that keeps the
+table's FK within 1e-12 of the robot's size (0.3839999999999999 is written 0.384, -4.16e-18 is 0);
+--digits N writes N significant digits, and --exact every digit, so that the file reads back to the
+very same floats (JSON documents always keep every digit). --pi writes angles that are exactly k*pi/m as
 such (-pi/2, 3*pi/4).
 
 Chains: --base-link / --tip-link given once apply to every robot file among the inputs; given once
@@ -102,6 +107,13 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                         "Markdown or LaTeX, full precision")
     p.add_argument("--pi", action="store_true",
                    help="with --format: angles that are exactly k*pi/m written as such (-pi/2, 3*pi/4)")
+    precision = p.add_mutually_exclusive_group()
+    precision.add_argument("--digits", type=_digits, metavar="N",
+                           help="tables (--format) and YAML documents: N significant digits (default: the "
+                                "shortest decimal that keeps FK within 1e-12 of the robot's size)")
+    precision.add_argument("--exact", action="store_true",
+                           help="tables (--format) and YAML documents: every digit, reading back to the very "
+                                "same floats (JSON documents always do)")
     p.add_argument("-o", "--output", metavar="OUT", help="output file, or folder for several inputs")
     p.add_argument("--json", action="store_true",
                    help="print the robot document with the chosen section as JSON (instead of a table)")
@@ -113,6 +125,17 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     return p
 
 
+def _digits(text: str) -> int:
+    """argparse type of --digits: 1 .. 17 significant digits (17 always reproduces a float)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text[:40]}' is not a whole number") from None
+    if not 1 <= value <= 17:
+        raise argparse.ArgumentTypeError(f"{value} is not 1 .. 17")
+    return value
+
+
 def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None = None) -> str:
     """Text of the output file for one robot."""
     from ..io.document import document_from_robot, dump
@@ -122,7 +145,7 @@ def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None 
     if args is not None and args.format:
         from ..io.table_files import render_table
 
-        return render_table(robot, fmt, args.format, pi=args.pi)
+        return render_table(robot, fmt, args.format, pi=args.pi, digits="exact" if args.exact else args.digits)
     if fmt == "urdf":
         from ..io.urdf import urdf_from_robot
 
@@ -135,6 +158,10 @@ def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None 
     doc = document_from_robot(robot, degrees=degrees) if section is None else \
         document_from_robot(robot, (section,), degrees=degrees)
     doc_fmt = "json" if (fmt == "json" or out_ext == ".json") and fmt != "yaml" else "yaml"
+    if doc_fmt == "yaml" and not (args is not None and args.exact):
+        from ..io.document_round import round_document
+
+        doc = round_document(doc, robot.scale, None if args is None else args.digits)
     return dump(doc, doc_fmt)
 
 
