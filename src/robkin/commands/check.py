@@ -14,6 +14,14 @@ type, axis direction (angle), axis position (distance), positive direction (sign
 Descriptions that differ only in signs and zero offsets are the same mechanism with another joint
 convention; the table gives the mapping q_A = sign * q_B + offset.
 
+Past a difference the comparison goes on: both robots are written as the same kind of table (standard
+DH, or modified DH / Hayati when either came from one) by the same frame rules, and every row that
+differs says which parameters and by how much ("a2 -0.6127 vs -0.612 m"); a joint whose row matches is
+'aligned'. Lengths are in the robots' unit (metres), angles in radians unless marked deg. A half turn
+at joint 1 is nearly always the base frame (a UR URDF's base_link against the base of UR's DH tables):
+a note says so, with the option that picks the other base. Robots with different joint counts get
+the verdict first.
+
 exit status: 0 same robot; 1 not the same robot (including a different joint convention); 2 bad input.
 
 examples:
@@ -21,6 +29,7 @@ examples:
   robkin check vendor_dh.yaml robot.urdf --tol 1e-4       # a table typed with 4 decimals
   robkin check a.yaml b.yaml --json
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0 --tip-link -     # a chain per input, in order
+  robkin check ur5_rows.txt ur5.urdf --from dh --base-link - --base-link base --tip-link - --tip-link tool0
 """
 
 
@@ -57,10 +66,13 @@ def run(args: argparse.Namespace) -> int:
              representation=rep if args.a.lower().endswith((".csv", ".tsv", ".txt")) else None)
     b = load(args.b, base_link=base_b, tip_link=tip_b, allow_xacro=args.allow_xacro,
              representation=rep if args.b.lower().endswith((".csv", ".tsv", ".txt")) else None)
+    from ..messages import render_options
+
     result = compare(a, b, tol=args.tol)
     if args.json:
         d = result.to_dict()
         d["a"], d["b"] = args.a, args.b
+        d["notes"] = [render_options(note, args._flags) for note in d["notes"]]
         from ._output import print_json
 
         print_json(d)
@@ -70,7 +82,9 @@ def run(args: argparse.Namespace) -> int:
 
         kinds = lambda r: "".join("R" if j.revolute else "P" for j in r.joints)  # noqa: E731
         title = f"A: {args.a} ({a.n} joints {kinds(a)})   B: {args.b} ({b.n} joints {kinds(b)})"
-        show_blocks(comparison_blocks(result, title))
+        # notes name options as the library does (base_link=): here as this command's flags
+        show_blocks([render_options(b, args._flags) if isinstance(b, str) else b
+                     for b in comparison_blocks(result, title)])
     return 0 if result.same else 1
 
 
