@@ -95,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
     unit = "degrees" if args.degrees else "radians"
     print(matrix_text(T, "T (tool in base frame)"))
-    print("position:   " + ", ".join(fmt_num(v) for v in T[:3, 3]))
+    print("position:   " + ", ".join(fmt_num(v) for v in T[:3, 3]) + "  (x, y, z in m)")
     print("rpy:        " + ", ".join(fmt_num(v) for v in rpy) + f"  (roll, pitch, yaw in {unit}; R = Rz Ry Rx)")
     print("quaternion: " + ", ".join(fmt_num(v) for v in quat) + "  (w, x, y, z)")
     if "J" in extra:

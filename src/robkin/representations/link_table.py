@@ -146,8 +146,8 @@ def report_fk_error(err: float, robot: Robot, section: str, *, where: str = "",
         why = (", ".join(tilts) if tilts else
                "of rounding in the table's parameters")
         hint = "" if section == "hayati" else "; the hayati table is exact there"
-        warnings.warn(f"{where}{section}: this table reproduces the robot's FK only to {err:.2g} (robot "
-                      f"size {robot.scale:.3g}; measured at q = 0 and {_CHECK_SAMPLES} configurations) because "
+        warnings.warn(f"{where}{section}: this table reproduces the robot's FK only to {err:.2g} m (robot "
+                      f"size {robot.scale:.3g} m; measured at q = 0 and {_CHECK_SAMPLES} configurations) because "
                       f"{why}{hint}", ConditioningWarning, stacklevel=stacklevel)
 
 
