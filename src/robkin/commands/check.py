@@ -22,7 +22,14 @@ at joint 1 is nearly always the base frame (a UR URDF's base_link against the ba
 a note says so, with the option that picks the other base. Robots with different joint counts get
 the verdict first.
 
-exit status: 0 same robot; 1 not the same robot (including a different joint convention); 2 bad input.
+Where both give mass properties (URDF/MJCF/SDF inertials, or m, r, I in a table's rows) and the
+mechanism is the same, they are compared too: body by body (mass, centre of mass, inertia; body i is
+everything that moves with joint i) and through the mass matrix M(q) and gravity torques g(q) at 16
+fixed configurations (gravity along -z of each base); the first body that differs is named. Bodies
+that differ make the exit status 1; a side without inertials is reported as not compared.
+
+exit status: 0 same robot (and the same mass properties, where both have them); 1 not the same robot
+(including a different joint convention, or different mass properties); 2 bad input.
 
 examples:
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0
@@ -69,10 +76,14 @@ def run(args: argparse.Namespace) -> int:
     from ..messages import render_options
 
     result = compare(a, b, tol=args.tol)
+    from ..dynamics.compare import compare_masses
+
+    masses = compare_masses(a, b, result)
     if args.json:
         d = result.to_dict()
         d["a"], d["b"] = args.a, args.b
         d["notes"] = [render_options(note, args._flags) for note in d["notes"]]
+        d["mass"] = masses.to_dict()
         from ._output import print_json
 
         print_json(d)
@@ -83,8 +94,9 @@ def run(args: argparse.Namespace) -> int:
         kinds = lambda r: "".join("R" if j.revolute else "P" for j in r.joints)  # noqa: E731
         title = f"A: {args.a} ({a.n} joints {kinds(a)})   B: {args.b} ({b.n} joints {kinds(b)})"
         # notes name options as the library does (base_link=): here as this command's flags
-        show_blocks([render_options(b, args._flags) if isinstance(b, str) else b
-                     for b in comparison_blocks(result, title)])
-    return 0 if result.same else 1
+        show_blocks([render_options(blk, args._flags) if isinstance(blk, str) else blk
+                     for blk in comparison_blocks(result, title)])
+        print(masses.summary())
+    return 0 if result.same and masses.same is not False else 1
 
 
