@@ -56,7 +56,15 @@ def load_input(path: str, args: argparse.Namespace) -> "Robot":
 
     return load(path, base_link=getattr(args, "base_link", None), tip_link=getattr(args, "tip_link", None),
                 allow_xacro=getattr(args, "allow_xacro", False),
-                representation=getattr(args, "representation", None))
+                representation=_table_only(path, getattr(args, "representation", None), args))
+
+
+def _table_only(path: str, representation: str | None, args: argparse.Namespace) -> str | None:
+    """--from for a table file; for other files only when it is the one input (so that the loader
+    says it does not apply), not when a command takes several inputs of mixed kinds."""
+    if representation is None or path.lower().endswith((".csv", ".tsv", ".txt")):
+        return representation
+    return representation if not isinstance(getattr(args, "input", None), list) else None
 
 
 def seed(text: str) -> int:
