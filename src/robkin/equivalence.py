@@ -180,7 +180,8 @@ def compare(a: Robot, b: Robot, tol: float = DEFAULT_TOL, samples: int = 64) -> 
                                float(offsets[k]) if shifted else 0.0, "; ".join(parts))
     mapped = all_joints and tool == "same"
     same = mapped and all(j.status == "same" for j in joints)
-    kind, params = "", []
+    kind: str = ""
+    params: list[ParameterDifference] = []
     if a.n == b.n and not same and a.types == b.types:
         # past the first difference: both robots as the same kind of table, row against row
         kind, params = parameter_differences(a, b, scale, tol)
@@ -201,9 +202,9 @@ def compare(a: Robot, b: Robot, tol: float = DEFAULT_TOL, samples: int = 64) -> 
         if not kind:
             joints.append(JointMatch(k, ja.name, jb.name, ja.type, jb.type, "unchecked"))
             continue
-        rows = [d.text() for d in params if d.joint == k + 1]
-        joints.append(JointMatch(k, ja.name, jb.name, ja.type, jb.type, "differs" if rows else "aligned",
-                                 detail=f"{kind}: " + "; ".join(rows) if rows else
+        texts = [d.text() for d in params if d.joint == k + 1]
+        joints.append(JointMatch(k, ja.name, jb.name, ja.type, jb.type, "differs" if texts else "aligned",
+                                 detail=f"{kind}: " + "; ".join(texts) if texts else
                                  f"its {kind} row matches (compared after joint {matched + 1})"))
     if not same:
         notes += _base_hints(a, b, joints, params, matched, scale, tol)
