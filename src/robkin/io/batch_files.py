@@ -25,11 +25,12 @@ from .numbers import number
 
 __all__ = ["MAX_BYTES", "MAX_VALUES", "Rows", "read_rows", "write_rows", "csv_text"]
 
-#: Largest batch file read (text or array): 10^6 poses as 16 numbers of CSV are ~300 MB; a batch
-#: beyond that belongs in a program (robkin's Python API), not on the command line.
-MAX_BYTES = 512 * 1024 * 1024
-#: Largest number of values in one array (64 MB of float64 per million rows of 8): bounds memory.
-MAX_VALUES = 64 * 1024 * 1024
+#: Largest batch file read (text or array): 10^6 joint vectors of 6 values as CSV are ~100 MB with
+#: every digit, so 256 MB holds any batch that belongs on a command line (larger ones: robkin's Python
+#: API); a CSV is parsed row by row into one float array, so memory stays a small multiple of this.
+MAX_BYTES = 256 * 1024 * 1024
+#: Largest number of values in one array (128 MB of float64): bounds memory whatever the header says.
+MAX_VALUES = 16 * 1024 * 1024
 _MAGIC = b"\x93NUMPY"
 
 
@@ -144,17 +145,21 @@ def _csv(text: str, name: str) -> Rows:
     if not lines:
         raise InputError(f"{name}: no rows")
     tab = "\t" in lines[0][1] and "," not in lines[0][1]
-    reader = csv.reader((line for _, line in lines), delimiter="\t" if tab else ",")
-    rows = [[c.strip() for c in r] for r in reader]
+    delimiter = "\t" if tab else ","
+    first = [c.strip() for c in next(csv.reader([lines[0][1]], delimiter=delimiter))]
     header: list[str] | None = None
-    if rows and rows[0] and not _is_number(rows[0][0]):
-        header, rows, lines = rows[0], rows[1:], lines[1:]
-    if not rows:
+    if first and not _is_number(first[0]):
+        header, lines = first, lines[1:]
+    if not lines:
         raise InputError(f"{name}: no rows after the header")
-    width = len(header) if header else len(rows[0])
-    out = np.empty((len(rows), width))
+    width = len(header) if header else len(first)
+    if len(lines) * width > MAX_VALUES:
+        raise InputError(f"{name}: {len(lines)} rows of {width} values; a batch is at most {MAX_VALUES} values")
+    out = np.empty((len(lines), width))
     errors: dict[int, str] = {}
-    for i, ((k, _), row) in enumerate(zip(lines, rows)):
+    reader = csv.reader((line for _, line in lines), delimiter=delimiter)
+    for i, ((k, _), raw) in enumerate(zip(lines, reader)):
+        row = [c.strip() for c in raw]
         if len(row) != width:
             raise InputError(f"{name}: line {k}: expected {width} values, got {len(row)}")
         for j, cell in enumerate(row):
