@@ -182,8 +182,8 @@ def compare(a: Robot, b: Robot, tol: float = DEFAULT_TOL, samples: int = 64) -> 
     same = mapped and all(j.status == "same" for j in joints)
     kind: str = ""
     params: list[ParameterDifference] = []
-    if a.n == b.n and not same and a.types == b.types:
-        # past the first difference: both robots as the same kind of table, row against row
+    if a.n == b.n and not mapped and a.types == b.types:
+        # past the first difference (a joint mapping, where there is one, explains every row instead): both robots as the same kind of table, row against row
         kind, params = parameter_differences(a, b, scale, tol)
         for k in range(min(matched, len(joints))):  # axes that match, with a row that does not
             rows = "; ".join(d.text() for d in params if d.joint == k + 1)
