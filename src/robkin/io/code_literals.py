@@ -62,10 +62,11 @@ def py_list(values: Iterable[float], field: str) -> str:
     return "[" + ", ".join(py_float(v, f"{field}[{i}]") for i, v in enumerate(values)) + "]"
 
 
-def py_matrix(M: Sequence[Sequence[float]], field: str, indent: str = "") -> str:
-    """A nested Python list literal of a matrix of finite floats, one row a line after the first."""
+def py_matrix(M: Sequence[Sequence[float]], field: str, indent: str | None = None) -> str:
+    """A nested Python list literal of a matrix of finite floats: one line, or with ``indent`` one row a
+    line after the first (indented by ``indent`` plus one space)."""
     rows = [py_list(row, f"{field}[{i}]") for i, row in enumerate(np.asarray(M, dtype=float))]
-    return "[" + (",\n" + indent + " ").join(rows) + "]"
+    return "[" + (", " if indent is None else ",\n" + indent + " ").join(rows) + "]"
 
 
 # ---------------------------------------------------------------------------------------------- MATLAB

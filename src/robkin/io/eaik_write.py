@@ -10,7 +10,6 @@ every other robkin output.
 
 from __future__ import annotations
 
-import json
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -50,7 +49,9 @@ def eaik_json(robot: "Robot") -> str:
            "frame": "robot base frame at q = 0; lengths in metres",
            "H": H.tolist(), "P": P.tolist(), "R6T": R.tolist(),
            "usage": "eaik.pybindings.EAIK.Robot(np.array(H).T, np.array(P).T, np.array(R6T), [], True)"}
-    return json.dumps(doc, indent=1, ensure_ascii=True, allow_nan=False) + "\n"
+    from .document_write import dump
+
+    return dump(doc, "json")
 
 
 def eaik_python(robot: "Robot") -> str:
@@ -73,11 +74,11 @@ import numpy as np
 NAME = {py_str(name)}
 JOINT_NAMES = [{", ".join(py_str(j.name) for j in robot.joints)}]
 #: joint axes (n, 3): unit vectors along each joint's positive direction
-H = np.array({py_matrix(H, "eaik.H", "             ")})
+H = np.array({py_matrix(H, "eaik.H", "             ")}, dtype=float)
 #: offsets (n+1, 3): base origin -> point on axis 1 -> ... -> point on axis n -> tool origin
-P = np.array({py_matrix(P, "eaik.P", "             ")})
+P = np.array({py_matrix(P, "eaik.P", "             ")}, dtype=float)
 #: tool orientation at q = 0
-R6T = np.array({py_matrix(R, "eaik.R6T", "               ")})
+R6T = np.array({py_matrix(R, "eaik.R6T", "               ")}, dtype=float)
 
 
 def eaik_robot(fixed_axes=()):

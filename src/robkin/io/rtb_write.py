@@ -123,6 +123,7 @@ links = [
 {links}
 ]
 
-robot = DHRobot(links, name=NAME, base=SE3(np.array(BASE), check=False), tool=SE3(np.array(TOOL), check=False),
+robot = DHRobot(links, name=NAME, base=SE3(np.array(BASE, dtype=float), check=False),
+                tool=SE3(np.array(TOOL, dtype=float), check=False),
                 gravity=GRAVITY)
 '''

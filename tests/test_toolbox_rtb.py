@@ -1,0 +1,134 @@
+"""``robkin convert --to rtb``: the Robotics Toolbox file, run in a fresh process without robkin, against
+pinocchio on the source URDF (independent oracle): ``fkine`` against pinocchio's frame placements,
+``rne(q, qd, qdd)`` against ``rnea`` (plus the URDF's joint damping and Coulomb friction, which the file
+gives the toolbox as B and Tc), ``gravload(q)`` against the generalized gravity, for standard and
+modified DH, on real arms; joints off the chain locked at neutral (``buildReducedModel``).
+
+All files run in one subprocess (the toolbox takes ~1 s to import; an import problem there cannot break
+other tests)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import warnings
+
+import numpy as np
+import pytest
+
+import robkin
+from robkin.io.rtb_write import rtb_from_robot
+from test_dynamics import Pin
+from test_urdf import robot_file
+
+pin = pytest.importorskip("pinocchio")
+
+#: (file, base link, tip link): arms with inertials from example-robot-data; a chain ending in a
+#: prismatic finger; humanoid/mobile-manipulator arms whose base is mid-tree (the rest locked at
+#: neutral, merged into the base or the links they hang from); URDFs with joint damping and friction
+ARMS = [
+    ("ur_description/urdf/ur3_robot.urdf", None, "tool0"),
+    ("ur_description/urdf/ur5_robot.urdf", None, "tool0"),
+    ("ur_description/urdf/ur10_robot.urdf", None, "tool0"),
+    ("panda_description/urdf/panda.urdf", None, "panda_hand_tcp"),
+    ("panda_description/urdf/panda.urdf", "panda_link0", "panda_leftfinger"),
+    ("kinova_description/robots/kinova.urdf", None, "j2s6s200_end_effector"),
+    ("xarm_description/urdf/xarm7.urdf", None, "link7"),
+    ("z1_description/urdf/z1.urdf", None, "gripperMover"),
+    ("talos_data/robots/talos_full_v2.urdf", "torso_2_link", "gripper_left_base_link"),
+    ("tiago_description/robots/tiago.urdf", "torso_lift_link", "arm_tool_link"),
+    ("baxter_description/urdf/baxter.urdf", "torso", "left_gripper"),
+]
+CONVENTIONS = ("dh", "mdh")
+#: Agreement with pinocchio relative to the largest entry (the issue's promise). Observed ~1e-14: the
+#: same sums in other frames and order. A wrong frame, sign or inertia term is off by O(1).
+REL_TOL = 1e-9
+
+#: Run in the fresh process: load each file with robkin made unimportable, evaluate at the given states.
+RUNNER = r"""
+import json, runpy, sys, warnings
+sys.modules["robkin"] = None          # the file must not need robkin
+warnings.simplefilter("ignore")
+import numpy as np
+jobs = json.load(open(sys.argv[1]))
+out = []
+for job in jobs:
+    robot = runpy.run_path(job["file"])["robot"]
+    res = {"fkine": [], "rne": [], "gravload": []}
+    for q, qd, qdd in zip(job["q"], job["qd"], job["qdd"]):
+        res["fkine"].append(np.asarray(robot.fkine(q).A).tolist())
+        res["rne"].append(np.asarray(robot.rne(q, qd, qdd)).tolist())
+        res["gravload"].append(np.asarray(robot.gravload(q)).tolist())
+    out.append(res)
+json.dump(out, open(sys.argv[2], "w"))
+"""
+
+
+def _arm_id(arm) -> str:
+    return f"{arm[0].split('/')[-1]}:{arm[2]}"
+
+
+def _pin_pose(ref: Pin, robot, base: str | None, tip: str, q: np.ndarray) -> np.ndarray:
+    """pinocchio's pose of the tip frame in the chain's base frame (the root when base is None)."""
+    data = ref.model.createData()
+    pin.framesForwardKinematics(ref.model, data, ref.q(q))
+    T = data.oMf[ref.model.getFrameId(tip)].homogeneous
+    if base is not None:
+        T = np.linalg.inv(data.oMf[ref.model.getFrameId(base)].homogeneous) @ T
+    return T
+
+
+@pytest.fixture(scope="module")
+def rtb_runs(tmp_path_factory):
+    """For every arm and convention: (robot, pinocchio reference, states, the toolbox's answers)."""
+    pytest.importorskip("roboticstoolbox")
+    tmp = tmp_path_factory.mktemp("rtb")
+    rng = np.random.default_rng(19)
+    cases, jobs = [], []
+    for arm in ARMS:
+        rel, base, tip = arm
+        path = robot_file(rel)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")   # robot files held at neutral off the chain
+            robot = robkin.load(path, base_link=base, tip_link=tip)
+        ref = Pin(path, robot)
+        lo, hi = np.maximum(robot.limits[:, 0], -2.0), np.minimum(robot.limits[:, 1], 2.0)
+        states = {"q": lo + rng.random((3, robot.n)) * (hi - lo),
+                  "qd": rng.uniform(-2, 2, (3, robot.n)), "qdd": rng.uniform(-2, 2, (3, robot.n))}
+        for convention in CONVENTIONS:
+            f = tmp / f"{len(jobs)}.py"
+            f.write_text(rtb_from_robot(robot, convention))
+            jobs.append({"file": str(f), **{k: v.tolist() for k, v in states.items()}})
+            cases.append((arm, convention, robot, ref, states))
+    (tmp / "jobs.json").write_text(json.dumps(jobs))
+    proc = subprocess.run([sys.executable, "-c", RUNNER, str(tmp / "jobs.json"), str(tmp / "out.json")],
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    answers = json.loads((tmp / "out.json").read_text())
+    return {(_arm_id(c[0]), c[1]): (*c[2:], a) for c, a in zip(cases, answers)}
+
+
+def _close(ours, ref, what: str) -> None:
+    ours, ref = np.asarray(ours), np.asarray(ref)
+    err = np.max(np.abs(ours - ref))
+    assert err <= REL_TOL * max(np.max(np.abs(ref)), 1e-300), f"{what}: {err:.3g} off (largest {np.max(np.abs(ref)):.3g})"
+
+
+@pytest.mark.parametrize("convention", CONVENTIONS)
+@pytest.mark.parametrize("arm", ARMS, ids=_arm_id)
+def test_rtb_file_matches_pinocchio(rtb_runs, arm, convention):
+    robot, ref, states, got = rtb_runs[(_arm_id(arm), convention)]
+    _, base, tip = arm
+    damping = ref.model.damping[ref.order]
+    friction = ref.model.friction[ref.order]
+    for k, (q, qd, qdd) in enumerate(zip(states["q"], states["qd"], states["qdd"])):
+        _close(got["fkine"][k], _pin_pose(ref, robot, base, tip, q), "fkine")
+        # the file gives the URDF's damping and Coulomb friction to the toolbox (B, Tc), which adds them
+        _close(got["rne"][k], ref.rnea(q, qd, qdd) + damping * qd + friction * np.sign(qd), "rne")
+        _close(got["gravload"][k], ref.gravity(q), "gravload")
+
+
+def test_enough_arms_with_dynamics_are_covered():
+    """The issue asks for at least 8 real arms with inertials."""
+    assert len({a[0] for a in ARMS}) >= 8
