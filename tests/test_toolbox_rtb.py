@@ -13,6 +13,7 @@ import json
 import subprocess
 import sys
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,6 +21,7 @@ import pytest
 import robkin
 from robkin.io.rtb_write import rtb_from_robot
 from test_dynamics import Pin
+from test_toolbox_code import _hostile_robot
 from test_urdf import robot_file
 
 pin = pytest.importorskip("pinocchio")
@@ -41,6 +43,9 @@ ARMS = [
     ("baxter_description/urdf/baxter.urdf", "torso", "left_gripper"),
 ]
 CONVENTIONS = ("dh", "mdh")
+#: kinematics only (no inertials): the seed SCARA's flipped prismatic joints, and hostile names
+KINEMATIC = {"scara": robkin.load(Path(robkin.__file__).parent / "examples" / "scara.yaml"),
+             "hostile": _hostile_robot()}
 #: Agreement with pinocchio relative to the largest entry (the issue's promise). Observed ~1e-14: the
 #: same sums in other frames and order. A wrong frame, sign or inertia term is off by O(1).
 REL_TOL = 1e-9
@@ -54,12 +59,14 @@ import numpy as np
 jobs = json.load(open(sys.argv[1]))
 out = []
 for job in jobs:
-    robot = runpy.run_path(job["file"])["robot"]
-    res = {"fkine": [], "rne": [], "gravload": []}
+    ns = runpy.run_path(job["file"])
+    robot = ns["robot"]
+    res = {"fkine": [], "rne": [], "gravload": [], "names": ns["JOINT_NAMES"], "name": robot.name}
     for q, qd, qdd in zip(job["q"], job["qd"], job["qdd"]):
         res["fkine"].append(np.asarray(robot.fkine(q).A).tolist())
-        res["rne"].append(np.asarray(robot.rne(q, qd, qdd)).tolist())
-        res["gravload"].append(np.asarray(robot.gravload(q)).tolist())
+        if job["dynamics"]:
+            res["rne"].append(np.asarray(robot.rne(q, qd, qdd)).tolist())
+            res["gravload"].append(np.asarray(robot.gravload(q)).tolist())
     out.append(res)
 json.dump(out, open(sys.argv[2], "w"))
 """
@@ -99,11 +106,19 @@ def rtb_runs(tmp_path_factory):
         for convention in CONVENTIONS:
             f = tmp / f"{len(jobs)}.py"
             f.write_text(rtb_from_robot(robot, convention))
-            jobs.append({"file": str(f), **{k: v.tolist() for k, v in states.items()}})
+            jobs.append({"file": str(f), "dynamics": True, **{k: v.tolist() for k, v in states.items()}})
             cases.append((arm, convention, robot, ref, states))
+    for key, robot in KINEMATIC.items():   # no mass properties: fkine only
+        states = {"q": rng.uniform(-2, 2, (3, robot.n)), "qd": np.zeros((3, robot.n)), "qdd": np.zeros((3, robot.n))}
+        for convention in CONVENTIONS:
+            f = tmp / f"{len(jobs)}.py"
+            f.write_text(rtb_from_robot(robot, convention))
+            jobs.append({"file": str(f), "dynamics": False, **{k: v.tolist() for k, v in states.items()}})
+            cases.append(((key, None, key), convention, robot, None, states))
     (tmp / "jobs.json").write_text(json.dumps(jobs))
     proc = subprocess.run([sys.executable, "-c", RUNNER, str(tmp / "jobs.json"), str(tmp / "out.json")],
-                          capture_output=True, text=True, timeout=600)
+                          capture_output=True, text=True, timeout=600, cwd=tmp)
+    assert not (tmp / "PWNED").exists()
     assert proc.returncode == 0, proc.stderr[-3000:]
     answers = json.loads((tmp / "out.json").read_text())
     return {(_arm_id(c[0]), c[1]): (*c[2:], a) for c, a in zip(cases, answers)}
@@ -127,6 +142,17 @@ def test_rtb_file_matches_pinocchio(rtb_runs, arm, convention):
         # the file gives the URDF's damping and Coulomb friction to the toolbox (B, Tc), which adds them
         _close(got["rne"][k], ref.rnea(q, qd, qdd) + damping * qd + friction * np.sign(qd), "rne")
         _close(got["gravload"][k], ref.gravity(q), "gravload")
+
+
+@pytest.mark.parametrize("convention", CONVENTIONS)
+@pytest.mark.parametrize("key", list(KINEMATIC))
+def test_rtb_file_of_flipped_joints_and_hostile_names(rtb_runs, key, convention):
+    """Flipped prismatic joints (the seed SCARA) and names that try to be code: fkine is robkin's FK, the
+    names arrive as the very strings, and nothing ran (no PWNED file in the working folder)."""
+    robot, _, states, got = rtb_runs[(key + ":" + key, convention)]
+    for k, q in enumerate(states["q"]):
+        _close(got["fkine"][k], robot.fk(q), "fkine")
+    assert got["names"] == [j.name for j in robot.joints] and got["name"] == robot.name
 
 
 def test_enough_arms_with_dynamics_are_covered():
