@@ -27,6 +27,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import robkin
 from robkin.cli import main
@@ -39,6 +41,8 @@ from robkin.io.rtb_write import rtb_from_robot
 from robkin.representations.dh import DHTable
 from robkin.representations.mdh import MDHTable
 from robkin.robot import Joint, Robot
+from strategies import robots
+from test_properties import SCALE as PROPERTY_SCALE
 from test_urdf import robot_file
 
 OCTAVE = shutil.which("octave")
@@ -130,6 +134,21 @@ def test_eaik_solves_targets_from_the_written_parameters(tmp_path):
                     assert np.abs(robot.fk(p) - T).max() <= 1e-9 * max(robot.scale, 1.0)
                 solved += len(exact)
     assert solved >= 3 * 20 * 2 * 2
+
+
+@settings(max_examples=int(25 * PROPERTY_SCALE), deadline=None)
+@given(robots(min_joints=1, max_joints=6, units=(1.0,)), st.data())
+def test_eaik_forward_kinematics_of_random_robots_is_robkins(robot, data):
+    """EAIK's own forward kinematics of the written H, P, R6T equals robkin's FK (any revolute chain)."""
+    eaik = pytest.importorskip("eaik.pybindings.EAIK")
+    from dataclasses import replace
+
+    robot = robot.replace(joints=tuple(replace(j, type="revolute") for j in robot.joints))
+    doc = json.loads(eaik_json(robot))
+    solver = eaik.Robot(np.array(doc["H"]).T, np.array(doc["P"]).T, np.array(doc["R6T"]), [], True)
+    q = np.array(data.draw(st.lists(st.floats(-np.pi, np.pi), min_size=robot.n, max_size=robot.n)))
+    # 1e-10 of the robot's size: EAIK multiplies the same rotations in another order (observed ~1e-15)
+    assert np.abs(np.asarray(solver.fwdkin(q)) - robot.fk(q)).max() <= 1e-10 * max(robot.scale, 1.0)
 
 
 def test_eaik_refuses_a_prismatic_joint():
@@ -263,6 +282,30 @@ def test_opw_from_a_dh_table_of_the_kr6():
         assert np.abs(T - robot.fk(q)).max() <= 1e-12
 
 
+@settings(max_examples=int(25 * PROPERTY_SCALE), deadline=None)
+@given(st.data())
+def test_opw_of_random_arms_of_the_class_reproduces_fk(data):
+    """Random OPW geometry (lengths of either sign, c2 > 0), offsets, signs, robot base and tool: robkin's
+    parameters with their offsets, signs, base and tool reproduce the robot's FK through the paper's FK."""
+    from robkin import se3
+
+    length = st.floats(-1.0, 1.0, allow_nan=False, allow_subnormal=False)
+    g = {k: data.draw(length) for k in ("a1", "a2", "b", "c1", "c3", "c4")}
+    g["c2"] = data.draw(st.floats(0.05, 1.0))
+    offsets = data.draw(st.lists(st.floats(-np.pi, np.pi), min_size=6, max_size=6))
+    signs = data.draw(st.lists(st.sampled_from([-1, 1]), min_size=6, max_size=6))
+    pose = lambda: se3.homogeneous(se3.matrix_from_rpy(data.draw(st.lists(st.floats(-np.pi, np.pi), min_size=3,  # noqa: E731
+                                                                                max_size=3))),
+                                   data.draw(st.lists(st.floats(-1, 1), min_size=3, max_size=3)))
+    robot = opw_robot(g, offsets, signs, pose(), pose())
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")        # an exact arm of the class: no FK error to report
+        got, o, s, B, E = _model_of(opw_document(robot))
+    assert got["c2"] == pytest.approx(g["c2"], abs=1e-9) and got["c3"] >= 0 and got["c4"] >= 0
+    for q in np.random.default_rng(0).uniform(-np.pi, np.pi, (5, 6)):
+        assert np.abs(B @ opw_paper_fk(got, s * q - o) @ E - robot.fk(q)).max() <= 1e-9 * max(robot.scale, 1.0)
+
+
 @pytest.mark.parametrize("make, why", [
     (lambda: _real("ur_description/urdf/ur5_robot.urdf", "tool0"), "joints 3 and 4 are not perpendicular"),
     (lambda: _real("panda_description/urdf/panda.urdf", "panda_hand_tcp"), "the robot has 7 joints"),
@@ -386,12 +429,13 @@ def test_cli_writes_each_code_format(tmp_path, capsys):
     assert "RevoluteDH(" in (tmp_path / "a.py").read_text()
     assert json.loads((tmp_path / "a.json").read_text())["H"][0] == [0.0, 0.0, 1.0]
     capsys.readouterr()
-    kr6 = tmp_path / "kr6.yaml"
-    g, offsets, signs = PUBLISHED["KUKA KR6 R700 sixx"]
-    kr6.write_text(robkin.io.document.dump(robkin.io.document.document_from_robot(opw_robot(g, offsets, signs))))
+    kr6 = EXAMPLES / "kr6_r700.yaml"     # the bundled KR6 R700: its DH table, KUKA's joint directions
     assert main(["convert", str(kr6), "--to", "opw"]) == 0
     doc = yaml.safe_load(capsys.readouterr().out)
-    assert doc["opw_kinematics_geometric_parameters"]["c3"] == pytest.approx(0.365, abs=1e-12)
+    g, offsets, signs = PUBLISHED["KUKA KR6 R700 sixx"]
+    assert doc["opw_kinematics_geometric_parameters"] == pytest.approx(g, abs=1e-12)
+    assert doc["opw_kinematics_joint_offsets"] == pytest.approx(offsets, abs=1e-12)   # the published ones
+    assert doc["opw_kinematics_joint_sign_corrections"] == signs
     assert main(["convert", str(kr6), "--to", "opw", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["opw_kinematics_joint_sign_corrections"]
 

@@ -87,7 +87,7 @@ examples:
   robkin convert ur5.urdf --tip-link tool0 --to rtb --convention mdh -o ur5_mdh.py
   robkin convert ur5.urdf --tip-link tool0 --to matlab -o ur5.m
   robkin convert ur5.urdf --tip-link tool0 --to eaik -o ur5_eaik.py
-  robkin convert kr6.yaml --to opw -o kr6_opw.yaml
+  robkin convert kr6_r700.yaml --to opw -o kr6_opw.yaml
   robkin convert a.yaml b.yaml c.urdf --to yaml -o converted/
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format latex --pi
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format csv -o ur5_dh.csv

@@ -140,7 +140,8 @@ def _model_base(robot: "Robot") -> np.ndarray:
     base's x (y where x is along the axis); the identity for the usual industrial-arm URDF."""
     z1, p1 = robot.axes[0], robot.points[0]
     ez = np.array([0.0, 0.0, 1.0])
-    z = ez if abs(abs(z1[2]) - 1.0) <= SNAP else z1     # joint 1 may turn either way about it (its sign)
+    # the base z when joint 1's axis is along it (sine of the angle within SNAP; either way: its sign)
+    z = ez if math.hypot(z1[0], z1[1]) <= SNAP else z1
     origin = p1 - (p1 @ z1) * z1
     origin[np.abs(origin) <= SNAP * robot.scale] = 0.0
     ref = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
