@@ -1,5 +1,5 @@
 """``robkin convert --to rtb``: the Robotics Toolbox file, run in a fresh process without robkin, against
-pinocchio on the source URDF (independent oracle): ``fkine`` against pinocchio's frame placements,
+pinocchio on the source URDF (independent oracle) and robkin's own FK and dynamics: ``fkine`` against pinocchio's frame placements,
 ``rne(q, qd, qdd)`` against ``rnea`` (plus the URDF's joint damping and Coulomb friction, which the file
 gives the toolbox as B and Tc), ``gravload(q)`` against the generalized gravity, for standard and
 modified DH, on real arms; joints off the chain locked at neutral (``buildReducedModel``).
@@ -142,6 +142,10 @@ def test_rtb_file_matches_pinocchio(rtb_runs, arm, convention):
         # the file gives the URDF's damping and Coulomb friction to the toolbox (B, Tc), which adds them
         _close(got["rne"][k], ref.rnea(q, qd, qdd) + damping * qd + friction * np.sign(qd), "rne")
         _close(got["gravload"][k], ref.gravity(q), "gravload")
+        # and robkin's own dynamics (the compiled recursive Newton-Euler) agree with both
+        _close(got["rne"][k], robot.inverse_dynamics(q, qd, qdd) + damping * qd + friction * np.sign(qd), "robkin rne")
+        _close(got["gravload"][k], robot.gravity(q), "robkin gravity")
+        _close(got["fkine"][k], robot.fk(q), "robkin fk")
 
 
 @pytest.mark.parametrize("convention", CONVENTIONS)
