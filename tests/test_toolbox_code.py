@@ -338,14 +338,15 @@ def test_opw_refuses_arms_outside_the_class(make, why):
 
 # ------------------------------------------------------------------------------- generated code is data
 HOSTILE = ['x"); import os; os.system("touch PWNED") #', "y'); system('touch PWNED'); %", "z\\'); os.remove('f') #",
+           '"""; import os; os.system("touch PWNED"); """ %{',
            "w]; robot=0; disp(1) % \" '''", "\u00e9t\u00e9 \U0001f916 joint", "{{NAME}} %s {0} $(touch PWNED)"]
 
 
 def _hostile_robot() -> Robot:
-    table = DHTable(np.array([[0.1, 0.2, np.pi / 2, 0], [0.3, 0, 0, 0.1], [0, 0.1, -np.pi / 2, 0],
+    table = DHTable(np.array([[0.1, 0.2, np.pi / 2, 0], [0.3, 0, 0, 0.1], [0, 0.1, -np.pi / 2, 0], [0.2, 0, 0, 0],
                               [0, 0.2, np.pi / 2, 0], [0, 0, -np.pi / 2, 0], [0, 0.1, 0, 0]]),
                     tuple(Joint(name) for name in HOSTILE))
-    return table.to_robot(name=HOSTILE[1])
+    return table.to_robot(name=HOSTILE[3])   # a name that would end a docstring
 
 
 def _python_module_is_plain(text: str) -> ast.Module:
@@ -379,7 +380,9 @@ def test_hostile_names_are_python_strings(write, tmp_path):
     assert text.isascii()
     tree = _python_module_is_plain(text)
     assert _literal(tree, "JOINT_NAMES") == HOSTILE
-    assert _literal(tree, "NAME") == HOSTILE[1]
+    assert _literal(tree, "NAME") == HOSTILE[3]
+    for name in HOSTILE:     # never outside a literal: not in a comment, not in a docstring
+        assert py_str(name) in text and text.count(name) <= text.count(py_str(name))
 
 
 def test_hostile_names_run_as_data(tmp_path):
@@ -394,8 +397,10 @@ def test_hostile_names_run_as_data(tmp_path):
         os.chdir(cwd)
     assert ns["JOINT_NAMES"] == HOSTILE and not (tmp_path / "PWNED").exists()
     assert json.loads(eaik_json(robot))["joint_names"] == HOSTILE
-    doc = yaml.safe_load(robkin.io.document.dump(opw_document(robot)))
-    assert doc["joint_names"] == HOSTILE and doc["name"] == HOSTILE[1]
+    kr6 = opw_robot(*PUBLISHED["KUKA KR6 R700 sixx"]).replace(joints=tuple(Joint(n) for n in HOSTILE[:6]),
+                                                              name=HOSTILE[3])
+    doc = yaml.safe_load(robkin.io.document.dump(opw_document(kr6)))
+    assert doc["joint_names"] == HOSTILE[:6] and doc["name"] == HOSTILE[3]
 
 
 @needs_octave
@@ -408,7 +413,7 @@ def test_hostile_names_are_octave_strings(tmp_path):
     ascii_names = [n for n in HOSTILE if n.isascii()]
     checks = "".join(f"assert(strcmp(robot.joint_names{{{HOSTILE.index(n) + 1}}}, {m_str(n)}));" for n in ascii_names)
     proc = subprocess.run([OCTAVE, "--no-gui", "--no-window-system", "--quiet", "--norc", "--eval",
-                           f"source('{f}'); {checks} assert(strcmp(robot.name, {m_str(HOSTILE[1])})); "
+                           f"source('{f}'); {checks} assert(strcmp(robot.name, {m_str(HOSTILE[3])})); "
                            f"fprintf('%d\\n', double(robot.joint_names{{1}})); disp(numel(robot.joint_names));"],
                           capture_output=True, text=True, timeout=120, cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr

@@ -1,7 +1,7 @@
 """Text and numbers from a robot file as literals of the programs robkin writes (Python, MATLAB/Octave).
 
-Generated code is data: a name, comment or number that came from an input file reaches a ``.py`` or
-``.m`` file only through these functions, which return a literal that the language reads back as exactly
+Generated code is data: a name or number that came from an input file reaches a ``.py`` or ``.m``
+file only through these functions (never in a comment or docstring), which return a literal that the language reads back as exactly
 that value and nothing else. Strings are written in pure ASCII (every other character as an escape or a
 character code), so no quote, line break, comment marker or Unicode trick in a name can end the literal
 or start a statement; numbers are written as the shortest text that reads back to the same float, and a
@@ -20,7 +20,7 @@ from ..errors import InputError
 from .float_text import float_text
 
 __all__ = ["py_str", "py_float", "py_list", "py_matrix", "m_str", "m_float", "m_row", "m_matrix",
-           "check_finite", "comment_text"]
+           "check_finite"]
 
 
 def check_finite(values: object, field: str) -> np.ndarray:
@@ -119,10 +119,3 @@ def m_matrix(M: Sequence[Sequence[float]], field: str, indent: str = "    ", *, 
         return f"zeros(0, {A.shape[1] if A.ndim == 2 else 0})"
     rows = [m_row(row, f"{field}[{i}]", allow_inf=allow_inf) for i, row in enumerate(A)]
     return "[" + (";\n" + indent).join(rows) + "]"
-
-
-def comment_text(text: str) -> str:
-    """Text for a comment line of generated code: printable ASCII only (every other character as
-    ``?``), so nothing in it can end the comment (a line break) or hide code (bidirectional overrides).
-    Prefer a literal for input text; comments carry only robkin's own words and such sanitised names."""
-    return "".join(c if " " <= c <= "~" else "?" for c in str(text))

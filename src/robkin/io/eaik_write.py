@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import InputError, quote
-from .code_literals import check_finite, comment_text, py_matrix, py_str
+from .code_literals import check_finite, py_matrix, py_str
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
@@ -59,7 +59,7 @@ def eaik_python(robot: "Robot") -> str:
     ``R6T``, ``NAME``, ``JOINT_NAMES`` and ``eaik_robot(fixed_axes=())``, EAIK's solver."""
     H, P, R = eaik_parameters(robot)
     name = robot.name or "robot"
-    return f'''"""{comment_text(name)[:80]}: the joint axes H and offsets P that EAIK takes, written by robkin.
+    return f'''"""The joint axes H and offsets P that EAIK takes for the robot NAME, written by robkin.
 
 Needs numpy (and EAIK for eaik_robot()), not robkin. Robot base frame at q = 0, metres. q_i is the
 source's joint i (same sign, same zero). Names from the source are string data here, never code.

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .code_literals import comment_text, m_float, m_matrix, m_row, m_str
+from .code_literals import m_float, m_matrix, m_row, m_str
 from .rtb_write import GRAVITY
 from .toolbox_tables import link_mass_rows, toolbox_table
 
@@ -74,7 +74,7 @@ def matlab_from_robot(robot: "Robot", convention: str = "dh") -> str:
     hi = [np.inf if j.upper is None else j.upper for j in robot.joints]
     g_base = robot.world[:3, :3].T @ GRAVITY
     lines = [
-        f"% {comment_text(name)[:80]} for MATLAB and GNU Octave, written by robkin.",
+        "% A robot for MATLAB and GNU Octave, written by robkin (robot.name says which).",
         "% Run this script to define the struct `robot` and the function handle `robot_fk`:",
         "%   T = robot_fk(q)   % tool pose (4x4) in the robot base frame; q: n joint values (rad, m)",
         "% q_i is the source's joint i (same sign, same zero). robot_fk keeps the values robot held when the",

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .code_literals import comment_text, py_float, py_list, py_matrix, py_str
+from .code_literals import py_float, py_list, py_matrix, py_str
 from .toolbox_tables import LinkMassRows, link_mass_rows, toolbox_table, unflipped
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -61,7 +61,7 @@ def _link_line(i: int, joint: "Joint", row: np.ndarray, convention: str, masses:
         G = 1.0 if (B or Tc) else 0.0
         args += ["Jm=0.0", f"G={py_float(G, f + '.G')}", f"B={py_float(B, f + '.damping')}",
                  f"Tc=[{py_float(Tc, f + '.friction')}, {py_float(-Tc, f + '.friction')}]"]
-    return f"    {kind}({', '.join(args)}),  # {comment_text(joint.name)[:60]}"
+    return f"    {kind}({', '.join(args)}),  # JOINT_NAMES[{i}]"
 
 
 def rtb_from_robot(robot: "Robot", convention: str = "dh") -> str:
@@ -94,13 +94,13 @@ def rtb_from_robot(robot: "Robot", convention: str = "dh") -> str:
                  "Jm = 0; B, Tc: the source's joint damping and friction (0 when it gives none)."
                  if masses is not None else
                  "The source gives no mass properties: this robot has kinematics only (no rne / gravload).")
-    return f'''"""{comment_text(name)[:80]} as a Robotics Toolbox DHRobot ({which}), written by robkin.
+    return f'''"""The robot NAME as a Robotics Toolbox DHRobot ({which}), written by robkin.
 
 Needs roboticstoolbox-python and numpy (not robkin). Defines `robot`; joint variable q_i is the source's
 joint i (same sign, same zero), revolute in rad, prismatic in m. robot.fkine(q) is the tool pose in the
 robot's base frame; WORLD is the source's world -> robot base transform (not part of fkine).
 {mass_note}
-Gravity {comment_text(str(GRAVITY.tolist()))} m/s^2 in the world frame, i.e. robot.gravity in the base frame.
+Gravity (0, 0, -9.81) m/s^2 in the world frame, i.e. robot.gravity in the base frame.
 Names from the source are string data in this file, never code.
 """
 
