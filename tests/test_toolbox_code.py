@@ -89,7 +89,10 @@ def test_octave_runs_the_matlab_scripts_and_their_fk_is_robkins(tmp_path):
             f.write_text(matlab_from_robot(robot, convention))
             script.append(f"clear robot robot_fk; source('{f}');")
             script.append(f"assert(strcmp(robot.convention, '{convention}'));")
-            script.append(f"assert(isequal(size(robot.dh), [{robot.n} 4]));")
+            script.append(f"assert(isequal(size(robot.dh), [{robot.n} 4]) && isequal(size(robot.qlim), [{robot.n} 2]));")
+            rows = robot.n if robot.bodies.inertials else 0    # mass properties: one row per link, or none
+            script.append(f"assert(isequal(size(robot.mass), [{rows} 1]) && isequal(size(robot.com), [{rows} 3]) "
+                          f"&& isequal(size(robot.inertia), [{rows} 6]));")
             for q in Q:
                 script.append(f"fprintf('%.17g\\n', robot_fk([{' '.join(repr(float(x)) for x in q)}]));")
                 expected.append((robot.fk(q).T.ravel(), robot.scale))   # Octave prints column by column

@@ -41,6 +41,9 @@ ARMS = [
     ("talos_data/robots/talos_full_v2.urdf", "torso_2_link", "gripper_left_base_link"),
     ("tiago_description/robots/tiago.urdf", "torso_lift_link", "arm_tool_link"),
     ("baxter_description/urdf/baxter.urdf", "torso", "left_gripper"),
+    # the Panda with joints 2, 4 and 6 turned to axis -z: robkin reads them as flip (the file's rne must
+    # still be right: the toolbox's own flip is not used)
+    ("panda_description/urdf/panda.urdf#flip246", None, "panda_hand_tcp"),
 ]
 CONVENTIONS = ("dh", "mdh")
 #: kinematics only (no inertials): the seed SCARA's flipped prismatic joints, and hostile names
@@ -72,6 +75,20 @@ json.dump(out, open(sys.argv[2], "w"))
 """
 
 
+def _arm_path(rel: str, tmp: Path) -> str:
+    """The robot file; 'file#flipIJK': a copy whose joints I, J, K (1-based, of those with axis +z) turn
+    about -z instead."""
+    if "#flip" not in rel:
+        return robot_file(rel)
+    rel, which = rel.split("#flip")
+    parts = Path(robot_file(rel)).read_text().split('<axis xyz="0 0 1"/>')
+    text = parts[0] + "".join(('<axis xyz="0 0 -1"/>' if str(k) in which else '<axis xyz="0 0 1"/>') + part
+                              for k, part in enumerate(parts[1:], start=1))
+    out = tmp / Path(rel).name.replace(".urdf", f"_flip{which}.urdf")
+    out.write_text(text)
+    return str(out)
+
+
 def _arm_id(arm) -> str:
     return f"{arm[0].split('/')[-1]}:{arm[2]}"
 
@@ -95,7 +112,7 @@ def rtb_runs(tmp_path_factory):
     cases, jobs = [], []
     for arm in ARMS:
         rel, base, tip = arm
-        path = robot_file(rel)
+        path = _arm_path(rel, tmp)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")   # robot files held at neutral off the chain
             robot = robkin.load(path, base_link=base, tip_link=tip)
