@@ -3,8 +3,9 @@
 Run, the script defines the struct ``robot`` (name, joint names and types, the standard or modified DH
 table, flip signs, limits, base, tool, world, gravity and the links' mass properties in their own link
 frames) and ``robot_fk``, a function handle: ``T = robot_fk(q)`` is the 4x4 tool pose in the robot base
-frame, exactly robkin's FK. Only anonymous functions, so the same file runs in MATLAB (which wants a
-script's local functions at its end) and Octave (which wants them before their use).
+frame, exactly robkin's FK. Only anonymous functions (each one expression, continued with ``...``), so
+the same file runs in MATLAB (which wants a script's local functions at its end) and Octave (which wants
+them before their use).
 
 Every name and number from the input reaches the file only as a literal (``code_literals.m_str`` and
 ``m_float``): MATLAB's single-quoted strings have one escape (a doubled quote), so anything else
@@ -29,13 +30,13 @@ __all__ = ["matlab_from_robot"]
 _LINKS = {
     "dh": ("standard DH: A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i); joint i moves about/along z_{i-1}",
            "robot_link = @(a, d, alpha, theta) [cos(theta), -sin(theta)*cos(alpha), sin(theta)*sin(alpha), "
-           "a*cos(theta);\n    sin(theta), cos(theta)*cos(alpha), -cos(theta)*sin(alpha), a*sin(theta);\n"
-           "    0, sin(alpha), cos(alpha), d;\n    0, 0, 0, 1];"),
+           "a*cos(theta); ...\n    sin(theta), cos(theta)*cos(alpha), -cos(theta)*sin(alpha), a*sin(theta); ...\n"
+           "    0, sin(alpha), cos(alpha), d; ...\n    0, 0, 0, 1];"),
     "mdh": ("modified (Craig) DH: A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i); columns a, alpha hold "
             "a_{i-1}, alpha_{i-1}",
-            "robot_link = @(a, d, alpha, theta) [cos(theta), -sin(theta), 0, a;\n"
-            "    sin(theta)*cos(alpha), cos(theta)*cos(alpha), -sin(alpha), -sin(alpha)*d;\n"
-            "    sin(theta)*sin(alpha), cos(theta)*sin(alpha), cos(alpha), cos(alpha)*d;\n    0, 0, 0, 1];"),
+            "robot_link = @(a, d, alpha, theta) [cos(theta), -sin(theta), 0, a; ...\n"
+            "    sin(theta)*cos(alpha), cos(theta)*cos(alpha), -sin(alpha), -sin(alpha)*d; ...\n"
+            "    sin(theta)*sin(alpha), cos(theta)*sin(alpha), cos(alpha), cos(alpha)*d; ...\n    0, 0, 0, 1];"),
 }
 
 
