@@ -139,6 +139,23 @@ def test_eaik_solves_targets_from_the_written_parameters(tmp_path):
     assert solved >= 3 * 20 * 2 * 2
 
 
+def test_eaik_solves_the_panda_with_joint_4_locked(tmp_path):
+    """A 7-joint arm: EAIK solves the Panda in closed form with joint 4 held (``fixed_axes``)."""
+    pytest.importorskip("eaik.pybindings.EAIK")
+    robot = _real("panda_description/urdf/panda.urdf", "panda_hand_tcp")
+    (tmp_path / "panda.py").write_text(eaik_python(robot))
+    eaik_robot = runpy.run_path(str(tmp_path / "panda.py"))["eaik_robot"]
+    rng = np.random.default_rng(4)
+    for q in robot.random_q(10, rng=rng):
+        solver = eaik_robot(fixed_axes=[(3, float(q[3]))])
+        T = robot.fk(q)
+        sol = solver.calculate_IK(T)
+        exact = np.asarray(sol.Q).reshape(-1, 7)[~np.asarray(sol.is_LS, bool)]
+        assert len(exact) >= 1 and np.allclose(exact[:, 3], q[3])
+        for p in exact:
+            assert np.abs(robot.fk(p) - T).max() <= 1e-9
+
+
 def hp_forward_kinematics(H: np.ndarray, P: np.ndarray, R6T: np.ndarray, q: np.ndarray) -> np.ndarray:
     """The tool pose of the H-P description EAIK and the subproblem literature use, written here:
     R_0i = R_0(i-1) rot(h_i, q_i), p = p_01 + R_01 p_12 + ... + R_0n p_nT, R = R_0n R6T."""

@@ -82,8 +82,8 @@ R6T = np.array({py_matrix(R, "eaik.R6T", "               ")}, dtype=float)
 
 
 def eaik_robot(fixed_axes=()):
-    """EAIK's solver for this robot; fixed_axes: (joint index from 0, value) pairs to lock (a 7-joint arm
-    needs one locked to be solved in closed form)."""
+    """EAIK's solver for this robot; fixed_axes: (joint index from 0, value) pairs to hold (a 7-joint arm
+    needs one held to be solved in closed form, e.g. a Panda's joint 4: [(3, q4)])."""
     from eaik.pybindings.EAIK import Robot
 
     return Robot(H.T, P.T, R6T, list(fixed_axes), True)
