@@ -493,3 +493,11 @@ def test_cli_refuses_with_one_line_and_writes_nothing(tmp_path, capsys, argv, me
     err = capsys.readouterr().err
     assert status == 2 and message in err and len(err.strip().splitlines()) == 1, err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_batch_names_the_input_that_cannot_be_written_and_writes_nothing(tmp_path, capsys):
+    status = main(["convert", str(EXAMPLES / "kr6_r700.yaml"), str(EXAMPLES / "scara.yaml"), "--to", "opw",
+                   "-o", str(tmp_path / "out") + "/"])
+    err = capsys.readouterr().err
+    assert status == 2 and "scara.yaml: --to opw: the robot has 5 joints" in err and len(err.splitlines()) == 1
+    assert list(tmp_path.iterdir()) == []

@@ -151,6 +151,14 @@ def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None 
     return dump(doc, doc_fmt)
 
 
+def _render_in(path: str, robot, fmt: str, out_ext: str, args: argparse.Namespace) -> str:
+    """``_render_file`` for one input of a batch: an error names the input it is about."""
+    try:
+        return _render_file(robot, fmt, out_ext, args)
+    except InputError as exc:
+        raise exc.in_source(path) from None
+
+
 def _out_ext(fmt: str, table_format: str | None = None) -> str:
     if table_format:
         return TABLE_EXTENSIONS[table_format]
@@ -238,7 +246,7 @@ def run(args: argparse.Namespace) -> int:
         if dup:
             raise InputError(f"several inputs would write the same file(s): {', '.join(sorted(dup))}")
         check_writable_dir(targets[0] if out_dir.is_dir() else out_dir)  # the folder, or where it will be made
-        texts = [_render_file(robot, fmt, ext, args) for robot in _load_all(inputs, args)]
+        texts = [_render_in(path, robot, fmt, ext, args) for path, robot in zip(inputs, _load_all(inputs, args))]
         out_dir.mkdir(exist_ok=True)  # only now: a failed conversion leaves no empty folder behind
         write_texts_atomic(list(zip(targets, texts)))  # all or nothing
         for target in targets:
