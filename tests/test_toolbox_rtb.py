@@ -44,6 +44,8 @@ ARMS = [
     # the Panda with joints 2, 4 and 6 turned to axis -z: robkin reads them as flip (the file's rne must
     # still be right: the toolbox's own flip is not used)
     ("panda_description/urdf/panda.urdf#flip246", None, "panda_hand_tcp"),
+    # the UR5 mounted tilted in its world (the file's world_joint turned): gravity is not along base -z
+    ("ur_description/urdf/ur5_robot.urdf#tilt", "base_link", "tool0"),
 ]
 CONVENTIONS = ("dh", "mdh")
 #: kinematics only (no inertials): the seed SCARA's flipped prismatic joints, and hostile names
@@ -75,9 +77,20 @@ json.dump(out, open(sys.argv[2], "w"))
 """
 
 
+#: the UR5's world joint, and the tilted mount it becomes for 'ur5_robot.urdf#tilt'
+_WORLD_JOINT = '<child link="base_link"/>\n    <origin rpy="0.0 0.0 0.0" xyz="0.0 0.0 0.0"/>'
+_TILTED = '<child link="base_link"/>\n    <origin rpy="0.3 -0.5 0.2" xyz="0.1 0.0 0.5"/>'
+
+
 def _arm_path(rel: str, tmp: Path) -> str:
     """The robot file; 'file#flipIJK': a copy whose joints I, J, K (1-based, of those with axis +z) turn
-    about -z instead."""
+    about -z instead; 'file#tilt': a copy whose world joint tilts the robot."""
+    if "#tilt" in rel:
+        text = Path(robot_file(rel.split("#")[0])).read_text()
+        assert _WORLD_JOINT in text
+        out = tmp / "ur5_tilted.urdf"
+        out.write_text(text.replace(_WORLD_JOINT, _TILTED))
+        return str(out)
     if "#flip" not in rel:
         return robot_file(rel)
     rel, which = rel.split("#flip")
