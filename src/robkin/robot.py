@@ -254,7 +254,7 @@ class Robot:
 
     def ik(self, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
            method: str = "auto", all_solutions: bool = False, tol_position: float = 1e-9,
-           tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 50,
+           tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 200,
            rng: np.random.Generator | int | None = 0, threads: int | None = None) -> "IKResult":
         """Inverse kinematics: joint values that put the tool at T (``robkin.kinematics.ik.ik``).
 
