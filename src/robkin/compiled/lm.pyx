@@ -66,6 +66,7 @@ cdef struct Params:
     double limit_check_E
     double scale
     bint limited
+    const double* alpha     # (n,) the R_d sequence's step per joint (restart starts)
 
 
 cdef inline uint64_t splitmix64(uint64_t* state) noexcept nogil:
@@ -183,6 +184,7 @@ cdef bint solve_one(Chain chain, const Params* P, const double* w, const double*
     cdef double* Jt = J + 6 * n
     cdef double* Jb = Jt + 6 * n
     cdef double* Ewin = Jb + 6 * n
+    cdef double* shift = Ewin + P.stall_window   # n used: this target's random shift of the R_d sequence
     cdef double e[6]
     cdef double et[6]
     cdef double E, Et, mu, nu, diag, diag_max, predicted, actual, rho, x, before, two_pi = 2.0 * M_PI
@@ -199,7 +201,14 @@ cdef bint solve_one(Chain chain, const Params* P, const double* w, const double*
                 q[j] = lo[j] if x < lo[j] else (hi[j] if x > hi[j] else x)
                 best_q[j] = q[j]      # defined even if no attempt ever has a finite E
             else:
-                q[j] = rlo[j] + (rhi[j] - rlo[j]) * uniform01(&state)
+                # restarts walk the R_d sequence (Roberts' additive recurrence, see robkin.samples), shifted
+                # by a random offset per target: successive starts spread evenly over the whole box of
+                # the limits, its corners and edges included, where uniform draws leave gaps and clumps
+                if attempt == 1:
+                    shift[j] = uniform01(&state)
+                x = shift[j] + attempt * P.alpha[j]
+                x -= <double>(<long>x)
+                q[j] = rlo[j] + (rhi[j] - rlo[j]) * x
         E = evaluate(chain, P, w, Td, q, e, J)
         # largest diagonal entry of J^T J; the floor keeps the damping positive for a zero Jacobian
         diag_max = 1e-12
@@ -338,6 +347,19 @@ cdef inline cnp.ndarray _doubles(object a, int ndim, Py_ssize_t d0, Py_ssize_t d
     return arr
 
 
+_ALPHA = {}
+
+
+def _alpha(int n):
+    """The R_d sequence's steps (n,) for n joints: phi^-1 .. phi^-n, phi the positive root of
+    x^(n+1) = x + 1 (``robkin.samples``); computed once per n."""
+    found = _ALPHA.get(n)
+    if found is None:
+        from robkin.samples import golden
+        found = _ALPHA[n] = np.ascontiguousarray(1.0 / golden(n) ** np.arange(1, n + 1))
+    return found
+
+
 def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_upper, double scale,
           settings, uint64_t seed, int threads=0):
     """Solve every target (N, 4, 4) from its start q0 (N, n); see ``kinematics.lm.solve_lm``.
@@ -382,7 +404,7 @@ def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_u
         raise ValueError("stall_window must be >= 1")
     cdef unsigned char* wrap = <unsigned char*>malloc(n * sizeof(unsigned char))
     cdef double* work = NULL      # each thread's own (allocated in the parallel block)
-    cdef Py_ssize_t work_size = 24 * n + 6 + P.stall_window
+    cdef Py_ssize_t work_size = 25 * n + 6 + P.stall_window
     cdef int nt = batch_threads(threads, N, MIN_TARGETS_PER_THREAD), failed = 0
     if wrap == NULL:
         raise MemoryError()
@@ -392,6 +414,8 @@ def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_u
             P.limited = True
         # revolute joints whose range spans a full turn: a value past a limit is turned back by 2 pi
         wrap[j] = chain.rev[j] and hi[j] - lo[j] >= 2.0 * M_PI
+    alpha = _alpha(n)
+    P.alpha = <const double*>cnp.PyArray_DATA(alpha)
     cdef double w[6]
     for j in range(6):
         w[j] = msk[j] / scale if j < 3 else msk[j]

@@ -49,10 +49,11 @@ METHODS = ("auto", "analytic", "numeric")
 SAME_SOLUTION_TOL = 1e-6
 
 #: Defaults of ``ik``: 1e-9 (length units, radians) is ~1e6 times the rounding of a closed-form solve
-#: and what the numeric method reliably reaches; 40 iterations per attempt and 50 restarts.
+#: and what the numeric method reliably reaches; 40 iterations per attempt and 200 restarts (see
+#: ``LMSettings.restarts``).
 _TOL = 1e-9
 _MAX_ITERATIONS = 40
-_RESTARTS = 50
+_RESTARTS = 200
 
 
 @dataclass(frozen=True)
