@@ -19,8 +19,10 @@ from .float_text import decimal_tolerances, digits_text, short_text
 
 __all__ = ["round_document"]
 
-#: row keys that are lengths (the rest of a row's keys are angles)
+#: row keys that are lengths, and those that are angles; any other key of a row (a link's mass
+#: properties m, r, I) is not a table parameter and is written as it is
 _LENGTH_KEYS = ("a", "d", "x", "y", "z")
+_ANGLE_KEYS = ("alpha", "theta", "beta", "roll", "pitch", "yaw")
 
 
 def round_document(doc: dict[str, Any], scale: float, digits: int | None = None) -> dict[str, Any]:
@@ -71,7 +73,8 @@ def _values(section: dict[str, Any]) -> list[tuple[str, float]]:
             out += _matrix_kinds(section[name])
     for row in section.get("rows", []):
         items = row.items() if isinstance(row, dict) else zip(("roll", "pitch", "yaw", "x", "y", "z"), row)
-        out += [("length" if k in _LENGTH_KEYS else "angle", float(v)) for k, v in items]
+        out += [("length" if k in _LENGTH_KEYS else "angle", float(v)) for k, v in items
+                if k in _LENGTH_KEYS or k in _ANGLE_KEYS]
     for screw in section.get("screws", []):
         out += [("angle" if i < 3 else "length", float(v)) for i, v in enumerate(screw)]
     for frame in section.get("frames", []):
@@ -93,7 +96,8 @@ def _apply(section: dict[str, Any], key: str, text: Any) -> None:
         rows = []
         for row in section["rows"]:
             if isinstance(row, dict):
-                rows.append({k: text("angle" if k in angles else "length", v) for k, v in row.items()})
+                rows.append({k: text("angle" if k in angles else "length", v)
+                             if k in _LENGTH_KEYS or k in _ANGLE_KEYS else v for k, v in row.items()})
             else:
                 rows.append([text("angle" if i < 3 else "length", v) for i, v in enumerate(row)])
         section["rows"] = rows
