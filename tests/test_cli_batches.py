@@ -136,3 +136,22 @@ def test_bad_batch_files_are_one_line(tmp_path, ur5, capsys):
         err = capsys.readouterr().err
         assert words in err and err.count("\n") == 1, (argv, err)
     assert not (tmp_path / "out.txt").exists() and not (tmp_path / "one.csv").exists()
+
+
+def test_all_solutions_of_every_target(tmp_path, ur5, capsys):
+    path, robot = ur5
+    T = robot.fk(robot.random_q(5, rng=3))
+    T[2, 0, 3] += 3.0
+    np.save(tmp_path / "T.npy", T)
+    assert main(["ik", path, "--tip-link", "tool0", "--poses", str(tmp_path / "T.npy"), "--all", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    want = robot.ik(T, all_solutions=True)
+    for k, r in enumerate(doc["results"]):
+        got = np.array([s["q"] for s in r["solutions"]]).reshape(-1, robot.n)
+        np.testing.assert_array_equal(got, np.atleast_2d(want.solutions[k]).reshape(-1, robot.n))
+    assert [len(r["solutions"]) for r in doc["results"]][2] == 0 and not doc["results"][2]["success"]
+    assert main(["ik", path, "--tip-link", "tool0", "--poses", str(tmp_path / "T.npy"), "--all",
+                 "-o", str(tmp_path / "all.npz")]) == 0
+    sols = np.load(tmp_path / "all.npz")["solutions"]
+    assert sols.shape == (sum(len(r["solutions"]) for r in doc["results"]), 1 + robot.n)
+    np.testing.assert_allclose(robot.fk(sols[:, 1:]), T[sols[:, 0].astype(int)], atol=1e-9)

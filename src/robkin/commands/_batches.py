@@ -222,9 +222,6 @@ def ik_batch(robot: "Robot", args: argparse.Namespace, solve: dict[str, Any]) ->
     from ..io.batch_files import read_rows
     from ._common import revolute_degrees
 
-    if args.all:
-        raise InputError("--all: gives every solution of one pose; with --poses each row gets the one "
-                         "nearest to --q0")
     _check_output(args)
     targets = pose_rows(read_rows(args.poses, key="poses"), degrees=args.degrees)
     N, n = len(targets), robot.n
@@ -232,14 +229,17 @@ def ik_batch(robot: "Robot", args: argparse.Namespace, solve: dict[str, Any]) ->
     ok = np.zeros(N, dtype=bool)
     perr, oerr = np.full(N, np.inf), np.full(N, np.inf)
     reason = [""] * N
+    every: list[np.ndarray] = [np.empty((0, n))] * N  # with --all: every solution of each target
     rng = np.random.default_rng(args.seed)  # one stream for every block: reproducible
     method = [""]
 
     def step(s: slice) -> None:
-        res = robot.ik(targets[s], rng=rng, **solve)
+        res = robot.ik(targets[s], rng=rng, all_solutions=args.all, **solve)
         Q[s], ok[s], perr[s], oerr[s] = res.q, res.success, res.position_error, res.orientation_error
         msgs = res.message if isinstance(res.message, list) else [res.message] * (s.stop - s.start)
         reason[s] = msgs
+        if args.all and res.solutions is not None:
+            every[s] = [np.atleast_2d(x) for x in res.solutions]
         method[0] = res.method
 
     _blocks(N, "ik", step)
@@ -251,14 +251,27 @@ def ik_batch(robot: "Robot", args: argparse.Namespace, solve: dict[str, Any]) ->
         print(f"robkin: ik: {len(fail)} of {N} targets have no solution (see the 'success' and 'error' "
               f"columns; q there is the closest configuration found)", file=sys.stderr)
     names = [j.name for j in robot.joints]
-    q_out = revolute_degrees(robot, Q, to_radians=False) if args.degrees else Q
+
+    def out(q: np.ndarray) -> np.ndarray:
+        return revolute_degrees(robot, q, to_radians=False) if args.degrees else q
+
+    q_out = out(Q)
     columns = ["row", "success", *names, "position_error", "orientation_error", "error"]
     table = [[k + 1, bool(ok[k]), *q_out[k], perr[k], oerr[k], reason[k]] for k in range(N)]
-    document = {"joints": names, "method": method[0],
-                "results": [{"q": q_out[k], "success": bool(ok[k]), "position_error": perr[k],
-                             "orientation_error": oerr[k], "reason": reason[k] or None} for k in range(N)]}
-    _emit(args, columns, table, {"q": q_out, "success": ok, "position_error": perr, "orientation_error": oerr,
-                                 "error": np.array(reason, dtype=str)}, "q", document)
+    results = [{"q": q_out[k], "success": bool(ok[k]), "position_error": perr[k], "orientation_error": oerr[k],
+                "reason": reason[k] or None} for k in range(N)]
+    arrays = {"q": q_out, "success": ok, "position_error": perr, "orientation_error": oerr,
+              "error": np.array(reason, dtype=str)}
+    if args.all:  # every solution: one CSV row each (numbered), a list per target in JSON, (M, 1 + n) in .npz
+        columns.insert(1, "solution")
+        table = [[k + 1, i + 1, True, *sol, *_errors(robot, S, targets[k]), ""]
+                 for k in range(N) for i, (S, sol) in enumerate(zip(every[k], out(every[k])))] + \
+                [[k + 1, 0, False, *q_out[k], perr[k], oerr[k], reason[k]] for k in np.flatnonzero(~ok)]
+        table.sort(key=lambda r: (r[0], r[1]))
+        for k in range(N):
+            results[k]["solutions"] = [{"q": sol} for sol in out(every[k])]
+        arrays["solutions"] = np.array([[k, *sol] for k in range(N) for sol in out(every[k])]).reshape(-1, 1 + n)
+    _emit(args, columns, table, arrays, "q", {"joints": names, "method": method[0], "results": results})
     return 0
 
 

@@ -34,7 +34,10 @@ input) solves them in one batch (Robot.ik on (N, 4, 4)) and writes one row per t
 joint values (the closest configuration where there is no solution), position_error, orientation_error
 and the reason - as CSV on stdout, as JSON with --json ({"joints", "method", "results": [{"q", "success",
 "position_error", "orientation_error", "reason"}, ...]}), or to -o OUT.csv|.npy|.npz|.json (.npy: the
-(N, n) joint values). Progress goes to stderr on a terminal for runs of 4096 targets or more.
+(N, n) joint values). With --all every solution of every target: one CSV row each (column 'solution'
+numbers them; 0 marks a target without one), "solutions" per target in JSON, and in .npz an array
+'solutions' (M, 1 + n) of the target's row index (from 0) and q. Progress goes to stderr on a terminal
+for runs of 4096 targets or more.
 
 examples:
   robkin ik scara.yaml --pose 7.87,0,-3.94,0,0,0
