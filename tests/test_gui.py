@@ -749,6 +749,38 @@ def _settled(pg) -> None:
     pg.wait_for_function("() => document.body.dataset.state == 'ready'", timeout=15000)
 
 
+_LAYOUT = """() => {
+  const out = {page: document.documentElement.scrollWidth - window.innerWidth, over: [], wrapped: []};
+  for (const sec of document.querySelectorAll("main > section")) {
+    const right = sec.getBoundingClientRect().right + 1;  // 1 px: sub-pixel rounding of the layout
+    for (const e of sec.querySelectorAll("select, input, textarea, table, pre, .matrices")) {
+      const r = e.getBoundingClientRect();
+      if (r.width && r.right > right) out.over.push(`${sec.id} ${e.tagName} ${e.id} ${r.right - right}`);
+    }
+  }
+  for (const tr of document.querySelectorAll("#table-dh tr, #table-hayati tr")) {
+    const cells = tr.querySelectorAll("td");
+    if (cells.length > 1 && cells[0].getBoundingClientRect().height > 1.5 * cells[1].getBoundingClientRect().height)
+      out.wrapped.push(cells[0].textContent);
+  }
+  return out;
+}"""
+
+
+@pytest.mark.parametrize("width", [1280, 1400])
+def test_browser_layout_fits_1280_and_1400_wide(panda_page, width, tmp_path):
+    # The page never scrolls sideways; form fields and tables stay inside their panels (a table wider
+    # than its panel scrolls inside it); joint names are not wrapped.
+    pg = panda_page
+    pg.set_viewport_size({"width": width, "height": 900})
+    pg.wait_for_timeout(200)  # one layout pass after the resize
+    found = pg.evaluate(_LAYOUT)
+    assert found["page"] <= 0, f"the page scrolls sideways by {found['page']} px at {width} px"
+    assert not found["over"], found["over"]
+    assert not found["wrapped"], found["wrapped"]
+    _shot(pg, tmp_path, f"gui_{width}.png")
+
+
 def test_browser_panda_orbit_drag_paste_check(panda_page, tmp_path):
     pg = panda_page
     view = pg.query_selector("#view")
