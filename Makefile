@@ -27,9 +27,11 @@ $(VENV)/.core: $(CORE_SOURCES)
 	touch $@
 
 # The requirements of one extra of the installed robkin, read from its metadata (not rebuilding it).
+# (printed without the extra's marker, which pip would evaluate as false outside an extra)
 EXTRA = $(PY) -c "import sys, importlib.metadata as m; \
   from packaging.requirements import Requirement as R; \
-  [print(r) for r in map(R, m.requires('robkin') or []) if r.marker and r.marker.evaluate({'extra': sys.argv[1]})]"
+  [print(r.name + ('[' + ','.join(sorted(r.extras)) + ']' if r.extras else '') + str(r.specifier)) \
+   for r in map(R, m.requires('robkin') or []) if r.marker and r.marker.evaluate({'extra': sys.argv[1]})]"
 
 $(VENV)/.test: $(VENV)/.core pyproject.toml
 	$(PIP) install packaging
