@@ -186,8 +186,10 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
     from and draw on top: their scenes come back as ``overlays`` and by how much they and the robot
     disagree as ``agreement`` {position, rotation, axes} (rounding-size for a correct conversion).
     ``links`` lists a URDF's link names (the candidates for base and tip link). ``other`` (a dict of
-    text, fmt, base_link, tip_link, tool_row) is a second description to compare with: ``check``
-    holds its scene at the same q, ``robkin check``'s diagnosis, and the first joint that differs.
+    text, fmt, base_link, tip_link, tool_row, and ``exaggerate``, a factor from 1 to 1e6) is a second
+    description to compare with: ``check`` holds its scene at the same q (its differences from the
+    robot multiplied by ``exaggerate``, see ``robkin.viz.difference``), the difference ``arrows``
+    (true distances), ``robkin check``'s diagnosis, and the first joint that differs.
     """
     from .. import se3
     from ..io.document import document_from_robot
@@ -255,8 +257,30 @@ def _check(robot: Robot, Q: np.ndarray, other: Any) -> dict[str, Any]:
     if first is None and result.n_a != result.n_b:
         first = min(result.n_a, result.n_b)
     qb = Q if b.n == robot.n else np.zeros(b.n)
-    return {"name": b.name or "", "n": b.n, "scene": build_scene(b, qb, label=b.name or "B").to_json(),
-            "comparison": result.to_dict(), "first_joint": first}
+    scene_b = build_scene(b, qb, label=b.name or "B")
+    factor, arrows = _exaggeration(other.get("exaggerate")), []
+    if b.n == robot.n and np.array_equal(b.revolute, robot.revolute):
+        from .difference import difference_arrows, exaggerate
+
+        scene_a = build_scene(robot, Q)
+        arrows = [a.to_json() for a in difference_arrows(scene_a, scene_b, factor)]
+        scene_b = exaggerate(scene_a, scene_b, factor)
+    return {"name": b.name or "", "n": b.n, "scene": scene_b.to_json(), "comparison": result.to_dict(),
+            "first_joint": first, "exaggerate": factor, "arrows": arrows}
+
+
+def _exaggeration(value: Any) -> float:
+    """other.exaggerate: the factor differences are drawn with (1 when absent)."""
+    from ..io.numbers import number
+
+    if value is None:
+        return 1.0
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError("other.exaggerate: expected a number from 1 to 1e6")
+    k = number(value, "other.exaggerate")
+    if not 1 <= k <= 1e6:
+        raise InputError(f"other.exaggerate: expected a number from 1 to 1e6, got {quote(value)}")
+    return k
 
 
 def solve_ik(text: str, fmt: str, target: Any, q0: Any, base_link: str | None = None,
