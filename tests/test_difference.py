@@ -3,6 +3,7 @@ their use in ``plot A B --exaggerate`` and the GUI's visual check."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -30,7 +31,7 @@ def test_a_6mm_difference_gives_arrows_of_6mm_and_is_drawn_k_times_larger():
     a, b = _robot(RRPR_TEXT), _robot(RRPR_6MM)
     sa, sb = build_scene(a, Q), build_scene(b, Q)
     arrows = difference_arrows(sa, sb, 100)
-    assert [x.label for x in arrows] == ["J3", "J4", "tool"]
+    assert [x.label for x in arrows] == ["J4", "tool"]  # J3 is prismatic: a direction only
     tool = arrows[-1]
     # the tool moves by exactly the 6 mm of a_2 (a rigid shift of everything after joint 2)
     assert tool.distance == pytest.approx(0.006, abs=1e-12)
@@ -77,7 +78,7 @@ def test_different_structures_or_factors_are_refused():
 def test_gui_check_answers_exaggerated_scene_and_arrows():
     res = gui_api.describe(RRPR_TEXT, "yaml", q=list(Q), other={"text": RRPR_6MM, "fmt": "yaml", "exaggerate": 100})
     c = res["check"]
-    assert c["exaggerate"] == 100 and [a["label"] for a in c["arrows"]] == ["J3", "J4", "tool"]
+    assert c["exaggerate"] == 100 and [a["label"] for a in c["arrows"]] == ["J4", "tool"]
     assert c["arrows"][-1]["distance"] == pytest.approx(0.006, abs=1e-12)
     tool_b = np.array(c["scene"]["tool"])[:3, 3]
     tool_a = np.array(res["scene"]["tool"])[:3, 3]
@@ -104,6 +105,11 @@ def test_plot_exaggerate_png_and_html(tmp_path, capsys):
     if not missing_assets():
         html = tmp_path / "d.html"
         assert main(["plot", str(EXAMPLES / "rrpr.yaml"), str(b), "--exaggerate", "100", "-o", str(html)]) == 0
-        assert '"arrows": [{"label": "J3"' in html.read_text() or '"arrows":[{"label":"J3"' in html.read_text()
+        assert re.search(r'"arrows": ?\[\{"label": ?"J4"', html.read_text())
     assert main(["plot", str(EXAMPLES / "rrpr.yaml"), "--exaggerate", "10", "-o", str(png)]) == 2
     assert "--exaggerate: give two or more INPUTs" in capsys.readouterr().err
+
+
+def test_gui_exaggerate_needs_robot_b(capsys):
+    assert main(["gui", str(EXAMPLES / "rrpr.yaml"), "--exaggerate", "10", "--port", "0"]) == 2
+    assert "--exaggerate: give a second robot B" in capsys.readouterr().err

@@ -23,14 +23,14 @@ def test_browser_differences_exaggerated_and_zoomed(page):
     _settled(pg)
     pg.wait_for_selector("#check:not([hidden])")
     labels = [e.inner_text() for e in pg.query_selector_all(".label3d.differs")]
-    assert "J3: 0.006" in labels and "tool: 0.006" in labels  # true distances, whatever the factor
+    assert "J4: 0.006" in labels and "tool: 0.006" in labels  # true distances, whatever the factor
     before = _updates(pg)
     pg.select_option("#exaggerate", "100")
     _wait_update(pg, before)
     _settled(pg)
     assert "differences ×100" in pg.inner_text("#check")
-    assert "J3: 0.006" in [e.inner_text() for e in pg.query_selector_all(".label3d.differs")]
-    # zoom: the camera looks at the middle of J3's arrow (A's J3 point and 100 x 6 mm further)
+    assert "J4: 0.006" in [e.inner_text() for e in pg.query_selector_all(".label3d.differs")]
+    # zoom: the camera looks at the middle of J4's arrow (A's J4 point and 100 x 6 mm further)
     pg.click("#zoom-first")
     target = _look_at(pg)
     from robkin.viz import gui_api

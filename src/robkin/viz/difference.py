@@ -6,7 +6,8 @@ difference), so for joint i the difference is from A's axis point ``a_i`` to the
 of B's axis line. ``exaggerate(a, b, k)`` draws B with every axis point at ``a_i + k (b_i - a_i)``,
 every axis turned by k times its angle to A's (at most a half turn) and the tool origin moved the same
 way, so that a difference of d shows as k d; ``difference_arrows(a, b, k)`` gives an arrow from
-``a_i`` to that point for every joint and the tool that differ, with the true distance. ``robkin plot A B --exaggerate K``, its HTML page and the GUI's visual check draw them.
+``a_i`` to that point for every revolute joint and the tool that differ, with the true distance (a
+prismatic joint's axis is a direction only: its line may lie anywhere). ``robkin plot A B --exaggerate K``, its HTML page and the GUI's visual check draw them.
 
 Both scenes must be of robots with the same joint count at the same q (``robkin check`` says what
 else differs).
@@ -122,8 +123,12 @@ def difference_arrows(a: Scene, b: Scene, factor: float = 1.0) -> list[Differenc
     starts = np.vstack([a.axis_points, a.tool[None, :3, 3]])
     ends = np.vstack([_nearest_on_axes(a, b), b.tool[None, :3, 3]])
     labels = [f"J{i + 1}" for i in range(len(a.axis_points))] + ["tool"]
+    # a prismatic joint is a direction only: where its axis line lies is no difference
+    moves = [not p for p in a.prismatic] + [True]
     out = []
-    for label, p, e in zip(labels, starts, ends):
+    for label, p, e, counts in zip(labels, starts, ends, moves):
+        if not counts:
+            continue
         d = float(np.linalg.norm(e - p))
         if d > _SAME * size:
             out.append(DifferenceArrow(label, p, _toward(p, e, factor), d))

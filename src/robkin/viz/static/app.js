@@ -494,6 +494,8 @@ async function start() {
   if (init.other) {
     $("other-text").value = init.other.text;
     $("other-format").value = init.other.fmt || "auto";
+    if (!$("other-format").value) $("other-format").value = "auto";  // a document or file format: auto-detected
+    if (init.other.exaggerate) $("exaggerate").value = String(init.other.exaggerate);
     $("check-panel").open = true;
   }
   showFields();
