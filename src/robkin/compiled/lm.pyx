@@ -29,15 +29,21 @@ cimport numpy as cnp
 from libc.math cimport sqrt, fabs, ceil, isfinite, INFINITY, M_PI
 from libc.stdlib cimport malloc, free
 from libc.stdint cimport uint64_t
+from cython.parallel cimport parallel, prange
 from robkin.compiled.dense cimport cholesky_solve
 from robkin.compiled.fk cimport Chain, walk_tool
 from robkin.compiled.jacobian cimport jacobian_one
 from robkin.compiled.linalg cimport rot_log
 from robkin.compiled.pose_check cimport tool_errors
+from robkin.compiled.threads cimport batch_threads
 
 import numpy as np
 
 cnp.import_array()
+
+cdef enum:
+    # targets per thread before a batch is split: one target takes ~30-100 us
+    MIN_TARGETS_PER_THREAD = 2
 
 #: slack on "on a limit": a value clipped onto a limit may differ from it by a few ulps of 2 pi
 #: (kinematics.limits.LIMIT_TOL, repeated here as a C constant)
@@ -333,10 +339,12 @@ cdef inline cnp.ndarray _doubles(object a, int ndim, Py_ssize_t d0, Py_ssize_t d
 
 
 def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_upper, double scale,
-          settings, uint64_t seed):
+          settings, uint64_t seed, int threads=0):
     """Solve every target (N, 4, 4) from its start q0 (N, n); see ``kinematics.lm.solve_lm``.
 
-    Returns q (N, n), converged (N,) bool, iterations (N,) int64, attempts (N,) int64.
+    Returns q (N, n), converged (N,) bool, iterations (N,) int64, attempts (N,) int64. The targets are
+    split over ``threads`` (0: automatic, see ``threads.pyx``); each target's random restarts come from
+    its own stream (seed and index), so the results do not depend on the thread count.
     """
     cdef int n = chain.n
     cdef cnp.ndarray Ta = _doubles(targets, 3, -1, 4, 4, "targets")
@@ -373,10 +381,10 @@ def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_u
     if P.stall_window < 1:
         raise ValueError("stall_window must be >= 1")
     cdef unsigned char* wrap = <unsigned char*>malloc(n * sizeof(unsigned char))
-    cdef double* work = <double*>malloc((24 * n + 6 + P.stall_window) * sizeof(double))
-    if work == NULL or wrap == NULL:
-        free(work)
-        free(wrap)
+    cdef double* work = NULL      # each thread's own (allocated in the parallel block)
+    cdef Py_ssize_t work_size = 24 * n + 6 + P.stall_window
+    cdef int nt = batch_threads(threads, N, MIN_TARGETS_PER_THREAD), failed = 0
+    if wrap == NULL:
         raise MemoryError()
     cdef int j
     for j in range(n):
@@ -399,14 +407,21 @@ def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_u
     cdef long* its = <long*>cnp.PyArray_DATA(it_arr)
     cdef long* att = <long*>cnp.PyArray_DATA(at_arr)
     cdef uint64_t stream
-    with nogil:
-        for k in range(N):
+    with nogil, parallel(num_threads=nt):
+        work = <double*>malloc(work_size * sizeof(double))
+        # dynamic schedule: a target's time varies (restarts), so threads take the next one when free
+        for k in prange(N, schedule="dynamic", chunksize=1):
+            if work == NULL:
+                failed += 1   # a reduction: any thread that ran out of memory counts
+                continue
             # one stream per target: seed and index mixed, so neighbouring targets get unrelated streams
             stream = seed ^ (<uint64_t>k * <uint64_t>0xD1B54A32D192ED03)
             ok[k] = solve_one(chain, &P, w, lo, hi, wrap, rlo, rhi, T + 16 * k, Q0 + n * k, stream, work,
                               Qo + n * k, its + k, att + k)
-    free(work)
+        free(work)
     free(wrap)
+    if failed:
+        raise MemoryError()
     return q_arr, ok_arr, it_arr, at_arr
 
 

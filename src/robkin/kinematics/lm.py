@@ -76,6 +76,9 @@ class LMSettings:
     limit_check_E: float = 1e-2
     check_iteration: int = 15
     check_E: float = 1e-5
+    #: threads for a batch of targets: 0 automatic (``robkin.threads``), else at most that many; a
+    #: target's answer does not depend on it (each target's restarts have their own random stream)
+    threads: int = 0
 
 
 @dataclass
@@ -116,7 +119,7 @@ def solve_lm(robot: Robot, targets: np.ndarray, q0: np.ndarray, mask: np.ndarray
     """
     lo, hi, rlo, rhi = _ranges(robot)
     q, converged, iterations, attempts = solve(robot._chain, targets, q0, mask, lo, hi, rlo, rhi,
-                                               robot.scale, settings, seed)
+                                               robot.scale, settings, seed, settings.threads)
     return LMOutcome(q, converged, iterations, attempts)
 
 
