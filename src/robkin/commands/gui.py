@@ -14,7 +14,7 @@ examples:
   robkin gui rrpr.yaml --open         # also opens the page in your web browser
   robkin gui ur5.urdf --tip-link tool0 --port 9000
   robkin gui rrpr.yaml rrpr_dh.yaml   # visual check: B drawn over A, first differing joint in red
-  robkin gui vendor.yaml ur10e.urdf --exaggerate 100   # B's differences from A drawn 100x larger
+  robkin gui vendor_dh.yaml robot.urdf --exaggerate 100   # B's differences from A drawn 100x larger
 
 The app runs on this machine only: it listens on a loopback address (127.0.0.1 by default; --host
 takes another 127.x.y.z, ::1 or localhost, nothing else) and answers only requests from its own page

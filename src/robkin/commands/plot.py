@@ -15,7 +15,7 @@ examples:
   robkin plot rrpr.yaml --q 3*pi/4,-pi/4,0.3,-3*pi/4 --overlay dh,poe -o rrpr_q.svg
   robkin plot ur5.urdf --tip-link tool0 --frames -o ur5.png
   robkin plot original.yaml converted.yaml -o both.png     # several robots in one picture
-  robkin plot vendor_dh.yaml ur10e.urdf --tip-link tool0 --exaggerate 100 -o diff.png
+  robkin plot vendor_dh.yaml robot.urdf --exaggerate 100 -o diff.png   # 4-decimal table vs the robot
   robkin plot --metrics pose1_A.yaml pose1_B.yaml pose1_C.yaml pose1_D.yaml -o metrics.png
 
 --overlay draws the robot rebuilt from each listed representation (gjd, dh, mdh, poe, poe-body,
