@@ -65,6 +65,14 @@ def _inline_script_hashes() -> str:
                     for t in found)
 
 
+def _answered_inline(request: bytes) -> bool:
+    """GET/HEAD of the page, its static files and /api/start: answered by the connection loop itself
+    (a file read or a prepared answer, well under a millisecond); meshes (up to 64 MB) and the API's
+    POSTs, which compute, go to the worker threads."""
+    line = request[:request.find(b"\n")]
+    return line.startswith((b"GET ", b"HEAD ")) and b" /api/mesh/" not in line
+
+
 class GuiServer(ConnectionLoop):
     """The GUI's HTTP server; ``start_payload`` holds the robot text to show first (may be empty).
 
@@ -79,7 +87,7 @@ class GuiServer(ConnectionLoop):
 
     def __init__(self, address: tuple[str, int], start: dict[str, Any], quiet: bool = True,
                  meshes: MeshRegistry | None = None) -> None:
-        super().__init__(address, self._respond, MAX_WORKERS)
+        super().__init__(address, self._respond, MAX_WORKERS, inline=_answered_inline)
         self.start_payload = start
         self.meshes = meshes or MeshRegistry()
         self.quiet = quiet

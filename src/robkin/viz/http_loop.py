@@ -13,11 +13,11 @@ selector in :meth:`ConnectionLoop.serve_forever`:
   ``Content-Length`` bytes of body. The request policy (``http_policy.check_request``) is applied to
   the head before any body is invited (``Expect: 100-continue``) or waited for; a refused request is
   answered without reading its body.
-* **Work**: a whole request goes to a pool of ``MAX_WORKERS`` threads, which parse and answer it from
-  memory (``handle(request_bytes, client_address) -> (response_bytes, close)``) and never touch the
-  socket.
-* **Write**: the answer is sent as fast as the client reads it; a client that stops reading is cut off
-  like a silent one.
+* **Work**: a whole request goes to a pool of worker threads, which parse and answer it from memory
+  (``handle(request_bytes, client_address) -> (response_bytes, close)``) and then send what the
+  socket takes at once, never waiting on it.
+* **Write**: the rest of the answer is sent by the loop as fast as the client reads it; a client that
+  stops reading is cut off like a silent one.
 
 Every connection is closed after ``request_timeout`` seconds without progress, and a request that is
 not read and answered within ``max_request_seconds`` of its first byte is cut off however it trickles.
@@ -85,6 +85,10 @@ class ConnectionLoop:
         for each whole request; ``close`` closes the connection after the answer.
     workers : int
         Worker threads.
+    inline : callable, optional
+        ``inline(request_bytes) -> bool``: requests answered in the loop thread itself, for those that
+        take far less time than a hand-over to a worker (each thread hand-over can wait up to a GIL
+        switch interval, 5 ms, while other threads compute): small static files, say.
     """
 
     request_timeout = 10.0
@@ -92,7 +96,8 @@ class ConnectionLoop:
     max_connections = MAX_CONNECTIONS
     max_buffered = MAX_BUFFERED
 
-    def __init__(self, address: tuple[str, int], handle: _Handle, workers: int) -> None:
+    def __init__(self, address: tuple[str, int], handle: _Handle, workers: int,
+                 inline: Callable[[bytes], bool] | None = None) -> None:
         family = socket.AF_INET6 if ":" in address[0] else socket.AF_INET
         self.socket = socket.socket(family, socket.SOCK_STREAM)
         try:
@@ -105,6 +110,7 @@ class ConnectionLoop:
             raise
         self.server_address = self.socket.getsockname()
         self._handle = handle
+        self._inline = inline
         self._pool = ThreadPoolExecutor(workers, thread_name_prefix="robkin-gui-worker")
         self._conns: dict[socket.socket, _Conn] = {}
         self._done: deque[tuple[_Conn, bytes, bool]] = deque()
@@ -257,7 +263,10 @@ class ConnectionLoop:
         conn.need = None
         conn.state = "work"
         self._sel.unregister(conn.sock)
-        self._pool.submit(self._work, conn, request)
+        if self._inline is not None and self._inline(request):
+            self._work(conn, request)  # quick to answer: no hand-over to a worker thread
+        else:
+            self._pool.submit(self._work, conn, request)
 
     def _body_length(self, conn: _Conn, head: bytes) -> int:
         """Bytes of body to wait for: Content-Length if the policy lets the request through, else 0."""
@@ -280,13 +289,23 @@ class ConnectionLoop:
         return length
 
     def _work(self, conn: _Conn, request: bytes) -> None:
-        """In a worker thread: answer the request, give the bytes back to the loop."""
+        """In a worker thread: answer the request and send what the socket takes at once (the loop has
+        put the connection aside meanwhile); the rest, and what comes next, goes back to the loop.
+
+        Sending here saves the answer a hand-over to the loop thread, which costs up to a GIL switch
+        interval (5 ms) when other threads are busy."""
         try:
             out, close = self._handle(request, conn.address)
         except Exception:  # noqa: BLE001 - a bug in a handler must not stop the server
             traceback.print_exc(file=sys.stderr)
             out, close = _plain(500, "Internal Server Error"), True
-        self._done.append((conn, out, close))
+        try:
+            sent = conn.sock.send(out) if out else 0
+        except (BlockingIOError, InterruptedError):
+            sent = 0
+        except OSError:  # the client went away: nothing more to send
+            sent, close = len(out), True
+        self._done.append((conn, out[sent:], close))
         self._wake()
 
     def _finish_done(self) -> None:
@@ -294,13 +313,26 @@ class ConnectionLoop:
             conn, out, close = self._done.popleft()
             if conn.sock not in self._conns:
                 continue
-            if not out and close:
-                self._close(conn)
+            conn.last = time.monotonic()
+            if not out:
+                if close:
+                    self._close(conn)
+                else:
+                    self._next_request(conn)
                 continue
             conn.state, conn.out, conn.close_after = "write", bytearray(out), close
-            conn.last = time.monotonic()
             self._sel.register(conn.sock, selectors.EVENT_WRITE, conn)
             self._write(conn)
+
+    def _next_request(self, conn: _Conn, registered: bool = False) -> None:
+        """Back to reading the connection's next request (already under way if pipelined)."""
+        conn.state, conn.started = "read", (conn.last if conn.buf else None)
+        if registered:
+            self._sel.modify(conn.sock, selectors.EVENT_READ, conn)
+        else:
+            self._sel.register(conn.sock, selectors.EVENT_READ, conn)
+        if conn.buf:  # a pipelined request arrived with the previous one
+            self._advance(conn)
 
     def _write(self, conn: _Conn) -> None:
         try:
@@ -317,10 +349,7 @@ class ConnectionLoop:
         if conn.close_after:
             self._close(conn)
             return
-        conn.state, conn.started = "read", (conn.last if conn.buf else None)
-        self._sel.modify(conn.sock, selectors.EVENT_READ, conn)
-        if conn.buf:  # a pipelined request arrived with the previous one
-            self._advance(conn)
+        self._next_request(conn, registered=True)
 
     def _answer_and_close(self, conn: _Conn, response: bytes) -> None:
         """Answer from the loop (refusals that need no handler) and close after sending."""
