@@ -29,7 +29,7 @@ from .errors import ConditioningWarning, InputError, ProjectionWarning, RobkinEr
 from .lazy_exports import lazy_exports
 from .robot import Joint, Robot
 
-__version__ = "0.1.0"
+__version__ = "0.3.0"
 
 #: the representations' classes and converters, imported on first use (robkin.DHTable, robkin.dh_from_robot,
 #: ...; see robkin.lazy_exports): ``import robkin`` itself costs only the hub (Robot) and the errors

@@ -141,6 +141,14 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="angles in degrees: in the table on stdout, and in a written robot document "
                         "(which then says 'angles: degrees')")
     add_toolbox_options(p)
+    p.add_argument("--link-geometry", choices=["none", "capsules"], default="none",
+                   help="--to urdf|mjcf: give the links shapes a simulator shows: 'capsules' draws a capsule "
+                        "from each joint frame origin to the next and a cylinder along each joint axis "
+                        "(visual and collision; URDF writes a capsule as a cylinder and two spheres), as the "
+                        "Robotics Toolbox draws a DH robot; added to the shapes the input has (default: none)")
+    p.add_argument("--link-radius", metavar="R",
+                   help="with --link-geometry capsules: the capsule radius in the robot's length unit "
+                        "(default: 3%% of the robot's size)")
     return p
 
 
@@ -153,6 +161,33 @@ def _digits(text: str) -> int:
     if not 1 <= value <= 17:
         raise argparse.ArgumentTypeError(f"{value} is not 1 .. 17")
     return value
+
+
+def _check_link_geometry(args: argparse.Namespace) -> float | None:
+    """The capsule radius (None: the default), after checking the --link-* options fit --to."""
+    from ..io.numbers import number
+
+    style, radius = getattr(args, "link_geometry", "none"), getattr(args, "link_radius", None)
+    if style != "none" and args.to not in ("urdf", "mjcf"):
+        raise InputError(f"--link-geometry {style}: shapes are written by --to urdf or --to mjcf only, "
+                         f"not --to {args.to}")
+    if radius is None:
+        return None
+    if style == "none":
+        raise InputError("--link-radius: applies with --link-geometry capsules")
+    r = number(radius, "--link-radius")
+    if not r > 0:
+        raise InputError(f"--link-radius: must be a positive length, got {radius}")
+    return r
+
+
+def _with_link_geometry(robot, args: argparse.Namespace | None):
+    """The robot with stand-in link shapes when --link-geometry asks for them (robkin.link_geometry)."""
+    if args is None or getattr(args, "link_geometry", "none") == "none":
+        return robot
+    from ..link_geometry import with_link_capsules
+
+    return with_link_capsules(robot, _check_link_geometry(args))
 
 
 def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None = None) -> str:
@@ -170,11 +205,11 @@ def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None 
     if fmt == "urdf":
         from ..io.urdf import urdf_from_robot
 
-        return urdf_from_robot(robot)
+        return urdf_from_robot(_with_link_geometry(robot, args))
     if fmt == "mjcf":
         from ..io.mjcf import mjcf_from_robot
 
-        return mjcf_from_robot(robot)
+        return mjcf_from_robot(_with_link_geometry(robot, args))
     section = SECTION_OF[fmt]
     doc = document_from_robot(robot, degrees=degrees) if section is None else \
         document_from_robot(robot, (section,), degrees=degrees)
@@ -265,6 +300,7 @@ def run(args: argparse.Namespace) -> int:
     fmt: str = args.to
     _check_table_options(args)
     check_toolbox_options(args)
+    _check_link_geometry(args)
     if args.json and (args.output or fmt in ("urdf", "mjcf", "yaml")):
         raise InputError(f"--json prints a table format as JSON to stdout; it does not combine with "
                          f"{'-o' if args.output else '--to ' + fmt}")

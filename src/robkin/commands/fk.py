@@ -103,7 +103,8 @@ def run(args: argparse.Namespace) -> int:
 
         rows = [[name] + [fmt_num(v) for v in row] for name, row in zip(("vx", "vy", "vz", "wx", "wy", "wz"),
                                                                           extra["J"])]
-        print(text_table([""] + joint_names(robot), rows, title="J (geometric, base frame, at the tool origin)"))
+        print(text_table([""] + joint_names(robot), rows,
+                         title="J (geometric, base frame, at the tool origin; a column per joint, by name)"))
     for key, value in extra.get("manipulability", {}).items():
         print(f"{key}: {fmt_num(value)}")
     return 0

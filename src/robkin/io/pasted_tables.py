@@ -25,7 +25,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from ..errors import InputError
+from ..errors import InputError, quote
 from .numbers import number
 
 __all__ = ["TABLE_FORMATS", "document_from_table"]
@@ -60,7 +60,7 @@ def _tool_row(lines: list[tuple[int, list[str]]], tool_row: bool) -> bool:
     for i, (k, fields) in enumerate(lines):
         if fields[-1].lower() in _TOOL_TAGS:
             if i != len(lines) - 1:
-                raise InputError(f"line {k}: only the last row can be the tool ('{fields[-1]}') row")
+                raise InputError(f"line {k}: only the last row can be the tool ({quote(fields[-1])}) row")
             fields.pop()
             tool_row = True
     if tool_row and len(lines) < 2:
@@ -95,7 +95,7 @@ def document_from_table(text: str, fmt: str, tool_row: bool = False) -> dict[str
     not a joint.
     """
     if fmt not in TABLE_FORMATS:
-        raise InputError(f"format: '{fmt}' is not one of {', '.join(TABLE_FORMATS)}")
+        raise InputError(f"format: {quote(fmt)} is not one of {', '.join(TABLE_FORMATS)}")
     lines = _lines(text)
     if fmt in ("dh-rows", "mdh-rows"):
         if not lines:

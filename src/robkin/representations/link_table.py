@@ -14,7 +14,7 @@ from numpy.typing import ArrayLike
 
 from .. import se3
 from ..errors import InputError
-from ..robot import Joint, Robot, check_pose, check_q
+from ..robot import Joint, Robot, check_pose, check_q, identity_pose
 from ..samples import unit_sample
 from .frames import identity_mask, is_identity, relative_pose
 
@@ -197,8 +197,8 @@ class LinkTable:
 
     rows: np.ndarray
     joints: tuple[Joint, ...]
-    base: np.ndarray = field(default_factory=lambda: np.eye(4))
-    tool: np.ndarray = field(default_factory=lambda: np.eye(4))
+    base: np.ndarray = field(default_factory=identity_pose)
+    tool: np.ndarray = field(default_factory=identity_pose)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "joints", tuple(self.joints))
