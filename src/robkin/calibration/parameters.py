@@ -216,7 +216,7 @@ def build_model(robot: Robot, kind: str = "hayati", *, world: np.ndarray | None 
         L = robot._local
         for i, j in enumerate(robot.joints):
             b.const(L[i])
-            for k in ("Tx", "Ty", "Tz", "Rx", "Ry"):
+            for k in ("Tx", "Ty", "Tz", "Rx", "Ry") + (() if j.revolute else ("Rz",)):
                 b.elem(k, 0.0, f"joint {names[i]} frame {k[1]}" if k[0] == "T" else
                        f"joint {names[i]} axis tilt {k[1]}", names[i])
             _joint_elem(b, j.revolute, 0.0, names[i], i, 1.0)
