@@ -73,12 +73,15 @@ def identify(J: np.ndarray) -> Identifiability:
     kept, dropped = np.sort(piv[:rank]), np.sort(piv[rank:])
     partners: dict[int, list[int]] = {}
     Jk = Js[:, kept]
-    if dropped.size and kept.size:
-        coef = np.linalg.lstsq(Jk, Js[:, dropped], rcond=None)[0]  # (k, dropped)
-        for c, d in enumerate(dropped):
+    if dropped.size and rank:
+        from scipy.linalg import solve_triangular
+
+        # J P = Q [R11 R12]: a dropped column (of R12) is the kept columns' combination R11^-1 R12
+        coef = solve_triangular(R[:rank, :rank], R[:rank, rank:])
+        for c, d in enumerate(piv[rank:]):
             share = np.abs(coef[:, c])
             order = np.argsort(-share)
-            big = [int(kept[i]) for i in order if share[i] >= PARTNER_SHARE * share[order[0]]]
+            big = [int(piv[i]) for i in order if share[i] >= PARTNER_SHARE * share[order[0]]]
             partners[int(d)] = big[:3]
     s = np.linalg.svd(Jk, compute_uv=False) if kept.size else np.array([1.0])
     condition = float(s[0] / s[-1]) if s[-1] > 0 else float("inf")

@@ -101,14 +101,16 @@ class ErrorModel:
         """Measured poses (N, 4, 4) at joint values Q (N, n) for parameters p (P,), and optionally the
         Jacobian (N, 6, P) of (position, orientation rotation vector) in the measuring frame."""
         N = Q.shape[0]
-        T = np.broadcast_to(np.eye(4), (N, 4, 4)).copy()
+        T = np.broadcast_to(np.eye(4), (N, 4, 4))
         frames: list[tuple[int, str, np.ndarray]] = []
         for op in self.ops:
             if op.kind is None:
                 T = T @ op.const
                 continue
-            v = p[op.param] + (op.sign * Q[:, op.joint] if op.joint >= 0 else 0.0)
-            T = T @ _elementary(op.kind, v, N)
+            if op.joint >= 0:
+                T = T @ _elementary(op.kind, p[op.param] + op.sign * Q[:, op.joint], N)
+            else:  # the same motion at every pose: one 4x4
+                T = T @ _elementary(op.kind, p[op.param], 1)[0]
             if jacobian:
                 frames.append((op.param, op.kind, T))
         if not jacobian:
@@ -120,7 +122,10 @@ class ErrorModel:
             if kind[0] == "T":
                 J[:, :3, param] += u
             else:
-                J[:, :3, param] += np.cross(u, tip - F[:, :3, 3])
+                d = tip - F[:, :3, 3]
+                J[:, 0, param] += u[:, 1] * d[:, 2] - u[:, 2] * d[:, 1]   # u x d, without np.cross's overhead
+                J[:, 1, param] += u[:, 2] * d[:, 0] - u[:, 0] * d[:, 2]
+                J[:, 2, param] += u[:, 0] * d[:, 1] - u[:, 1] * d[:, 0]
                 J[:, 3:, param] += u
         return T, J
 
@@ -146,17 +151,23 @@ class ErrorModel:
                                   frames_from="hayati" if self.kind == "hayati" else None)
 
 
+_EYE = np.eye(4)
+
+
 def _elementary(kind: str, v: np.ndarray | float, N: int) -> np.ndarray:
     """(N, 4, 4) elementary motions of one kind by values v (N,) or a scalar."""
-    v = np.broadcast_to(np.asarray(v, dtype=float), (N,))
-    out = np.broadcast_to(np.eye(4), (N, 4, 4)).copy()
+    out = np.zeros((N, 4, 4))
+    out[:, 0, 0] = out[:, 1, 1] = out[:, 2, 2] = out[:, 3, 3] = 1.0
     axis = "xyz".index(kind[1])
     if kind[0] == "T":
         out[:, axis, 3] = v
         return out
-    i, j = [(1, 2), (2, 0), (0, 1)][axis]
+    i, j = ((1, 2), (2, 0), (0, 1))[axis]
     c, s = np.cos(v), np.sin(v)
-    out[:, i, i], out[:, i, j], out[:, j, i], out[:, j, j] = c, -s, s, c
+    out[:, i, i] = c
+    out[:, i, j] = -s
+    out[:, j, i] = s
+    out[:, j, j] = c
     return out
 
 
