@@ -83,6 +83,8 @@ class CalibrationResult:
     orientation_weight: float | None = None
     poses_fit: int = 0
     poses_holdout: int = 0
+    #: the nominal robot's tool frame (the flange the marker is given in), (4, 4)
+    nominal_tool: np.ndarray | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """The report as JSON-ready data."""
@@ -97,6 +99,8 @@ class CalibrationResult:
             "warnings": self.warnings,
             "orientation_weight": self.orientation_weight,
             "world": self.robot.world.tolist(),
+            "marker": None if self.nominal_tool is None else
+            (np.linalg.inv(self.nominal_tool) @ self.robot.tool).tolist(),
         }
 
     def text(self) -> str:
@@ -119,19 +123,21 @@ class CalibrationResult:
             out.append(f"orientation weight: {self.orientation_weight:.4g} m/rad")
         out.append("parameters (change from nominal +- standard deviation):")
         for p in self.parameters:
-            if not p.identified:
+            if not p.identified or p.group in ("base", "marker"):
                 continue
             scale, unit = (1e3, "mm") if p.unit == "m" else (np.degrees(1.0), "deg")
-            value = p.estimate - p.nominal if p.group not in ("base", "marker") else p.estimate
             std = "" if p.std is None else f" +- {p.std * scale:.3g}"
-            kind = "" if p.group not in ("base", "marker") else "  (value)"
-            out.append(f"  {p.name:<34} {value * scale:+.4g}{std} {unit}{kind}")
-        W = self.robot.world
+            out.append(f"  {p.name:<38} {(p.estimate - p.nominal) * scale:+.4g}{std} {unit}")
         from .. import se3
 
-        rpy = se3.rpy_from_matrix(W[:3, :3])
+        W = self.robot.world
         out.append("robot base in the measuring frame: xyz " + " ".join(f"{v:.6g}" for v in W[:3, 3])
-                   + " m, rpy " + " ".join(f"{v:.6g}" for v in rpy) + " rad")
+                   + " m, rpy " + " ".join(f"{v:.6g}" for v in se3.rpy_from_matrix(W[:3, :3])) + " rad")
+        marker = se3.inv(self.nominal_tool) @ self.robot.tool if self.nominal_tool is not None else None
+        if marker is not None:
+            out.append("marker in the nominal tool frame: xyz " + " ".join(f"{v:.6g}" for v in marker[:3, 3]) + " m"
+                       + (", rpy " + " ".join(f"{v:.6g}" for v in se3.rpy_from_matrix(marker[:3, :3])) + " rad"
+                          if self.orientation_weight is not None else ""))
         for s in self.unidentifiable:
             out.append(f"not identifiable: {s}")
         if self.outliers:

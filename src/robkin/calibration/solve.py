@@ -37,12 +37,14 @@ MAX_ANGLE = 0.2
 MAX_LENGTH = 0.1
 #: Per-pose residual norms of d Gaussian components of deviation s have medians CHI_MEDIAN[d] * s
 #: (chi distribution with 3 and 6 degrees of freedom), used to turn the median into the scale s.
-CHI_MEDIAN = {3: 1.5382, 6: 2.3506}
+CHI_MEDIAN = {3: 1.5382, 6: 2.3126}
 #: Huber's threshold: the 95 % quantile of the chi distribution (so that 95 % of clean poses keep weight 1).
 HUBER = {3: 2.7955, 6: 3.5485}
-#: A pose is an outlier beyond the 99.99 % quantile of the chi distribution (1 false alarm in 10^4 clean
-#: poses): it is rejected (weight 0) and listed.
-OUTLIER_SIGMAS = {3: 4.5943, 6: 5.2780}
+#: A pose is an outlier beyond the 1 - 1e-6 quantile of the chi distribution: it is rejected (weight 0)
+#: and listed. So far out because fitted residuals are not independent (a pose at high leverage keeps a
+#: larger share of its noise), and a bad measurement (a slipped marker, a swapped line) is off by many
+#: times the noise anyway; at the 1e-4 quantile clean 50-pose campaigns showed false alarms.
+OUTLIER_SIGMAS = {3: 5.5376, 6: 6.1853}
 #: Reweighting rounds (each a full fit from the last estimate; the weights settle in 2-3).
 ROUNDS = 4
 #: Levenberg-Marquardt stopping: relative cost decrease and step (scaled variables) below these are
@@ -57,7 +59,7 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
               model: str = "hayati", world: ArrayLike | None = None, marker: ArrayLike | None = None,
               orientation_weight: float | None = None, loss: str = "huber",
               holdout: float | ArrayLike | None = None, seed: int = 0, kinematics: bool = True,
-              rows: Sequence[int] | None = None) -> CalibrationResult:
+              only: Sequence[str] | None = None, rows: Sequence[int] | None = None) -> CalibrationResult:
     """Identify the real robot from measured tool points (and orientations).
 
     Parameters
@@ -85,6 +87,9 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
         Poses kept out of the fit to test the result on (a fraction is picked at random with ``seed``).
     kinematics : bool
         False: fit only the base and the marker (the nominal model at its best).
+    only : sequence of str, optional
+        Fit only these joints' parameters (joint names) or these parameters (names as in the report),
+        with the base and marker: which joint explains the measurements (``robkin check``).
     rows : sequence of int, optional
         Row numbers of the poses in their file, for the outlier list (default 1..N).
 
@@ -116,14 +121,15 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
     if frame_free:
         p = _rounds(data, p, np.array(frame_free), loss, orientation_weight is None)
     nominal_robot = mdl.robot_at(p)
-    before = (data.stats(p), _Data(mdl, Q[hold], P[hold], None if Rm is None else Rm[hold], data.w_o).stats(p))
+    p_before = p.copy()
     warnings: list[str] = []
     sentences: list[str] = []
     free = np.array(frame_free, dtype=int)
     condition = float("nan")
     if kinematics:
         fixed = set(frame_free) ^ set(mdl.world_params + mdl.marker_params)
-        cand = np.array([i for i in range(mdl.size) if i not in fixed])
+        cand = np.array([i for i in range(mdl.size) if i not in fixed and (
+            only is None or i in frame_free or mdl.groups[i] in only or mdl.names[i] in only)], dtype=int)
         _, J = data.residuals(p, jacobian=True)
         ident = identify(J[:, :, cand].reshape(-1, len(cand)) * np.sqrt(data.weights).repeat(data.d)[:, None])
         free, condition = cand[ident.kept], ident.condition
@@ -137,7 +143,9 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
                             f"{ILL_CONDITIONED:g}): measure more poses, spread over the joint ranges")
     result_robot = mdl.robot_at(p)
     hold_data = _Data(mdl, Q[hold], P[hold], None if Rm is None else Rm[hold], data.w_o)
-    after = (data.stats(p), hold_data.stats(p))
+    inliers = data.weights > 0   # the outliers are listed apart, not mixed into the statistics
+    before = (data.stats(p_before, inliers), hold_data.stats(p_before))
+    after = (data.stats(p, inliers), hold_data.stats(p))
     std = data.std(p, free)
     lo, hi = _bounds(mdl)
     params = [Parameter(mdl.names[i], mdl.units[i], mdl.groups[i], float(mdl.nominal[i]), float(p[i]),
@@ -151,7 +159,8 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
         robot=result_robot, nominal=nominal_robot, model=model, parameters=params, unidentifiable=sentences,
         condition=condition, before_fit=before[0], before_holdout=before[1], after_fit=after[0],
         after_holdout=after[1], outliers=outliers, warnings=warnings,
-        orientation_weight=data.w_o if Rm is not None else None, poses_fit=len(fit), poses_holdout=len(hold))
+        orientation_weight=data.w_o if Rm is not None else None, poses_fit=len(fit), poses_holdout=len(hold),
+        nominal_tool=robot.tool)
 
 
 class _Data:
@@ -182,12 +191,14 @@ class _Data:
     def pose_norms(self, p: np.ndarray) -> np.ndarray:
         return np.linalg.norm(self.residuals(p)[0], axis=1)
 
-    def stats(self, p: np.ndarray) -> dict:
-        if len(self.Q) == 0:
+    def stats(self, p: np.ndarray, use: np.ndarray | None = None) -> dict:
+        """Residual statistics (``report.residual_stats``) of the poses ``use`` (default all)."""
+        use = np.ones(len(self.Q), dtype=bool) if use is None else use
+        if not use.any():
             return {}
-        T, _ = self.mdl.poses(p, self.Q)
-        ori = None if self.Rm is None else se3.log_rotation(T[:, :3, :3] @ np.swapaxes(self.Rm, 1, 2))
-        return residual_stats(T[:, :3, 3] - self.P, ori)
+        T, _ = self.mdl.poses(p, self.Q[use])
+        ori = None if self.Rm is None else se3.log_rotation(T[:, :3, :3] @ np.swapaxes(self.Rm[use], 1, 2))
+        return residual_stats(T[:, :3, 3] - self.P[use], ori)
 
     def std(self, p: np.ndarray, free: np.ndarray) -> dict[int, float]:
         """Standard deviations of the free parameters: sigma^2 (J^T W J)^-1 with sigma^2 from the
