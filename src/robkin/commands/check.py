@@ -14,6 +14,11 @@ type, axis direction (angle), axis position (distance), positive direction (sign
 Descriptions that differ only in signs and zero offsets are the same mechanism with another joint
 convention; the table gives the mapping q_A = sign * q_B + offset.
 
+With measurements as B (.csv, .npz or .npy, the format 'robkin calibrate' reads), the model is
+compared with measured samples: given its best base and marker, how far it is from them (RMS and
+max), and which joint's parameters, then which parameter, explain most of the difference. Then --tol
+is the RMS position residual in metres the model may leave (default 0.0005).
+
 exit status: 0 same robot; 1 not the same robot (including a different joint convention); 2 bad input.
 
 examples:
@@ -21,6 +26,7 @@ examples:
   robkin check vendor_dh.yaml robot.urdf --tol 1e-4       # a table typed with 4 decimals
   robkin check a.yaml b.yaml --json
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0 --tip-link -     # a chain per input, in order
+  robkin check ur5.urdf measurements.csv --tip-link tool0            # a model against measurements
 """
 
 
@@ -35,8 +41,9 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("b", metavar="B", help="second robot")
     add_chain_options(p)
     add_allow_xacro(p)
-    p.add_argument("--tol", type=float, default=1e-6,  # = equivalence.DEFAULT_TOL (not imported: startup time)
-                   help="relative tolerance on angles (rad) and lengths / robot size (default 1e-06)")
+    p.add_argument("--tol", type=float, default=None,  # 1e-6 = equivalence.DEFAULT_TOL (not imported: startup time)
+                   help="relative tolerance on angles (rad) and lengths / robot size (default 1e-06); against "
+                        "measurements: RMS position residual in metres (default 0.0005)")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
     return p
 
@@ -45,6 +52,11 @@ def run(args: argparse.Namespace) -> int:
     from ..equivalence import compare
     from ..errors import InputError
 
+    if args.b.lower().endswith((".csv", ".npz", ".npy")):   # a model against measured samples
+        from ._check_measurements import run_measurements
+
+        return run_measurements(args)
+    args.tol = 1e-6 if args.tol is None else args.tol
     if not (math.isfinite(args.tol) and args.tol > 0):
         raise InputError(f"--tol: {args.tol} is not a positive number")
     from ._chains import chain_ends
