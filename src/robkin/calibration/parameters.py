@@ -201,7 +201,8 @@ class _Builder:
 
 
 def build_model(robot: Robot, kind: str = "hayati", *, world: np.ndarray | None = None,
-                marker: np.ndarray | None = None, full_pose: bool = False) -> ErrorModel:
+                marker: np.ndarray | None = None, full_pose: bool = False, world_known: bool = False,
+                marker_known: bool = False) -> ErrorModel:
     """The error model of ``robot`` (see the module doc).
 
     Parameters
@@ -216,6 +217,10 @@ def build_model(robot: Robot, kind: str = "hayati", *, world: np.ndarray | None 
         Starting estimate of the marker in the tool frame: a point, or a pose with ``full_pose``.
     full_pose : bool
         Orientations are measured: the marker has six parameters (else three).
+    world_known, marker_known : bool
+        The base pose (marker) is known and held: the first joint's frame relative to the base (the
+        flange relative to the last joint) gets six parameters of its own, which a free base (marker)
+        would otherwise stand for.
     """
     b = _Builder()
     W = np.eye(4) if world is None else np.asarray(world, dtype=float)
@@ -246,6 +251,8 @@ def build_model(robot: Robot, kind: str = "hayati", *, world: np.ndarray | None 
         else:
             raise ValueError(f"model '{kind}' is not one of {', '.join(MODELS)}")
         b.const(table.base)
+        if world_known:   # (the local PoE model's first frame motion already is this)
+            b.pose6(f"joint {names[0]} frame", names[0], (0.0,) * 6)
         for i, j in enumerate(robot.joints):
             a, d, alpha, theta = (float(v) for v in table.rows[i, :4])
             sign = -1.0 if j.flip else 1.0
@@ -272,6 +279,8 @@ def build_model(robot: Robot, kind: str = "hayati", *, world: np.ndarray | None 
                     b.elem("Ry", float(table.rows[i, 4]), f"link {nm} beta", g)
         flange = table.tool
     b.const(flange)
+    if marker_known:
+        b.pose6("flange", names[-1], (0.0,) * 6)
     m = np.zeros(3) if marker is None else np.asarray(marker, dtype=float)
     if full_pose:
         M = se3.trans(*m) if m.shape == (3,) else m

@@ -110,7 +110,8 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
     W_known = None if world is None else _pose(world, "world")
     m_known = None if marker is None else _marker(marker, Rm is not None)
     W0, m0 = initial_frame(robot, Q[fit], P[fit], None if Rm is None else Rm[fit], W_known, m_known)
-    mdl = build_model(robot, model, world=W0, marker=m0, full_pose=Rm is not None)
+    mdl = build_model(robot, model, world=W0, marker=m0, full_pose=Rm is not None,
+                      world_known=W_known is not None, marker_known=m_known is not None)
     data = _Data(mdl, Q[fit], P[fit], None if Rm is None else Rm[fit])
     if orientation_weight is not None:
         if not (np.isfinite(orientation_weight) and orientation_weight > 0):
