@@ -3,7 +3,7 @@
 How many poses, how spread, what noise: try it here before measuring. The truth moves every joint
 frame of the GJD (``perturbed``) by a small rigid motion: a translation of ``offset`` per component
 and a rotation of ``angle`` per component, the rotation about the joint's own axis being its zero
-offset; it stands somewhere in the measuring frame (``world``) and carries a marker off its flange.
+offset (the links after it turn); it stands somewhere in the measuring frame (``world``) and carries a marker off its flange.
 
 ``reference_fit`` is the yardstick the calibration is judged by: a plain Gauss-Newton least-squares fit
 (central finite differences, minimum-norm steps by SVD) with the very parameterisation that made the
@@ -36,7 +36,7 @@ class Simulation:
     orientations : (N, 3, 3) array
         Measured marker orientations (with noise).
     frame_motions : (n, 6) array
-        The perturbation of each joint frame (translation, rotation vector).
+        The perturbation of each joint (``perturbed``).
     marker : (4, 4) array
         The marker in the nominal flange frame.
     """
@@ -58,13 +58,16 @@ def random_configurations(robot: Robot, count: int, rng: np.random.Generator) ->
 
 
 def perturbed(robot: Robot, motions: np.ndarray) -> Robot:
-    """The robot with joint frame i moved by ``motions[i]`` = (translation (3), rotation vector (3)) in its
-    own frame (the rotation about z is the joint's zero offset)."""
+    """The robot with joint i's axis moved and its zero shifted by ``motions[i]`` = (x, y, z, rx, ry, rz):
+    joint frame J_i is moved by the translation (x, y, z) and turned by the rotation vector (rx, ry, 0),
+    in its own frame, and the joint's zero moves by rz (the later links turn about the moved axis)."""
     F = robot.frames.copy()
     for i, m in enumerate(motions):
-        F[i] = F[i] @ se3.homogeneous(se3.exp_twist(np.r_[m[3:] / max(np.linalg.norm(m[3:]), 1e-300), 0, 0, 0],
-                                                    np.linalg.norm(m[3:]))[:3, :3], m[:3])
-    return robot.replace(frames=F)
+        w = np.array([m[3], m[4], 0.0])
+        F[i] = F[i] @ se3.homogeneous(_rotations(w[None])[0], m[:3])
+    moved = robot.replace(frames=F)
+    # frames_at(q) holds every frame moved to configuration q: at q = the offsets it is the new home
+    return moved.replace(frames=moved.frames_at(np.asarray(motions, dtype=float)[:, 5]))
 
 
 def simulate(robot: Robot, poses: int = 60, *, offset: float = 1e-3, angle: float = 1e-3,

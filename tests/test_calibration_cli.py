@@ -1,0 +1,143 @@
+"""robkin calibrate / robkin check MODEL MEASUREMENTS: files in, files out, bad input.
+
+The calibrated URDF is loaded by independent peers (pinocchio; MuJoCo where installed), whose FK of
+the tool link in the file's root frame must predict the measured points: the world joint is the base
+in the measuring frame and the tool link sits at the marker.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import robkin
+from robkin.calibration import read_measurements, simulate, write_measurements_csv
+from robkin.calibration.simulate import perturbed
+from robkin.cli import main
+from test_urdf import robot_file
+
+UR5 = "ur_description/urdf/ur5_robot.urdf"
+
+
+@pytest.fixture(scope="module")
+def ur5_case(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("cal")
+    path = robot_file(UR5)
+    robot = robkin.load(path, tip_link="tool0")
+    sim = simulate(robot, 50, seed=21)
+    pos = sim.positions.copy()
+    pos[9] += 0.005                  # one bad measurement, on line 11 of the file
+    csv = folder / "m.csv"
+    write_measurements_csv(csv, robot, sim.q, pos)
+    return path, robot, sim, csv, folder
+
+
+def test_calibrated_urdf_keeps_names_and_predicts_measurements_in_pinocchio(ur5_case, capsys):
+    pin = pytest.importorskip("pinocchio")
+    path, robot, sim, csv, folder = ur5_case
+    out = folder / "ur5_cal.urdf"
+    assert main(["calibrate", path, str(csv), "-o", str(out), "--tip-link", "tool0", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert [o["row"] for o in report["outliers"]] == [11]
+    assert report["residuals"]["after"]["fit"]["position_rms"] < 50e-6
+    cal = robkin.load(out, tip_link="tool0")
+    assert [j.name for j in cal.joints] == [j.name for j in robot.joints]
+    assert [(j.lower, j.upper) for j in cal.joints] == [(j.lower, j.upper) for j in robot.joints]
+    assert len(cal.bodies.shapes) == len(robot.bodies.shapes)
+    model = pin.buildModelFromUrdf(str(out))
+    data = model.createData()
+    for k in range(0, 50, 7):
+        if k == 9:
+            continue
+        pin.framesForwardKinematics(model, data, sim.q[k])
+        got = data.oMf[model.getFrameId("tool0")].translation
+        assert np.linalg.norm(got - sim.positions[k]) < 150e-6   # 20 um noise per coordinate, < 4.3 sigma
+    # the joint axes stay where they were drawn, within the calibration's millimetres and milliradians
+    assert np.abs(np.einsum("ij,ij->i", cal.axes, robot.axes) - 1).max() < 1e-4
+    d = cal.points - robot.points
+    off_axis = d - np.einsum("ij,ij->i", d, robot.axes)[:, None] * robot.axes
+    assert np.linalg.norm(off_axis, axis=1).max() < 0.01
+
+
+def test_calibrated_mjcf_and_document_predict_measurements(ur5_case):
+    path, robot, sim, csv, folder = ur5_case
+    for name, extra in (("cal.yaml", ["--to", "hayati"]), ("cal.json", []), ("cal.xml", [])):
+        out = folder / name
+        assert main(["calibrate", path, str(csv), "-o", str(out), "--tip-link", "tool0", *extra]) == 0
+        cal = robkin.load(out)
+        T = cal.world @ cal.fk(sim.q[:8])
+        assert np.linalg.norm(T[:, :3, 3] - sim.positions[:8], axis=1).max() < 150e-6, name
+    mujoco = pytest.importorskip("mujoco")
+    model = mujoco.MjModel.from_xml_path(str(folder / "cal.xml"))
+    data = mujoco.MjData(model)
+    data.qpos[:6] = sim.q[0]
+    mujoco.mj_kinematics(model, data)
+    site = model.site("tool").id
+    assert np.linalg.norm(data.site_xpos[site] - sim.positions[0]) < 150e-6
+
+
+def test_check_names_the_joint_and_parameter_that_differ(tmp_path, capsys):
+    path = robot_file(UR5)
+    robot = robkin.load(path, tip_link="tool0")
+    motions = np.zeros((6, 6))
+    motions[2, 5] = 0.004             # the elbow's zero offset is off by 4 mrad
+    real = perturbed(robot, motions).replace(world=robkin.se3.trans(1.2, -0.3, 0.4))
+    Q = simulate(robot, 40, seed=2).q
+    T = real.world @ real.fk(Q)
+    csv = tmp_path / "m.csv"
+    write_measurements_csv(csv, robot, Q, T[:, :3, 3])
+    assert main(["check", path, str(csv), "--tip-link", "tool0", "--json"]) == 1
+    d = json.loads(capsys.readouterr().out)
+    assert not d["same"] and d["joints"][0]["joint"] == "elbow_joint"
+    assert d["parameters"][0]["parameter"] == "joint elbow_joint zero offset"
+    assert d["parameters"][0]["change"] == pytest.approx(0.004, rel=1e-3)
+    assert main(["check", path, str(csv), "--tip-link", "tool0", "--tol", "0.01"]) == 0
+    assert "is the measured robot" in capsys.readouterr().out
+
+
+def test_numpy_files_read_as_the_csv(ur5_case, tmp_path):
+    _, robot, sim, csv, _ = ur5_case
+    m = read_measurements(csv, robot)
+    names = [j.name for j in robot.joints]
+    np.savez(tmp_path / "a.npz", q=m.q, positions=m.positions)
+    np.savez(tmp_path / "b.npz", **{n: m.q[:, i] for i, n in enumerate(names)},
+             x=m.positions[:, 0], y=m.positions[:, 1], z=m.positions[:, 2])
+    np.save(tmp_path / "c.npy", np.concatenate([m.q, m.positions], axis=1))
+    for f in ("a.npz", "b.npz", "c.npy"):
+        got = read_measurements(tmp_path / f, robot)
+        np.testing.assert_array_equal(got.q, m.q)
+        np.testing.assert_array_equal(got.positions, m.positions)
+    np.save(tmp_path / "obj.npy", np.array([{"x": 1}], dtype=object))
+    with pytest.raises(robkin.InputError, match="obj.npy"):
+        read_measurements(tmp_path / "obj.npy", robot)
+
+
+@pytest.mark.parametrize("content, message", [
+    ("shoulder_pan_joint,x,y,z\n1,2,3,4\n", "no column 'shoulder_lift_joint'"),
+    ("{h},x,y,z,elbow\n", "column 'elbow' is neither a joint"),
+    ("{h},x,y,z\n0,0,0,0,0,0,1,2,oops\n", "line 2, column 'z': 'oops' is not a number"),
+    ("{h},x,y,z\n0,0,0,0,0,0,1,2\n", "line 2: 8 values for 9 columns"),
+    ("{h},x,y,z,qw,qx\n", "without qy, qz"),
+    ("{h},x,y,z,qw,qx,qy,qz\n" + "0,0,0,0,0,0,1,2,3,2,0,0,0\n" * 4, "line 2: quaternion"),
+    ("", "empty"),
+])
+def test_bad_measurement_files_are_one_line_errors(tmp_path, capsys, content, message):
+    path = robot_file(UR5)
+    header = "shoulder_pan_joint,shoulder_lift_joint,elbow_joint,wrist_1_joint,wrist_2_joint,wrist_3_joint"
+    csv = tmp_path / "bad.csv"
+    csv.write_text(content.replace("{h}", header))
+    out = tmp_path / "out.urdf"
+    assert main(["calibrate", path, str(csv), "-o", str(out), "--tip-link", "tool0"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and message in err and "bad.csv" in err
+    assert not out.exists()
+
+
+def test_bad_output_name_is_refused_before_any_work(ur5_case, tmp_path, capsys):
+    path, _, _, csv, _ = ur5_case
+    assert main(["calibrate", path, str(csv), "-o", str(tmp_path / "x.txt"), "--tip-link", "tool0"]) == 2
+    assert "x.txt" in capsys.readouterr().err
+    assert main(["calibrate", path, str(csv), "-o", str(tmp_path / "x.urdf"), "--to", "dh",
+                 "--tip-link", "tool0"]) == 2
