@@ -43,6 +43,7 @@ test: $(VENV)/.test $(ASSETS)
 # Benchmarks compare against peers in the same run (pinocchio; the Robotics Toolbox where it installs).
 bench: $(VENV)/.test
 	$(PIP) install -e '.[test,bench]'
+	$(PIP) install --no-deps 'robotkinecal>=0.1' 'pybotics>=3.1'
 	for b in benchmarks/bench_*.py; do echo "== $$b"; $(PY) $$b || exit 1; done
 
 # The documentation site (MkDocs Material + mkdocstrings) into site/; strict: a broken link or

@@ -102,7 +102,8 @@ def diagnose(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Arr
     if res["position_rms"] > tol and total > 0:
         for j in robot.joints:
             fit = calibrate(robot, q, positions, orientations, only=[j.name], **kw)
-            joints.append((j.name, 1.0 - fit.after_fit["position_rms"] ** 2 / total, fit.after_fit["position_rms"]))
+            left = fit.after_fit["position_rms"]
+            joints.append((j.name, max(0.0, 1.0 - left ** 2 / total), left))   # a fit never adds error
         joints.sort(key=lambda t: -t[1])
         best = joints[0][0]
         full = calibrate(robot, q, positions, orientations, only=[best], **kw)
