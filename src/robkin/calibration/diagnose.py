@@ -46,7 +46,7 @@ class Diagnosis:
         Poses left out as bad measurements (their line in the file, residual in m).
     """
 
-    residuals: dict
+    residuals: dict[str, float]
     joints: list[tuple[str, float, float]]
     parameters: list[tuple[str, float, float, str]]
     tol: float

@@ -49,7 +49,7 @@ class Measurements:
     rows: list[int]
 
 
-def read_measurements(path: str | os.PathLike, robot: Robot) -> Measurements:
+def read_measurements(path: str | os.PathLike[str], robot: Robot) -> Measurements:
     """Read a measurement file (see the module doc) for ``robot``'s joints; InputError naming the file,
     line and column otherwise."""
     p = os.fspath(path)
@@ -134,8 +134,7 @@ def _from_csv(text: str, names: list[str], src: str) -> Measurements:
     if header is None:
         raise InputError(f"{src}: empty; expected a header line {_columns_expected(names)} and one line per pose")
     A = np.array(values, dtype=float).reshape(len(values), len(header))
-    col = {h: A[:, k] for k, h in enumerate(header)}
-    return _assemble(col, names, rows)
+    return _assemble({h: A[:, k] for k, h in enumerate(header)}, names, rows)
 
 
 def _assemble(col: dict[str, np.ndarray], names: list[str], rows: list[int]) -> Measurements:
@@ -164,17 +163,17 @@ def _from_numpy(data: bytes, ext: str, names: list[str], src: str) -> Measuremen
             quat = _numeric(arrays["quaternions"], src, "quaternions", (len(q), 4)) if "quaternions" in arrays else None
             return Measurements(q, pos, quat, list(range(1, len(q) + 1)))
         _check_header(list(arrays), names, src)
-        n = None
-        col = {}
+        count: int | None = None
+        columns: dict[str, np.ndarray] = {}
         for k, a in arrays.items():
-            col[k] = _numeric(a, src, k, (n,))
-            n = len(col[k])
-        return _assemble(col, names, list(range(1, n + 1 if n else 1)))
+            columns[k] = _numeric(a, src, k, (count,))
+            count = len(columns[k])
+        return _assemble(columns, names, list(range(1, (count or 0) + 1)))
     a = loaded
     if a.dtype.names:
         _check_header(list(a.dtype.names), names, src)
-        col = {k: _numeric(np.asarray(a[k]), src, k, (None,)) for k in a.dtype.names}
-        return _assemble(col, names, list(range(1, len(a) + 1)))
+        fields = {k: _numeric(np.asarray(a[k]), src, k, (None,)) for k in a.dtype.names}
+        return _assemble(fields, names, list(range(1, len(a) + 1)))
     n = len(names)
     if a.ndim != 2 or a.shape[1] not in (n + 3, n + 7):
         raise InputError(f"{src}: a plain array must be (N, {n + 3}) or (N, {n + 7}) (columns "
@@ -199,7 +198,7 @@ def _numeric(a: np.ndarray, src: str, name: str, shape: tuple[int | None, ...]) 
     return a
 
 
-def write_measurements_csv(path: str | os.PathLike, robot: Robot, q: np.ndarray, positions: np.ndarray,
+def write_measurements_csv(path: str | os.PathLike[str], robot: Robot, q: np.ndarray, positions: np.ndarray,
                            quaternions: np.ndarray | None = None) -> None:
     """Write poses in the CSV contract (atomically), numbers in full precision."""
     from ..io.atomic import write_text_atomic

@@ -27,12 +27,15 @@ measuring frame) is u for a rotation and 0 for a translation. One pass over the 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
 from .. import se3
 from ..robot import Robot
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..representations.link_table import LinkTable
 
 __all__ = ["ErrorModel", "build_model", "MODELS", "KINDS"]
 
@@ -105,7 +108,7 @@ class ErrorModel:
         frames: list[tuple[int, str, np.ndarray]] = []
         for op in self.ops:
             if op.kind is None:
-                T = T @ op.const
+                T = T @ _const(op)
                 continue
             if op.joint >= 0:
                 T = T @ _elementary(op.kind, p[op.param] + op.sign * Q[:, op.joint], N)
@@ -141,7 +144,7 @@ class ErrorModel:
                 frames.append(T @ _FLIP_X if op.sign < 0 else T.copy())
                 ji += 1
             if op.kind is None:
-                T = T @ op.const
+                T = T @ _const(op)
             else:
                 T = T @ _elementary(op.kind, np.array([p[op.param]]), 1)[0]
             if op.param >= 0 and op.param == self.world_params[-1]:
@@ -151,7 +154,10 @@ class ErrorModel:
                                   frames_from="hayati" if self.kind == "hayati" else None)
 
 
-_EYE = np.eye(4)
+def _const(op: Op) -> np.ndarray:
+    if op.const is None:  # pragma: no cover - the builder gives every constant step its matrix
+        raise ValueError("a constant step without its matrix")
+    return op.const
 
 
 def _elementary(kind: str, v: np.ndarray | float, N: int) -> np.ndarray:
@@ -238,6 +244,7 @@ def build_model(robot: Robot, kind: str = "hayati", *, world: np.ndarray | None 
             _joint_elem(b, j.revolute, 0.0, names[i], i, 1.0)
         flange = L[n]
     else:
+        table: LinkTable
         if kind == "hayati":
             from ..representations.hayati import hayati_from_robot, hayati_frames
 

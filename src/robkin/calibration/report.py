@@ -74,10 +74,10 @@ class CalibrationResult:
     parameters: list[Parameter]
     unidentifiable: list[str]
     condition: float
-    before_fit: dict
-    before_holdout: dict
-    after_fit: dict
-    after_holdout: dict
+    before_fit: dict[str, float]
+    before_holdout: dict[str, float]
+    after_fit: dict[str, float]
+    after_holdout: dict[str, float]
     outliers: list[tuple[int, float]] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
     orientation_weight: float | None = None
@@ -109,12 +109,12 @@ class CalibrationResult:
                + (f", {self.poses_holdout} held out" if self.poses_holdout else "")]
         out.append("residuals                 position RMS   position max" +
                    ("   orientation RMS  orientation max" if "orientation_rms" in self.after_fit else ""))
-        for label, s in (("before (fit)", self.before_fit), ("after (fit)", self.after_fit),
-                         ("before (hold-out)", self.before_holdout), ("after (hold-out)", self.after_holdout)):
-            if s:
-                line = f"  {label:<22} {_mm(s['position_rms'])}   {_mm(s['position_max'])}"
-                if "orientation_rms" in s:
-                    line += f"   {_deg(s['orientation_rms'])}   {_deg(s['orientation_max'])}"
+        for label, st in (("before (fit)", self.before_fit), ("after (fit)", self.after_fit),
+                          ("before (hold-out)", self.before_holdout), ("after (hold-out)", self.after_holdout)):
+            if st:
+                line = f"  {label:<22} {_mm(st['position_rms'])}   {_mm(st['position_max'])}"
+                if "orientation_rms" in st:
+                    line += f"   {_deg(st['orientation_rms'])}   {_deg(st['orientation_max'])}"
                 out.append(line)
         out.append("  (before: the nominal model with its best base and marker)")
         if not np.isnan(self.condition):
@@ -138,8 +138,8 @@ class CalibrationResult:
             out.append("marker in the nominal tool frame: xyz " + " ".join(f"{v:.6g}" for v in marker[:3, 3]) + " m"
                        + (", rpy " + " ".join(f"{v:.6g}" for v in se3.rpy_from_matrix(marker[:3, :3])) + " rad"
                           if self.orientation_weight is not None else ""))
-        for s in self.unidentifiable:
-            out.append(f"not identifiable: {s}")
+        for sentence in self.unidentifiable:
+            out.append(f"not identifiable: {sentence}")
         if self.outliers:
             out.append("outliers (rejected): " + ", ".join(f"row {r} ({_mm(e).strip()})" for r, e in self.outliers))
         for w in self.warnings:

@@ -132,6 +132,7 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
         cand = np.array([i for i in range(mdl.size) if i not in fixed and (
             only is None or i in frame_free or mdl.groups[i] in only or mdl.names[i] in only)], dtype=int)
         _, J = data.residuals(p, jacobian=True)
+        assert J is not None  # asked for
         ident = identify(J[:, :, cand].reshape(-1, len(cand)) * np.sqrt(data.weights).repeat(data.d)[:, None])
         free, condition = cand[ident.kept], ident.condition
         for d in ident.dropped:
@@ -192,7 +193,7 @@ class _Data:
     def pose_norms(self, p: np.ndarray) -> np.ndarray:
         return np.linalg.norm(self.residuals(p)[0], axis=1)
 
-    def stats(self, p: np.ndarray, use: np.ndarray | None = None) -> dict:
+    def stats(self, p: np.ndarray, use: np.ndarray | None = None) -> dict[str, float]:
         """Residual statistics (``report.residual_stats``) of the poses ``use`` (default all)."""
         use = np.ones(len(self.Q), dtype=bool) if use is None else use
         if not use.any():
@@ -376,16 +377,16 @@ def _check_inputs(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations
     O = np.asarray(orientations, dtype=float)
     if O.shape == (len(Q), 4):
         norms = np.linalg.norm(O, axis=1)
-        bad = np.flatnonzero(~(np.abs(norms - 1.0) < 1e-3))  # 3-4 digits typed: beyond, not a unit quaternion
-        if bad.size:
-            raise InputError(f"orientations: pose {bad[0] + 1}: quaternion (qw, qx, qy, qz) has norm {norms[bad[0]]:.6g}, "
-                             f"not 1")
+        off = np.flatnonzero(~(np.abs(norms - 1.0) < 1e-3))  # 3-4 digits typed: beyond, not a unit quaternion
+        if off.size:
+            raise InputError(f"orientations: pose {off[0] + 1}: quaternion (qw, qx, qy, qz) has norm "
+                             f"{norms[off[0]]:.6g}, not 1")
         O = _matrix_from_quaternion(O / norms[:, None])
     elif O.shape == (len(Q), 3, 3):
         err = se3.rotation_error(O)
-        bad = np.flatnonzero(~(err < 1e-6))
-        if bad.size:
-            raise InputError(f"orientations: pose {bad[0] + 1} is not a rotation matrix")
+        off = np.flatnonzero(~(err < 1e-6))   # rotation matrices typed or computed to ~1e-9 and better
+        if off.size:
+            raise InputError(f"orientations: pose {off[0] + 1} is not a rotation matrix")
     else:
         raise InputError(f"orientations: expected ({len(Q)}, 4) quaternions (w, x, y, z) or ({len(Q)}, 3, 3) "
                          f"rotations, got {O.shape}")
