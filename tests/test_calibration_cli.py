@@ -7,10 +7,13 @@ in the measuring frame and the tool link sits at the marker.
 
 from __future__ import annotations
 
+import io
 import json
+import zipfile
 
 import numpy as np
 import pytest
+from numpy.lib import format as npy
 
 import robkin
 from robkin.calibration import read_measurements, simulate, write_measurements_csv
@@ -110,8 +113,29 @@ def test_numpy_files_read_as_the_csv(ur5_case, tmp_path):
         np.testing.assert_array_equal(got.q, m.q)
         np.testing.assert_array_equal(got.positions, m.positions)
     np.save(tmp_path / "obj.npy", np.array([{"x": 1}], dtype=object))
-    with pytest.raises(robkin.InputError, match="obj.npy"):
+    with pytest.raises(robkin.InputError, match="obj.npy: holds Python objects"):
         read_measurements(tmp_path / "obj.npy", robot)
+
+
+def test_hostile_numpy_files_are_refused_before_allocating(tmp_path):
+    robot = robkin.load(robot_file(UR5), tip_link="tool0")
+    # a header promising 10^12 doubles over a few bytes of data
+    fake = tmp_path / "fake.npy"
+    buf = io.BytesIO()
+    npy.write_array_header_1_0(buf, {"descr": "<f8", "fortran_order": False, "shape": (10 ** 12, 9)})
+    fake.write_bytes(buf.getvalue() + b"\0" * 64)
+    with pytest.raises(robkin.InputError, match="fake.npy: the header promises"):
+        read_measurements(fake, robot)
+    # a zip member that unpacks to far more than the file size cap
+    bomb = tmp_path / "bomb.npz"
+    with zipfile.ZipFile(bomb, "w", zipfile.ZIP_DEFLATED) as z:
+        z.writestr("q.npy", b"\0" * (80 * 1024 * 1024))
+    with pytest.raises(robkin.InputError, match="bomb.npz: unpacks to more than"):
+        read_measurements(bomb, robot)
+    junk = tmp_path / "junk.npz"
+    junk.write_bytes(b"PK not really a zip")
+    with pytest.raises(robkin.InputError, match="junk.npz: not a readable .npz"):
+        read_measurements(junk, robot)
 
 
 @pytest.mark.parametrize("content, message", [
@@ -122,6 +146,8 @@ def test_numpy_files_read_as_the_csv(ur5_case, tmp_path):
     ("{h},x,y,z,qw,qx\n", "without qy, qz"),
     ("{h},x,y,z,qw,qx,qy,qz\n" + "0,0,0,0,0,0,1,2,3,2,0,0,0\n" * 4, "line 2: quaternion"),
     ("", "empty"),
+    ("{h},x,y,z\n0,0,0,0,0,\0,1,2,3\n", "NUL character"),
+    ("{h},x,y,z\n" + "0," * 8 + '"' + "9" * 200000 + '"\n', "line 2: not CSV"),
 ])
 def test_bad_measurement_files_are_one_line_errors(tmp_path, capsys, content, message):
     path = robot_file(UR5)

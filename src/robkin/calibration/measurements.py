@@ -20,6 +20,7 @@ import io
 import os
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Iterator
 
 import numpy as np
 
@@ -105,11 +106,13 @@ def _check_header(header: list[str], names: list[str], src: str) -> list[str]:
 
 
 def _from_csv(text: str, names: list[str], src: str) -> Measurements:
+    if "\0" in text:
+        raise InputError(f"{src}: holds a NUL character; a measurement file is CSV text")
     reader = csv.reader(io.StringIO(text))
     header: list[str] | None = None
     values: list[list[float]] = []
     rows: list[int] = []
-    for line_no, record in enumerate(reader, start=1):
+    for line_no, record in enumerate(_records(reader, src), start=1):
         if not record or not "".join(record).strip() or record[0].lstrip().startswith("#"):
             continue
         if header is None:
@@ -118,7 +121,7 @@ def _from_csv(text: str, names: list[str], src: str) -> Measurements:
         if len(record) != len(header):
             raise InputError(f"{src}: line {line_no}: {len(record)} values for {len(header)} columns")
         row = []
-        for col, cell in zip(header, record):
+        for col, cell in zip(header, record):  # noqa: B905 - lengths checked above
             try:
                 v = float(cell)
             except ValueError:
@@ -137,6 +140,17 @@ def _from_csv(text: str, names: list[str], src: str) -> Measurements:
     return _assemble({h: A[:, k] for k, h in enumerate(header)}, names, rows)
 
 
+def _records(reader: Iterator[list[str]], src: str) -> Iterator[list[str]]:
+    """The CSV records, a malformed line (a field beyond csv's size limit, a stray quote) as InputError."""
+    while True:
+        try:
+            yield next(reader)
+        except StopIteration:
+            return
+        except csv.Error as exc:
+            raise InputError(f"{src}: line {getattr(reader, 'line_num', '?')}: not CSV ({exc})") from None
+
+
 def _assemble(col: dict[str, np.ndarray], names: list[str], rows: list[int]) -> Measurements:
     q = np.stack([col[n] for n in names], axis=1)
     pos = np.stack([col[c] for c in POSITION_COLUMNS], axis=1)
@@ -144,16 +158,53 @@ def _assemble(col: dict[str, np.ndarray], names: list[str], rows: list[int]) -> 
     return Measurements(q, pos, quat, rows)
 
 
-def _from_numpy(data: bytes, ext: str, names: list[str], src: str) -> Measurements:
+def _npy_array(data: bytes, src: str, member: str = "") -> np.ndarray:
+    """One .npy payload, its header checked before any allocation: plain dtype (no objects, so no
+    pickles), and a shape whose data the bytes actually hold (a header may claim any size)."""
+    from numpy.lib import format as npy
+
+    where = f"{src}{': ' + member if member else ''}"
+    f = io.BytesIO(data)
     try:
-        loaded = np.load(io.BytesIO(data), allow_pickle=False)
-    except ValueError as exc:
-        raise InputError(f"{src}: not a NumPy {ext} file without objects ({str(exc)[:80]})") from None
-    except Exception as exc:  # corrupt zip or header: numpy raises many kinds
-        raise InputError(f"{src}: not a readable NumPy {ext} file ({type(exc).__name__})") from None
+        version = npy.read_magic(f)
+        shape, fortran, dtype = (npy.read_array_header_1_0(f) if version == (1, 0) else npy.read_array_header_2_0(f))
+    except Exception as exc:  # numpy raises ValueError, OSError, SyntaxError... for a bad header
+        raise InputError(f"{where}: not a NumPy .npy array ({type(exc).__name__})") from None
+    if dtype.hasobject:
+        raise InputError(f"{where}: holds Python objects; only numbers are read (objects would need pickles)")
+    count = int(np.prod(shape, dtype=np.int64)) if shape else 1
+    if count * dtype.itemsize > len(data) - f.tell():
+        raise InputError(f"{where}: the header promises {count * dtype.itemsize} bytes of data, the file holds "
+                         f"{len(data) - f.tell()}")
+    try:
+        return np.asarray(npy.read_array(io.BytesIO(data), allow_pickle=False))
+    except Exception as exc:
+        raise InputError(f"{where}: not a readable NumPy array ({type(exc).__name__})") from None
+
+
+def _npz_arrays(data: bytes, src: str) -> dict[str, np.ndarray]:
+    """The arrays of an .npz (a zip of .npy files), each member's unpacked size checked first."""
+    import zipfile
+
+    try:
+        z = zipfile.ZipFile(io.BytesIO(data))
+        infos = z.infolist()
+        if sum(i.file_size for i in infos) > MAX_BYTES or len(infos) > 64:
+            raise InputError(f"{src}: unpacks to more than {MAX_BYTES} bytes or 64 arrays")
+        out = {}
+        for info in infos:
+            name = info.filename[:-4] if info.filename.endswith(".npy") else info.filename
+            out[name] = _npy_array(z.read(info), src, name)
+        return out
+    except InputError:
+        raise
+    except Exception as exc:  # a damaged or foreign zip
+        raise InputError(f"{src}: not a readable .npz file ({type(exc).__name__})") from None
+
+
+def _from_numpy(data: bytes, ext: str, names: list[str], src: str) -> Measurements:
     if ext == ".npz":
-        with loaded as z:
-            arrays = {k: z[k] for k in z.files}
+        arrays = _npz_arrays(data, src)
         if "q" in arrays or "positions" in arrays:
             for key in ("q", "positions"):
                 if key not in arrays:
@@ -169,7 +220,7 @@ def _from_numpy(data: bytes, ext: str, names: list[str], src: str) -> Measuremen
             columns[k] = _numeric(a, src, k, (count,))
             count = len(columns[k])
         return _assemble(columns, names, list(range(1, (count or 0) + 1)))
-    a = loaded
+    a = _npy_array(data, src)
     if a.dtype.names:
         _check_header(list(a.dtype.names), names, src)
         fields = {k: _numeric(np.asarray(a[k]), src, k, (None,)) for k in a.dtype.names}
