@@ -88,8 +88,10 @@ def identify(J: np.ndarray) -> Identifiability:
     return Identifiability(kept, dropped, partners, condition, scale)
 
 
-def describe(dropped: int, partners: list[int], names: list[str], positions_only: bool) -> str:
-    """A sentence: which parameter cannot be told apart from which."""
+def describe(dropped: int, partners: list[int], names: list[str], positions_only: bool,
+             kinematic: bool = True) -> str:
+    """A sentence: which parameter cannot be told apart from which, and what is done with it."""
     what = " and ".join(names[p] for p in partners) if partners else "the others"
     how = " from positions alone" if positions_only else ""
-    return f"{names[dropped]} cannot be told apart from {what}{how}: held at its nominal value"
+    held = "held at its nominal value" if kinematic else "held: the other carries it"
+    return f"{names[dropped]} cannot be told apart from {what}{how}: {held}"

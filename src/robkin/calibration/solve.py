@@ -137,7 +137,7 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
         free, condition = cand[ident.kept], ident.condition
         for d in ident.dropped:
             sentences.append(describe(int(cand[d]), [int(cand[k]) for k in ident.partners.get(int(d), [])],
-                                      mdl.names, Rm is None))
+                                      mdl.names, Rm is None, mdl.groups[cand[d]] not in ("base", "marker")))
         data.weights[:] = 1.0
         p = _rounds(data, p, free, loss, orientation_weight is None)
         if condition > ILL_CONDITIONED:
@@ -155,6 +155,8 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
                         bool(i in set(free.tolist()) and (p[i] <= lo[i] + 1e-12 or p[i] >= hi[i] - 1e-12)))
               for i in range(mdl.size)]
     warnings += _warnings(robot, Q[fit], data, len(free), params)
+    if model == "mdh" and kinematics:
+        warnings += _parallel_warning(robot)
     fit_rows = [rows[i] for i in fit]
     outliers = [(fit_rows[k], float(data.pose_norms(p)[k])) for k in np.flatnonzero(data.weights == 0.0)]
     return CalibrationResult(
@@ -451,3 +453,16 @@ def _warnings(robot: Robot, Q: np.ndarray, data: _Data, n_free: int, params: lis
             out.append(f"{prm.name} stopped at its bound ({prm.estimate - prm.nominal:+.3g} {prm.unit} from nominal): "
                        f"the model or the measurements are far from each other")
     return out
+
+
+def _parallel_warning(robot: Robot) -> list[str]:
+    """The modified DH model cannot tilt an axis out of the plane it shares with a parallel neighbour
+    (that needs Hayati's beta): name the pairs where it falls short."""
+    from ..representations.hayati import hayati_frames
+
+    rows = hayati_frames(robot)[2]
+    pairs = [f"{robot.joints[i].name}-{robot.joints[i + 1].name}" for i in np.flatnonzero(rows[:-1])]
+    if not pairs:
+        return []
+    return [f"joint axes {', '.join(pairs)} are nearly parallel: the mdh model cannot represent their "
+            f"misalignment (use the default hayati model, or poe)"]

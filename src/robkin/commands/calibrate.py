@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ._common import add_input
+from ._common import add_input, seed
 
 EPILOG = """\
 MEASUREMENTS is a CSV file with a header line: one column per joint, named as the model's joints
@@ -54,7 +54,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="error model (default hayati: Hayati rows between nearly parallel axes, DH elsewhere)")
     p.add_argument("--holdout", type=float, metavar="F", default=0.0,
                    help="fraction of the poses kept out of the fit to test the result on (default 0)")
-    p.add_argument("--seed", type=int, default=0, help="random seed of the hold-out choice (default 0)")
+    p.add_argument("--seed", type=seed, default=0, help="random seed of the hold-out choice (default 0)")
     p.add_argument("--base-known", action="store_true",
                    help="the model's world transform already is the robot base in the measuring frame: keep it")
     p.add_argument("--marker", metavar="X,Y,Z",
