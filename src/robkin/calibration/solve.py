@@ -105,7 +105,9 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
         raise InputError(f"loss '{loss}' is not one of huber, linear")
     Q, P, Rm = _check_inputs(robot, q, positions, orientations)
     N = len(Q)
-    rows = list(range(1, N + 1)) if rows is None else list(rows)
+    rows = list(range(1, N + 1)) if rows is None else [int(r) for r in rows]
+    if len(rows) != N:
+        raise InputError(f"rows: {len(rows)} row numbers for {N} poses")
     fit, hold = _split(N, holdout, seed)
     W_known = None if world is None else _pose(world, "world")
     m_known = None if marker is None else _marker(marker, Rm is not None)

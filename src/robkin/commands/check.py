@@ -33,12 +33,12 @@ examples:
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     from ._common import add_allow_xacro
 
-    p = sub.add_parser("check", help="are two descriptions the same robot? (exit 0 if yes)",
+    p = sub.add_parser("check", help="are two descriptions (or a model and measurements) the same robot? (exit 0 if yes)",
                        description="Compare two robot descriptions joint by joint: are they the same robot, "
                                    "and if not, which joint differs first and how.",
                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("a", metavar="A", help="first robot (document .yaml/.yml/.json, .urdf/.xacro, .xml/.mjcf or .sdf)")
-    p.add_argument("b", metavar="B", help="second robot")
+    p.add_argument("b", metavar="B", help="second robot, or measurements (.csv, .npz, .npy) to compare A with")
     add_chain_options(p)
     add_allow_xacro(p)
     p.add_argument("--tol", type=float, default=None,  # 1e-6 = equivalence.DEFAULT_TOL (not imported: startup time)
