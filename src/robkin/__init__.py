@@ -43,11 +43,13 @@ _REPRESENTATIONS = (
 
 __all__ = [
     "Joint", "Robot", *_REPRESENTATIONS,
-    "RobkinError", "InputError", "ProjectionWarning", "ConditioningWarning", "load", "calibrate", "__version__",
+    "RobkinError", "InputError", "ProjectionWarning", "ConditioningWarning", "load", "__version__",
+    "set_threads", "get_threads", "calibrate",
 ]
 
 __getattr__, __dir__ = lazy_exports(__name__, globals(), {**dict.fromkeys(_REPRESENTATIONS, ".representations"),
-                                                          "calibrate": ".calibration"})
+                                                        "set_threads": ".threads", "get_threads": ".threads",
+                                                        "calibrate": ".calibration"})
 
 if TYPE_CHECKING:  # what static type checkers and IDEs see
     from .representations import (DHTable, HayatiTable, MDHTable, PoE, RPYTable, dh_from_robot,
@@ -55,6 +57,7 @@ if TYPE_CHECKING:  # what static type checkers and IDEs see
                                   poe_from_robot, robot_from_dh, robot_from_gjd, robot_from_hayati,
                                   robot_from_mdh, robot_from_poe, robot_from_rpy, rpy_from_robot)
     from .calibration import calibrate
+    from .threads import get_threads, set_threads
 
 
 def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None, *,
