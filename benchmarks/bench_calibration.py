@@ -1,14 +1,14 @@
 """Kinematic calibration: robkin against robotkinecal and pybotics on the same simulated measurements.
 
 Robots: UR5, Franka Panda, xArm7 (example-robot-data) and KUKA LBR iiwa 14 (tests/data/iiwa14.urdf).
-The truth (``robkin.calibration.simulate``): every joint's axis moved and its zero shifted (~1 mm,
+The truth (``robkin.calibration.simulation``): every joint's axis moved and its zero shifted (~1 mm,
 ~1 mrad per component), the robot standing 1-2 m from the measuring frame at a random rotation, a
 marker 2-8 cm off the flange at a random orientation; 60 poses uniform in the joint limits, noise 20 um
 per coordinate (and 0.005 deg per axis for full poses). Judged on 1000 fresh configurations: RMS
 distance between the model's and the truth's predicted marker point in the measuring frame.
 
 - robkin: ``robkin.calibrate`` from the raw measurements (base and marker unknown), default Hayati model.
-- reference: ``simulate.reference_fit``, Gauss-Newton over the very parameterisation that made the
+- reference: ``simulation.reference_fit``, Gauss-Newton over the very parameterisation that made the
   truth, weighted by the true noise ratio: the noise limit.
 - nominal: the nominal model with its best base and marker (``calibrate(..., kinematics=False)``).
 - robotkinecal 0.1 (Li et al. 2016 POE, 4 parameters per joint): it has no measuring frame, so it
@@ -41,7 +41,7 @@ import numpy as np  # noqa: E402
 
 import robkin  # noqa: E402
 from robkin import se3  # noqa: E402
-from robkin.calibration.simulate import prediction_error, random_configurations, reference_fit, simulate  # noqa: E402
+from robkin.calibration.simulation import prediction_error, random_configurations, reference_fit, simulate  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_fk import robots_dir  # noqa: E402

@@ -16,7 +16,7 @@ import pytest
 
 import robkin
 from robkin.calibration.parameters import build_model
-from robkin.calibration.simulate import prediction_error, random_configurations, reference_fit, simulate
+from robkin.calibration.simulation import prediction_error, random_configurations, reference_fit, simulate
 from robkin.io.urdf import robot_from_urdf
 from test_urdf import robot_file
 

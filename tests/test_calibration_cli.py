@@ -17,7 +17,7 @@ from numpy.lib import format as npy
 
 import robkin
 from robkin.calibration import read_measurements, simulate, write_measurements_csv
-from robkin.calibration.simulate import perturbed
+from robkin.calibration.simulation import perturbed
 from robkin.cli import main
 from test_urdf import robot_file
 

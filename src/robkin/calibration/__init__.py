@@ -2,12 +2,12 @@
 
 - ``calibrate(robot, q, positions, orientations=None, ...)`` -> ``CalibrationResult`` (``solve``)
 - ``diagnose(robot, q, positions, ...)``: how far a model is from measurements, and which joint or
-  parameter explains most of it (``robkin check MODEL MEASUREMENTS``)
+  parameter explains most of it (``robkin check MODEL MEASUREMENTS``, ``diagnosis``)
 - ``read_measurements`` / ``write_measurements_csv``: the measurement files (``measurements``)
-- ``simulate``: a perturbed robot and its measurements, to plan a campaign (``simulate``)
+- ``simulate``: a perturbed robot and its measurements, to plan a campaign (``simulation``)
 
 Modules: ``parameters`` (error models and their Jacobian), ``identifiability`` (which parameters the
-poses determine), ``solve`` (the fit), ``report``, ``diagnose``, ``measurements``, ``simulate``.
+poses determine), ``solve`` (the fit), ``report``, ``diagnosis``, ``measurements``, ``simulation``.
 """
 
 from __future__ import annotations
@@ -20,13 +20,13 @@ __all__ = ["calibrate", "CalibrationResult", "diagnose", "Diagnosis", "read_meas
            "write_measurements_csv", "Measurements", "simulate", "Simulation"]
 
 __getattr__, __dir__ = lazy_exports(__name__, globals(), {
-    "calibrate": ".solve", "CalibrationResult": ".report", "diagnose": ".diagnose", "Diagnosis": ".diagnose",
+    "calibrate": ".solve", "CalibrationResult": ".report", "diagnose": ".diagnosis", "Diagnosis": ".diagnosis",
     "read_measurements": ".measurements", "write_measurements_csv": ".measurements",
-    "Measurements": ".measurements", "simulate": ".simulate", "Simulation": ".simulate"})
+    "Measurements": ".measurements", "simulate": ".simulation", "Simulation": ".simulation"})
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .diagnose import Diagnosis, diagnose
+    from .diagnosis import Diagnosis, diagnose
     from .measurements import Measurements, read_measurements, write_measurements_csv
     from .report import CalibrationResult
-    from .simulate import Simulation, simulate
+    from .simulation import Simulation, simulate
     from .solve import calibrate

@@ -1,4 +1,4 @@
-"""robkin check MODEL MEASUREMENTS: the command-line side of ``robkin.calibration.diagnose``."""
+"""robkin check MODEL MEASUREMENTS: the command-line side of ``robkin.calibration.diagnosis``."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import math
 
 def run_measurements(args: argparse.Namespace) -> int:
     """Compare the model (args.a) with the measurements (args.b); exit 0 if it explains them within --tol."""
-    from ..calibration.diagnose import DEFAULT_TOL, diagnose
+    from ..calibration.diagnosis import DEFAULT_TOL, diagnose
     from ..calibration.measurements import read_measurements
     from ..errors import InputError
     from ..io import load
