@@ -167,3 +167,19 @@ def test_bad_output_name_is_refused_before_any_work(ur5_case, tmp_path, capsys):
     assert "x.txt" in capsys.readouterr().err
     assert main(["calibrate", path, str(csv), "-o", str(tmp_path / "x.urdf"), "--to", "dh",
                  "--tip-link", "tool0"]) == 2
+
+
+@pytest.mark.parametrize("rel, tip", [(UR5, "tool0"), ("panda_description/urdf/panda.urdf", "panda_link8")])
+def test_urdf_of_a_robot_file_keeps_a_new_world_transform(rel, tip, tmp_path):
+    """A robot read from a file, given another world (what calibration does), writes it: through the
+    root link above the base (UR5's 'world') or a new 'world' link (the Panda's root is its base)."""
+    from robkin.io.urdf import urdf_from_robot
+
+    robot = robkin.load(robot_file(rel), tip_link=tip)
+    W = robkin.se3.homogeneous(robkin.se3.matrix_from_rpy([0.3, -0.2, 2.0]), [1.5, -0.4, 0.2])
+    out = tmp_path / "moved.urdf"
+    out.write_text(urdf_from_robot(robot.replace(world=W)))
+    back = robkin.load(out, tip_link=tip)
+    np.testing.assert_allclose(back.world, W, atol=1e-12)
+    assert [link.name for link in back.bodies.links if link.name != "world"] == \
+        [link.name for link in robot.bodies.links if link.name != "world"]
