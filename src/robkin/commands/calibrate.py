@@ -21,8 +21,9 @@ identification Jacobian), held at their nominal values and named in the report. 
 poses far off (beyond 4.6 robust standard deviations) are rejected and listed.
 
 OUT is the calibrated robot, written by its extension: .urdf (keeps the source's link and joint names,
-limits, shapes and inertials), .xml/.mjcf (MuJoCo), .yaml/.yml/.json (a robot document; --to picks one
-table section: hayati, dh, mdh, poe, rpy-xyz, gjd). Its world transform (the URDF's world joint, the
+limits, shapes and inertials), .xml/.mjcf (MuJoCo), .yaml/.yml/.json (a robot document with every
+section, except DH tables whose common normals run off between nearly parallel axes (a note says so);
+--to picks one section: hayati, dh, mdh, poe, rpy-xyz, gjd). Its world transform (the URDF's world joint, the
 RPY-XYZ table's row 0) is the robot base in the measuring frame and its tool origin is the measured
 point, so world @ fk(q) predicts a measurement. The report goes to stdout (--json: as JSON).
 
@@ -119,5 +120,40 @@ def render_robot(robot, ext: str, section: str | None = None) -> str:
         return mjcf_from_robot(robot)
     from ..io.document import document_from_robot, dump
 
-    doc = document_from_robot(robot) if section is None else document_from_robot(robot, (SECTIONS[section],))
-    return dump(doc, "json" if ext == ".json" else "yaml")
+    sections = short_sections(robot) if section is None else (SECTIONS[section],)
+    return dump(document_from_robot(robot, sections), "json" if ext == ".json" else "yaml")
+
+
+#: A table whose lengths exceed this many robot sizes has a runaway common normal (nearly parallel axes)
+RUNAWAY = 10.0
+
+
+def short_sections(robot) -> tuple[str, ...]:
+    """Every document section except a DH or modified DH table whose common normals run off.
+
+    A calibrated robot's nearly parallel axes (a UR's shoulder, elbow and wrist 1) are no longer exactly
+    parallel: their DH rows are exact but put the common normal hundreds of metres away, useless to
+    anyone reading the file; the Hayati section holds the same robot in short rows. ``--to dh`` still
+    writes it.
+    """
+    import warnings
+
+    import numpy as np
+
+    from ..io.document_write import SECTIONS as ALL
+    from ..representations import dh_from_robot, mdh_from_robot
+
+    keep = []
+    for key in ALL:
+        if key in ("dh", "mdh"):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")   # the conditioning warning is what this check reports
+                rows = (dh_from_robot if key == "dh" else mdh_from_robot)(robot).rows
+            longest = float(np.abs(rows[:, :2]).max())
+            if longest > RUNAWAY * robot.scale:
+                print(f"robkin: note: section {key} left out: between nearly parallel axes its common normal "
+                      f"runs {longest:.3g} m away (--to {key} writes it anyway; the hayati section is exact "
+                      f"and short)", file=sys.stderr)
+                continue
+        keep.append(key)
+    return tuple(keep)
