@@ -174,10 +174,10 @@ def main(argv: list[str] | None = None) -> int:
             for method, err, t in rows:
                 r = float(np.sqrt(np.mean(err ** 2)))
                 print(f"{name:<7} {'full pose' if full else 'positions':<10} {method:<13} {r * 1e6:9.2f} "
-                      f"{r / limit:11.2f} {err.max() * 1e6:9.1f} {t:8.3f}")
+                      f"{r / limit:11.2f} {err.max() * 1e6:9.1f} {t:8.3f}", flush=True)
             big = np.abs(res.robot.frames[:, :3, 3]).max() / robot.scale
             print(f"{'':<7} {'':<10} robkin: largest frame origin {big:.2f} robot sizes; "
-                  f"{sum(p.identified for p in res.parameters)} parameters identified")
+                  f"{sum(p.identified for p in res.parameters)} parameters identified", flush=True)
     return 0
 
 
