@@ -62,6 +62,7 @@ test: $(VENV)/.test $(ASSETS)
 bench: $(VENV)/.test
 	$(EXTRA) bench > $(VENV)/requirements-bench.txt
 	$(PIP) install -r $(VENV)/requirements-bench.txt
+	$(PIP) install --no-deps 'robotkinecal>=0.1' 'pybotics>=3.1'
 	for b in benchmarks/bench_*.py; do echo "== $$b"; $(PY) $$b || exit 1; done
 
 # The documentation site (MkDocs Material + mkdocstrings) into site/; strict: a broken link or

@@ -119,11 +119,31 @@ def _make_kit(tmp_path: Path) -> Path:
                  "csv", "-o", "ur5_dh.csv"]) == 0
     Path("ur5_rows.txt").write_text("# UR5, Universal Robots' DH\n0 0.089159 pi/2 0\n-0.425 0 0 0\n"
                                     "-0.39225 0 0 0\n0 0.10915 pi/2 0\n0 0.09465 -pi/2 0\n0 0.0823 0 0\n")
+    _measurements(ur5, rrpr)
     assert main(["estimate", "--pose", "-1,0.9,0.8,-3.08232,-1.04169,-3.01168", "--joints", "4", "--type",
                  "all", "-o", "estimates"]) == 0
     for k in "ABCD":
         shutil.copy(f"estimates/estimate_{k}.yaml", f"pose1_{k}.yaml")
     return tmp_path
+
+
+def _measurements(ur5: robkin.Robot, rrpr: robkin.Robot) -> None:
+    """The measurement files of the calibrate and check examples: the UR5 as its URDF says (so that check
+    finds it the same robot), a perturbed Panda, and the RRPR robot probed in its own base frame with a
+    marker 5 cm along the tool's z (--base-known --marker 0,0,0.05)."""
+    from robkin.calibration import simulate, write_measurements_csv
+    from robkin.calibration.simulation import perturbed
+
+    sim = simulate(ur5, 60, offset=0.0, angle=0.0, seed=1)
+    write_measurements_csv("measurements.csv", ur5, sim.q, sim.positions)
+    panda = robkin.load("panda.urdf", tip_link="panda_link8")
+    sim = simulate(panda, 60, seed=2)
+    write_measurements_csv("panda_poses.csv", panda, sim.q, sim.positions)
+    rng = np.random.default_rng(3)
+    real = perturbed(rrpr, rng.normal(0, 1e-3, (rrpr.n, 6)))
+    Q = simulate(rrpr, 40, seed=3).q
+    T = real.fk(Q) @ robkin.se3.trans(0, 0, 0.05)
+    write_measurements_csv("probe.csv", rrpr, Q, T[:, :3, 3] + rng.normal(0, 20e-6, (40, 3)))
 
 
 def _env(extra: dict[str, str]) -> dict[str, str]:

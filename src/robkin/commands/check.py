@@ -31,29 +31,37 @@ that differ make the exit status 1; a side without inertials is reported as not 
 exit status: 0 same robot (and the same mass properties, where both have them); 1 not the same robot
 (including a different joint convention, or different mass properties); 2 bad input.
 
+With measurements as B (.csv, .npz or .npy, the format 'robkin calibrate' reads), the model is
+compared with measured samples: given its best base and marker, how far it is from them (RMS and
+max), and which joint's parameters, then which parameter, explain most of the difference. Then --tol
+is the RMS position residual in metres the model may leave (default 0.0005); exit status 0 if the
+model explains them within it.
+
 examples:
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0
   robkin check vendor_dh.yaml robot.urdf --tol 1e-4       # a table typed with 4 decimals
   robkin check a.yaml b.yaml --json
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0 --tip-link -     # a chain per input, in order
   robkin check ur5_rows.txt ur5.urdf --from dh --base-link - --base-link base --tip-link - --tip-link tool0
+  robkin check ur5.urdf measurements.csv --tip-link tool0            # a model against measurements
 """
 
 
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     from ._common import add_allow_xacro, add_from
 
-    p = sub.add_parser("check", help="are two descriptions the same robot? (exit 0 if yes)",
+    p = sub.add_parser("check", help="are two descriptions (or a model and measurements) the same robot? (exit 0 if yes)",
                        description="Compare two robot descriptions joint by joint: are they the same robot, "
                                    "and if not, which joint differs first and how.",
                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("a", metavar="A", help="first robot (document .yaml/.yml/.json, .urdf/.xacro, .xml/.mjcf or .sdf)")
-    p.add_argument("b", metavar="B", help="second robot")
+    p.add_argument("b", metavar="B", help="second robot, or measurements (.csv, .npz, .npy) to compare A with")
     add_chain_options(p)
     add_allow_xacro(p)
     add_from(p)
-    p.add_argument("--tol", type=float, default=1e-6,  # = equivalence.DEFAULT_TOL (not imported: startup time)
-                   help="relative tolerance on angles (rad) and lengths / robot size (default 1e-06)")
+    p.add_argument("--tol", type=float, default=None,  # 1e-6 = equivalence.DEFAULT_TOL (not imported: startup time)
+                   help="relative tolerance on angles (rad) and lengths / robot size (default 1e-06); against "
+                        "measurements: RMS position residual in metres (default 0.0005)")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
     return p
 
@@ -62,6 +70,11 @@ def run(args: argparse.Namespace) -> int:
     from ..equivalence import compare
     from ..errors import InputError
 
+    if args.b.lower().endswith((".csv", ".npz", ".npy")):   # a model against measured samples
+        from ._check_measurements import run_measurements
+
+        return run_measurements(args)
+    args.tol = 1e-6 if args.tol is None else args.tol
     if not (math.isfinite(args.tol) and args.tol > 0):
         raise InputError(f"--tol: {args.tol} is not a positive number")
     from ._chains import chain_ends

@@ -205,6 +205,12 @@ def _faithful_frames(robot: Robot) -> dict[str, np.ndarray] | None:
         if np.abs(frames[b.tip] - robot.tool).max() > tol:
             return None  # the tool left the last link's frame: no source link can carry it
     frames[b.tip] = robot.tool
+    # the world -> base transform (Robot.world): a root link above the base is placed so that the path
+    # down to the base gives it (readers compose that path into Robot.world); a root at the base gets a
+    # 'world' link in ``_faithful``
+    root = next((link.name for link in b.links if link.parent is None), b.chain[0])
+    if root != b.chain[0]:
+        frames[root] = se3.inv(robot.world)
     return frames
 
 
@@ -219,6 +225,12 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[str]:
     for m in b.inertials:  # URDF has one inertial per link: the first one found for a link is kept
         inertials.setdefault(m.link if m.link in frames else b.chain[m.body], m)
     out: list[str] = []
+    root = next((link.name for link in b.links if link.parent is None), b.chain[0])
+    if root == b.chain[0] and "world" not in frames and np.abs(robot.world - np.eye(4)).max() > UNIT_NOISE:
+        out.append('  <link name="world"/>')
+        taken = {lk.joint.name for lk in b.links if lk.joint is not None}
+        out += _joint_xml(_free_name("world_joint", taken), "fixed", "world", root,
+                          _origin(robot.world, None, scale), None, None)
     for link in b.links:
         out += _link_xml(link.name, frames[link.name], shapes.get(link.name, []), inertials.get(link.name), scale)
     for link in b.links:
@@ -227,6 +239,12 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[str]:
         out += _link_joint_xml(robot, link, frames, chain_joint.get(link.name), scale)
     out += ["  " + x for x in b.extras]  # transmissions, Gazebo tags...: as the source wrote them
     return out
+
+
+def _free_name(name: str, taken: set[str]) -> str:
+    while name in taken:
+        name += "_"
+    return name
 
 
 def _link_joint_xml(robot: Robot, link: Link, frames: dict[str, np.ndarray], index: int | None,

@@ -1,0 +1,31 @@
+"""robkin check MODEL MEASUREMENTS: the command-line side of ``robkin.calibration.diagnosis``."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+
+def run_measurements(args: argparse.Namespace) -> int:
+    """Compare the model (args.a) with the measurements (args.b); exit 0 if it explains them within --tol."""
+    from ..calibration.diagnosis import DEFAULT_TOL, diagnose
+    from ..calibration.measurements import read_measurements
+    from ..errors import InputError
+    from ..io import load
+    from ._chains import chain_ends
+    from ._output import print_json
+
+    tol = DEFAULT_TOL if args.tol is None else args.tol
+    if not (math.isfinite(tol) and tol > 0):
+        raise InputError(f"--tol: {tol} is not a positive number of metres")
+    (base, tip), _ = chain_ends(args, [args.a, args.b])
+    robot = load(args.a, base_link=base, tip_link=tip, allow_xacro=args.allow_xacro)
+    m = read_measurements(args.b, robot)
+    result = diagnose(robot, m.q, m.positions, m.quaternions, tol=tol, rows=m.rows)
+    if args.json:
+        d = result.to_dict()
+        d["model"], d["measurements"] = args.a, args.b
+        print_json(d)
+    else:
+        print(result.text())
+    return 0 if result.same else 1

@@ -1,0 +1,159 @@
+"""robkin calibrate: identify the real robot from measured tool points (and orientations)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ._common import add_input, seed
+
+EPILOG = """\
+MEASUREMENTS is a CSV file with a header line: one column per joint, named as the model's joints
+(q in radians, or metres for a prismatic joint), then x, y, z (the measured point in the measuring
+device's frame, metres) and optionally qw, qx, qy, qz (a unit quaternion of the measured orientation).
+.npz and .npy files with the same columns are read too (see the calibration guide).
+
+Identified: every joint's zero offset and the link parameters of the chosen model (hayati: Hayati rows
+between nearly parallel axes, DH elsewhere, the default; mdh; poe: every joint frame moved freely), the
+robot base in the measuring frame (unless --base-known) and the marker on the tool (unless --marker).
+Parameters the measurements cannot determine are found (QR with column pivoting of the scaled
+identification Jacobian), held at their nominal values and named in the report. The fit is robust:
+poses far off (beyond 4.6 robust standard deviations) are rejected and listed.
+
+OUT is the calibrated robot, written by its extension: .urdf (keeps the source's link and joint names,
+limits, shapes and inertials), .xml/.mjcf (MuJoCo), .yaml/.yml/.json (a robot document with every
+section, except DH tables whose common normals run off between nearly parallel axes (a note says so);
+--to picks one section: hayati, dh, mdh, poe, rpy-xyz, gjd). Its world transform (the URDF's world joint, the
+RPY-XYZ table's row 0) is the robot base in the measuring frame and its tool origin is the measured
+point, so world @ fk(q) predicts a measurement. The report goes to stdout (--json: as JSON).
+
+exit status: 0 calibrated; 2 bad input (nothing written).
+
+examples:
+  robkin calibrate ur5.urdf measurements.csv -o ur5_calibrated.urdf --tip-link tool0
+  robkin calibrate ur5.urdf measurements.csv -o ur5_calibrated.yaml --tip-link tool0 --to hayati
+  robkin calibrate panda.urdf panda_poses.csv -o panda_cal.urdf --tip-link panda_link8 --holdout 0.2 --json
+  robkin calibrate robot.yaml probe.csv -o robot_cal.yaml --base-known --marker 0,0,0.05
+"""
+
+#: --to -> document section (a robot document holding only that section, with the joints)
+SECTIONS = {"hayati": "hayati", "dh": "dh", "mdh": "mdh", "poe": "poe", "rpy-xyz": "rpy_xyz", "gjd": "gjd"}
+OUT_EXTENSIONS = (".urdf", ".xml", ".mjcf", ".yaml", ".yml", ".json")
+
+
+def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    p = sub.add_parser("calibrate", help="identify the real robot from measurements (kinematic calibration)",
+                       description="Kinematic calibration: fit a robot model to measured tool points (and "
+                                   "orientations), and write the calibrated robot.",
+                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_input(p)
+    p.add_argument("measurements", metavar="MEASUREMENTS", help="measured poses: .csv, .npz or .npy")
+    p.add_argument("-o", "--output", metavar="OUT", required=True,
+                   help="the calibrated robot: .urdf, .xml/.mjcf, .yaml/.yml/.json")
+    p.add_argument("--to", choices=sorted(SECTIONS), help="write only this table section in a robot document")
+    p.add_argument("--model", choices=["hayati", "mdh", "poe"], default="hayati",
+                   help="error model (default hayati: Hayati rows between nearly parallel axes, DH elsewhere)")
+    p.add_argument("--holdout", type=float, metavar="F", default=0.0,
+                   help="fraction of the poses kept out of the fit to test the result on (default 0)")
+    p.add_argument("--seed", type=seed, default=0, help="random seed of the hold-out choice (default 0)")
+    p.add_argument("--base-known", action="store_true",
+                   help="the model's world transform already is the robot base in the measuring frame: keep it")
+    p.add_argument("--marker", metavar="X,Y,Z",
+                   help="the measured point in the model's tool frame, if known (metres); identified otherwise")
+    p.add_argument("--orientation-weight", type=float, metavar="M_PER_RAD",
+                   help="metres per radian an orientation residual counts (default: from the residuals)")
+    p.add_argument("--loss", choices=["huber", "linear"], default="huber",
+                   help="huber (default: robust, outliers rejected and listed) or linear (plain least squares)")
+    p.add_argument("--json", action="store_true", help="print the report as JSON")
+    return p
+
+
+def run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from ..calibration.measurements import read_measurements
+    from ..calibration.solve import calibrate
+    from ..errors import InputError
+    from ..io.atomic import write_text_atomic
+    from ._common import load_input
+    from ._output import print_json, wrote
+
+    out = Path(args.output)
+    if out.suffix.lower() not in OUT_EXTENSIONS:
+        raise InputError(f"{out}: the calibrated robot is written as {', '.join(OUT_EXTENSIONS)}")
+    if args.to and out.suffix.lower() not in (".yaml", ".yml", ".json"):
+        raise InputError(f"--to {args.to}: a table section is written in a robot document (.yaml, .yml, .json)")
+    if out.is_dir():
+        raise InputError(f"{out}: is a folder; -o names the output file")
+    robot = load_input(args.input, args)
+    m = read_measurements(args.measurements, robot)
+    marker = None
+    if args.marker is not None:
+        from ._common import parse_q
+
+        marker = parse_q(args.marker, 3, "--marker")
+    result = calibrate(robot, m.q, m.positions, m.quaternions, model=args.model,
+                       world=robot.world if args.base_known else None, marker=marker,
+                       orientation_weight=args.orientation_weight, loss=args.loss,
+                       holdout=args.holdout or None, seed=args.seed, rows=m.rows)
+    text = render_robot(result.robot, out.suffix.lower(), args.to)
+    write_text_atomic(out, text)
+    wrote(out)
+    if args.json:
+        d = result.to_dict()
+        d.update(model_file=args.input, measurements=args.measurements, output=str(out))
+        print_json(d)
+    else:
+        sys.stdout.write(result.text() + "\n")
+    return 0
+
+
+def render_robot(robot, ext: str, section: str | None = None) -> str:
+    """The robot as the text of a file with extension ``ext`` (and only ``section`` in a document)."""
+    if ext == ".urdf":
+        from ..io.urdf import urdf_from_robot
+
+        return urdf_from_robot(robot)
+    if ext in (".xml", ".mjcf"):
+        from ..io.mjcf import mjcf_from_robot
+
+        return mjcf_from_robot(robot)
+    from ..io.document import document_from_robot, dump
+
+    sections = short_sections(robot) if section is None else (SECTIONS[section],)
+    return dump(document_from_robot(robot, sections), "json" if ext == ".json" else "yaml")
+
+
+#: A table whose lengths exceed this many robot sizes has a runaway common normal (nearly parallel axes)
+RUNAWAY = 10.0
+
+
+def short_sections(robot) -> tuple[str, ...]:
+    """Every document section except a DH or modified DH table whose common normals run off.
+
+    A calibrated robot's nearly parallel axes (a UR's shoulder, elbow and wrist 1) are no longer exactly
+    parallel: their DH rows are exact but put the common normal hundreds of metres away, useless to
+    anyone reading the file; the Hayati section holds the same robot in short rows. ``--to dh`` still
+    writes it.
+    """
+    import warnings
+
+    import numpy as np
+
+    from ..io.document_write import SECTIONS as ALL
+    from ..representations import dh_from_robot, mdh_from_robot
+
+    keep = []
+    for key in ALL:
+        if key in ("dh", "mdh"):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")   # the conditioning warning is what this check reports
+                rows = (dh_from_robot if key == "dh" else mdh_from_robot)(robot).rows
+            longest = float(np.abs(rows[:, :2]).max())
+            if longest > RUNAWAY * robot.scale:
+                print(f"robkin: note: section {key} left out: between nearly parallel axes its common normal "
+                      f"runs {longest:.3g} m away (--to {key} writes it anyway; the hayati section is exact "
+                      f"and short)", file=sys.stderr)
+                continue
+        keep.append(key)
+    return tuple(keep)
