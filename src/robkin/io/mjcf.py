@@ -15,7 +15,11 @@ import numpy as np
 if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
 
-__all__ = ["mjcf_from_robot", "quat_from_matrix", "matrix_from_quat"]
+__all__ = ["mjcf_from_robot", "quat_from_matrix", "matrix_from_quat", "place_attrs", "NOISE"]
+
+#: Quaternion components, and positions relative to the robot size, below this are rounding noise of
+#: unit-size products (~1e-16 each): written as 0, so that a frame that did not turn reads as such.
+NOISE = 1e-15
 
 
 def matrix_from_quat(q: np.ndarray) -> np.ndarray:
@@ -50,6 +54,20 @@ def quat_from_matrix(R: np.ndarray) -> np.ndarray:
     out = np.array(q)
     out /= np.linalg.norm(out)
     return out if out[0] >= 0 else -out
+
+
+def place_attrs(rel: np.ndarray, scale: float = 1.0) -> str:
+    """`` pos="..." quat="..."`` of a pose (4, 4) relative to its parent, each left out when it is
+    the identity up to ``NOISE`` (positions: times ``scale``, the robot size)."""
+    from .float_text import float_text
+
+    p = np.array(rel[:3, 3], dtype=float)
+    p[np.abs(p) < NOISE * scale] = 0.0
+    q = quat_from_matrix(rel[:3, :3])
+    q[np.abs(q) < NOISE] = 0.0
+    pos = f' pos="{" ".join(float_text(v) for v in p)}"' if p.any() else ""
+    quat = "" if (q[1:] == 0).all() else f' quat="{" ".join(float_text(v) for v in q)}"'
+    return pos + quat
 
 
 def mjcf_from_robot(robot: Robot, **options: Any) -> str:

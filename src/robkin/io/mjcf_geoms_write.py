@@ -25,6 +25,7 @@ import numpy as np
 
 from .. import se3
 from .float_text import float_text as _num
+from .mjcf import place_attrs
 from .xmltext import quoteattr
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -43,14 +44,6 @@ DEFAULT_CLASSES = ['    <default class="visual">',
 
 def _nums(v) -> str:
     return " ".join(_num(x) for x in v)
-
-
-def _place(rel: np.ndarray) -> str:
-    from .mjcf import quat_from_matrix
-
-    pos = "" if not rel[:3, 3].any() else f' pos="{_nums(rel[:3, 3])}"'
-    quat = "" if np.array_equal(rel[:3, :3], np.eye(3)) else f' quat="{_nums(quat_from_matrix(rel[:3, :3]))}"'
-    return pos + quat
 
 
 class GeomAssets:
@@ -94,7 +87,7 @@ class GeomAssets:
                 return f" material={quoteattr(m.name)}"
         return f' rgba="{_nums(m.rgba)}"'
 
-    def geom(self, s: Shape, body_frame: np.ndarray) -> str | None:
+    def geom(self, s: Shape, body_frame: np.ndarray, scale: float = 1.0) -> str | None:
         """The ``<geom/>`` of a shape on a body at ``body_frame`` (4, 4); None if left out."""
         g = s.geometry
         if g.kind == "mesh":
@@ -120,7 +113,7 @@ class GeomAssets:
             name = f" name={quoteattr(label)}"
         color = self._color(s.material) if s.role == "visual" else ""
         rel = se3.inv(body_frame) @ s.pose
-        return f'<geom class="{s.role}"{name} {what}{_place(rel)}{color}/>'
+        return f'<geom class="{s.role}"{name} {what}{place_attrs(rel, scale)}{color}/>'
 
     def asset_lines(self) -> list[str]:
         out = []

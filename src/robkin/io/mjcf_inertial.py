@@ -50,6 +50,7 @@ class BodyMass:
 
 def body_mass(inertials: Sequence[Inertial]) -> BodyMass | None:
     """The merged mass properties of a body's inertials (None when it has none)."""
+    inertials = [m for m in inertials if m.mass != 0 or np.any(m.inertia)]  # mass 0, inertia 0: nothing
     if not inertials:
         return None
     if len(inertials) == 1:
@@ -84,17 +85,17 @@ def valid_moments(w: np.ndarray) -> tuple[np.ndarray, bool]:
     changed = bool((w < -ROUNDING * big).any())
     w = np.maximum(w, 0.0)
     k = int(np.argmax(w))
-    rest = float(w.sum() - w[k])
-    if w[k] > rest:
-        changed = changed or w[k] - rest > ROUNDING * big
-        w[k] = rest
+    a, b = (w[i] for i in range(3) if i != k)
+    if w[k] > a + b:  # a + b exactly as MuJoCo adds them, so that its check A + B >= C passes
+        changed = changed or w[k] - (a + b) > ROUNDING * big
+        w[k] = a + b
     return w, changed
 
 
 def inertial_xml(bm: BodyMass, body_frame: np.ndarray) -> tuple[str, bool]:
     """(the ``<inertial .../>`` element relative to a body at ``body_frame`` (4, 4), whether the
     moments had to be repaired)."""
-    from .mjcf import quat_from_matrix
+    from .mjcf import NOISE, quat_from_matrix
 
     R, w = _principal(bm)
     w, changed = valid_moments(w)
@@ -102,6 +103,7 @@ def inertial_xml(bm: BodyMass, body_frame: np.ndarray) -> tuple[str, bool]:
     pos = inv[:3, :3] @ bm.com + inv[:3, 3]
     Rl = body_frame[:3, :3].T @ R
     q = quat_from_matrix(Rl)
-    quat = "" if np.array_equal(Rl, np.eye(3)) else f' quat="{" ".join(_num(v) for v in q)}"'
+    q[np.abs(q) < NOISE] = 0.0
+    quat = "" if (q[1:] == 0).all() else f' quat="{" ".join(_num(v) for v in q)}"'
     return (f'<inertial pos="{" ".join(_num(v) for v in pos)}"{quat} mass="{_num(bm.mass)}" '
             f'diaginertia="{" ".join(_num(v) for v in w)}"/>', changed)

@@ -138,6 +138,12 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[BodyPlan]:
     held: list[str] = []
     welded: list[str] = []
     chain_set = set(chain)
+    on_path = set(chain)  # the links from the base to the tip, fixed ones between chain links included
+    if b.tip in by_name:
+        lk = by_name[b.tip]
+        while lk.name != chain[0] and lk.parent is not None:
+            on_path.add(lk.name)
+            lk = by_name[lk.parent]
 
     def world_site(name: str) -> None:
         # a root link with nothing on it (URDF's virtual 'world'): MuJoCo's world itself
@@ -176,7 +182,7 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[BodyPlan]:
             if lk.name == b.tip:
                 out[idx].sites.append((lk.name, frames[lk.name]))
             below = [k for k in kids.get(lk.name, []) if k.name not in above_set]
-            below.sort(key=lambda k: k.name not in chain_set)  # the chain child first: its joints first
+            below.sort(key=lambda k: k.name not in on_path)  # the chain child first: its joints first
             stack.extend((k, idx) for k in reversed(below))
 
     add(by_name[chain[0]], None)

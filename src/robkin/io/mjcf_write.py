@@ -27,6 +27,7 @@ import numpy as np
 
 from .. import se3
 from .float_text import float_text as _num
+from .mjcf import place_attrs
 from .mjcf_actuators import DEFAULT_KP, DEFAULT_KV, actuator_lines
 from .mjcf_geoms_write import DEFAULT_CLASSES, GeomAssets
 from .mjcf_inertial import PLACEHOLDER_INERTIA, PLACEHOLDER_MASS, BodyMass, body_mass, inertial_xml
@@ -55,14 +56,6 @@ def _clean(v: np.ndarray, scale: float = 1.0) -> np.ndarray:
     return out
 
 
-def _place(rel: np.ndarray) -> str:
-    from .mjcf import quat_from_matrix
-
-    pos = f' pos="{_nums(rel[:3, 3])}"' if rel[:3, 3].any() else ""
-    quat = "" if np.array_equal(rel[:3, :3], np.eye(3)) else f' quat="{_nums(quat_from_matrix(rel[:3, :3]))}"'
-    return pos + quat
-
-
 def _joint_xml(j: JointPlan, frame: np.ndarray, scale: float) -> str:
     from .urdf import NO_LIMIT
 
@@ -87,6 +80,7 @@ def _joint_xml(j: JointPlan, frame: np.ndarray, scale: float) -> str:
 def _masses(plan: list[BodyPlan]) -> tuple[list[BodyMass | None], list[str], list[str]]:
     """Each body's mass properties made loadable: (masses, bodies given placeholders, bodies whose
     inertia was repaired)."""
+    from ..dynamics import merge_masses
     from .mjcf_inertial import valid_moments
 
     masses = [body_mass(bp.inertials) for bp in plan]
@@ -103,9 +97,8 @@ def _masses(plan: list[BodyPlan]) -> tuple[list[BodyMass | None], list[str], lis
         total = sum(p.mass for p in parts)  # type: ignore[union-attr]
         moments = np.zeros(3)
         if total > MJ_MINVAL:
-            com = sum(p.mass * p.com for p in parts) / total  # type: ignore[union-attr]
-            I = sum(p.inertia + p.mass * (np.dot(p.com - com, p.com - com) * np.eye(3)  # type: ignore[union-attr]
-                                          - np.outer(p.com - com, p.com - com)) for p in parts)
+            _, _, I = merge_masses(np.array([p.mass for p in parts]), np.stack([p.com for p in parts]),  # type: ignore[union-attr]
+                                   np.stack([p.inertia for p in parts]))  # type: ignore[union-attr]
             moments = valid_moments(np.linalg.eigvalsh(I))[0]
         if total > MJ_MINVAL and moments.min() > MJ_MINVAL:
             continue
@@ -135,9 +128,9 @@ def _body_lines(plan: list[BodyPlan], masses: list[BodyMass | None], world: np.n
         parent_frame = np.eye(4) if bp.parent is None else world @ plan[bp.parent].frame
         abs_frame = world @ bp.frame
         if not bp.name:  # the world itself: its sites only
-            out += [f"{ind}<site name={quoteattr(n)}{_place(world @ P)}/>" for n, P in bp.sites]
+            out += [f"{ind}<site name={quoteattr(n)}{place_attrs(world @ P, scale)}/>" for n, P in bp.sites]
             continue
-        out.append(f"{ind}<body name={quoteattr(bp.name)}{_place(se3.inv(parent_frame) @ abs_frame)}>")
+        out.append(f"{ind}<body name={quoteattr(bp.name)}{place_attrs(se3.inv(parent_frame) @ abs_frame, scale)}>")
         if bp.joint is not None:
             out.append(f"{ind}  {_joint_xml(bp.joint, bp.frame, scale)}")
         if masses[i] is not None:
@@ -146,11 +139,11 @@ def _body_lines(plan: list[BodyPlan], masses: list[BodyMass | None], world: np.n
                 repaired.append(bp.name)
             out.append(f"{ind}  {text}")
         for s in bp.shapes:
-            g = geoms.geom(s, bp.frame)
+            g = geoms.geom(s, bp.frame, scale)
             if g is not None:
                 out.append(f"{ind}  {g}")
         for name, P in bp.sites:
-            out.append(f"{ind}  <site name={quoteattr(name)}{_place(se3.inv(bp.frame) @ P)}/>")
+            out.append(f"{ind}  <site name={quoteattr(name)}{place_attrs(se3.inv(bp.frame) @ P, scale)}/>")
         todo.append((i, depth, True))
         todo.extend((c, depth + 1, False) for c in reversed(bp.children))
     return out
@@ -182,7 +175,8 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
     robot : Robot
     mesh_files : mapping, optional
         Mesh file name as the source wrote it -> ``file`` to write (relative to the output's folder);
-        mesh shapes whose file is not in it are left out, with one warning.
+        mesh shapes whose file is not in it are left out (one warning when no mapping is given: the
+        maker of a mapping says what it could not find).
     actuators : 'motor' | 'position' | 'velocity' | 'none'
     kp, kv : float
         Servo gains of position (kp, kv) and velocity (kv) actuators (N m/rad, N m s/rad or N/m, N s/m).
@@ -207,7 +201,7 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
         warnings.warn(f"body(ies) {', '.join(repaired[:6])}{', ...' if len(repaired) > 6 else ''}: inertia not "
                       f"physical (a negative principal moment, or one above the sum of the other two): clipped to "
                       f"the nearest valid moments", UserWarning, stacklevel=3)
-    if geoms.missing:
+    if geoms.missing and mesh_files is None:  # with a mapping, its maker said what it could not find
         shown = ", ".join(geoms.missing[:4]) + (f", ... ({len(geoms.missing) - 4} more)" if len(geoms.missing) > 4 else "")
         warnings.warn(f"{len(geoms.missing)} mesh file(s) not available to the MJCF ({shown}): their shapes are "
                       f"left out", UserWarning, stacklevel=3)
