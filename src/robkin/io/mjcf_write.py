@@ -113,6 +113,11 @@ def _masses(plan: list[BodyPlan]) -> tuple[list[BodyMass | None], list[str], lis
     return masses, placeholders, []
 
 
+def _is_world(bp: BodyPlan) -> bool:
+    """A plan entry that is MuJoCo's world body (a source link called 'world' fixed at the top)."""
+    return bp.parent is None and bp.name in ("", "world")
+
+
 def _body_lines(plan: list[BodyPlan], masses: list[BodyMass | None], world: np.ndarray, geoms: GeomAssets,
                 scale: float, repaired: list[str]) -> list[str]:
     out: list[str] = []
@@ -125,10 +130,16 @@ def _body_lines(plan: list[BodyPlan], masses: list[BodyMass | None], world: np.n
             out.append(f"{ind}</body>")
             continue
         bp = plan[i]
-        parent_frame = np.eye(4) if bp.parent is None else world @ plan[bp.parent].frame
+        par = bp.parent
+        parent_frame = np.eye(4) if par is None or _is_world(plan[par]) else world @ plan[par].frame
         abs_frame = world @ bp.frame
-        if not bp.name:  # the world itself: its sites only
+        if _is_world(bp):  # MuJoCo's world body itself: its geoms and sites, then its children, in <worldbody>
+            for s in bp.shapes:
+                g = geoms.geom(s, se3.inv(world), scale)
+                if g is not None:
+                    out.append(f"{ind}{g}")
             out += [f"{ind}<site name={quoteattr(n)}{place_attrs(world @ P, scale)}/>" for n, P in bp.sites]
+            todo.extend((c, depth, False) for c in reversed(bp.children))
             continue
         out.append(f"{ind}<body name={quoteattr(bp.name)}{place_attrs(se3.inv(parent_frame) @ abs_frame, scale)}>")
         if bp.joint is not None:
