@@ -347,21 +347,15 @@ class Robot:
         the world frame (``world`` maps it to the base), default (0, 0, -9.81) m/s^2. Needs the links'
         mass properties (``bodies.inertials``); see ``robkin.dynamics.rigid_body``.
         """
-        from .dynamics.rigid_body import inverse_dynamics
-
-        return inverse_dynamics(self, q, qd, qdd, gravity)
+        return _dynamics().inverse_dynamics(self, q, qd, qdd, gravity)
 
     def gravity(self, q: ArrayLike, *, gravity: ArrayLike | None = None) -> np.ndarray:
         """Torques/forces (n,) or (N, n) that hold the robot still at q (``inverse_dynamics`` at rest)."""
-        from .dynamics.rigid_body import gravity_torques
-
-        return gravity_torques(self, q, gravity)
+        return _dynamics().gravity_torques(self, q, gravity)
 
     def mass_matrix(self, q: ArrayLike) -> np.ndarray:
         """Joint-space mass matrix at q: (n,) -> (n, n), (N, n) -> (N, n, n); composite rigid bodies."""
-        from .dynamics.rigid_body import mass_matrix
-
-        return mass_matrix(self, q)
+        return _dynamics().mass_matrix(self, q)
 
     # ------------------------------------------------------------------ conveniences
     def random_q(self, size: int | None = None, rng: np.random.Generator | int | None = None,
@@ -390,6 +384,14 @@ def _ik_function() -> Callable[..., "IKResult"]:
     from .kinematics.ik import ik
 
     return ik
+
+
+@cache
+def _dynamics() -> Any:
+    """``robkin.dynamics.rigid_body``, imported on first use and then kept (as ``_ik_function``)."""
+    from .dynamics import rigid_body
+
+    return rigid_body
 
 
 def robot_from_frames(frames: Sequence[ArrayLike], types: Sequence[str] | None = None,
