@@ -239,6 +239,11 @@ def run(args: argparse.Namespace) -> int:
         write_texts_atomic(list(zip(targets, texts)))  # all or nothing
         for target in targets:
             wrote(target)
+        if fmt in ("urdf", "mjcf") and not args.format:
+            from ._output_check import check_written
+
+            for robot, target in zip(robots, targets):
+                check_written(robot, target, fmt)
         return 0
     if len(inputs) > 1:
         raise InputError("several inputs need -o DIR (a folder for the converted files)")
@@ -256,6 +261,10 @@ def run(args: argparse.Namespace) -> int:
         text = _render_file(robot, fmt, out.suffix.lower(), args, inputs[0], out.parent)
         write_text_atomic(out, text)
         wrote(out)
+        if fmt in ("urdf", "mjcf"):
+            from ._output_check import check_written
+
+            check_written(robot, out, fmt)
         if note:
             print(f"robkin: note: {note}", file=sys.stderr)
         return 0
