@@ -52,7 +52,8 @@ def check_written(robot: Robot, path: Path, fmt: str) -> str:
     if not kin.same:
         line = f"robkin: warning: {path}: read back, its kinematics differ from the source's ({kin.verdict()})"
     elif not masses.checked:
-        line = f"robkin: note: {path}: FK checked; mass properties not checked ({masses.reason.replace("A has", "the robot has")})"
+        reason = "the robot has no inertials" if not robot.bodies.inertials else masses.reason
+        line = f"robkin: note: {path}: FK checked; mass properties not checked ({reason})"
     elif masses.same:
         line = (f"robkin: note: {path}: read back: FK and mass properties equal the source's ({len(masses.bodies)} "
                 f"bodies, {masses.total_mass_b:.6g} kg; M(q), g(q) within {max(masses.mass_matrix_error, masses.gravity_error):.1g})")
