@@ -56,12 +56,23 @@ def quat_from_matrix(R: np.ndarray) -> np.ndarray:
     return out if out[0] >= 0 else -out
 
 
-def place_attrs(rel: np.ndarray, scale: float = 1.0) -> str:
+#: The source's own origin numbers (xyz of a URDF origin) are written when they give the pose to this,
+#: relative to the robot size: a pose re-expressed by robkin differs from them by rounding (~1e-16).
+SAME_ORIGIN_TOL = 1e-12
+
+
+def place_attrs(rel: np.ndarray, scale: float = 1.0, origin: tuple[float, ...] | None = None) -> str:
     """`` pos="..." quat="..."`` of a pose (4, 4) relative to its parent, each left out when it is
-    the identity up to ``NOISE`` (positions: times ``scale``, the robot size)."""
+    the identity up to ``NOISE`` (positions: times ``scale``, the robot size). ``origin``: the
+    source's six numbers (xyz, rpy) of the same pose, whose xyz is written when it still gives it."""
     from .float_text import float_text
 
     p = np.array(rel[:3, 3], dtype=float)
+    if origin is not None:
+        from .urdf import origin_matrix
+
+        if np.abs(origin_matrix(origin[:3], origin[3:]) - rel).max() <= SAME_ORIGIN_TOL * scale:
+            p = np.array(origin[:3], dtype=float)
     p[np.abs(p) < NOISE * scale] = 0.0
     q = quat_from_matrix(rel[:3, :3])
     q[np.abs(q) < NOISE] = 0.0

@@ -113,7 +113,7 @@ class GeomAssets:
             name = f" name={quoteattr(label)}"
         color = self._color(s.material) if s.role == "visual" else ""
         rel = se3.inv(body_frame) @ s.pose
-        return f'<geom class="{s.role}"{name} {what}{place_attrs(rel, scale)}{color}/>'
+        return f'<geom class="{s.role}"{name} {what}{place_attrs(rel, scale, s.origin)}{color}/>'
 
     def asset_lines(self) -> list[str]:
         out = []

@@ -42,8 +42,10 @@ class BodyMass:
     """Mass properties of one body: mass (kg), centre (3,) and inertia (3, 3) about it, base frame."""
 
     def __init__(self, mass: float, com: np.ndarray, inertia: np.ndarray, frame: np.ndarray | None = None,
-                 diag: np.ndarray | None = None):
+                 diag: np.ndarray | None = None, origin: tuple[float, ...] | None = None):
         self.mass, self.com, self.inertia = mass, com, inertia
+        #: the source's six origin numbers (xyz, rpy) of the inertial frame in its link, if one inertial
+        self.origin = origin
         #: a frame (4, 4, base frame) in which the inertia is diagonal with moments ``diag``, if known exactly
         self.frame, self.diag = frame, diag
 
@@ -58,7 +60,8 @@ def body_mass(inertials: Sequence[Inertial]) -> BodyMass | None:
         R = m.pose[:3, :3]
         I = np.asarray(m.inertia, dtype=float)
         diag = np.diag(I).copy() if not np.any(I - np.diag(np.diag(I))) else None
-        return BodyMass(float(m.mass), m.pose[:3, 3].copy(), R @ I @ R.T, m.pose if diag is not None else None, diag)
+        return BodyMass(float(m.mass), m.pose[:3, 3].copy(), R @ I @ R.T, m.pose if diag is not None else None, diag,
+                        m.origin)
     from ..dynamics import merge_masses
 
     mass = np.array([m.mass for m in inertials], dtype=float)
@@ -92,15 +95,18 @@ def valid_moments(w: np.ndarray) -> tuple[np.ndarray, bool]:
     return w, changed
 
 
-def inertial_xml(bm: BodyMass, body_frame: np.ndarray) -> tuple[str, bool]:
+def inertial_xml(bm: BodyMass, body_frame: np.ndarray, scale: float = 1.0) -> tuple[str, bool]:
     """(the ``<inertial .../>`` element relative to a body at ``body_frame`` (4, 4), whether the
     moments had to be repaired)."""
-    from .mjcf import NOISE, quat_from_matrix
+    from .mjcf import NOISE, SAME_ORIGIN_TOL, quat_from_matrix
 
     R, w = _principal(bm)
     w, changed = valid_moments(w)
     inv = se3.inv(body_frame)
     pos = inv[:3, :3] @ bm.com + inv[:3, 3]
+    if bm.origin is not None and np.abs(np.asarray(bm.origin[:3]) - pos).max() <= SAME_ORIGIN_TOL * scale:
+        pos = np.array(bm.origin[:3], dtype=float)  # the source's numbers, where they still hold
+    pos[np.abs(pos) < NOISE * scale] = 0.0
     Rl = body_frame[:3, :3].T @ R
     q = quat_from_matrix(Rl)
     q[np.abs(q) < NOISE] = 0.0

@@ -77,6 +77,8 @@ class BodyPlan:
     #: (site name, pose (4, 4) in the base frame)
     sites: list[tuple[str, np.ndarray]] = field(default_factory=list)
     children: list[int] = field(default_factory=list)
+    #: the source's origin numbers (xyz, rpy) of the joint that attaches the link to its parent
+    origin: tuple[float, ...] | None = None
 
 
 def _chain_joint(robot: Robot, i: int) -> JointPlan:
@@ -176,7 +178,8 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[BodyPlan]:
                 held.append(lj.name)
             idx = len(out)
             out.append(BodyPlan(lk.name, par, frames[lk.name], joint, shapes.get(lk.name, []),
-                                inertials.get(lk.name, [])))
+                                inertials.get(lk.name, []),
+                                origin=lj.xyz_rpy if lj is not None and par is not None else None))
             if par is not None:
                 out[par].children.append(idx)
             if lk.name == b.tip:
@@ -199,9 +202,7 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[BodyPlan]:
         for k in kids.get(name, []):
             if k.name not in above_set and k.name != chain[0]:
                 add(k, idx)
-    if held:
-        warnings.warn(f"joint(s) {', '.join(held[:6])}{', ...' if len(held) > 6 else ''} above the chain's base "
-                      f"are welded at 0 (MJCF has no joint above a fixed base)", UserWarning, stacklevel=3)
+    # joints above the base (``held``) are welded: the reader warned that they are held at 0
     if welded:
         warnings.warn(f"joint(s) {', '.join(welded[:6])}{', ...' if len(welded) > 6 else ''} are welded at 0 "
                       f"(not a hinge or slide)", UserWarning, stacklevel=3)

@@ -141,11 +141,11 @@ def _body_lines(plan: list[BodyPlan], masses: list[BodyMass | None], world: np.n
             out += [f"{ind}<site name={quoteattr(n)}{place_attrs(world @ P, scale)}/>" for n, P in bp.sites]
             todo.extend((c, depth, False) for c in reversed(bp.children))
             continue
-        out.append(f"{ind}<body name={quoteattr(bp.name)}{place_attrs(se3.inv(parent_frame) @ abs_frame, scale)}>")
+        out.append(f"{ind}<body name={quoteattr(bp.name)}{place_attrs(se3.inv(parent_frame) @ abs_frame, scale, bp.origin)}>")
         if bp.joint is not None:
             out.append(f"{ind}  {_joint_xml(bp.joint, bp.frame, scale)}")
         if masses[i] is not None:
-            text, changed = inertial_xml(masses[i], bp.frame)  # type: ignore[arg-type]
+            text, changed = inertial_xml(masses[i], bp.frame, scale)  # type: ignore[arg-type]
             if changed:
                 repaired.append(bp.name)
             out.append(f"{ind}  {text}")
