@@ -221,10 +221,14 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
             + ("" if named else ": bodies base, link1..linkN, tool (the robot has no link names)") + " -->",
             f"<mujoco model={quoteattr(robot.name or 'robot')}>",
             '  <compiler angle="radian" autolimits="true" inertiafromgeom="false"/>',
+            # a brighter viewer headlight than MuJoCo's default (0.1 ambient, 0.4 diffuse): the model is
+            # seen as it is without a scene around it
+            '  <visual><headlight ambient="0.3 0.3 0.3" diffuse="0.6 0.6 0.6" specular="0.1 0.1 0.1"/></visual>',
             "  <default>"] + DEFAULT_CLASSES + ["  </default>"]
     assets = geoms.asset_lines()
     out = head + (["  <asset>"] + assets + ["  </asset>"] if assets else [])
-    out += ["  <worldbody>"] + bodies + ["  </worldbody>"]
+    light = ['    <light name="robkin_light" pos="0 0 4" dir="0 0 -1" directional="true" castshadow="false"/>']
+    out += ["  <worldbody>"] + light + bodies + ["  </worldbody>"]
     out += _equalities(joints)
     out += actuator_lines(actuators, joints, kp, kv)
     nq = len(joints)
