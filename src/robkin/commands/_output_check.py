@@ -58,6 +58,11 @@ def check_written(robot: Robot, path: Path, fmt: str) -> str:
         line = (f"robkin: note: {path}: read back: FK and mass properties equal the source's ({len(masses.bodies)} "
                 f"bodies, {masses.total_mass_b:.6g} kg; M(q), g(q) within {max(masses.mass_matrix_error, masses.gravity_error):.1g})")
     else:
-        line = f"robkin: warning: {path}: read back, its mass properties differ: {masses.first_difference}"
+        from ..io.mjcf_write import CHANGED_MARK
+
+        why = ""
+        if fmt == "mjcf" and CHANGED_MARK in Path(path).read_text(errors="replace")[:4096]:
+            why = " (the writer changed masses MuJoCo refuses, as warned above)"
+        line = f"robkin: warning: {path}: read back, its mass properties differ{why}: {masses.first_difference}"
     print(line, file=sys.stderr)
     return line

@@ -37,11 +37,14 @@ from .xmltext import quoteattr
 if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
 
-__all__ = ["mjcf_text"]
+__all__ = ["mjcf_text", "CHANGED_MARK"]
 
 #: Axis components and joint offsets below this (relative to 1 and to the robot size) are rounding
 #: noise of unit-size products: written as 0.
 UNIT_NOISE = 1e-15
+#: Start of the comment that lists the masses the writer changed so that MuJoCo loads the model
+#: (``robkin convert``'s check after writing looks for it).
+CHANGED_MARK = "masses changed so that MuJoCo loads the model"
 #: MuJoCo's mjMINVAL: a moving body needs more mass and principal inertia than this (with what is welded to it).
 MJ_MINVAL = 1e-15
 
@@ -216,9 +219,12 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
         shown = ", ".join(geoms.missing[:4]) + (f", ... ({len(geoms.missing) - 4} more)" if len(geoms.missing) > 4 else "")
         warnings.warn(f"{len(geoms.missing)} mesh file(s) not available to the MJCF ({shown}): their shapes are "
                       f"left out", UserWarning, stacklevel=3)
+    changed = [f"<!-- {CHANGED_MARK}: {kind} of {', '.join(names).replace('--', '- -')} -->"
+               for kind, names in (("placeholder mass", placeholders), ("repaired inertia", repaired)) if names]
     head = ['<?xml version="1.0"?>',
             f"<!-- written by robkin {__version__}"
             + ("" if named else ": bodies base, link1..linkN, tool (the robot has no link names)") + " -->",
+            *changed,
             f"<mujoco model={quoteattr(robot.name or 'robot')}>",
             '  <compiler angle="radian" autolimits="true" inertiafromgeom="false"/>',
             # a brighter viewer headlight than MuJoCo's default (0.1 ambient, 0.4 diffuse): the model is
