@@ -10,6 +10,8 @@ import warnings
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from robkin import Joint, Robot, se3
 from robkin.bodies import Bodies
@@ -19,6 +21,8 @@ from robkin.dynamics import link_masses
 from robkin.io.mjcf import mjcf_from_robot
 from robkin.io.mjcf_read import robot_from_mjcf
 from robkin.io.urdf import robot_from_urdf
+from strategies import robots
+from test_properties import SCALE as PROPERTY_SCALE
 
 mujoco = pytest.importorskip("mujoco")
 
@@ -253,3 +257,37 @@ def test_cli_writes_checks_and_reports(tmp_path, capsys):
     assert "FK and mass properties equal the source's" in err
     model = mujoco.MjModel.from_xml_path(str(out))
     assert model.nu == 3 and model.actuator_gainprm[0, 0] == 100   # the default kp
+
+
+def _physical_inertials(robot: Robot, rng: np.random.Generator, parts: int = 2) -> Robot:
+    """The robot with ``parts`` random inertials on every body, each physical: principal moments
+    (b + c, a + c, a + b) of second moments a, b, c > 0 of a mass distribution, at a random pose."""
+    records = []
+    for body in range(robot.n + 1):
+        for k in range(parts):
+            a, b, c = rng.uniform(0.001, 0.5, 3)
+            Q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+            pose = se3.homogeneous(se3.matrix_from_rpy(rng.uniform(-3, 3, 3)), rng.normal(size=3))
+            records.append(Inertial(f"l{body}_{k}", body, pose, float(rng.uniform(0.1, 3.0)),
+                                    Q @ np.diag([b + c, a + c, a + b]) @ Q.T))
+    return robot.replace(bodies=Bodies(inertials=tuple(records)))
+
+
+@pytest.mark.filterwarnings("ignore::robkin.ConditioningWarning")
+@settings(max_examples=25 * PROPERTY_SCALE, deadline=None)
+@given(robots(max_joints=7), st.integers(0, 2**32 - 1), st.booleans())
+def test_any_robot_with_inertials_simulates_with_robkins_dynamics(robot, seed, fuse):
+    """MuJoCo's M(q) and gravity torques of robkin's MJCF of any robot with random inertials (several on
+    a body, merged exactly) equal robkin's own dynamics (tested against pinocchio in test_dynamics)."""
+    rng = np.random.default_rng(seed)
+    robot = _physical_inertials(robot, rng)
+    model, data = _load(mjcf_from_robot(robot, fuse_fixed=fuse))
+    n = robot.n
+    for q in rng.uniform(-2, 2, size=(2, n)):
+        data.qpos[:] = q
+        mujoco.mj_forward(model, data)
+        M = np.zeros((n, n))
+        mujoco.mj_fullM(model, data, M)
+        Mr, gr = robot.mass_matrix(q), robot.gravity(q)
+        np.testing.assert_allclose(M, Mr, atol=1e-9 * np.abs(Mr).max())
+        np.testing.assert_allclose(data.qfrc_bias, gr, atol=1e-9 * max(np.abs(gr).max(), np.abs(Mr).max()))
