@@ -291,3 +291,29 @@ def test_any_robot_with_inertials_simulates_with_robkins_dynamics(robot, seed, f
         Mr, gr = robot.mass_matrix(q), robot.gravity(q)
         np.testing.assert_allclose(M, Mr, atol=1e-9 * np.abs(Mr).max())
         np.testing.assert_allclose(data.qfrc_bias, gr, atol=1e-9 * max(np.abs(gr).max(), np.abs(Mr).max()))
+
+
+SDF = """<sdf version="1.9"><model name="s">
+  <link name="a"><inertial><mass>2</mass><inertia><ixx>0.1</ixx><iyy>0.1</iyy><izz>0.1</izz></inertia></inertial></link>
+  <link name="b"><pose>0 0 0.3 0 0 0</pose>
+    <inertial><pose>0.1 0 0 0 0 0</pose><mass>1</mass><inertia><ixx>0.01</ixx><iyy>0.02</iyy><izz>0.02</izz></inertia></inertial>
+    <collision name="c"><geometry><box><size>0.1 0.2 0.3</size></box></geometry></collision></link>
+  <joint name="j" type="revolute"><parent>a</parent><child>b</child>
+    <axis><xyz>0 1 0</xyz><limit><lower>-2</lower><upper>2</upper><effort>30</effort><velocity>4</velocity></limit>
+      <dynamics><damping>0.7</damping><friction>0.2</friction></dynamics></axis></joint>
+</model></sdf>"""
+
+
+def test_sdf_joint_dynamics_and_limits_reach_mjcf_and_urdf(tmp_path):
+    from robkin.io.sdf import robot_from_sdf
+    from robkin.io.urdf import urdf_from_robot
+
+    robot = robot_from_sdf(SDF)
+    j = robot.joints[0]
+    assert (j.effort, j.velocity, j.damping, j.friction) == (30, 4, 0.7, 0.2)
+    model, _ = _load(mjcf_from_robot(robot, actuators="velocity"))
+    assert model.joint("j").damping[0] == 0.7 and model.joint("j").frictionloss[0] == 0.2
+    assert list(model.actuator("j").ctrlrange) == [-4, 4] and list(model.actuator("j").forcerange) == [-30, 30]
+    assert int((model.geom_group == 3).sum()) == 1 and model.body_mass.sum() == 3
+    back = robot_from_urdf(urdf_from_robot(robot))
+    assert back.joints[0] == j
