@@ -294,27 +294,6 @@ def test_visual_check_names_the_first_joint_that_differs():
     assert fewer["check"]["first_joint"] is not None and "joint counts differ" in fewer["check"]["comparison"]["verdict"]
 
 
-def test_mesh_files_resolve_like_ros(tmp_path, monkeypatch):
-    from robkin.viz.meshes import resolve_mesh
-
-    pkg = tmp_path / "ws" / "my_robot"
-    (pkg / "meshes").mkdir(parents=True)
-    (pkg / "urdf").mkdir()
-    stl = pkg / "meshes" / "link.stl"
-    stl.write_bytes(b"solid x\nendsolid x\n")
-    robot_file = pkg / "urdf" / "r.urdf"
-    assert resolve_mesh("package://my_robot/meshes/link.stl", robot_file) == stl.resolve()  # above the file
-    assert resolve_mesh("../meshes/link.stl", robot_file) == stl.resolve()
-    assert resolve_mesh(f"file://{stl}", robot_file) == stl.resolve()
-    elsewhere = tmp_path / "other" / "r.urdf"
-    assert resolve_mesh("package://my_robot/meshes/link.stl", elsewhere) is None
-    monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "ws"))
-    assert resolve_mesh("package://my_robot/meshes/link.stl", elsewhere) == stl.resolve()  # on the path
-    (pkg / "urdf" / "secret.txt").write_text("x")
-    assert resolve_mesh("secret.txt", robot_file) is None  # not a mesh type: never served
-    assert resolve_mesh("http://example.com/link.stl", robot_file) is None  # nothing is fetched
-
-
 @pytest.fixture()
 def server():
     srv = make_server(port=0, text=RRPR_TEXT, fmt="yaml")
