@@ -60,29 +60,29 @@ def check_mjcf_options(args: argparse.Namespace) -> None:
         raise InputError(f"--kv: applies to --actuators position or velocity (not {args.actuators})")
 
 
-def _mesh_module():
-    try:
-        from ..io import mesh_files  # type: ignore[attr-defined]
-    except ImportError:  # pragma: no cover - until the mesh resolver is merged
-        from ..io import mesh_files_stub as mesh_files
-    return mesh_files
-
-
 def render_mjcf(robot: Robot, args: argparse.Namespace, source: str | None, out_dir: Path | None) -> str:
-    """The MJCF text of ``robot``; with ``out_dir``, its meshes copied there first (``meshes/``),
-    without it the found meshes named by absolute path."""
+    """The MJCF text of ``robot`` read from ``source``; with ``out_dir``, its meshes copied there first
+    (``meshes/``, formats MuJoCo cannot read converted), without it the found meshes named by absolute
+    path. One warning line for meshes not found."""
     from ..io.mjcf_actuators import DEFAULT_KP, DEFAULT_KV
     from ..io.mjcf_write import mjcf_text
 
     mesh_files: dict[str, str] = {}
-    if any(s.geometry.kind == "mesh" for s in robot.bodies.shapes):
-        mf = _mesh_module()
-        paths = dict(getattr(args, "package_path", None) or [])
-        resolved = mf.resolve_meshes(robot, source, paths)
+    if source is not None and any(s.geometry.kind == "mesh" for s in robot.bodies.shapes):
+        import warnings
+
+        from ..io.mesh_files import MUJOCO_MESH_SUFFIXES, copy_meshes, missing_line, resolve_meshes
+        from ._common import package_paths
+
+        resolved = resolve_meshes(robot, source, package_paths(args))
+        missing = missing_line(resolved, source)
+        if missing:
+            warnings.warn(missing.replace("drawn without them", "left out of the MJCF"), UserWarning, stacklevel=2)
         if out_dir is not None:
-            mesh_files = mf.copy_meshes(resolved, out_dir)
-        else:
-            mesh_files = {k: str(v.path) for k, v in resolved.items() if v.path is not None}
+            mesh_files = copy_meshes(resolved, out_dir)
+        else:  # the model on stdout: the files where they are, in the formats MuJoCo reads
+            mesh_files = {k: str(v.path) for k, v in resolved.items()
+                          if v.path is not None and v.path.suffix.lower() in MUJOCO_MESH_SUFFIXES}
     return mjcf_text(robot, mesh_files=mesh_files, actuators=args.actuators,
                      kp=DEFAULT_KP if args.kp is None else args.kp, kv=DEFAULT_KV if args.kv is None else args.kv,
                      fuse_fixed=args.fuse_fixed)

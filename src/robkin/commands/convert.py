@@ -8,7 +8,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ._chains import add_chain_options, chain_ends
-from ._common import add_allow_xacro
+from ._common import add_allow_xacro, add_package_path
 from ._output import wrote
 
 #: --to FORMAT -> document section written for it (None: a whole document or another file type)
@@ -107,6 +107,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--degrees", action="store_true",
                    help="angles in degrees: in the table on stdout, and in a written robot document "
                         "(which then says 'angles: degrees')")
+    add_package_path(p)
     add_mjcf_options(p)
     return p
 

@@ -379,8 +379,12 @@ function showPose(res) {
 // Only the robot given on the command line, unedited and with its chain, has visuals the server serves.
 function showMeshes(body) {
   const st = state.start;
-  const on = !!(st && st.visuals.length && body.text === st.text && body.base_link === st.base_link &&
-                body.tip_link === st.tip_link);
+  const mine = !!(st && body.text === st.text && body.base_link === st.base_link && body.tip_link === st.tip_link);
+  const on = mine && st.visuals.length > 0;
+  if (mine && st.missing_line) {  // also when no mesh at all was found (apply() has just reset the box)
+    $("warnings").hidden = false;
+    $("warnings").textContent = ($("warnings").textContent + "\n" + st.missing_line).trim();
+  }
   if (on === state.meshKey) return;
   state.meshKey = on;
   if (!on) { viewer.setMeshes([]); return; }
@@ -388,10 +392,6 @@ function showMeshes(body) {
     if (state.meshKey) viewer.setMeshes(visuals);
     document.body.dataset.meshes = String(visuals.length);
   }).catch((err) => showError("meshes: " + err));
-  if (st.missing_meshes.length) {
-    $("warnings").hidden = false;
-    $("warnings").textContent += "\nMeshes not found (drawn without them): " + st.missing_meshes.join(", ");
-  }
 }
 
 // ------------------------------------------------------------------ downloads
