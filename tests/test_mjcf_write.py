@@ -317,3 +317,22 @@ def test_sdf_joint_dynamics_and_limits_reach_mjcf_and_urdf(tmp_path):
     assert int((model.geom_group == 3).sum()) == 1 and model.body_mass.sum() == 3
     back = robot_from_urdf(urdf_from_robot(robot))
     assert back.joints[0] == j
+
+
+def test_stl_beyond_mujocos_triangle_limit_becomes_obj(tmp_path, monkeypatch):
+    """MuJoCo refuses an STL of more than 200 000 triangles (detailed COLLADA visuals converted to STL
+    have more): such a copy is rewritten as OBJ, which MuJoCo loads (the limit lowered to 10 here)."""
+    trimesh = pytest.importorskip("trimesh")
+    from robkin.io import mjcf_meshes
+
+    monkeypatch.setattr(mjcf_meshes, "MUJOCO_STL_MAX_FACES", 10)
+    (tmp_path / "meshes").mkdir()
+    box = trimesh.creation.box((0.1, 0.2, 0.3))   # 12 triangles
+    (tmp_path / "meshes" / "box.stl").write_bytes(trimesh.exchange.stl.export_stl(box))
+    out = mjcf_meshes.fit_for_mujoco({"package://x/box.stl": "meshes/box.stl"}, tmp_path, set())
+    assert out == {"package://x/box.stl": "meshes/box.obj"} and not (tmp_path / "meshes" / "box.stl").exists()
+    xml = (f'<mujoco><asset><mesh name="b" file="{out["package://x/box.stl"]}"/></asset>'
+           '<worldbody><geom type="mesh" mesh="b"/></worldbody></mujoco>')
+    (tmp_path / "m.xml").write_text(xml)
+    model = mujoco.MjModel.from_xml_path(str(tmp_path / "m.xml"))
+    assert model.mesh_facenum[0] == 12

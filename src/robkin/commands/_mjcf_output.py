@@ -79,7 +79,10 @@ def render_mjcf(robot: Robot, args: argparse.Namespace, source: str | None, out_
         if missing:
             warnings.warn(missing.replace("drawn without them", "left out of the MJCF"), UserWarning, stacklevel=2)
         if out_dir is not None:
-            mesh_files = copy_meshes(resolved, out_dir)
+            from ..io.mjcf_meshes import fit_for_mujoco
+
+            sources = {m.path.resolve() for m in resolved.values() if m.path is not None}
+            mesh_files = fit_for_mujoco(copy_meshes(resolved, out_dir), out_dir, sources)
         else:  # the model on stdout: the files where they are, in the formats MuJoCo reads
             mesh_files = {k: str(v.path) for k, v in resolved.items()
                           if v.path is not None and v.path.suffix.lower() in MUJOCO_MESH_SUFFIXES}
