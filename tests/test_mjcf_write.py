@@ -336,3 +336,20 @@ def test_stl_beyond_mujocos_triangle_limit_becomes_obj(tmp_path, monkeypatch):
     (tmp_path / "m.xml").write_text(xml)
     model = mujoco.MjModel.from_xml_path(str(tmp_path / "m.xml"))
     assert model.mesh_facenum[0] == 12
+
+
+def test_batch_keeps_each_robots_meshes_apart(tmp_path):
+    """UR3 and UR5 both name their meshes base.stl, shoulder.stl...: in one output folder each model
+    gets its own mesh folder, so neither is drawn with the other's meshes."""
+    from test_urdf import robot_file
+
+    files = [robot_file("ur_description/urdf/ur3_robot.urdf"), robot_file("ur_description/urdf/ur5_robot.urdf")]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["convert", *files, "--tip-link", "tool0", "--to", "mjcf", "-o", str(tmp_path / "out")]) == 0
+        assert main(["convert", files[1], "--tip-link", "tool0", "--to", "mjcf", "-o", str(tmp_path / "ur5.xml")]) == 0
+    ur3 = mujoco.MjModel.from_xml_path(str(tmp_path / "out" / "ur3_robot.xml"))
+    ur5 = mujoco.MjModel.from_xml_path(str(tmp_path / "out" / "ur5_robot.xml"))
+    alone = mujoco.MjModel.from_xml_path(str(tmp_path / "ur5.xml"))
+    np.testing.assert_array_equal(ur5.mesh_vert, alone.mesh_vert)
+    assert ur3.mesh_vert.shape != ur5.mesh_vert.shape

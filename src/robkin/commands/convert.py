@@ -113,7 +113,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 
 def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None = None,
-                 source: str | None = None, out_dir: Path | None = None) -> str:
+                 source: str | None = None, out_dir: Path | None = None, mesh_dir: str = "meshes") -> str:
     """Text of the output file for one robot (``source``: its input file; ``out_dir``: where the
     output goes, for the meshes an MJCF takes along)."""
     from ..io.document import document_from_robot, dump
@@ -135,7 +135,7 @@ def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None 
             return mjcf_from_robot(robot)
         from ._mjcf_output import render_mjcf
 
-        return render_mjcf(robot, args, source, out_dir)
+        return render_mjcf(robot, args, source, out_dir, mesh_dir)
     section = SECTION_OF[fmt]
     doc = document_from_robot(robot, degrees=degrees) if section is None else \
         document_from_robot(robot, (section,), degrees=degrees)
@@ -235,7 +235,9 @@ def run(args: argparse.Namespace) -> int:
         robots = _load_all(inputs, args)
         if fmt == "mjcf":  # the meshes are copied while the models are written: the folder is needed first
             out_dir.mkdir(exist_ok=True)
-        texts = [_render_file(robot, fmt, ext, args, source, out_dir) for robot, source in zip(robots, inputs)]
+        # the meshes of each model in a folder of their own (meshes/<name>/): two robots' base.stl differ
+        texts = [_render_file(robot, fmt, ext, args, source, out_dir, f"meshes/{t.stem}")
+                 for robot, source, t in zip(robots, inputs, targets)]
         out_dir.mkdir(exist_ok=True)  # only now: a failed conversion leaves no empty folder behind
         write_texts_atomic(list(zip(targets, texts)))  # all or nothing
         for target in targets:
