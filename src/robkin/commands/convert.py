@@ -56,7 +56,8 @@ Chains: --base-link / --tip-link given once apply to every robot file among the 
 per input, in input order, the k-th belongs to the k-th input ('-' = that file's default, and what a
 robot document takes). A base or tip may be any link rigidly attached to the chain's end (UR's
 'base', 'tool0'). A folder given with -o (several inputs, or a name ending in '/') that does not exist
-is created in an existing one, once every input has been converted.
+is created in an existing one, once every input has been converted; so is the folder of
+--to mjcf -o FOLDER/robot.xml (the model and its meshes).
 
 Joint variables are the same in every output: q_i means the same configuration in the DH table, the
 PoE and the URDF it came from (same sign, same zero); a note on stderr says so for URDF input.
@@ -259,7 +260,10 @@ def run(args: argparse.Namespace) -> int:
             out = out / (Path(inputs[0]).stem + ext)
             _check_path(out)
         _check_ext(out, fmt, args.format)
-        if fmt == "mjcf":
+        if fmt == "mjcf":  # a model and its meshes: its folder is made (in an existing one) if need be
+            parent = out.parent if str(out.parent) else Path(".")
+            if not parent.exists() and (parent.parent if str(parent.parent) else Path(".")).is_dir():
+                parent.mkdir()
             check_writable_dir(out)
         text = _render_file(robot, fmt, out.suffix.lower(), args, inputs[0], out.parent)
         write_text_atomic(out, text)
