@@ -1,0 +1,219 @@
+"""Reader fixes found by a cross-check against MuJoCo, pinocchio and libsdformat: MJCF includes whose
+top element is <mujocoinclude>, SDF models holding several unconnected trees, and URDF joints with
+equal lower and upper limits (one meaning everywhere)."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import robkin
+from robkin.cli import main
+from robkin.io.joint_limits import locked_joints, mjcf_lock_equalities
+
+# ---------------------------------------------------------------------------------- MJCF <mujocoinclude>
+#: The structure of gymnasium-robotics' Adroit hand and Franka kitchen: a main model that includes
+#: its assets/defaults and its kinematic chain from files whose top element is <mujocoinclude>, one
+#: of them including another.
+MAIN = """<mujoco model="adroit_like">
+  <include file="resources/assets.xml"/>
+  <worldbody>
+    <body name="forearm" pos="0 0 0.1">
+      <include file="resources/chain.xml"/>
+    </body>
+  </worldbody>
+</mujoco>"""
+ASSETS = """<mujocoinclude>
+  <compiler angle="radian"/>
+  <default><joint damping="0.5" frictionloss="0.1"/><default class="wrist"><joint damping="2"/></default></default>
+</mujocoinclude>"""
+CHAIN = """<mujocoinclude>
+  <body name="wrist" pos="0 0.02 0.3" euler="0.1 0 0">
+    <joint name="WRJ1" class="wrist" axis="0 1 0" range="-0.5 0.2"/>
+    <geom size="0.02"/>
+    <include file="resources/finger.xml"/>
+  </body>
+</mujocoinclude>"""
+FINGER = """<anything>
+  <body name="knuckle" pos="0.03 0 0.1" quat="0.9 0 0.1 0.3">
+    <joint name="FFJ1" axis="1 0 0" range="-0.4 1.6"/>
+    <geom size="0.01"/>
+    <body name="tip" pos="0 0 0.05"><joint name="FFJ0" axis="1 0 0" range="0 1.6"/><geom size="0.01"/>
+    <site name="tip_site" pos="0 0 0.02"/></body>
+  </body>
+</anything>"""
+
+
+def _adroit_like(tmp_path: Path) -> Path:
+    (tmp_path / "resources").mkdir()
+    for name, text in (("assets", ASSETS), ("chain", CHAIN), ("finger", FINGER)):
+        (tmp_path / "resources" / f"{name}.xml").write_text(text)
+    path = tmp_path / "model.xml"
+    path.write_text(MAIN)
+    return path
+
+
+def test_included_files_with_any_top_element_load_as_mujoco_loads_them(tmp_path):
+    mujoco = pytest.importorskip("mujoco")
+    path = _adroit_like(tmp_path)
+    robot = robkin.load(path, tip_link="tip_site")
+    model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    assert [j.name for j in robot.joints] == [model.joint(i).name for i in range(model.njnt)]
+    # the included <compiler angle="radian"> applies: the ranges are MuJoCo's, not read as degrees
+    dof = {model.joint(i).name: i for i in range(model.njnt)}
+    for j in robot.joints:
+        assert (j.lower, j.upper) == tuple(model.jnt_range[dof[j.name]])
+    site = model.site("tip_site").id
+    for q in np.random.default_rng(4).uniform(-0.4, 0.2, (5, robot.n)):
+        data.qpos[:] = q
+        mujoco.mj_kinematics(model, data)
+        T = robot.world @ robot.fk(q)
+        # 1e-12: the same float64 products in another order
+        assert np.abs(T[:3, 3] - data.site_xpos[site]).max() < 1e-12
+        assert np.abs(T[:3, :3] - data.site_xmat[site].reshape(3, 3)).max() < 1e-12
+
+
+def test_an_include_file_given_as_the_model_says_what_it_is(tmp_path, capsys):
+    _adroit_like(tmp_path)
+    assert main(["info", str(tmp_path / "resources" / "chain.xml")]) == 2
+    err = capsys.readouterr().err
+    assert "root element is <mujocoinclude>; an MJCF file has <mujoco> (this file is meant for <include file> in " \
+           "a model: load the model that includes it)" in err and err.count("\n") == 1
+
+
+# ---------------------------------------------------------------------------------- SDF unconnected trees
+TWO_TREES = """<sdf version="1.9"><model name="two">
+  <link name="a"/><link name="b"><pose>0 0 1 0 0 0</pose></link>
+  <joint name="j" type="revolute"><parent>a</parent><child>b</child><axis><xyz>0 0 1</xyz></axis></joint>
+  <link name="c"><pose>2 0 0 0 0 0</pose></link><link name="d"><pose>2 0 1 0 0 0</pose></link>
+  <joint name="k" type="revolute"><parent>c</parent><child>d</child><axis><xyz>0 1 0</xyz></axis></joint>
+</model></sdf>"""
+ARM_AND_TABLE = """<sdf version="1.9"><model name="scene">
+  <model name="table"><link name="top"><pose>1 0 0.7 0 0 0</pose></link></model>
+  <model name="arm"><link name="a"/><link name="b"><pose>0 0 1 0 0 0</pose></link>
+    <joint name="j" type="revolute"><parent>a</parent><child>b</child><axis><xyz>0 1 0</xyz></axis></joint></model>
+</model></sdf>"""
+
+
+@pytest.fixture()
+def two(tmp_path):
+    path = tmp_path / "two.sdf"
+    path.write_text(TWO_TREES)
+    return path
+
+
+def test_sdf_with_two_moving_trees_asks_which(two, tmp_path, capsys):
+    out = tmp_path / "out.urdf"
+    assert main(["convert", str(two), "--to", "urdf", "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "the model's links form 2 unconnected trees, 2 of them with moving joints: 'a' (1 moving joint(s), " \
+           "--tip-link 'b'); 'c' (1 moving joint(s), --tip-link 'd'); pick the chain with --tip-link" in err
+    assert err.count("\n") == 1 and not out.exists()
+    assert main(["convert", str(two), "--to", "urdf", "--base-link", "c", "--tip-link", "b", "-o", str(out)]) == 2
+    assert "are in different unconnected trees of the model (rooted at 'c' and 'a')" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_sdf_tree_picked_by_the_tip_converts_to_urdf(two, tmp_path, capsys):
+    pin = pytest.importorskip("pinocchio")
+    out = tmp_path / "d.urdf"
+    assert main(["convert", str(two), "--to", "urdf", "--tip-link", "d", "-o", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "2 link(s) not connected to the chain's tree (rooted at 'c') are left out: 'a', 'b'" in err
+    with pytest.warns(UserWarning, match="left out"):
+        robot = robkin.load(two, tip_link="d")
+    assert [j.name for j in robot.joints] == ["k"] and robot.bodies.chain == ("c", "d")
+    model = pin.buildModelFromUrdf(str(out))
+    assert [model.names[i] for i in range(1, model.njoints)] == ["k"]
+    data = model.createData()
+    for q in (0.3, -1.1):  # k has no limits: continuous, pinocchio's q is (cos, sin)
+        pin.forwardKinematics(model, data, np.array([np.cos(q), np.sin(q)]))
+        pin.updateFramePlacements(model, data)
+        T = data.oMf[model.getFrameId("d")].homogeneous
+        assert np.abs(T - robot.fk([q])).max() < 1e-12  # both compose the same two transforms
+
+
+def test_sdf_with_one_moving_tree_takes_it_and_says_what_is_left_out(tmp_path):
+    path = tmp_path / "scene.sdf"
+    path.write_text(ARM_AND_TABLE)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        robot = robkin.load(path)
+    assert [j.name for j in robot.joints] == ["arm::j"]
+    (line,) = [str(w.message) for w in caught]
+    assert line.endswith("1 link(s) not connected to the chain's tree (rooted at 'arm::a') are left out: "
+                         "'table::top'")
+    text = robkin.io.urdf.urdf_from_robot(robot)
+    assert "table::top" not in text and 'link name="arm::b"' in text
+
+
+def test_info_lists_the_chains_of_every_tree(two, capsys):
+    assert main(["info", str(two)]) == 0
+    out = capsys.readouterr().out
+    assert "\nb " in out and "\nd " in out
+
+
+# ---------------------------------------------------------------------------------- equal limits
+ZERO = """<robot name="z">
+  <link name="base"/><link name="l1"/><link name="l2"/><link name="l3"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/>
+    <limit lower="0" upper="0" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0 0 1"/><axis xyz="0 1 0"/>
+    <limit effort="1" velocity="1"/></joint>
+  <joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/><origin xyz="0 0 1"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>"""
+
+
+@pytest.fixture()
+def zero(tmp_path):
+    path = tmp_path / "zero.urdf"
+    path.write_text(ZERO)
+    return path
+
+
+def test_equal_limits_mean_locked_as_urdfdom_and_pinocchio_read_them(zero):
+    pin = pytest.importorskip("pinocchio")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        robot = robkin.load(zero)
+    (line,) = [str(w.message) for w in caught]
+    assert "joint(s) 'j1', 'j2' have equal lower and upper limits" in line and "locked" in line
+    model = pin.buildModelFromUrdf(str(zero))
+    assert [(j.lower, j.upper) for j in robot.joints] == \
+        list(zip(model.lowerPositionLimit.tolist(), model.upperPositionLimit.tolist()))
+    assert locked_joints(robot.joints) == [("j1", 0.0), ("j2", 0.0)]
+    # IK keeps the locked joints where they are: a pose only j1 could reach has no solution
+    assert not robot.ik(robot.fk([0.5, 0.0, 0.3])).success
+    res = robot.ik(robot.fk([0.0, 0.0, 0.3]))
+    assert res.success and res.q[:2].tolist() == [0.0, 0.0]
+    # the URDF writer repeats the limits, so pinocchio reads the same locked range back
+    text = robkin.io.urdf.urdf_from_robot(robot)
+    again = pin.buildModelFromXML(text)
+    assert again.lowerPositionLimit.tolist() == [0.0, 0.0, -1.0]
+    assert again.upperPositionLimit.tolist() == [0.0, 0.0, 1.0]
+
+
+def test_mjcf_holds_a_locked_joint_with_an_equality(zero):
+    mujoco = pytest.importorskip("mujoco")
+    from xml.sax.saxutils import quoteattr
+
+    joints = [type("J", (), {"name": "j1", "lower": 0.25, "upper": 0.25})(),
+              type("J", (), {"name": "j2", "lower": -1.0, "upper": 1.0})()]
+    eq = mjcf_lock_equalities(joints, quoteattr, repr)
+    assert eq == ['<joint joint1="j1" polycoef="0.25 0 0 0 0"/>']
+    for equality, held in (f"<equality>{''.join(eq)}</equality>", True), ("", False):
+        xml = ('<mujoco><compiler angle="radian"/><worldbody><body><joint name="j1" axis="0 1 0"/>'
+               '<geom size="0.05" pos="0.3 0 0"/><body pos="0.6 0 0"><joint name="j2" axis="0 1 0"/>'
+               f'<geom size="0.05" pos="0.3 0 0"/></body></body></worldbody>{equality}</mujoco>')
+        model = mujoco.MjModel.from_xml_string(xml)
+        data = mujoco.MjData(model)
+        data.qpos[:] = [0.25, 0.0]
+        for _ in range(500):  # 1 s under gravity: the free arm falls by more than a radian
+            mujoco.mj_step(model, data)
+        # 0.02 rad: the equality is a soft constraint (MuJoCo's default solref), it sags a little
+        assert (abs(data.qpos[0] - 0.25) < 0.02) == held and abs(data.qpos[1]) > 0.5
