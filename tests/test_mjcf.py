@@ -21,7 +21,8 @@ mujoco = pytest.importorskip("mujoco")
 
 
 def mujoco_pose(model, data, q: np.ndarray, *, site: str | None = None, body: str | None = None) -> np.ndarray:
-    data.qpos[:] = q
+    data.qpos[:] = 0  # joints off the chain (a gripper's fingers) at 0; the chain's joints come first
+    data.qpos[:len(q)] = q
     mujoco.mj_kinematics(model, data)
     T = np.eye(4)
     if site is not None:
@@ -39,13 +40,14 @@ def mujoco_pose(model, data, q: np.ndarray, *, site: str | None = None, body: st
 def test_mjcf_of_vendor_urdf_matches_pinocchio_of_the_original(rel, base, tip):
     path = robot_file(rel)
     robot = robot_from_urdf(path, base, tip)
-    model = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot))
+    model = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot, mesh_files={}))
     data = mujoco.MjData(model)
-    assert model.nq == robot.n
+    assert model.nq >= robot.n and [model.joint(i).name for i in range(robot.n)] == [j.name for j in robot.joints]
     pmodel = pin.buildModelFromUrdf(path)
     tip_frame = tip or pmodel.frames[-1].name
-    for q in sample_q(robot, 6, seed=2):
-        np.testing.assert_allclose(mujoco_pose(model, data, q, site="tool"), pin_fk(pmodel, robot, q, tip_frame),
+    assert robot.bodies.tip == tip_frame
+    for q in sample_q(robot, 6, seed=2):  # the site is named as the tip link
+        np.testing.assert_allclose(mujoco_pose(model, data, q, site=tip_frame), pin_fk(pmodel, robot, q, tip_frame),
                                    atol=FK_TOL, rtol=0)
 
 

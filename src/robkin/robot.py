@@ -53,6 +53,7 @@ class Joint:
     velocity: float | None = None
     damping: float | None = None
     friction: float | None = None
+    armature: float | None = None
     mimic: Mimic | None = None
 
     def __post_init__(self) -> None:
@@ -337,6 +338,25 @@ class Robot:
 
         return manipulability(self, q, kind)
 
+    # ------------------------------------------------------------------ dynamics (robkin.dynamics)
+    def inverse_dynamics(self, q: ArrayLike, qd: ArrayLike | None = None, qdd: ArrayLike | None = None, *,
+                         gravity: ArrayLike | None = None) -> np.ndarray:
+        """Joint torques/forces (n,) or (N, n) producing qdd at (q, qd): recursive Newton-Euler, compiled.
+
+        q, qd, qdd of one shape (n,) or (N, n), SI units; qd, qdd default to zero. ``gravity`` (3,) in
+        the world frame (``world`` maps it to the base), default (0, 0, -9.81) m/s^2. Needs the links'
+        mass properties (``bodies.inertials``); see ``robkin.dynamics.rigid_body``.
+        """
+        return _dynamics().inverse_dynamics(self, q, qd, qdd, gravity)
+
+    def gravity(self, q: ArrayLike, *, gravity: ArrayLike | None = None) -> np.ndarray:
+        """Torques/forces (n,) or (N, n) that hold the robot still at q (``inverse_dynamics`` at rest)."""
+        return _dynamics().gravity_torques(self, q, gravity)
+
+    def mass_matrix(self, q: ArrayLike) -> np.ndarray:
+        """Joint-space mass matrix at q: (n,) -> (n, n), (N, n) -> (N, n, n); composite rigid bodies."""
+        return _dynamics().mass_matrix(self, q)
+
     # ------------------------------------------------------------------ conveniences
     def random_q(self, size: int | None = None, rng: np.random.Generator | int | None = None,
                  default_range: float = math.pi) -> np.ndarray:
@@ -364,6 +384,14 @@ def _ik_function() -> Callable[..., "IKResult"]:
     from .kinematics.ik import ik
 
     return ik
+
+
+@cache
+def _dynamics() -> Any:
+    """``robkin.dynamics.rigid_body``, imported on first use and then kept (as ``_ik_function``)."""
+    from .dynamics import rigid_body
+
+    return rigid_body
 
 
 def robot_from_frames(frames: Sequence[ArrayLike], types: Sequence[str] | None = None,

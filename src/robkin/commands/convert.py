@@ -30,7 +30,7 @@ formats:
   poe       Product of Exponentials, space frame            poe-body  PoE, body frame
   rpy-xyz   RPY-XYZ table, n+2 rows (URDF convention)       gjd       Global Joint Description frames
   json/yaml a robot document with every section             urdf      a URDF file (a URDF input's whole file)
-  mjcf      a MuJoCo model (MJCF), tool as site 'tool'
+  mjcf      a MuJoCo model (MJCF) that simulates: bodies, geoms, meshes, inertials, actuators
 
 Without -o a readable table (or the document/URDF/MJCF text) goes to stdout; --json prints the
 robot document with the chosen section as JSON instead of a table. With -o FILE a robot document
@@ -61,6 +61,7 @@ is created in an existing one, once every input has been converted.
 Joint variables are the same in every output: q_i means the same configuration in the DH table, the
 PoE and the URDF it came from (same sign, same zero); a note on stderr says so for URDF input.
 
+{mjcf}
 examples:
   robkin convert rrpr.yaml --to poe
   robkin convert rrpr.yaml --to dh --layout paper
@@ -70,6 +71,8 @@ examples:
   robkin convert ur5.urdf --tip-link tool0 --to hayati -o ur5_hayati.yaml
   robkin convert robot.yaml --to urdf -o robot.urdf
   robkin convert robot.yaml --to mjcf -o robot.xml
+  robkin convert panda.urdf --tip-link panda_hand_tcp --to mjcf -o panda_mjcf/panda.xml
+  robkin convert ur5.urdf --tip-link tool0 --to mjcf --actuators position --kp 500 --kv 50 -o ur5/ur5.xml
   robkin convert a.yaml b.yaml c.urdf --to yaml -o converted/
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format latex --pi
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format csv -o ur5_dh.csv
@@ -78,10 +81,12 @@ examples:
 
 
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    from ._mjcf_output import MJCF_HELP, add_mjcf_options
+
     p = sub.add_parser("convert", help="convert a robot into another representation",
                        description="Convert a robot description into another representation, exactly: "
                                    "forward kinematics of the output equals that of the input at every q.",
-                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+                       epilog=EPILOG.replace("{mjcf}", MJCF_HELP), formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("input", nargs="+", metavar="INPUT",
                    help="robot document (.yaml/.yml/.json) or robot file: URDF (.urdf; .xacro with --allow-xacro), "
                         "MJCF (.xml/.mjcf) or SDF (.sdf) (one or more)")
@@ -103,11 +108,14 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="angles in degrees: in the table on stdout, and in a written robot document "
                         "(which then says 'angles: degrees')")
     add_package_path(p)
+    add_mjcf_options(p)
     return p
 
 
-def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None = None) -> str:
-    """Text of the output file for one robot."""
+def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None = None,
+                 source: str | None = None, out_dir: Path | None = None) -> str:
+    """Text of the output file for one robot (``source``: its input file; ``out_dir``: where the
+    output goes, for the meshes an MJCF takes along)."""
     from ..io.document import document_from_robot, dump
 
     degrees = bool(args is not None and args.degrees)
@@ -121,9 +129,13 @@ def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None 
 
         return urdf_from_robot(robot)
     if fmt == "mjcf":
-        from ..io.mjcf import mjcf_from_robot
+        if args is None:
+            from ..io.mjcf import mjcf_from_robot
 
-        return mjcf_from_robot(robot)
+            return mjcf_from_robot(robot)
+        from ._mjcf_output import render_mjcf
+
+        return render_mjcf(robot, args, source, out_dir)
     section = SECTION_OF[fmt]
     doc = document_from_robot(robot, degrees=degrees) if section is None else \
         document_from_robot(robot, (section,), degrees=degrees)
@@ -197,6 +209,9 @@ def run(args: argparse.Namespace) -> int:
     inputs: list[str] = args.input
     fmt: str = args.to
     _check_table_options(args)
+    from ._mjcf_output import check_mjcf_options
+
+    check_mjcf_options(args)
     if args.json and (args.output or fmt in ("urdf", "mjcf", "yaml")):
         raise InputError(f"--json prints a table format as JSON to stdout; it does not combine with "
                          f"{'-o' if args.output else '--to ' + fmt}")
@@ -217,11 +232,19 @@ def run(args: argparse.Namespace) -> int:
         if dup:
             raise InputError(f"several inputs would write the same file(s): {', '.join(sorted(dup))}")
         check_writable_dir(targets[0] if out_dir.is_dir() else out_dir)  # the folder, or where it will be made
-        texts = [_render_file(robot, fmt, ext, args) for robot in _load_all(inputs, args)]
+        robots = _load_all(inputs, args)
+        if fmt == "mjcf":  # the meshes are copied while the models are written: the folder is needed first
+            out_dir.mkdir(exist_ok=True)
+        texts = [_render_file(robot, fmt, ext, args, source, out_dir) for robot, source in zip(robots, inputs)]
         out_dir.mkdir(exist_ok=True)  # only now: a failed conversion leaves no empty folder behind
         write_texts_atomic(list(zip(targets, texts)))  # all or nothing
         for target in targets:
             wrote(target)
+        if fmt in ("urdf", "mjcf") and not args.format:
+            from ._output_check import check_written
+
+            for robot, target in zip(robots, targets):
+                check_written(robot, target, fmt)
         return 0
     if len(inputs) > 1:
         raise InputError("several inputs need -o DIR (a folder for the converted files)")
@@ -234,9 +257,15 @@ def run(args: argparse.Namespace) -> int:
             out = out / (Path(inputs[0]).stem + ext)
             _check_path(out)
         _check_ext(out, fmt, args.format)
-        text = _render_file(robot, fmt, out.suffix.lower(), args)
+        if fmt == "mjcf":
+            check_writable_dir(out)
+        text = _render_file(robot, fmt, out.suffix.lower(), args, inputs[0], out.parent)
         write_text_atomic(out, text)
         wrote(out)
+        if fmt in ("urdf", "mjcf"):
+            from ._output_check import check_written
+
+            check_written(robot, out, fmt)
         if note:
             print(f"robkin: note: {note}", file=sys.stderr)
         return 0
@@ -247,7 +276,7 @@ def run(args: argparse.Namespace) -> int:
         sys.stdout.write(_render_file(robot, fmt if SECTION_OF[fmt] else "json", ".json", args))
         return 0
     if SECTION_OF[fmt] is None:
-        sys.stdout.write(_render_file(robot, fmt, ".json" if fmt == "json" else ".yaml", args))
+        sys.stdout.write(_render_file(robot, fmt, ".json" if fmt == "json" else ".yaml", args, inputs[0]))
         return 0
     from ..io.tables import blocks, show_blocks
 
