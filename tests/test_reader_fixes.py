@@ -67,6 +67,10 @@ def test_included_files_with_any_top_element_load_as_mujoco_loads_them(tmp_path)
     dof = {model.joint(i).name: i for i in range(model.njnt)}
     for j in robot.joints:
         assert (j.lower, j.upper) == tuple(model.jnt_range[dof[j.name]])
+        # the included file's defaults (top level and class "wrist") as MuJoCo applies them
+        k = model.jnt_dofadr[dof[j.name]]
+        assert (j.damping, j.friction) == (model.dof_damping[k], model.dof_frictionloss[k]) == \
+            ((2.0, 0.1) if j.name == "WRJ1" else (0.5, 0.1))
     site = model.site("tip_site").id
     for q in np.random.default_rng(4).uniform(-0.4, 0.2, (5, robot.n)):
         data.qpos[:] = q
@@ -223,3 +227,86 @@ def test_mjcf_holds_a_locked_joint_with_an_equality(zero):
             mujoco.mj_step(model, data)
         # 0.02 rad: the equality is a soft constraint (MuJoCo's default solref), it sags a little
         assert (abs(data.qpos[0] - 0.25) < 0.02) == held and abs(data.qpos[1]) > 0.5
+
+
+# ---------------------------------------------------------------------------------- MJCF in -> MJCF/URDF out
+KEEPS = """<mujoco model="keeps">
+  <compiler angle="radian"/>
+  <default>
+    <joint damping="0.3" frictionloss="0.05" armature="0.01"/>
+    <default class="big"><joint damping="4" armature="0.2"/></default>
+  </default>
+  <asset><material name="blue" rgba="0.1 0.2 0.9 1"/></asset>
+  <worldbody>
+    <body name="base">
+      <inertial pos="0 0 0.05" mass="3" diaginertia="0.02 0.03 0.04"/>
+      <body name="upper" pos="0 0 0.1">
+        <joint name="shoulder" class="big" axis="0 0 1" range="-2 2"/>
+        <inertial pos="0.01 0.02 0.15" quat="0.9 0.1 0.3 0.2" mass="2.5" diaginertia="0.05 0.04 0.01"/>
+        <geom type="capsule" fromto="0 0 0 0 0 0.3" size="0.04" material="blue"/>
+        <body name="lower" pos="0 0 0.3">
+          <joint name="elbow" axis="0 1 0" range="-1.5 1.5" frictionloss="0.2"/>
+          <inertial pos="0 0 0.1" mass="1.2" fullinertia="0.02 0.021 0.005 0.001 -0.0005 0.0008"/>
+          <geom type="box" size="0.03 0.03 0.1" pos="0 0 0.1" rgba="0.9 0.4 0.1 1"/>
+          <site name="hand" pos="0 0 0.2"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>"""
+
+
+def _mj_bodies(model, names):
+    """name -> (mass, inertia tensor in the world frame at qpos 0, centre of mass in the world frame)."""
+    import mujoco
+
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
+    out = {}
+    for name in names:
+        b = model.body(name).id
+        Ri = data.ximat[b].reshape(3, 3)  # the principal axes in the world frame
+        out[name] = (model.body_mass[b], Ri @ np.diag(model.body_inertia[b]) @ Ri.T, data.xipos[b].copy())
+    return out
+
+
+def test_mjcf_in_mjcf_and_urdf_out_keep_masses_dynamics_and_colours(tmp_path):
+    mujoco = pytest.importorskip("mujoco")
+    pin = pytest.importorskip("pinocchio")
+    from robkin.io.mjcf import mjcf_from_robot
+    from robkin.io.urdf import urdf_from_robot
+
+    path = tmp_path / "keeps.xml"
+    path.write_text(KEEPS)
+    robot = robkin.load(path, tip_link="hand")
+    source = mujoco.MjModel.from_xml_path(str(path))
+    dof = {source.joint(i).name: source.jnt_dofadr[i] for i in range(source.njnt)}
+    for j in robot.joints:  # the defaults and classes resolved as MuJoCo resolves them
+        k = dof[j.name]
+        assert (j.damping, j.friction, j.armature) == (source.dof_damping[k], source.dof_frictionloss[k],
+                                                       source.dof_armature[k])
+    visuals = {s.link: s.material.rgba for s in robot.bodies.visuals()}
+    assert visuals == {"upper": (0.1, 0.2, 0.9, 1.0), "lower": (0.9, 0.4, 0.1, 1.0)}
+    again = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot))
+    names = ("base", "upper", "lower")
+    a, b = _mj_bodies(source, names), _mj_bodies(again, names)
+    for name in names:  # 1e-9: MuJoCo's own float64 diagonalisation of the same tensors
+        assert a[name][0] == pytest.approx(b[name][0], rel=1e-12)
+        assert np.abs(a[name][1] - b[name][1]).max() < 1e-9 and np.abs(a[name][2] - b[name][2]).max() < 1e-12
+    dof2 = {again.joint(i).name: again.jnt_dofadr[i] for i in range(again.njnt)}
+    for name, k in dof.items():
+        k2 = dof2[name]
+        assert (again.dof_damping[k2], again.dof_frictionloss[k2], again.dof_armature[k2]) == \
+            (source.dof_damping[k], source.dof_frictionloss[k], source.dof_armature[k])
+    # URDF out, read by pinocchio: the same masses and inertias (URDF has no armature: left out)
+    model = pin.buildModelFromXML(urdf_from_robot(robot))
+    assert sum(i.mass for i in model.inertias) == pytest.approx(source.body_mass.sum(), rel=1e-12)
+    data = model.createData()
+    pin.forwardKinematics(model, data, pin.neutral(model))
+    for name in ("upper", "lower"):
+        jid = model.getJointId({"upper": "shoulder", "lower": "elbow"}[name])
+        Y = model.inertias[jid]
+        R = data.oMi[jid].rotation
+        assert Y.mass == pytest.approx(a[name][0], rel=1e-12)
+        assert np.abs(R @ Y.inertia @ R.T - a[name][1]).max() < 1e-9
+        assert np.abs(data.oMi[jid].act(Y.lever) - a[name][2]).max() < 1e-12

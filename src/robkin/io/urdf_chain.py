@@ -216,7 +216,7 @@ def _link_joint(j: UrdfJoint) -> LinkJoint:
     axis = (x / k, y / k, z / k) if k >= AXIS_ZERO_TOL else (x, y, z)
     # ``or None``: readers of other formats may give mimic=False (the field was a flag once)
     return LinkJoint(j.name, j.type, axis, j.lower, j.upper, j.effort, j.velocity, j.damping, j.friction,
-                     j.mimic or None, j.xyz_rpy)
+                     j.mimic or None, j.xyz_rpy, j.armature)
 
 
 def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: str | None = None,
@@ -256,7 +256,7 @@ def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: s
             frames.append(pose_rows.compose(poses[j.child], (a, b, c, 0.0, d, e, f, 0.0, g, h, i, 0.0)))
         jtype = "prismatic" if j.type == "prismatic" else "revolute"
         joints.append(Joint(j.name, jtype, j.lower, j.upper, z < 0, j.effort, j.velocity,  # type: ignore[arg-type]
-                            j.damping, j.friction))
+                            j.damping, j.friction, j.armature))
     frames.append(poses[tip])
     warn_locked(src, joints)  # equal limits: locked, as urdfdom, pinocchio and yourdfpy read them
     world = _world(model, base)
