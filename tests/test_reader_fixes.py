@@ -310,3 +310,73 @@ def test_mjcf_in_mjcf_and_urdf_out_keep_masses_dynamics_and_colours(tmp_path):
         assert Y.mass == pytest.approx(a[name][0], rel=1e-12)
         assert np.abs(R @ Y.inertia @ R.T - a[name][1]).max() < 1e-9
         assert np.abs(data.oMi[jid].act(Y.lever) - a[name][2]).max() < 1e-12
+
+
+# ---------------------------------------------------------------------------------- SDF in -> MJCF/URDF out
+KEEPS_SDF = """<sdf version="1.9"><model name="keeps">
+  <link name="base"><inertial><mass>3</mass><pose>0 0 0.05 0 0 0</pose>
+    <inertia><ixx>0.02</ixx><iyy>0.03</iyy><izz>0.04</izz></inertia></inertial></link>
+  <link name="upper"><pose>0 0 0.1 0 0 0</pose>
+    <inertial><mass>2.5</mass><pose>0.01 0.02 0.15 0.3 -0.2 0.5</pose>
+      <inertia><ixx>0.045</ixx><ixy>0.001</ixy><ixz>-0.002</ixz><iyy>0.04</iyy><iyz>0.0005</iyz><izz>0.01</izz></inertia>
+    </inertial>
+    <visual name="v"><pose>0 0 0.15 0 0 0</pose><geometry><cylinder><radius>0.04</radius><length>0.3</length></cylinder>
+      </geometry><material><diffuse>0.1 0.2 0.9 1</diffuse></material></visual></link>
+  <joint name="shoulder" type="revolute"><parent>base</parent><child>upper</child>
+    <axis><xyz>0 0 1</xyz><limit><lower>-2</lower><upper>2</upper><effort>30</effort><velocity>2</velocity></limit>
+      <dynamics><damping>4</damping><friction>0.05</friction></dynamics></axis></joint>
+  <link name="lower"><pose>0 0 0.4 0 0 0</pose>
+    <inertial><mass>1.2</mass><pose>0 0 0.1 0 0 0</pose>
+      <inertia><ixx>0.02</ixx><iyy>0.021</iyy><izz>0.005</izz></inertia></inertial></link>
+  <joint name="elbow" type="revolute"><parent>upper</parent><child>lower</child>
+    <axis><xyz>0 1 0</xyz><limit><lower>-1.5</lower><upper>1.5</upper></limit>
+      <dynamics><damping>0.3</damping><friction>0.2</friction></dynamics></axis></joint>
+</model></sdf>"""
+
+
+def _sdf_expected():
+    """name -> (mass, inertia in the model frame, centre in the model frame), from the SDF's numbers."""
+    from robkin import se3
+
+    def full(xx, yy, zz, xy=0.0, xz=0.0, yz=0.0):
+        return np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+
+    R = se3.matrix_from_rpy([0.3, -0.2, 0.5])
+    return {"base": (3.0, full(0.02, 0.03, 0.04), np.array([0, 0, 0.05])),
+            "upper": (2.5, R @ full(0.045, 0.04, 0.01, 0.001, -0.002, 0.0005) @ R.T, np.array([0.01, 0.02, 0.25])),
+            "lower": (1.2, full(0.02, 0.021, 0.005), np.array([0, 0, 0.5]))}
+
+
+def test_sdf_in_mjcf_and_urdf_out_keep_masses_dynamics_and_colours(tmp_path):
+    mujoco = pytest.importorskip("mujoco")
+    pin = pytest.importorskip("pinocchio")
+    from robkin.io.mjcf import mjcf_from_robot
+    from robkin.io.urdf import urdf_from_robot
+
+    path = tmp_path / "keeps.sdf"
+    path.write_text(KEEPS_SDF)
+    robot = robkin.load(path)
+    assert [(j.name, j.damping, j.friction) for j in robot.joints] == [("shoulder", 4.0, 0.05), ("elbow", 0.3, 0.2)]
+    assert [s.material.rgba for s in robot.bodies.visuals()] == [(0.1, 0.2, 0.9, 1.0)]
+    expected = _sdf_expected()
+    mj = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot))
+    got = _mj_bodies(mj, expected)
+    for name, (m, inertia, com) in expected.items():  # 1e-12: float64 products; 1e-9: MuJoCo's eigen-solver
+        assert got[name][0] == pytest.approx(m, rel=1e-12), name
+        assert np.abs(got[name][1] - inertia).max() < 1e-9, name
+        assert np.abs(got[name][2] - com).max() < 1e-12, name
+    dof = {mj.joint(i).name: mj.jnt_dofadr[i] for i in range(mj.njnt)}
+    assert [(mj.dof_damping[dof[n]], mj.dof_frictionloss[dof[n]]) for n in ("shoulder", "elbow")] == \
+        [(4.0, 0.05), (0.3, 0.2)]
+    (g,) = [g for g in range(mj.ngeom) if mj.geom_type[g] == mujoco.mjtGeom.mjGEOM_CYLINDER]
+    assert mj.geom_rgba[g].tolist() == pytest.approx([0.1, 0.2, 0.9, 1.0], abs=1e-7)  # float32 in MuJoCo
+    model = pin.buildModelFromXML(urdf_from_robot(robot))
+    data = model.createData()
+    pin.forwardKinematics(model, data, pin.neutral(model))
+    for name, joint in (("upper", "shoulder"), ("lower", "elbow")):
+        jid = model.getJointId(joint)
+        Y, M = model.inertias[jid], data.oMi[jid]
+        assert Y.mass == pytest.approx(expected[name][0], rel=1e-12)
+        assert np.abs(M.rotation @ Y.inertia @ M.rotation.T - expected[name][1]).max() < 1e-12
+        assert np.abs(M.act(Y.lever) - expected[name][2]).max() < 1e-12
+    assert model.damping.tolist() == [4.0, 0.3] and model.friction.tolist() == [0.05, 0.2]
