@@ -101,17 +101,19 @@ def test_tool_rotation_far_below_mujocos_site_rounding_survives():
         np.testing.assert_allclose(mujoco_pose(model, data, np.array(q), site="tool"), T, atol=0)
 
 
-def test_urdf_limit_without_bounds_is_exported_unlimited():
-    """URDF's <limit effort velocity/> means lower = upper = 0; MuJoCo refuses range="0 0"."""
+def test_urdf_limit_without_bounds_is_exported_locked():
+    """URDF's <limit effort velocity/> means lower = upper = 0 (urdfdom, pinocchio): the joint is held
+    at 0 by a joint equality, since MuJoCo refuses range="0 0"."""
     urdf = """<robot name="r"><link name="a"/><link name="b"/>
       <joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
         <limit effort="10" velocity="2"/></joint></robot>"""
-    robot = robot_from_urdf(urdf)
+    with pytest.warns(UserWarning, match="equal lower and upper limits"):
+        robot = robot_from_urdf(urdf)
     assert robot.joints[0].lower == robot.joints[0].upper == 0
     text = mjcf_from_robot(robot)
-    assert 'range="0 0"' not in text
+    assert 'range="0 0"' not in text and '<joint joint1="j" polycoef="0 0 0 0 0"/>' in text
     model = mujoco.MjModel.from_xml_string(text)
-    assert not model.jnt_limited[0]
+    assert not model.jnt_limited[0] and model.neq == 1 and model.eq_type[0] == mujoco.mjtEq.mjEQ_JOINT
 
 
 @pytest.mark.filterwarnings("ignore::robkin.ConditioningWarning")

@@ -222,7 +222,11 @@ def resolve_meshes(robot: "Robot", source_file: str | os.PathLike,
     package_paths : mapping NAME -> folder, optional
         Folders of packages (``package://NAME``) or models (``model://NAME``), tried first.
 
-    Warns once (one line) when files outside the robot file's folder are used.
+    Returns
+    -------
+    dict
+        File name as written -> ``MeshFile`` (``path`` or ``reason``), in order of first use. Warns
+        once (one line) when files outside the robot file's folder are used.
     """
     source_file = Path(source_file)
     out: dict[str, MeshFile] = {}

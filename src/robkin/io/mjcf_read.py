@@ -152,9 +152,10 @@ class _TreeBuilder:
 
     def _add(self, name: str, jtype: str, parent: str, child: str, origin: np.ndarray,
              axis: np.ndarray = np.array([0.0, 0.0, 1.0]), lower: float | None = None,
-             upper: float | None = None, dynamics: tuple[float | None, float | None] = (None, None)) -> None:
+             upper: float | None = None,
+             dynamics: tuple[float | None, float | None, float | None] = (None, None, None)) -> None:
         self.joints.append(UrdfJoint(name, jtype, parent, child, origin, axis, lower, upper, None,
-                                     damping=dynamics[0], friction=dynamics[1]))
+                                     damping=dynamics[0], friction=dynamics[1], armature=dynamics[2]))
 
     def _flatten(self, el: Any, cls: str) -> list[tuple[Any, np.ndarray, str]]:
         """(element, pose relative to el, active class) of el's content, ``<frame>``s dissolved."""
@@ -248,14 +249,14 @@ class _TreeBuilder:
         origin = se3.homogeneous(_rodrigues(axis, -ref), pos)
         return name, "revolute" if lo is not None else "continuous", axis, origin, -pos, lo, hi
 
-    def _dynamics(self, el: Any, cls: str, body: str) -> tuple[float | None, float | None]:
-        """(damping, frictionloss) of a joint, None where neither the joint nor its class gives one."""
+    def _dynamics(self, el: Any, cls: str, body: str) -> tuple[float | None, float | None, float | None]:
+        """(damping, frictionloss, armature) of a joint, None where neither the joint nor its class gives one."""
         if el.tag == "freejoint":
-            return None, None
+            return None, None, None
         where = f"{self.src.source}: joint '{el.get('name') or ''}' (body '{body}')"
         attrs = self._attrs(el, cls, where)
         return tuple(None if attrs.get(k) is None else float(_floats(attrs[k], 1, f"{where}: {k}", ())[0])
-                     for k in ("damping", "frictionloss"))  # type: ignore[return-value]
+                     for k in ("damping", "frictionloss", "armature"))  # type: ignore[return-value]
 
     def _limits(self, attrs: Mapping[str, str], where: str,
                 scale: Callable[[float], float]) -> tuple[float | None, float | None]:

@@ -39,7 +39,8 @@ class MjcfSource:
     Attributes
     ----------
     root : Element
-        The ``<mujoco>`` element with every ``<include>`` replaced by the included file's elements.
+        The ``<mujoco>`` element with every ``<include>`` replaced by the children of the included
+        file's top element (``<mujoco>``, ``<mujocoinclude>`` or any other name, as MuJoCo does).
     source : str
         The main file's name, for messages.
     degrees : bool
@@ -71,13 +72,17 @@ class MjcfSource:
         return math.radians(value) if self.degrees else value
 
 
-def _parse(text: str, source: str) -> Any:
+def _parse(text: str, source: str, included: bool = False) -> Any:
+    """The root element of an MJCF file. An included file's top element may have any name (MuJoCo
+    drops it and inserts its children; older models name it ``<mujocoinclude>``)."""
     from .urdf import _parse_xml  # xml.etree with any DTD refused first, shared with the URDF reader
 
     root = _parse_xml(text, source)
-    if root.tag != "mujoco":
+    if root.tag != "mujoco" and not included:
         hint = {"robot": " (this is a URDF: give it the extension .urdf)",
-                "sdf": " (this is an SDF model: give it the extension .sdf)"}.get(root.tag, "")
+                "sdf": " (this is an SDF model: give it the extension .sdf)",
+                "mujocoinclude": " (this file is meant for <include file> in a model: load the model that "
+                                 "includes it)"}.get(root.tag, "")
         raise InputError(f"{source}: root element is <{root.tag}>; an MJCF file has <mujoco>{hint}")
     return root
 
@@ -134,7 +139,7 @@ class _Includes:
         if self.total > MAX_BYTES:
             raise InputError(f"{where}: <include file=\"{name}\">: the model and its includes exceed {MAX_BYTES} bytes")
         text = read_text_file(path, MAX_BYTES, "an MJCF file")
-        sub = _parse(text, str(path))
+        sub = _parse(text, str(path), included=True)
         self.expand(sub, str(path), stack + (path,))
         return list(sub)
 

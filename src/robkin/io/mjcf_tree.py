@@ -174,7 +174,7 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[BodyPlan]:
                 joint = JointPlan(lj.name, lj.type == "prismatic", axis / np.linalg.norm(axis), P[:3, 3].copy(),
                                   None if lj.type == "continuous" else lj.lower,
                                   None if lj.type == "continuous" else lj.upper, None, lj.effort, lj.velocity,
-                                  lj.damping, lj.friction, None, lj.mimic)
+                                  lj.damping, lj.friction, lj.armature, lj.mimic)
             elif lj is not None and lj.type not in ("fixed",) + MOVING:
                 welded.append(f"{lj.name} ({lj.type})")
             if lj is not None and lj.type in MOVING and lk.name in above_set | {chain[0]}:

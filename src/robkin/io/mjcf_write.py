@@ -164,8 +164,12 @@ def _body_lines(plan: list[BodyPlan], masses: list[BodyMass | None], world: np.n
 
 
 def _equalities(joints: list[JointPlan]) -> list[str]:
+    from .joint_limits import mjcf_lock_equalities
+
     names = {j.name for j in joints}
-    out, lost = [], []
+    # equal limits: locked at that value (MuJoCo refuses an empty range; see robkin.io.joint_limits)
+    out = ["    " + e for e in mjcf_lock_equalities([j for j in joints if j.mimic is None], quoteattr, _num)]
+    lost = []
     for j in joints:
         if j.mimic is None:
             continue

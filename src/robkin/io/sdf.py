@@ -313,6 +313,8 @@ def robot_from_sdf(source: str | os.PathLike[str], base_link: str | None = None,
     base_link, tip_link : str, optional
         Links or explicit frames at the chain's ends (nested models' as ``inner::link``). Default base:
         the root link (the link fixed to ``world`` when a joint does that); default tip: the only leaf.
+        A model whose links form several unconnected trees: the tree holding these links, or the
+        only one with moving joints (see ``sdf_trees``).
     name : str, optional
         Robot name; default the model's name.
 
@@ -322,6 +324,9 @@ def robot_from_sdf(source: str | os.PathLike[str], base_link: str | None = None,
         GJD frames (n+1, 4, 4) in the base link frame, joints with the SDF names and limits
         (radians, metres); ``world`` = world -> base at q = 0 when the model is fixed to the world.
     """
+    from .sdf_trees import pick_tree
+
     model, kinds = model_from_sdf(source)
+    model = pick_tree(model, base_link, tip_link)  # a model may hold several unconnected trees
     refuse_on_chain(model, kinds, base_link, tip_link, CHAIN_JOINTS)
     return robot_from_model(model, base_link, tip_link, name=name)

@@ -241,6 +241,10 @@ function buildSliders(res) {
     const s = el("input", { type: "range", min: String(lo), max: String(hi), step: "any",
                             "data-joint": String(i), id: "q" + i, "aria-label": j.name });
     s.value = String(Math.min(Math.max(res.q[i], lo), hi));
+    if (lo === hi) {  // equal limits: locked at that value (robkin.io.joint_limits), as IK and sampling hold it
+      s.disabled = true;
+      s.title = "locked: its lower limit equals its upper limit";
+    }
     const out = el("output", { for: "q" + i, id: "qv" + i });
     s.addEventListener("input", () => { showSliderValue(i); refresh(); });
     box.append(el("div", { class: "slider" }, el("span", { class: "jname", title: j.type,
