@@ -138,7 +138,6 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[BodyPlan]:
     above_set = set(above)
     out: list[BodyPlan] = []
     world: int | None = None  # the plan entry of MuJoCo's world body, when the source has a 'world' link
-    held: list[str] = []
     welded: list[str] = []
     chain_set = set(chain)
     on_path = set(chain)  # the links from the base to the tip, fixed ones between chain links included
@@ -177,8 +176,6 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[BodyPlan]:
                                   lj.damping, lj.friction, lj.armature, lj.mimic)
             elif lj is not None and lj.type not in ("fixed",) + MOVING:
                 welded.append(f"{lj.name} ({lj.type})")
-            if lj is not None and lj.type in MOVING and lk.name in above_set | {chain[0]}:
-                held.append(lj.name)
             idx = len(out)
             out.append(BodyPlan(lk.name, par, frames[lk.name], joint, shapes.get(lk.name, []),
                                 inertials.get(lk.name, []),
@@ -206,7 +203,7 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[BodyPlan]:
         for k in kids.get(name, []):
             if k.name not in above_set and k.name != chain[0]:
                 add(k, idx)
-    # joints above the base (``held``) are welded: the reader warned that they are held at 0
+    # joints above the base are welded: the reader warned that they are held at 0
     if welded:
         warnings.warn(f"joint(s) {', '.join(welded[:6])}{', ...' if len(welded) > 6 else ''} are welded at 0 "
                       f"(not a hinge or slide)", UserWarning, stacklevel=3)

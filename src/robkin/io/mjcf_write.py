@@ -80,9 +80,9 @@ def _joint_xml(j: JointPlan, frame: np.ndarray, scale: float) -> str:
     return out + "/>"
 
 
-def _masses(plan: list[BodyPlan]) -> tuple[list[BodyMass | None], list[str], list[str]]:
-    """Each body's mass properties made loadable: (masses, bodies given placeholders, bodies whose
-    inertia was repaired)."""
+def _masses(plan: list[BodyPlan]) -> tuple[list[BodyMass | None], list[str]]:
+    """Each body's mass properties, with placeholders where MuJoCo needs them: (masses, the bodies given
+    placeholders)."""
     from ..dynamics import merge_masses
     from .mjcf_inertial import valid_moments
 
@@ -113,7 +113,7 @@ def _masses(plan: list[BodyPlan]) -> tuple[list[BodyMass | None], list[str], lis
         else:
             masses[i] = BodyMass(own.mass, own.com, own.inertia + PLACEHOLDER_INERTIA * np.eye(3), own.frame,
                                  None if own.diag is None else own.diag + PLACEHOLDER_INERTIA)
-    return masses, placeholders, []
+    return masses, placeholders
 
 
 def _is_world(bp: BodyPlan) -> bool:
@@ -206,7 +206,7 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
     plan, named = body_tree(robot, fuse=fuse_fixed)
     scale = max(robot.scale, 1.0)
     geoms = GeomAssets(mesh_files)
-    masses, placeholders, _ = _masses(plan)
+    masses, placeholders = _masses(plan)
     repaired: list[str] = []
     bodies = _body_lines(plan, masses, np.asarray(robot.world, dtype=float), geoms, scale, repaired)
     # MuJoCo's joint (and qpos) order is the tree's, which lists the chain first
