@@ -359,3 +359,19 @@ def test_batch_keeps_each_robots_meshes_apart(tmp_path):
             sorted(f.rsplit("/", 1)[1] for f in written)
     assert (tmp_path / "out" / "meshes" / "ur3_robot" / "base.stl").read_bytes() != \
         (tmp_path / "out" / "meshes" / "ur5_robot" / "base.stl").read_bytes()
+
+
+def test_python_write_mjcf_takes_the_meshes_along(tmp_path):
+    """robkin.io.mjcf_files.write_mjcf: the Python form of convert --to mjcf -o (meshes copied beside)."""
+    from robkin.io import load
+    from robkin.io.mjcf_files import write_mjcf
+    from test_urdf import robot_file
+
+    src = robot_file("so_arm_description/urdf/so100.urdf")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = load(src)
+        path = write_mjcf(robot, tmp_path / "so100.xml", source=src, actuators="position")
+    model = mujoco.MjModel.from_xml_path(str(path))
+    assert model.nmesh > 0 and all((tmp_path / "meshes").iterdir())
+    assert model.nu == robot.n and model.actuator_gainprm[0, 0] == 100

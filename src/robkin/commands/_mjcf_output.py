@@ -62,31 +62,12 @@ def check_mjcf_options(args: argparse.Namespace) -> None:
 
 def render_mjcf(robot: Robot, args: argparse.Namespace, source: str | None, out_dir: Path | None,
                 mesh_dir: str = "meshes") -> str:
-    """The MJCF text of ``robot`` read from ``source``; with ``out_dir``, its meshes copied there first
-    (into ``mesh_dir``, relative to ``out_dir``; formats MuJoCo cannot read converted), without it the found meshes named by absolute
-    path. One warning line for meshes not found."""
+    """The MJCF text of ``robot`` read from ``source`` with the command's options; with ``out_dir``, its
+    meshes copied into ``out_dir/mesh_dir`` first (see ``robkin.io.mjcf_files``)."""
     from ..io.mjcf_actuators import DEFAULT_KP, DEFAULT_KV
-    from ..io.mjcf_write import mjcf_text
+    from ..io.mjcf_files import mjcf_with_meshes
+    from ._common import package_paths
 
-    mesh_files: dict[str, str] = {}
-    if source is not None and any(s.geometry.kind == "mesh" for s in robot.bodies.shapes):
-        import warnings
-
-        from ..io.mesh_files import MUJOCO_MESH_SUFFIXES, copy_meshes, missing_line, resolve_meshes
-        from ._common import package_paths
-
-        resolved = resolve_meshes(robot, source, package_paths(args))
-        missing = missing_line(resolved, source)
-        if missing:
-            warnings.warn(missing.replace("drawn without them", "left out of the MJCF"), UserWarning, stacklevel=2)
-        if out_dir is not None:
-            from ..io.mjcf_meshes import fit_for_mujoco
-
-            sources = {m.path.resolve() for m in resolved.values() if m.path is not None}
-            mesh_files = fit_for_mujoco(copy_meshes(resolved, out_dir, mesh_dir), out_dir, sources)
-        else:  # the model on stdout: the files where they are, in the formats MuJoCo reads
-            mesh_files = {k: str(v.path) for k, v in resolved.items()
-                          if v.path is not None and v.path.suffix.lower() in MUJOCO_MESH_SUFFIXES}
-    return mjcf_text(robot, mesh_files=mesh_files, actuators=args.actuators,
-                     kp=DEFAULT_KP if args.kp is None else args.kp, kv=DEFAULT_KV if args.kv is None else args.kv,
-                     fuse_fixed=args.fuse_fixed)
+    return mjcf_with_meshes(robot, source, out_dir, mesh_dir=mesh_dir, package_paths=package_paths(args),
+                            actuators=args.actuators, kp=DEFAULT_KP if args.kp is None else args.kp,
+                            kv=DEFAULT_KV if args.kv is None else args.kv, fuse_fixed=args.fuse_fixed)
