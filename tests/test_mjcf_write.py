@@ -357,8 +357,9 @@ def test_batch_keeps_each_robots_meshes_apart(tmp_path):
         # one file per mesh of this robot, in its own folder
         assert sorted(p.name for p in (tmp_path / "out" / "meshes" / stem).iterdir()) == \
             sorted(f.rsplit("/", 1)[1] for f in written)
-    assert (tmp_path / "out" / "meshes" / "ur3_robot" / "base.stl").read_bytes() != \
-        (tmp_path / "out" / "meshes" / "ur5_robot" / "base.stl").read_bytes()
+    a, b = (tmp_path / "out" / "meshes" / "ur3_robot"), (tmp_path / "out" / "meshes" / "ur5_robot")
+    common = {p.name for p in a.iterdir()} & {p.name for p in b.iterdir()}
+    assert common and all((a / n).read_bytes() != (b / n).read_bytes() for n in common)
 
 
 def test_python_write_mjcf_takes_the_meshes_along(tmp_path):
@@ -375,3 +376,31 @@ def test_python_write_mjcf_takes_the_meshes_along(tmp_path):
     model = mujoco.MjModel.from_xml_path(str(path))
     assert model.nmesh > 0 and all((tmp_path / "meshes").iterdir())
     assert model.nu == robot.n and model.actuator_gainprm[0, 0] == 100
+
+
+def test_collada_visual_is_drawn_in_its_own_colours(tmp_path):
+    """UR5's shoulder.dae holds three materials (grey, black, blue cap): three STL parts with those
+    colours, together the very triangles of the single converted mesh."""
+    pytest.importorskip("trimesh")
+    from robkin.io.mesh_files import copy_meshes, resolve_meshes
+    from robkin.io.mjcf_mesh_parts import visual_mesh_parts
+    from robkin.io import load
+    from test_urdf import robot_file
+
+    src = robot_file("ur_description/urdf/ur5_robot.urdf")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = load(src, tip_link="tool0")
+        resolved = {k: m for k, m in resolve_meshes(robot, src).items() if k.endswith("visual/shoulder.dae")}
+    (name, mesh), = resolved.items()
+    single = copy_meshes(resolved, tmp_path / "one")[name]
+    parts = visual_mesh_parts({name: mesh.path}, tmp_path / "parts", "meshes")[name]
+    colours = {rgba for _, rgba in parts}
+    assert len(parts) == 3 == len(colours) and any(b > r + 0.1 for r, g, b, a in colours)   # a blue cap
+    model = lambda files: mujoco.MjModel.from_xml_string(   # noqa: E731
+        "<mujoco><asset>" + "".join(f'<mesh name="m{k}" file="{f}"/>' for k, f in enumerate(files))
+        + "</asset><worldbody>" + "".join(f'<geom type="mesh" mesh="m{k}"/>' for k in range(len(files)))
+        + "</worldbody></mujoco>")
+    one = model([str(tmp_path / "one" / single)])
+    split = model([str(tmp_path / "parts" / f) for f, _ in parts])
+    assert split.mesh_facenum.sum() == one.mesh_facenum.sum()

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import re
 from pathlib import PurePosixPath
-from typing import TYPE_CHECKING, Mapping
+from typing import TYPE_CHECKING, Mapping, Sequence
 
 import numpy as np
 
@@ -49,9 +49,13 @@ def _nums(v) -> str:
 class GeomAssets:
     """Collects the mesh and material assets while the geoms are written."""
 
-    def __init__(self, mesh_files: Mapping[str, str] | None) -> None:
+    def __init__(self, mesh_files: Mapping[str, str] | None,
+                 mesh_parts: Mapping[str, Sequence[tuple[str, tuple[float, ...]]]] | None = None) -> None:
         self.mesh_files = dict(mesh_files or {})
-        self.meshes: dict[tuple[str, tuple[float, ...]], str] = {}  # (file, scale) -> asset name
+        #: source name -> [(written file, rgba)]: a visual mesh in parts of one colour each (COLLADA's
+        #: materials), drawn in its own colours when the source gives the shape none
+        self.mesh_parts = dict(mesh_parts or {})
+        self.meshes: dict[tuple[str, tuple[float, ...]], str] = {}  # (written file, scale) -> asset name
         self.materials: dict[str, Material] = {}
         self.missing: list[str] = []
         self._names: set[str] = set()
@@ -66,17 +70,19 @@ class GeomAssets:
         self._names.add(name)
         return name
 
+    def _asset(self, written: str, size: Sequence[float]) -> str:
+        key = (written, tuple(float(x) for x in size))
+        if key not in self.meshes:
+            self.meshes[key] = self._unique(PurePosixPath(written.replace("\\", "/")).stem)
+        return self.meshes[key]
+
     def _mesh(self, s: Shape) -> str | None:
-        g = s.geometry
-        file = g.filename or ""
+        file = s.geometry.filename or ""
         if file not in self.mesh_files:
             if file not in self.missing:
                 self.missing.append(file)
             return None
-        key = (file, tuple(float(x) for x in g.size))
-        if key not in self.meshes:
-            self.meshes[key] = self._unique(PurePosixPath(file.replace("\\", "/")).stem)
-        return self.meshes[key]
+        return self._asset(self.mesh_files[file], s.geometry.size)
 
     def _color(self, m: Material | None) -> str:
         if m is None or m.rgba is None:
@@ -87,8 +93,31 @@ class GeomAssets:
                 return f" material={quoteattr(m.name)}"
         return f' rgba="{_nums(m.rgba)}"'
 
-    def geom(self, s: Shape, body_frame: np.ndarray, scale: float = 1.0) -> str | None:
-        """The ``<geom/>`` of a shape on a body at ``body_frame`` (4, 4); None if left out."""
+    def geoms(self, s: Shape, body_frame: np.ndarray, scale: float = 1.0) -> list[str]:
+        """The ``<geom/>``s of a shape on a body at ``body_frame`` (4, 4): one, one per colour of a
+        visual mesh in parts, or none when its file is not available."""
+        parts = self.mesh_parts.get(s.geometry.filename or "") if s.geometry.kind == "mesh" else None
+        if parts and s.role == "visual" and (s.material is None or s.material.rgba is None):
+            place = place_attrs(se3.inv(body_frame) @ s.pose, scale, s.origin)
+            out = []
+            for k, (written, rgba) in enumerate(parts):
+                name = self._geom_name(f"{s.name}_{k}") if s.name else ""
+                out.append(f'<geom class="visual"{name} type="mesh" mesh={quoteattr(self._asset(written, s.geometry.size))}'
+                           f'{place} rgba="{_nums(rgba)}"/>')
+            return out
+        one = self._one(s, body_frame, scale)
+        return [] if one is None else [one]
+
+    def _geom_name(self, wanted: str) -> str:
+        """`` name="..."``, unique among the geoms (a URDF's visual and collision often share a name)."""
+        label, k = wanted, 1
+        while label in self._geom_names:
+            k += 1
+            label = f"{wanted}_{k}"
+        self._geom_names.add(label)
+        return f" name={quoteattr(label)}"
+
+    def _one(self, s: Shape, body_frame: np.ndarray, scale: float) -> str | None:
         g = s.geometry
         if g.kind == "mesh":
             mesh = self._mesh(s)
@@ -103,23 +132,16 @@ class GeomAssets:
             what = f'type="{g.kind}" size="{_num(g.size[0])} {_num(g.size[1] / 2)}"'
         else:  # pragma: no cover - Geometry.kind is one of the above
             return None
-        name = ""
-        if s.name:  # MuJoCo needs unique geom names; a URDF's visual and collision often share one
-            label, k = s.name, 1
-            while label in self._geom_names:
-                k += 1
-                label = f"{s.name}_{k}"
-            self._geom_names.add(label)
-            name = f" name={quoteattr(label)}"
+        name = self._geom_name(s.name) if s.name else ""
         color = self._color(s.material) if s.role == "visual" else ""
         rel = se3.inv(body_frame) @ s.pose
         return f'<geom class="{s.role}"{name} {what}{place_attrs(rel, scale, s.origin)}{color}/>'
 
     def asset_lines(self) -> list[str]:
         out = []
-        for (file, scale), name in self.meshes.items():
+        for (written, scale), name in self.meshes.items():
             sc = "" if scale == (1.0, 1.0, 1.0) else f' scale="{_nums(scale)}"'
-            out.append(f"    <mesh name={quoteattr(name)} file={quoteattr(self.mesh_files[file])}{sc}/>")
+            out.append(f"    <mesh name={quoteattr(name)} file={quoteattr(written)}{sc}/>")
         for name, m in self.materials.items():
             out.append(f"    <material name={quoteattr(name)} rgba=\"{_nums(m.rgba or (1, 1, 1, 1))}\"/>")
         return out

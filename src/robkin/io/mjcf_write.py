@@ -21,7 +21,7 @@ unit quaternion ``quat`` (w, x, y, z), axis components below 1e-15 as 0 (roundin
 from __future__ import annotations
 
 import warnings
-from typing import TYPE_CHECKING, Mapping
+from typing import TYPE_CHECKING, Mapping, Sequence
 
 import numpy as np
 
@@ -138,9 +138,7 @@ def _body_lines(plan: list[BodyPlan], masses: list[BodyMass | None], world: np.n
         abs_frame = world @ bp.frame
         if _is_world(bp):  # MuJoCo's world body itself: its geoms and sites, then its children, in <worldbody>
             for s in bp.shapes:
-                g = geoms.geom(s, se3.inv(world), scale)
-                if g is not None:
-                    out.append(f"{ind}{g}")
+                out += [f"{ind}{g}" for g in geoms.geoms(s, se3.inv(world), scale)]
             out += [f"{ind}<site name={quoteattr(n)}{place_attrs(world @ P, scale)}/>" for n, P in bp.sites]
             todo.extend((c, depth, False) for c in reversed(bp.children))
             continue
@@ -153,9 +151,7 @@ def _body_lines(plan: list[BodyPlan], masses: list[BodyMass | None], world: np.n
                 repaired.append(bp.name)
             out.append(f"{ind}  {text}")
         for s in bp.shapes:
-            g = geoms.geom(s, bp.frame, scale)
-            if g is not None:
-                out.append(f"{ind}  {g}")
+            out += [f"{ind}  {g}" for g in geoms.geoms(s, bp.frame, scale)]
         for name, P in bp.sites:
             out.append(f"{ind}  <site name={quoteattr(name)}{place_attrs(se3.inv(bp.frame) @ P, scale)}/>")
         todo.append((i, depth, True))
@@ -185,7 +181,8 @@ def _equalities(joints: list[JointPlan]) -> list[str]:
 
 
 def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actuators: str = "motor",
-              kp: float = DEFAULT_KP, kv: float = DEFAULT_KV, fuse_fixed: bool = False) -> str:
+              kp: float = DEFAULT_KP, kv: float = DEFAULT_KV, fuse_fixed: bool = False,
+              mesh_parts: Mapping[str, Sequence[tuple[str, tuple[float, ...]]]] | None = None) -> str:
     """The MJCF text of a robot (see the module doc).
 
     Parameters
@@ -200,12 +197,15 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
         Servo gains of position (kp, kv) and velocity (kv) actuators (N m/rad, N m s/rad or N/m, N s/m).
     fuse_fixed : bool
         Merge bodies fixed to their parent into it (mass merged exactly; their names become sites).
+    mesh_parts : mapping, optional
+        Mesh file name as the source wrote it -> [(file to write, rgba)]: a visual mesh split by colour
+        (``mjcf_mesh_parts``), drawn as one geom per part where the source gives the shape no colour.
     """
     from .. import __version__
 
     plan, named = body_tree(robot, fuse=fuse_fixed)
     scale = max(robot.scale, 1.0)
-    geoms = GeomAssets(mesh_files)
+    geoms = GeomAssets(mesh_files, mesh_parts)
     masses, placeholders = _masses(plan)
     repaired: list[str] = []
     bodies = _body_lines(plan, masses, np.asarray(robot.world, dtype=float), geoms, scale, repaired)
