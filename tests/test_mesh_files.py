@@ -279,3 +279,22 @@ def test_ur5_meshes_travel(tmp_path):
     visual, collision = (trimesh.load(tmp_path / f"meshes/upperarm{s}.stl") for s in ("", "_2"))
     assert copied[next(n for n in copied if n.endswith("visual/upperarm.dae"))] == "meshes/upperarm.stl"
     assert visual.bounds == pytest.approx(collision.bounds, abs=5e-3)
+
+
+def test_collada_cannot_pull_other_files_in(tmp_path):
+    """An external entity is never expanded (its numbers would make a mesh), and a texture the file
+    names is not needed: the geometry converts without it."""
+    pytest.importorskip("trimesh")
+    (tmp_path / "secret.txt").write_text("0 0 0 100 0 0 0 200 0 0 0 300")
+    xxe = TET_DAE.replace('<?xml version="1.0" encoding="utf-8"?>',
+                          '<?xml version="1.0"?><!DOCTYPE COLLADA [<!ENTITY xxe SYSTEM "secret.txt">]>') \
+        .replace(">0 0 0 100 0 0 0 200 0 0 0 300<", ">&xxe;<")
+    (tmp_path / "xxe.dae").write_text(xxe)
+    textured = TET_DAE.replace("<library_geometries>", '<library_images><image id="i"><init_from>/etc/passwd'
+                               '</init_from></image></library_images><library_geometries>')
+    (tmp_path / "tex.dae").write_text(textured)
+    path = tmp_path / "r.urdf"
+    path.write_text(_urdf("xxe.dae", "tex.dae"))
+    with pytest.warns(UserWarning, match=r"1 mesh file\(s\) left out: xxe.dae \(cannot be converted"):
+        copied = copy_meshes(resolve_meshes(robkin.load(path), path), tmp_path / "out")
+    assert copied == {"tex.dae": "meshes/tex.stl"}

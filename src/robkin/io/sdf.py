@@ -205,7 +205,7 @@ def _axis(j: _Model, el: Any, name: str, X_joint: np.ndarray) -> tuple[np.ndarra
     return axis, lower, upper
 
 
-def _axis_dynamics(el: Any, where: str) -> tuple[float | None, ...]:
+def _axis_dynamics(el: Any, where: str) -> tuple[float | None, float | None, float | None, float | None]:
     """(effort, velocity, damping, friction) of a joint's ``<axis>``: ``<limit><effort><velocity>`` (SDF's
     default -1, no limit, read as None) and ``<dynamics><damping><friction>``; None where absent."""
     out: list[float | None] = []
@@ -213,7 +213,7 @@ def _axis_dynamics(el: Any, where: str) -> tuple[float | None, ...]:
         text = el.findtext(path)
         v = None if text is None or not text.strip() else float(_floats(text.strip(), 1, f"{where}: {path}", ())[0])
         out.append(None if v is None or (v < 0 and "limit" in path) else v)
-    return tuple(out)
+    return out[0], out[1], out[2], out[3]
 
 
 def _limit(text: str | None, where: str) -> float | None:
@@ -278,8 +278,10 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
         mid = child if exact else f"{child}@{name}"
         if not exact:
             links.append(mid)
+        effort, velocity, damping, friction = (_axis_dynamics(el, f"{j.source}: joint '{name}'")
+                                               if moving != "floating" else (None, None, None, None))
         joints.append(UrdfJoint(name, moving, parent, mid, origin, axis, lower, upper, None,
-                                *(_axis_dynamics(el, f"{j.source}: joint '{name}'") if moving != "floating" else ())))
+                                effort, velocity, damping, friction))
         if not exact:
             joints.append(UrdfJoint(f"{name}:child", "fixed", mid, child, rest, np.array([0.0, 0.0, 1.0]),
                                     None, None, None))
