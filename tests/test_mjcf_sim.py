@@ -133,9 +133,11 @@ def test_total_mass_actuators_and_collision_geoms(converted):
     assert int((model.geom_group == 2).sum()) >= 1   # something to see
 
 
-def test_urdf_export_and_mjcf_to_urdf_keep_the_dynamics(converted, tmp_path):
+def test_urdf_export_mjcf_to_urdf_and_mjcf_to_mjcf_keep_the_dynamics(converted, tmp_path):
     """robkin's URDF of the source, and the URDF of robkin's MJCF read back by robkin: pinocchio's M(q),
-    g(q) equal those of the source."""
+    g(q) equal those of the source; and that MJCF read back and written again as MJCF: MuJoCo's equal
+    those of the first."""
+    from robkin.io.mjcf import mjcf_from_robot
     from robkin.io.urdf import urdf_from_robot
 
     robot, ref, _, mjcf, _ = converted
@@ -149,3 +151,18 @@ def test_urdf_export_and_mjcf_to_urdf_keep_the_dynamics(converted, tmp_path):
         for q in _sample(robot, 2):
             assert _rel(other.mass_matrix(q), ref.mass_matrix(q)) <= REL_TOL, label
             assert _rel(other.gravity(q), ref.gravity(q)) <= REL_TOL, label
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        again = mujoco.MjModel.from_xml_string(mjcf_from_robot(back, mesh_files={}))
+    first = converted[2]
+    assert [again.body(i).name for i in range(again.nbody)] == [first.body(i).name for i in range(first.nbody)]
+    np.testing.assert_allclose(again.body_mass, first.body_mass, rtol=REL_TOL, atol=0)
+    for model in (first, again):
+        assert model.nq == first.nq and model.nu == first.nu and model.neq == first.neq
+    d1, d2 = mujoco.MjData(first), mujoco.MjData(again)
+    for q in _sample(robot, 2):
+        for m, d in ((first, d1), (again, d2)):
+            d.qpos[:] = 0
+            d.qpos[:robot.n] = q
+            mujoco.mj_forward(m, d)
+        assert _rel(d2.qfrc_bias, d1.qfrc_bias) <= REL_TOL

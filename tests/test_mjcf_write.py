@@ -336,3 +336,26 @@ def test_stl_beyond_mujocos_triangle_limit_becomes_obj(tmp_path, monkeypatch):
     (tmp_path / "m.xml").write_text(xml)
     model = mujoco.MjModel.from_xml_path(str(tmp_path / "m.xml"))
     assert model.mesh_facenum[0] == 12
+
+
+def test_batch_keeps_each_robots_meshes_apart(tmp_path):
+    """UR3 and UR5 both name their meshes base.stl, shoulder.stl...: in one output folder each model
+    gets its own mesh folder, so neither is drawn with the other's meshes."""
+    import re
+
+    from test_urdf import robot_file
+
+    files = [robot_file("ur_description/urdf/ur3_robot.urdf"), robot_file("ur_description/urdf/ur5_robot.urdf")]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["convert", *files, "--tip-link", "tool0", "--to", "mjcf", "-o", str(tmp_path / "out")]) == 0
+    for src in files:
+        stem = src.rsplit("/", 1)[1].removesuffix(".urdf")
+        text = (tmp_path / "out" / f"{stem}.xml").read_text()
+        written = re.findall(r'<mesh name="[^"]*" file="([^"]*)"', text)
+        assert written and all(f.startswith(f"meshes/{stem}/") for f in written)
+        # one file per mesh of this robot, in its own folder
+        assert sorted(p.name for p in (tmp_path / "out" / "meshes" / stem).iterdir()) == \
+            sorted(f.rsplit("/", 1)[1] for f in written)
+    assert (tmp_path / "out" / "meshes" / "ur3_robot" / "base.stl").read_bytes() != \
+        (tmp_path / "out" / "meshes" / "ur5_robot" / "base.stl").read_bytes()

@@ -60,9 +60,10 @@ def check_mjcf_options(args: argparse.Namespace) -> None:
         raise InputError(f"--kv: applies to --actuators position or velocity (not {args.actuators})")
 
 
-def render_mjcf(robot: Robot, args: argparse.Namespace, source: str | None, out_dir: Path | None) -> str:
+def render_mjcf(robot: Robot, args: argparse.Namespace, source: str | None, out_dir: Path | None,
+                mesh_dir: str = "meshes") -> str:
     """The MJCF text of ``robot`` read from ``source``; with ``out_dir``, its meshes copied there first
-    (``meshes/``, formats MuJoCo cannot read converted), without it the found meshes named by absolute
+    (into ``mesh_dir``, relative to ``out_dir``; formats MuJoCo cannot read converted), without it the found meshes named by absolute
     path. One warning line for meshes not found."""
     from ..io.mjcf_actuators import DEFAULT_KP, DEFAULT_KV
     from ..io.mjcf_write import mjcf_text
@@ -82,7 +83,7 @@ def render_mjcf(robot: Robot, args: argparse.Namespace, source: str | None, out_
             from ..io.mjcf_meshes import fit_for_mujoco
 
             sources = {m.path.resolve() for m in resolved.values() if m.path is not None}
-            mesh_files = fit_for_mujoco(copy_meshes(resolved, out_dir), out_dir, sources)
+            mesh_files = fit_for_mujoco(copy_meshes(resolved, out_dir, mesh_dir), out_dir, sources)
         else:  # the model on stdout: the files where they are, in the formats MuJoCo reads
             mesh_files = {k: str(v.path) for k, v in resolved.items()
                           if v.path is not None and v.path.suffix.lower() in MUJOCO_MESH_SUFFIXES}

@@ -56,7 +56,8 @@ Chains: --base-link / --tip-link given once apply to every robot file among the 
 per input, in input order, the k-th belongs to the k-th input ('-' = that file's default, and what a
 robot document takes). A base or tip may be any link rigidly attached to the chain's end (UR's
 'base', 'tool0'). A folder given with -o (several inputs, or a name ending in '/') that does not exist
-is created in an existing one, once every input has been converted.
+is created in an existing one, once every input has been converted; so is the folder of
+--to mjcf -o FOLDER/robot.xml (the model and its meshes).
 
 Joint variables are the same in every output: q_i means the same configuration in the DH table, the
 PoE and the URDF it came from (same sign, same zero); a note on stderr says so for URDF input.
@@ -113,7 +114,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 
 def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None = None,
-                 source: str | None = None, out_dir: Path | None = None) -> str:
+                 source: str | None = None, out_dir: Path | None = None, mesh_dir: str = "meshes") -> str:
     """Text of the output file for one robot (``source``: its input file; ``out_dir``: where the
     output goes, for the meshes an MJCF takes along)."""
     from ..io.document import document_from_robot, dump
@@ -135,7 +136,7 @@ def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None 
             return mjcf_from_robot(robot)
         from ._mjcf_output import render_mjcf
 
-        return render_mjcf(robot, args, source, out_dir)
+        return render_mjcf(robot, args, source, out_dir, mesh_dir)
     section = SECTION_OF[fmt]
     doc = document_from_robot(robot, degrees=degrees) if section is None else \
         document_from_robot(robot, (section,), degrees=degrees)
@@ -235,7 +236,9 @@ def run(args: argparse.Namespace) -> int:
         robots = _load_all(inputs, args)
         if fmt == "mjcf":  # the meshes are copied while the models are written: the folder is needed first
             out_dir.mkdir(exist_ok=True)
-        texts = [_render_file(robot, fmt, ext, args, source, out_dir) for robot, source in zip(robots, inputs)]
+        # the meshes of each model in a folder of their own (meshes/<name>/): two robots' base.stl differ
+        texts = [_render_file(robot, fmt, ext, args, source, out_dir, f"meshes/{t.stem}")
+                 for robot, source, t in zip(robots, inputs, targets)]
         out_dir.mkdir(exist_ok=True)  # only now: a failed conversion leaves no empty folder behind
         write_texts_atomic(list(zip(targets, texts)))  # all or nothing
         for target in targets:
@@ -257,7 +260,10 @@ def run(args: argparse.Namespace) -> int:
             out = out / (Path(inputs[0]).stem + ext)
             _check_path(out)
         _check_ext(out, fmt, args.format)
-        if fmt == "mjcf":
+        if fmt == "mjcf":  # a model and its meshes: its folder is made (in an existing one) if need be
+            parent = out.parent if str(out.parent) else Path(".")
+            if not parent.exists() and (parent.parent if str(parent.parent) else Path(".")).is_dir():
+                parent.mkdir()
             check_writable_dir(out)
         text = _render_file(robot, fmt, out.suffix.lower(), args, inputs[0], out.parent)
         write_text_atomic(out, text)

@@ -16,7 +16,9 @@ C-contiguous float64 arrays of one shape (n,) or (N, n) with finite entries; the
 """
 
 cimport numpy as cnp
+from cython.parallel cimport parallel, prange
 from libc.stdlib cimport malloc, free
+from robkin.compiled.threads cimport batch_threads
 from robkin.compiled.fk cimport usable_q
 from robkin.compiled.sincos cimport rk_sincos_array, rk_sincos_one
 
@@ -26,6 +28,12 @@ cnp.import_array()
 
 
 include "dynamics_blocks.pxi"
+
+cdef enum:
+    # blocks of 32 configurations per thread before a batch is split (~3-8 us each at 7 joints: >= ~100
+    # us per thread, see fk.pyx), and the blocks a thread takes at a time (dynamic scheduling)
+    MIN_BLOCKS_PER_THREAD = 16
+    CHUNK_BLOCKS = 2
 
 
 cdef inline bint same_shape_q(object a, object q, int n) noexcept:
@@ -85,17 +93,19 @@ cdef class ChainDynamics:
         self.com = <const double*>cnp.PyArray_DATA(ca)
         self.inertia = <const double*>cnp.PyArray_DATA(Ia)
 
-    def inverse_dynamics(self, q, qd, qdd, gravity):
+    def inverse_dynamics(self, q, qd, qdd, gravity, int threads=0):
         """Joint torques/forces (n,) or (N, n) for q, qd, qdd of one shape (qd, qdd may be None: zero),
-        gravity a float64 array (3,) in the base frame; None if an array is not usable as is."""
+        gravity a float64 array (3,) in the base frame; None if an array is not usable as is.
+        ``threads``: 0 automatic (``threads.pyx``), else at most that many; the same bits either way."""
         cdef Py_ssize_t N, k, j
         cdef const double* Q
         cdef const double* QD = NULL
         cdef const double* QDD = NULL
         cdef double* O
-        cdef double* S
+        cdef double* S = NULL
         cdef double g[3]
-        cdef int n = self.n, size
+        cdef int n = self.n, size, nt, failed = 0
+        cdef Py_ssize_t nb
         if not usable_q(q, n):
             return None
         if qd is not None and not same_shape_q(qd, q, n):
@@ -114,11 +124,14 @@ cdef class ChainDynamics:
             QDD = <const double*>cnp.PyArray_DATA(qdd)
         O = <double*>cnp.PyArray_DATA(out)
         N = cnp.PyArray_SIZE(q) // n
-        S = <double*>malloc(sizeof(double) * BLOCK * PER_JOINT * n)
-        if S == NULL:
-            raise MemoryError()
-        with nogil:
-            for j in range((N + BLOCK - 1) // BLOCK):
+        nb = (N + BLOCK - 1) // BLOCK
+        nt = batch_threads(threads, nb, MIN_BLOCKS_PER_THREAD) if nb > 1 else 1
+        with nogil, parallel(num_threads=nt):
+            S = <double*>malloc(sizeof(double) * BLOCK * PER_JOINT * n)   # each thread's scratch
+            for j in prange(nb, schedule="dynamic", chunksize=CHUNK_BLOCKS):
+                if S == NULL:
+                    failed += 1   # a reduction: any thread that ran out of memory counts
+                    continue
                 k = BLOCK * j
                 size = <int>(N - k if N - k < BLOCK else BLOCK)
                 if size == 1:   # a literal block of one: the compiler drops the lane loops' set-up
@@ -129,16 +142,20 @@ cdef class ChainDynamics:
                     rnea_block(self.L, self.rev, n, self.mass, self.com, self.inertia, Q + k * n,
                                QD + k * n if QD != NULL else QD, QDD + k * n if QDD != NULL else QDD, size, g,
                                S, O + k * n)
-        free(S)
+            free(S)
+        if failed:
+            raise MemoryError()
         return out
 
-    def mass_matrix(self, q):
-        """Mass matrix (n, n) for q (n,), (N, n, n) for q (N, n); None if q is not usable as is."""
+    def mass_matrix(self, q, int threads=0):
+        """Mass matrix (n, n) for q (n,), (N, n, n) for q (N, n); None if q is not usable as is.
+        ``threads`` as for ``inverse_dynamics``."""
         cdef Py_ssize_t N, k, j
         cdef const double* Q
         cdef double* O
-        cdef double* S
-        cdef int n = self.n, size
+        cdef double* S = NULL
+        cdef int n = self.n, size, nt, failed = 0
+        cdef Py_ssize_t nb
         if not usable_q(q, n):
             return None
         cdef cnp.npy_intp dims[3]
@@ -150,11 +167,14 @@ cdef class ChainDynamics:
         Q = <const double*>cnp.PyArray_DATA(q)
         O = <double*>cnp.PyArray_DATA(out)
         N = cnp.PyArray_SIZE(q) // n
-        S = <double*>malloc(sizeof(double) * BLOCK * PER_JOINT * n)
-        if S == NULL:
-            raise MemoryError()
-        with nogil:
-            for j in range((N + BLOCK - 1) // BLOCK):
+        nb = (N + BLOCK - 1) // BLOCK
+        nt = batch_threads(threads, nb, MIN_BLOCKS_PER_THREAD) if nb > 1 else 1
+        with nogil, parallel(num_threads=nt):
+            S = <double*>malloc(sizeof(double) * BLOCK * PER_JOINT * n)   # each thread's scratch
+            for j in prange(nb, schedule="dynamic", chunksize=CHUNK_BLOCKS):
+                if S == NULL:
+                    failed += 1   # a reduction: any thread that ran out of memory counts
+                    continue
                 k = BLOCK * j
                 size = <int>(N - k if N - k < BLOCK else BLOCK)
                 if size == 1:   # a literal block of one: the compiler drops the lane loops' set-up
@@ -163,5 +183,7 @@ cdef class ChainDynamics:
                 else:
                     crba_block(self.L, self.rev, n, self.mass, self.com, self.inertia, self.beyond, Q + k * n,
                                size, S, O + k * n * n)
-        free(S)
+            free(S)
+        if failed:
+            raise MemoryError()
         return out

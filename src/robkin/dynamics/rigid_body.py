@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..checks import check_q
+from ..checks import check_q, check_threads
 from ..errors import InputError
 from .mass_properties import link_masses
 
@@ -67,7 +67,7 @@ def _joint_array(robot: "Robot", value: ArrayLike, name: str, shape: tuple[int, 
 
 
 def inverse_dynamics(robot: "Robot", q: ArrayLike, qd: ArrayLike | None = None, qdd: ArrayLike | None = None,
-                     gravity: ArrayLike | None = None) -> np.ndarray:
+                     gravity: ArrayLike | None = None, threads: int | None = None) -> np.ndarray:
     """Joint torques (N m) / forces (N) that produce qdd at (q, qd) under gravity (recursive Newton-Euler).
 
     Parameters
@@ -77,6 +77,8 @@ def inverse_dynamics(robot: "Robot", q: ArrayLike, qd: ArrayLike | None = None, 
         qdd default to zero.
     gravity : (3,) array, optional
         Gravity in the world frame (m/s^2); default (0, 0, -9.81). Give zeros for none.
+    threads : int, optional
+        At most that many threads for a large batch (default automatic, see ``robkin.threads``).
 
     Returns
     -------
@@ -85,43 +87,48 @@ def inverse_dynamics(robot: "Robot", q: ArrayLike, qd: ArrayLike | None = None, 
     kernel, g = robot.__dict__.get(_CACHE) or _kernel(robot)
     if gravity is not None:
         g = _gravity_in_base(robot, gravity)
-    out = kernel.inverse_dynamics(q, qd, qdd, g)   # float64 arrays as they are: no copies, no checks
-    return _checked_call(robot, kernel, q, qd, qdd, g) if out is None else out
+    t = 0 if threads is None else check_threads(threads)
+    out = kernel.inverse_dynamics(q, qd, qdd, g, t)   # float64 arrays as they are: no copies, no checks
+    return _checked_call(robot, kernel, q, qd, qdd, g, t) if out is None else out
 
 
 def _checked_call(robot: "Robot", kernel: "ChainDynamics", q: ArrayLike, qd: ArrayLike | None,
-                  qdd: ArrayLike | None, g: np.ndarray) -> np.ndarray:
+                  qdd: ArrayLike | None, g: np.ndarray, threads: int) -> np.ndarray:
     """The kernel on validated, converted arrays (anything but contiguous float64 arrays of one shape, or
     bad values, which get one clear error naming the argument)."""
     qa = _joint_array(robot, q, "q", None)
     qda = None if qd is None else _joint_array(robot, qd, "qd", qa.shape)
     qdda = None if qdd is None else _joint_array(robot, qdd, "qdd", qa.shape)
-    out = kernel.inverse_dynamics(qa, qda, qdda, g)
+    out = kernel.inverse_dynamics(qa, qda, qdda, g, threads)
     assert out is not None  # checked, contiguous float64 arrays of one shape are always usable
     return out
 
 
-def gravity_torques(robot: "Robot", q: ArrayLike, gravity: ArrayLike | None = None) -> np.ndarray:
+def gravity_torques(robot: "Robot", q: ArrayLike, gravity: ArrayLike | None = None,
+                    threads: int | None = None) -> np.ndarray:
     """Joint torques/forces that hold the robot still at q against gravity: (n,) or (N, n).
 
-    ``gravity`` as in ``inverse_dynamics``. Equals ``inverse_dynamics(q)`` with zero velocity and
+    ``gravity`` and ``threads`` as in ``inverse_dynamics``. Equals ``inverse_dynamics(q)`` with zero velocity and
     acceleration (pinocchio's ``computeGeneralizedGravity``, the Robotics Toolbox's ``gravload``).
     """
     kernel, g = robot.__dict__.get(_CACHE) or _kernel(robot)
     if gravity is not None:
         g = _gravity_in_base(robot, gravity)
-    out = kernel.inverse_dynamics(q, None, None, g)
-    return _checked_call(robot, kernel, q, None, None, g) if out is None else out
+    t = 0 if threads is None else check_threads(threads)
+    out = kernel.inverse_dynamics(q, None, None, g, t)
+    return _checked_call(robot, kernel, q, None, None, g, t) if out is None else out
 
 
-def mass_matrix(robot: "Robot", q: ArrayLike) -> np.ndarray:
+def mass_matrix(robot: "Robot", q: ArrayLike, threads: int | None = None) -> np.ndarray:
     """Joint-space mass (inertia) matrix at q: (n,) -> (n, n), (N, n) -> (N, n, n), symmetric.
 
     Composite-rigid-body algorithm; units kg m^2 (revolute pairs), kg m (mixed), kg (prismatic pairs).
+    ``threads`` as in ``inverse_dynamics``.
     """
     kernel = (robot.__dict__.get(_CACHE) or _kernel(robot))[0]
-    out = kernel.mass_matrix(q)
+    t = 0 if threads is None else check_threads(threads)
+    out = kernel.mass_matrix(q, t)
     if out is None:
-        out = kernel.mass_matrix(_joint_array(robot, q, "q", None))
+        out = kernel.mass_matrix(_joint_array(robot, q, "q", None), t)
         assert out is not None  # a checked, contiguous float64 array is always usable
     return out

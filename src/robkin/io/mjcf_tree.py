@@ -137,6 +137,7 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[BodyPlan]:
         link = by_name[link.parent]
     above_set = set(above)
     out: list[BodyPlan] = []
+    world: int | None = None  # the plan entry of MuJoCo's world body, when the source has a 'world' link
     held: list[str] = []
     welded: list[str] = []
     chain_set = set(chain)
@@ -148,8 +149,9 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[BodyPlan]:
             lk = by_name[lk.parent]
 
     def world_site(name: str) -> None:
-        # a root link with nothing on it (URDF's virtual 'world'): MuJoCo's world itself
-        out.append(BodyPlan("", None, np.eye(4), sites=[(name, frames[name])]))
+        # a root link with nothing on it (URDF's virtual 'world'): MuJoCo's world body itself, whose name
+        # is 'world' already
+        out.append(BodyPlan("world", None, frames[name]))
 
     def add(link: Link, parent: int | None) -> None:
         """Body (or site) of ``link`` under plan index ``parent``, then its subtree, chain child first."""
@@ -159,8 +161,9 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[BodyPlan]:
             lj = lk.joint
             moving = lk.name in chain_index or (lj is not None and lj.type in MOVING and lk.name not in above_set
                                                  and lk.name != chain[0])
-            if not moving and par is not None and _is_frame_only(lk, kids, shapes, inertials, b.tip, chain_set):
-                out[par].sites.append((lk.name, frames[lk.name]))
+            if not moving and _is_frame_only(lk, kids, shapes, inertials, b.tip, chain_set) and (
+                    par is not None or world is not None):
+                out[world if par is None else par].sites.append((lk.name, frames[lk.name]))  # type: ignore[index]
                 continue
             joint = None
             if lk.name in chain_index:
@@ -192,6 +195,7 @@ def _faithful(robot: Robot, frames: dict[str, np.ndarray]) -> list[BodyPlan]:
     for name in above:  # fixed to the world, each with the subtrees hanging from it (not the base's)
         lk = by_name[name]
         if (lk.parent is None and name == "world" and not shapes.get(name) and not inertials.get(name)):
+            world = len(out)
             world_site(name)
             for k in kids.get(name, []):
                 if k.name not in above_set and k.name != chain[0]:

@@ -280,8 +280,8 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
             links.append(mid)
         effort, velocity, damping, friction = (_axis_dynamics(el, f"{j.source}: joint '{name}'")
                                                if moving != "floating" else (None, None, None, None))
-        joints.append(UrdfJoint(name, moving, parent, mid, origin, axis, lower, upper, None,
-                                effort, velocity, damping, friction))
+        joints.append(UrdfJoint(name, moving, parent, mid, origin, axis, lower, upper, None, effort=effort,
+                                velocity=velocity, damping=damping, friction=friction))
         if not exact:
             joints.append(UrdfJoint(f"{name}:child", "fixed", mid, child, rest, np.array([0.0, 0.0, 1.0]),
                                     None, None, None))
