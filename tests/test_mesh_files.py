@@ -66,7 +66,8 @@ def test_mesh_files_resolve_like_ros_and_gazebo(package, tmp_path, monkeypatch):
     stl = (package / "meshes" / "link.stl").resolve()
     robot_file = package / "urdf" / "r.urdf"
     for name in ("package://my_robot/meshes/link.stl", "../meshes/link.stl", f"file://{stl}", str(stl),
-                 "..\\meshes\\link.stl", "package://my_robot/./urdf/../meshes/link.stl"):
+                 "..\\meshes\\link.stl", "package://my_robot/./urdf/../meshes/link.stl",
+                 "package:///my_robot/meshes/link.stl"):  # three slashes: example-robot-data's Talos
         assert resolve_mesh_file(name, robot_file) == MeshFile(name, stl, None), name
     elsewhere = tmp_path / "other" / "r.urdf"
     missing = resolve_mesh_file("package://my_robot/meshes/link.stl", elsewhere)
@@ -105,6 +106,8 @@ def test_mesh_files_resolve_like_ros_and_gazebo(package, tmp_path, monkeypatch):
     ("", "no file name"),
     ("x" * 5000 + ".stl", "longer than 4096 characters"),
     ("package://my_robot/", "not a mesh file type"),
+    ("package:///../x.stl", "'..' is not a package name"),
+    ("package:///my_robot/../../x.stl", "leads outside package 'my_robot'"),
 ])
 def test_hostile_mesh_names_are_refused_with_a_reason(package, monkeypatch, name, reason):
     robot_file = package / "urdf" / "r.urdf"
@@ -298,3 +301,24 @@ def test_collada_cannot_pull_other_files_in(tmp_path):
     with pytest.warns(UserWarning, match=r"1 mesh file\(s\) left out: xxe.dae \(cannot be converted"):
         copied = copy_meshes(resolve_meshes(robkin.load(path), path), tmp_path / "out")
     assert copied == {"tex.dae": "meshes/tex.stl"}
+
+
+@pytest.mark.parametrize("rel", ["talos_data/robots/talos_full_v2.urdf", "allegro_hand_description/urdf/"
+                                 "allegro_right_hand.urdf", "g1_description/urdf/g1_29dof_with_hand_rev_1_0.urdf",
+                                 "so_arm_description/urdf/so100.urdf", "panda_description/urdf/panda.urdf"])
+def test_every_mesh_of_real_robots_is_found(rel):
+    """example-robot-data as installed: every mesh found through the package folder above the file
+    (Talos writes package:///example-robot-data/..., with three slashes)."""
+    from robkin.io.urdf import parse_urdf
+    from robkin.io.urdf_chain import chains_of
+
+    path = Path(ROBOTS_DIR) / rel
+    if not path.is_file():
+        pytest.skip(f"example-robot-data's {rel} is not installed")
+    base, tip, _ = chains_of(parse_urdf(path))[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the files' own oddities (projected axes, equal limits)
+        robot = robkin.load(path, base_link=base, tip_link=tip)
+    found = resolve_meshes(robot, path)
+    assert len(found) >= 7 and [m for m in found.values() if m.path is None] == []
+    assert all(m.path.is_relative_to(Path(ROBOTS_DIR).resolve().parent) for m in found.values())

@@ -176,10 +176,12 @@ def resolve_mesh_file(filename: str, robot_file: str | os.PathLike,
         return MeshFile(filename, None, f"'{_short(suffix or '(none)', 20)}' is not a mesh file type "
                                         f"({', '.join(MESH_SUFFIXES)})")
     if scheme in SEARCH_PATHS:
-        package = url.netloc
+        package, rel = url.netloc, unquote(url.path)
+        if not package:  # package:///pkg/rel (example-robot-data's Talos): pinocchio reads it so too
+            package, _, rel = rel.lstrip("/").partition("/")
         if not _valid_package(package):
             return MeshFile(filename, None, f"'{_short(package, 40)}' is not a {scheme} name")
-        parts = _inside_parts(unquote(url.path))
+        parts = _inside_parts(rel)
         if not parts:
             return MeshFile(filename, None, f"leads outside {scheme} '{package}'" if parts is None
                             else "names no file")
