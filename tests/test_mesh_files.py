@@ -23,6 +23,11 @@ ROBOTS_DIR = (glob.glob(os.path.join(sys.prefix, "lib", "python*", "site-package
                                      "example-robot-data", "robots")) or [""])[0]
 UR5 = Path(ROBOTS_DIR) / "ur_description" / "urdf" / "ur5_robot.urdf"
 STL = b"solid x\nendsolid x\n"
+#: a tetrahedron as ASCII STL (vertices (0,0,0) (0.1,0,0) (0,0.1,0) (0,0,0.1))
+TET_STL = "solid t\n" + "".join(
+    f"facet normal 0 0 0\nouter loop\n{''.join(f'vertex {v}' + chr(10) for v in tri)}endloop\nendfacet\n"
+    for tri in (("0 0 0", "0 0.1 0", "0.1 0 0"), ("0 0 0", "0.1 0 0", "0 0 0.1"), ("0 0 0", "0 0 0.1", "0 0.1 0"),
+                ("0.1 0 0", "0 0.1 0", "0 0 0.1"))) + "endsolid t\n"
 #: a tetrahedron in millimetres (COLLADA unit 0.001 m), vertices (0,0,0) (100,0,0) (0,200,0) (0,0,300)
 TET_DAE = """<?xml version="1.0" encoding="utf-8"?>
 <COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
@@ -322,3 +327,36 @@ def test_every_mesh_of_real_robots_is_found(rel):
     found = resolve_meshes(robot, path)
     assert len(found) >= 7 and [m for m in found.values() if m.path is None] == []
     assert all(m.path.is_relative_to(Path(ROBOTS_DIR).resolve().parent) for m in found.values())
+
+
+def test_convert_to_urdf_takes_relative_meshes_along(tmp_path):
+    """An MJCF's meshes (relative to its meshdir) travel with a URDF written elsewhere: copied beside
+    it and named relative to it, so that yourdfpy loads every one from a moved copy of the folder;
+    package:// names are kept as written."""
+    yourdfpy = pytest.importorskip("yourdfpy")
+    import shutil
+
+    src = tmp_path / "model"
+    (src / "assets").mkdir(parents=True)
+    (src / "assets" / "tet.dae").write_text(TET_DAE)
+    (src / "assets" / "link.stl").write_text(TET_STL)
+    (src / "m.xml").write_text(
+        '<mujoco model="m"><compiler meshdir="assets" angle="radian"/><asset><mesh name="a" file="tet.dae"/>'
+        '<mesh name="b" file="link.stl"/></asset><worldbody><body name="b1"><joint name="j1" axis="0 0 1"/>'
+        '<geom type="mesh" mesh="a" contype="0" conaffinity="0"/><body name="b2" pos="0 0 0.5">'
+        '<joint name="j2" axis="0 1 0"/><geom type="mesh" mesh="b" pos="0 0 0.1" contype="0" conaffinity="0"/>'
+        '<site name="tip" pos="0 0 0.3"/></body></body></worldbody></mujoco>')
+    out = tmp_path / "out"
+    out.mkdir()
+    assert main(["convert", str(src / "m.xml"), "--tip-link", "tip", "--to", "urdf", "-o", str(out / "m.urdf")]) == 0
+    text = (out / "m.urdf").read_text()
+    assert 'filename="meshes/tet.dae"' in text and 'filename="meshes/link.stl"' in text
+    moved = shutil.move(str(out), str(tmp_path / "elsewhere"))
+    shutil.rmtree(src)
+    urdf = yourdfpy.URDF.load(str(Path(moved) / "m.urdf"))
+    assert sorted(len(g.vertices) for g in urdf.scene.geometry.values()) == [4, 4]  # both tetrahedra
+    ur5 = tmp_path / "ur5.urdf"
+    if UR5.is_file():
+        assert main(["convert", str(UR5), "--tip-link", "tool0", "--to", "urdf", "-o", str(ur5)]) == 0
+        assert ur5.read_text().count('filename="package://example-robot-data/') == 14
+        assert not (tmp_path / "meshes").exists()
