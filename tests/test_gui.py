@@ -871,3 +871,22 @@ def test_browser_plot_page_draws_the_urdf_meshes(browser, tmp_path, capsys):
     assert len(err) == 2 and "7 of 7 mesh files not found" in err[0] and err[1].startswith("wrote")
     for pg in _open(browser, bare.as_uri()):
         assert "7 of 7 mesh files not found" in pg.inner_text("#missing-meshes")
+
+
+def test_gui_command_names_missing_meshes_on_stderr(tmp_path, monkeypatch, capsys):
+    """`robkin gui ur5.urdf` with meshes found nowhere: one warning line on stderr before serving."""
+    from robkin.viz.gui import GuiServer
+
+    path = _ur5_copy(tmp_path)
+
+    def stop(self, *args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(GuiServer, "serve_forever", stop)
+    assert main(["gui", str(path), "--tip-link", "tool0", "--port", "0"]) == 0
+    err = capsys.readouterr().err.splitlines()
+    warned = [line for line in err if "mesh files not found" in line]
+    assert len(warned) == 1 and warned[0].startswith("robkin: warning: ") and "7 of 7" in warned[0]
+    assert main(["gui", str(path), "--tip-link", "tool0", "--port", "0", "--package-path",
+                 f"example-robot-data={PANDA.parents[3]}"]) == 0
+    assert "mesh files not found" not in capsys.readouterr().err

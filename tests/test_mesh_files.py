@@ -23,6 +23,11 @@ ROBOTS_DIR = (glob.glob(os.path.join(sys.prefix, "lib", "python*", "site-package
                                      "example-robot-data", "robots")) or [""])[0]
 UR5 = Path(ROBOTS_DIR) / "ur_description" / "urdf" / "ur5_robot.urdf"
 STL = b"solid x\nendsolid x\n"
+#: a tetrahedron as ASCII STL (vertices (0,0,0) (0.1,0,0) (0,0.1,0) (0,0,0.1))
+TET_STL = "solid t\n" + "".join(
+    f"facet normal 0 0 0\nouter loop\n{''.join(f'vertex {v}' + chr(10) for v in tri)}endloop\nendfacet\n"
+    for tri in (("0 0 0", "0 0.1 0", "0.1 0 0"), ("0 0 0", "0.1 0 0", "0 0 0.1"), ("0 0 0", "0 0 0.1", "0 0.1 0"),
+                ("0.1 0 0", "0 0.1 0", "0 0 0.1"))) + "endsolid t\n"
 #: a tetrahedron in millimetres (COLLADA unit 0.001 m), vertices (0,0,0) (100,0,0) (0,200,0) (0,0,300)
 TET_DAE = """<?xml version="1.0" encoding="utf-8"?>
 <COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
@@ -66,7 +71,8 @@ def test_mesh_files_resolve_like_ros_and_gazebo(package, tmp_path, monkeypatch):
     stl = (package / "meshes" / "link.stl").resolve()
     robot_file = package / "urdf" / "r.urdf"
     for name in ("package://my_robot/meshes/link.stl", "../meshes/link.stl", f"file://{stl}", str(stl),
-                 "..\\meshes\\link.stl", "package://my_robot/./urdf/../meshes/link.stl"):
+                 "..\\meshes\\link.stl", "package://my_robot/./urdf/../meshes/link.stl",
+                 "package:///my_robot/meshes/link.stl"):  # three slashes: example-robot-data's Talos
         assert resolve_mesh_file(name, robot_file) == MeshFile(name, stl, None), name
     elsewhere = tmp_path / "other" / "r.urdf"
     missing = resolve_mesh_file("package://my_robot/meshes/link.stl", elsewhere)
@@ -105,6 +111,8 @@ def test_mesh_files_resolve_like_ros_and_gazebo(package, tmp_path, monkeypatch):
     ("", "no file name"),
     ("x" * 5000 + ".stl", "longer than 4096 characters"),
     ("package://my_robot/", "not a mesh file type"),
+    ("package:///../x.stl", "'..' is not a package name"),
+    ("package:///my_robot/../../x.stl", "leads outside package 'my_robot'"),
 ])
 def test_hostile_mesh_names_are_refused_with_a_reason(package, monkeypatch, name, reason):
     robot_file = package / "urdf" / "r.urdf"
@@ -279,3 +287,76 @@ def test_ur5_meshes_travel(tmp_path):
     visual, collision = (trimesh.load(tmp_path / f"meshes/upperarm{s}.stl") for s in ("", "_2"))
     assert copied[next(n for n in copied if n.endswith("visual/upperarm.dae"))] == "meshes/upperarm.stl"
     assert visual.bounds == pytest.approx(collision.bounds, abs=5e-3)
+
+
+def test_collada_cannot_pull_other_files_in(tmp_path):
+    """An external entity is never expanded (its numbers would make a mesh), and a texture the file
+    names is not needed: the geometry converts without it."""
+    pytest.importorskip("trimesh")
+    (tmp_path / "secret.txt").write_text("0 0 0 100 0 0 0 200 0 0 0 300")
+    xxe = TET_DAE.replace('<?xml version="1.0" encoding="utf-8"?>',
+                          '<?xml version="1.0"?><!DOCTYPE COLLADA [<!ENTITY xxe SYSTEM "secret.txt">]>') \
+        .replace(">0 0 0 100 0 0 0 200 0 0 0 300<", ">&xxe;<")
+    (tmp_path / "xxe.dae").write_text(xxe)
+    textured = TET_DAE.replace("<library_geometries>", '<library_images><image id="i"><init_from>/etc/passwd'
+                               '</init_from></image></library_images><library_geometries>')
+    (tmp_path / "tex.dae").write_text(textured)
+    path = tmp_path / "r.urdf"
+    path.write_text(_urdf("xxe.dae", "tex.dae"))
+    with pytest.warns(UserWarning, match=r"1 mesh file\(s\) left out: xxe.dae \(cannot be converted"):
+        copied = copy_meshes(resolve_meshes(robkin.load(path), path), tmp_path / "out")
+    assert copied == {"tex.dae": "meshes/tex.stl"}
+
+
+@pytest.mark.parametrize("rel", ["talos_data/robots/talos_full_v2.urdf", "allegro_hand_description/urdf/"
+                                 "allegro_right_hand.urdf", "g1_description/urdf/g1_29dof_with_hand_rev_1_0.urdf",
+                                 "so_arm_description/urdf/so100.urdf", "panda_description/urdf/panda.urdf"])
+def test_every_mesh_of_real_robots_is_found(rel):
+    """example-robot-data as installed: every mesh found through the package folder above the file
+    (Talos writes package:///example-robot-data/..., with three slashes)."""
+    from robkin.io.urdf import parse_urdf
+    from robkin.io.urdf_chain import chains_of
+
+    path = Path(ROBOTS_DIR) / rel
+    if not path.is_file():
+        pytest.skip(f"example-robot-data's {rel} is not installed")
+    base, tip, _ = chains_of(parse_urdf(path))[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the files' own oddities (projected axes, equal limits)
+        robot = robkin.load(path, base_link=base, tip_link=tip)
+    found = resolve_meshes(robot, path)
+    assert len(found) >= 7 and [m for m in found.values() if m.path is None] == []
+    assert all(m.path.is_relative_to(Path(ROBOTS_DIR).resolve().parent) for m in found.values())
+
+
+def test_convert_to_urdf_takes_relative_meshes_along(tmp_path):
+    """An MJCF's meshes (relative to its meshdir) travel with a URDF written elsewhere: copied beside
+    it and named relative to it, so that yourdfpy loads every one from a moved copy of the folder;
+    package:// names are kept as written."""
+    yourdfpy = pytest.importorskip("yourdfpy")
+    import shutil
+
+    src = tmp_path / "model"
+    (src / "assets").mkdir(parents=True)
+    (src / "assets" / "tet.dae").write_text(TET_DAE)
+    (src / "assets" / "link.stl").write_text(TET_STL)
+    (src / "m.xml").write_text(
+        '<mujoco model="m"><compiler meshdir="assets" angle="radian"/><asset><mesh name="a" file="tet.dae"/>'
+        '<mesh name="b" file="link.stl"/></asset><worldbody><body name="b1"><joint name="j1" axis="0 0 1"/>'
+        '<geom type="mesh" mesh="a" contype="0" conaffinity="0"/><body name="b2" pos="0 0 0.5">'
+        '<joint name="j2" axis="0 1 0"/><geom type="mesh" mesh="b" pos="0 0 0.1" contype="0" conaffinity="0"/>'
+        '<site name="tip" pos="0 0 0.3"/></body></body></worldbody></mujoco>')
+    out = tmp_path / "out"
+    out.mkdir()
+    assert main(["convert", str(src / "m.xml"), "--tip-link", "tip", "--to", "urdf", "-o", str(out / "m.urdf")]) == 0
+    text = (out / "m.urdf").read_text()
+    assert 'filename="meshes/tet.dae"' in text and 'filename="meshes/link.stl"' in text
+    moved = shutil.move(str(out), str(tmp_path / "elsewhere"))
+    shutil.rmtree(src)
+    urdf = yourdfpy.URDF.load(str(Path(moved) / "m.urdf"))
+    assert sorted(len(g.vertices) for g in urdf.scene.geometry.values()) == [4, 4]  # both tetrahedra
+    ur5 = tmp_path / "ur5.urdf"
+    if UR5.is_file():
+        assert main(["convert", str(UR5), "--tip-link", "tool0", "--to", "urdf", "-o", str(ur5)]) == 0
+        assert ur5.read_text().count('filename="package://example-robot-data/') == 14
+        assert not (tmp_path / "meshes").exists()

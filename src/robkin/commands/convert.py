@@ -116,7 +116,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None = None,
                  source: str | None = None, out_dir: Path | None = None, mesh_dir: str = "meshes") -> str:
     """Text of the output file for one robot (``source``: its input file; ``out_dir``: where the
-    output goes, for the meshes an MJCF takes along)."""
+    output goes, for the meshes an MJCF or a URDF takes along)."""
     from ..io.document import document_from_robot, dump
 
     degrees = bool(args is not None and args.degrees)
@@ -126,9 +126,9 @@ def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None 
 
         return render_table(robot, fmt, args.format, pi=args.pi)
     if fmt == "urdf":
-        from ..io.urdf import urdf_from_robot
+        from ._urdf_output import render_urdf
 
-        return urdf_from_robot(robot)
+        return render_urdf(robot, args or argparse.Namespace(), source, out_dir, mesh_dir)
     if fmt == "mjcf":
         if args is None:
             from ..io.mjcf import mjcf_from_robot

@@ -14,7 +14,7 @@ examples:
   robkin gui                          # starts with the bundled RRPR example
   robkin gui rrpr.yaml --open         # also opens the page in your web browser
   robkin gui ur5.urdf --tip-link tool0 --port 9000
-  robkin gui ur5.urdf --tip-link tool0 --package-path ur_description=~/ws/src/ur_description
+  robkin gui ur5.urdf --tip-link tool0 --package-path ur_description=.   # package://ur_description/ is here
   robkin gui rrpr.yaml rrpr_dh.yaml   # visual check: B drawn over A, first differing joint in red
 
 The app runs on this machine only: it listens on a loopback address (127.0.0.1 by default; --host

@@ -13,15 +13,9 @@ slider cannot move it, the URDF writer repeats the limit, and an MJCF (MuJoCo re
 from __future__ import annotations
 
 import warnings
-from typing import Iterable, Protocol
+from typing import Any, Callable, Iterable
 
 __all__ = ["locked_value", "locked_joints", "warn_locked", "mjcf_lock_equalities"]
-
-
-class _Limited(Protocol):
-    name: str
-    lower: float | None
-    upper: float | None
 
 
 def locked_value(lower: float | None, upper: float | None) -> float | None:
@@ -29,8 +23,9 @@ def locked_value(lower: float | None, upper: float | None) -> float | None:
     return lower if lower is not None and upper is not None and lower == upper else None
 
 
-def locked_joints(joints: Iterable[_Limited]) -> list[tuple[str, float]]:
-    """(name, value) of each joint whose lower limit equals its upper one, in order."""
+def locked_joints(joints: Iterable[Any]) -> list[tuple[str, float]]:
+    """(name, value) of each joint (anything with ``name``, ``lower``, ``upper``: ``Joint``,
+    ``UrdfJoint``, the MJCF writer's plans) whose lower limit equals its upper one, in order."""
     out = []
     for j in joints:
         v = locked_value(j.lower, j.upper)
@@ -39,7 +34,7 @@ def locked_joints(joints: Iterable[_Limited]) -> list[tuple[str, float]]:
     return out
 
 
-def warn_locked(source: str, joints: Iterable[_Limited]) -> None:
+def warn_locked(source: str, joints: Iterable[Any]) -> None:
     """One warning line naming the joints with equal limits, if any (see the module doc)."""
     locked = locked_joints(joints)
     if not locked:
@@ -51,7 +46,8 @@ def warn_locked(source: str, joints: Iterable[_Limited]) -> None:
                   UserWarning, stacklevel=3)
 
 
-def mjcf_lock_equalities(joints: Iterable[_Limited], quoteattr, number) -> list[str]:
+def mjcf_lock_equalities(joints: Iterable[Any], quoteattr: Callable[[str], str],
+                         number: Callable[[float], str]) -> list[str]:
     """MJCF ``<joint>`` equality elements holding each locked joint at its value (for ``<equality>``).
 
     ``quoteattr`` quotes an attribute value, ``number`` writes a float (the writer's own helpers).

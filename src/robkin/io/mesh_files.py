@@ -37,7 +37,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
 
 __all__ = ["MeshFile", "MESH_SUFFIXES", "MUJOCO_MESH_SUFFIXES", "MAX_MESH_BYTES", "MAX_MESHES", "mesh_names",
-           "resolve_mesh_file", "resolve_meshes", "missing_line", "copy_meshes", "parse_package_path"]
+           "resolve_mesh_file", "resolve_meshes", "missing_line", "copy_meshes", "with_mesh_names",
+           "parse_package_path"]
 
 #: Mesh file suffixes robkin uses (lower case; the file's suffix is compared case-insensitively).
 MESH_SUFFIXES = (".stl", ".obj", ".dae", ".msh", ".ply")
@@ -87,6 +88,19 @@ def mesh_names(robot: "Robot", roles: Collection[str] = ("visual", "collision"))
         if s.role in roles and s.geometry.kind == "mesh" and s.geometry.filename is not None:
             names.setdefault(s.geometry.filename, None)
     return list(names)
+
+
+def with_mesh_names(robot: "Robot", names: Mapping[str, str]) -> "Robot":
+    """``robot`` with its shapes' mesh file names replaced by ``names`` (old -> new; others kept), e.g.
+    the copies :func:`copy_meshes` made, for a writer that repeats the names (URDF)."""
+    from dataclasses import replace
+
+    bodies = getattr(robot, "bodies", None)
+    if not bodies or not names:
+        return robot
+    shapes = tuple(replace(s, geometry=replace(s.geometry, filename=names[s.geometry.filename]))
+                   if s.geometry.kind == "mesh" and s.geometry.filename in names else s for s in bodies.shapes)
+    return robot.replace(bodies=replace(bodies, shapes=shapes))
 
 
 def parse_package_path(text: str) -> tuple[str, Path]:
@@ -176,10 +190,12 @@ def resolve_mesh_file(filename: str, robot_file: str | os.PathLike,
         return MeshFile(filename, None, f"'{_short(suffix or '(none)', 20)}' is not a mesh file type "
                                         f"({', '.join(MESH_SUFFIXES)})")
     if scheme in SEARCH_PATHS:
-        package = url.netloc
+        package, rel = url.netloc, unquote(url.path)
+        if not package:  # package:///pkg/rel (example-robot-data's Talos): pinocchio reads it so too
+            package, _, rel = rel.lstrip("/").partition("/")
         if not _valid_package(package):
             return MeshFile(filename, None, f"'{_short(package, 40)}' is not a {scheme} name")
-        parts = _inside_parts(unquote(url.path))
+        parts = _inside_parts(rel)
         if not parts:
             return MeshFile(filename, None, f"leads outside {scheme} '{package}'" if parts is None
                             else "names no file")
