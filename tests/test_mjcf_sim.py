@@ -52,9 +52,9 @@ CASES = [
     ("pr2_description/urdf/pr2.urdf", None, "r_gripper_tool_frame"),
 ]
 
-#: Files whose mesh addresses robkin's resolver does not accept ('package:///...', an empty package
-#: name): their collision meshes are left out, with a warning, and counted out below.
-UNRESOLVED = {"talos_full_v2.urdf"}
+#: Files whose mesh files robkin's resolver cannot find (none now; talos' 'package:///...' resolves):
+#: their collision meshes would be left out, with a warning, and counted out below.
+UNRESOLVED: set[str] = set()
 
 #: Agreement with pinocchio, relative to the largest entry (the issue's promise). Observed ~1e-15: the
 #: same sums in another order, and MuJoCo's principal-axis inertia (an eigen-decomposition) read back.
