@@ -380,3 +380,30 @@ def test_sdf_in_mjcf_and_urdf_out_keep_masses_dynamics_and_colours(tmp_path):
         assert np.abs(M.rotation @ Y.inertia @ M.rotation.T - expected[name][1]).max() < 1e-12
         assert np.abs(M.act(Y.lever) - expected[name][2]).max() < 1e-12
     assert model.damping.tolist() == [4.0, 0.3] and model.friction.tolist() == [0.05, 0.2]
+
+
+def test_kitchen_like_includes_from_a_sibling_folder(tmp_path):
+    """gymnasium-robotics' Franka kitchen: kitchen_assets/kitchen_env_model.xml includes
+    ../franka_assets/{assets,chain}.xml (<mujocoinclude>): read as MuJoCo reads them, said once."""
+    mujoco = pytest.importorskip("mujoco")
+    (tmp_path / "franka_assets").mkdir()
+    (tmp_path / "kitchen_assets").mkdir()
+    (tmp_path / "franka_assets" / "assets.xml").write_text(ASSETS)
+    (tmp_path / "franka_assets" / "chain.xml").write_text(
+        CHAIN.replace('<include file="resources/finger.xml"/>', '<site name="ee" pos="0 0 0.1"/>'))
+    path = tmp_path / "kitchen_assets" / "kitchen.xml"
+    path.write_text('<mujoco><include file="../franka_assets/assets.xml"/><worldbody><body name="table">'
+                    '<geom size="0.1"/><include file="../franka_assets/chain.xml"/></body></worldbody></mujoco>')
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        robot = robkin.load(path, tip_link="ee")
+    assert [str(w.message) for w in caught] == [
+        f"{path}: 2 included file(s) outside the model's folder are read: ../franka_assets/assets.xml, "
+        f"../franka_assets/chain.xml"]
+    model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    data.qpos[:] = [0.15]
+    mujoco.mj_kinematics(model, data)
+    T = robot.world @ robot.fk([0.15])
+    assert np.abs(T[:3, 3] - data.site_xpos[model.site("ee").id]).max() < 1e-12
+    assert robot.joints[0].damping == model.dof_damping[0] == 2.0  # the included class "wrist"
