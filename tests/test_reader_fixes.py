@@ -203,7 +203,8 @@ def test_equal_limits_mean_locked_as_urdfdom_and_pinocchio_read_them(zero):
     mujoco = pytest.importorskip("mujoco")
     from robkin.io.mjcf import mjcf_from_robot
 
-    mj = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot))
+    with pytest.warns(UserWarning, match="move without mass"):  # the file has no inertials
+        mj = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot))
     assert mj.neq == 2 and [mj.joint(mj.eq_obj1id[k]).name for k in range(2)] == ["j1", "j2"]
     assert again.upperPositionLimit.tolist() == [0.0, 0.0, 1.0]
 
