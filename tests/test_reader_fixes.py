@@ -408,3 +408,25 @@ def test_kitchen_like_includes_from_a_sibling_folder(tmp_path):
     T = robot.world @ robot.fk([0.15])
     assert np.abs(T[:3, 3] - data.site_xpos[model.site("ee").id]).max() < 1e-12
     assert robot.joints[0].damping == model.dof_damping[0] == 2.0  # the included class "wrist"
+
+
+def test_a_joint_held_by_an_mjcf_equality_reads_back_locked(zero, tmp_path):
+    """URDF (equal limits) -> MJCF (joint equality) -> robkin: the same locked joints, and the URDF
+    written from that MJCF has pinocchio's same limits."""
+    pin = pytest.importorskip("pinocchio")
+    from robkin.io.mjcf import mjcf_from_robot
+    from robkin.io.urdf import urdf_from_robot
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = robkin.load(zero)
+        mjcf = tmp_path / "zero.xml"
+        mjcf.write_text(mjcf_from_robot(robot))
+        mjcf.write_text(mjcf.read_text().replace('polycoef="0 0 0 0 0"', 'polycoef="0.25 0 0 0 0"', 1))
+    with pytest.warns(UserWarning, match=r"joint\(s\) 'j1', 'j2' have equal lower and upper limits"):
+        back = robkin.load(mjcf, tip_link="l3")
+    assert [(j.name, j.lower, j.upper) for j in back.joints] == [("j1", 0.25, 0.25), ("j2", 0.0, 0.0),
+                                                                  ("j3", -1.0, 1.0)]
+    model = pin.buildModelFromXML(urdf_from_robot(back))
+    assert model.lowerPositionLimit.tolist() == [0.25, 0.0, -1.0]
+    assert model.upperPositionLimit.tolist() == [0.25, 0.0, 1.0]
