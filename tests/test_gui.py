@@ -890,3 +890,23 @@ def test_gui_command_names_missing_meshes_on_stderr(tmp_path, monkeypatch, capsy
     assert main(["gui", str(path), "--tip-link", "tool0", "--port", "0", "--package-path",
                  f"example-robot-data={PANDA.parents[3]}"]) == 0
     assert "mesh files not found" not in capsys.readouterr().err
+
+
+def test_browser_locked_joint_slider_cannot_move(browser, tmp_path):
+    """Equal limits mean locked in the GUI too: the joint's slider is disabled and says why."""
+    path = tmp_path / "z.urdf"
+    path.write_text('<robot name="z"><link name="a"/><link name="b"/><link name="c"/>'
+                    '<joint name="j1" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>'
+                    '<limit lower="0" upper="0" effort="1" velocity="1"/></joint>'
+                    '<joint name="j2" type="revolute"><parent link="b"/><child link="c"/><origin xyz="0 0 1"/>'
+                    '<axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>')
+    srv = make_server(port=0, text=path.read_text(), fmt="urdf", source=str(path))
+    srv.serve_in_thread()
+    try:
+        for pg in _open(browser, srv.url):
+            assert pg.is_disabled("#q0") and not pg.is_disabled("#q1")
+            assert "locked" in pg.get_attribute("#q0", "title")
+            assert "equal lower and upper limits" in pg.inner_text("#warnings")  # the reader's line, in the page
+    finally:
+        srv.shutdown()
+        srv.server_close()
