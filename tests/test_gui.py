@@ -971,3 +971,23 @@ def test_browser_camera_follows_a_robot_that_leaves_the_view(page):
     x, y = map(float, pg.get_attribute("#view", "data-tool-xy").split(","))
     box = pg.query_selector("#view").bounding_box()
     assert 0 <= x <= box["width"] and 0 <= y <= box["height"]  # the tool (3 m out) is in the picture
+
+
+def test_browser_locked_joint_slider_cannot_move(browser, tmp_path):
+    """Equal limits mean locked in the GUI too: the joint's slider is disabled and says why."""
+    path = tmp_path / "z.urdf"
+    path.write_text('<robot name="z"><link name="a"/><link name="b"/><link name="c"/>'
+                    '<joint name="j1" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>'
+                    '<limit lower="0" upper="0" effort="1" velocity="1"/></joint>'
+                    '<joint name="j2" type="revolute"><parent link="b"/><child link="c"/><origin xyz="0 0 1"/>'
+                    '<axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>')
+    srv = make_server(port=0, text=path.read_text(), fmt="urdf", source=str(path))
+    srv.serve_in_thread()
+    try:
+        for pg in _open(browser, srv.url):
+            assert pg.is_disabled("#q0") and not pg.is_disabled("#q1")
+            assert "locked" in pg.get_attribute("#q0", "title")
+            assert "equal lower and upper limits" in pg.inner_text("#warnings")  # the reader's line, in the page
+    finally:
+        srv.shutdown()
+        srv.server_close()

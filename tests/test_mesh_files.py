@@ -112,6 +112,9 @@ def test_mesh_files_resolve_like_ros_and_gazebo(package, tmp_path, monkeypatch):
     ("x" * 5000 + ".stl", "longer than 4096 characters"),
     ("package://my_robot/", "not a mesh file type"),
     ("package:///../x.stl", "'..' is not a package name"),
+    ("a\x00b.stl", "cannot be used (ValueError)"),
+    ("package://my_robot/meshes/link%00.stl", "cannot be used (ValueError)"),
+    ("%2e%2e/%2e%2e/x.stl", "no such file"),  # a plain path is not URL-decoded: no file of that name
     ("package:///my_robot/../../x.stl", "leads outside package 'my_robot'"),
 ])
 def test_hostile_mesh_names_are_refused_with_a_reason(package, monkeypatch, name, reason):

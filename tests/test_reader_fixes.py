@@ -203,7 +203,8 @@ def test_equal_limits_mean_locked_as_urdfdom_and_pinocchio_read_them(zero):
     mujoco = pytest.importorskip("mujoco")
     from robkin.io.mjcf import mjcf_from_robot
 
-    mj = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot))
+    with pytest.warns(UserWarning, match="move without mass"):  # the file has no inertials
+        mj = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot))
     assert mj.neq == 2 and [mj.joint(mj.eq_obj1id[k]).name for k in range(2)] == ["j1", "j2"]
     assert again.upperPositionLimit.tolist() == [0.0, 0.0, 1.0]
 
@@ -380,3 +381,52 @@ def test_sdf_in_mjcf_and_urdf_out_keep_masses_dynamics_and_colours(tmp_path):
         assert np.abs(M.rotation @ Y.inertia @ M.rotation.T - expected[name][1]).max() < 1e-12
         assert np.abs(M.act(Y.lever) - expected[name][2]).max() < 1e-12
     assert model.damping.tolist() == [4.0, 0.3] and model.friction.tolist() == [0.05, 0.2]
+
+
+def test_kitchen_like_includes_from_a_sibling_folder(tmp_path):
+    """gymnasium-robotics' Franka kitchen: kitchen_assets/kitchen_env_model.xml includes
+    ../franka_assets/{assets,chain}.xml (<mujocoinclude>): read as MuJoCo reads them, said once."""
+    mujoco = pytest.importorskip("mujoco")
+    (tmp_path / "franka_assets").mkdir()
+    (tmp_path / "kitchen_assets").mkdir()
+    (tmp_path / "franka_assets" / "assets.xml").write_text(ASSETS)
+    (tmp_path / "franka_assets" / "chain.xml").write_text(
+        CHAIN.replace('<include file="resources/finger.xml"/>', '<site name="ee" pos="0 0 0.1"/>'))
+    path = tmp_path / "kitchen_assets" / "kitchen.xml"
+    path.write_text('<mujoco><include file="../franka_assets/assets.xml"/><worldbody><body name="table">'
+                    '<geom size="0.1"/><include file="../franka_assets/chain.xml"/></body></worldbody></mujoco>')
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        robot = robkin.load(path, tip_link="ee")
+    assert [str(w.message) for w in caught] == [
+        f"{path}: 2 included file(s) outside the model's folder are read: ../franka_assets/assets.xml, "
+        f"../franka_assets/chain.xml"]
+    model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    data.qpos[:] = [0.15]
+    mujoco.mj_kinematics(model, data)
+    T = robot.world @ robot.fk([0.15])
+    assert np.abs(T[:3, 3] - data.site_xpos[model.site("ee").id]).max() < 1e-12
+    assert robot.joints[0].damping == model.dof_damping[0] == 2.0  # the included class "wrist"
+
+
+def test_a_joint_held_by_an_mjcf_equality_reads_back_locked(zero, tmp_path):
+    """URDF (equal limits) -> MJCF (joint equality) -> robkin: the same locked joints, and the URDF
+    written from that MJCF has pinocchio's same limits."""
+    pin = pytest.importorskip("pinocchio")
+    from robkin.io.mjcf import mjcf_from_robot
+    from robkin.io.urdf import urdf_from_robot
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = robkin.load(zero)
+        mjcf = tmp_path / "zero.xml"
+        mjcf.write_text(mjcf_from_robot(robot))
+        mjcf.write_text(mjcf.read_text().replace('polycoef="0 0 0 0 0"', 'polycoef="0.25 0 0 0 0"', 1))
+    with pytest.warns(UserWarning, match=r"joint\(s\) 'j1', 'j2' have equal lower and upper limits"):
+        back = robkin.load(mjcf, tip_link="l3")
+    assert [(j.name, j.lower, j.upper) for j in back.joints] == [("j1", 0.25, 0.25), ("j2", 0.0, 0.0),
+                                                                  ("j3", -1.0, 1.0)]
+    model = pin.buildModelFromXML(urdf_from_robot(back))
+    assert model.lowerPositionLimit.tolist() == [0.25, 0.0, -1.0]
+    assert model.upperPositionLimit.tolist() == [0.25, 0.0, 1.0]

@@ -138,7 +138,7 @@ def _package_roots(package: str, scheme: str, robot_file: Path,
 def _is_dir(path: Path) -> bool:
     try:
         return path.is_dir()
-    except OSError:  # a name too long for the file system
+    except (OSError, ValueError):  # a name too long for the file system, or holding a NUL
         return False
 
 
@@ -169,7 +169,7 @@ def _check_file(candidate: Path) -> tuple[Path | None, str | None]:
             return None, f"{_short(str(candidate))} leads to {_short(real.name, 60)}, not a mesh file"
         if real.stat().st_size > MAX_MESH_BYTES:
             return None, f"{_short(str(candidate))} is larger than {MAX_MESH_BYTES // 2 ** 20} MB"
-    except (OSError, RuntimeError) as exc:  # a name too long, a loop of symbolic links, no permission
+    except (OSError, RuntimeError, ValueError) as exc:  # too long, a loop of links, no permission, a NUL
         return None, f"{_short(str(candidate))} cannot be used ({type(exc).__name__})"
     return real, None
 

@@ -286,11 +286,16 @@ def model_from_mjcf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str
     tree = _TreeBuilder(src)
     tree.build()
     if src.root.find("equality") is not None:
-        from .mjcf_equality import joint_mimics
+        from .mjcf_equality import joint_locks, joint_mimics
 
         mimics = joint_mimics(src, tree.refs)
+        locks = joint_locks(src, tree.refs)
         for j in tree.joints:  # joint equalities as mimics (robot_from_mjcf frees those on the chain)
             j.mimic = mimics.get(j.name) if j.type != "fixed" else None
+            if j.name in locks and j.type in ("revolute", "continuous", "prismatic"):
+                # held at one value: equal limits, the one meaning of robkin.io.joint_limits
+                j.lower = j.upper = locks[j.name]
+                j.type = "revolute" if j.type == "continuous" else j.type
     content = MjcfContent(src, tree.content, tree._attrs)
     return UrdfModel(src.root.get("model"), tuple(tree.links), tuple(tree.joints), src.source, content), tree.kinds
 
