@@ -41,7 +41,6 @@ import numpy as np
 
 from ..bodies import Geometry, Inertial, Material, Shape
 from ..errors import InputError, quote
-from .files import file_inside
 from .mjcf_source import MjcfSource
 from .urdf import LinkContent, _floats
 from .urdf_content import ContentOnce
