@@ -294,27 +294,6 @@ def test_visual_check_names_the_first_joint_that_differs():
     assert fewer["check"]["first_joint"] is not None and "joint counts differ" in fewer["check"]["comparison"]["verdict"]
 
 
-def test_mesh_files_resolve_like_ros(tmp_path, monkeypatch):
-    from robkin.viz.meshes import resolve_mesh
-
-    pkg = tmp_path / "ws" / "my_robot"
-    (pkg / "meshes").mkdir(parents=True)
-    (pkg / "urdf").mkdir()
-    stl = pkg / "meshes" / "link.stl"
-    stl.write_bytes(b"solid x\nendsolid x\n")
-    robot_file = pkg / "urdf" / "r.urdf"
-    assert resolve_mesh("package://my_robot/meshes/link.stl", robot_file) == stl.resolve()  # above the file
-    assert resolve_mesh("../meshes/link.stl", robot_file) == stl.resolve()
-    assert resolve_mesh(f"file://{stl}", robot_file) == stl.resolve()
-    elsewhere = tmp_path / "other" / "r.urdf"
-    assert resolve_mesh("package://my_robot/meshes/link.stl", elsewhere) is None
-    monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "ws"))
-    assert resolve_mesh("package://my_robot/meshes/link.stl", elsewhere) == stl.resolve()  # on the path
-    (pkg / "urdf" / "secret.txt").write_text("x")
-    assert resolve_mesh("secret.txt", robot_file) is None  # not a mesh type: never served
-    assert resolve_mesh("http://example.com/link.stl", robot_file) is None  # nothing is fetched
-
-
 @pytest.fixture()
 def server():
     srv = make_server(port=0, text=RRPR_TEXT, fmt="yaml")
@@ -877,6 +856,74 @@ def test_browser_panda_orbit_drag_paste_check(panda_page, tmp_path):
     _shot(pg, tmp_path, "gui_check.png")
 
 
+def _ur5_copy(tmp_path) -> Path:
+    """example-robot-data's UR5 URDF copied out of its package (as the README's tour does)."""
+    src = PANDA.parents[2] / "ur_description" / "urdf" / "ur5_robot.urdf"
+    if not src.is_file():
+        pytest.skip("example-robot-data (test extra) is not installed")
+    path = tmp_path / "ur5.urdf"
+    path.write_text(src.read_text())
+    return path
+
+
+def test_browser_gui_says_which_meshes_were_not_found(browser, tmp_path):
+    """A URDF whose meshes cannot be found is no silent stick figure: the page names them and why."""
+    path = _ur5_copy(tmp_path)
+    srv = make_server(port=0, text=path.read_text(), fmt="urdf", tip_link="tool0", source=str(path))
+    assert srv.start_payload["visuals"] == [] and len(srv.start_payload["missing_meshes"]) == 7
+    srv.serve_in_thread()
+    try:
+        for pg in _open(browser, srv.url):
+            pg.wait_for_function("() => document.getElementById('warnings').textContent.includes('not found')",
+                                 timeout=15000)
+            text = pg.inner_text("#warnings")
+            assert "7 of 7 mesh files not found" in text and "--package-path example-robot-data=DIR" in text
+            assert pg.is_visible("#warnings")
+    finally:
+        srv.shutdown()
+        srv.server_close()
+
+
+def test_browser_plot_page_draws_the_urdf_meshes(browser, tmp_path, capsys):
+    """`plot -o x.html` draws the meshes the GUI draws (embedded; the page works from a file), and with
+    meshes not found says so on stderr (one line) and in the page."""
+    path = _ur5_copy(tmp_path)
+    robots = PANDA.parents[3]  # .../share/example-robot-data: the package the URDF names
+    out = tmp_path / "ur5.html"
+    assert main(["plot", str(path), "--tip-link", "tool0", "--package-path", f"example-robot-data={robots}",
+                 "-o", str(out)]) == 0
+    assert "warning" not in capsys.readouterr().err
+    for pg in _open(browser, out.as_uri()):
+        pg.wait_for_function("() => document.body.dataset.meshes == '7'", timeout=30000)
+        assert not pg.query_selector("#missing-meshes")
+        _shot(pg, tmp_path, "plot_ur5_meshes.png")
+    bare = tmp_path / "bare.html"
+    assert main(["plot", str(path), "--tip-link", "tool0", "-o", str(bare)]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 2 and "7 of 7 mesh files not found" in err[0] and err[1].startswith("wrote")
+    for pg in _open(browser, bare.as_uri()):
+        assert "7 of 7 mesh files not found" in pg.inner_text("#missing-meshes")
+
+
+def test_gui_command_names_missing_meshes_on_stderr(tmp_path, monkeypatch, capsys):
+    """`robkin gui ur5.urdf` with meshes found nowhere: one warning line on stderr before serving."""
+    from robkin.viz.gui import GuiServer
+
+    path = _ur5_copy(tmp_path)
+
+    def stop(self, *args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(GuiServer, "serve_forever", stop)
+    assert main(["gui", str(path), "--tip-link", "tool0", "--port", "0"]) == 0
+    err = capsys.readouterr().err.splitlines()
+    warned = [line for line in err if "mesh files not found" in line]
+    assert len(warned) == 1 and warned[0].startswith("robkin: warning: ") and "7 of 7" in warned[0]
+    assert main(["gui", str(path), "--tip-link", "tool0", "--port", "0", "--package-path",
+                 f"example-robot-data={PANDA.parents[3]}"]) == 0
+    assert "mesh files not found" not in capsys.readouterr().err
+
+
 # ------------------------------------------------------------------------------ the visual check, exaggerated
 RRPR_6MM = RRPR_TEXT.replace("{a: 0.3, d: 0,", "{a: 0.306, d: 0,")
 
@@ -924,3 +971,23 @@ def test_browser_camera_follows_a_robot_that_leaves_the_view(page):
     x, y = map(float, pg.get_attribute("#view", "data-tool-xy").split(","))
     box = pg.query_selector("#view").bounding_box()
     assert 0 <= x <= box["width"] and 0 <= y <= box["height"]  # the tool (3 m out) is in the picture
+
+
+def test_browser_locked_joint_slider_cannot_move(browser, tmp_path):
+    """Equal limits mean locked in the GUI too: the joint's slider is disabled and says why."""
+    path = tmp_path / "z.urdf"
+    path.write_text('<robot name="z"><link name="a"/><link name="b"/><link name="c"/>'
+                    '<joint name="j1" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>'
+                    '<limit lower="0" upper="0" effort="1" velocity="1"/></joint>'
+                    '<joint name="j2" type="revolute"><parent link="b"/><child link="c"/><origin xyz="0 0 1"/>'
+                    '<axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>')
+    srv = make_server(port=0, text=path.read_text(), fmt="urdf", source=str(path))
+    srv.serve_in_thread()
+    try:
+        for pg in _open(browser, srv.url):
+            assert pg.is_disabled("#q0") and not pg.is_disabled("#q1")
+            assert "locked" in pg.get_attribute("#q0", "title")
+            assert "equal lower and upper limits" in pg.inner_text("#warnings")  # the reader's line, in the page
+    finally:
+        srv.shutdown()
+        srv.server_close()

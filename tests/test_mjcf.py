@@ -21,7 +21,8 @@ mujoco = pytest.importorskip("mujoco")
 
 
 def mujoco_pose(model, data, q: np.ndarray, *, site: str | None = None, body: str | None = None) -> np.ndarray:
-    data.qpos[:] = q
+    data.qpos[:] = 0  # joints off the chain (a gripper's fingers) at 0; the chain's joints come first
+    data.qpos[:len(q)] = q
     mujoco.mj_kinematics(model, data)
     T = np.eye(4)
     if site is not None:
@@ -39,13 +40,14 @@ def mujoco_pose(model, data, q: np.ndarray, *, site: str | None = None, body: st
 def test_mjcf_of_vendor_urdf_matches_pinocchio_of_the_original(rel, base, tip):
     path = robot_file(rel)
     robot = robot_from_urdf(path, base, tip)
-    model = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot))
+    model = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot, mesh_files={}))
     data = mujoco.MjData(model)
-    assert model.nq == robot.n
+    assert model.nq >= robot.n and [model.joint(i).name for i in range(robot.n)] == [j.name for j in robot.joints]
     pmodel = pin.buildModelFromUrdf(path)
     tip_frame = tip or pmodel.frames[-1].name
-    for q in sample_q(robot, 6, seed=2):
-        np.testing.assert_allclose(mujoco_pose(model, data, q, site="tool"), pin_fk(pmodel, robot, q, tip_frame),
+    assert robot.bodies.tip == tip_frame
+    for q in sample_q(robot, 6, seed=2):  # the site is named as the tip link
+        np.testing.assert_allclose(mujoco_pose(model, data, q, site=tip_frame), pin_fk(pmodel, robot, q, tip_frame),
                                    atol=FK_TOL, rtol=0)
 
 
@@ -99,17 +101,19 @@ def test_tool_rotation_far_below_mujocos_site_rounding_survives():
         np.testing.assert_allclose(mujoco_pose(model, data, np.array(q), site="tool"), T, atol=0)
 
 
-def test_urdf_limit_without_bounds_is_exported_unlimited():
-    """URDF's <limit effort velocity/> means lower = upper = 0; MuJoCo refuses range="0 0"."""
+def test_urdf_limit_without_bounds_is_exported_locked():
+    """URDF's <limit effort velocity/> means lower = upper = 0 (urdfdom, pinocchio): the joint is held
+    at 0 by a joint equality, since MuJoCo refuses range="0 0"."""
     urdf = """<robot name="r"><link name="a"/><link name="b"/>
       <joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
         <limit effort="10" velocity="2"/></joint></robot>"""
-    robot = robot_from_urdf(urdf)
+    with pytest.warns(UserWarning, match="equal lower and upper limits"):
+        robot = robot_from_urdf(urdf)
     assert robot.joints[0].lower == robot.joints[0].upper == 0
     text = mjcf_from_robot(robot)
-    assert 'range="0 0"' not in text
+    assert 'range="0 0"' not in text and '<joint joint1="j" polycoef="0 0 0 0 0"/>' in text
     model = mujoco.MjModel.from_xml_string(text)
-    assert not model.jnt_limited[0]
+    assert not model.jnt_limited[0] and model.neq == 1 and model.eq_type[0] == mujoco.mjtEq.mjEQ_JOINT
 
 
 @pytest.mark.filterwarnings("ignore::robkin.ConditioningWarning")

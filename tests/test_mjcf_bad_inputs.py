@@ -13,6 +13,7 @@ import pytest
 
 from robkin.cli import main
 from robkin.io import mjcf_source
+from robkin.io import load
 
 ARM = '<mujoco><worldbody><body name="a"><joint name="j"/>{}</body></worldbody></mujoco>'
 
@@ -52,7 +53,8 @@ CASES = [
     ("replicate", ARM.format('<replicate count="3"><body/></replicate>'), "<replicate> is not supported"),
     ("include without file", ARM.format("<include/>"), "<include> has no file attribute"),
     ("absolute include", ARM.format('<include file="/etc/passwd"/>'), "only paths relative to the model's folder"),
-    ("include escaping", ARM.format('<include file="../secret.xml"/>'), "leads outside the model's folder"),
+    ("include escaping to a non-XML file", ARM.format('<include file="../secret.txt"/>'),
+     "leads outside the model's folder"),
     ("missing include", ARM.format('<include file="nope.xml"/>'), "<include file=\"nope.xml\">: no such file"),
     ("include loop", ARM.format('<include file="m.xml"/>'), "includes itself"),
 ]
@@ -60,7 +62,7 @@ CASES = [
 
 @pytest.mark.parametrize("kind, text, expect", CASES, ids=[c[0] for c in CASES])
 def test_bad_mjcf(kind, text, expect, tmp_path, capsys):
-    (tmp_path / "secret.xml").write_text('<mujoco><body name="stolen"/></mujoco>')
+    (tmp_path / "secret.txt").write_text('<mujoco><body name="stolen"/></mujoco>')
     model = tmp_path / "model"
     model.mkdir()
     path = model / "m.xml"
@@ -71,14 +73,22 @@ def test_bad_mjcf(kind, text, expect, tmp_path, capsys):
 
 
 def test_include_through_a_symbolic_link_out_of_the_folder(tmp_path, capsys):
-    (tmp_path / "outside.xml").write_text('<mujoco><body name="stolen"/></mujoco>')
+    """A link leading out reads the file it leads to only if that is an .xml file (as MuJoCo reads
+    any), and says so once."""
+    (tmp_path / "outside.txt").write_text('<mujoco><body name="stolen"/></mujoco>')
+    (tmp_path / "outside.xml").write_text('<mujoco><body name="b"><joint name="k"/></body></mujoco>')
     (tmp_path / "model").mkdir()
     try:
-        os.symlink(tmp_path / "outside.xml", tmp_path / "model" / "link.xml")
+        os.symlink(tmp_path / "outside.txt", tmp_path / "model" / "link.xml")
+        os.symlink(tmp_path / "outside.xml", tmp_path / "model" / "ok.xml")
     except OSError:
         pytest.skip("no symbolic links here")
     (tmp_path / "model" / "m.xml").write_text(ARM.format('<include file="link.xml"/>'))
     assert "leads outside the model's folder" in run(tmp_path / "model" / "m.xml", capsys)
+    (tmp_path / "model" / "m.xml").write_text('<mujoco><worldbody><include file="ok.xml"/></worldbody></mujoco>')
+    with pytest.warns(UserWarning, match=r"m.xml: 1 included file\(s\) outside the model's folder are read: ok.xml"):
+        robot = load(tmp_path / "model" / "m.xml")
+    assert [j.name for j in robot.joints] == ["k"]
 
 
 def test_include_depth_count_and_size_limits(tmp_path, capsys, monkeypatch):

@@ -232,36 +232,50 @@ def test_mujoco_compiled_arm_meshes_match_mujoco_and_are_served(tmp_path):
         assert reg.files[item["mesh"]].parent == (tmp_path / "meshes").resolve()
 
 
-@pytest.mark.parametrize("meshdir, file", [("..", "tet.obj"), ("assets", "../../tet.obj"), ("", "/etc/tet.obj"),
-                                           ("/tmp", "tet.obj"), ("link", "tet.obj")])
-def test_mesh_files_outside_the_folder_are_skipped_with_a_warning(tmp_path, meshdir, file):
+@pytest.mark.parametrize("meshdir, file, named", [("../outside", "tet.obj", "../outside/tet.obj"),
+                                                  ("assets", "../../outside/tet.obj", "assets/../../outside/tet.obj"),
+                                                  ("", "OUT/tet.obj", "OUT/tet.obj"), ("OUT", "tet.obj", "OUT/tet.obj"),
+                                                  ("link", "tet.obj", "link/tet.obj")])
+def test_mesh_files_outside_the_folder_are_kept_and_said_once(tmp_path, meshdir, file, named):
+    """MuJoCo loads a mesh anywhere: the reader keeps its name (meshdir joined as MuJoCo joins it);
+    finding the files says once, in one line, that files outside the model's folder are used."""
+    from robkin.io.mesh_files import resolve_meshes
+
     outside = tmp_path / "outside"
     outside.mkdir()
     (outside / "tet.obj").write_text(TETRA_OBJ)
     inner = tmp_path / "model"
     inner.mkdir()
     (inner / "link").symlink_to(outside)  # a symbolic link leading out counts as outside
+    meshdir, file, named = (x.replace("OUT", str(outside)) for x in (meshdir, file, named))
+    geoms = "".join(f'<geom name="g{k}" type="mesh" mesh="m"/>' for k in range(5))
     xml = (f'<mujoco><compiler meshdir="{meshdir}"/><asset><mesh name="m" file="{file}"/></asset><worldbody>'
-           f'<body name="a"><joint name="j"/><geom name="evil" type="mesh" mesh="m"/>'
-           f'<geom name="ok" size="0.1"/></body></worldbody></mujoco>')
+           f'<body name="a"><joint name="j"/>{geoms}<geom name="ok" size="0.1"/></body></worldbody></mujoco>')
     (inner / "m.xml").write_text(xml)
     robot = robot_from_mjcf(inner / "m.xml")
-    with pytest.warns(UserWarning, match=r"geom 'evil' \(body 'a'\): mesh 'm' file is outside the model's folder"):
-        names = [s.name for s in robot.bodies.visuals()]
-    assert names == ["ok"]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        visuals = robot.bodies.visuals()
+        found = resolve_meshes(robot, inner / "m.xml")
+    assert [s.name for s in visuals] == [f"g{k}" for k in range(5)] + ["ok"]
+    assert visuals[0].geometry.filename == named
+    assert found[named].path == (outside / "tet.obj").resolve()
+    (line,) = [str(w.message) for w in caught]
+    assert line.startswith(f"{str(inner / 'm.xml')[:60]}") and "\n" not in line
+    assert ": 1 mesh file(s) outside the model's folder are used: " in line and named[-7:] in line
 
 
-def test_text_input_keeps_relative_mesh_names_and_refuses_escapes():
+def test_text_input_keeps_mesh_names_as_joined():
     xml = ('<mujoco><compiler meshdir="meshes"/><asset><mesh file="arm/link1.stl"/><mesh name="x" file="../y.stl"/>'
            '<mesh name="v" vertex="0 0 0 1 0 0 0 1 0 0 0 1"/></asset><worldbody><body name="a"><joint name="j"/>'
-           '<geom type="mesh" mesh="link1"/><geom name="bad" type="mesh" mesh="x"/><geom type="mesh" mesh="v"/>'
+           '<geom type="mesh" mesh="link1"/><geom name="out" type="mesh" mesh="x"/><geom type="mesh" mesh="v"/>'
            '</body></worldbody></mujoco>')
     robot = robot_from_mjcf(xml)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         # the mesh given by vertices has no file to draw: skipped without a word
-        assert [s.geometry.filename for s in robot.bodies.visuals()] == ["meshes/arm/link1.stl"]
-    assert [str(w.message).split(": ", 1)[1][:9] for w in caught] == ["geom 'bad"]
+        assert [s.geometry.filename for s in robot.bodies.visuals()] == ["meshes/arm/link1.stl", "meshes/../y.stl"]
+    assert caught == []
 
 
 def test_gui_lists_and_serves_the_meshes_of_an_mjcf_file(tmp_path):

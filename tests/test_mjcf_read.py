@@ -85,8 +85,9 @@ def check_xml(xml: str, tip: str, base: str | None = None, n: int | None = None)
     compare_with_mujoco(model, robot, tip)
     # robkin's export of what it read: MuJoCo loads it, and it reads back with the same FK
     out = mjcf_from_robot(robot)
-    compare_with_mujoco(mujoco.MjModel.from_xml_string(out), robot, "tool", tol=EXPORT_TOL)
-    back = robot_from_mjcf(out, tip_link="tool")
+    tool = robot.bodies.tip  # the written tool is a body and a site named as the tip link
+    compare_with_mujoco(mujoco.MjModel.from_xml_string(out), robot, tool, tol=EXPORT_TOL)
+    back = robot_from_mjcf(out, robot.bodies.chain[0], tip_link=tool)
     np.testing.assert_allclose(back.world, robot.world, atol=EXPORT_TOL)
     for q in np.random.default_rng(1).uniform(-1, 1, (5, robot.n)):
         np.testing.assert_allclose(back.fk(q), robot.fk(q), atol=EXPORT_TOL)
@@ -273,9 +274,9 @@ def test_mujoco_compiled_arms_match_mj_kinematics(rel, base, tip, tmp_path):
     # mj_saveLastXML writes 6 significant digits
     np.testing.assert_allclose(robot.limits, urdf_robot.limits, rtol=5e-6, atol=0)
     out = tmp_path / "out.xml"
-    out.write_text(mjcf_from_robot(robot))
-    compare_with_mujoco(mujoco.MjModel.from_xml_path(str(out)), robot, "tool", tol=EXPORT_TOL)
-    back = load(out, tip_link="tool")
+    out.write_text(mjcf_from_robot(robot, mesh_files={}))
+    compare_with_mujoco(mujoco.MjModel.from_xml_path(str(out)), robot, tip, tol=EXPORT_TOL)
+    back = load(out, base_link=robot.bodies.chain[0], tip_link=tip)
     for q in np.random.default_rng(3).uniform(-1, 1, (5, robot.n)):
         np.testing.assert_allclose(back.world @ back.fk(q), robot.world @ robot.fk(q), atol=EXPORT_TOL)
 

@@ -55,16 +55,17 @@ def test_sdf_matches_its_hand_written_urdf_twin(name, tip, joints):
     for q in np.random.default_rng(5).uniform(-1, 1, (8, robot.n)):
         np.testing.assert_allclose(robot.world @ robot.fk(q), pin_pose(model, dict(zip(joints, q)), tip),
                                    atol=FK_TOL, rtol=0)
-    # and robkin's MJCF of it: MuJoCo's FK of the tool body is the same
+    # and robkin's MJCF of it: MuJoCo's FK of the tool body (named as the tip link) is the same
     mujoco = pytest.importorskip("mujoco")
     from robkin.io.mjcf import mjcf_from_robot
 
     mj = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot))
     data = mujoco.MjData(mj)
     for q in np.random.default_rng(6).uniform(-1, 1, (8, robot.n)):
-        data.qpos[:] = q
+        data.qpos[:] = 0
+        data.qpos[:robot.n] = q  # the chain's joints first
         mujoco.mj_kinematics(mj, data)
-        tool = mj.body("tool").id
+        tool = mj.body(tip).id
         T = np.eye(4)
         T[:3, :3], T[:3, 3] = data.xmat[tool].reshape(3, 3), data.xpos[tool]
         np.testing.assert_allclose(T, robot.world @ robot.fk(q), atol=FK_TOL, rtol=0)

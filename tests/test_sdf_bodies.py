@@ -101,13 +101,22 @@ def test_mesh_uris_are_kept(tmp_path, uri):
     assert v.geometry.filename == uri and v.geometry.size == (1.0, 2.0, 3.0)
 
 
-@pytest.mark.parametrize("uri", ["../secret.stl", "/etc/b.stl", "file:///etc/b.stl", "meshes/../../b.stl"])
-def test_mesh_uris_outside_the_folder_are_skipped_with_a_warning(tmp_path, uri):
-    path = tmp_path / "m.sdf"
+@pytest.mark.parametrize("uri", ["../outside/b.stl", "OUT/b.stl", "file://OUT/b.stl", "meshes/../../outside/b.stl"])
+def test_mesh_uris_outside_the_folder_are_kept_and_said_once(tmp_path, uri):
+    from robkin.io.mesh_files import resolve_meshes
+
+    (tmp_path / "outside").mkdir()
+    (tmp_path / "outside" / "b.stl").write_bytes(b"solid b\nendsolid b\n")
+    (tmp_path / "model").mkdir()
+    uri = uri.replace("OUT", str(tmp_path / "outside"))
+    path = tmp_path / "model" / "m.sdf"
     path.write_text(_mesh_sdf(uri))
     robot = robot_from_sdf(path)
-    with pytest.warns(UserWarning, match=r"link 'b' visual 'v': mesh uri .* outside the model's folder"):
-        assert robot.bodies.visuals() == ()
+    (v,) = robot.bodies.visuals()
+    assert v.geometry.filename == uri
+    with pytest.warns(UserWarning, match=r"m.sdf: 1 mesh file\(s\) outside the model's folder are used: "):
+        found = resolve_meshes(robot, path)
+    assert found[uri].path == (tmp_path / "outside" / "b.stl").resolve()
 
 
 def test_gui_serves_sdf_model_meshes(tmp_path):

@@ -72,7 +72,14 @@ def test_batch_convert_of_urdfs_and_documents(tmp_path, capsys):
         r0, r1 = robot_from_urdf(src), robot_from_urdf(str(outdir / name))
         Q = sample_q(r0, 5, seed=6)
         np.testing.assert_allclose(r1.world @ r1.fk(Q), r0.world @ r0.fk(Q), atol=1e-12)
-    assert capsys.readouterr().err.splitlines() == [f"wrote {outdir / 'tilted.urdf'}", f"wrote {outdir / 'xarm7.urdf'}"]
+    err = capsys.readouterr().err.splitlines()
+    assert [line for line in err if line.startswith("wrote")] == [f"wrote {outdir / 'tilted.urdf'}",
+                                                                  f"wrote {outdir / 'xarm7.urdf'}"]
+    # then each written file read back and checked: one note each (tilted.urdf has no inertials)
+    notes = [line for line in err if not line.startswith("wrote")]
+    assert len(notes) == 2 and all(line.startswith("robkin: note: ") for line in notes)
+    assert "mass properties not checked (the robot has no inertials)" in notes[0]
+    assert "FK and mass properties equal the source's" in notes[1]
 
 
 def test_convert_json_flag_prints_the_section(capsys):

@@ -127,6 +127,8 @@ class LinkJoint:
     friction: float | None = None
     mimic: Mimic | None = None
     xyz_rpy: tuple[float, ...] | None = None
+    #: rotor inertia added to the joint (MJCF ``armature``), None where the source gave none
+    armature: float | None = None
 
 
 @dataclass(frozen=True, eq=False)

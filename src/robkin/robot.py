@@ -59,6 +59,7 @@ class Joint:
     velocity: float | None = None
     damping: float | None = None
     friction: float | None = None
+    armature: float | None = None
     mimic: Mimic | None = None
 
     def __post_init__(self) -> None:

@@ -14,8 +14,8 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ..robot import Robot
 
-__all__ = ["add_input", "add_allow_xacro", "add_from", "load_input", "seed", "parse_q", "parse_pose", "number_option_fix",
-           "EXAMPLES_DIR"]
+__all__ = ["add_input", "add_allow_xacro", "add_from", "add_package_path", "package_paths", "load_input", "seed",
+           "parse_q", "parse_pose", "number_option_fix", "EXAMPLES_DIR"]
 
 EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "examples"
 #: = io.table_read.TABLE_INPUTS, not imported: robkin.io imports numpy, and this module loads with every command
@@ -48,6 +48,28 @@ def add_allow_xacro(p: argparse.ArgumentParser) -> None:
                    help="expand .xacro input with the xacro package. A .xacro file is a program: it can run "
                         "code and read files and environment variables, so use this only for files you trust "
                         "(or expand it yourself: xacro FILE.xacro > FILE.urdf)")
+
+
+def add_package_path(p: argparse.ArgumentParser) -> None:
+    """The repeatable ``--package-path NAME=DIR`` that tells where mesh files' packages are."""
+    p.add_argument("--package-path", metavar="NAME=DIR", action="append", default=[], type=_package_path,
+                   help="where package://NAME/... (or SDF model://NAME/...) mesh files are: the folder of package "
+                        "NAME (repeatable; tried before the folders above the robot file, ROS_PACKAGE_PATH, "
+                        "AMENT_PREFIX_PATH and GAZEBO_MODEL_PATH)")
+
+
+def _package_path(text: str) -> tuple[str, Path]:
+    from ..io.mesh_files import parse_package_path
+
+    try:
+        return parse_package_path(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def package_paths(args: argparse.Namespace) -> dict[str, Path]:
+    """NAME -> folder of the command's ``--package-path`` options (the last one given for a NAME wins)."""
+    return dict(getattr(args, "package_path", None) or [])
 
 
 def load_input(path: str, args: argparse.Namespace) -> "Robot":

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ._chains import add_chain_options, chain_ends
-from ._common import add_allow_xacro, add_from
+from ._common import add_allow_xacro, add_from, add_package_path
 from ._output import wrote
 from ._toolbox import CODE_EXTENSIONS, CODE_FORMATS, add_toolbox_options, check_toolbox_options, render_code
 
@@ -33,7 +33,7 @@ formats:
   poe       Product of Exponentials, space frame            poe-body  PoE, body frame
   rpy-xyz   RPY-XYZ table, n+2 rows (URDF convention)       gjd       Global Joint Description frames
   json/yaml a robot document with every section             urdf      a URDF file (a URDF input's whole file)
-  mjcf      a MuJoCo model (MJCF), tool as site 'tool'
+  mjcf      a MuJoCo model (MJCF) that simulates: bodies, geoms, meshes, inertials, actuators
 code for other toolboxes (need no robkin; names and numbers from the input are data in them, never code):
   rtb       a Python file defining `robot`, a Robotics Toolbox DHRobot (--convention mdh: modified DH)
             with base, tool, offsets, limits and each link's mass, centre of mass and inertia in its
@@ -79,11 +79,13 @@ Chains: --base-link / --tip-link given once apply to every robot file among the 
 per input, in input order, the k-th belongs to the k-th input ('-' = that file's default, and what a
 robot document takes). A base or tip may be any link rigidly attached to the chain's end (UR's
 'base', 'tool0'). A folder given with -o (several inputs, or a name ending in '/') that does not exist
-is created in an existing one, once every input has been converted.
+is created in an existing one, once every input has been converted; so is the folder of
+--to mjcf -o FOLDER/robot.xml (the model and its meshes).
 
 Joint variables are the same in every output: q_i means the same configuration in the DH table, the
 PoE and the URDF it came from (same sign, same zero); a note on stderr says so for URDF input.
 
+{mjcf}
 examples:
   robkin convert rrpr.yaml --to poe
   robkin convert rrpr.yaml --to dh --layout paper
@@ -93,6 +95,8 @@ examples:
   robkin convert ur5.urdf --tip-link tool0 --to hayati -o ur5_hayati.yaml
   robkin convert robot.yaml --to urdf -o robot.urdf
   robkin convert robot.yaml --to mjcf -o robot.xml
+  robkin convert panda.urdf --tip-link panda_hand_tcp --to mjcf -o panda_mjcf/panda.xml
+  robkin convert ur5.urdf --tip-link tool0 --to mjcf --actuators position --kp 500 --kv 50 -o ur5/ur5.xml
   robkin convert panda.urdf --tip-link panda_hand_tcp --to rtb -o panda_rtb.py
   robkin convert ur5.urdf --tip-link tool0 --to rtb --convention mdh -o ur5_mdh.py
   robkin convert ur5.urdf --tip-link tool0 --to matlab -o ur5.m
@@ -108,10 +112,12 @@ examples:
 
 
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    from ._mjcf_output import MJCF_HELP, add_mjcf_options
+
     p = sub.add_parser("convert", help="convert a robot into another representation",
                        description="Convert a robot description into another representation, exactly: "
                                    "forward kinematics of the output equals that of the input at every q.",
-                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+                       epilog=EPILOG.replace("{mjcf}", MJCF_HELP), formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("input", nargs="+", metavar="INPUT",
                    help="robot document (.yaml/.yml/.json) or robot file: URDF (.urdf; .xacro with --allow-xacro), "
                         "MJCF (.xml/.mjcf) or SDF (.sdf) (one or more)")
@@ -141,6 +147,8 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="angles in degrees: in the table on stdout, and in a written robot document "
                         "(which then says 'angles: degrees')")
     add_toolbox_options(p)
+    add_package_path(p)
+    add_mjcf_options(p)
     p.add_argument("--link-geometry", choices=["none", "capsules"], default="none",
                    help="--to urdf|mjcf: give the links shapes a simulator shows: 'capsules' draws a capsule "
                         "from each joint frame origin to the next and a cylinder along each joint axis "
@@ -190,8 +198,10 @@ def _with_link_geometry(robot, args: argparse.Namespace | None):
     return with_link_capsules(robot, _check_link_geometry(args))
 
 
-def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None = None) -> str:
-    """Text of the output file for one robot."""
+def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None = None,
+                 source: str | None = None, out_dir: Path | None = None, mesh_dir: str = "meshes") -> str:
+    """Text of the output file for one robot (``source``: its input file; ``out_dir``: where the
+    output goes, for the meshes an MJCF or a URDF takes along)."""
     from ..io.document import document_from_robot, dump
 
     degrees = bool(args is not None and args.degrees)
@@ -203,13 +213,17 @@ def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None 
     if fmt in CODE_FORMATS:
         return render_code(robot, fmt, out_ext, args)
     if fmt == "urdf":
-        from ..io.urdf import urdf_from_robot
+        from ._urdf_output import render_urdf
 
-        return urdf_from_robot(_with_link_geometry(robot, args))
+        return render_urdf(_with_link_geometry(robot, args), args or argparse.Namespace(), source, out_dir, mesh_dir)
     if fmt == "mjcf":
-        from ..io.mjcf import mjcf_from_robot
+        if args is None:
+            from ..io.mjcf import mjcf_from_robot
 
-        return mjcf_from_robot(_with_link_geometry(robot, args))
+            return mjcf_from_robot(robot)
+        from ._mjcf_output import render_mjcf
+
+        return render_mjcf(_with_link_geometry(robot, args), args, source, out_dir, mesh_dir)
     section = SECTION_OF[fmt]
     doc = document_from_robot(robot, degrees=degrees) if section is None else \
         document_from_robot(robot, (section,), degrees=degrees)
@@ -221,10 +235,11 @@ def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None 
     return dump(doc, doc_fmt)
 
 
-def _render_in(path: str, robot, fmt: str, out_ext: str, args: argparse.Namespace) -> str:
+def _render_in(path: str, robot, fmt: str, out_ext: str, args: argparse.Namespace, out_dir: Path | None = None,
+               mesh_dir: str = "meshes") -> str:
     """``_render_file`` for one input of a batch: an error names the input it is about."""
     try:
-        return _render_file(robot, fmt, out_ext, args)
+        return _render_file(robot, fmt, out_ext, args, path, out_dir, mesh_dir)
     except InputError as exc:
         raise exc.in_source(path) from None
 
@@ -301,6 +316,9 @@ def run(args: argparse.Namespace) -> int:
     _check_table_options(args)
     check_toolbox_options(args)
     _check_link_geometry(args)
+    from ._mjcf_output import check_mjcf_options
+
+    check_mjcf_options(args)
     if args.json and (args.output or fmt in ("urdf", "mjcf", "yaml")):
         raise InputError(f"--json prints a table format as JSON to stdout; it does not combine with "
                          f"{'-o' if args.output else '--to ' + fmt}")
@@ -321,11 +339,21 @@ def run(args: argparse.Namespace) -> int:
         if dup:
             raise InputError(f"several inputs would write the same file(s): {', '.join(sorted(dup))}")
         check_writable_dir(targets[0] if out_dir.is_dir() else out_dir)  # the folder, or where it will be made
-        texts = [_render_in(path, robot, fmt, ext, args) for path, robot in zip(inputs, _load_all(inputs, args))]
+        robots = _load_all(inputs, args)
+        if fmt == "mjcf":  # the meshes are copied while the models are written: the folder is needed first
+            out_dir.mkdir(exist_ok=True)
+        # the meshes of each model in a folder of their own (meshes/<name>/): two robots' base.stl differ
+        texts = [_render_in(path, robot, fmt, ext, args, out_dir, f"meshes/{t.stem}")
+                 for path, robot, t in zip(inputs, robots, targets)]
         out_dir.mkdir(exist_ok=True)  # only now: a failed conversion leaves no empty folder behind
         write_texts_atomic(list(zip(targets, texts)))  # all or nothing
         for target in targets:
             wrote(target)
+        if fmt in ("urdf", "mjcf") and not args.format:
+            from ._output_check import check_written
+
+            for robot, target in zip(robots, targets):
+                check_written(robot, target, fmt)
         return 0
     if len(inputs) > 1:
         raise InputError("several inputs need -o DIR (a folder for the converted files)")
@@ -338,9 +366,18 @@ def run(args: argparse.Namespace) -> int:
             out = out / (Path(inputs[0]).stem + ext)
             _check_path(out)
         _check_ext(out, fmt, args.format)
-        text = _render_file(robot, fmt, out.suffix.lower(), args)
+        if fmt == "mjcf":  # a model and its meshes: its folder is made (in an existing one) if need be
+            parent = out.parent if str(out.parent) else Path(".")
+            if not parent.exists() and (parent.parent if str(parent.parent) else Path(".")).is_dir():
+                parent.mkdir()
+            check_writable_dir(out)
+        text = _render_file(robot, fmt, out.suffix.lower(), args, inputs[0], out.parent)
         write_text_atomic(out, text)
         wrote(out)
+        if fmt in ("urdf", "mjcf"):
+            from ._output_check import check_written
+
+            check_written(robot, out, fmt)
         if note:
             print(f"robkin: note: {note}", file=sys.stderr)
         return 0
@@ -353,7 +390,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
     if SECTION_OF[fmt] is None:
         sys.stdout.write(_render_file(robot, fmt, ".json" if fmt == "json" else EXTENSIONS.get(fmt, (".yaml",))[0],
-                                      args))
+                                      args, inputs[0]))
         return 0
     from ..io.tables import blocks, show_blocks
 

@@ -6,6 +6,7 @@ import argparse
 import sys
 
 from ..errors import InputError
+from ._common import add_package_path, package_paths
 
 HELP = "browser app: see a robot in 3D, drag its tool by IK, convert it, compare two descriptions"
 EPILOG = """\
@@ -13,6 +14,7 @@ examples:
   robkin gui                          # starts with the bundled RRPR example
   robkin gui rrpr.yaml --open         # also opens the page in your web browser
   robkin gui ur5.urdf --tip-link tool0 --port 9000
+  robkin gui ur5.urdf --tip-link tool0 --package-path ur_description=.   # package://ur_description/ is here
   robkin gui rrpr.yaml rrpr_dh.yaml   # visual check: B drawn over A, first differing joint in red
   robkin gui vendor_dh.yaml robot.urdf --exaggerate 100   # B's differences from A drawn 100x larger
 
@@ -22,8 +24,10 @@ takes another 127.x.y.z, ::1 or localhost, nothing else) and answers only reques
 no internet. Open the printed address in a browser; stop with Ctrl-C. In the page, paste or load a robot document (YAML/JSON) or a URDF; every
 representation is shown as a table and can be downloaded. Bad input is shown as a message in the page.
 Drag the pink tool frame's handles and the robot follows by inverse kinematics. A URDF, MJCF or SDF
-given here is drawn with the meshes it references (package:// found above the file or on
-ROS_PACKAGE_PATH, MJCF meshes in its meshdir, SDF model:// above the file or on GZ_SIM_RESOURCE_PATH). The
+given here is drawn with the meshes it references (package:// found with --package-path, above the
+file or on ROS_PACKAGE_PATH / AMENT_PREFIX_PATH, MJCF meshes in its meshdir, SDF model:// above the
+file or on GZ_SIM_RESOURCE_PATH); meshes that cannot be found are named, with why, on stderr and in
+the page. The
 3D view needs three.js, installed by `make assets` (or `make demo` / `make test`) from npm.
 The GUI never expands .xacro files (they are programs); expand one yourself with xacro first.
 """
@@ -39,6 +43,7 @@ def register(subparsers) -> argparse.ArgumentParser:
                         "apply to both when both are the same XML format)")
     p.add_argument("--base-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: first of the serial chain")
     p.add_argument("--tip-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: last of the chain (the tool)")
+    add_package_path(p)
     p.add_argument("--host", default="127.0.0.1",
                    help="loopback address to listen on: 127.0.0.1 (default), another 127.x.y.z, ::1 or localhost")
     p.add_argument("--port", type=int, default=8765, help="port (default 8765; 0 picks a free one)")
@@ -101,7 +106,11 @@ def run(args: argparse.Namespace) -> int:
     elif args.exaggerate != 1:
         raise InputError("--exaggerate: give a second robot B to compare with")
     server = make_server(args.host, args.port, text, fmt, args.base_link, args.tip_link, source,
-                         quiet=not args.verbose, other=other)
+                         quiet=not args.verbose, other=other, package_paths=package_paths(args))
+    if server.meshes.missing_line:
+        import warnings
+
+        warnings.warn(server.meshes.missing_line, UserWarning, stacklevel=1)
     print(f"robkin gui: serving on {server.url}  (Ctrl-C to stop)", file=sys.stderr, flush=True)
     if args.open:
         import webbrowser

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ..errors import InputError
-from ._common import add_input, load_input, parse_q
+from ._common import add_input, add_package_path, load_input, package_paths, parse_q
 from ._output import warn_outside_limits, wrote
 
 HELP = "draw a robot (joint axes blue, tool pink), representations overlaid, or estimation metrics"
@@ -14,6 +14,7 @@ examples:
   robkin plot rrpr.yaml -o rrpr.png
   robkin plot rrpr.yaml --q 3*pi/4,-pi/4,0.3,-3*pi/4 --overlay dh,poe -o rrpr_q.svg
   robkin plot ur5.urdf --tip-link tool0 --frames -o ur5.png
+  robkin plot ur5.urdf --tip-link tool0 -o ur5.html      # 3D page with the URDF's meshes
   robkin plot original.yaml converted.yaml -o both.png     # several robots in one picture
   robkin plot vendor_dh.yaml robot.urdf --exaggerate 100 -o diff.png   # 4-decimal table vs the robot
   robkin plot --metrics pose1_A.yaml pose1_B.yaml pose1_C.yaml pose1_D.yaml -o metrics.png
@@ -24,7 +25,9 @@ tool frame coincide; the title states by how much they disagree (rounding only, 
 -o takes .png, .svg, .pdf or .html; without -o the picture is written to INPUT's name with .png in
 the current folder. .html is an interactive 3D page (the GUI's viewer: drag to turn, right-drag to
 pan, wheel to zoom, front/side/top views), one self-contained file that works offline; it needs the
-three.js modules of `make assets`, not matplotlib.
+three.js modules of `make assets`, not matplotlib; it draws the first robot file's meshes as the GUI
+does (found as the GUI finds them, --package-path NAME=DIR for packages found nowhere else) and names
+the ones that were not found, with why, on stderr and in the page.
 With several INPUTs, --exaggerate K draws every robot after the first with its differences from the
 first multiplied by K (where an axis lies and points, the tool origin), and red arrows from the
 first robot's joint axes to the others', labelled with the true distance: a 6 mm difference on a 1 m
@@ -39,6 +42,7 @@ def register(subparsers) -> argparse.ArgumentParser:
     p = subparsers.add_parser("plot", help=HELP, description=HELP.capitalize() + ".", epilog=EPILOG,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
     add_input(p, many=True)
+    add_package_path(p)
     p.add_argument("--q", metavar="Q1,Q2,...",
                    help="joint values (rad / length units; expressions like 3*pi/4 allowed); default home")
     p.add_argument("--overlay", metavar="REPS", default="",
@@ -149,7 +153,8 @@ def _viewer_page(args: argparse.Namespace, out, view: list[float]) -> int:
     where = "home (q = 0)" if q is None else f"q = {np.round(q, 4).tolist()}"
     title = args.title or (f"{robots[0].name or Path(args.input[0]).stem} at {where}" if len(robots) == 1
                            else f"{len(robots)} robots at {where}")
-    data = viewer_data(robots, q, overlay, labels, frames=args.frames, view=view, exaggerate=_exaggeration(args))
+    data = viewer_data(robots, q, overlay, labels, frames=args.frames, view=view, exaggerate=_exaggeration(args),
+                       source=args.input[0], package_paths=package_paths(args))
     write_text_atomic(out, viewer_page(data, title, _caption(robots[0], q)))
     wrote(out)
     return 0

@@ -15,11 +15,11 @@ from __future__ import annotations
 
 import os
 import stat
-from pathlib import Path, PurePosixPath
+from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["read_text_file", "read_bytes_file", "file_inside"]
+__all__ = ["read_text_file", "read_bytes_file"]
 
 #: Read in pieces of this size: large enough for few system calls, small enough not to over-allocate.
 _CHUNK = 1 << 20
@@ -95,15 +95,3 @@ def read_text_file(path: str | os.PathLike, max_bytes: int, kind: str) -> str:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise InputError(f"{path}: not UTF-8 text (byte {exc.start})") from None
-
-
-def file_inside(name: str, folder: Path | None) -> str | None:
-    """``name`` (a relative file name, / separated) when it stays inside ``folder`` (symbolic links
-    followed; without a folder, when it has no ``..``), else None: absolute, a drive or scheme, or out."""
-    rel = PurePosixPath(name.replace("\\", "/"))
-    if rel.is_absolute() or ":" in name:
-        return None
-    if folder is None:
-        return None if ".." in rel.parts else str(rel)
-    top = folder.resolve()
-    return str(rel) if (top / Path(rel)).resolve().is_relative_to(top) else None

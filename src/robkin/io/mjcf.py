@@ -1,24 +1,25 @@
-"""MJCF (MuJoCo's XML format) export: a Robot as a chain of nested bodies with one joint each.
+"""MJCF (MuJoCo's XML format): quaternions in MuJoCo's order, and the writer's entry point.
 
-Layout: ``worldbody`` holds body ``base`` at the world->base transform; inside it, one body per joint
-placed at the joint frame (relative to the previous one, flip-adjusted) with a ``hinge`` or ``slide``
-joint along local z (``0 0 -1`` when flipped), and a body ``tool`` at the tool frame holding a site
-``tool`` at its origin. The tool is a body because MuJoCo rounds away a site's own rotation when it is
-below ~1e-6 rad; a site at the identity of a body is exact. Angles are
-radians (``compiler angle="radian"``); orientations are unit quaternions (w, x, y, z) written with
-``repr`` (full precision). Kinematics only: massless bodies get MuJoCo's ``boundmass``/``boundinertia``
-placeholders so that the model compiles; they carry no physical meaning.
+``mjcf_from_robot`` writes a model MuJoCo simulates; the parts live in their own modules:
+``mjcf_write`` (the document), ``mjcf_tree`` (which link becomes which body, joint or site),
+``mjcf_inertial``, ``mjcf_geoms_write`` and ``mjcf_actuators``. The readers import the quaternion
+helpers from here.
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
-from .. import se3
-from .xmltext import quoteattr
-from ..robot import Robot
+if TYPE_CHECKING:  # pragma: no cover
+    from ..robot import Robot
 
-__all__ = ["mjcf_from_robot", "quat_from_matrix", "matrix_from_quat"]
+__all__ = ["mjcf_from_robot", "quat_from_matrix", "matrix_from_quat", "place_attrs", "NOISE"]
+
+#: Quaternion components, and positions relative to the robot size, below this are rounding noise of
+#: unit-size products (~1e-16 each): written as 0, so that a frame that did not turn reads as such.
+NOISE = 1e-15
 
 
 def matrix_from_quat(q: np.ndarray) -> np.ndarray:
@@ -55,65 +56,38 @@ def quat_from_matrix(R: np.ndarray) -> np.ndarray:
     return out if out[0] >= 0 else -out
 
 
-def _num(x: float) -> str:
-    x = float(x)
-    return "0" if x == 0 else repr(x)
+#: The source's own origin numbers (xyz of a URDF origin) are written when they give the pose to this,
+#: relative to the robot size: a pose re-expressed by robkin differs from them by rounding (~1e-16).
+SAME_ORIGIN_TOL = 1e-12
 
 
-def _place(T: np.ndarray) -> str:
-    """pos/quat attributes of a pose relative to the parent body."""
-    return (f'pos="{" ".join(_num(v) for v in T[:3, 3])}" '
-            f'quat="{" ".join(_num(v) for v in quat_from_matrix(T[:3, :3]))}"')
+def place_attrs(rel: np.ndarray, scale: float = 1.0, origin: tuple[float, ...] | None = None) -> str:
+    """`` pos="..." quat="..."`` of a pose (4, 4) relative to its parent, each left out when it is
+    the identity up to ``NOISE`` (positions: times ``scale``, the robot size). ``origin``: the
+    source's six numbers (xyz, rpy) of the same pose, whose xyz is written when it still gives it."""
+    from .float_text import float_text
+
+    p = np.array(rel[:3, 3], dtype=float)
+    if origin is not None:
+        from .urdf import origin_matrix
+
+        if np.abs(origin_matrix(origin[:3], origin[3:]) - rel).max() <= SAME_ORIGIN_TOL * scale:
+            p = np.array(origin[:3], dtype=float)
+    p[np.abs(p) < NOISE * scale] = 0.0
+    q = quat_from_matrix(rel[:3, :3])
+    q[np.abs(q) < NOISE] = 0.0
+    pos = f' pos="{" ".join(float_text(v) for v in p)}"' if p.any() else ""
+    quat = "" if (q[1:] == 0).all() else f' quat="{" ".join(float_text(v) for v in q)}"'
+    return pos + quat
 
 
-def mjcf_from_robot(robot: Robot) -> str:
-    """MJCF text of the robot; MuJoCo's body (and site) ``tool`` at qpos = q is world @ robot.fk(q).
+def mjcf_from_robot(robot: Robot, **options: Any) -> str:
+    """MJCF text of the robot: a model MuJoCo simulates (``robkin.io.mjcf_write.mjcf_text``, whose
+    keyword options ``mesh_files``, ``actuators``, ``kp``, ``kv``, ``fuse_fixed`` it takes).
 
-    Parameters
-    ----------
-    robot : Robot
-        n joints; revolute -> ``hinge``, prismatic -> ``slide``. Limits become ``range`` (a joint
-        limited on one side only gets +-1e10 on the other, as in URDF export); unlimited joints, and
-        joints whose lower limit equals the upper one (a URDF ``<limit>`` without bounds; MuJoCo
-        refuses an empty range), are ``limited="false"``.
-
-    Returns
-    -------
-    str
-        The MJCF document (one qpos entry per joint, in robot joint order).
+    MuJoCo's qpos[:n] is q, and the site named as the tip link (``tool`` for a robot without link
+    names) is at ``world @ robot.fk(q)``.
     """
-    from .. import __version__
-    from ..representations.dh import flip_frame
-    from .urdf import NO_LIMIT
+    from .mjcf_write import mjcf_text
 
-    D = [flip_frame(robot.frames[i], j.flip) for i, j in enumerate(robot.joints)]
-    out = ['<?xml version="1.0"?>',
-           f"<!-- written by robkin {__version__}: kinematics only; masses are MuJoCo placeholders -->",
-           f"<mujoco model={quoteattr(robot.name or 'robot')}>",
-           '  <compiler angle="radian" boundmass="1e-06" boundinertia="1e-12"/>',
-           "  <worldbody>",
-           f"    <body name=\"base\" {_place(robot.world)}>"]
-    prev = np.eye(4)
-    indent = "      "
-    for i, j in enumerate(robot.joints):
-        rel = se3.inv(prev) @ D[i]
-        kind = "hinge" if j.revolute else "slide"
-        if (j.lower is None and j.upper is None) or j.lower == j.upper:
-            limit = 'limited="false"'
-        else:
-            lo = -NO_LIMIT if j.lower is None else j.lower
-            hi = NO_LIMIT if j.upper is None else j.upper
-            limit = f'limited="true" range="{_num(lo)} {_num(hi)}"'
-        out.append(f"{indent}<body name={quoteattr(f'link{i + 1}')} {_place(rel)}>")
-        out.append(f"{indent}  <joint name={quoteattr(j.name)} type=\"{kind}\" "
-                   f"axis=\"0 0 {'-1' if j.flip else '1'}\" {limit}/>")
-        indent += "  "
-        prev = D[i]
-    out.append(f"{indent}<body name=\"tool\" {_place(se3.inv(prev) @ robot.tool)}>")
-    out.append(f"{indent}  <site name=\"tool\"/>")
-    out.append(f"{indent}</body>")
-    for _ in range(robot.n + 1):
-        indent = indent[:-2]
-        out.append(f"{indent}</body>")
-    out += ["  </worldbody>", "</mujoco>", ""]
-    return "\n".join(out)
+    return mjcf_text(robot, **options)

@@ -23,9 +23,9 @@ Geometry
 
 Mesh files
     A mesh is named by ``<compiler meshdir>`` (or ``assetdir``) joined with its ``file``, relative to
-    the main model file's folder, which is how the GUI finds it. As for ``<include>``, only files
-    inside that folder are named: an absolute path or one leading out of the folder (``..``, a
-    symbolic link) is skipped with a warning naming the geom. robkin never opens a mesh file here.
+    the main model file's folder (an absolute ``file`` or ``meshdir`` stays absolute), as MuJoCo
+    looks it up; :mod:`robkin.io.mesh_files` finds it when it is needed and says once which files
+    lie outside the model's folder. robkin never opens a mesh file here.
 
 The frame of a mesh shape is the frame of the mesh file's coordinates. (MuJoCo moves a compiled mesh
 geom's frame to the mesh's centre of mass, ``mesh_pos``/``mesh_quat``; the shape is where MuJoCo
@@ -34,7 +34,6 @@ draws the file.)
 
 from __future__ import annotations
 
-import warnings
 from pathlib import PurePosixPath
 from typing import Any, Callable
 
@@ -42,7 +41,6 @@ import numpy as np
 
 from ..bodies import Geometry, Inertial, Material, Shape
 from ..errors import InputError, quote
-from .files import file_inside
 from .mjcf_source import MjcfSource
 from .urdf import LinkContent, _floats
 from .urdf_content import ContentOnce
@@ -110,10 +108,10 @@ class MjcfContent(ContentOnce):
                 out[link] = LinkContent(tuple(shapes), inertial)
         return out
 
-    def _assets(self) -> tuple[dict[str, tuple[str | None, tuple[float, ...]]], dict[str, Material]]:
+    def _assets(self) -> tuple[dict[str, tuple[str, tuple[float, ...]]], dict[str, Material]]:
         """Mesh name -> (file name relative to the model folder, "" for a mesh without a file (given
-        by its vertices), None if refused; scale); material name -> Material."""
-        meshes: dict[str, tuple[str | None, tuple[float, ...]]] = {}
+        by its vertices); scale); material name -> Material."""
+        meshes: dict[str, tuple[str, tuple[float, ...]]] = {}
         materials: dict[str, Material] = {}
         for asset in self._src.root.findall("asset"):
             for el in asset.findall("mesh"):
@@ -132,13 +130,12 @@ class MjcfContent(ContentOnce):
                     materials[name] = Material(name, tuple(float(x) for x in rgba))  # type: ignore[arg-type]
         return meshes, materials
 
-    def _mesh_file(self, file: str) -> str | None:
-        """meshdir/file relative to the model's folder, or None when it would lead outside it."""
-        return file_inside(str(PurePosixPath(self._src.meshdir.replace("\\", "/")) / file.replace("\\", "/")),
-                           self._src.folder)
+    def _mesh_file(self, file: str) -> str:
+        """meshdir/file, relative to the model's folder unless either is absolute (MuJoCo's rule)."""
+        return str(PurePosixPath(self._src.meshdir.replace("\\", "/")) / file.replace("\\", "/"))
 
     def _geom(self, el: Any, T: np.ndarray, cls: str, link: str, k: int,
-              meshes: dict[str, tuple[str | None, tuple[float, ...]]], materials: dict[str, Material]) -> list[Shape]:
+              meshes: dict[str, tuple[str, tuple[float, ...]]], materials: dict[str, Material]) -> list[Shape]:
         from .mjcf_read import geom_pose
 
         name = el.get("name")
@@ -168,10 +165,6 @@ class MjcfContent(ContentOnce):
                 raise InputError(f"{where}: mesh {quote(mesh)} is not a <mesh> of the <asset>s")
             file, scale = meshes[mesh]
             if file == "":  # a mesh given by its vertices in the file: no file to draw
-                return []
-            if file is None:
-                warnings.warn(f"{where}: mesh '{mesh}' file is outside the model's folder (or absolute); the geom "
-                              f"is skipped: only files inside the folder are used", UserWarning, stacklevel=2)
                 return []
             geometry = Geometry("mesh", scale, file)
         else:

@@ -124,6 +124,7 @@ class _TreeBuilder:
         self.links: list[str] = ["world"]
         self.joints: list[UrdfJoint] = []
         self.kinds: dict[str, str] = {}  # chain joint name -> MuJoCo type, for ball/free refusal
+        self.refs: dict[str, float] = {}  # hinge/slide joint name -> ref (qpos units), for the equalities
         self.content: dict[str, list[tuple[Any, np.ndarray, str]]] = {}  # link -> its geoms and inertial
         self.counts = {"body": 0, "joint": 0, "site": 0}
         self.names: set[str] = {"world"}
@@ -151,8 +152,10 @@ class _TreeBuilder:
 
     def _add(self, name: str, jtype: str, parent: str, child: str, origin: np.ndarray,
              axis: np.ndarray = np.array([0.0, 0.0, 1.0]), lower: float | None = None,
-             upper: float | None = None) -> None:
-        self.joints.append(UrdfJoint(name, jtype, parent, child, origin, axis, lower, upper, None))
+             upper: float | None = None,
+             dynamics: tuple[float | None, float | None, float | None] = (None, None, None)) -> None:
+        self.joints.append(UrdfJoint(name, jtype, parent, child, origin, axis, lower, upper, None,
+                                     damping=dynamics[0], friction=dynamics[1], armature=dynamics[2]))
 
     def _flatten(self, el: Any, cls: str) -> list[tuple[Any, np.ndarray, str]]:
         """(element, pose relative to el, active class) of el's content, ``<frame>``s dissolved."""
@@ -210,7 +213,7 @@ class _TreeBuilder:
             jname, jtype, axis, origin, after, lo, hi = self._joint(j, c, name, F)
             last = k == len(joints) - 1 and not after.any()
             child = self._link(name if last else f"{name}/{jname}")
-            self._add(jname, jtype, link, child, pending @ origin, axis, lo, hi)
+            self._add(jname, jtype, link, child, pending @ origin, axis, lo, hi, self._dynamics(j, c, name))
             link, pending = child, se3.trans(*after)
         if not joints or link != name:  # welded body, or its frame is off the last joint's
             self._add(f"{name}:fixed", "fixed", link, self._link(name), pending)
@@ -239,11 +242,21 @@ class _TreeBuilder:
         axis = frame[:3, :3] @ _unit(_floats(attrs.get("axis"), 3, f"{where}: axis", (0, 0, 1)), f"{where}: axis")
         scale = self.src.angle if kind == "hinge" else float
         ref = scale(float(_floats(attrs.get("ref"), 1, f"{where}: ref", (0,))[0]))
+        self.refs[name] = ref
         lo, hi = self._limits(attrs, where, scale)
         if kind == "slide":
             return name, "prismatic", axis, se3.trans(*(-ref * axis)), np.zeros(3), lo, hi
         origin = se3.homogeneous(_rodrigues(axis, -ref), pos)
         return name, "revolute" if lo is not None else "continuous", axis, origin, -pos, lo, hi
+
+    def _dynamics(self, el: Any, cls: str, body: str) -> tuple[float | None, float | None, float | None]:
+        """(damping, frictionloss, armature) of a joint, None where neither the joint nor its class gives one."""
+        if el.tag == "freejoint":
+            return None, None, None
+        where = f"{self.src.source}: joint '{el.get('name') or ''}' (body '{body}')"
+        attrs = self._attrs(el, cls, where)
+        return tuple(None if attrs.get(k) is None else float(_floats(attrs[k], 1, f"{where}: {k}", ())[0])
+                     for k in ("damping", "frictionloss", "armature"))  # type: ignore[return-value]
 
     def _limits(self, attrs: Mapping[str, str], where: str,
                 scale: Callable[[float], float]) -> tuple[float | None, float | None]:
@@ -272,6 +285,17 @@ def model_from_mjcf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str
     src = read_mjcf_source(source)
     tree = _TreeBuilder(src)
     tree.build()
+    if src.root.find("equality") is not None:
+        from .mjcf_equality import joint_locks, joint_mimics
+
+        mimics = joint_mimics(src, tree.refs)
+        locks = joint_locks(src, tree.refs)
+        for j in tree.joints:  # joint equalities as mimics (robot_from_mjcf frees those on the chain)
+            j.mimic = mimics.get(j.name) if j.type != "fixed" else None
+            if j.name in locks and j.type in ("revolute", "continuous", "prismatic"):
+                # held at one value: equal limits, the one meaning of robkin.io.joint_limits
+                j.lower = j.upper = locks[j.name]
+                j.type = "revolute" if j.type == "continuous" else j.type
     content = MjcfContent(src, tree.content, tree._attrs)
     return UrdfModel(src.root.get("model"), tuple(tree.links), tuple(tree.joints), src.source, content), tree.kinds
 
@@ -298,4 +322,9 @@ def robot_from_mjcf(source: str | os.PathLike[str], base_link: str | None = None
     """
     model, kinds = model_from_mjcf(source)
     refuse_on_chain(model, kinds, base_link, tip_link, CHAIN_JOINTS)
+    if any(j.mimic for j in model.joints):  # an equality-bound joint on the chain stays a joint of its own
+        from .urdf_chain import select_chain
+
+        for j in select_chain(model, base_link, tip_link)[3]:
+            j.mimic = None
     return robot_from_model(model, base_link, tip_link, name=name)

@@ -1,10 +1,12 @@
 """An MJCF file as one XML tree: ``<include>`` resolved, ``<compiler>`` settings and ``<default>`` classes read.
 
-Input files are untrusted. An ``<include file>`` must be a relative path that stays inside the folder of
-the main model file (MuJoCo resolves every include against that folder, nested ones too); absolute
-paths, ``..`` escapes, symbolic links leading out, loops, more than ``MAX_INCLUDE_DEPTH`` levels, more
-than ``MAX_INCLUDES`` files and more than ``MAX_BYTES`` in all are refused with one line naming the
-file and the include. XML text given as a string cannot include anything.
+Input files are untrusted. An ``<include file>`` is a relative path, resolved against the folder of the
+main model file (as MuJoCo resolves every include, nested ones too). One that leads outside that folder
+(``../franka_assets/assets.xml`` in gymnasium-robotics' Franka kitchen, a symbolic link leading out) is
+read only when it names an ``.xml`` file, and said once, in one warning line for all of them. Absolute
+paths, other files outside the folder, loops, more than ``MAX_INCLUDE_DEPTH`` levels, more than
+``MAX_INCLUDES`` files and more than ``MAX_BYTES`` in all are refused with one line naming the file and
+the include. XML text given as a string cannot include anything.
 """
 
 from __future__ import annotations
@@ -39,7 +41,8 @@ class MjcfSource:
     Attributes
     ----------
     root : Element
-        The ``<mujoco>`` element with every ``<include>`` replaced by the included file's elements.
+        The ``<mujoco>`` element with every ``<include>`` replaced by the children of the included
+        file's top element (``<mujoco>``, ``<mujocoinclude>`` or any other name, as MuJoCo does).
     source : str
         The main file's name, for messages.
     degrees : bool
@@ -71,13 +74,17 @@ class MjcfSource:
         return math.radians(value) if self.degrees else value
 
 
-def _parse(text: str, source: str) -> Any:
+def _parse(text: str, source: str, included: bool = False) -> Any:
+    """The root element of an MJCF file. An included file's top element may have any name (MuJoCo
+    drops it and inserts its children; older models name it ``<mujocoinclude>``)."""
     from .urdf import _parse_xml  # xml.etree with any DTD refused first, shared with the URDF reader
 
     root = _parse_xml(text, source)
-    if root.tag != "mujoco":
+    if root.tag != "mujoco" and not included:
         hint = {"robot": " (this is a URDF: give it the extension .urdf)",
-                "sdf": " (this is an SDF model: give it the extension .sdf)"}.get(root.tag, "")
+                "sdf": " (this is an SDF model: give it the extension .sdf)",
+                "mujocoinclude": " (this file is meant for <include file> in a model: load the model that "
+                                 "includes it)"}.get(root.tag, "")
         raise InputError(f"{source}: root element is <{root.tag}>; an MJCF file has <mujoco>{hint}")
     return root
 
@@ -89,6 +96,7 @@ class _Includes:
         self.folder = folder.resolve() if folder is not None else None
         self.total = used
         self.count = 0
+        self.outside: list[str] = []  # includes read from outside the model's folder, as written
 
     def expand(self, root: Any, where: str, stack: tuple[Path, ...]) -> None:
         # iterative walk: an element tree nested thousands deep must not exhaust Python's stack
@@ -118,8 +126,11 @@ class _Includes:
                              f"are read, not absolute ones")
         path = (self.folder / name).resolve()
         if not path.is_relative_to(self.folder):
-            raise InputError(f"{where}: <include file=\"{name}\"> leads outside the model's folder "
-                             f"{self.folder}; only files inside it are read")
+            if path.suffix.lower() != ".xml":
+                raise InputError(f"{where}: <include file=\"{name}\"> leads outside the model's folder "
+                                 f"{self.folder} to a file that is not .xml; outside it only .xml files are read")
+            if name not in self.outside:
+                self.outside.append(name)
         if path in stack:
             raise InputError(f"{where}: <include file=\"{name}\"> includes itself (loop through "
                              f"{' -> '.join(p.name for p in stack)} -> {path.name})")
@@ -134,7 +145,7 @@ class _Includes:
         if self.total > MAX_BYTES:
             raise InputError(f"{where}: <include file=\"{name}\">: the model and its includes exceed {MAX_BYTES} bytes")
         text = read_text_file(path, MAX_BYTES, "an MJCF file")
-        sub = _parse(text, str(path))
+        sub = _parse(text, str(path), included=True)
         self.expand(sub, str(path), stack + (path,))
         return list(sub)
 
@@ -196,6 +207,13 @@ def read_mjcf_source(source: str | os.PathLike) -> MjcfSource:
     includes = _Includes(folder, len(text.encode("utf-8")))
     main = (Path(source).resolve(),) if folder is not None else ()
     includes.expand(root, name, main)
+    if includes.outside:
+        import warnings
+
+        listed = ", ".join(n[:60] for n in includes.outside[:3])
+        more = f" and {len(includes.outside) - 3} more" if len(includes.outside) > 3 else ""
+        warnings.warn(f"{name}: {len(includes.outside)} included file(s) outside the model's folder are read: "
+                      f"{listed}{more}", UserWarning, stacklevel=2)
     src = MjcfSource(root, name, folder=folder)
     _compiler(src)
     src.defaults = _defaults(root, name)

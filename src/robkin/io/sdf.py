@@ -205,6 +205,17 @@ def _axis(j: _Model, el: Any, name: str, X_joint: np.ndarray) -> tuple[np.ndarra
     return axis, lower, upper
 
 
+def _axis_dynamics(el: Any, where: str) -> tuple[float | None, float | None, float | None, float | None]:
+    """(effort, velocity, damping, friction) of a joint's ``<axis>``: ``<limit><effort><velocity>`` (SDF's
+    default -1, no limit, read as None) and ``<dynamics><damping><friction>``; None where absent."""
+    out: list[float | None] = []
+    for path in ("axis/limit/effort", "axis/limit/velocity", "axis/dynamics/damping", "axis/dynamics/friction"):
+        text = el.findtext(path)
+        v = None if text is None or not text.strip() else float(_floats(text.strip(), 1, f"{where}: {path}", ())[0])
+        out.append(None if v is None or (v < 0 and "limit" in path) else v)
+    return out[0], out[1], out[2], out[3]
+
+
 def _limit(text: str | None, where: str) -> float | None:
     if text is None or not text.strip():
         return None
@@ -267,7 +278,10 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
         mid = child if exact else f"{child}@{name}"
         if not exact:
             links.append(mid)
-        joints.append(UrdfJoint(name, moving, parent, mid, origin, axis, lower, upper, None))
+        effort, velocity, damping, friction = (_axis_dynamics(el, f"{j.source}: joint '{name}'")
+                                               if moving != "floating" else (None, None, None, None))
+        joints.append(UrdfJoint(name, moving, parent, mid, origin, axis, lower, upper, None, effort=effort,
+                                velocity=velocity, damping=damping, friction=friction))
         if not exact:
             joints.append(UrdfJoint(f"{name}:child", "fixed", mid, child, rest, np.array([0.0, 0.0, 1.0]),
                                     None, None, None))
@@ -299,6 +313,8 @@ def robot_from_sdf(source: str | os.PathLike[str], base_link: str | None = None,
     base_link, tip_link : str, optional
         Links or explicit frames at the chain's ends (nested models' as ``inner::link``). Default base:
         the root link (the link fixed to ``world`` when a joint does that); default tip: the only leaf.
+        A model whose links form several unconnected trees: the tree holding these links, or the
+        only one with moving joints (see ``sdf_trees``).
     name : str, optional
         Robot name; default the model's name.
 
@@ -308,6 +324,9 @@ def robot_from_sdf(source: str | os.PathLike[str], base_link: str | None = None,
         GJD frames (n+1, 4, 4) in the base link frame, joints with the SDF names and limits
         (radians, metres); ``world`` = world -> base at q = 0 when the model is fixed to the world.
     """
+    from .sdf_trees import pick_tree
+
     model, kinds = model_from_sdf(source)
+    model = pick_tree(model, base_link, tip_link)  # a model may hold several unconnected trees
     refuse_on_chain(model, kinds, base_link, tip_link, CHAIN_JOINTS)
     return robot_from_model(model, base_link, tip_link, name=name)

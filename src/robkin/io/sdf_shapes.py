@@ -7,16 +7,14 @@ q = 0). Geometry: ``box`` (size, full side lengths), ``cylinder`` (radius, lengt
 ``plane``, ``ellipsoid``, ``heightmap``, ``polyline`` and the rest are skipped. Colour: the material's
 ``diffuse`` (else ``ambient``).
 
-Mesh URIs are kept as written when they name a model or package (``model://NAME/...``,
-``package://...``, found by the GUI like ROS packages) or a web address (never fetched). A plain path
-is relative to the SDF file and must stay inside its folder; ``file://`` and absolute paths, and paths
-leading out (``..``, a symbolic link), are skipped with a warning naming the visual. Parsed on first
+Mesh URIs are kept exactly as written (``model://NAME/...``, ``package://...``, ``file://``, a path
+relative to the SDF file); :mod:`robkin.io.mesh_files` finds them when they are needed, refuses
+names that cannot be used and says once which files lie outside the model's folder. Parsed on first
 use; robkin never opens a mesh file here.
 """
 
 from __future__ import annotations
 
-import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -25,7 +23,6 @@ import numpy as np
 from .. import se3
 from ..bodies import Geometry, Inertial, Material, Shape
 from ..errors import InputError
-from .files import file_inside
 from .urdf import LinkContent, _floats
 from .urdf_content import ContentOnce
 
@@ -35,8 +32,6 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["sdf_content"]
 
 SKIPPED = ("plane", "ellipsoid", "heightmap", "polyline", "image", "empty")
-#: URI schemes kept as written: names the GUI looks up as packages, or addresses it never fetches.
-KEPT_SCHEMES = ("model://", "package://", "http://", "https://")
 
 
 def _number(el: Any, tag: str, where: str, default: float | None = None) -> float:
@@ -46,7 +41,7 @@ def _number(el: Any, tag: str, where: str, default: float | None = None) -> floa
     return float(_floats((text or "").strip() or None, 1, f"{where}: <{tag}>", ())[0])
 
 
-def _geometry(el: Any, where: str, folder: Path | None) -> Geometry | None:
+def _geometry(el: Any, where: str) -> Geometry | None:
     g = el.find("geometry")
     shape = None if g is None else next(iter(g), None)
     if shape is None:
@@ -63,11 +58,6 @@ def _geometry(el: Any, where: str, folder: Path | None) -> Geometry | None:
         uri = (shape.findtext("uri") or "").strip()
         if not uri:
             raise InputError(f"{where}: <mesh> has no <uri>")
-        if not uri.startswith(KEPT_SCHEMES) and file_inside(uri, folder) is None:
-            warnings.warn(f"{where}: mesh uri '{uri[:120]}' is absolute or outside the model's folder; the shape is "
-                          f"skipped: only files inside the folder, model:// and package:// are used",
-                          UserWarning, stacklevel=2)
-            return None
         scale = _floats((shape.findtext("scale") or "").strip() or None, 3, f"{where}: mesh <scale>", (1, 1, 1))
         return Geometry("mesh", tuple(float(x) for x in scale), uri)
     if kind in SKIPPED:
@@ -104,7 +94,7 @@ def sdf_content(model: "_Model", folder: Path | None) -> ContentOnce:
     """link -> LinkContent of the model's links (poses relative to each link's frame), made on first use.
 
     ``model`` is the reader's resolved frame graph (``sdf._Model``, its ``link_elements`` filled);
-    ``folder`` the SDF file's folder (None for text input).
+    ``folder`` the SDF file's folder (None for text input; mesh names are kept as written either way).
     """
     from .sdf import _pose
 
@@ -126,7 +116,7 @@ def sdf_content(model: "_Model", folder: Path | None) -> ContentOnce:
             for role in ("visual", "collision"):
                 for k, sub in enumerate(el.findall(role)):
                     where = f"{model.source}: link '{link}' {role} '{sub.get('name') or f'#{k + 1}'}'"
-                    geometry = _geometry(sub, where, folder)
+                    geometry = _geometry(sub, where)
                     if geometry is not None:
                         material = _material(sub, where) if role == "visual" else None
                         shapes.append(Shape(link, 0, role, placed(sub, where), geometry, material, sub.get("name")))

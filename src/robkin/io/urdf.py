@@ -113,9 +113,13 @@ class UrdfModel:
         return out
 
     def root(self) -> str:
+        return self.roots()[0]
+
+    def roots(self) -> list[str]:
+        """Links without a parent joint, in file order: one for a URDF; an SDF model may hold several
+        unconnected trees (see ``sdf_trees``)."""
         parents = self.parent_joint()
-        roots = [name for name in self.links if name not in parents]
-        return roots[0]
+        return [name for name in self.links if name not in parents]
 
     def leaves(self, below: str) -> list[str]:
         """Leaf links of the subtree under ``below`` (itself if it has no children), in file order."""

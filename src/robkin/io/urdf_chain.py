@@ -23,6 +23,7 @@ from ..compiled import pose_rows
 if TYPE_CHECKING:
     from ..body_parts import Inertial, Link, LinkJoint, Shape
 from .urdf import AXIS_UNIT_TOL, AXIS_ZERO_TOL, UNSUPPORTED_TYPES, UrdfJoint, UrdfModel, parse_urdf
+from .joint_limits import warn_locked
 
 Rows3 = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
 
@@ -42,10 +43,10 @@ def _tree_leaves(kids: dict[str, list[UrdfJoint]], top: str, rigid_too: bool) ->
     return out
 
 
-def _default_base(model: UrdfModel) -> str:
-    """The root link, or its child when the root is a ``world`` link fixed to it (a virtual world
-    link is the world->base transform, not the robot)."""
-    root = model.root()
+def _default_base(model: UrdfModel, root: str | None = None) -> str:
+    """The root link (or ``root``), or its child when the root is a ``world`` link fixed to it (a
+    virtual world link is the world->base transform, not the robot)."""
+    root = model.root() if root is None else root
     kids = model.children()[root]
     if root == "world" and len(kids) == 1 and kids[0].type == "fixed":
         return kids[0].child
@@ -63,12 +64,14 @@ def _tip_candidates(model: UrdfModel, base_link: str) -> list[str]:
 
 def chains_of(model: UrdfModel, base_link: str | None = None) -> list[tuple[str, str, list[UrdfJoint]]]:
     """Every serial chain the tree offers from the base: (base, tip leaf, its moving joints), in file
-    order. Chains that climb through a moving joint (a base in the middle of the tree) are left out."""
-    base = _default_base(model) if base_link is None else base_link
+    order. Chains that climb through a moving joint (a base in the middle of the tree) are left out.
+    Without ``base_link``, the chains of every unconnected tree (an SDF model may hold several)."""
+    bases = [_default_base(model, root) for root in model.roots()] if base_link is None else [base_link]
     out = []
-    for tip in _tip_candidates(model, base):
-        _, _, _, down = select_chain(model, base, tip)
-        out.append((base, tip, [j for j in down if j.type != "fixed"]))
+    for base in bases:
+        for tip in _tip_candidates(model, base):
+            _, _, _, down = select_chain(model, base, tip)
+            out.append((base, tip, [j for j in down if j.type != "fixed"]))
     return out
 
 
@@ -213,7 +216,7 @@ def _link_joint(j: UrdfJoint) -> LinkJoint:
     axis = (x / k, y / k, z / k) if k >= AXIS_ZERO_TOL else (x, y, z)
     # ``or None``: readers of other formats may give mimic=False (the field was a flag once)
     return LinkJoint(j.name, j.type, axis, j.lower, j.upper, j.effort, j.velocity, j.damping, j.friction,
-                     j.mimic or None, j.xyz_rpy)
+                     j.mimic or None, j.xyz_rpy, j.armature)
 
 
 def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: str | None = None,
@@ -253,8 +256,9 @@ def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: s
             frames.append(pose_rows.compose(poses[j.child], (a, b, c, 0.0, d, e, f, 0.0, g, h, i, 0.0)))
         jtype = "prismatic" if j.type == "prismatic" else "revolute"
         joints.append(Joint(j.name, jtype, j.lower, j.upper, z < 0, j.effort, j.velocity,  # type: ignore[arg-type]
-                            j.damping, j.friction))
+                            j.damping, j.friction, j.armature))
     frames.append(poses[tip])
+    warn_locked(src, joints)  # equal limits: locked, as urdfdom, pinocchio and yourdfpy read them
     world = _world(model, base)
     links, shapes, inertials = _rest_of_the_file(model, base, {j.name: i + 1 for i, j in enumerate(chain)})
     bodies = Bodies(LazyTuple(links), (base,) + tuple(j.child for j in chain), tip, LazyTuple(shapes),

@@ -18,7 +18,8 @@ class UrdfJoint:
     """One <joint> element, parsed: origin (4, 4), axis (3,), limits (None where absent).
 
     ``xyz_rpy`` are the six origin numbers as the file wrote them (so that a writer can repeat them
-    exactly); effort, velocity, damping, friction and mimic are None where the file gave none.
+    exactly); effort, velocity, damping, friction, armature (MJCF: rotor inertia, kg m^2 or kg) and
+    mimic are None where the file gave none.
 
     The URDF reader gives ``origin`` as None and ``axis`` as three floats: the (4, 4) and (3,) arrays
     are then made from ``xyz_rpy`` and those floats only when asked for; the chain reader works with
@@ -27,20 +28,20 @@ class UrdfJoint:
     """
 
     __slots__ = ("name", "type", "parent", "child", "_origin", "_axis", "_pose", "lower", "upper", "mimic",
-                 "effort", "velocity", "damping", "friction", "xyz_rpy")
+                 "effort", "velocity", "damping", "friction", "xyz_rpy", "armature")
 
     def __init__(self, name: str, type: str, parent: str, child: str, origin: np.ndarray | None,
                  axis: np.ndarray | tuple[float, float, float], lower: float | None, upper: float | None,
                  mimic: Mimic | None = None, effort: float | None = None, velocity: float | None = None,
                  damping: float | None = None, friction: float | None = None,
-                 xyz_rpy: tuple[float, ...] | None = None) -> None:
+                 xyz_rpy: tuple[float, ...] | None = None, armature: float | None = None) -> None:
         if origin is None and xyz_rpy is None:
             raise TypeError("UrdfJoint needs an origin or its xyz_rpy numbers")
         self.name, self.type, self.parent, self.child = name, type, parent, child
         self._origin, self._axis, self._pose = origin, axis, None
         self.lower, self.upper, self.mimic = lower, upper, mimic
         self.effort, self.velocity, self.damping, self.friction = effort, velocity, damping, friction
-        self.xyz_rpy = xyz_rpy
+        self.xyz_rpy, self.armature = xyz_rpy, armature
 
     @property
     def origin(self) -> np.ndarray:

@@ -39,7 +39,7 @@ import traceback
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping
 
 from ..errors import InputError, quote
 from .http_loop import ConnectionLoop
@@ -115,12 +115,14 @@ class GuiServer(ConnectionLoop):
 
 def make_server(host: str = "127.0.0.1", port: int = 8765, text: str = "", fmt: str = "auto",
                 base_link: str | None = None, tip_link: str | None = None, source: str = "",
-                quiet: bool = True, other: dict[str, str] | None = None) -> GuiServer:
+                quiet: bool = True, other: dict[str, str] | None = None,
+                package_paths: Mapping[str, Path] | None = None) -> GuiServer:
     """A GUI server bound to (host, port); port 0 picks a free port (see ``server.url``).
 
     ``text`` is the robot shown when the page opens (with its ``fmt`` and URDF chain selectors);
     ``other`` ({text, fmt, source}) a second robot to compare it with (``robkin gui A B``).
-    ``source`` is the file ``text`` was read from: only then are the meshes it references served.
+    ``source`` is the file ``text`` was read from: only then are the meshes it references served
+    (``package_paths``: NAME -> folder of packages they name, as ``--package-path``).
     Raises InputError when the three.js modules are not installed (see ``robkin.viz.assets``).
     """
     from ..commands._common import EXAMPLES_DIR
@@ -134,10 +136,12 @@ def make_server(host: str = "127.0.0.1", port: int = 8765, text: str = "", fmt: 
     examples = {p.stem: p.read_text(encoding="utf-8") for p in sorted(EXAMPLES_DIR.glob("*.yaml"))}
     meshes = MeshRegistry()
     if text and source:
-        meshes = MeshRegistry.of(parse_robot(text, fmt, base_link, tip_link, source=source)[0], Path(source))
+        meshes = MeshRegistry.of(parse_robot(text, fmt, base_link, tip_link, source=source)[0], Path(source),
+                                 package_paths)
     start = {"text": text, "fmt": fmt, "base_link": base_link or "", "tip_link": tip_link or "",
              "source": source, "examples": examples, "default_example": "rrpr", "other": other,
-             "visuals": meshes.visuals, "missing_meshes": meshes.missing}
+             "visuals": meshes.visuals, "missing_meshes": meshes.missing,
+             "missing_line": meshes.missing_line}
     try:
         return GuiServer((host, port), start, quiet=quiet, meshes=meshes)
     except OSError as exc:

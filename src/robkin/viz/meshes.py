@@ -1,15 +1,14 @@
-"""The visuals (meshes and primitive shapes) the GUI draws for a robot given on the command line.
+"""The visuals (meshes and primitive shapes) the GUI and ``plot -o page.html`` draw for a robot file.
 
-A URDF (or MJCF, SDF) names its meshes by file name: ``package://pkg/path/link.stl``, a path relative
-to the file (an MJCF's already joined with its ``meshdir``), SDF's ``model://name/path``, or
-``file:///abs/path``. :func:`resolve_mesh` finds such a file the way ROS does:
-``package://pkg/...`` in a folder named ``pkg`` above the robot file or on ``ROS_PACKAGE_PATH``.
+A URDF (or MJCF, SDF) names its meshes by file name; :func:`robkin.io.mesh_files.resolve_meshes`
+finds them (``package://``, ``model://``, ``file://``, relative paths, ``--package-path``) and says
+why one cannot be used.
 
 The server never opens a path that comes from a request: :class:`MeshRegistry` is built once, when
 the GUI starts, from the visuals of the robot file given on the command line; it assigns each mesh
 file an id (``m0``, ``m1``, ...), and ``GET /api/mesh/<id>`` serves only those files, only with a
-mesh extension (.stl, .dae, .obj), and only up to a size cap. A robot pasted or loaded in the page
-is drawn as the stick figure.
+format the page draws (.stl, .dae, .obj), and only up to a size cap. A robot pasted or loaded in the
+page is drawn as the stick figure.
 
 The visuals come from ``robot.bodies`` (shapes with their pose at home in the base frame and the
 body they move with); a robot without them has no visuals.
@@ -17,67 +16,21 @@ body they move with); a robot without them has no visuals.
 
 from __future__ import annotations
 
-import os
+import base64
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
-from urllib.parse import unquote, urlparse
+from typing import Any, Mapping
 
+from ..io.mesh_files import MAX_MESH_BYTES, MAX_MESHES, MeshFile, missing_line, resolve_meshes
 from ..robot import Robot
 
-__all__ = ["MESH_TYPES", "MAX_MESH_BYTES", "MAX_MESHES", "resolve_mesh", "MeshRegistry"]
+__all__ = ["MESH_TYPES", "MAX_MESH_BYTES", "MAX_MESHES", "MAX_PAGE_MESH_BYTES", "MeshRegistry"]
 
 #: Mesh file suffix -> MIME type; the page has a three.js loader for each.
 MESH_TYPES = {".stl": "model/stl", ".dae": "model/vnd.collada+xml", ".obj": "model/obj"}
-#: Largest mesh file served (a detailed arm link is a few MB; this bounds memory per request).
-MAX_MESH_BYTES = 64 * 1024 * 1024
-#: Most mesh files one robot may reference (a humanoid has about a hundred visuals).
-MAX_MESHES = 1000
-
-
-#: Where each URI scheme's first component is looked up besides the folders above the robot file: ROS
-#: packages, and Gazebo's models (SDF ``model://NAME/...``).
-SEARCH_PATHS = {"package": ("ROS_PACKAGE_PATH",), "model": ("GZ_SIM_RESOURCE_PATH", "GAZEBO_MODEL_PATH")}
-
-
-def _package_roots(package: str, robot_file: Path, variables: tuple[str, ...]) -> list[Path]:
-    """Folders that may be package (or model) ``package``: named so, above the robot file or on the
-    search path environment ``variables``."""
-    roots = [d for d in robot_file.resolve().parents if d.name == package]
-    for entry in (e for var in variables for e in os.environ.get(var, "").split(os.pathsep)):
-        if entry:
-            base = Path(entry)
-            roots += [base] if base.name == package else [base / package]
-    return roots
-
-
-def resolve_mesh(filename: str, robot_file: Path) -> Path | None:
-    """The mesh file a robot file names, or None if it is not found or not a served mesh type.
-
-    Parameters
-    ----------
-    filename : str
-        As written in the robot file: ``package://pkg/rel``, ``model://name/rel`` (SDF; in a folder
-        ``name`` above the file or on GZ_SIM_RESOURCE_PATH / GAZEBO_MODEL_PATH), ``file:///abs``, or
-        a relative path.
-    robot_file : Path
-        The robot file (relative names are relative to its folder).
-    """
-    url = urlparse(filename)
-    if url.scheme in SEARCH_PATHS:
-        rel = unquote(url.path).lstrip("/")
-        candidates = [root / rel for root in _package_roots(url.netloc, robot_file, SEARCH_PATHS[url.scheme])]
-    elif url.scheme == "file":
-        candidates = [Path(unquote(url.path))]
-    elif url.scheme == "" or len(url.scheme) == 1:  # a plain path (a Windows drive letter parses as a scheme)
-        p = Path(filename)
-        candidates = [p if p.is_absolute() else robot_file.resolve().parent / p]
-    else:
-        return None  # http:// and friends: nothing is fetched
-    for c in candidates:
-        if c.suffix.lower() in MESH_TYPES and c.is_file():
-            return c.resolve()
-    return None
+#: Most mesh bytes embedded in one self-contained page (``plot -o page.html``): a browser holds a page
+#: of this size comfortably; a robot with more is drawn with the meshes that fit.
+MAX_PAGE_MESH_BYTES = 128 * 1024 * 1024
 
 
 @dataclass
@@ -94,11 +47,18 @@ class MeshRegistry:
     visuals: list[dict[str, Any]] = field(default_factory=list)
     missing: list[str] = field(default_factory=list)
 
+    #: one line saying which meshes were not found and why (None when all were)
+    missing_line: str | None = None
+
     @classmethod
-    def of(cls, robot: Robot, robot_file: Path) -> "MeshRegistry":
+    def of(cls, robot: Robot, robot_file: Path, package_paths: Mapping[str, Path] | None = None) -> "MeshRegistry":
+        """The visuals of ``robot`` (read from ``robot_file``), their mesh files found as
+        :func:`robkin.io.mesh_files.resolve_meshes` finds them."""
         reg = cls()
         bodies = getattr(robot, "bodies", None)
         shapes = bodies.visuals() if bodies else ()
+        resolved = resolve_meshes(robot, robot_file, package_paths) if shapes else {}
+        drawn: dict[str, MeshFile] = {}
         ids: dict[Path, str] = {}
         for s in shapes:
             g = s.geometry
@@ -106,19 +66,34 @@ class MeshRegistry:
                                     "size": list(g.size), "rgba": list(s.material.rgba) if s.material and
                                     s.material.rgba else None}
             if g.kind == "mesh":
-                path = resolve_mesh(g.filename or "", robot_file)
-                if path is None or path.stat().st_size > MAX_MESH_BYTES:
-                    reg.missing.append(g.filename or "")
+                found = resolved.get(g.filename or "") or MeshFile(g.filename or "", None, "no file name")
+                if found.path is not None and found.path.suffix.lower() not in MESH_TYPES:
+                    found = MeshFile(found.source, None, f"the viewer draws {', '.join(MESH_TYPES)} files")
+                drawn[found.source] = found
+                if found.path is None:
                     continue
-                if path not in ids:
-                    if len(ids) >= MAX_MESHES:
-                        reg.missing.append(g.filename or "")
-                        continue
-                    ids[path] = f"m{len(ids)}"
-                    reg.files[ids[path]] = path
-                item.update(mesh=ids[path], format=path.suffix.lower().lstrip("."))
+                ids.setdefault(found.path, f"m{len(ids)}")
+                reg.files[ids[found.path]] = found.path
+                item.update(mesh=ids[found.path], format=found.path.suffix.lower().lstrip("."))
             reg.visuals.append(item)
+        reg.missing = [m.source for m in drawn.values() if m.path is None]
+        reg.missing_line = missing_line(drawn, robot_file)
         return reg
+
+    def embedded(self, limit: int = MAX_PAGE_MESH_BYTES) -> tuple[dict[str, str], list[str]]:
+        """The mesh files as base64 text by id, for a self-contained page, up to ``limit`` bytes in all;
+        and the ids left out (too large together, or gone since)."""
+        out: dict[str, str] = {}
+        left: list[str] = []
+        total = 0
+        for mesh_id in self.files:
+            found = self.read(mesh_id)
+            if found is None or total + len(found[0]) > limit:
+                left.append(mesh_id)
+                continue
+            total += len(found[0])
+            out[mesh_id] = base64.b64encode(found[0]).decode("ascii")
+        return out, left
 
     def read(self, mesh_id: str) -> tuple[bytes, str] | None:
         """(bytes, MIME type) of a registered mesh, or None for an unknown id or a file grown too large."""

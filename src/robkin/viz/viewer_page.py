@@ -1,6 +1,7 @@
 """``robkin plot -o robot.html``: the GUI's 3D viewer as one self-contained HTML file.
 
-The page holds everything: the scene data (JSON), the three.js modules and robkin's viewer. A file
+The page holds everything: the scene data (JSON), the robot file's meshes (base64, drawn as the GUI
+draws them; the ones not found named in the page), the three.js modules and robkin's viewer. A file
 opened from disk has no folder for ES modules to import from, so the modules are embedded as text
 and a short loader turns each into a blob URL and maps its bare name to it (an import map, see
 :func:`robkin.viz.assets.module_sources`). Nothing is fetched; the page works offline.
@@ -10,7 +11,8 @@ from __future__ import annotations
 
 import html
 import json
-from typing import Any, Sequence
+from pathlib import Path
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
@@ -19,7 +21,8 @@ from ..robot import Robot
 __all__ = ["viewer_data", "viewer_page"]
 
 #: robkin's own modules in the page (static/ file -> bare specifier); the first one is the entry point.
-_APP_MODULES = {"standalone.js": "robkin/standalone.js", "viewer.js": "robkin/viewer.js"}
+_APP_MODULES = {"standalone.js": "robkin/standalone.js", "viewer.js": "robkin/viewer.js",
+                "meshes.js": "robkin/meshes.js"}
 
 _LOADER = """\
 const imports = {};
@@ -50,16 +53,23 @@ h1 { font-size: 1.1em; margin: 0 1em 0 0; }
 .tool::before { background: #ff3fa4; } .base::before { background: #000; }
 #overlays { display: contents; }
 pre { margin: 0.5em 1em; font-size: 12px; }
+#missing-meshes { margin: 0.3em 1em; color: #8a4b00; font-size: 0.9em; }
 """
 
 
 def viewer_data(robots: Sequence[Robot], q: np.ndarray | None, overlay: Sequence[str], labels: Sequence[str],
                 frames: bool = False, view: Sequence[float] | None = None,
-                exaggerate: float | None = None) -> dict[str, Any]:
+                exaggerate: float | None = None, source: str | Path | None = None,
+                package_paths: Mapping[str, Path] | None = None) -> dict[str, Any]:
     """What the page draws: the first robot's scene, and as dashed overlays its representations
     (``overlay``) or the other robots (each at the same q), like ``robkin plot``'s pictures.
     ``exaggerate`` (several robots): the others' differences from the first multiplied by it, and
-    ``arrows`` (``robkin.viz.difference``) from the first robot's axes to theirs."""
+    ``arrows`` (``robkin.viz.difference``) from the first robot's axes to theirs.
+
+    ``source``: the file the first robot was read from; its visuals are drawn with the mesh files they
+    name (found as :func:`robkin.io.mesh_files.resolve_meshes` finds them, with ``package_paths``), and
+    ``missing_line`` says which were not found. Warns (one line) when some were not.
+    """
     from .scene import build_scene, overlay_scenes
 
     robot = robots[0]
@@ -76,9 +86,34 @@ def viewer_data(robots: Sequence[Robot], q: np.ndarray | None, overlay: Sequence
             overlays = [exaggerated(scene, s, exaggerate) for s in overlays]
     else:
         overlays = overlay_scenes(robot, Q, [r for r in overlay if r != "gjd"])
-    return {"scene": scene.to_json(), "overlays": [s.to_json() for s in overlays],
+    data = {"scene": scene.to_json(), "overlays": [s.to_json() for s in overlays],
             "scale": max(r.scale for r in robots), "show_frames": bool(frames),
-            "view": list(view) if view is not None else None, "arrows": arrows}
+            "view": list(view) if view is not None else None, "arrows": arrows,
+            "visuals": [], "meshes": {}, "motions": None, "missing_line": None}
+    if source is not None:
+        data.update(_visuals(robot, Q, Path(source), package_paths))
+    return data
+
+
+def _visuals(robot: Robot, Q: np.ndarray, source: Path, package_paths: Mapping[str, Path] | None) -> dict[str, Any]:
+    import warnings
+
+    from ..bodies import body_motions  # type: ignore[import-not-found, unused-ignore]
+    from .meshes import MAX_PAGE_MESH_BYTES, MeshRegistry
+
+    reg = MeshRegistry.of(robot, source, package_paths)
+    meshes, left = reg.embedded()
+    line = reg.missing_line
+    if left:
+        names = [reg.files[i].name for i in left]
+        note = (f"{len(left)} mesh file(s) left out, more than {MAX_PAGE_MESH_BYTES // 2 ** 20} MB in all: "
+                f"{', '.join(names[:3])}{' ...' if len(names) > 3 else ''}")
+        line = f"{line}; {note}" if line else f"{source}: {note}"
+    if line:
+        warnings.warn(line, UserWarning, stacklevel=3)
+    visuals = [v for v in reg.visuals if v.get("mesh") is None or v["mesh"] in meshes]
+    return {"visuals": visuals, "meshes": meshes, "missing_line": line,
+            "motions": body_motions(robot, Q).tolist() if visuals else None}
 
 
 def _embed(text: str) -> str:
@@ -110,6 +145,7 @@ def viewer_page(data: dict[str, Any], title: str, caption: str = "") -> str:
 <div class="legend"><span class="k link">links</span><span class="k axis">joint axes (+ end longer)</span>
 <span class="k tool">tool frame</span><span class="k base">base frame</span><span id="overlays"></span>
 <span id="grid-unit"></span></div>
+{f'<p id="missing-meshes">{html.escape(data["missing_line"])}</p>' if data.get("missing_line") else ""}
 <pre>{html.escape(caption)}</pre>
 <script type="application/json" id="robkin-data">{_embed(json.dumps(data, allow_nan=False))}</script>
 {modules}

@@ -241,6 +241,10 @@ function buildSliders(res) {
     const s = el("input", { type: "range", min: String(lo), max: String(hi), step: "any",
                             "data-joint": String(i), id: "q" + i, "aria-label": j.name });
     s.value = String(Math.min(Math.max(res.q[i], lo), hi));
+    if (lo === hi) {  // equal limits: locked at that value (robkin.io.joint_limits), as IK and sampling hold it
+      s.disabled = true;
+      s.title = "locked: its lower limit equals its upper limit";
+    }
     const out = el("output", { for: "q" + i, id: "qv" + i });
     s.addEventListener("input", () => { showSliderValue(i); refresh(); });
     box.append(el("div", { class: "slider" }, el("span", { class: "jname", title: j.type,
@@ -400,8 +404,12 @@ function showPose(res) {
 // Only the robot given on the command line, unedited and with its chain, has visuals the server serves.
 function showMeshes(body) {
   const st = state.start;
-  const on = !!(st && st.visuals.length && body.text === st.text && body.base_link === st.base_link &&
-                body.tip_link === st.tip_link);
+  const mine = !!(st && body.text === st.text && body.base_link === st.base_link && body.tip_link === st.tip_link);
+  const on = mine && st.visuals.length > 0;
+  if (mine && st.missing_line) {  // also when no mesh at all was found (apply() has just reset the box)
+    $("warnings").hidden = false;
+    $("warnings").textContent = ($("warnings").textContent + "\n" + st.missing_line).trim();
+  }
   if (on === state.meshKey) return;
   state.meshKey = on;
   if (!on) { viewer.setMeshes([]); return; }
@@ -409,10 +417,6 @@ function showMeshes(body) {
     if (state.meshKey) viewer.setMeshes(visuals);
     document.body.dataset.meshes = String(visuals.length);
   }).catch((err) => showError("meshes: " + err));
-  if (st.missing_meshes.length) {
-    $("warnings").hidden = false;
-    $("warnings").textContent += "\nMeshes not found (drawn without them): " + st.missing_meshes.join(", ");
-  }
 }
 
 // ------------------------------------------------------------------ downloads

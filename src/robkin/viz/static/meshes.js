@@ -1,5 +1,6 @@
 // The robot's visuals as three.js objects: meshes fetched by the id the server gave them (GET
-// /api/mesh/<id>; STL, COLLADA or OBJ) and primitive shapes. Each comes back with the body it moves
+// /api/mesh/<id>, or the URL urlOf(id) gives, e.g. a blob in the self-contained page; STL, COLLADA or
+// OBJ) and primitive shapes. Each comes back with the body it moves
 // with and its pose at home in the base frame; viewer.js places it at q with the body's motion.
 import * as THREE from "three";
 import { STLLoader } from "three/addons/loaders/STLLoader.js";
@@ -14,8 +15,10 @@ function material(rgba) {
                                           transparent: c[3] < 1, roughness: 0.55, metalness: 0.1 });
 }
 
-async function meshObject(v) {
-  const url = "/api/mesh/" + encodeURIComponent(v.mesh);
+const serverUrl = (id) => "/api/mesh/" + encodeURIComponent(id);
+
+async function meshObject(v, urlOf) {
+  const url = urlOf(v.mesh);
   if (v.format === "stl") {
     const geometry = await new STLLoader().loadAsync(url);
     geometry.computeVertexNormals();
@@ -43,9 +46,9 @@ function primitive(v) {
 }
 
 // visuals: the server's list (robkin.viz.meshes.MeshRegistry.visuals) -> [{body, pose, object}].
-export async function loadVisuals(visuals) {
+export async function loadVisuals(visuals, urlOf = serverUrl) {
   return Promise.all(visuals.map(async (v) => {
-    const inner = v.kind === "mesh" ? await meshObject(v) : primitive(v);
+    const inner = v.kind === "mesh" ? await meshObject(v, urlOf) : primitive(v);
     if (v.kind === "mesh") inner.scale.multiply(new THREE.Vector3(...v.size));
     const object = new THREE.Group();
     object.add(inner);
