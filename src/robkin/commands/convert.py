@@ -52,6 +52,14 @@ after an empty line), Markdown or LaTeX (a table environment; matrices use amsma
 full precision; -o names a .csv, .md or .tex file. --pi writes angles that are exactly k*pi/m as
 such (-pi/2, 3*pi/4).
 
+Mass properties: when the input has them (URDF/MJCF/SDF inertials, or m, r, I on a document's rows),
+every table carries each link's mass m (kg), centre of mass r (m) and inertia about it I (kg m^2:
+Ixx, Iyy, Izz, Ixy, Iyz, Ixz) in that table's own link frame i (DH, Hayati: frame {i} after joint i;
+modified DH: frame {i} on joint i's axis; RPY-XYZ: joint i's frame; PoE: its reference frame at q = 0),
+everything rigidly attached to a link (fixed links, the tool) merged in: a block under the table on
+stdout, m/r/I on the rows of a document, ten more columns in CSV/Markdown/LaTeX. A table with them
+converts back (--to urdf/mjcf) with the same mass matrix and gravity torques.
+
 Chains: --base-link / --tip-link given once apply to every robot file among the inputs; given once
 per input, in input order, the k-th belongs to the k-th input ('-' = that file's default, and what a
 robot document takes). A base or tip may be any link rigidly attached to the chain's end (UR's
@@ -73,6 +81,7 @@ examples:
   robkin convert a.yaml b.yaml c.urdf --to yaml -o converted/
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format latex --pi
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format csv -o ur5_dh.csv
+  robkin convert ur5_dh.yaml --to urdf -o ur5_again.urdf     # the DH rows' m, r, I become inertials
   robkin convert ur5.urdf panda.urdf a.yaml --tip-link tool0 --tip-link panda_hand_tcp --tip-link - --to mdh -o out/
 """
 

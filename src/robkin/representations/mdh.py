@@ -16,6 +16,7 @@ import numpy as np
 from .. import se3
 from ..robot import Robot
 from .link_table import LinkTable, flip_frame
+from .mass_rows import table_bodies
 from .placement import place_frames, tables_from_robots
 
 __all__ = ["MDHTable", "mdh_from_robot", "mdh_from_robots", "robot_from_mdh", "mdh_frames"]
@@ -33,15 +34,14 @@ class MDHTable(LinkTable):
 
 
 def robot_from_mdh(table: MDHTable, name: str | None = None) -> Robot:
-    """The GJD of a modified DH table: J_i = frame {i} (flip-adjusted), J_{n+1} = frame {n} tool."""
-    A = table.link_transforms(np.zeros(table.n))
+    """The GJD of a modified DH table: J_i = frame {i} (flip-adjusted), J_{n+1} = frame {n} tool; the
+    rows' mass properties (if any) become ``bodies.inertials``."""
+    F = table.link_frames()  # {0}..{n}
     frames = np.empty((table.n + 1, 4, 4))
-    T = table.base
     for i, joint in enumerate(table.joints):
-        T = T @ A[i]
-        frames[i] = flip_frame(T, joint.flip)
-    frames[-1] = T @ table.tool
-    return Robot(frames, table.joints, name=name, frames_from="mdh")
+        frames[i] = flip_frame(F[i + 1], joint.flip)
+    frames[-1] = F[-1] @ table.tool
+    return Robot(frames, table.joints, name=name, frames_from="mdh", bodies=table_bodies(table.masses, F))
 
 
 def mdh_frames(robot: Robot) -> list[np.ndarray]:

@@ -1,0 +1,147 @@
+"""The optional mass fields of a robot document's rows: reading and writing ``m``, ``r`` and ``I``.
+
+A row of ``dh``, ``mdh``, ``hayati`` or ``rpy_xyz`` (joint rows 1..n) may carry link i's mass
+properties in that table's own link frame i (``robkin.representations.mass_rows``):
+
+- ``m``: mass (kg), >= 0;
+- ``r``: centre of mass, 3 numbers (x, y, z) in frame i;
+- ``I``: inertia about the centre of mass in the axes of frame i, 6 numbers (Ixx, Iyy, Izz, Ixy, Iyz,
+  Ixz) in kg m^2.
+
+Either every joint row gives ``m`` or none does (absent means unknown, never zero mass: a massless
+link says ``m: 0``); a row with ``m`` and no ``r`` or ``I`` has its centre of mass at the frame origin
+or no rotational inertia (a point mass), as the Robotics Toolbox's links default. A row given as a list
+(column order) carries them as 10 more numbers: m, rx, ry, rz, Ixx, Iyy, Izz, Ixy, Iyz, Ixz. A ``poe``
+section gives them as ``masses: [{m, r, I}, ...]``, one per joint, at q = 0 in its reference frame.
+Mass fields are never angles: ``angles: degrees`` does not touch them.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, Mapping
+
+import numpy as np
+
+from ..errors import InputError
+from ..representations.mass_rows import INERTIA_KEYS, MASS_KEYS, MassRows
+from .numbers import number, number_list
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..robot import Robot
+
+__all__ = ["split_masses", "read_masses", "mass_fields", "same_masses", "LIST_WIDTH"]
+
+#: Numbers a list row adds for its mass properties: m, r (3), I (6).
+LIST_WIDTH = 10
+
+
+def split_masses(rows: Any, key: str, width: int, skip: tuple[int, ...] = ()) -> tuple[Any, MassRows | None]:
+    """Rows as ``document._rows`` reads them (the mass fields taken out) and their ``MassRows``.
+
+    ``width``: the number of kinematic columns of a row; ``skip``: indices of rows that carry no link
+    (RPY-XYZ's world and tool rows), left as they are and refused mass fields.
+    """
+    if not isinstance(rows, list):
+        return rows, None
+    out: list[Any] = []
+    fields: list[tuple[int, Any, Any, Any]] = []  # (row index, m, r, I) of the rows that carry masses
+    plain: list[int] = []
+    for i, row in enumerate(rows):
+        where = f"{key}[{i}]"
+        if isinstance(row, Mapping) and any(k in row for k in MASS_KEYS):
+            if i in skip:
+                raise InputError(f"{where}: this row is not a link's; mass fields (m, r, I) go on joint rows")
+            found = [row.get(k) for k in MASS_KEYS]
+            out.append({k: v for k, v in row.items() if k not in MASS_KEYS})
+        elif isinstance(row, list) and len(row) == width + LIST_WIDTH and i not in skip:
+            found = [row[width], row[width + 1:width + 4], row[width + 4:]]
+            out.append(row[:width])
+        else:
+            out.append(row)
+            plain.append(i)
+            continue
+        fields.append((i, *found))
+    links = [i for i in range(len(rows)) if i not in skip]
+    if not fields:
+        return out, None
+    missing = [i for i in plain if i in links]
+    if missing:
+        raise InputError(f"{key}[{missing[0]}]: no m, but other rows give mass properties; give m (kg) on "
+                         f"every joint row (m: 0 for a massless link) or on none")
+    return out, _mass_rows(fields, key)
+
+
+def _mass_rows(fields: list[tuple[int, Any, Any, Any]], key: str) -> MassRows:
+    mass, com, six = [], [], []
+    for i, m, r, I in fields:
+        where = f"{key}[{i}]"
+        if m is None:
+            raise InputError(f"{where}.m: missing; a row with r or I needs its mass m (kg)")
+        mass.append(number(m, f"{where}.m"))
+        com.append([0.0, 0.0, 0.0] if r is None else _numbers(r, f"{where}.r", ("x", "y", "z")))
+        six.append([0.0] * 6 if I is None else _numbers(I, f"{where}.I", INERTIA_KEYS))
+    return _checked(mass, com, six, key, [i for i, *_ in fields])
+
+
+def _numbers(value: Any, field: str, names: tuple[str, ...]) -> list[float]:
+    """``len(names)`` numbers; the error names what they are (``I: expected 6 numbers (Ixx, ...)``)."""
+    if isinstance(value, (list, tuple)) and len(value) != len(names):
+        raise InputError(f"{field}: expected {len(names)} numbers ({', '.join(names)}), got {len(value)}")
+    return number_list(value, field, len(names))
+
+
+def _checked(mass: list[float], com: list[list[float]], six: list[list[float]], key: str,
+             index: list[int]) -> MassRows:
+    """MassRows of the numbers read, an InputError naming the row where they are not valid."""
+    for k, (m, r, I) in enumerate(zip(mass, com, six)):
+        for name, values in (("m", [m]), ("r", r), ("I", I)):
+            if not all(np.isfinite(values)):
+                raise InputError(f"{key}[{index[k]}].{name}: must be finite numbers")
+        if m < 0:
+            raise InputError(f"{key}[{index[k]}].m: {m!r} kg; a mass is >= 0")
+    return MassRows.from_six(mass, com, six)
+
+
+def read_masses(value: Any, key: str, n: int) -> MassRows | None:
+    """A PoE section's ``masses`` list ({m, r, I} per joint), or None when absent."""
+    if value is None:
+        return None
+    if not isinstance(value, list) or len(value) != n:
+        raise InputError(f"{key}: expected a list of {n} entries {{m, r, I}}, one per joint")
+    fields = []
+    for i, entry in enumerate(value):
+        if not isinstance(entry, Mapping):
+            raise InputError(f"{key}[{i}]: expected a mapping {{m: kg, r: [x, y, z], I: [{', '.join(INERTIA_KEYS)}]}}")
+        extra = sorted(str(k) for k in entry if k not in MASS_KEYS)
+        if extra:
+            raise InputError(f"{key}[{i}]: unknown key(s) {', '.join(extra)}; known: m, r, I")
+        fields.append((i, entry.get("m"), entry.get("r"), entry.get("I")))
+    return _mass_rows(fields, key)
+
+
+def mass_fields(masses: MassRows, i: int, clean: Any) -> dict[str, Any]:
+    """Row i's ``m``, ``r`` and ``I`` as a document writes them (each float through ``clean``)."""
+    return {"m": clean(masses.mass[i]), "r": [clean(v) for v in masses.com[i]],
+            "I": [clean(v) for v in masses.six[i]]}
+
+
+def same_masses(a: "Robot", b: "Robot", tol: float) -> str | None:
+    """None if two descriptions of one robot give the same mass properties per link (mass relative to
+    the total, centre of mass relative to the robot's size, inertia relative to the largest entry, all
+    within ``tol``), else which link differs and how."""
+    from ..dynamics import link_masses
+
+    ma, mb = link_masses(a), link_masses(b)
+    if ma is None or mb is None:
+        return None if ma is mb else "one gives mass properties, the other none"
+    scale = max(a.scale, b.scale)
+    total = max(float(ma.mass.sum()), float(mb.mass.sum()), 1e-300)
+    big = max(float(np.abs(ma.inertia).max()), float(np.abs(mb.inertia).max()), 1e-300)
+    for i in range(1, a.n + 1):
+        for what, x, y, ref in (("mass", ma.mass[i], mb.mass[i], total),
+                                ("centre of mass", ma.com[i], mb.com[i], scale),
+                                ("inertia", ma.inertia[i], mb.inertia[i], big)):
+            d = float(np.abs(np.asarray(x) - np.asarray(y)).max())
+            if d > tol * ref:
+                return f"link {i} ({a.joints[i - 1].name}): {what} differs by {d:.3g}"
+    return None
