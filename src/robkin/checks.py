@@ -98,14 +98,15 @@ def check_poses(A: np.ndarray, field_name: Callable[[int], str]) -> np.ndarray:
     return out
 
 
-def check_q(q: ArrayLike, n: int) -> np.ndarray:
-    """Joint values as float array (n,) or (N, n); InputError for wrong shapes or non-finite values."""
+def check_q(q: ArrayLike, n: int, name: str = "q") -> np.ndarray:
+    """Joint values as float array (n,) or (N, n); InputError (naming ``name``) for wrong shapes or
+    non-finite values."""
     try:
         Q = np.asarray(q, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"q: expected {n} numbers") from None
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{name}: expected {n} numbers") from None
     if Q.ndim == 0 or Q.shape[-1] != n or Q.ndim > 2:
-        raise InputError(f"q: expected shape ({n},) or (N, {n}), got {Q.shape}")
+        raise InputError(f"{name}: expected shape ({n},) or (N, {n}), got {Q.shape}")
     if not np.all(np.isfinite(Q)):
-        raise InputError("q: contains NaN or infinity")
+        raise InputError(f"{name}: contains NaN or infinity")
     return Q

@@ -337,6 +337,31 @@ class Robot:
 
         return manipulability(self, q, kind)
 
+    # ------------------------------------------------------------------ dynamics (robkin.dynamics)
+    def inverse_dynamics(self, q: ArrayLike, qd: ArrayLike | None = None, qdd: ArrayLike | None = None, *,
+                         gravity: ArrayLike | None = None) -> np.ndarray:
+        """Joint torques/forces (n,) or (N, n) producing qdd at (q, qd): recursive Newton-Euler, compiled.
+
+        q, qd, qdd of one shape (n,) or (N, n), SI units; qd, qdd default to zero. ``gravity`` (3,) in
+        the world frame (``world`` maps it to the base), default (0, 0, -9.81) m/s^2. Needs the links'
+        mass properties (``bodies.inertials``); see ``robkin.dynamics.rigid_body``.
+        """
+        from .dynamics.rigid_body import inverse_dynamics
+
+        return inverse_dynamics(self, q, qd, qdd, gravity)
+
+    def gravity(self, q: ArrayLike, *, gravity: ArrayLike | None = None) -> np.ndarray:
+        """Torques/forces (n,) or (N, n) that hold the robot still at q (``inverse_dynamics`` at rest)."""
+        from .dynamics.rigid_body import gravity_torques
+
+        return gravity_torques(self, q, gravity)
+
+    def mass_matrix(self, q: ArrayLike) -> np.ndarray:
+        """Joint-space mass matrix at q: (n,) -> (n, n), (N, n) -> (N, n, n); composite rigid bodies."""
+        from .dynamics.rigid_body import mass_matrix
+
+        return mass_matrix(self, q)
+
     # ------------------------------------------------------------------ conveniences
     def random_q(self, size: int | None = None, rng: np.random.Generator | int | None = None,
                  default_range: float = math.pi) -> np.ndarray:
