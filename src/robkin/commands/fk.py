@@ -7,6 +7,8 @@ import argparse
 from typing import TYPE_CHECKING, Any
 
 from ._common import add_degrees, add_input, load_input, parse_q, revolute_degrees
+from ._gravity import EPILOG as GRAVITY_EPILOG
+from ._gravity import add_gravity, gravity_extras, print_gravity
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
@@ -22,13 +24,14 @@ examples:
   robkin fk rrpr.yaml --q -0.5,0,0.1,0 --json
   robkin fk ur5.urdf --tip-link tool0 --q 0,-pi/2,0,-pi/2,0,0 --json
   robkin fk scara.yaml --q 0,0.3,0.5,0,1 --jacobian --manipulability
+  robkin fk ur5.urdf --tip-link tool0 --q 0,-pi/4,pi/2,0,0,0 --gravity
 """
 
 
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p = sub.add_parser("fk", help="forward kinematics: tool pose at q",
                        description="Forward kinematics: the tool pose in the robot base frame at q.",
-                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+                       epilog=EPILOG + "\n" + GRAVITY_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     add_input(p)
     p.add_argument("--q", required=True, metavar="Q1,Q2,...", help="joint values, one per joint")
     p.add_argument("--json", action="store_true",
@@ -41,6 +44,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--manipulability", action="store_true",
                    help="also Yoshikawa's manipulability (translational, rotational, full), inverse "
                         'condition number and minimum singular value; JSON key "manipulability"')
+    add_gravity(p)
     return p
 
 
@@ -58,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
     warn_outside_limits(robot, q)
     T = robot.fk(q)
     rpy = se3.rpy_from_matrix(T[:3, :3])
-    extra = _jacobian_extras(robot, q, args)
+    extra = {**_jacobian_extras(robot, q, args), **gravity_extras(robot, q, args)}
     quat = se3.quaternion_from_matrix(T[:3, :3])
     if args.degrees:
         rpy, q = np.degrees(rpy), revolute_degrees(robot, q, to_radians=False)
@@ -79,6 +83,7 @@ def run(args: argparse.Namespace) -> int:
         print(text_table([""] + joint_names(robot), rows, title="J (geometric, base frame, at the tool origin)"))
     for key, value in extra.get("manipulability", {}).items():
         print(f"{key}: {fmt_num(value)}")
+    print_gravity(robot, extra, args)
     return 0
 
 
