@@ -7,7 +7,7 @@ which frame a joint's GJD frame is; everything else lives here once.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Callable, ClassVar, Sequence
+from typing import TYPE_CHECKING, Any, Callable, ClassVar, Sequence, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -27,6 +27,7 @@ __all__ = ["LinkTable", "check_dh_rows", "flip_frame", "residual_tool", "fk_erro
            "WARN_TOL"]
 
 COLUMNS = ("a", "d", "alpha", "theta")
+_Table = TypeVar("_Table", bound="LinkTable")
 #: The turn by pi about x that takes a joint frame to a flipped joint's frame (``flip_frame``).
 FLIP_X = se3.rot_x(np.pi)
 
@@ -254,7 +255,7 @@ class LinkTable:
             F[i + 1] = F[i] @ A[i]
         return F
 
-    def with_masses(self, masses: "MassRows | None") -> "LinkTable":
+    def with_masses(self: _Table, masses: "MassRows | None") -> _Table:
         """The same table carrying ``masses`` (each link's in its frame {i}), or none."""
         from dataclasses import replace
 

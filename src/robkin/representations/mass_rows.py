@@ -115,7 +115,8 @@ class MassRows:
     @classmethod
     def from_six(cls, mass: ArrayLike, com: ArrayLike, six: ArrayLike) -> "MassRows":
         """From masses (n,), centres (n, 3) and inertia entries (n, 6) as the documents write them."""
-        return cls(mass, com, tensor_from_six(np.asarray(six, dtype=float).reshape(-1, 6)))
+        return cls(np.asarray(mass, dtype=float), np.asarray(com, dtype=float),
+                   tensor_from_six(np.asarray(six, dtype=float).reshape(-1, 6)))
 
 
 def masses_of_robot(robot: "Robot", frames: ArrayLike) -> MassRows | None:

@@ -92,11 +92,11 @@ def tables_from_robots(cls: type[Table], robots: Sequence[Robot], *, label: bool
     for idx in groups.values():
         for i, table in zip(idx, _convert_group(cls, [robots[i] for i in idx], idx, label, stacklevel + 1)):
             out[i] = table
+    tables: list[Table] = out  # type: ignore[assignment]  # every slot filled above
     for i, r in enumerate(robots):
         if r.bodies.inertials:  # the mass properties, in the table's own link frames
-            table = out[i]
-            out[i] = table.with_masses(masses_of_robot(r, table.link_frames()))  # type: ignore[union-attr]
-    return out  # type: ignore[return-value]
+            tables[i] = tables[i].with_masses(masses_of_robot(r, tables[i].link_frames()))
+    return tables
 
 
 def _convert_group(cls: type[Table], robots: list[Robot], idx: list[int], label: bool,
