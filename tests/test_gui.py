@@ -18,6 +18,7 @@ import sys
 import tempfile
 import urllib.error
 import urllib.request
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -747,6 +748,27 @@ def _shot(pg, tmp_path, name: str) -> None:
 
 def _settled(pg) -> None:
     pg.wait_for_function("() => document.body.dataset.state == 'ready'", timeout=15000)
+
+
+def test_browser_shows_each_links_mass_properties(panda_page):
+    """Under DH, modified DH, Hayati, PoE and RPY-XYZ: one row per link with m, r, I (headers with units),
+    each cell's title the full-precision number of the table (in the frame the caption names)."""
+    pg = panda_page
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = robkin.load(str(PANDA), base_link="panda_link0", tip_link="panda_link8")
+    for key, table in (("dh", robkin.dh_from_robot(robot)), ("mdh", robkin.mdh_from_robot(robot)),
+                       ("rpy_xyz", robkin.rpy_from_robot(robot))):
+        rows = pg.query_selector_all(f"#mass-{key} tr")
+        assert len(rows) == 1 + robot.n
+        head = [c.inner_text() for c in rows[0].query_selector_all("th")]
+        assert head[1:5] == ["m (kg)", "rx (m)", "ry (m)", "rz (m)"] and head[-1] == "Ixz (kg m²)"
+        m = table.masses
+        for i, row in enumerate(rows[1:]):
+            values = [float(c.get_attribute("title")) for c in row.query_selector_all("td")[1:]]
+            assert values == [m.mass[i], *m.com[i], *m.six[i]]
+    assert pg.query_selector("#mass-hayati") and pg.query_selector("#mass-poe") and pg.query_selector("#mass-poe_body")
+    assert "frame {i} (after joint i)" in pg.inner_text("#section-dh")
 
 
 def test_browser_panda_orbit_drag_paste_check(panda_page, tmp_path):

@@ -295,7 +295,7 @@ function massTable(id, entries, names, frame) {
   const rows = entries.map((e) => [e.m, ...e.r, ...e.I]);
   return [el("div", { class: "caption", text: "Mass properties, r and I in " + frame +
                       "; I about the centre of mass (everything fixed to a link merged in)" }),
-          rowsTable(id, MASS_HEADER, names, rows, [])];
+          el("div", { class: "wide" }, rowsTable(id, MASS_HEADER, names, rows, []))];
 }
 
 function section(title, key, ...kids) {
