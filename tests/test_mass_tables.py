@@ -59,7 +59,14 @@ def _load(rel: str, base: str | None, tip: str | None) -> robkin.Robot:
         return robkin.load(robot_file(rel), base_link=base, tip_link=tip)
 
 
-@pytest.fixture(scope="module", params=CASES, ids=lambda c: f"{c[0].split('/')[-1]}:{c[2]}")
+#: the dynamics tests' chains, and three more trees: TIAGo's and PR2's arms (the rest of the robot held
+#: at 0: pinocchio locks it), a UR3 with a gripper hanging off its tool
+CHAINS = [*CASES, ("tiago_description/robots/tiago.urdf", "torso_lift_link", "arm_tool_link"),
+          ("pr2_description/urdf/pr2.urdf", "torso_lift_link", "r_gripper_tool_frame"),
+          ("ur_description/urdf/ur3_gripper.urdf", None, "tool0")]
+
+
+@pytest.fixture(scope="module", params=CHAINS, ids=lambda c: f"{c[0].split('/')[-1]}:{c[2]}")
 def case(request):
     rel, base, tip = request.param
     robot = _load(rel, base, tip)
