@@ -257,13 +257,16 @@ class LinkTable:
 
     def with_masses(self: _Table, masses: "MassRows | None") -> _Table:
         """The same table carrying ``masses`` (each link's in its frame {i}), or none."""
-        from dataclasses import replace
-
-        return replace(self, masses=masses)
+        if masses is not None:
+            check_masses(masses, self.n, self.SECTION)
+        # the rows, base and tool are this table's, already validated: not checked again
+        table = type(self)._from_checked(self.rows, self.joints, self.base, self.tool)
+        object.__setattr__(table, "masses", masses)
+        return table
 
     @classmethod
-    def _from_checked(cls, rows: np.ndarray, joints: tuple[Joint, ...], base: np.ndarray,
-                      tool: np.ndarray) -> "LinkTable":
+    def _from_checked(cls: type[_Table], rows: np.ndarray, joints: tuple[Joint, ...], base: np.ndarray,
+                      tool: np.ndarray) -> _Table:
         """A table from parts already validated as ``__post_init__`` would (finite float rows of the
         right shape, poses through ``check_pose(s)``), without validating them again."""
         table = cls.__new__(cls)

@@ -135,4 +135,4 @@ def _convert_group(cls: type[Table], robots: list[Robot], idx: list[int], label:
     for k in np.flatnonzero(err > WARN_TOL * scale):
         report_fk_error(float(err[k]), robots[k], section, where=f"robots[{idx[k]}]: " if label else "",
                         stacklevel=stacklevel + 1)
-    return tables  # type: ignore[return-value]
+    return tables
