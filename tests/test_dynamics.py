@@ -138,6 +138,21 @@ def test_batch_equals_single_calls_bit_for_bit(case):
         assert np.array_equal(g[k], robot.gravity(Q[k]))
 
 
+@pytest.mark.parametrize("N", [1, 2, 31, 32, 33, 64, 65, 130])
+def test_batches_across_block_edges_equal_single_calls(N):
+    """The kernels walk 32 configurations at a time: every batch size, at and around block edges,
+    gives each configuration the bits of its single call."""
+    path = robot_file("panda_description/urdf/panda.urdf")
+    robot = robkin.load(path, base_link="panda_link0", tip_link="panda_leftfinger")  # 7R + prismatic
+    rng = np.random.default_rng(N)
+    Q, QD, QDD = rng.uniform(-2, 2, size=(3, N, robot.n))
+    tau, M, g = robot.inverse_dynamics(Q, QD, QDD), robot.mass_matrix(Q), robot.gravity(Q)
+    for k in {0, N // 2, N - 1}:
+        assert np.array_equal(tau[k], robot.inverse_dynamics(Q[k], QD[k], QDD[k]))
+        assert np.array_equal(M[k], robot.mass_matrix(Q[k]))
+        assert np.array_equal(g[k], robot.gravity(Q[k]))
+
+
 def test_gravity_follows_the_world_frame():
     """Gravity is given in the world frame: a robot mounted upside down feels it reversed."""
     path = robot_file("ur_description/urdf/ur5_robot.urdf")

@@ -44,15 +44,18 @@ _REPRESENTATIONS = (
 __all__ = [
     "Joint", "Robot", *_REPRESENTATIONS,
     "RobkinError", "InputError", "ProjectionWarning", "ConditioningWarning", "load", "__version__",
+    "set_threads", "get_threads",
 ]
 
-__getattr__, __dir__ = lazy_exports(__name__, globals(), dict.fromkeys(_REPRESENTATIONS, ".representations"))
+__getattr__, __dir__ = lazy_exports(__name__, globals(), {**dict.fromkeys(_REPRESENTATIONS, ".representations"),
+                                                        "set_threads": ".threads", "get_threads": ".threads"})
 
 if TYPE_CHECKING:  # what static type checkers and IDEs see
     from .representations import (DHTable, HayatiTable, MDHTable, PoE, RPYTable, dh_from_robot,
                                   dh_from_robots, hayati_from_robot, mdh_from_robot, mdh_from_robots,
                                   poe_from_robot, robot_from_dh, robot_from_gjd, robot_from_hayati,
                                   robot_from_mdh, robot_from_poe, robot_from_rpy, rpy_from_robot)
+    from .threads import get_threads, set_threads
 
 
 def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None, *,

@@ -13,7 +13,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .errors import InputError, ProjectionWarning
+from .errors import InputError, ProjectionWarning, quote
 from . import se3
 
 __all__ = ["PROJECTION_TOL", "EXACT_TOL", "check_pose", "check_poses", "check_q"]
@@ -110,3 +110,13 @@ def check_q(q: ArrayLike, n: int, name: str = "q") -> np.ndarray:
     if not np.all(np.isfinite(Q)):
         raise InputError(f"{name}: contains NaN or infinity")
     return Q
+
+
+def check_threads(threads: object) -> int:
+    """A thread count given by the user: a whole number >= 1 (returned as int); InputError otherwise.
+
+    ``None`` (automatic) is the callers' business: they pass 0 to the kernels for it.
+    """
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
+        raise InputError(f"threads: expected a whole number >= 1 (or None for automatic), got {quote(repr(threads))}")
+    return int(threads)

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Callable, Iterable, Literal, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .checks import EXACT_TOL, PROJECTION_TOL, check_pose, check_poses, check_q
+from .checks import EXACT_TOL, PROJECTION_TOL, check_pose, check_poses, check_q, check_threads
 from .errors import InputError, quote
 from .names import check_name, duplicates
 from .bodies import EMPTY_BODIES, Bodies
@@ -223,34 +223,39 @@ class Robot:
 
         return Chain(self._local, self.revolute)
 
-    def fk(self, q: ArrayLike) -> np.ndarray:
+    def fk(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:
         """Tool pose in the base frame: q (n,) -> (4, 4), or a batch (N, n) -> (N, 4, 4).
 
         Compiled (``robkin.compiled.fk``); a float64 array is used as it is, anything else is
         validated and converted first. Joint values in radians (revolute) or length units (prismatic).
+        ``threads``: at most that many threads for a large batch (default: ``robkin.set_threads``,
+        ROBKIN_NUM_THREADS or the cores; see ``robkin.threads``); the results are the same bits.
         """
-        T = self._chain.fk(q)
+        t = 0 if threads is None else check_threads(threads)
+        T = self._chain.fk(q, t)
         if T is None:   # not a float64 array of finite values as it is: validate, convert, explain
-            T = self._chain.fk(np.ascontiguousarray(check_q(q, self.n)))
+            T = self._chain.fk(np.ascontiguousarray(check_q(q, self.n)), t)
         assert T is not None  # a checked, contiguous float64 array is always usable
         return T
 
-    def frames_at(self, q: ArrayLike) -> np.ndarray:
+    def frames_at(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:
         """All GJD frames moved to configuration q: (n,) -> (n+1, 4, 4), (N, n) -> (N, n+1, 4, 4).
 
         Frame i is joint i's frame *after* its own motion, so frame n+1 is the tool pose fk(q).
         Joint i's axis at q is the z axis of frame i before its motion, which has the same z axis.
+        ``threads`` as for ``fk``.
         """
-        F = self._chain.frames(q)
+        t = 0 if threads is None else check_threads(threads)
+        F = self._chain.frames(q, t)
         if F is None:
-            F = self._chain.frames(np.ascontiguousarray(check_q(q, self.n)))
+            F = self._chain.frames(np.ascontiguousarray(check_q(q, self.n)), t)
         assert F is not None  # a checked, contiguous float64 array is always usable
         return F
 
     def ik(self, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
            method: str = "auto", all_solutions: bool = False, tol_position: float = 1e-9,
-           tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 50,
-           rng: np.random.Generator | int | None = 0) -> "IKResult":
+           tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 200,
+           rng: np.random.Generator | int | None = 0, threads: int | None = None) -> "IKResult":
         """Inverse kinematics: joint values that put the tool at T (``robkin.kinematics.ik.ik``).
 
         Parameters
@@ -274,6 +279,8 @@ class Robot:
             Numeric: random restarts per target after the first attempt.
         rng : Generator, int seed or None
             Source of the random restarts; the default seed 0 makes results reproducible.
+        threads : int, optional
+            Numeric batches: at most that many threads (see ``fk``); the answers do not depend on it.
 
         Returns
         -------
@@ -283,9 +290,9 @@ class Robot:
         """
         return _ik_function()(self, T, q0=q0, mask=mask, method=method, all_solutions=all_solutions,
                   tol_position=tol_position, tol_orientation=tol_orientation,
-                  max_iterations=max_iterations, restarts=restarts, rng=rng)
+                  max_iterations=max_iterations, restarts=restarts, rng=rng, threads=threads)
 
-    def jacobian(self, q: ArrayLike, frame: str = "base") -> np.ndarray:
+    def jacobian(self, q: ArrayLike, frame: str = "base", *, threads: int | None = None) -> np.ndarray:
         """Jacobian at q (n,) -> (6, n), or at q (N, n) -> (N, 6, n).
 
         Parameters
@@ -300,6 +307,9 @@ class Robot:
             - ``'space'``: the space Jacobian of Modern Robotics, rows (w, v), the twist in the base frame.
             - ``'body'``: the body Jacobian of Modern Robotics, rows (w, v), the twist in the tool frame.
 
+        threads : int, optional
+            At most that many threads for a large batch (see ``fk``).
+
         Returns
         -------
         (6, n) or (N, 6, n) array
@@ -308,16 +318,17 @@ class Robot:
         from .kinematics import jacobian as jac
 
         if frame == "base":
-            return jac.jacobian_geometric(self, q)
+            return jac.jacobian_geometric(self, q, threads)
         if frame == "space":
-            return jac.jacobian_space(self, q)
+            return jac.jacobian_space(self, q, threads)
         if frame in ("body", "tool"):
-            J = jac.jacobian_body(self, q)
+            J = jac.jacobian_body(self, q, threads)
             # the body twist's v is the velocity of the tool origin in tool axes: [v; w] is (w, v) swapped
             return J if frame == "body" else J[..., _V_THEN_W, :]
         raise InputError(f"frame: '{frame}' is not one of base, tool, space, body")
 
-    def manipulability(self, q: ArrayLike, kind: str = "translational") -> np.ndarray | float:
+    def manipulability(self, q: ArrayLike, kind: str = "translational", *,
+                       threads: int | None = None) -> np.ndarray | float:
         """Yoshikawa's manipulability at q (n,) -> float, or at q (N, n) -> (N,) array.
 
         Parameters
@@ -335,32 +346,26 @@ class Robot:
         """
         from .kinematics.jacobian import manipulability
 
-        return manipulability(self, q, kind)
+        return manipulability(self, q, kind, threads)
 
     # ------------------------------------------------------------------ dynamics (robkin.dynamics)
     def inverse_dynamics(self, q: ArrayLike, qd: ArrayLike | None = None, qdd: ArrayLike | None = None, *,
-                         gravity: ArrayLike | None = None) -> np.ndarray:
+                         gravity: ArrayLike | None = None, threads: int | None = None) -> np.ndarray:
         """Joint torques/forces (n,) or (N, n) producing qdd at (q, qd): recursive Newton-Euler, compiled.
 
         q, qd, qdd of one shape (n,) or (N, n), SI units; qd, qdd default to zero. ``gravity`` (3,) in
         the world frame (``world`` maps it to the base), default (0, 0, -9.81) m/s^2. Needs the links'
-        mass properties (``bodies.inertials``); see ``robkin.dynamics.rigid_body``.
+        mass properties (``bodies.inertials``); see ``robkin.dynamics.rigid_body``. ``threads`` as ``fk``.
         """
-        from .dynamics.rigid_body import inverse_dynamics
+        return _dynamics().inverse_dynamics(self, q, qd, qdd, gravity, threads)
 
-        return inverse_dynamics(self, q, qd, qdd, gravity)
-
-    def gravity(self, q: ArrayLike, *, gravity: ArrayLike | None = None) -> np.ndarray:
+    def gravity(self, q: ArrayLike, *, gravity: ArrayLike | None = None, threads: int | None = None) -> np.ndarray:
         """Torques/forces (n,) or (N, n) that hold the robot still at q (``inverse_dynamics`` at rest)."""
-        from .dynamics.rigid_body import gravity_torques
+        return _dynamics().gravity_torques(self, q, gravity, threads)
 
-        return gravity_torques(self, q, gravity)
-
-    def mass_matrix(self, q: ArrayLike) -> np.ndarray:
+    def mass_matrix(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:
         """Joint-space mass matrix at q: (n,) -> (n, n), (N, n) -> (N, n, n); composite rigid bodies."""
-        from .dynamics.rigid_body import mass_matrix
-
-        return mass_matrix(self, q)
+        return _dynamics().mass_matrix(self, q, threads)
 
     # ------------------------------------------------------------------ conveniences
     def random_q(self, size: int | None = None, rng: np.random.Generator | int | None = None,
@@ -389,6 +394,14 @@ def _ik_function() -> Callable[..., "IKResult"]:
     from .kinematics.ik import ik
 
     return ik
+
+
+@cache
+def _dynamics() -> Any:
+    """``robkin.dynamics.rigid_body``, imported on first use and then kept (as ``_ik_function``)."""
+    from .dynamics import rigid_body
+
+    return rigid_body
 
 
 def robot_from_frames(frames: Sequence[ArrayLike], types: Sequence[str] | None = None,

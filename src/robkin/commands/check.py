@@ -14,7 +14,14 @@ type, axis direction (angle), axis position (distance), positive direction (sign
 Descriptions that differ only in signs and zero offsets are the same mechanism with another joint
 convention; the table gives the mapping q_A = sign * q_B + offset.
 
-exit status: 0 same robot; 1 not the same robot (including a different joint convention); 2 bad input.
+Where both give mass properties (URDF/MJCF/SDF inertials, or m, r, I in a table's rows) and the
+mechanism is the same, they are compared too: body by body (mass, centre of mass, inertia; body i is
+everything that moves with joint i) and through the mass matrix M(q) and gravity torques g(q) at 16
+fixed configurations (gravity along -z of each base); the first body that differs is named. Bodies
+that differ make the exit status 1; a side without inertials is reported as not compared.
+
+exit status: 0 same robot (and the same mass properties, where both have them); 1 not the same robot
+(including a different joint convention, or different mass properties); 2 bad input.
 
 examples:
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0
@@ -54,9 +61,13 @@ def run(args: argparse.Namespace) -> int:
     a = load(args.a, base_link=base_a, tip_link=tip_a, allow_xacro=args.allow_xacro)
     b = load(args.b, base_link=base_b, tip_link=tip_b, allow_xacro=args.allow_xacro)
     result = compare(a, b, tol=args.tol)
+    from ..dynamics.compare import compare_masses
+
+    masses = compare_masses(a, b, result)
     if args.json:
         d = result.to_dict()
         d["a"], d["b"] = args.a, args.b
+        d["mass"] = masses.to_dict()
         from ._output import print_json
 
         print_json(d)
@@ -67,6 +78,7 @@ def run(args: argparse.Namespace) -> int:
         kinds = lambda r: "".join("R" if j.revolute else "P" for j in r.joints)  # noqa: E731
         title = f"A: {args.a} ({a.n} joints {kinds(a)})   B: {args.b} ({b.n} joints {kinds(b)})"
         show_blocks(comparison_blocks(result, title))
-    return 0 if result.same else 1
+        print(masses.summary())
+    return 0 if result.same and masses.same is not False else 1
 
 
