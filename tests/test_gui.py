@@ -760,13 +760,15 @@ def test_browser_shows_each_links_mass_properties(panda_page):
     for key, table in (("dh", robkin.dh_from_robot(robot)), ("mdh", robkin.mdh_from_robot(robot)),
                        ("rpy_xyz", robkin.rpy_from_robot(robot))):
         rows = pg.query_selector_all(f"#mass-{key} tr")
-        assert len(rows) == 1 + robot.n
+        assert len(rows) == 2 + robot.n  # the header, the base (panda_link0's 0.63 kg), the links
         head = [c.inner_text() for c in rows[0].query_selector_all("th")]
         assert head[1:5] == ["m (kg)", "rx (m)", "ry (m)", "rz (m)"] and head[-1] == "Ixz (kg m²)"
         m = table.masses
-        for i, row in enumerate(rows[1:]):
-            values = [float(c.get_attribute("title")) for c in row.query_selector_all("td")[1:]]
-            assert values == [m.mass[i], *m.com[i], *m.six[i]]
+        assert rows[1].query_selector("td").inner_text() == "base"
+        expected = [[m.base.mass[0], *m.base.com[0], *m.base.six[0]]] + \
+            [[m.mass[i], *m.com[i], *m.six[i]] for i in range(robot.n)]
+        for row, want in zip(rows[1:], expected):
+            assert [float(c.get_attribute("title")) for c in row.query_selector_all("td")[1:]] == want
     assert pg.query_selector("#mass-hayati") and pg.query_selector("#mass-poe") and pg.query_selector("#mass-poe_body")
     assert "frame {i} (after joint i)" in pg.inner_text("#section-dh")
 

@@ -25,6 +25,7 @@ from robkin import InputError, se3
 from robkin.bodies import Bodies
 from robkin.body_parts import Inertial
 from robkin.cli import main
+from robkin.dynamics import link_masses
 from robkin.robot import Joint
 from robkin.io.document import document_from_robot, dump, parse_document, table_document
 from robkin.io.table_files import render_table
@@ -225,6 +226,8 @@ def test_tables_keep_the_dynamics_of_random_robots(robot, seed):
         again = table.to_robot().replace(world=robot.world)
         assert _near(again.mass_matrix(q), M, mass * size ** 2), key
         assert _near(again.gravity(q), g, 9.81 * mass * size), key
+        # the base body's mass is kept too (MassRows.base): the whole robot weighs the same
+        assert link_masses(again).total_mass == pytest.approx(link_masses(robot).total_mass, rel=1e-12), key
         text = dump(table_document(table), "json")
         section = json.loads(text)[key]
         m = table.masses
@@ -324,13 +327,22 @@ def test_mass_fields_only_on_link_rows_and_in_agreement():
 joints: [revolute]
 rpy_xyz:
   rows:
-    - {roll: 0, pitch: 0, yaw: 0, x: 0, y: 0, z: 0, m: 1}
+    - {roll: 0, pitch: 0, yaw: 0, x: 0, y: 0, z: 0, m: 5}
     - {roll: 0, pitch: 0, yaw: 0, x: 0, y: 0, z: 0.1, m: 1}
-    - [0, 0, 0, 0.2, 0, 0]
+    - {roll: 0, pitch: 0, yaw: 0, x: 0.2, y: 0, z: 0}
 """
-    with pytest.raises(InputError, match=r"rpy_xyz.rows\[0\]: this row is not a link's"):
-        parse_document(rpy, "yaml")
-    assert rpy_from_robot(parse_document(rpy.replace(", m: 1}", "}", 1), "yaml")).masses.mass.tolist() == [1.0]
+    # row 0 (world -> base) carries the base body's, the joint rows the links'
+    masses = rpy_from_robot(parse_document(rpy, "yaml")).masses
+    assert masses.mass.tolist() == [1.0] and masses.base.mass.tolist() == [5.0]
+    with pytest.raises(InputError, match=r"rpy_xyz.rows\[2\]: this row is not a link's"):
+        parse_document(rpy.replace("x: 0.2, y: 0, z: 0}", "x: 0.2, y: 0, z: 0, m: 1}"), "yaml")
+    with pytest.raises(InputError, match=r"rpy_xyz.rows\[0\]: the base's mass properties need those of every "):
+        parse_document(rpy.replace("z: 0.1, m: 1}", "z: 0.1}"), "yaml")
+    # the paper's n + 1-row DH layout: row 0 is the base's, so is its mass; not twice
+    paper = ROWS.replace("  rows:\n", "  rows:\n    - {a: 0, d: 0.3, alpha: 0, theta: 0, m: 7}\n")
+    assert dh_from_robot(parse_document(paper, "yaml")).masses.base.mass.tolist() == [7.0]
+    with pytest.raises(InputError, match=r"dh.base_mass: the base's mass is given twice \(also on dh.rows\[0\]\)"):
+        parse_document(paper + "  base_mass: {m: 7}\n", "yaml")
     poe = "joints: [revolute]\npoe: {M: [[1,0,0,0.5],[0,1,0,0],[0,0,1,0],[0,0,0,1]], screws: [[0,0,1,0,0,0]], " \
           "masses: [{m: 1}, {m: 2}]}\n"
     with pytest.raises(InputError, match=r"poe.masses: expected a list of 1 entries"):
@@ -376,7 +388,9 @@ def test_text_csv_markdown_latex_carry_the_masses_with_units():
     m = table.masses
     np.testing.assert_array_equal(values, np.column_stack([m.mass, m.com, m.six]))  # every digit
     rpy = list(csv.reader(io.StringIO(render_table(robot, "rpy-xyz", "csv"))))
-    assert rpy[1][start + 2:] == [""] * 10 and rpy[robot.n + 2][start + 2:] == [""] * 10  # world, tool rows
+    assert float(rpy[1][start + 2]) == m.base.mass[0] == 4.0  # the world row: the base body (UR5 base_link)
+    assert rpy[robot.n + 2][start + 2:] == [""] * 10  # the tool row: none
     assert all(c for c in rpy[2][start + 2:])
+    assert "0  (base)" in text  # the base body in the text block
     assert "$m$ (kg)" in render_table(robot, "mdh", "latex") and "| m (kg) |" in render_table(robot, "poe",
                                                                                               "markdown")

@@ -277,16 +277,17 @@ def _robot_of(key: str, value: Any, joints: tuple[Joint, ...], name: str | None,
               unit: str = "radians") -> Robot:
     n = len(joints)
     if key == "hayati":
-        sec = _mapping(value, key, ("base", "rows", "tool"))
-        raw, masses = split_masses(sec.get("rows"), "hayati.rows", len(HAYATI_KEYS))
+        sec = _mapping(value, key, ("base", "rows", "tool", "base_mass"))
+        raw, masses = split_masses(sec.get("rows"), "hayati.rows", len(HAYATI_KEYS), base_mass=sec.get("base_mass"))
         rows = _rows(raw, "hayati.rows", HAYATI_KEYS, unit)
         return HayatiTable(np.array(rows), joints, base=_pose(sec, "base", key),
                            tool=_pose(sec, "tool", key), masses=masses).to_robot(name)
     if key in ("dh", "mdh"):
-        sec = _mapping(value, key, ("base", "rows", "tool"))
+        sec = _mapping(value, key, ("base", "rows", "tool", "base_mass"))
         paper = key == "dh" and isinstance(sec.get("rows"), list) and len(sec["rows"]) == n + 1 \
-            and sec.get("base") is None  # the paper's layout: row 0 is a fixed base row
-        raw, masses = split_masses(sec.get("rows"), f"{key}.rows", len(DH_KEYS), (0,) if paper else ())
+            and sec.get("base") is None  # the paper's layout: row 0 is a fixed base row (the base body's)
+        raw, masses = split_masses(sec.get("rows"), f"{key}.rows", len(DH_KEYS), base_row=0 if paper else None,
+                                   base_mass=sec.get("base_mass"))
         rows = _rows(raw, f"{key}.rows", DH_KEYS, unit)
         base = _pose(sec, "base", key)
         if paper:
@@ -296,7 +297,7 @@ def _robot_of(key: str, value: Any, joints: tuple[Joint, ...], name: str | None,
         return cls(np.array(rows), joints, base=base, tool=_pose(sec, "tool", key),
                    masses=masses).to_robot(name)
     if key in ("poe", "poe_body"):
-        sec = _mapping(value, key, ("frame", "M", "screws", "masses"))
+        sec = _mapping(value, key, ("frame", "M", "screws", "masses", "base_mass"))
         frame = sec.get("frame", "space" if key == "poe" else "body")
         if frame not in ("space", "body"):
             raise InputError(f"{key}.frame: '{frame}' is not one of space, body")
@@ -307,12 +308,12 @@ def _robot_of(key: str, value: Any, joints: tuple[Joint, ...], name: str | None,
             raise InputError(f"{key}.screws: expected a list of [wx, wy, wz, vx, vy, vz], one per joint")
         S = [number_list(s, f"{key}.screws[{i}]", 6) for i, s in enumerate(screws)]
         return PoE(np.array(matrix(sec["M"], f"{key}.M")), np.array(S).reshape(-1, 6), joints,
-                   frame, read_masses(sec.get("masses"), f"{key}.masses", n)).to_robot(name)
+                   frame, read_masses(sec.get("masses"), f"{key}.masses", n, sec.get("base_mass"))).to_robot(name)
     if key == "rpy_xyz":
         sec = _mapping(value, key, ("rows",))
         rows_in = sec.get("rows")
-        ends = (0, len(rows_in) - 1) if isinstance(rows_in, list) else ()  # world and tool rows: no link
-        raw, masses = split_masses(rows_in, "rpy_xyz.rows", len(RPY_KEYS), ends)
+        tool = (len(rows_in) - 1,) if isinstance(rows_in, list) else ()  # the tool row: no body
+        raw, masses = split_masses(rows_in, "rpy_xyz.rows", len(RPY_KEYS), tool, base_row=0)  # row 0: the base's
         return RPYTable(np.array(_rows(raw, "rpy_xyz.rows", RPY_KEYS, unit)), joints,
                         masses).to_robot(name)
     if key == "gjd":

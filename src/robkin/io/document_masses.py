@@ -8,11 +8,14 @@ properties in that table's own link frame i (``robkin.representations.mass_rows`
 - ``I``: inertia about the centre of mass in the axes of frame i, 6 numbers (Ixx, Iyy, Izz, Ixy, Iyz,
   Ixz) in kg m^2.
 
-Either every joint row gives ``m`` or none does (absent means unknown, never zero mass: a massless
-link says ``m: 0``); a row with ``m`` and no ``r`` or ``I`` has its centre of mass at the frame origin
-or no rotational inertia (a point mass), as the Robotics Toolbox's links default. A row given as a list
-(column order) carries them as 10 more numbers: m, rx, ry, rz, Ixx, Iyy, Izz, Ixy, Iyz, Ixz. A ``poe``
-section gives them as ``masses: [{m, r, I}, ...]``, one per joint, at q = 0 in its reference frame.
+The base body's (everything fixed to the robot base, in link frame 0) may be given too: as the
+section's ``base_mass: {m, r, I}``, or on the row that is the base's (RPY-XYZ's world row 0, the
+paper layout's DH row 0). Either every joint row gives ``m`` or none does (absent means unknown, never
+zero mass: a massless link says ``m: 0``); a row with ``m`` and no ``r`` or ``I`` has its centre of
+mass at the frame origin or no rotational inertia (a point mass), as the Robotics Toolbox's links
+default. A row given as a list (column order) carries them as 10 more numbers: m, rx, ry, rz, Ixx,
+Iyy, Izz, Ixy, Iyz, Ixz. A ``poe`` section gives them as ``masses: [{m, r, I}, ...]``, one per joint,
+at q = 0 in its reference frame (and ``base_mass``).
 Mass fields are never angles: ``angles: degrees`` does not touch them.
 """
 
@@ -35,11 +38,14 @@ __all__ = ["split_masses", "read_masses", "mass_fields", "same_masses", "LIST_WI
 LIST_WIDTH = 10
 
 
-def split_masses(rows: Any, key: str, width: int, skip: tuple[int, ...] = ()) -> tuple[Any, MassRows | None]:
+def split_masses(rows: Any, key: str, width: int, skip: tuple[int, ...] = (), base_row: int | None = None,
+                 base_mass: Any = None) -> tuple[Any, MassRows | None]:
     """Rows as ``document._rows`` reads them (the mass fields taken out) and their ``MassRows``.
 
     ``width``: the number of kinematic columns of a row; ``skip``: indices of rows that carry no link
-    (RPY-XYZ's world and tool rows), left as they are and refused mass fields.
+    (RPY-XYZ's tool row), left as they are and refused mass fields; ``base_row``: the index of the row
+    that is the base body's (RPY-XYZ's world row, the paper layout's DH row 0), whose mass fields are
+    the base's; ``base_mass``: the section's ``base_mass`` entry ({m, r, I}) otherwise.
     """
     if not isinstance(rows, list):
         return rows, None
@@ -61,20 +67,42 @@ def split_masses(rows: Any, key: str, width: int, skip: tuple[int, ...] = ()) ->
             plain.append(i)
             continue
         fields.append((i, *found))
-    links = [i for i in range(len(rows)) if i not in skip]
+    base_fields = [f for f in fields if f[0] == base_row]
+    fields = [f for f in fields if f[0] != base_row]
+    where_base = f"{key.split('.')[0]}.base_mass"
+    if base_mass is not None:
+        if base_row is not None and base_fields:
+            raise InputError(f"{where_base}: the base's mass is given twice (also on {key}[{base_row}])")
+        base_fields = [(-1, *_base_entry(base_mass, where_base))]
+    links = [i for i in range(len(rows)) if i not in skip and i != base_row]
     if not fields:
+        if base_fields:
+            raise InputError(f"{where_base if base_mass is not None else f'{key}[{base_row}]'}: the base's mass "
+                             f"properties need those of every link too (m on every joint row)")
         return out, None
     missing = [i for i in plain if i in links]
     if missing:
         raise InputError(f"{key}[{missing[0]}]: no m, but other rows give mass properties; give m (kg) on "
                          f"every joint row (m: 0 for a massless link) or on none")
-    return out, _mass_rows(fields, key)
+    base = _mass_rows(base_fields, key if base_mass is None else where_base) if base_fields else None
+    rows_masses = _mass_rows(fields, key)
+    return out, MassRows(rows_masses.mass, rows_masses.com, rows_masses.inertia, base)
+
+
+def _base_entry(value: Any, where: str) -> tuple[Any, Any, Any]:
+    """(m, r, I) of a ``base_mass`` mapping."""
+    if not isinstance(value, Mapping):
+        raise InputError(f"{where}: expected a mapping {{m: kg, r: [x, y, z], I: [{', '.join(INERTIA_KEYS)}]}}")
+    extra = sorted(str(k) for k in value if k not in MASS_KEYS)
+    if extra:
+        raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; known: m, r, I")
+    return value.get("m"), value.get("r"), value.get("I")
 
 
 def _mass_rows(fields: list[tuple[int, Any, Any, Any]], key: str) -> MassRows:
     mass, com, six = [], [], []
     for i, m, r, I in fields:
-        where = f"{key}[{i}]"
+        where = key if i < 0 else f"{key}[{i}]"
         if m is None:
             raise InputError(f"{where}.m: missing; a row with r or I needs its mass m (kg)")
         mass.append(number(m, f"{where}.m"))
@@ -94,17 +122,21 @@ def _checked(mass: list[float], com: list[list[float]], six: list[list[float]], 
              index: list[int]) -> MassRows:
     """MassRows of the numbers read, an InputError naming the row where they are not valid."""
     for k, (m, r, I) in enumerate(zip(mass, com, six)):
+        where = key if index[k] < 0 else f"{key}[{index[k]}]"
         for name, values in (("m", [m]), ("r", r), ("I", I)):
             if not all(np.isfinite(values)):
-                raise InputError(f"{key}[{index[k]}].{name}: must be finite numbers")
+                raise InputError(f"{where}.{name}: must be finite numbers")
         if m < 0:
-            raise InputError(f"{key}[{index[k]}].m: {m!r} kg; a mass is >= 0")
+            raise InputError(f"{where}.m: {m!r} kg; a mass is >= 0")
     return MassRows.from_six(mass, com, six)
 
 
-def read_masses(value: Any, key: str, n: int) -> MassRows | None:
-    """A PoE section's ``masses`` list ({m, r, I} per joint), or None when absent."""
+def read_masses(value: Any, key: str, n: int, base_mass: Any = None) -> MassRows | None:
+    """A PoE section's ``masses`` list ({m, r, I} per joint) and ``base_mass``, or None when absent."""
+    where_base = f"{key.split('.')[0]}.base_mass"
     if value is None:
+        if base_mass is not None:
+            raise InputError(f"{where_base}: the base's mass properties need those of every link too (masses)")
         return None
     if not isinstance(value, list) or len(value) != n:
         raise InputError(f"{key}: expected a list of {n} entries {{m, r, I}}, one per joint")
@@ -116,7 +148,9 @@ def read_masses(value: Any, key: str, n: int) -> MassRows | None:
         if extra:
             raise InputError(f"{key}[{i}]: unknown key(s) {', '.join(extra)}; known: m, r, I")
         fields.append((i, entry.get("m"), entry.get("r"), entry.get("I")))
-    return _mass_rows(fields, key)
+    rows = _mass_rows(fields, key)
+    base = None if base_mass is None else _mass_rows([(-1, *_base_entry(base_mass, where_base))], where_base)
+    return MassRows(rows.mass, rows.com, rows.inertia, base)
 
 
 def mass_fields(masses: MassRows, i: int, clean: Any) -> dict[str, Any]:
@@ -137,11 +171,14 @@ def same_masses(a: "Robot", b: "Robot", tol: float) -> str | None:
     scale = max(a.scale, b.scale)
     total = max(float(ma.mass.sum()), float(mb.mass.sum()), 1e-300)
     big = max(float(np.abs(ma.inertia).max()), float(np.abs(mb.inertia).max()), 1e-300)
-    for i in range(1, a.n + 1):
+    # the base body (0) where both give it (it never changes the joint torques)
+    both = all(any(p.body == 0 for p in r.bodies.inertials) for r in (a, b))
+    for i in range(0 if both else 1, a.n + 1):
         for what, x, y, ref in (("mass", ma.mass[i], mb.mass[i], total),
                                 ("centre of mass", ma.com[i], mb.com[i], scale),
                                 ("inertia", ma.inertia[i], mb.inertia[i], big)):
             d = float(np.abs(np.asarray(x) - np.asarray(y)).max())
             if d > tol * ref:
-                return f"link {i} ({a.joints[i - 1].name}): {what} differs by {d:.3g}"
+                name = "the base" if i == 0 else f"link {i} ({a.joints[i - 1].name})"
+                return f"{name}: {what} differs by {d:.3g}"
     return None

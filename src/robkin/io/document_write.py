@@ -90,16 +90,23 @@ def _section(table: Any, degrees: bool = False) -> dict[str, Any]:
     columns in degrees if asked)."""
     key = section_key(table)
     masses = table.masses
+    out: dict[str, Any]
     if key in ("dh", "mdh", "hayati"):
         keys = HAYATI_KEYS if key == "hayati" else DH_KEYS
-        return {"base": _mat(table.base), "rows": _named_rows(table.rows, keys, key, degrees, masses),
-                "tool": _mat(table.tool)}
-    if key in ("poe", "poe_body"):
+        out = {"base": _mat(table.base), "rows": _named_rows(table.rows, keys, key, degrees, masses),
+               "tool": _mat(table.tool)}
+    elif key in ("poe", "poe_body"):
         out = {"frame": table.frame, "M": _mat(table.M), "screws": _mat(table.screws)}
         if masses is not None:  # mass properties at q = 0 in the PoE's frame, one entry per joint
             out["masses"] = [mass_fields(masses, i, _clean) for i in range(masses.n)]
+    else:  # RPY-XYZ: row 0 (world -> base) carries the base body's mass properties
+        out = {"rows": _named_rows(table.rows, RPY_KEYS, key, degrees, masses, first=1)}
+        if masses is not None and masses.base is not None:
+            out["rows"][0].update(mass_fields(masses.base, 0, _clean))
         return out
-    return {"rows": _named_rows(table.rows, RPY_KEYS, key, degrees, masses, first=1)}
+    if masses is not None and masses.base is not None:  # the base body's, in frame {0}
+        out["base_mass"] = mass_fields(masses.base, 0, _clean)
+    return out
 
 
 def table_document(table: Any, degrees: bool = False) -> dict[str, Any]:

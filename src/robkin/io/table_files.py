@@ -152,14 +152,19 @@ MASS_COLUMNS = (("m (kg)", "$m$ (kg)"),
 
 def with_mass_columns(t: Table, masses: "MassRows | None", first: int = 0) -> Table:
     """``t`` with the mass columns added to rows first.. first + n - 1 (link i's m, r, I in the table's
-    own link frame i, see ``representations.mass_rows``), the other rows' cells empty (NaN); ``t``
-    itself when there are no mass properties."""
+    own link frame i, see ``representations.mass_rows``) and the base body's to row first - 1 (RPY-XYZ's
+    world row) when known, the other rows' cells empty (NaN); ``t`` itself when there are no mass
+    properties."""
     if masses is None:
         return t
-    values = np.column_stack([masses.mass, masses.com, masses.six])
+    from ..representations.mass_rows import six_from_tensor
+
+    mass, com, inertia = masses.bodies()  # bodies 0..n: body 0 on the row before the first link's, if any
+    values = np.column_stack([mass, com, six_from_tensor(inertia)])
     rows = []
     for k, (lab, row) in enumerate(t.rows):
-        extra = values[k - first] if 0 <= k - first < masses.n else np.full(len(MASS_COLUMNS), np.nan)
+        known = 0 <= k - first < masses.n or (k == first - 1 and masses.base is not None)
+        extra = values[k - first + 1] if known else np.full(len(MASS_COLUMNS), np.nan)
         rows.append((lab, row + [float(v) for v in extra]))
     return Table(t.title, t.labels, [*t.columns, *((c, tex, False) for c, tex in MASS_COLUMNS)], rows,
                  t.transforms)

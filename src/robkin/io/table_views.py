@@ -181,20 +181,22 @@ def mass_blocks(table: "LinkTable | PoE | RPYTable", shown: _Display) -> list[Bl
     """The table's mass properties (``masses``), one row per link, with the frame they are in; none
     when the table has none. The display rule hides centres of mass below DISPLAY_ZERO times the
     robot's size and inertia entries below DISPLAY_ZERO times the largest one."""
+    from ..representations.mass_rows import six_from_tensor
+
     masses = table.masses
     if masses is None:
         return []
-    values = np.column_stack([masses.mass, masses.com, masses.six])
-    values[:, 1:4] = shown.values(masses.com, [0, 1, 2])
-    big = float(np.abs(masses.six).max())
-    six = masses.six.copy()
-    small = (np.abs(six) < DISPLAY_ZERO * big) & (six != 0)
-    six[small] = 0.0
-    values[:, 4:] = six
-    rows = [[str(i + 1), j.name, *v] for i, (j, v) in enumerate(zip(table.joints, values))]
+    mass, com, inertia = masses.bodies()  # bodies 0..n; body 0 shown only when known
+    six = six_from_tensor(inertia)
+    values = np.column_stack([mass, shown.values(com, [0, 1, 2]), six])
+    small = (np.abs(six) < DISPLAY_ZERO * float(np.abs(six).max())) & (six != 0)
+    values[:, 4:][small] = 0.0
+    labels = [["0", "(base)"]] + [[str(i + 1), j.name] for i, j in enumerate(table.joints)]
+    rows = [lab + list(v) for lab, v in zip(labels, values)][0 if masses.base is not None else 1:]
     return [("mass properties of each link (everything fixed to it merged in)", ["i", "joint", *MASS_HEADERS],
              rows),
-            f"r and I in {mass_frame(table)}; I about the centre of mass (products as in URDF: Ixy = -sum m x y)."]
+            f"r and I in {mass_frame(table)}; I about the centre of mass (products as in URDF: Ixy = -sum m x y)"
+            + ("; the base's in frame 0." if masses.base is not None else ".")]
 
 
 def frames_blocks(frames: np.ndarray, labels: Sequence[str], scale: float) -> list[Block]:

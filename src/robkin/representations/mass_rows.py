@@ -15,9 +15,10 @@ Link frame i is each table's own (``link_frames`` of the table): standard DH and
 after joint i (on axis i+1), as the Robotics Toolbox's DH links use; modified DH, frame {i} at the
 start of link i, on axis i (Craig); RPY-XYZ, joint i's frame (the URDF child link frame); PoE, the
 PoE's own reference frame (the robot base for space screws, the home tool pose M for body screws),
-at q = 0. Body 0 (everything fixed to the robot base) has no row: it does not move, so it has no
-effect on the joint torques. Tables without mass properties (``masses is None``) mean "unknown",
-never zero mass.
+at q = 0. Body 0 (everything fixed to the robot base) has no joint row; its mass properties, when
+known, are kept apart (``MassRows.base``, in link frame 0: the table's frame {0}, the robot base for
+RPY-XYZ) so that the robot's total mass survives a table, though they never change the joint torques.
+Tables without mass properties (``masses is None``) mean "unknown", never zero mass.
 
 The merging and the change of frame are ``robkin.dynamics``' (``link_masses``, ``in_frames``,
 ``inertials_from_frames``); this module only carries the numbers and checks them.
@@ -80,8 +81,12 @@ class MassRows:
     mass: np.ndarray
     com: np.ndarray
     inertia: np.ndarray
+    #: body 0's (everything fixed to the robot base) as a MassRows of one, in link frame 0; None: unknown
+    base: "MassRows | None" = None
 
     def __post_init__(self) -> None:
+        if self.base is not None and (not isinstance(self.base, MassRows) or self.base.n != 1):
+            raise InputError("masses.base: expected the base body's mass properties as a MassRows of one")
         mass = np.array(self.mass, dtype=float).reshape(-1)
         n = mass.shape[0]
         try:
@@ -113,10 +118,18 @@ class MassRows:
         return six_from_tensor(self.inertia)
 
     @classmethod
-    def from_six(cls, mass: ArrayLike, com: ArrayLike, six: ArrayLike) -> "MassRows":
+    def from_six(cls, mass: ArrayLike, com: ArrayLike, six: ArrayLike, base: "MassRows | None" = None
+                 ) -> "MassRows":
         """From masses (n,), centres (n, 3) and inertia entries (n, 6) as the documents write them."""
         return cls(np.asarray(mass, dtype=float), np.asarray(com, dtype=float),
-                   tensor_from_six(np.asarray(six, dtype=float).reshape(-1, 6)))
+                   tensor_from_six(np.asarray(six, dtype=float).reshape(-1, 6)), base)
+
+    def bodies(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(mass (n+1,), com (n+1, 3), inertia (n+1, 3, 3)) of bodies 0..n, body 0 massless when the
+        base is unknown (it never changes the joint torques)."""
+        base = self.base or MassRows(np.zeros(1), np.zeros((1, 3)), np.zeros((1, 3, 3)))
+        return (np.concatenate([base.mass, self.mass]), np.concatenate([base.com, self.com]),
+                np.concatenate([base.inertia, self.inertia]))
 
 
 def masses_of_robot(robot: "Robot", frames: ArrayLike) -> MassRows | None:
@@ -132,21 +145,21 @@ def masses_of_robot(robot: "Robot", frames: ArrayLike) -> MassRows | None:
     if masses is None:
         return None
     m, c, I = masses.in_frames(np.asarray(frames, dtype=float))
-    return MassRows(m[1:], c[1:], I[1:])
+    base = MassRows(m[:1], c[:1], I[:1]) if any(p.body == 0 for p in robot.bodies.inertials) else None
+    return MassRows(m[1:], c[1:], I[1:], base)
 
 
 def bodies_from_masses(masses: MassRows, frames: np.ndarray, names: Sequence[str] | None = None) -> "Bodies":
-    """``Bodies`` holding the inertials of links 1..n given in link frames ``frames`` (n + 1, 4, 4) (the
-    inverse of ``masses_of_robot``; body 0 gets none). ``names``: the n + 1 link names to file them
-    under (default base, link1..linkN, the names ``robkin convert --to urdf`` gives such links)."""
+    """``Bodies`` holding the inertials of bodies 0..n given in link frames ``frames`` (n + 1, 4, 4) (the
+    inverse of ``masses_of_robot``; body 0 gets one when ``masses.base`` is known). ``names``: the n + 1
+    link names to file them under (default base, link1..linkN, the names ``robkin convert --to urdf``
+    gives such links)."""
     from ..bodies import Bodies
     from ..dynamics import inertials_from_frames
 
     n = masses.n
     names = list(names) if names is not None else ["base"] + [f"link{i}" for i in range(1, n + 1)]
-    mass = np.concatenate([[0.0], masses.mass])
-    com = np.vstack([np.zeros((1, 3)), masses.com])
-    inertia = np.concatenate([np.zeros((1, 3, 3)), masses.inertia])
+    mass, com, inertia = masses.bodies()
     return Bodies(inertials=tuple(inertials_from_frames(np.asarray(frames, dtype=float), mass, com, inertia,
                                                         names)))
 
