@@ -76,12 +76,13 @@ class MassRows:
         Centre of mass of link i in link frame i (length unit of the table, normally m).
     inertia : (n, 3, 3) array
         Symmetric, about the centre of mass, in the axes of link frame i (kg m^2).
+    base : MassRows of one, optional
+        Body 0's (everything fixed to the robot base), in link frame 0; None when unknown.
     """
 
     mass: np.ndarray
     com: np.ndarray
     inertia: np.ndarray
-    #: body 0's (everything fixed to the robot base) as a MassRows of one, in link frame 0; None: unknown
     base: "MassRows | None" = None
 
     def __post_init__(self) -> None:
@@ -101,7 +102,7 @@ class MassRows:
                 raise InputError(f"rows[{bad[0][0]}].{name}: must be finite numbers")
         neg = np.flatnonzero(mass < 0)
         if neg.size:
-            raise InputError(f"rows[{neg[0]}].m: {mass[neg[0]]!r} kg; a mass is >= 0")
+            raise InputError(f"rows[{neg[0]}].m: {float(mass[neg[0]])!r} kg; a mass is >= 0")
         if not np.array_equal(inertia, np.swapaxes(inertia, -1, -2)):
             raise InputError("masses: each inertia must be a symmetric 3 x 3 matrix")
         for name, values in (("mass", mass), ("com", com), ("inertia", inertia)):
