@@ -88,3 +88,28 @@ def test_environment_variable(monkeypatch):
     for unusable in ("0", "abc", "", "-2"):
         monkeypatch.setenv("ROBKIN_NUM_THREADS", unusable)
         assert compiled._from_environment() == compiled.available_cores()
+
+
+def test_out_arrays_are_written_and_checked(panda):
+    """``out=`` writes a batch into memory the caller owns: the same bits, the same array back, and a
+    large batch walked in chunks through one buffer equals the whole batch at once."""
+    Q = panda.random_q(300, rng=3)
+    T = np.empty((300, 4, 4))
+    assert panda.fk(Q, out=T) is T and np.array_equal(T, panda.fk(Q))
+    F = np.empty((300, panda.n + 1, 4, 4))
+    assert panda.frames_at(Q, out=F) is F and np.array_equal(F, panda.frames_at(Q))
+    J = np.empty((300, 6, panda.n))
+    for frame in ("base", "space", "body"):
+        assert panda.jacobian(Q, frame, out=J) is J and np.array_equal(J, panda.jacobian(Q, frame))
+    whole, buf, chunks = panda.fk(Q), np.empty((100, 4, 4)), []
+    for k in range(0, 300, 100):
+        chunks.append(panda.fk(Q[k:k + 100], out=buf).copy())
+    assert np.array_equal(np.concatenate(chunks), whole)
+    # lists are validated first, then written into out
+    assert np.array_equal(panda.fk(Q[:2].tolist(), out=T[:2]), whole[:2])
+    for bad in (np.empty((300, 4, 4), dtype=np.float32), np.empty((299, 4, 4)), np.empty((300, 4, 4))[:, :, ::-1],
+                [[0.0] * 4] * 4):
+        with pytest.raises(InputError, match="out: expected a writeable C-contiguous float64 array of shape"):
+            panda.fk(Q.tolist(), out=bad)
+    with pytest.raises(InputError, match="out: not available for frame='tool'"):
+        panda.jacobian(Q, "tool", out=J)

@@ -120,3 +120,14 @@ def check_threads(threads: object) -> int:
     if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
         raise InputError(f"threads: expected a whole number >= 1 (or None for automatic), got {quote(repr(threads))}")
     return int(threads)
+
+
+def check_out(out: object, shape: tuple[int, ...]) -> np.ndarray:
+    """An output array given by the user (``out=``): a writeable C-contiguous float64 ndarray of exactly
+    ``shape``; InputError naming what would be valid otherwise."""
+    ok = (isinstance(out, np.ndarray) and out.dtype == np.float64 and out.flags.c_contiguous
+          and out.flags.writeable and out.shape == shape)
+    if not ok:
+        got = (f"{out.dtype} array of shape {out.shape}" if isinstance(out, np.ndarray) else type(out).__name__)
+        raise InputError(f"out: expected a writeable C-contiguous float64 array of shape {shape}, got {got}")
+    return out  # type: ignore[return-value]

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Callable, Iterable, Literal, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .checks import EXACT_TOL, PROJECTION_TOL, check_pose, check_poses, check_q, check_threads
+from .checks import EXACT_TOL, PROJECTION_TOL, check_out, check_pose, check_poses, check_q, check_threads
 from .errors import InputError, quote
 from .names import check_name, duplicates
 from .bodies import EMPTY_BODIES, Bodies
@@ -223,32 +223,36 @@ class Robot:
 
         return Chain(self._local, self.revolute)
 
-    def fk(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:
+    def fk(self, q: ArrayLike, *, threads: int | None = None, out: np.ndarray | None = None) -> np.ndarray:
         """Tool pose in the base frame: q (n,) -> (4, 4), or a batch (N, n) -> (N, 4, 4).
 
         Compiled (``robkin.compiled.fk``); a float64 array is used as it is, anything else is
         validated and converted first. Joint values in radians (revolute) or length units (prismatic).
         ``threads``: at most that many threads for a large batch (default: ``robkin.set_threads``,
         ROBKIN_NUM_THREADS or the cores; see ``robkin.threads``); the results are the same bits.
+        ``out``: a float64 array of the result's shape to write into and return (a large batch in
+        chunks then needs no new memory per chunk).
         """
         t = 0 if threads is None else check_threads(threads)
-        T = self._chain.fk(q, t)
+        T = self._chain.fk(q, t, out)
         if T is None:   # not a float64 array of finite values as it is: validate, convert, explain
-            T = self._chain.fk(np.ascontiguousarray(check_q(q, self.n)), t)
+            qa = np.ascontiguousarray(check_q(q, self.n))
+            T = self._chain.fk(qa, t, None if out is None else check_out(out, qa.shape[:-1] + (4, 4)))
         assert T is not None  # a checked, contiguous float64 array is always usable
         return T
 
-    def frames_at(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:
+    def frames_at(self, q: ArrayLike, *, threads: int | None = None, out: np.ndarray | None = None) -> np.ndarray:
         """All GJD frames moved to configuration q: (n,) -> (n+1, 4, 4), (N, n) -> (N, n+1, 4, 4).
 
         Frame i is joint i's frame *after* its own motion, so frame n+1 is the tool pose fk(q).
         Joint i's axis at q is the z axis of frame i before its motion, which has the same z axis.
-        ``threads`` as for ``fk``.
+        ``threads`` and ``out`` as for ``fk``.
         """
         t = 0 if threads is None else check_threads(threads)
-        F = self._chain.frames(q, t)
+        F = self._chain.frames(q, t, out)
         if F is None:
-            F = self._chain.frames(np.ascontiguousarray(check_q(q, self.n)), t)
+            qa = np.ascontiguousarray(check_q(q, self.n))
+            F = self._chain.frames(qa, t, None if out is None else check_out(out, qa.shape[:-1] + (self.n + 1, 4, 4)))
         assert F is not None  # a checked, contiguous float64 array is always usable
         return F
 
@@ -292,7 +296,8 @@ class Robot:
                   tol_position=tol_position, tol_orientation=tol_orientation,
                   max_iterations=max_iterations, restarts=restarts, rng=rng, threads=threads)
 
-    def jacobian(self, q: ArrayLike, frame: str = "base", *, threads: int | None = None) -> np.ndarray:
+    def jacobian(self, q: ArrayLike, frame: str = "base", *, threads: int | None = None,
+                 out: np.ndarray | None = None) -> np.ndarray:
         """Jacobian at q (n,) -> (6, n), or at q (N, n) -> (N, 6, n).
 
         Parameters
@@ -309,6 +314,8 @@ class Robot:
 
         threads : int, optional
             At most that many threads for a large batch (see ``fk``).
+        out : (6, n) or (N, 6, n) float64 array, optional
+            Written into and returned ('base', 'space', 'body'; see ``fk``).
 
         Returns
         -------
@@ -318,11 +325,13 @@ class Robot:
         from .kinematics import jacobian as jac
 
         if frame == "base":
-            return jac.jacobian_geometric(self, q, threads)
+            return jac.jacobian_geometric(self, q, threads, out)
         if frame == "space":
-            return jac.jacobian_space(self, q, threads)
+            return jac.jacobian_space(self, q, threads, out)
+        if frame == "tool" and out is not None:
+            raise InputError("out: not available for frame='tool' (its rows are the body Jacobian's, reordered)")
         if frame in ("body", "tool"):
-            J = jac.jacobian_body(self, q, threads)
+            J = jac.jacobian_body(self, q, threads, out)
             # the body twist's v is the velocity of the tool origin in tool axes: [v; w] is (w, v) swapped
             return J if frame == "body" else J[..., _V_THEN_W, :]
         raise InputError(f"frame: '{frame}' is not one of base, tool, space, body")

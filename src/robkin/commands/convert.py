@@ -10,12 +10,15 @@ from ..errors import InputError
 from ._chains import add_chain_options, chain_ends
 from ._common import add_allow_xacro
 from ._output import wrote
+from ._toolbox import CODE_EXTENSIONS, CODE_FORMATS, add_toolbox_options, check_toolbox_options, render_code
 
 #: --to FORMAT -> document section written for it (None: a whole document or another file type)
 SECTION_OF = {"dh": "dh", "mdh": "mdh", "hayati": "hayati", "poe": "poe", "poe-body": "poe_body", "rpy-xyz": "rpy_xyz",
-              "gjd": "gjd", "json": None, "yaml": None, "urdf": None, "mjcf": None}
+              "gjd": "gjd", "json": None, "yaml": None, "urdf": None, "mjcf": None,
+              **{code: None for code in CODE_FORMATS}}
 #: Output file extensions accepted for each format (the first is used for batch output names).
-EXTENSIONS = {"urdf": (".urdf",), "mjcf": (".xml", ".mjcf"), "json": (".json",), "yaml": (".yaml", ".yml")}
+EXTENSIONS = {"urdf": (".urdf",), "mjcf": (".xml", ".mjcf"), "json": (".json",), "yaml": (".yaml", ".yml"),
+              **CODE_EXTENSIONS}
 DOC_EXTENSIONS = (".yaml", ".yml", ".json")
 #: --format -> output file extension (kept here, not imported, for the start-up time of every convert)
 TABLE_EXTENSIONS = {"csv": ".csv", "markdown": ".md", "latex": ".tex"}
@@ -31,6 +34,16 @@ formats:
   rpy-xyz   RPY-XYZ table, n+2 rows (URDF convention)       gjd       Global Joint Description frames
   json/yaml a robot document with every section             urdf      a URDF file (a URDF input's whole file)
   mjcf      a MuJoCo model (MJCF), tool as site 'tool'
+code for other toolboxes (need no robkin; names and numbers from the input are data in them, never code):
+  rtb       a Python file defining `robot`, a Robotics Toolbox DHRobot (--convention mdh: modified DH)
+            with base, tool, offsets, limits and each link's mass, centre of mass and inertia in its
+            DH frame: robot.fkine, robot.rne and robot.gravload equal robkin's
+  matlab    a MATLAB/Octave script (.m) defining the struct `robot` (DH or --convention mdh table,
+            base, tool, limits, mass properties) and `robot_fk`: T = robot_fk(q)
+  eaik      the joint axes H and offsets P that EAIK's IK takes: JSON, or a Python file (-o x.py)
+  opw       the seven OPW parameters (a1 a2 b c1 c2 c3 c4) with joint offsets and sign corrections
+            of an industrial 6R arm (ortho-parallel base, spherical wrist), as moveit_opw_kinematics
+            reads them (YAML, or JSON); other arms are refused with the condition they fail
 
 Without -o a readable table (or the document/URDF/MJCF text) goes to stdout; --json prints the
 robot document with the chosen section as JSON instead of a table. With -o FILE a robot document
@@ -78,6 +91,11 @@ examples:
   robkin convert ur5.urdf --tip-link tool0 --to hayati -o ur5_hayati.yaml
   robkin convert robot.yaml --to urdf -o robot.urdf
   robkin convert robot.yaml --to mjcf -o robot.xml
+  robkin convert panda.urdf --tip-link panda_hand_tcp --to rtb -o panda_rtb.py
+  robkin convert ur5.urdf --tip-link tool0 --to rtb --convention mdh -o ur5_mdh.py
+  robkin convert ur5.urdf --tip-link tool0 --to matlab -o ur5.m
+  robkin convert ur5.urdf --tip-link tool0 --to eaik -o ur5_eaik.py
+  robkin convert kr6_r700.yaml --to opw -o kr6_opw.yaml
   robkin convert a.yaml b.yaml c.urdf --to yaml -o converted/
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format latex --pi
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format csv -o ur5_dh.csv
@@ -111,6 +129,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--degrees", action="store_true",
                    help="angles in degrees: in the table on stdout, and in a written robot document "
                         "(which then says 'angles: degrees')")
+    add_toolbox_options(p)
     return p
 
 
@@ -124,6 +143,8 @@ def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None 
         from ..io.table_files import render_table
 
         return render_table(robot, fmt, args.format, pi=args.pi)
+    if fmt in CODE_FORMATS:
+        return render_code(robot, fmt, out_ext, args)
     if fmt == "urdf":
         from ..io.urdf import urdf_from_robot
 
@@ -137,6 +158,14 @@ def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None 
         document_from_robot(robot, (section,), degrees=degrees)
     doc_fmt = "json" if (fmt == "json" or out_ext == ".json") and fmt != "yaml" else "yaml"
     return dump(doc, doc_fmt)
+
+
+def _render_in(path: str, robot, fmt: str, out_ext: str, args: argparse.Namespace) -> str:
+    """``_render_file`` for one input of a batch: an error names the input it is about."""
+    try:
+        return _render_file(robot, fmt, out_ext, args)
+    except InputError as exc:
+        raise exc.in_source(path) from None
 
 
 def _out_ext(fmt: str, table_format: str | None = None) -> str:
@@ -205,6 +234,7 @@ def run(args: argparse.Namespace) -> int:
     inputs: list[str] = args.input
     fmt: str = args.to
     _check_table_options(args)
+    check_toolbox_options(args)
     if args.json and (args.output or fmt in ("urdf", "mjcf", "yaml")):
         raise InputError(f"--json prints a table format as JSON to stdout; it does not combine with "
                          f"{'-o' if args.output else '--to ' + fmt}")
@@ -225,7 +255,7 @@ def run(args: argparse.Namespace) -> int:
         if dup:
             raise InputError(f"several inputs would write the same file(s): {', '.join(sorted(dup))}")
         check_writable_dir(targets[0] if out_dir.is_dir() else out_dir)  # the folder, or where it will be made
-        texts = [_render_file(robot, fmt, ext, args) for robot in _load_all(inputs, args)]
+        texts = [_render_in(path, robot, fmt, ext, args) for path, robot in zip(inputs, _load_all(inputs, args))]
         out_dir.mkdir(exist_ok=True)  # only now: a failed conversion leaves no empty folder behind
         write_texts_atomic(list(zip(targets, texts)))  # all or nothing
         for target in targets:
@@ -252,10 +282,12 @@ def run(args: argparse.Namespace) -> int:
         sys.stdout.write(_render_file(robot, fmt, ext, args))
         return 0
     if args.json:
-        sys.stdout.write(_render_file(robot, fmt if SECTION_OF[fmt] else "json", ".json", args))
+        sys.stdout.write(_render_file(robot, fmt if SECTION_OF[fmt] or fmt in CODE_FORMATS else "json", ".json",
+                                      args))
         return 0
     if SECTION_OF[fmt] is None:
-        sys.stdout.write(_render_file(robot, fmt, ".json" if fmt == "json" else ".yaml", args))
+        sys.stdout.write(_render_file(robot, fmt, ".json" if fmt == "json" else EXTENSIONS.get(fmt, (".yaml",))[0],
+                                      args))
         return 0
     from ..io.tables import blocks, show_blocks
 

@@ -72,16 +72,20 @@ cdef class Chain:
         self.L = <double*>cnp.PyArray_DATA(La)
         self.rev = <unsigned char*>cnp.PyArray_DATA(ra)
 
-    def fk(self, q, int threads=0):
-        """Tool pose (4, 4) for q (n,), or (N, 4, 4) for q (N, n); None if q is not usable as is.
-        ``threads``: 0 automatic, else at most that many."""
+    def fk(self, q, int threads=0, out=None):
+        """Tool pose (4, 4) for q (n,), or (N, 4, 4) for q (N, n); None if q (or ``out``) is not usable
+        as is. ``threads``: 0 automatic, else at most that many. ``out``: a C-contiguous float64 array of
+        the result's shape to write into (returned), else a new one."""
         cdef Py_ssize_t N
         cdef const double* Q
         cdef double* O
         cdef int nt
         if not usable_q(q, self.n):
             return None
-        out = empty_result(q, 4, 4, 0)
+        if out is None:
+            out = empty_result(q, 4, 4, 0)
+        elif not usable_out(out, q, 4, 4, 0):
+            return None
         Q = <const double*>cnp.PyArray_DATA(q)
         O = <double*>cnp.PyArray_DATA(out)
         N = cnp.PyArray_SIZE(q) // self.n
@@ -93,16 +97,19 @@ cdef class Chain:
                 tool_poses(self.L, self.rev, self.n, Q, N, O)
         return out
 
-    def frames(self, q, int threads=0):
+    def frames(self, q, int threads=0, out=None):
         """Frames after each joint's motion and the tool: (n+1, 4, 4) for q (n,), (N, n+1, 4, 4) for
-        q (N, n); None if q is not usable as is. ``threads`` as for ``fk``."""
+        q (N, n); None if q (or ``out``) is not usable as is. ``threads`` and ``out`` as for ``fk``."""
         cdef Py_ssize_t N
         cdef const double* Q
         cdef double* O
         cdef int nt
         if not usable_q(q, self.n):
             return None
-        out = empty_result(q, self.n + 1, 4, 4)
+        if out is None:
+            out = empty_result(q, self.n + 1, 4, 4)
+        elif not usable_out(out, q, self.n + 1, 4, 4):
+            return None
         Q = <const double*>cnp.PyArray_DATA(q)
         O = <double*>cnp.PyArray_DATA(out)
         N = cnp.PyArray_SIZE(q) // self.n

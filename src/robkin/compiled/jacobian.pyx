@@ -9,7 +9,7 @@ and converts). ``kind``: 0 = geometric [v; w] at the tool origin in the base fra
 
 cimport numpy as cnp
 from cython.parallel cimport parallel, prange
-from robkin.compiled.fk cimport BLOCK, Chain, empty_result, store_poses, usable_q, walk_block
+from robkin.compiled.fk cimport BLOCK, Chain, empty_result, store_poses, usable_out, usable_q, walk_block
 from libc.stdlib cimport malloc, free
 from robkin.compiled.linalg cimport tall_volume
 from robkin.compiled.threads cimport batch_threads
@@ -178,9 +178,10 @@ cdef inline void rotate_back(const double* P, double* X, int m) noexcept nogil:
         X[2 * BLOCK + b] = P[BLOCK * 2 + b] * x0 + P[BLOCK * 6 + b] * x1 + P[BLOCK * 10 + b] * x2
 
 
-def jacobian(Chain chain, q, int kind, int threads=0):
-    """(6, n) for q (n,), (N, 6, n) for q (N, n); None if q is not usable as is (see the module doc).
-    ``threads``: 0 automatic (``threads.pyx``), else at most that many; the same bits either way."""
+def jacobian(Chain chain, q, int kind, int threads=0, out=None):
+    """(6, n) for q (n,), (N, 6, n) for q (N, n); None if q (or ``out``) is not usable as is (see the
+    module doc). ``threads``: 0 automatic (``threads.pyx``), else at most that many; the same bits
+    either way. ``out``: a C-contiguous float64 array of the result's shape to write into."""
     cdef Py_ssize_t N
     cdef int n = chain.n, nt, failed = 0
     cdef const double* Q
@@ -190,7 +191,10 @@ def jacobian(Chain chain, q, int kind, int threads=0):
         raise ValueError("kind must be 0 (geometric), 1 (space) or 2 (body)")
     if not usable_q(q, n):
         return None
-    out = empty_result(q, 6, n, 0)
+    if out is None:
+        out = empty_result(q, 6, n, 0)
+    elif not usable_out(out, q, 6, n, 0):
+        return None
     Q = <const double*>cnp.PyArray_DATA(q)
     O = <double*>cnp.PyArray_DATA(out)
     N = cnp.PyArray_SIZE(q) // n
