@@ -71,7 +71,7 @@ Ixx, Iyy, Izz, Ixy, Iyz, Ixz) in that table's own link frame i (DH, Hayati: fram
 modified DH: frame {i} on joint i's axis; RPY-XYZ: joint i's frame; PoE: its reference frame at q = 0),
 everything rigidly attached to a link (fixed links, the tool) merged in: a block under the table on
 stdout, m/r/I on the rows of a document, ten more columns in CSV/Markdown/LaTeX. A table with them
-converts back (--to urdf/mjcf) with the same mass matrix and gravity torques.
+converts back (--to urdf: <inertial>s) with the same mass matrix and gravity torques.
 
 Chains: --base-link / --tip-link given once apply to every robot file among the inputs; given once
 per input, in input order, the k-th belongs to the k-th input ('-' = that file's default, and what a
