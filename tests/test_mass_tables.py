@@ -394,3 +394,24 @@ def test_text_csv_markdown_latex_carry_the_masses_with_units():
     assert "0  (base)" in text  # the base body in the text block
     assert "$m$ (kg)" in render_table(robot, "mdh", "latex") and "| m (kg) |" in render_table(robot, "poe",
                                                                                               "markdown")
+
+
+_JUNK = st.one_of(st.none(), st.booleans(), st.integers(-10, 10), st.floats(allow_nan=True, allow_infinity=True),
+                  st.text(max_size=6), st.lists(st.floats(allow_nan=True), max_size=8),
+                  st.lists(st.text(max_size=3), max_size=7), st.dictionaries(st.text(max_size=2), st.integers(),
+                                                                             max_size=2))
+
+
+@settings(max_examples=max(20, int(60 * PROPERTY_SCALE)), deadline=None)
+@given(st.sampled_from(["m", "r", "I"]), _JUNK, st.sampled_from(["dh", "mdh", "hayati", "rpy_xyz", "poe"]))
+def test_junk_mass_fields_read_or_say_why(field, value, section):
+    """Any value in a mass field of any section: the document reads, or one InputError names the field."""
+    doc = document_from_robot(parse_document(ROWS, "yaml"), (section,))
+    entries = doc[section]["masses"] if section == "poe" else doc[section]["rows"][1 if section == "rpy_xyz" else 0:]
+    entries[0][field] = value
+    try:
+        robot = parse_document(json.dumps(doc), "json")
+    except InputError as exc:
+        assert "\n" not in str(exc) and (f".{field}" in str(exc) or "m (kg)" in str(exc) or "masses" in str(exc))
+    else:
+        assert np.all(np.isfinite(robot.gravity(np.zeros(2))))
