@@ -371,6 +371,41 @@ def test_a_table_with_masses_writes_inertials_to_urdf():
     assert text.count("<inertial>") == 2 and '<mass value="2"/>' in text and '<mass value="1.5"/>' in text
 
 
+@pytest.mark.parametrize("rep", ["dh", "mdh", "hayati", "rpy-xyz", "poe", "poe-body"])
+def test_csv_tables_read_back_with_their_masses(rep, tmp_path):
+    """A CSV table robkin writes reads back as input with its mass columns: the same mass matrix and
+    gravity torques as the URDF it came from (to rounding), and no warning about ignored columns."""
+    from robkin.io.table_read import read_table_file
+
+    robot = _load(*UR5)
+    path = tmp_path / "t.csv"
+    path.write_text(render_table(robot, rep, "csv"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)  # 'columns ... are ignored' would be one
+        warnings.simplefilter("ignore", DeprecationWarning)
+        back = read_table_file(path, rep if rep.startswith("poe") else None).replace(world=robot.world)
+    q = np.array([0.3, -0.8, 1.2, -0.4, 0.9, 0.2])
+    # the table's own numbers are the shortest decimals within 1e-12 of the robot's size (FK budget)
+    for a, b in ((back.mass_matrix(q), robot.mass_matrix(q)), (back.gravity(q), robot.gravity(q))):
+        assert np.abs(a - b).max() <= 1e-9 * np.abs(b).max()
+    if rep == "rpy-xyz":  # the world row carried the base's
+        assert link_masses(back).total_mass == pytest.approx(link_masses(robot).total_mass, rel=1e-12)
+
+
+def test_csv_mass_columns_all_or_none(tmp_path):
+    from robkin.io.table_read import read_table_file
+
+    robot = _load(*UR5)
+    lines = render_table(robot, "dh", "csv").splitlines()
+    cells = lines[2].split(",")
+    cells[-1] = ""
+    lines[2] = ",".join(cells)
+    path = tmp_path / "t.csv"
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(InputError, match=r"line 3: the mass columns .* need all ten values, or none"):
+        read_table_file(path)
+
+
 # ---------------------------------------------------------------------------------- tables as text
 def test_text_csv_markdown_latex_carry_the_masses_with_units():
     robot = _load(*UR5)
@@ -379,15 +414,22 @@ def test_text_csv_markdown_latex_carry_the_masses_with_units():
     assert "m (kg)" in text and "Ixx (kg m^2)" in text and "link frame {i} (after joint i" in text
     assert "m (kg)" not in str(dh_from_robot(robot.replace(bodies=Bodies())))  # no masses, no block
     assert "on joint i's axis" in str(mdh_from_robot(robot))
-    rows = list(csv.reader(io.StringIO(render_table(robot, "dh", "csv"))))
-    head = rows[0]
-    start = head.index("m (kg)")
-    assert head[start:] == ["m (kg)", "rx (m)", "ry (m)", "rz (m)", "Ixx (kg m^2)", "Iyy (kg m^2)",
-                            "Izz (kg m^2)", "Ixy (kg m^2)", "Iyz (kg m^2)", "Ixz (kg m^2)"]
-    values = np.array([[float(c) for c in r[start:]] for r in rows[1:1 + robot.n]])
     m = table.masses
-    np.testing.assert_array_equal(values, np.column_stack([m.mass, m.com, m.six]))  # every digit
-    rpy = list(csv.reader(io.StringIO(render_table(robot, "rpy-xyz", "csv"))))
+    for digits in ("exact", None):
+        rows = list(csv.reader(io.StringIO(render_table(robot, "dh", "csv", digits=digits))))
+        head = rows[0]
+        start = head.index("m (kg)")
+        assert head[start:] == ["m (kg)", "rx (m)", "ry (m)", "rz (m)", "Ixx (kg m^2)", "Iyy (kg m^2)",
+                                "Izz (kg m^2)", "Ixy (kg m^2)", "Iyz (kg m^2)", "Ixz (kg m^2)"]
+        values = np.array([[float(c) for c in r[start:]] for r in rows[1:1 + robot.n]])
+        want = np.column_stack([m.mass, m.com, m.six])
+        if digits == "exact":
+            np.testing.assert_array_equal(values, want)  # every digit
+        else:  # the shortest decimals within 1e-12 of the largest mass, length, inertia entry
+            assert "99999" not in "".join(sum(rows, [])) and "00000" not in "".join(sum(rows, []))
+            for cols, ref in ((slice(0, 1), m.mass.max()), (slice(1, 4), 1.0), (slice(4, 10), np.abs(m.six).max())):
+                assert np.abs(values[:, cols] - want[:, cols]).max() <= 1e-12 * ref
+    rpy = list(csv.reader(io.StringIO(render_table(robot, "rpy-xyz", "csv", digits="exact"))))
     assert float(rpy[1][start + 2]) == m.base.mass[0] == 4.0  # the world row: the base body (UR5 base_link)
     assert rpy[robot.n + 2][start + 2:] == [""] * 10  # the tool row: none
     assert all(c for c in rpy[2][start + 2:])

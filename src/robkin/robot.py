@@ -27,10 +27,16 @@ if TYPE_CHECKING:  # pragma: no cover
     from .compiled.fk import Chain
     from .kinematics.ik import IKResult
 
-__all__ = ["Joint", "Robot", "JOINT_TYPES", "EXACT_TOL", "PROJECTION_TOL", "check_pose", "check_poses", "check_q"]
+__all__ = ["Joint", "Robot", "JOINT_TYPES", "EXACT_TOL", "PROJECTION_TOL", "check_pose", "check_poses", "check_q",
+           "identity_pose"]
 
 JointType = Literal["revolute", "prismatic"]
 JOINT_TYPES: tuple[str, ...] = ("revolute", "prismatic")
+
+
+def identity_pose() -> np.ndarray:
+    """A new (4, 4) identity: the default of every pose field (``Robot.world``, a table's base and tool)."""
+    return np.eye(4)
 
 @dataclass(frozen=True)
 class Joint:
@@ -101,7 +107,7 @@ class Robot:
 
     frames: np.ndarray
     joints: tuple[Joint, ...]
-    world: np.ndarray = field(default_factory=lambda: np.eye(4))
+    world: np.ndarray = field(default_factory=identity_pose)
     name: str | None = None
     frames_from: str | None = None
     bodies: Bodies = EMPTY_BODIES

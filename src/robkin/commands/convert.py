@@ -8,7 +8,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ._chains import add_chain_options, chain_ends
-from ._common import add_allow_xacro
+from ._common import add_allow_xacro, add_from
 from ._output import wrote
 from ._toolbox import CODE_EXTENSIONS, CODE_FORMATS, add_toolbox_options, check_toolbox_options, render_code
 
@@ -59,10 +59,20 @@ or modified DH table cannot be exact (nearly parallel axes: use --to hayati). Th
 values closer to 0 than 1e-9 (lengths: times the robot's size) as 0 and says so in a note; -o, --format
 and --json keep every digit.
 
+Tables as input: a CSV table written with --format csv reads back as INPUT (its header says which
+table it is, except a PoE's frame: --from poe or poe-body), and so do bare rows as pasted from a paper
+('a d alpha theta [R|P]' per line, .txt/.csv/.tsv) with --from dh or mdh (poe: screw rows then 'M ...';
+rpy-xyz: n + 2 rows).
+
 Tables for papers and spreadsheets: --format csv|markdown|latex with a table --to (dh, mdh, hayati, poe,
 poe-body, rpy-xyz, gjd) writes the table as CSV (reads back: the fixed transforms follow the rows
-after an empty line), Markdown or LaTeX (a table environment; matrices use amsmath), every number in
-full precision; -o names a .csv, .md or .tex file. --pi writes angles that are exactly k*pi/m as
+after an empty line), Markdown or LaTeX (a table environment; matrices use amsmath); -o names a .csv,
+.md or .tex file.
+
+Numbers in files: tables and YAML documents write each value as the shortest decimal that keeps the
+table's FK within 1e-12 of the robot's size (0.3839999999999999 is written 0.384, -4.16e-18 is 0);
+--digits N writes N significant digits, and --exact every digit, so that the file reads back to the
+very same floats (JSON documents always keep every digit). --pi writes angles that are exactly k*pi/m as
 such (-pi/2, 3*pi/4).
 
 Mass properties: when the input has them (URDF/MJCF/SDF inertials, or m, r, I on a document's rows),
@@ -100,6 +110,8 @@ examples:
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format latex --pi
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format csv -o ur5_dh.csv
   robkin convert ur5_dh.yaml --to urdf -o ur5_again.urdf     # the DH rows' m, r, I become inertials
+  robkin convert ur5_dh.csv --to mdh
+  robkin convert ur5_rows.txt --from dh --to urdf -o ur5_from_rows.urdf
   robkin convert ur5.urdf panda.urdf a.yaml --tip-link tool0 --tip-link panda_hand_tcp --tip-link - --to mdh -o out/
 """
 
@@ -114,6 +126,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                         "MJCF (.xml/.mjcf) or SDF (.sdf) (one or more)")
     add_chain_options(p)
     add_allow_xacro(p)
+    add_from(p)
     p.add_argument("--to", required=True, choices=list(SECTION_OF), metavar="FORMAT",
                    help="output representation: " + ", ".join(SECTION_OF))
     p.add_argument("--format", choices=["csv", "markdown", "latex"],
@@ -121,6 +134,13 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                         "Markdown or LaTeX, full precision")
     p.add_argument("--pi", action="store_true",
                    help="with --format: angles that are exactly k*pi/m written as such (-pi/2, 3*pi/4)")
+    precision = p.add_mutually_exclusive_group()
+    precision.add_argument("--digits", type=_digits, metavar="N",
+                           help="tables (--format) and YAML documents: N significant digits (default: the "
+                                "shortest decimal that keeps FK within 1e-12 of the robot's size)")
+    precision.add_argument("--exact", action="store_true",
+                           help="tables (--format) and YAML documents: every digit, reading back to the very "
+                                "same floats (JSON documents always do)")
     p.add_argument("-o", "--output", metavar="OUT", help="output file, or folder for several inputs")
     p.add_argument("--json", action="store_true",
                    help="print the robot document with the chosen section as JSON (instead of a table)")
@@ -130,7 +150,53 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="angles in degrees: in the table on stdout, and in a written robot document "
                         "(which then says 'angles: degrees')")
     add_toolbox_options(p)
+    p.add_argument("--link-geometry", choices=["none", "capsules"], default="none",
+                   help="--to urdf|mjcf: give the links shapes a simulator shows: 'capsules' draws a capsule "
+                        "from each joint frame origin to the next and a cylinder along each joint axis "
+                        "(visual and collision; URDF writes a capsule as a cylinder and two spheres), as the "
+                        "Robotics Toolbox draws a DH robot; added to the shapes the input has (default: none)")
+    p.add_argument("--link-radius", metavar="R",
+                   help="with --link-geometry capsules: the capsule radius in the robot's length unit "
+                        "(default: 3%% of the robot's size)")
     return p
+
+
+def _digits(text: str) -> int:
+    """argparse type of --digits: 1 .. 17 significant digits (17 always reproduces a float)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text[:40]}' is not a whole number") from None
+    if not 1 <= value <= 17:
+        raise argparse.ArgumentTypeError(f"{value} is not 1 .. 17")
+    return value
+
+
+def _check_link_geometry(args: argparse.Namespace) -> float | None:
+    """The capsule radius (None: the default), after checking the --link-* options fit --to."""
+    from ..io.numbers import number
+
+    style, radius = getattr(args, "link_geometry", "none"), getattr(args, "link_radius", None)
+    if style != "none" and args.to not in ("urdf", "mjcf"):
+        raise InputError(f"--link-geometry {style}: shapes are written by --to urdf or --to mjcf only, "
+                         f"not --to {args.to}")
+    if radius is None:
+        return None
+    if style == "none":
+        raise InputError("--link-radius: applies with --link-geometry capsules")
+    r = number(radius, "--link-radius")
+    if not r > 0:
+        raise InputError(f"--link-radius: must be a positive length, got {radius}")
+    return r
+
+
+def _with_link_geometry(robot, args: argparse.Namespace | None):
+    """The robot with stand-in link shapes when --link-geometry asks for them (robkin.link_geometry)."""
+    if args is None or getattr(args, "link_geometry", "none") == "none":
+        return robot
+    from ..link_geometry import with_link_capsules
+
+    return with_link_capsules(robot, _check_link_geometry(args))
 
 
 def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None = None) -> str:
@@ -142,21 +208,25 @@ def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None 
     if args is not None and args.format:
         from ..io.table_files import render_table
 
-        return render_table(robot, fmt, args.format, pi=args.pi)
+        return render_table(robot, fmt, args.format, pi=args.pi, digits="exact" if args.exact else args.digits)
     if fmt in CODE_FORMATS:
         return render_code(robot, fmt, out_ext, args)
     if fmt == "urdf":
         from ..io.urdf import urdf_from_robot
 
-        return urdf_from_robot(robot)
+        return urdf_from_robot(_with_link_geometry(robot, args))
     if fmt == "mjcf":
         from ..io.mjcf import mjcf_from_robot
 
-        return mjcf_from_robot(robot)
+        return mjcf_from_robot(_with_link_geometry(robot, args))
     section = SECTION_OF[fmt]
     doc = document_from_robot(robot, degrees=degrees) if section is None else \
         document_from_robot(robot, (section,), degrees=degrees)
     doc_fmt = "json" if (fmt == "json" or out_ext == ".json") and fmt != "yaml" else "yaml"
+    if doc_fmt == "yaml" and not (args is not None and args.exact):
+        from ..io.document_round import round_document
+
+        doc = round_document(doc, robot.scale, None if args is None else args.digits)
     return dump(doc, doc_fmt)
 
 
@@ -214,7 +284,11 @@ def _mapping_note(path: str, robot, fmt: str) -> str | None:
 def _load_all(inputs: list[str], args: argparse.Namespace) -> list:
     from ..io import load
 
-    return [load(i, base_link=base, tip_link=tip, allow_xacro=args.allow_xacro)
+    from ..io import TABLE_EXTENSIONS
+
+    # --from applies to the table files among the inputs (the others say what they hold)
+    return [load(i, base_link=base, tip_link=tip, allow_xacro=args.allow_xacro,
+                 representation=args.representation if i.lower().endswith(TABLE_EXTENSIONS) else None)
             for i, (base, tip) in zip(inputs, chain_ends(args, inputs))]
 
 
@@ -235,6 +309,7 @@ def run(args: argparse.Namespace) -> int:
     fmt: str = args.to
     _check_table_options(args)
     check_toolbox_options(args)
+    _check_link_geometry(args)
     if args.json and (args.output or fmt in ("urdf", "mjcf", "yaml")):
         raise InputError(f"--json prints a table format as JSON to stdout; it does not combine with "
                          f"{'-o' if args.output else '--to ' + fmt}")

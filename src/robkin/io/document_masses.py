@@ -32,7 +32,8 @@ from .numbers import number, number_list
 if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
 
-__all__ = ["split_masses", "read_masses", "mass_fields", "same_masses", "LIST_WIDTH"]
+__all__ = ["split_masses", "read_masses", "mass_fields", "same_masses", "mass_columns_at", "mass_cells",
+           "add_mass_columns", "LIST_WIDTH"]
 
 #: Numbers a list row adds for its mass properties: m, r (3), I (6).
 LIST_WIDTH = 10
@@ -182,3 +183,43 @@ def same_masses(a: "Robot", b: "Robot", tol: float) -> str | None:
                 name = "the base" if i == 0 else f"link {i} ({a.joints[i - 1].name})"
                 return f"{name}: {what} differs by {d:.3g}"
     return None
+
+
+def mass_columns_at(header: list[str], after: int) -> int | None:
+    """Where the ten mass columns (``table_files.MASS_COLUMNS``: ``m (kg)``, ``rx (m)``, ...,
+    ``Ixz (kg m^2)``) start in a table file's header, looking from column ``after`` on; None without them."""
+    from .table_files import MASS_COLUMNS
+
+    names = [c.lower() for c, _ in MASS_COLUMNS]
+    lowered = [h.strip().lower() for h in header]
+    for k in range(after, len(lowered) - len(names) + 1):
+        if lowered[k:k + len(names)] == names:
+            return k
+    return None
+
+
+def mass_cells(cells: list[str], at: int | None, line: int, header: list[str]) -> list[float] | None:
+    """A table file row's ten mass values (m, rx, ry, rz, Ixx, ..., Ixz) from column ``at``, or None
+    when the row leaves them empty (RPY-XYZ's tool row) or the file has none."""
+    if at is None:
+        return None
+    values = [c.strip() for c in cells[at:at + LIST_WIDTH]]
+    if not any(values):
+        return None
+    if len(values) < LIST_WIDTH or not all(values):
+        raise InputError(f"line {line}: the mass columns ({', '.join(header[at:at + LIST_WIDTH])[:60]}...) need "
+                         f"all ten values, or none")
+    return [number(v, f"line {line}, column {header[at + j]}") for j, v in enumerate(values)]
+
+
+def add_mass_columns(section: dict[str, Any], masses: list[list[float] | None]) -> None:
+    """A table file's mass columns into its document section (in place): 10 more numbers on each row
+    of ``rows`` that has them (``split_masses`` reads them), or a PoE's ``masses`` list."""
+    if not any(m is not None for m in masses):
+        return
+    if "screws" in section:
+        if any(m is None for m in masses):
+            raise InputError("a PoE table's mass columns need values on every joint row, or none")
+        section["masses"] = [{"m": m[0], "r": m[1:4], "I": m[4:]} for m in masses if m is not None]
+    elif "rows" in section:
+        section["rows"] = [row if m is None else [*row, *m] for row, m in zip(section["rows"], masses)]

@@ -9,9 +9,10 @@ extension the conversion paper names as future work; it follows from the same hu
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, ClassVar, Iterable
+from typing import Any, Callable, ClassVar, Iterable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import se3
 from ..robot import Robot
@@ -33,15 +34,24 @@ class MDHTable(LinkTable):
         return robot_from_mdh(self, name=name)
 
 
-def robot_from_mdh(table: MDHTable, name: str | None = None) -> Robot:
+def robot_from_mdh(table: "MDHTable | ArrayLike", name: str | None = None, *, joints: Any = None,
+                   base: ArrayLike | None = None, tool: ArrayLike | None = None) -> Robot:
     """The GJD of a modified DH table: J_i = frame {i} (flip-adjusted), J_{n+1} = frame {n} tool; the
-    rows' mass properties (if any) become ``bodies.inertials``."""
-    F = table.link_frames()  # {0}..{n}
-    frames = np.empty((table.n + 1, 4, 4))
-    for i, joint in enumerate(table.joints):
+    rows' mass properties (if any) become ``bodies.inertials``.
+
+    ``table`` may also be the rows alone, an (n, 4) array of (a(i-1), d, alpha(i-1), theta) (lengths in the
+    robot's unit, angles in radians), with ``joints`` (None: all revolute; a type string such as "RRPR"; or n
+    ``Joint``) and optional ``base`` / ``tool`` (4, 4); anything else raises one InputError.
+    """
+    from .table_input import link_table_of
+
+    t: MDHTable = link_table_of(MDHTable, table, "robot_from_mdh", joints, base, tool)
+    F = t.link_frames()  # {0}..{n}
+    frames = np.empty((t.n + 1, 4, 4))
+    for i, joint in enumerate(t.joints):
         frames[i] = flip_frame(F[i + 1], joint.flip)
-    frames[-1] = F[-1] @ table.tool
-    return Robot(frames, table.joints, name=name, frames_from="mdh", bodies=table_bodies(table.masses, F))
+    frames[-1] = F[-1] @ t.tool
+    return Robot(frames, t.joints, name=name, frames_from="mdh", bodies=table_bodies(t.masses, F))
 
 
 def mdh_frames(robot: Robot) -> list[np.ndarray]:
