@@ -18,6 +18,7 @@ import sys
 import tempfile
 import urllib.error
 import urllib.request
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -726,6 +727,29 @@ def _shot(pg, tmp_path, name: str) -> None:
 
 def _settled(pg) -> None:
     pg.wait_for_function("() => document.body.dataset.state == 'ready'", timeout=15000)
+
+
+def test_browser_shows_each_links_mass_properties(panda_page):
+    """Under DH, modified DH, Hayati, PoE and RPY-XYZ: one row per link with m, r, I (headers with units),
+    each cell's title the full-precision number of the table (in the frame the caption names)."""
+    pg = panda_page
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = robkin.load(str(PANDA), base_link="panda_link0", tip_link="panda_link8")
+    for key, table in (("dh", robkin.dh_from_robot(robot)), ("mdh", robkin.mdh_from_robot(robot)),
+                       ("rpy_xyz", robkin.rpy_from_robot(robot))):
+        rows = pg.query_selector_all(f"#mass-{key} tr")
+        assert len(rows) == 2 + robot.n  # the header, the base (panda_link0's 0.63 kg), the links
+        head = [c.inner_text() for c in rows[0].query_selector_all("th")]
+        assert head[1:5] == ["m (kg)", "rx (m)", "ry (m)", "rz (m)"] and head[-1] == "Ixz (kg m²)"
+        m = table.masses
+        assert rows[1].query_selector("td").inner_text() == "base"
+        expected = [[m.base.mass[0], *m.base.com[0], *m.base.six[0]]] + \
+            [[m.mass[i], *m.com[i], *m.six[i]] for i in range(robot.n)]
+        for row, want in zip(rows[1:], expected):
+            assert [float(c.get_attribute("title")) for c in row.query_selector_all("td")[1:]] == want
+    assert pg.query_selector("#mass-hayati") and pg.query_selector("#mass-poe") and pg.query_selector("#mass-poe_body")
+    assert "frame {i} (after joint i)" in pg.inner_text("#section-dh")
 
 
 _LAYOUT = """() => {

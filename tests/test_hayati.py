@@ -67,8 +67,8 @@ def test_hayati_section_in_documents_and_cli(tmp_path, capsys):
     import yaml
 
     doc = yaml.safe_load(out.read_text())
-    assert set(doc["hayati"]) == {"base", "rows", "tool"}
-    assert list(doc["hayati"]["rows"][0]) == list(HAYATI_COLUMNS)
+    assert set(doc["hayati"]) == {"base", "rows", "tool", "base_mass"}  # UR5 base_link's mass: base_mass
+    assert list(doc["hayati"]["rows"][0]) == [*HAYATI_COLUMNS, "m", "r", "I"]  # UR5's mass properties
     back, robot = robkin.load(out), robkin.load(urdf, tip_link="tool0")
     q = robot.random_q(20, rng=4)
     np.testing.assert_allclose(back.fk(q), robot.fk(q), atol=EXACT)

@@ -79,9 +79,12 @@ def test_masses_follow_the_joint_mapping(ur5):
 
 
 def test_not_compared_without_inertials_or_with_other_kinematics(ur5):
-    table = robkin.dh_from_robot(ur5).to_robot()   # a DH table: kinematics only
+    dh = robkin.dh_from_robot(ur5)
+    table = dh.with_masses(None).to_robot()   # a DH table without mass properties: kinematics only
     result = compare_masses(table, ur5, compare(table, ur5))
     assert not result.checked and result.same is None and result.reason == "A has no inertials"
+    with_masses = dh.to_robot()   # the DH table with the URDF's m, r, I in its frames (and the base's)
+    assert compare_masses(with_masses, ur5, compare(with_masses, ur5)).same is True
     longer_tool = np.concatenate([ur5.frames[:-1], (ur5.frames[-1] @ robkin.se3.trans(0.1))[None]])
     other = ur5.replace(frames=longer_tool)
     result = compare_masses(ur5, other, compare(ur5, other))
@@ -108,4 +111,5 @@ def test_cli_reports_masses_and_exit_status(tmp_path, capsys, ur5):
         assert main(["convert", src, "--tip-link", "tool0", "--to", "dh", "-o", str(doc)]) == 0
     capsys.readouterr()
     assert main(["check", str(doc), src, "--tip-link", "-", "--tip-link", "tool0"]) == 0
-    assert "mass properties: not compared (A has no inertials)" in capsys.readouterr().out
+    # the DH document carries UR5's m, r, I on its rows (and the base's): the same mass properties
+    assert "mass properties: same (7 bodies" in capsys.readouterr().out

@@ -54,7 +54,9 @@ def joints_of(rows) -> tuple[Joint, ...]:
 def test_csv_reads_back_to_the_same_fk(rep, pi):
     robot = ur5()
     head, rows, transforms = parse_csv(render_table(robot, rep, "csv", pi=pi, digits="exact"))
-    values = np.array([[number(v, "cell") for v in r[3:]] for r in rows])
+    # the representation's own columns; UR5's mass columns (m (kg), ...) follow them
+    end = head.index("m (kg)") if "m (kg)" in head else len(head)
+    values = np.array([[number(v, "cell") for v in r[3:end]] for r in rows])
     Q = sample_q(robot, 6, seed=1)
     if rep in ("dh", "mdh"):
         cls = DHTable if rep == "dh" else MDHTable
@@ -105,7 +107,11 @@ def test_markdown_carries_full_precision_when_exact():
     text = render_table(robot, "dh", "markdown", digits="exact")
     lines = [ln for ln in text.splitlines() if ln.startswith("| ") and ln[2].isdigit()][:robot.n]
     cells = np.array([[float(c) for c in ln.strip("| ").split(" | ")[3:]] for ln in lines])
-    np.testing.assert_array_equal(cells, dh_from_robot(robot).rows)
+    table = dh_from_robot(robot)
+    np.testing.assert_array_equal(cells[:, :4], table.rows)
+    # then UR5's mass properties, as full-precision as the rows: m, r (3), I (6)
+    m = table.masses
+    np.testing.assert_array_equal(cells[:, 4:], np.column_stack([m.mass, m.com, m.six]))
     assert "base [R | p]:" in text and "tool [R | p]:" in text
 
 
@@ -132,7 +138,7 @@ def test_hayati_table_or_a_clear_error():
         with pytest.raises(InputError, match="no Hayati representation"):
             table_of(robot, "hayati")
     else:
-        assert [c[0] for c in table_of(robot, "hayati").columns] == ["a", "d", "alpha", "theta", "beta"]
+        assert [c[0] for c in table_of(robot, "hayati").columns][:5] == ["a", "d", "alpha", "theta", "beta"]
 
 
 # ------------------------------------------------------------------------------------------ CLI
@@ -141,7 +147,8 @@ def test_convert_format_to_stdout_and_file(tmp_path, capsys):
     assert main(["convert", path, "--base-link", "base", "--tip-link", "tool0", "--to", "dh", "--format", "csv",
                  "--pi"]) == 0
     out = capsys.readouterr().out
-    assert out.startswith("i,joint,type,a,d,alpha,theta\n1,shoulder_pan_joint,revolute,")
+    assert out.startswith("i,joint,type,a,d,alpha,theta,m (kg),rx (m),ry (m),rz (m),Ixx (kg m^2),Iyy (kg m^2),"
+                          "Izz (kg m^2),Ixy (kg m^2),Iyz (kg m^2),Ixz (kg m^2)\n1,shoulder_pan_joint,revolute,")
     target = tmp_path / "ur5.tex"
     assert main(["convert", path, "--tip-link", "tool0", "--to", "mdh", "--format", "latex", "-o", str(target)]) == 0
     assert target.read_text().startswith("\\begin{table}")

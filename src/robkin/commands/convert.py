@@ -75,6 +75,14 @@ table's FK within 1e-12 of the robot's size (0.3839999999999999 is written 0.384
 very same floats (JSON documents always keep every digit). --pi writes angles that are exactly k*pi/m as
 such (-pi/2, 3*pi/4).
 
+Mass properties: when the input has them (URDF/MJCF/SDF inertials, or m, r, I on a document's rows),
+every table carries each link's mass m (kg), centre of mass r (m) and inertia about it I (kg m^2:
+Ixx, Iyy, Izz, Ixy, Iyz, Ixz) in that table's own link frame i (DH, Hayati: frame {i} after joint i;
+modified DH: frame {i} on joint i's axis; RPY-XYZ: joint i's frame; PoE: its reference frame at q = 0),
+everything rigidly attached to a link (fixed links, the tool) merged in: a block under the table on
+stdout, m/r/I on the rows of a document, ten more columns in CSV/Markdown/LaTeX. A table with them
+converts back (--to urdf: <inertial>s) with the same mass matrix and gravity torques.
+
 Chains: --base-link / --tip-link given once apply to every robot file among the inputs; given once
 per input, in input order, the k-th belongs to the k-th input ('-' = that file's default, and what a
 robot document takes). A base or tip may be any link rigidly attached to the chain's end (UR's
@@ -105,6 +113,7 @@ examples:
   robkin convert a.yaml b.yaml c.urdf --to yaml -o converted/
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format latex --pi
   robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format csv -o ur5_dh.csv
+  robkin convert ur5_dh.yaml --to urdf -o ur5_again.urdf     # the DH rows' m, r, I become inertials
   robkin convert ur5_dh.csv --to mdh
   robkin convert ur5_rows.txt --from dh --to urdf -o ur5_from_rows.urdf
   robkin convert ur5.urdf panda.urdf a.yaml --tip-link tool0 --tip-link panda_hand_tcp --tip-link - --to mdh -o out/

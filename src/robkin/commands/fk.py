@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError
 from ._common import add_degrees, add_input, load_input, parse_q, revolute_degrees
+from ._gravity import EPILOG as GRAVITY_EPILOG
+from ._gravity import add_gravity, gravity_extras, print_gravity
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
@@ -30,6 +32,7 @@ examples:
   robkin fk rrpr.yaml --q -0.5,0,0.1,0 --json
   robkin fk ur5.urdf --tip-link tool0 --q 0,-pi/2,0,-pi/2,0,0 --json
   robkin fk scara.yaml --q 0,0.3,0.5,0,1 --jacobian --manipulability
+  robkin fk ur5.urdf --tip-link tool0 --q 0,-pi/4,pi/2,0,0,0 --gravity
   robkin fk ur5.urdf --tip-link tool0 --q-file q.csv -o poses.csv
   robkin ik ur5.urdf --tip-link tool0 --poses targets.csv | robkin fk ur5.urdf --tip-link tool0 --q-file -
   robkin fk ur5_rows.txt --from dh --q 0,-pi/2,0,-pi/2,0,0
@@ -39,7 +42,7 @@ examples:
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p = sub.add_parser("fk", help="forward kinematics: tool pose at q",
                        description="Forward kinematics: the tool pose in the robot base frame at q.",
-                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+                       epilog=EPILOG + "\n" + GRAVITY_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     add_input(p)
     which = p.add_mutually_exclusive_group(required=True)
     which.add_argument("--q", metavar="Q1,Q2,...", help="joint values, one per joint")
@@ -59,6 +62,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--manipulability", action="store_true",
                    help="also Yoshikawa's manipulability (translational, rotational, full), inverse "
                         'condition number and minimum singular value; JSON key "manipulability"')
+    add_gravity(p)
     return p
 
 
@@ -76,6 +80,9 @@ def run(args: argparse.Namespace) -> int:
         if args.jacobian or args.manipulability:
             raise InputError("--jacobian/--manipulability: one --q at a time (for many, use Robot.jacobian "
                              "on an (N, n) array in Python)")
+        if args.gravity or args.gravity_vector:
+            raise InputError("--gravity: one --q at a time (for many, use Robot.gravity on an (N, n) array "
+                             "in Python)")
         return fk_batch(robot, args)
     if args.output:
         raise InputError("-o: writes the results of --q-file; for one --q use --json > FILE")
@@ -85,7 +92,7 @@ def run(args: argparse.Namespace) -> int:
     warn_outside_limits(robot, q)
     T = robot.fk(q)
     rpy = se3.rpy_from_matrix(T[:3, :3])
-    extra = _jacobian_extras(robot, q, args)
+    extra = {**_jacobian_extras(robot, q, args), **gravity_extras(robot, q, args)}
     quat = se3.quaternion_from_matrix(T[:3, :3])
     if args.degrees:
         rpy, q = np.degrees(rpy), revolute_degrees(robot, q, to_radians=False)
@@ -107,6 +114,7 @@ def run(args: argparse.Namespace) -> int:
                          title="J (geometric, base frame, at the tool origin; a column per joint, by name)"))
     for key, value in extra.get("manipulability", {}).items():
         print(f"{key}: {fmt_num(value)}")
+    print_gravity(robot, extra, args)
     return 0
 
 

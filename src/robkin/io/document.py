@@ -36,6 +36,7 @@ from ..representations import DHTable, HayatiTable, MDHTable, PoE, RPYTable
 from ..representations.gjd import robot_from_gjd
 from ..robot import JOINT_TYPES, Joint, Robot, check_pose
 from ..samples import unit_sample
+from .document_masses import read_masses, same_masses, split_masses
 from .document_format import (ANGLE_COLUMNS, ANGLE_UNITS, DH_KEYS, DOC_VERSION, HAYATI_KEYS, RPY_KEYS,
                               SECTIONS)
 from .document_write import document_from_robot, dump, section_key, table_document
@@ -276,21 +277,27 @@ def _robot_of(key: str, value: Any, joints: tuple[Joint, ...], name: str | None,
               unit: str = "radians") -> Robot:
     n = len(joints)
     if key == "hayati":
-        sec = _mapping(value, key, ("base", "rows", "tool"))
-        rows = _rows(sec.get("rows"), "hayati.rows", HAYATI_KEYS, unit)
+        sec = _mapping(value, key, ("base", "rows", "tool", "base_mass"))
+        raw, masses = split_masses(sec.get("rows"), "hayati.rows", len(HAYATI_KEYS), base_mass=sec.get("base_mass"))
+        rows = _rows(raw, "hayati.rows", HAYATI_KEYS, unit)
         return HayatiTable(np.array(rows), joints, base=_pose(sec, "base", key),
-                           tool=_pose(sec, "tool", key)).to_robot(name)
+                           tool=_pose(sec, "tool", key), masses=masses).to_robot(name)
     if key in ("dh", "mdh"):
-        sec = _mapping(value, key, ("base", "rows", "tool"))
-        rows = _rows(sec.get("rows"), f"{key}.rows", DH_KEYS, unit)
+        sec = _mapping(value, key, ("base", "rows", "tool", "base_mass"))
+        paper = key == "dh" and isinstance(sec.get("rows"), list) and len(sec["rows"]) == n + 1 \
+            and sec.get("base") is None  # the paper's layout: row 0 is a fixed base row (the base body's)
+        raw, masses = split_masses(sec.get("rows"), f"{key}.rows", len(DH_KEYS), base_row=0 if paper else None,
+                                   base_mass=sec.get("base_mass"))
+        rows = _rows(raw, f"{key}.rows", DH_KEYS, unit)
         base = _pose(sec, "base", key)
-        if key == "dh" and len(rows) == n + 1 and sec.get("base") is None:
-            base = se3.dh_matrix(*rows[0])  # the paper's layout: row 0 is a fixed base row
+        if paper:
+            base = se3.dh_matrix(*rows[0])
             rows = rows[1:]
         cls = DHTable if key == "dh" else MDHTable
-        return cls(np.array(rows), joints, base=base, tool=_pose(sec, "tool", key)).to_robot(name)
+        return cls(np.array(rows), joints, base=base, tool=_pose(sec, "tool", key),
+                   masses=masses).to_robot(name)
     if key in ("poe", "poe_body"):
-        sec = _mapping(value, key, ("frame", "M", "screws"))
+        sec = _mapping(value, key, ("frame", "M", "screws", "masses", "base_mass"))
         frame = sec.get("frame", "space" if key == "poe" else "body")
         if frame not in ("space", "body"):
             raise InputError(f"{key}.frame: {quote(frame)} is not one of space, body")
@@ -301,10 +308,14 @@ def _robot_of(key: str, value: Any, joints: tuple[Joint, ...], name: str | None,
             raise InputError(f"{key}.screws: expected a list of [wx, wy, wz, vx, vy, vz], one per joint")
         S = [number_list(s, f"{key}.screws[{i}]", 6) for i, s in enumerate(screws)]
         return PoE(np.array(matrix(sec["M"], f"{key}.M")), np.array(S).reshape(-1, 6), joints,
-                   frame).to_robot(name)
+                   frame, read_masses(sec.get("masses"), f"{key}.masses", n, sec.get("base_mass"))).to_robot(name)
     if key == "rpy_xyz":
         sec = _mapping(value, key, ("rows",))
-        return RPYTable(np.array(_rows(sec.get("rows"), "rpy_xyz.rows", RPY_KEYS, unit)), joints).to_robot(name)
+        rows_in = sec.get("rows")
+        tool = (len(rows_in) - 1,) if isinstance(rows_in, list) else ()  # the tool row: no body
+        raw, masses = split_masses(rows_in, "rpy_xyz.rows", len(RPY_KEYS), tool, base_row=0)  # row 0: the base's
+        return RPYTable(np.array(_rows(raw, "rpy_xyz.rows", RPY_KEYS, unit)), joints,
+                        masses).to_robot(name)
     if key == "gjd":
         sec = _mapping(value, key, ("frames",))
         frames = sec.get("frames")
@@ -325,6 +336,7 @@ def _robot_from_sections(sections: dict[str, Any], joints: tuple[Joint, ...], na
         if diff is not None:
             raise InputError(f"sections {keys[0]} and {other} describe different robots ({diff}); "
                              f"remove one or make them agree")
+    primary = _with_masses(primary, robots)
     if "rpy_xyz" in robots and keys[0] != "rpy_xyz":
         primary = primary.replace(world=robots["rpy_xyz"].world)
     if world is not None:
@@ -334,6 +346,20 @@ def _robot_from_sections(sections: dict[str, Any], joints: tuple[Joint, ...], na
                              "remove one or make them agree")
         primary = primary.replace(world=W)
     return primary
+
+
+def _with_masses(primary: Robot, robots: dict[str, Robot]) -> Robot:
+    """The primary section's robot with the mass properties of the first section that gives them;
+    every other section that gives them must agree (else an InputError names both)."""
+    keys = [k for k, r in robots.items() if r.bodies.inertials]
+    if not keys:
+        return primary
+    for other in keys[1:]:
+        diff = same_masses(robots[keys[0]], robots[other], AGREE_TOL)
+        if diff is not None:
+            raise InputError(f"sections {keys[0]} and {other} give different mass properties ({diff}); "
+                             f"remove the mass fields of one or make them agree")
+    return primary if robots[keys[0]] is primary else primary.replace(bodies=robots[keys[0]].bodies)
 
 
 def same_robot(a: Robot, b: Robot, tol: float = AGREE_TOL) -> str | None:

@@ -7,13 +7,17 @@ written and read again gives bit-identical numbers. ``robkin.io.document`` re-ex
 from __future__ import annotations
 
 import math
-from typing import Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
 from ..errors import InputError
 from ..robot import Joint, Robot
 from .document_format import ANGLE_COLUMNS, DH_KEYS, DOC_VERSION, HAYATI_KEYS, RPY_KEYS, SECTIONS
+from .document_masses import mass_fields
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..representations.mass_rows import MassRows
 
 __all__ = ["document_from_robot", "dump", "section_key", "table_document"]
 
@@ -85,13 +89,24 @@ def _section(table: Any, degrees: bool = False) -> dict[str, Any]:
     """The section of a DHTable, MDHTable, HayatiTable, PoE or RPYTable as a document holds it (angle
     columns in degrees if asked)."""
     key = section_key(table)
+    masses = table.masses
+    out: dict[str, Any]
     if key in ("dh", "mdh", "hayati"):
         keys = HAYATI_KEYS if key == "hayati" else DH_KEYS
-        return {"base": _mat(table.base), "rows": _named_rows(table.rows, keys, key, degrees),
-                "tool": _mat(table.tool)}
-    if key in ("poe", "poe_body"):
-        return {"frame": table.frame, "M": _mat(table.M), "screws": _mat(table.screws)}
-    return {"rows": _named_rows(table.rows, RPY_KEYS, key, degrees)}
+        out = {"base": _mat(table.base), "rows": _named_rows(table.rows, keys, key, degrees, masses),
+               "tool": _mat(table.tool)}
+    elif key in ("poe", "poe_body"):
+        out = {"frame": table.frame, "M": _mat(table.M), "screws": _mat(table.screws)}
+        if masses is not None:  # mass properties at q = 0 in the PoE's frame, one entry per joint
+            out["masses"] = [mass_fields(masses, i, _clean) for i in range(masses.n)]
+    else:  # RPY-XYZ: row 0 (world -> base) carries the base body's mass properties
+        out = {"rows": _named_rows(table.rows, RPY_KEYS, key, degrees, masses, first=1)}
+        if masses is not None and masses.base is not None:
+            out["rows"][0].update(mass_fields(masses.base, 0, _clean))
+        return out
+    if masses is not None and masses.base is not None:  # the base body's, in frame {0}
+        out["base_mass"] = mass_fields(masses.base, 0, _clean)
+    return out
 
 
 def table_document(table: Any, degrees: bool = False) -> dict[str, Any]:
@@ -105,9 +120,17 @@ def table_document(table: Any, degrees: bool = False) -> dict[str, Any]:
     return doc
 
 
-def _named_rows(rows: np.ndarray, keys: tuple[str, ...], section: str, degrees: bool) -> list[dict[str, float]]:
+def _named_rows(rows: np.ndarray, keys: tuple[str, ...], section: str, degrees: bool,
+                masses: MassRows | None = None, first: int = 0) -> list[dict[str, Any]]:
+    """Rows as objects with named keys; rows first.. first + n - 1 with their link's ``m``, ``r``, ``I``
+    when the table has ``masses`` (never converted to degrees: they are not angles)."""
     angles = ANGLE_COLUMNS.get(section, ()) if degrees else ()
-    return [{k: _clean(math.degrees(v) if k in angles else v) for k, v in zip(keys, row)} for row in rows]
+    out: list[dict[str, Any]] = [{k: _clean(math.degrees(v) if k in angles else v) for k, v in zip(keys, row)}
+                                 for row in rows]
+    if masses is not None:
+        for i in range(masses.n):
+            out[first + i].update(mass_fields(masses, i, _clean))
+    return out
 
 
 def dump(doc: Mapping[str, Any], fmt: str = "yaml") -> str:

@@ -15,6 +15,12 @@ Layout (the same content in each format)
     roll, pitch, yaw, x, y, z; GJD: the 3 x 4 block of each frame); then the fixed transforms that
     complete the table (DH/MDH/Hayati: base and tool; PoE: M), each as its 3 x 4 block [R | p]
     row-major. CSV puts those after an empty line, in rows ``name,m11,m12,m13,m14,m21,...,m34``.
+
+Mass properties
+    When the robot has them, each joint row ends with ten more columns: ``m (kg)``, ``rx (m)``,
+    ``ry (m)``, ``rz (m)``, ``Ixx (kg m^2)``, ``Iyy``, ``Izz``, ``Ixy``, ``Iyz``, ``Ixz`` (the same
+    unit): link i's mass, centre of mass and inertia about it, in the table's own link frame i
+    (``robkin.representations.mass_rows``). RPY-XYZ's world and tool rows leave them empty.
 """
 
 from __future__ import annotations
@@ -34,6 +40,7 @@ from .float_text import float_text as _num
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..representations.link_table import LinkTable
+    from ..representations.mass_rows import MassRows
 
 __all__ = ["TABLE_FORMATS", "TABLE_EXTENSIONS", "TABLE_REPRESENTATIONS", "Table", "table_of", "render_table",
            "pi_text"]
@@ -64,13 +71,15 @@ class Table:
     transforms: list[tuple[str, np.ndarray]] = field(default_factory=list)
     tolerances: tuple[float, float] = (0.0, 0.0)
     digits: int | None = None
+    #: the mass columns' own tolerances (``with_mass_columns``), used whenever ``tolerances`` are
+    mass_tolerances: dict[str, float] = field(default_factory=dict)
 
     def text(self, x: float, column: str) -> str:
         """A value of column ``column`` (a name of ``columns``, or m11..m34 of a transform) as text."""
         kind = _KIND.get(column)
-        if kind is None:  # a column of another kind (e.g. a mass): every digit
-            return _num(x)
-        tol = self.tolerances[0 if kind == "length" else 1]
+        if kind is None and (column not in self.mass_tolerances or self.tolerances == (0.0, 0.0)):
+            return _num(x)  # a column of another kind, or every digit asked for
+        tol = self.mass_tolerances[column] if kind is None else self.tolerances[0 if kind == "length" else 1]
         if self.digits is not None:  # rounding noise is 0 at any number of digits
             return "0" if abs(x) <= tol else digits_text(x, self.digits)
         return short_text(x, tol)
@@ -104,6 +113,8 @@ def _tex(text: str) -> str:
 
 
 def _cell(t: Table, x: float, column: tuple[str, str, bool], pi: bool) -> str:
+    if math.isnan(x):  # a row without this column's quantity (RPY-XYZ's tool row: no mass)
+        return ""
     if pi and column[2]:
         text = pi_text(float(x))
         if text is not None:
@@ -156,28 +167,67 @@ def table_of(robot: Robot, rep: str) -> Table:
         if rep == "hayati":
             cols.append(("beta", r"$\beta_i$", True))
         title = {"dh": "standard DH", "mdh": "modified (Craig) DH", "hayati": "Hayati"}[rep]
-        return Table(f"{name}: {title}", ["i", "joint", "type"], cols,
-                     [(lab, list(map(float, r))) for lab, r in zip(jl, np.asarray(t.rows))],
-                     [("base", t.base), ("tool", t.tool)])
+        return with_mass_columns(Table(f"{name}: {title}", ["i", "joint", "type"], cols,
+                                       [(lab, list(map(float, r))) for lab, r in zip(jl, np.asarray(t.rows))],
+                                       [("base", t.base), ("tool", t.tool)]), t.masses)
     if rep in ("poe", "poe-body"):
         p = poe_from_robot(robot, "space" if rep == "poe" else "body")
         cols = [(c, f"${c[0]}_{c[1]}$" if c[0] == "v" else fr"$\omega_{c[1]}$", False)
                 for c in ("wx", "wy", "wz", "vx", "vy", "vz")]
-        return Table(f"{name}: PoE ({'space' if rep == 'poe' else 'body'} frame)", ["i", "joint", "type"], cols,
-                     [(lab, list(map(float, s))) for lab, s in zip(jl, p.screws)], [("M", p.M)])
+        return with_mass_columns(Table(f"{name}: PoE ({'space' if rep == 'poe' else 'body'} frame)",
+                                       ["i", "joint", "type"], cols,
+                                       [(lab, list(map(float, s))) for lab, s in zip(jl, p.screws)], [("M", p.M)]),
+                                 p.masses)
     if rep == "rpy-xyz":
-        rows = rpy_from_robot(robot).rows
+        rpy = rpy_from_robot(robot)
         labels = [["0", "world->base", ""]] + jl + [[str(robot.n + 1), "tool", ""]]
         cols = [("roll", "roll", True), ("pitch", "pitch", True), ("yaw", "yaw", True),
                 ("x", "$x$", False), ("y", "$y$", False), ("z", "$z$", False)]
-        return Table(f"{name}: RPY-XYZ", ["row", "frame", "type"], cols,
-                     [(lab, list(map(float, r))) for lab, r in zip(labels, rows)])
+        return with_mass_columns(Table(f"{name}: RPY-XYZ", ["row", "frame", "type"], cols,
+                                       [(lab, list(map(float, r))) for lab, r in zip(labels, rpy.rows)]),
+                                 rpy.masses, first=1)
     if rep == "gjd":
         labels = jl + [[str(robot.n + 1), "tool", ""]]
         cols = [(m, f"${m[0]}_{{{m[1:]}}}$", False) for m in _BLOCK]
         return Table(f"{name}: Global Joint Description (frames at q = 0)", ["i", "frame", "type"], cols,
                      [(lab, list(map(float, F[:3].ravel()))) for lab, F in zip(labels, robot.frames)])
     raise InputError(f"'{rep}' has no table form; tables exist for {', '.join(TABLE_REPRESENTATIONS)}")
+
+
+#: The mass-property columns a table gains when its robot has mass properties: (CSV/Markdown header,
+#: LaTeX header); units in the headers (kg, the robot's length unit (normally m), kg m^2).
+MASS_COLUMNS = (("m (kg)", "$m$ (kg)"),
+                *((f"r{a} (m)", f"$r_{a}$ (m)") for a in "xyz"),
+                *((f"I{a} (kg m^2)", f"$I_{{{a}}}$ (kg\\,m$^2$)") for a in ("xx", "yy", "zz", "xy", "yz", "xz")))
+
+
+def with_mass_columns(t: Table, masses: "MassRows | None", first: int = 0) -> Table:
+    """``t`` with the mass columns added to rows first.. first + n - 1 (link i's m, r, I in the table's
+    own link frame i, see ``representations.mass_rows``) and the base body's to row first - 1 (RPY-XYZ's
+    world row) when known, the other rows' cells empty (NaN); ``t`` itself when there are no mass
+    properties."""
+    if masses is None:
+        return t
+    from ..representations.mass_rows import six_from_tensor
+
+    mass, com, inertia = masses.bodies()  # bodies 0..n: body 0 on the row before the first link's, if any
+    values = np.column_stack([mass, com, six_from_tensor(inertia)])
+    rows = []
+    for k, (lab, row) in enumerate(t.rows):
+        known = 0 <= k - first < masses.n or (k == first - 1 and masses.base is not None)
+        extra = values[k - first + 1] if known else np.full(len(MASS_COLUMNS), np.nan)
+        rows.append((lab, row + [float(v) for v in extra]))
+    # shortest decimals within 1e-12 of the largest mass, of the robot's size (centres; the table's
+    # largest length stands in for it) and of the largest inertia entry, the FK budget of the table's
+    # own numbers: the mass matrix and gravity torques move by ~1e-11 of their largest entry at most,
+    # far inside the 1e-9 the round trips promise, while the noise of the frame changes goes (UR5's
+    # -0.0929999999998: its URDF's 4.9e-12 rad tilt times the link's length)
+    size = max([abs(v) for _, vals in t.rows for v, c in zip(vals, t.columns) if _KIND.get(c[0]) == "length"]
+               + [float(np.linalg.norm(np.asarray(T)[:3, 3])) for _, T in t.transforms] + [1e-300])
+    scales = [float(np.abs(mass).max()), size, size, size, *[float(np.abs(inertia).max())] * 6]
+    tolerances = {c: 1e-12 * ref for (c, _), ref in zip(MASS_COLUMNS, scales)}
+    return Table(t.title, t.labels, [*t.columns, *((c, tex, False) for c, tex in MASS_COLUMNS)], rows,
+                 t.transforms, mass_tolerances=tolerances)
 
 
 def to_csv(t: Table, pi: bool = False) -> str:
@@ -221,6 +271,8 @@ def _tex_text(s: str) -> str:
 
 
 def _tex_num(table: Table, x: float, column: tuple[str, str, bool], pi: bool) -> str:
+    if math.isnan(x):  # no quantity in this row (see _cell)
+        return ""
     t = pi_text(float(x)) if pi and column[2] else None
     if t is None:
         return f"${_tex(table.text(x, column[0]))}$"

@@ -9,7 +9,9 @@ Two kinds of file are read (``.csv``, ``.tsv``, ``.txt``):
   line, the fixed transforms as rows ``name, m11, ..., m34`` (``base``/``tool``, or ``M``). Only the
   representation columns are needed (a header ``a,d,alpha,theta`` alone will do); the label columns
   give the joint names and types (``revolute``, ``prismatic``, ``revolute (flip)``). Values may be
-  expressions such as ``-pi/2`` (what ``--pi`` writes);
+  expressions such as ``-pi/2`` (what ``--pi`` writes). The ten mass columns robkin writes after the
+  representation's (``m (kg)``, ``rx (m)``, ..., ``Ixz (kg m^2)``) are read as each link's mass
+  properties in the table's link frame (RPY-XYZ's world row: the base's; see ``document_masses``);
 * bare rows (no header), as pasted from a paper and as the GUI takes them
   (``robkin.io.pasted_tables``): ``a d alpha theta [R|P]`` per line, and so on.
 
@@ -28,6 +30,7 @@ from typing import Any, Sequence
 
 from ..errors import InputError
 from ..robot import Robot
+from .document_masses import LIST_WIDTH, add_mass_columns, mass_cells, mass_columns_at
 from .numbers import number
 
 __all__ = ["TABLE_INPUT_EXTENSIONS", "TABLE_INPUTS", "read_table_file", "table_document"]
@@ -158,10 +161,13 @@ def _header_document(lines: list[str], representation: str | None, tab: bool) ->
     rep = _settle(found, representation)
     cols = _COLUMNS[found]
     labels_at = {h.lower(): i for i, h in enumerate(header[:start])}
-    extra = [h for h in header[start + len(cols):] if h]
+    mass_at = mass_columns_at(header, start + len(cols))  # m (kg), rx (m), ... as robkin writes them
+    extra = [h for i, h in enumerate(header[start + len(cols):], start + len(cols))
+             if h and (mass_at is None or not mass_at <= i < mass_at + LIST_WIDTH)]
     if extra:
         warnings.warn(f"columns {', '.join(extra)[:80]} are not part of the {rep} table and are ignored")
     rows: list[list[float]] = []
+    masses: list[list[float] | None] = []
     joints: list[dict[str, Any]] = []
     rest = numbered[1:]
     body: list[tuple[int, list[str]]] = []
@@ -178,8 +184,11 @@ def _header_document(lines: list[str], representation: str | None, tab: bool) ->
                              f"got {len(cells)}")
         rows.append([number(c, f"line {k}, column {header[start + j]}") for j, c in enumerate(cells[start:start + len(cols)])])
         joints.append(_joint({name: cells[i] for name, i in labels_at.items()}, len(joints)))
+        masses.append(mass_cells(cells, mass_at, k, header))
     transforms = _transforms(rest, tab)
-    return _document(rep, rows, joints, transforms)
+    doc = _document(rep, rows, joints, transforms)
+    add_mass_columns(doc[_SECTION[rep]], masses)
+    return doc
 
 
 def _transforms(numbered: list[tuple[int, str]], tab: bool) -> dict[str, list[list[float]]]:

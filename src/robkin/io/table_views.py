@@ -34,7 +34,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..representations.link_table import LinkTable
     from ..robot import Joint
 
-__all__ = ["Block", "DISPLAY_ZERO", "DISPLAY_NOTE", "table_text", "table_blocks", "frames_blocks", "solutions_block",
+__all__ = ["Block", "DISPLAY_ZERO", "DISPLAY_NOTE", "MASS_HEADERS", "table_text", "table_blocks", "mass_blocks",
+           "mass_frame", "frames_blocks", "solutions_block",
            "ik_result_blocks", "comparison_blocks", "blocks_text"]
 
 #: Rows of a batch IK result shown by str(); a batch of 1e5 targets stays a screenful.
@@ -141,21 +142,61 @@ def table_blocks(table: "LinkTable | PoE | RPYTable", title: str | None = None,
         out.append(matrix_text(shown.matrix(table.tool),
                                "tool (residual T_t)" if dh else "tool"))
         out.extend(f"note: {line}" for line in placement_notes(table))
-        return out + shown.note()
+        return out + mass_blocks(table, shown) + shown.note()
     if _is_a(table, "poe", "PoE"):
         poe = cast("PoE", table)
         heads = ["i", "joint", "type", "wx", "wy", "wz", "vx", "vy", "vz"]
         screws = shown.values(poe.screws, [3, 4, 5])  # omega is unitless, v a length
         return [(title, heads, [c + list(s) for c, s in zip(jc, screws)]),
-                matrix_text(shown.matrix(poe.M), "M"), *shown.note()]
+                matrix_text(shown.matrix(poe.M), "M"), *mass_blocks(poe, shown), *shown.note()]
     if _is_a(table, "rpy_xyz", "RPYTable"):
         values = shown.values(cast("RPYTable", table).rows, [3, 4, 5])  # roll, pitch, yaw; x, y, z
         if degrees:
             values[:, :3] = np.degrees(values[:, :3])
         rpy_labels: list[list[object]] = [["0", "world->base", ""], *jc, [str(table.n + 1), "tool", ""]]
         return [(title, ["row", "frame", "type", f"roll{unit}", f"pitch{unit}", f"yaw{unit}", "x", "y", "z"],
-                 [lab + list(r) for lab, r in zip(rpy_labels, values)]), *shown.note()]
+                 [lab + list(r) for lab, r in zip(rpy_labels, values)]), *mass_blocks(table, shown),
+                *shown.note()]
     raise TypeError(f"no table layout for {type(table).__name__}")
+
+
+#: Headers of the mass-property columns (units: kg, the robot's length unit (normally m), kg m^2).
+MASS_HEADERS = ("m (kg)", "rx (m)", "ry (m)", "rz (m)", "Ixx (kg m^2)", "Iyy (kg m^2)", "Izz (kg m^2)",
+                "Ixy (kg m^2)", "Iyz (kg m^2)", "Ixz (kg m^2)")
+
+
+def mass_frame(table: object) -> str:
+    """The frame a table's mass properties are in, as the line under them says it."""
+    if _is_a(table, "mdh", "MDHTable"):
+        return "link frame {i} (on joint i's axis, where link i starts; Craig)"
+    if _is_a(table, "rpy_xyz", "RPYTable"):
+        return "joint i's frame (the frame row i leads to, which joint i moves)"
+    if _is_a(table, "poe", "PoE"):
+        return ("the robot base frame at q = 0" if cast("PoE", table).frame == "space"
+                else "the home tool frame M")
+    return "link frame {i} (after joint i, on axis i+1)"
+
+
+def mass_blocks(table: "LinkTable | PoE | RPYTable", shown: _Display) -> list[Block]:
+    """The table's mass properties (``masses``), one row per link, with the frame they are in; none
+    when the table has none. The display rule hides centres of mass below DISPLAY_ZERO times the
+    robot's size and inertia entries below DISPLAY_ZERO times the largest one."""
+    from ..representations.mass_rows import six_from_tensor
+
+    masses = table.masses
+    if masses is None:
+        return []
+    mass, com, inertia = masses.bodies()  # bodies 0..n; body 0 shown only when known
+    six = six_from_tensor(inertia)
+    values = np.column_stack([mass, shown.values(com, [0, 1, 2]), six])
+    small = (np.abs(six) < DISPLAY_ZERO * float(np.abs(six).max())) & (six != 0)
+    values[:, 4:][small] = 0.0
+    labels = [["0", "(base)"]] + [[str(i + 1), j.name] for i, j in enumerate(table.joints)]
+    rows = [lab + list(v) for lab, v in zip(labels, values)][0 if masses.base is not None else 1:]
+    return [("mass properties of each link (everything fixed to it merged in)", ["i", "joint", *MASS_HEADERS],
+             rows),
+            f"r and I in {mass_frame(table)}; I about the centre of mass (products as in URDF: Ixy = -sum m x y)"
+            + ("; the base's in frame 0." if masses.base is not None else ".")]
 
 
 def frames_blocks(frames: np.ndarray, labels: Sequence[str], scale: float) -> list[Block]:

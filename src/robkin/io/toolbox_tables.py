@@ -51,26 +51,23 @@ def toolbox_table(robot: "Robot", convention: str) -> "LinkTable":
 
 
 def link_frames(table: "LinkTable") -> np.ndarray:
-    """Link frames {0}..{n} (n+1, 4, 4) of a DH or modified DH table at q = 0 in the robot base frame:
-    {0} is the base transform, {i} = base A_1(0) ... A_i(0). In standard DH frame {i} is at the end of
-    link i, in modified DH at its start (on joint i's axis); either way it moves with link i, which is
-    where the Robotics Toolbox expects link i's centre of mass and inertia."""
-    A = table.link_transforms(np.zeros(table.n))
-    F = np.empty((table.n + 1, 4, 4))
-    F[0] = table.base
-    for i in range(table.n):
-        F[i + 1] = F[i] @ A[i]
-    return F
+    """Link frames {0}..{n} (n+1, 4, 4) of a DH or modified DH table at q = 0 in the robot base frame
+    (``LinkTable.link_frames``): {0} is the base transform, {i} = base A_1(0) ... A_i(0). In standard DH
+    frame {i} is at the end of link i, in modified DH at its start (on joint i's axis); either way it
+    moves with link i, which is where the Robotics Toolbox expects link i's centre of mass and inertia."""
+    return table.link_frames()
 
 
 def link_mass_rows(robot: "Robot", table: "LinkTable") -> LinkMassRows | None:
-    """Mass properties of links 1..n in the table's link frames (``robkin.dynamics``: everything rigidly
-    attached to a link at q = 0 merged into it), or None when the robot has no inertials at all.
-    Body 0 (what is fixed to the base) never moves, so no toolbox link holds it."""
-    from ..dynamics import link_masses
+    """Mass properties of links 1..n in the table's link frames (the table's own ``masses``, made from
+    the robot's by ``robkin.dynamics``: everything rigidly attached to a link at q = 0 merged into it),
+    or None when the robot has no inertials at all. Body 0 (what is fixed to the base) never moves, so
+    no toolbox link holds it."""
+    masses = table.masses
+    if masses is None and robot.bodies.inertials:  # a table made without its robot's masses
+        from ..representations.mass_rows import masses_of_robot
 
-    masses = link_masses(robot)
+        masses = masses_of_robot(robot, table.link_frames())
     if masses is None:
         return None
-    mass, com, inertia = masses.in_frames(link_frames(table))
-    return LinkMassRows(np.asarray(mass[1:]), np.asarray(com[1:]), np.asarray(inertia[1:]))
+    return LinkMassRows(np.asarray(masses.mass), np.asarray(masses.com), np.asarray(masses.inertia))

@@ -302,10 +302,12 @@ def _rest_of_the_file(model: UrdfModel, base: str, chain_index: dict[str, int]) 
         from ..body_parts import Inertial
 
         poses, body = tree()
+        content = model.content
+        # the inertial alone where the reader can parse it so (URDF): the shapes need not be valid
+        inertial_of = getattr(content, "inertial", None) or (lambda link: getattr(content.get(link), "inertial", None))
         for link in model.links:
-            content = model.content.get(link)
-            if content is not None and content.inertial is not None:
-                m = content.inertial
+            m = inertial_of(link)
+            if m is not None:
                 yield Inertial(m.link, body[link], np.dot(poses[link], m.pose), m.mass, m.inertia, m.origin)
 
     return links, shapes, inertials

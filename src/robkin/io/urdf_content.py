@@ -72,7 +72,7 @@ def _geometry(el: Any, where: str) -> Geometry:
 
 def parse_link_content(el: Any, src: str, named: Mapping[str, Material]) -> LinkContent:
     """Shapes and inertial of one <link> element (poses relative to the link frame)."""
-    from ..body_parts import Inertial, Shape
+    from ..body_parts import Shape
     link = el.get("name")
     shapes: list[Shape] = []
     for role in ("visual", "collision"):
@@ -82,6 +82,18 @@ def parse_link_content(el: Any, src: str, named: Mapping[str, Material]) -> Link
             material = _material(sub.find("material"), where, named) if role == "visual" else None
             shapes.append(Shape(link, 0, role, pose, _geometry(sub, where), material,
                                 sub.get("name"), xyz_rpy))
+    inertial = parse_inertial(el, src)
+    if not shapes and inertial is None:
+        return _EMPTY
+    return LinkContent(tuple(shapes), inertial)
+
+
+def parse_inertial(el: Any, src: str) -> Inertial | None:
+    """The <inertial> of one <link> element (pose relative to the link frame), or None; parsed on its
+    own, so that mass properties (dynamics, tables with masses) never depend on the shapes."""
+    from ..body_parts import Inertial
+
+    link = el.get("name")
     inertial = None
     iel = el.find("inertial")
     if iel is not None:
@@ -95,9 +107,7 @@ def parse_link_content(el: Any, src: str, named: Mapping[str, Material]) -> Link
                                         for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
         inertial = Inertial(link, 0, pose, mass, np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]),
                             xyz_rpy)
-    if not shapes and inertial is None:
-        return _EMPTY
-    return LinkContent(tuple(shapes), inertial)
+    return inertial
 
 
 class LazyLinkContent(Mapping[str, LinkContent]):
@@ -142,6 +152,13 @@ class LazyLinkContent(Mapping[str, LinkContent]):
             el = self._element(link)
             self._cache[link] = _EMPTY if el is None else parse_link_content(el, self._src, self._materials())
         return self._cache[link]
+
+    def inertial(self, link: str) -> Inertial | None:
+        """The link's inertial alone (its shapes not parsed: a broken shape does not stop dynamics)."""
+        if link in self._cache:
+            return self._cache[link].inertial
+        el = self._element(link)
+        return None if el is None else parse_inertial(el, self._src)
 
     def __iter__(self) -> Iterator[str]:
         return iter(self._links)

@@ -20,6 +20,7 @@ from .. import se3
 from ..robot import Robot
 from .frames import dh_params_between
 from .link_table import COLUMNS, LinkTable, check_dh_rows, flip_frame
+from .mass_rows import table_bodies
 from .placement import place_frames, tables_from_robots
 
 __all__ = ["DHTable", "dh_from_robot", "dh_from_robots", "robot_from_dh", "check_dh_rows", "flip_frame",
@@ -63,15 +64,15 @@ def robot_from_dh(table: "DHTable | ArrayLike", name: str | None = None, *, join
 
 def robot_from_links(table: LinkTable, frames_from: str, name: str | None = None) -> Robot:
     """The GJD of a table whose joint i moves frame {i-1}'s z (standard DH, Hayati): J_i = frame {i-1}
-    (flip-adjusted), J_{n+1} = frame {n} tool; the Robot remembers which table its frames are."""
-    A = table.link_transforms(np.zeros(table.n))
+    (flip-adjusted), J_{n+1} = frame {n} tool; the Robot remembers which table its frames are, and
+    carries the rows' mass properties (if any) as ``bodies.inertials``."""
+    F = table.link_frames()  # {0}..{n}
     frames = np.empty((table.n + 1, 4, 4))
-    T = table.base
     for i, joint in enumerate(table.joints):
-        frames[i] = flip_frame(T, joint.flip)
-        T = T @ A[i]
-    frames[-1] = T @ table.tool
-    return Robot(frames, table.joints, name=name, frames_from=frames_from)
+        frames[i] = flip_frame(F[i], joint.flip)
+    frames[-1] = F[-1] @ table.tool
+    return Robot(frames, table.joints, name=name, frames_from=frames_from,
+                 bodies=table_bodies(table.masses, F))
 
 
 def dh_frames(robot: Robot) -> tuple[np.ndarray, np.ndarray]:

@@ -30,6 +30,7 @@ from .dh import robot_from_links
 from .frames import (TIE_TOL, approx_dh_params, common_normal_frame, dh_params_between, is_identity,
                      relative_pose, satisfies_normal, tidy_angle)
 from .link_table import LinkTable, flip_frame, residual_tool, warn_fk_error
+from .mass_rows import masses_of_robot
 from .rounding import snap_rows
 
 __all__ = ["HayatiTable", "hayati_from_robot", "robot_from_hayati", "hayati_matrix", "HAYATI_COLUMNS",
@@ -160,7 +161,7 @@ def hayati_frames(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def hayati_from_robot(robot: Robot) -> HayatiTable:
     """Hayati table (+ base, + residual tool) of a robot; FK-identical at every q, also where axes are
-    nearly parallel (the rows stay short there)."""
+    nearly parallel (the rows stay short there). With the robot's mass properties in frames {i}."""
     F, last, beta_row = hayati_frames(robot)
     chain = list(F) + [last]
     rows = np.array([hayati_params_between(chain[i], chain[i + 1]) if beta_row[i]
@@ -170,4 +171,6 @@ def hayati_from_robot(robot: Robot) -> HayatiTable:
     tool = residual_tool(F[0], rows, hayati_matrix, robot.tool, robot.scale)
     table = HayatiTable(rows, robot.joints, base=F[0], tool=tool)
     warn_fk_error(table.fk, robot, "hayati")
+    if robot.bodies.inertials:  # the mass properties, in the table's own link frames {i}
+        table = table.with_masses(masses_of_robot(robot, table.link_frames()))
     return table

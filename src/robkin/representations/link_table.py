@@ -7,7 +7,7 @@ which frame a joint's GJD frame is; everything else lives here once.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Callable, ClassVar, Sequence
+from typing import TYPE_CHECKING, Any, Callable, ClassVar, Sequence, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -18,11 +18,16 @@ from ..robot import Joint, Robot, check_pose, check_q, identity_pose
 from ..samples import unit_sample
 from .frames import identity_mask, is_identity, relative_pose
 
+if TYPE_CHECKING:  # pragma: no cover
+    from .mass_rows import MassRows
+
 __all__ = ["LinkTable", "check_dh_rows", "flip_frame", "residual_tool", "fk_error", "warn_fk_error",
-           "report_fk_error", "check_configurations", "sample_configurations", "pose_difference",
-           "joint_signs", "joint_links", "chain_poses", "placement_notes", "COLUMNS", "FLIP_X", "WARN_TOL"]
+           "report_fk_error", "check_masses", "check_configurations", "sample_configurations",
+           "pose_difference", "joint_signs", "joint_links", "chain_poses", "placement_notes", "COLUMNS", "FLIP_X",
+           "WARN_TOL"]
 
 COLUMNS = ("a", "d", "alpha", "theta")
+_Table = TypeVar("_Table", bound="LinkTable")
 #: The turn by pi about x that takes a joint frame to a flipped joint's frame (``flip_frame``).
 FLIP_X = se3.rot_x(np.pi)
 
@@ -189,6 +194,8 @@ class LinkTable:
     """Rows (n, 4) of (a, d, alpha, theta), joints, base and tool (4, 4); FK from the table itself.
 
     A subclass may add columns after theta (Hayati's beta): ``link_matrix`` takes them all.
+    ``masses`` (optional, ``mass_rows.MassRows``): each link's mass, centre of mass and inertia in the
+    table's own link frame i (``link_frames``); None when unknown.
     """
 
     SECTION: ClassVar[str] = "dh"
@@ -199,6 +206,7 @@ class LinkTable:
     joints: tuple[Joint, ...]
     base: np.ndarray = field(default_factory=identity_pose)
     tool: np.ndarray = field(default_factory=identity_pose)
+    masses: "MassRows | None" = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "joints", tuple(self.joints))
@@ -206,6 +214,8 @@ class LinkTable:
                                                                 type(self).COLUMNS))
         object.__setattr__(self, "base", check_pose(self.base, f"{self.SECTION}.base"))
         object.__setattr__(self, "tool", check_pose(self.tool, f"{self.SECTION}.tool"))
+        if self.masses is not None:
+            check_masses(self.masses, len(self.joints), self.SECTION)
 
     @property
     def n(self) -> int:
@@ -234,15 +244,47 @@ class LinkTable:
         Q = check_q(q, self.n)
         return chain_poses(self.base, self.link_transforms(Q), self.tool)
 
+    def link_frames(self) -> np.ndarray:
+        """The table's frames {0}..{n} at q = 0 (n + 1, 4, 4) in the robot base frame: {0} = base,
+        {i} = base A_1(0) ... A_i(0). Frame {i} moves with link i (joint i turns or slides it): the
+        frame the mass properties of row i are expressed in (``masses``)."""
+        A = self.link_transforms(np.zeros(self.n))
+        F = np.empty((self.n + 1, 4, 4))
+        F[0] = self.base
+        for i in range(self.n):
+            F[i + 1] = F[i] @ A[i]
+        return F
+
+    def with_masses(self: _Table, masses: "MassRows | None") -> _Table:
+        """The same table carrying ``masses`` (each link's in its frame {i}), or none."""
+        if masses is not None:
+            check_masses(masses, self.n, self.SECTION)
+        # the rows, base and tool are this table's, already validated: not checked again
+        table = type(self)._from_checked(self.rows, self.joints, self.base, self.tool)
+        object.__setattr__(table, "masses", masses)
+        return table
+
     @classmethod
-    def _from_checked(cls, rows: np.ndarray, joints: tuple[Joint, ...], base: np.ndarray,
-                      tool: np.ndarray) -> "LinkTable":
+    def _from_checked(cls: type[_Table], rows: np.ndarray, joints: tuple[Joint, ...], base: np.ndarray,
+                      tool: np.ndarray) -> _Table:
         """A table from parts already validated as ``__post_init__`` would (finite float rows of the
         right shape, poses through ``check_pose(s)``), without validating them again."""
         table = cls.__new__(cls)
-        for name, value in (("rows", rows), ("joints", joints), ("base", base), ("tool", tool)):
+        for name, value in (("rows", rows), ("joints", joints), ("base", base), ("tool", tool),
+                            ("masses", None)):
             object.__setattr__(table, name, value)
         return table
+
+
+def check_masses(masses: Any, n: int, section: str) -> None:
+    """InputError unless ``masses`` is a ``MassRows`` of n links (one per row of a table with n joints)."""
+    from .mass_rows import MassRows
+
+    if not isinstance(masses, MassRows):
+        raise InputError(f"{section}.masses: expected a robkin.representations.mass_rows.MassRows, got "
+                         f"{type(masses).__name__}")
+    if masses.n != n:
+        raise InputError(f"{section}.masses: {masses.n} links' mass properties for {n} rows")
 
 
 def joint_signs(joints: Sequence[Joint]) -> tuple[np.ndarray, np.ndarray]:

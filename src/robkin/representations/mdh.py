@@ -17,6 +17,7 @@ from numpy.typing import ArrayLike
 from .. import se3
 from ..robot import Robot
 from .link_table import LinkTable, flip_frame
+from .mass_rows import table_bodies
 from .placement import place_frames, tables_from_robots
 
 __all__ = ["MDHTable", "mdh_from_robot", "mdh_from_robots", "robot_from_mdh", "mdh_frames"]
@@ -35,7 +36,8 @@ class MDHTable(LinkTable):
 
 def robot_from_mdh(table: "MDHTable | ArrayLike", name: str | None = None, *, joints: Any = None,
                    base: ArrayLike | None = None, tool: ArrayLike | None = None) -> Robot:
-    """The GJD of a modified DH table: J_i = frame {i} (flip-adjusted), J_{n+1} = frame {n} tool.
+    """The GJD of a modified DH table: J_i = frame {i} (flip-adjusted), J_{n+1} = frame {n} tool; the
+    rows' mass properties (if any) become ``bodies.inertials``.
 
     ``table`` may also be the rows alone, an (n, 4) array of (a(i-1), d, alpha(i-1), theta) (lengths in the
     robot's unit, angles in radians), with ``joints`` (None: all revolute; a type string such as "RRPR"; or n
@@ -44,14 +46,12 @@ def robot_from_mdh(table: "MDHTable | ArrayLike", name: str | None = None, *, jo
     from .table_input import link_table_of
 
     t: MDHTable = link_table_of(MDHTable, table, "robot_from_mdh", joints, base, tool)
-    A = t.link_transforms(np.zeros(t.n))
+    F = t.link_frames()  # {0}..{n}
     frames = np.empty((t.n + 1, 4, 4))
-    T = t.base
     for i, joint in enumerate(t.joints):
-        T = T @ A[i]
-        frames[i] = flip_frame(T, joint.flip)
-    frames[-1] = T @ t.tool
-    return Robot(frames, t.joints, name=name, frames_from="mdh")
+        frames[i] = flip_frame(F[i + 1], joint.flip)
+    frames[-1] = F[-1] @ t.tool
+    return Robot(frames, t.joints, name=name, frames_from="mdh", bodies=table_bodies(t.masses, F))
 
 
 def mdh_frames(robot: Robot) -> list[np.ndarray]:

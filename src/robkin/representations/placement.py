@@ -9,7 +9,9 @@ Robots are grouped by joint count; each group goes through every stage as whole 
 2. values within rounding of 0 or a multiple of pi/2 written exactly (``rounding.snap_many``), for
    robots whose frames are not already those of a table of the same kind;
 3. the residual tool, and validation of every base and tool pose (``robot.check_poses``);
-4. the FK self-check: each table's FK (from its rows) against the robot's compiled FK at q = 0 and
+4. the mass properties of robots that have them (``Robot.bodies.inertials``), merged per link and
+   expressed in the table's own link frames (``mass_rows.masses_of_robot``);
+5. the FK self-check: each table's FK (from its rows) against the robot's compiled FK at q = 0 and
    the fixed sample of ``link_table.check_configurations``; a table off by more than WARN_TOL gets a
    ConditioningWarning stating its measured error.
 
@@ -29,6 +31,7 @@ from ..robot import Robot, check_poses
 from .frames import relative_pose
 from .link_table import (FLIP_X, WARN_TOL, LinkTable, pose_difference, report_fk_error, residual_tool,
                          sample_configurations)
+from .mass_rows import masses_of_robot
 from .rounding import snap_many, travel
 
 __all__ = ["tables_from_robots", "place_frames"]
@@ -89,7 +92,11 @@ def tables_from_robots(cls: type[Table], robots: Sequence[Robot], *, label: bool
     for idx in groups.values():
         for i, table in zip(idx, _convert_group(cls, [robots[i] for i in idx], idx, label, stacklevel + 1)):
             out[i] = table
-    return out  # type: ignore[return-value]
+    tables: list[Table] = out  # type: ignore[assignment]  # every slot filled above
+    for i, r in enumerate(robots):
+        if r.bodies.inertials:  # the mass properties, in the table's own link frames
+            tables[i] = tables[i].with_masses(masses_of_robot(r, tables[i].link_frames()))
+    return tables
 
 
 def _convert_group(cls: type[Table], robots: list[Robot], idx: list[int], label: bool,
@@ -135,4 +142,4 @@ def _convert_group(cls: type[Table], robots: list[Robot], idx: list[int], label:
     for k in np.flatnonzero(lengths > LONG_FACTOR * scale):
         warn_long_lengths(section, rows[k], base[k], tool[k], robots[k].axes, float(scale[k]),
                           where=f"robots[{idx[k]}]: " if label else "", stacklevel=stacklevel + 1)
-    return tables  # type: ignore[return-value]
+    return tables

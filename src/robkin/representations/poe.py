@@ -8,13 +8,18 @@ PoE -> GJD places frames on the screw axes by the DH rules (``frames.common_norm
 A prismatic screw has no position: its axis is placed through the point of the previous axis
 (the paper's q_i = q_{i-1}; the robot base origin for joint 1). FK does not depend on that choice,
 but a DH table derived from the PoE may differ from the one the PoE came from (the paper's Table III).
+
+Mass properties (optional ``masses``, ``mass_rows.MassRows``): a PoE has no link frames, so each link's
+are given at q = 0 in the PoE's own reference frame: the robot base for space screws (so ``r`` is the
+centre of mass's home position, as Modern Robotics' space-frame quantities are), the home tool pose M
+for body screws.
 """
 
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
-from typing import Any, Literal
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -23,6 +28,11 @@ from .. import se3
 from ..errors import InputError, ProjectionWarning
 from ..robot import EXACT_TOL, PROJECTION_TOL, Joint, Robot, check_pose, check_q
 from .frames import common_normal_frame
+from .link_table import check_masses
+from .mass_rows import masses_of_robot, table_bodies
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .mass_rows import MassRows
 
 __all__ = ["PoE", "poe_from_robot", "robot_from_poe", "check_screws"]
 
@@ -99,12 +109,14 @@ def check_screws(screws: ArrayLike, joints: tuple[Joint, ...], field_name: str =
 
 @dataclass(frozen=True, eq=False)
 class PoE:
-    """Product of Exponentials: home tool pose M (4, 4) and unit screws (n, 6) in ``frame``."""
+    """Product of Exponentials: home tool pose M (4, 4) and unit screws (n, 6) in ``frame``; ``masses``
+    of links 1..n at q = 0 in the same frame (the base, or M), or None when unknown."""
 
     M: np.ndarray
     screws: np.ndarray
     joints: tuple[Joint, ...]
     frame: Frame = "space"
+    masses: "MassRows | None" = None
 
     def __post_init__(self) -> None:
         if self.frame not in ("space", "body"):
@@ -114,6 +126,8 @@ class PoE:
         object.__setattr__(self, "M", check_pose(self.M, f"{section}.M"))
         object.__setattr__(self, "screws", check_screws(self.screws, self.joints, f"{section}.screws",
                                                         size=float(np.linalg.norm(self.M[:3, 3]))))
+        if self.masses is not None:
+            check_masses(self.masses, len(self.joints), section)
 
     @property
     def n(self) -> int:
@@ -143,10 +157,18 @@ class PoE:
             return self.screws
         return self.screws @ se3.adjoint(se3.inv(self.M)).T
 
+    def link_frames(self) -> np.ndarray:
+        """(n + 1, 4, 4): the frame the ``masses`` are in, once per body: the identity (space screws)
+        or M (body screws)."""
+        return np.broadcast_to(np.eye(4) if self.frame == "space" else self.M, (self.n + 1, 4, 4)).copy()
+
     def to_frame(self, frame: Frame) -> "PoE":
-        """The same PoE with screws expressed in the other frame (via the adjoint of M)."""
+        """The same PoE with screws (and masses) expressed in the other frame (via the adjoint of M)."""
         S = self.space_screws() if frame == "space" else self.body_screws()
-        return PoE(self.M, S, self.joints, frame)
+        out = PoE(self.M, S, self.joints, frame)
+        if self.masses is None or frame == self.frame:
+            return replace(out, masses=self.masses)
+        return replace(out, masses=masses_of_robot(self.to_robot(), out.link_frames()))
 
     def fk(self, q: ArrayLike) -> np.ndarray:
         """Tool pose from the exponentials: q (n,) -> (4, 4), (N, n) -> (N, 4, 4)."""
@@ -194,13 +216,17 @@ def robot_from_poe(poe: "PoE | ArrayLike", name: str | None = None, *, M: ArrayL
         prev = common_normal_frame(prev[:3, 3], prev[:3, 2], p, u, on="b", prev=prev, scale=scale)
         frames[i] = prev
     frames[-1] = poe.M
-    return Robot(frames, poe.joints, name=name)
+    return Robot(frames, poe.joints, name=name, bodies=table_bodies(poe.masses, poe.link_frames()))
 
 
 def poe_from_robot(robot: Robot, frame: Frame = "space") -> PoE:
-    """PoE of a robot: M = J_{n+1}, screws from the GJD axes (space frame, or body via the adjoint)."""
+    """PoE of a robot: M = J_{n+1}, screws from the GJD axes (space frame, or body via the adjoint);
+    the robot's mass properties (if any) at q = 0 in that frame."""
     poe = PoE(robot.tool, robot.screws(), robot.joints, "space")
-    return poe if frame == "space" else poe.to_frame("body")
+    poe = poe if frame == "space" else poe.to_frame("body")
+    if robot.bodies.inertials:
+        poe = replace(poe, masses=masses_of_robot(robot, poe.link_frames()))
+    return poe
 
 
 def _poe_of(screws: Any, M: ArrayLike | None, joints: Any, frame: Frame) -> PoE:

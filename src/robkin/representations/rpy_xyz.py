@@ -4,12 +4,16 @@ A row is (roll, pitch, yaw, x, y, z) for the transform Trans(x, y, z) Rz(yaw) Ry
 The table has n + 2 rows: row 0 is world -> robot base, row i (1..n) the partial transform from the
 previous joint frame (the robot base for i = 1) to joint i's frame, whose local z the joint moves
 about/along, and row n + 1 joint n's frame -> tool.
+
+Mass properties (optional ``masses``, ``mass_rows.MassRows``): those of link i (the body joint i moves,
+with everything rigidly attached to it merged in) on joint row i, in joint i's frame: the frame row i
+leads to, which joint i then moves (the URDF child link frame). Rows 0 and n + 1 carry none.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -17,7 +21,12 @@ from numpy.typing import ArrayLike
 from .. import se3
 from ..errors import InputError
 from ..robot import Joint, Robot, check_q
-from .link_table import flip_frame
+from ..bodies import EMPTY_BODIES
+from .link_table import check_masses, flip_frame
+from .mass_rows import masses_of_robot, table_bodies
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .mass_rows import MassRows
 
 __all__ = ["RPYTable", "rpy_from_robot", "robot_from_rpy", "pose_from_row", "row_from_pose"]
 
@@ -38,13 +47,16 @@ def row_from_pose(T: ArrayLike) -> np.ndarray:
 
 @dataclass(frozen=True, eq=False)
 class RPYTable:
-    """RPY-XYZ table: rows (n + 2, 6)."""
+    """RPY-XYZ table: rows (n + 2, 6); ``masses`` of links 1..n in joint frames i (or None: unknown)."""
 
     rows: np.ndarray
     joints: tuple[Joint, ...]
+    masses: "MassRows | None" = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "joints", tuple(self.joints))
+        if self.masses is not None:
+            check_masses(self.masses, len(self.joints), "rpy_xyz")
         n = len(self.joints)
         try:
             R = np.array(self.rows, dtype=float)
@@ -82,6 +94,16 @@ class RPYTable:
     def world(self) -> np.ndarray:
         return pose_from_row(self.rows[0])
 
+    def link_frames(self) -> np.ndarray:
+        """(n + 1, 4, 4): the robot base (identity), then joint i's frame at q = 0 (rows 1..i composed),
+        in the robot base frame: the frames the ``masses`` of links 1..n are expressed in."""
+        P = pose_from_row(self.rows[1:-1])
+        F = np.empty((self.n + 1, 4, 4))
+        F[0] = np.eye(4)
+        for i in range(self.n):
+            F[i + 1] = F[i] @ P[i]
+        return F
+
     def fk(self, q: ArrayLike) -> np.ndarray:
         """Tool pose in the robot base frame: q (n,) -> (4, 4), (N, n) -> (N, 4, 4)."""
         Q = check_q(q, self.n)
@@ -98,7 +120,8 @@ class RPYTable:
 
 
 def robot_from_rpy(table: "RPYTable | ArrayLike", name: str | None = None, *, joints: Any = None) -> Robot:
-    """The GJD of an RPY-XYZ table (world -> base row, one row per joint, the tool row).
+    """The GJD of an RPY-XYZ table (world -> base row, one row per joint, the tool row); its ``masses``
+    (if any) become ``bodies.inertials``.
 
     ``table`` may also be the rows alone, an (n + 2, 6) array of (roll, pitch, yaw, x, y, z), with
     ``joints`` (None: all revolute; a type string such as "RRPR"; or n ``Joint``); anything else raises
@@ -122,11 +145,16 @@ def robot_from_rpy(table: "RPYTable | ArrayLike", name: str | None = None, *, jo
         T = T @ P[i + 1]
         frames[i] = flip_frame(T, joint.flip)
     frames[-1] = T @ P[-1]
-    return Robot(frames, table.joints, world=P[0], name=name)
+    bodies = table_bodies(table.masses, table.link_frames()) if table.masses is not None else EMPTY_BODIES
+    return Robot(frames, table.joints, world=P[0], name=name, bodies=bodies)
 
 
 def rpy_from_robot(robot: Robot) -> RPYTable:
+    """The RPY-XYZ table of a robot, with its mass properties (if any) in the joint frames."""
     F = [flip_frame(robot.frames[i], j.flip) for i, j in enumerate(robot.joints)]
     chain = [np.eye(4)] + F + [robot.tool]
     rel = [robot.world] + [se3.inv(chain[i]) @ chain[i + 1] for i in range(robot.n + 1)]
-    return RPYTable(row_from_pose(np.stack(rel)), robot.joints)
+    table = RPYTable(row_from_pose(np.stack(rel)), robot.joints)
+    if robot.bodies.inertials:
+        table = replace(table, masses=masses_of_robot(robot, table.link_frames()))
+    return table

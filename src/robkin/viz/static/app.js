@@ -290,6 +290,20 @@ function rowsTable(id, header, labels, rows, angleCols) {
   return el("div", {}, t, copyButton([header, ...rows.map((r, i) => [labels[i], ...r])]));
 }
 
+// Each link's mass properties (m, r, I: the robot document's row fields) when the rows carry them;
+// `frame` says which frame r and I are in. Empty (nothing shown) for a robot without them.
+const MASS_HEADER = ["joint", "m (kg)", "rx (m)", "ry (m)", "rz (m)", "Ixx (kg m²)", "Iyy (kg m²)",
+                     "Izz (kg m²)", "Ixy (kg m²)", "Iyz (kg m²)", "Ixz (kg m²)"];
+function massTable(id, entries, names, frame, base) {
+  if (!entries || !entries.length || entries.some((e) => e.m === undefined)) return [];
+  const all = base && base.m !== undefined ? [base, ...entries] : entries;  // the base body's first, if known
+  const rows = all.map((e) => [e.m, ...e.r, ...e.I]);
+  const labels = all === entries ? names : ["base", ...names];
+  return [el("div", { class: "caption", text: "Mass properties, r and I in " + frame +
+                      "; I about the centre of mass (everything fixed to a link merged in)" }),
+          el("div", { class: "wide" }, rowsTable(id, MASS_HEADER, labels, rows, []))];
+}
+
 function section(title, key, ...kids) {
   return el("details", { id: "section-" + key, open: "" }, el("summary", { text: title }), ...kids);
 }
@@ -300,26 +314,33 @@ function showTables(res) {
   const parts = [];
   parts.push(section("Standard DH  A = Rz(θ) Tz(d) Tx(a) Rx(α)", "dh",
     rowsTable("table-dh", ["joint", "a", "d", "α", "θ"], names, dhRows(doc.dh), [2, 3]),
+    ...massTable("mass-dh", doc.dh.rows, names, "frame {i} (after joint i)", doc.dh.base_mass),
     el("div", { class: "matrices" }, matrixTable(doc.dh.base, "base"), matrixTable(doc.dh.tool, "tool"))));
   parts.push(section("Modified DH  A = Rx(α) Tx(a) Rz(θ) Tz(d)", "mdh",
     rowsTable("table-mdh", ["joint", "a(i-1)", "d", "α(i-1)", "θ"], names, dhRows(doc.mdh), [2, 3]),
+    ...massTable("mass-mdh", doc.mdh.rows, names, "frame {i} (on joint i's axis, where link i starts)",
+                doc.mdh.base_mass),
     el("div", { class: "matrices" }, matrixTable(doc.mdh.base, "base"), matrixTable(doc.mdh.tool, "tool"))));
   if (doc.hayati) {  // Hayati: DH with a tilt beta about y (d = 0) where consecutive axes are nearly parallel
     parts.push(section("Hayati  A = Rz(θ) Tz(d) Tx(a) Rx(α) Ry(β)", "hayati",
       rowsTable("table-hayati", ["joint", "a", "d", "α", "θ", "β"], names,
                 doc.hayati.rows.map((r) => [r.a, r.d, r.alpha, r.theta, r.beta]), [2, 3, 4]),
+      ...massTable("mass-hayati", doc.hayati.rows, names, "frame {i} (after joint i)", doc.hayati.base_mass),
       el("div", { class: "matrices" }, matrixTable(doc.hayati.base, "base"), matrixTable(doc.hayati.tool, "tool"))));
   }
   for (const [key, title] of [["poe", "PoE, space frame  T = exp(S1 q1)…exp(Sn qn) M"],
                               ["poe_body", "PoE, body frame  T = M exp(B1 q1)…exp(Bn qn)"]]) {
     parts.push(section(title, key,
       rowsTable("table-" + key, ["joint", "ωx", "ωy", "ωz", "vx", "vy", "vz"], names, doc[key].screws, []),
+      ...massTable("mass-" + key, doc[key].masses, names,
+                   key === "poe" ? "the base frame at home" : "the tool frame M at home", doc[key].base_mass),
       el("div", { class: "matrices" }, matrixTable(doc[key].M, "M (tool at home)"))));
   }
   const rpyLabels = ["world → base", ...names, "→ tool"];
   parts.push(section("RPY-XYZ (URDF joint origins)", "rpy_xyz",
     rowsTable("table-rpy_xyz", ["", "roll", "pitch", "yaw", "x", "y", "z"], rpyLabels,
-              doc.rpy_xyz.rows.map((r) => [r.roll, r.pitch, r.yaw, r.x, r.y, r.z]), [0, 1, 2])));
+              doc.rpy_xyz.rows.map((r) => [r.roll, r.pitch, r.yaw, r.x, r.y, r.z]), [0, 1, 2]),
+    ...massTable("mass-rpy_xyz", doc.rpy_xyz.rows.slice(1, -1), names, "joint i's frame", doc.rpy_xyz.rows[0])));
   const gjd = el("div", { class: "matrices", id: "table-gjd" });
   doc.gjd.frames.forEach((F, i) => gjd.append(matrixTable(F, i < res.n ? "J" + (i + 1) + " " + res.joints[i].name : "tool")));
   parts.push(section("GJD: joint frames at home, in the base frame", "gjd", gjd));
