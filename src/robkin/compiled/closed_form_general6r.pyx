@@ -155,6 +155,72 @@ cdef inline double _pair_angle(const double* v, int stride_lo, int count_i, int 
             c += lo * up
     return atan2(2.0 * c, a - b)
 
+cdef double newton_polish(const double* L, const unsigned char* rev, double scale, const double* Rd,
+                          const double* pd, double* q, double* work) noexcept nogil:
+    """Newton steps on the exact forward kinematics of a 6-joint chain (``fk.pxd``'s L, rev) from q (6,)
+    towards the target (R_d, p_d); returns the final residual |dp| / scale + |dw| (q updated in place,
+    never to a worse residual). work: 6 doubles of scratch."""
+    cdef double P[12 * BLOCK]
+    cdef double Z[36]
+    cdef double e[6]
+    cdef double J[36]
+    cdef double A[36]
+    cdef double R[9]
+    cdef double p[3]
+    cdef double d[3]
+    cdef double zc[3]
+    cdef double r, best = INFINITY
+    cdef int it, i, j, k
+    for it in range(NEWTON_STEPS + 1):
+        walk_block(L, rev, 6, q, 1, P, NULL, Z, 1)
+        for i in range(3):
+            p[i] = P[BLOCK * (4 * i + 3)]
+            e[i] = pd[i] - p[i]
+            for j in range(3):
+                R[3 * i + j] = (Rd[3 * i] * P[BLOCK * (4 * j)] + Rd[3 * i + 1] * P[BLOCK * (4 * j + 1)]
+                                + Rd[3 * i + 2] * P[BLOCK * (4 * j + 2)])
+        rot_log(R, e + 3)
+        r = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) / scale \
+            + sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
+        if not (r < best):       # no progress (or NaN): the previous q stays
+            if it > 0:
+                for i in range(6):
+                    q[i] -= work[i]
+            return best
+        best = r
+        if r < NEWTON_DONE or it == NEWTON_STEPS:
+            return r
+        # J columns: [z_i x (p - p_i); z_i] (base frame), lengths over the robot size, and the
+        # residual in the same units
+        for i in range(3):
+            e[i] = (pd[i] - p[i]) / scale
+        for i in range(6):
+            for k in range(3):
+                d[k] = (p[k] - Z[6 * k + i]) / scale
+                zc[k] = Z[6 * (k + 3) + i]
+            J[6 * 0 + i] = zc[1] * d[2] - zc[2] * d[1]
+            J[6 * 1 + i] = zc[2] * d[0] - zc[0] * d[2]
+            J[6 * 2 + i] = zc[0] * d[1] - zc[1] * d[0]
+            J[6 * 3 + i] = zc[0]
+            J[6 * 4 + i] = zc[1]
+            J[6 * 5 + i] = zc[2]
+        # (J^T J + mu I) dq = J^T e; mu: 1e-14 keeps a singular J solvable without biasing a
+        # regular one (its squared singular values are O(1) in these units)
+        for i in range(6):
+            work[i] = 0.0
+            for k in range(6):
+                work[i] += J[6 * k + i] * e[k]
+            for j in range(6):
+                A[6 * i + j] = 0.0
+                for k in range(6):
+                    A[6 * i + j] += J[6 * k + i] * J[6 * k + j]
+            A[6 * i + i] += 1e-14
+        if not cholesky_solve(A, work, 6):
+            return best
+        for i in range(6):
+            q[i] += work[i]
+    return best
+
 
 cdef class General6RKernel(ClosedFormKernel):
     """One formulation of the loop (see the module docstring) of one 6R robot."""
@@ -208,70 +274,6 @@ cdef class General6RKernel(ClosedFormKernel):
             src = K6inv if m == 5 else self.Kin[m]
         for i in range(16):
             out[i] = src[i]
-
-    cdef double _polish(self, const double* Rd, const double* pd, double* q, double* work) noexcept nogil:
-        """Newton steps on the exact forward kinematics from q (6,) towards the target; returns the
-        final residual |dp| / scale + |dw| (q updated in place)."""
-        cdef double P[12 * BLOCK]
-        cdef double Z[36]
-        cdef double e[6]
-        cdef double J[36]
-        cdef double A[36]
-        cdef double R[9]
-        cdef double p[3]
-        cdef double d[3]
-        cdef double zc[3]
-        cdef double r, best = INFINITY
-        cdef int it, i, j, k
-        for it in range(NEWTON_STEPS + 1):
-            walk_block(self.chain.L, self.rev, 6, q, 1, P, NULL, Z, 1)
-            for i in range(3):
-                p[i] = P[BLOCK * (4 * i + 3)]
-                e[i] = pd[i] - p[i]
-                for j in range(3):
-                    R[3 * i + j] = (Rd[3 * i] * P[BLOCK * (4 * j)] + Rd[3 * i + 1] * P[BLOCK * (4 * j + 1)]
-                                    + Rd[3 * i + 2] * P[BLOCK * (4 * j + 2)])
-            rot_log(R, e + 3)
-            r = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) / self.scale \
-                + sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
-            if not (r < best):       # no progress (or NaN): the previous q stays
-                if it > 0:
-                    for i in range(6):
-                        q[i] -= work[i]
-                return best
-            best = r
-            if r < NEWTON_DONE or it == NEWTON_STEPS:
-                return r
-            # J columns: [z_i x (p - p_i); z_i] (base frame), lengths over the robot size, and the
-            # residual in the same units
-            for i in range(3):
-                e[i] = (pd[i] - p[i]) / self.scale
-            for i in range(6):
-                for k in range(3):
-                    d[k] = (p[k] - Z[6 * k + i]) / self.scale
-                    zc[k] = Z[6 * (k + 3) + i]
-                J[6 * 0 + i] = zc[1] * d[2] - zc[2] * d[1]
-                J[6 * 1 + i] = zc[2] * d[0] - zc[0] * d[2]
-                J[6 * 2 + i] = zc[0] * d[1] - zc[1] * d[0]
-                J[6 * 3 + i] = zc[0]
-                J[6 * 4 + i] = zc[1]
-                J[6 * 5 + i] = zc[2]
-            # (J^T J + mu I) dq = J^T e; mu: 1e-14 keeps a singular J solvable without biasing a
-            # regular one (its squared singular values are O(1) in these units)
-            for i in range(6):
-                work[i] = 0.0
-                for k in range(6):
-                    work[i] += J[6 * k + i] * e[k]
-                for j in range(6):
-                    A[6 * i + j] = 0.0
-                    for k in range(6):
-                        A[6 * i + j] += J[6 * k + i] * J[6 * k + j]
-                A[6 * i + i] += 1e-14
-            if not cholesky_solve(A, work, 6):
-                return best
-            for i in range(6):
-                q[i] += work[i]
-        return best
 
     cdef signed char solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
                                unsigned char* valid, double* detail, unsigned char* uncertain,
@@ -578,7 +580,7 @@ cdef class General6RKernel(ClosedFormKernel):
                     qc[self.order[i]] = self.sgn[i] * t
                 else:
                     qc[self.order[i]] = th[i] + self.delta[i]     # q = sgn phi, phi = sgn (th + delta)
-            res = self._polish(Rd, pd, qc, nw)
+            res = newton_polish(self.chain.L, self.rev, self.scale, Rd, pd, qc, nw)
             if nroots < NB and res < CANDIDATE_TOL:
                 for j in range(6):
                     Q[6 * nroots + j] = qc[j]
@@ -620,3 +622,38 @@ cdef inline void _transform3(const double* f, const double* W, double* out) noex
                 for i in range(3):
                     x += W[3 * I + i] * t2[9 * i + 3 * j + k]
                 out[9 * I + 3 * j + k] = x
+
+
+def polish(Chain chain, Q, valid, targets, double scale):
+    """Newton-polish closed-form branches on a 6-joint chain's exact forward kinematics, in place.
+
+    Q (N, S, 6) float64 C-contiguous branches, valid (N, S) bool (only those are polished; a branch
+    whose residual stays above 1e-6 is marked invalid), targets (N, 4, 4). The branches of an arm within
+    calibration error of a closed-form class, solved on the ideal arm (``kinematics.near_class``).
+    """
+    cdef cnp.ndarray Qa = <cnp.ndarray>Q
+    cdef cnp.ndarray Va = <cnp.ndarray>valid
+    cdef cnp.ndarray Ta = np.ascontiguousarray(targets, dtype=np.float64)
+    if chain.n != 6 or not (cnp.PyArray_TYPE(Qa) == cnp.NPY_DOUBLE and cnp.PyArray_IS_C_CONTIGUOUS(Qa)
+                            and cnp.PyArray_NDIM(Qa) == 3 and cnp.PyArray_DIM(Qa, 2) == 6
+                            and cnp.PyArray_TYPE(Va) == cnp.NPY_BOOL and cnp.PyArray_IS_C_CONTIGUOUS(Va)
+                            and cnp.PyArray_SIZE(Va) == cnp.PyArray_DIM(Qa, 0) * cnp.PyArray_DIM(Qa, 1)
+                            and cnp.PyArray_SIZE(Ta) == 16 * cnp.PyArray_DIM(Qa, 0)):
+        raise ValueError("polish: expected a 6-joint chain, Q (N, S, 6) float64, valid (N, S) bool, targets (N, 4, 4)")
+    cdef Py_ssize_t N = cnp.PyArray_DIM(Qa, 0), S = cnp.PyArray_DIM(Qa, 1), k, s, i, j
+    cdef double* q = <double*>cnp.PyArray_DATA(Qa)
+    cdef unsigned char* v = <unsigned char*>cnp.PyArray_DATA(Va)
+    cdef const double* t = <const double*>cnp.PyArray_DATA(Ta)
+    cdef double Rd[9]
+    cdef double pd[3]
+    cdef double w[6]
+    with nogil:
+        for k in range(N):
+            for i in range(3):
+                pd[i] = t[16 * k + 4 * i + 3]
+                for j in range(3):
+                    Rd[3 * i + j] = t[16 * k + 4 * i + j]
+            for s in range(S):
+                if v[k * S + s] and not (newton_polish(chain.L, chain.rev, scale, Rd, pd, q + 6 * (k * S + s), w)
+                                         < CANDIDATE_TOL):
+                    v[k * S + s] = False

@@ -104,10 +104,15 @@ def closed_form_solver(robot: Robot) -> ClosedFormSolver | None:
         return cached[1]
     found = None
     from .analytic6r import SphericalWrist6R, ThreeParallel6R
+    from .general6r import General6R
+    from .near_class import NearClass
     from .scara import ScaraSolver
 
-    for cls in (ScaraSolver, SphericalWrist6R, ThreeParallel6R):
-        found = cls.detect(robot)
+    # the special classes first (fastest), then an arm within calibration error of one of them (its
+    # closed form on the ideal arm, polished on the real one), then any 6R by elimination
+    for detect in (ScaraSolver.detect, SphericalWrist6R.detect, ThreeParallel6R.detect, NearClass.detect,
+                   General6R.detect):
+        found = detect(robot)
         if found is not None:
             break
 

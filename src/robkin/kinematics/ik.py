@@ -10,7 +10,9 @@ Methods:
 
 - ``'analytic'``: closed-form, all solutions (``kinematics.scara`` for SCARA-type arms,
   ``kinematics.analytic6r`` for 6R arms with parallel axes 2, 3 and a spherical wrist, and for 6R
-  arms of the Universal Robots type: axes 2, 3, 4 parallel, axes 5, 6 meeting). Full poses only.
+  arms of the Universal Robots type: axes 2, 3, 4 parallel, axes 5, 6 meeting;
+  ``kinematics.near_class`` for arms within calibration error of those two; ``kinematics.general6r``
+  for every other revolute 6R arm, up to 16 solutions). Full poses only.
 - ``'numeric'``: damped least squares / Levenberg-Marquardt (``kinematics.lm``) with joint limits,
   masks and random restarts, vectorised across targets.
 - ``'auto'`` (default): the closed form when one fits the robot and the mask is the full pose, else
@@ -74,8 +76,9 @@ class IKResult:
     orientation_error : float or (N,) array
         |log(R_d R^T)| over the masked components (radians; inf where q is NaN).
     method : str
-        'scara', 'spherical-wrist-6r', 'three-parallel-6r' (closed forms; targets the closed form
-        could not settle are retried numerically in 'auto') or 'numeric'.
+        'scara', 'spherical-wrist-6r', 'three-parallel-6r', 'near-spherical-wrist-6r',
+        'near-three-parallel-6r', 'general-6r' (closed forms; targets the closed form could not settle
+        are retried numerically in 'auto') or 'numeric'.
     message : str or list of str
         Why a target failed ('' where it succeeded).
     solutions : (S, n) array, list of (S_i, n) arrays, or None
@@ -186,8 +189,8 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         solver = closed_form_solver(robot) if full_pose else None
         if solver is None and method == "analytic":
             why = "the mask is not the full pose" if not full_pose else \
-                ("no closed-form solver fits this robot (SCARA-type; 6R with axes 2 || 3 and a spherical "
-                 "wrist; or 6R with axes 2 || 3 || 4 and axes 5, 6 meeting)")
+                ("no closed-form solver fits this robot (SCARA-type, or six revolute joints: lock joints of "
+                 "a longer arm with lock=)")
             raise InputError(f"method 'analytic': {why}; use method 'numeric'")
 
     if solver is not None and single:
