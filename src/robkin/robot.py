@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from functools import cache, cached_property
-from typing import TYPE_CHECKING, Any, Callable, Iterable, Literal, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Literal, Mapping, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -250,7 +250,7 @@ class Robot:
     def ik(self, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
            method: str = "auto", all_solutions: bool = False, tol_position: float = 1e-9,
            tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 50,
-           rng: np.random.Generator | int | None = 0) -> "IKResult":
+           rng: np.random.Generator | int | None = 0, lock: "Mapping[str, float] | None" = None) -> "IKResult":
         """Inverse kinematics: joint values that put the tool at T (``robkin.kinematics.ik.ik``).
 
         Parameters
@@ -274,6 +274,9 @@ class Robot:
             Numeric: random restarts per target after the first attempt.
         rng : Generator, int seed or None
             Source of the random restarts; the default seed 0 makes results reproducible.
+        lock : mapping of joint name to value, optional
+            Joints held at these values; the rest is solved as a shorter arm (a 7-joint arm with one
+            joint locked gets a 6R closed form). q and the solutions stay full length.
 
         Returns
         -------
@@ -283,7 +286,7 @@ class Robot:
         """
         return _ik_function()(self, T, q0=q0, mask=mask, method=method, all_solutions=all_solutions,
                   tol_position=tol_position, tol_orientation=tol_orientation,
-                  max_iterations=max_iterations, restarts=restarts, rng=rng)
+                  max_iterations=max_iterations, restarts=restarts, rng=rng, lock=lock)
 
     def jacobian(self, q: ArrayLike, frame: str = "base") -> np.ndarray:
         """Jacobian at q (n,) -> (6, n), or at q (N, n) -> (N, 6, n).

@@ -37,9 +37,9 @@ import numpy as np
 cimport numpy as cnp
 from libc.math cimport atan, atan2, cos, fabs, sin, sqrt, INFINITY
 from robkin.compiled.closed_form_kernel cimport ClosedFormKernel
-from robkin.compiled.dense cimport cholesky_solve
-from robkin.compiled.fk cimport BLOCK, Chain, walk_block
-from robkin.compiled.linalg cimport cross3, dot3, rot_log, tf_inv, tf_mul
+from robkin.compiled.fk cimport Chain
+from robkin.compiled.linalg cimport cross3, dot3, tf_inv, tf_mul
+from robkin.compiled.newton cimport CANDIDATE_TOL, newton_polish
 from robkin.compiled.subproblems cimport wrap_branches
 from scipy.linalg.cython_lapack cimport dgeev, dggev
 
@@ -49,18 +49,11 @@ cdef enum:
     NB = 24         # branches per target: one per eigenvalue of the 24 x 24 pencil that may be real
     NP = 24         # the pencil's size
     LWORK = 1536    # LAPACK's workspace for it (64 n: room for its blocked algorithms)
-    NEWTON_STEPS = 8
 
 #: An eigenvalue counts as a real root when |Im x| <= IMAG_TOL (1 + |x|): a double root (a target on
 #: a singularity) splits into a pair with |Im| ~ sqrt(eps) ~ 1e-8; 1e-4 keeps those and anything the
 #: Newton polish can still pull onto a true solution (spurious candidates then fail its check).
 cdef double IMAG_TOL = 1e-4
-#: Newton on the exact forward kinematics: at most NEWTON_STEPS steps, stopping once the residual
-#: (position / robot size + orientation, radians) is below NEWTON_DONE (a few ulps of a unit pose);
-#: a candidate whose residual stays above CANDIDATE_TOL (1e-6: far above the 1e-9 the FK check of
-#: ``nearest.pxd`` demands after polishing, far below any real miss) is dropped before that check.
-cdef double NEWTON_DONE = 1e-15
-cdef double CANDIDATE_TOL = 1e-6
 #: the pivot ratio below which M2 counts as singular (use the generalised eigenproblem): the companion
 #: matrix M2^-1 M0, M2^-1 M1 then loses more than half the digits
 cdef double M2_RCOND = 1e-8
@@ -154,73 +147,6 @@ cdef inline double _pair_angle(const double* v, int stride_lo, int count_i, int 
             b += up * up
             c += lo * up
     return atan2(2.0 * c, a - b)
-
-cdef double newton_polish(const double* L, const unsigned char* rev, double scale, const double* Rd,
-                          const double* pd, double* q, double* work) noexcept nogil:
-    """Newton steps on the exact forward kinematics of a 6-joint chain (``fk.pxd``'s L, rev) from q (6,)
-    towards the target (R_d, p_d); returns the final residual |dp| / scale + |dw| (q updated in place,
-    never to a worse residual). work: 6 doubles of scratch."""
-    cdef double P[12 * BLOCK]
-    cdef double Z[36]
-    cdef double e[6]
-    cdef double J[36]
-    cdef double A[36]
-    cdef double R[9]
-    cdef double p[3]
-    cdef double d[3]
-    cdef double zc[3]
-    cdef double r, best = INFINITY
-    cdef int it, i, j, k
-    for it in range(NEWTON_STEPS + 1):
-        walk_block(L, rev, 6, q, 1, P, NULL, Z, 1)
-        for i in range(3):
-            p[i] = P[BLOCK * (4 * i + 3)]
-            e[i] = pd[i] - p[i]
-            for j in range(3):
-                R[3 * i + j] = (Rd[3 * i] * P[BLOCK * (4 * j)] + Rd[3 * i + 1] * P[BLOCK * (4 * j + 1)]
-                                + Rd[3 * i + 2] * P[BLOCK * (4 * j + 2)])
-        rot_log(R, e + 3)
-        r = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) / scale \
-            + sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
-        if not (r < best):       # no progress (or NaN): the previous q stays
-            if it > 0:
-                for i in range(6):
-                    q[i] -= work[i]
-            return best
-        best = r
-        if r < NEWTON_DONE or it == NEWTON_STEPS:
-            return r
-        # J columns: [z_i x (p - p_i); z_i] (base frame), lengths over the robot size, and the
-        # residual in the same units
-        for i in range(3):
-            e[i] = (pd[i] - p[i]) / scale
-        for i in range(6):
-            for k in range(3):
-                d[k] = (p[k] - Z[6 * k + i]) / scale
-                zc[k] = Z[6 * (k + 3) + i]
-            J[6 * 0 + i] = zc[1] * d[2] - zc[2] * d[1]
-            J[6 * 1 + i] = zc[2] * d[0] - zc[0] * d[2]
-            J[6 * 2 + i] = zc[0] * d[1] - zc[1] * d[0]
-            J[6 * 3 + i] = zc[0]
-            J[6 * 4 + i] = zc[1]
-            J[6 * 5 + i] = zc[2]
-        # (J^T J + mu I) dq = J^T e; mu: 1e-14 keeps a singular J solvable without biasing a
-        # regular one (its squared singular values are O(1) in these units)
-        for i in range(6):
-            work[i] = 0.0
-            for k in range(6):
-                work[i] += J[6 * k + i] * e[k]
-            for j in range(6):
-                A[6 * i + j] = 0.0
-                for k in range(6):
-                    A[6 * i + j] += J[6 * k + i] * J[6 * k + j]
-            A[6 * i + i] += 1e-14
-        if not cholesky_solve(A, work, 6):
-            return best
-        for i in range(6):
-            q[i] += work[i]
-    return best
-
 
 cdef class General6RKernel(ClosedFormKernel):
     """One formulation of the loop (see the module docstring) of one 6R robot."""

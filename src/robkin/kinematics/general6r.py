@@ -34,6 +34,11 @@ _TRIAL_TARGETS = 12
 _FOUND_TOL = 1e-6
 
 
+#: per (arm, locked joints) of ``kinematics.lock``, the formulation that last worked: tried first for
+#: the next locked value (a dict of a few tuples; entries are never large)
+_HINTS: dict[tuple, tuple[int, bool]] = {}
+
+
 def _formulations() -> list[tuple[int, bool]]:
     """(shift, reverse) pairs in the order they are tried: Raghavan and Roth's own choice first
     (joints 3, 4, 5 on one side), then the other shifts, then the inverse loop."""
@@ -72,8 +77,14 @@ class General6R(KernelSolver):
         q = rng.uniform(lo, hi, (_TRIAL_TARGETS, 6))
         targets = robot.fk(q)
         delta = rng.uniform(-np.pi, np.pi, 6)
+        key = getattr(robot, "_formulation_key", None)      # set by kinematics.lock on reduced arms
+        hint = _HINTS.get(key) if key is not None else None
+        order = _formulations()
+        if hint is not None:
+            order.remove(hint)
+            order.insert(0, hint)
         best, best_found = None, -1
-        for shift, reverse in _formulations():
+        for shift, reverse in order:
             solver = cls(robot, shift, reverse, delta)
             branches = solver.solve(targets, q)
             found = 0
@@ -82,6 +93,8 @@ class General6R(KernelSolver):
                 if len(Q) and np.abs(Q - q[k]).max(axis=1).min() < _FOUND_TOL:
                     found += 1
             if found == len(q):
+                if key is not None:
+                    _HINTS[key] = (shift, reverse)
                 return solver
             if found > best_found:
                 best, best_found = solver, found

@@ -26,7 +26,7 @@ import math
 import weakref
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
+from typing import Any, Mapping
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -122,7 +122,7 @@ class IKResult:
 def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
        method: str = "auto", all_solutions: bool = False, tol_position: float = _TOL,
        tol_orientation: float = _TOL, max_iterations: int = _MAX_ITERATIONS, restarts: int = _RESTARTS,
-       rng: np.random.Generator | int | None = 0) -> IKResult:
+       rng: np.random.Generator | int | None = 0, lock: Mapping[str, float] | None = None) -> IKResult:
     """Joint values that put the tool at T.
 
     Parameters
@@ -151,11 +151,21 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         Numeric: random restarts per target after the first attempt.
     rng : Generator, int seed or None
         Source of random restarts; the default seed 0 makes results reproducible.
+    lock : mapping of joint name to value, optional
+        Joints held at these values (radians or length units, within the limits): the rest is solved as
+        a shorter arm (``kinematics.lock``; a 7-joint arm with one joint locked gets a 6R closed form).
+        Every method works with it; q, q0 and the solutions stay full length, the locked values in place.
 
     Returns
     -------
     IKResult
     """
+    if lock:
+        from .lock import ik_locked
+
+        return ik_locked(ik, robot, T, lock, q0, mask=mask, method=method, all_solutions=all_solutions,
+                         tol_position=tol_position, tol_orientation=tol_orientation,
+                         max_iterations=max_iterations, restarts=restarts, rng=rng)
     if q0 is None and mask is None and (method == "auto" or method == "analytic") \
             and max_iterations is _MAX_ITERATIONS and restarts is _RESTARTS:    # else: checked below
         # The single-target path: one compiled call checks the target (a float64 4x4 exact pose) and
