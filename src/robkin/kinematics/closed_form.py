@@ -106,12 +106,14 @@ def closed_form_solver(robot: Robot) -> ClosedFormSolver | None:
     from .analytic6r import SphericalWrist6R, ThreeParallel6R
     from .general6r import General6R
     from .near_class import NearClass
+    from .pieper import Pieper6R
     from .scara import ScaraSolver
 
     # the special classes first (fastest), then an arm within calibration error of one of them (its
-    # closed form on the ideal arm, polished on the real one), then any 6R by elimination
+    # closed form on the ideal arm, polished on the real one), then 6R arms with three axes meeting
+    # (Pieper's case, where the elimination degenerates), then any 6R by elimination
     for detect in (ScaraSolver.detect, SphericalWrist6R.detect, ThreeParallel6R.detect, NearClass.detect,
-                   General6R.detect):
+                   Pieper6R.detect, General6R.detect):
         found = detect(robot)
         if found is not None:
             break
