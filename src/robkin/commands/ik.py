@@ -20,8 +20,11 @@ The pose is the tool frame in the robot base frame: x,y,z,roll,pitch,yaw (URDF r
 The solver is closed-form where the geometry allows - SCARA-type arms (all axes parallel: both elbow
 solutions; redundant vertical joints split nearest to --q0), 6R arms with axes 2 || 3 and a spherical
 wrist (KUKA, ABB, Fanuc type) and 6R arms with axes 2 || 3 || 4 (Universal Robots type), up to 8
-solutions - and Levenberg-Marquardt with joint limits and random restarts otherwise. Every solution
-printed is checked by forward kinematics to the tolerances.
+solutions, arms within calibration error of those, and every other revolute 6R arm (up to 16 solutions)
+- and Levenberg-Marquardt with joint limits and random restarts otherwise. A 7-joint arm is solved in
+closed form with one joint held: --lock NAME=VALUE (repeatable; any method, any number of joints; the
+solutions printed are full length). Every solution printed is checked by forward kinematics to the
+tolerances.
 
 A pose with no solution is not an error: the output has no solutions, the reason goes to stderr
 (one line), and the exit status is 0. Exit status 2 means bad input (file, pose, options).
@@ -32,6 +35,7 @@ examples:
   robkin ik ur5.urdf --tip-link tool0 --pose 0.4,0.1,0.3,pi,0,0 --all
   robkin ik panda.urdf --tip-link panda_hand_tcp --pose 0.5,0,0.4,pi,0,0 --q0=0,0,0,-1.5,0,1.5,0
   robkin ik panda.urdf --tip-link panda_hand_tcp --pose 0.5,0,0.4,0,0,0 --position-only
+  robkin ik panda.urdf --tip-link panda_hand_tcp --pose 0.5,0,0.4,pi,0,0 --lock panda_joint7=0.8 --all
 """
 
 
@@ -56,6 +60,10 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     mask.add_argument("--position-only", action="store_true", help="match the position only (numeric)")
     mask.add_argument("--mask", metavar="X,Y,Z,RX,RY,RZ",
                       help="components to match, six 0/1 values (numeric unless all 1)")
+    p.add_argument("--lock", action="append", default=[], metavar="NAME=VALUE",
+                   help="hold joint NAME at VALUE (radians, or degrees with --degrees; within its limits) and "
+                        "solve the others: a 7-joint arm with one joint locked gets a 6R closed form; "
+                        "repeatable")
     p.add_argument("--method", choices=("auto", "analytic", "numeric"), default="auto",
                    help="solver (default: auto = closed form when one fits)")
     p.add_argument("--tol-position", type=float, default=1e-9, metavar="LENGTH",
@@ -84,9 +92,10 @@ def run(args: argparse.Namespace) -> int:
         mask = number_list(args.mask, "--mask")
         if len(mask) != 6:
             raise InputError(f"--mask: expected 6 values 0/1 for x,y,z,rx,ry,rz, got {len(mask)}")
+    lock = _parse_lock(robot, args.lock, args.degrees)
     result = robot.ik(T, q0=q0, mask=mask, method=args.method, all_solutions=args.all,
                       tol_position=args.tol_position, tol_orientation=args.tol_orientation,
-                      restarts=args.restarts, rng=args.seed)
+                      restarts=args.restarts, rng=args.seed, lock=lock)
     if result.success:
         solutions = result.solutions if args.all else result.q[None]
     else:
@@ -109,6 +118,27 @@ def run(args: argparse.Namespace) -> int:
 
         show_blocks([solutions_block(solutions, result.method, [j.name for j in robot.joints])])
     return 0
+
+
+def _parse_lock(robot: "Robot", items: list[str], degrees: bool) -> dict[str, float] | None:
+    """--lock NAME=VALUE options as {name: value} (radians / length units), or None; each name once."""
+    import math
+
+    from ..errors import InputError, quote
+    from ..io.numbers import number
+
+    lock: dict[str, float] = {}
+    for item in items:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise InputError(f"--lock: expected NAME=VALUE, got {quote(item)}")
+        if name in lock:
+            raise InputError(f"--lock: joint {quote(name)} is given twice")
+        value = number(text, f"--lock {name}")
+        revolute = {j.name: j.revolute for j in robot.joints}.get(name, True)
+        lock[name] = math.radians(value) if degrees and revolute else value
+    return lock or None
 
 
 def _residuals(robot: "Robot", q: "np.ndarray", T: "np.ndarray") -> tuple[float, float]:
