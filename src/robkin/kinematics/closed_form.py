@@ -118,9 +118,11 @@ def closed_form_solver(robot: Robot) -> ClosedFormSolver | None:
         if found is not None:
             break
 
-    def forget(ref: weakref.ref[Robot], key: int = key) -> None:
-        if _SOLVERS.get(key, (None,))[0] is ref:       # not an entry of a later robot with the same id
-            del _SOLVERS[key]
+    def forget(ref: weakref.ref[Robot], key: int = key, solvers: dict = _SOLVERS) -> None:
+        # (the dict bound here: at interpreter exit the module's globals may be gone before a cached
+        # robot, e.g. a reduced arm of kinematics.lock, is collected)
+        if solvers.get(key, (None,))[0] is ref:        # not an entry of a later robot with the same id
+            del solvers[key]
 
     _SOLVERS[key] = (weakref.ref(robot, forget), found)
     return found

@@ -63,8 +63,11 @@ def _parallel(frames: np.ndarray, ref: int, others: tuple[int, ...]) -> float:
 
 def _meet(frames: np.ndarray, axes: tuple[int, ...]) -> float:
     """Move the axes (two or three) to pass through one point (in place): the midpoint of the common
-    normal of the first two; returns the largest distance an axis moved."""
+    normal of the first two; returns the largest distance an axis moved (inf when the first two are
+    within 1e-3 rad of parallel: their meeting point is then ill-defined, and no class has them so)."""
     i, j = axes[0], axes[1]
+    if np.linalg.norm(np.cross(frames[i, :3, 2], frames[j, :3, 2])) < 1e-3:   # (nearly) parallel: no
+        return np.inf                                                          # meeting point to snap to
     cn = closest_points(frames[i, :3, 3], frames[i, :3, 2], frames[j, :3, 3], frames[j, :3, 2])
     w = 0.5 * (cn.c1 + cn.c2)
     moved = 0.0
