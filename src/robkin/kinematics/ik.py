@@ -11,8 +11,9 @@ Methods:
 - ``'analytic'``: closed-form, all solutions (``kinematics.scara`` for SCARA-type arms,
   ``kinematics.analytic6r`` for 6R arms with parallel axes 2, 3 and a spherical wrist, and for 6R
   arms of the Universal Robots type: axes 2, 3, 4 parallel, axes 5, 6 meeting;
-  ``kinematics.near_class`` for arms within calibration error of those two; ``kinematics.general6r``
-  for every other revolute 6R arm, up to 16 solutions). Full poses only.
+  ``kinematics.near_class`` for arms within calibration error of those two; ``kinematics.pieper``
+  for 6R arms with three meeting axes at the wrist or the base; ``kinematics.general6r`` for every
+  other revolute 6R arm, up to 16 solutions; docs/ik.md lists the conditions). Full poses only.
 - ``'numeric'``: damped least squares / Levenberg-Marquardt (``kinematics.lm``) with joint limits,
   masks and random restarts, vectorised across targets.
 - ``'auto'`` (default): the closed form when one fits the robot and the mask is the full pose, else
@@ -77,7 +78,7 @@ class IKResult:
         |log(R_d R^T)| over the masked components (radians; inf where q is NaN).
     method : str
         'scara', 'spherical-wrist-6r', 'three-parallel-6r', 'near-spherical-wrist-6r',
-        'near-three-parallel-6r', 'general-6r' (closed forms; targets the closed form could not settle
+        'near-three-parallel-6r', 'pieper-6r', 'pieper-6r-reversed', 'general-6r' (closed forms; targets the closed form could not settle
         are retried numerically in 'auto') or 'numeric'.
     message : str or list of str
         Why a target failed ('' where it succeeded).
