@@ -20,6 +20,8 @@ from robkin.errors import InputError
 from robkin.io.urdf_write import urdf_from_robot
 from robkin.kinematics.closed_form import closed_form_solver
 from robkin.kinematics.lock import check_lock, locked_robot
+from robkin.robot import Joint
+from strategies import robot_specs
 
 pin = pytest.importorskip("pinocchio")
 
@@ -202,3 +204,22 @@ def test_cli_lock(tmp_path, capsys):
     assert main(["ik", path, "--pose", pose, "--lock", "iiwa_joint_3=1", "--lock", "iiwa_joint_3=2"]) == 2
     assert main(["ik", path, "--pose", pose, "--lock", "iiwa_joint_3=-11.4591559", "--degrees", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["solutions"][0]["q"][2] == pytest.approx(-11.4591559)
+
+
+@settings(max_examples=25 * SCALE, deadline=None, suppress_health_check=list(HealthCheck))
+@given(spec=robot_specs(6, 6, tiny=False), seed=st.integers(0, 2**16))
+def test_random_arms_of_the_shared_strategy(spec, seed):
+    # the shared robot strategy (every axis relation: parallel, coincident, intersecting, skew, ...)
+    # made revolute: when a closed form takes the arm, it finds every generating configuration and every
+    # solution reaches its target (arms with coincident axes have no finite solution set: numeric)
+    robot = spec.robot.replace(joints=tuple(Joint(j.name, "revolute") for j in spec.robot.joints))
+    solver = closed_form_solver(robot)
+    if solver is None:
+        return
+    Q = robot.random_q(12, rng=seed)
+    T = robot.fk(Q)
+    res = robot.ik(T, q0=Q, all_solutions=True, method="analytic")
+    for q, Tk, sols in zip(Q, T, res.solutions):
+        assert wrapped(sols, q).max(axis=1).min() < SAME
+        F = robot.fk(sols)
+        assert np.abs(F - Tk).max() <= 1e-9 * max(1.0, spec.unit)
