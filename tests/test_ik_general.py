@@ -79,7 +79,9 @@ def check_arm(robot: robkin.Robot, Q: np.ndarray, lock: dict | None = None, nume
     for k in range(numeric):
         num = robot.ik(targets[k], method="numeric", all_solutions=True, restarts=60, rng=k, lock=lock)
         for s in num.solutions:
-            assert wrapped(res.solutions[k], s).max(axis=1).min() < 1e-5, "a numeric solution is missing"
+            # near a singularity a 1e-9-accurate numeric answer is only pinned to ~1e-9 / sigma_min
+            spread = max(1e-5, 10 * 1e-9 / np.linalg.svd(robot.jacobian(s), compute_uv=False)[-1])
+            assert wrapped(res.solutions[k], s).max(axis=1).min() < spread, "a numeric solution is missing"
 
 
 @pytest.mark.parametrize("make", [lambda: arms.generic_6r(1), lambda: arms.generic_6r(2),
