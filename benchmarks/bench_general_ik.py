@@ -27,7 +27,8 @@ reported, not timed in the rows.
 
 Goals (issue 21): general 6R and 7R-with-lock all solutions <= 100 us per target; >= 10x faster than ssik.
 
-Run: ``.venv/bin/python benchmarks/bench_general_ik.py [--targets 1000] [--rounds 3] [--numeric 30]``.
+Run: ``.venv/bin/python benchmarks/bench_general_ik.py [--targets 1000] [--rounds 3] [--numeric 30]
+[--arms xarm6,gen3]``.
 Exit status 0 whatever the result (a benchmark, not a test); the last lines say whether the goals are met.
 """
 
@@ -191,9 +192,13 @@ def main() -> int:
     ap.add_argument("--targets", type=int, default=1000)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--numeric", type=int, default=30, help="targets also solved numerically (slow)")
+    ap.add_argument("--arms", default="", help="only the arms whose name contains one of these (comma-separated)")
     args = ap.parse_args()
+    pick = [a.strip().lower() for a in args.arms.split(",") if a.strip()]
     rows = []
     for name, robot, lock in arm_list():
+        if pick and not any(p in name.lower() for p in pick):
+            continue
         r = bench(name, robot, lock, args.targets, args.rounds, args.numeric)
         rows.append(r)
         print(f"{r['name']:32s} {r['method']:22s} found {100 * r['found']:6.2f} %  pin-FK max {r['worst']:.1e}  "
