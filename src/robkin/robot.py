@@ -250,7 +250,8 @@ class Robot:
     def ik(self, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
            method: str = "auto", all_solutions: bool = False, tol_position: float = 1e-9,
            tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 50,
-           rng: np.random.Generator | int | None = 0, lock: "Mapping[str, float] | None" = None) -> "IKResult":
+           rng: np.random.Generator | int | None = 0, lock: "Mapping[str, float] | None" = None,
+           arm_angle: "ArrayLike | None" = None) -> "IKResult":
         """Inverse kinematics: joint values that put the tool at T (``robkin.kinematics.ik.ik``).
 
         Parameters
@@ -277,6 +278,8 @@ class Robot:
         lock : mapping of joint name to value, optional
             Joints held at these values; the rest is solved as a shorter arm (a 7-joint arm with one
             joint locked gets a 6R closed form). q and the solutions stay full length.
+        arm_angle : float or (N,) array, optional
+            SRS arms: the elbow's swivel (radians) about the shoulder-wrist line (``kinematics.srs``).
 
         Returns
         -------
@@ -286,7 +289,8 @@ class Robot:
         """
         return _ik_function()(self, T, q0=q0, mask=mask, method=method, all_solutions=all_solutions,
                   tol_position=tol_position, tol_orientation=tol_orientation,
-                  max_iterations=max_iterations, restarts=restarts, rng=rng, lock=lock)
+                  max_iterations=max_iterations, restarts=restarts, rng=rng, lock=lock,
+                  arm_angle=arm_angle)
 
     def jacobian(self, q: ArrayLike, frame: str = "base") -> np.ndarray:
         """Jacobian at q (n,) -> (6, n), or at q (N, n) -> (N, 6, n).

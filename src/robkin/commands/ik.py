@@ -23,7 +23,9 @@ wrist (KUKA, ABB, Fanuc type) and 6R arms with axes 2 || 3 || 4 (Universal Robot
 solutions, arms within calibration error of those, and every other revolute 6R arm (up to 16 solutions)
 - and Levenberg-Marquardt with joint limits and random restarts otherwise. A 7-joint arm is solved in
 closed form with one joint held: --lock NAME=VALUE (repeatable; any method, any number of joints; the
-solutions printed are full length). Every solution printed is checked by forward kinematics to the
+solutions printed are full length). An SRS arm (KUKA iiwa: 7R, axes 1-3 and 5-7 meeting) takes the
+elbow's swivel instead: --arm-angle PSI gives every solution (up to 8) at that arm angle, the printed
+one on --q0's branch. Every solution printed is checked by forward kinematics to the
 tolerances.
 
 A pose with no solution is not an error: the output has no solutions, the reason goes to stderr
@@ -36,6 +38,7 @@ examples:
   robkin ik panda.urdf --tip-link panda_hand_tcp --pose 0.5,0,0.4,pi,0,0 --q0=0,0,0,-1.5,0,1.5,0
   robkin ik panda.urdf --tip-link panda_hand_tcp --pose 0.5,0,0.4,0,0,0 --position-only
   robkin ik panda.urdf --tip-link panda_hand_tcp --pose 0.5,0,0.4,pi,0,0 --lock panda_joint7=0.8 --all
+  robkin ik iiwa14.urdf --pose 0.5,0,0.5,0,180,0 --degrees --arm-angle 30 --all
 """
 
 
@@ -64,6 +67,10 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="hold joint NAME at VALUE (radians, or degrees with --degrees; within its limits) and "
                         "solve the others: a 7-joint arm with one joint locked gets a 6R closed form; "
                         "repeatable")
+    p.add_argument("--arm-angle", metavar="PSI",
+                   help="SRS arms (iiwa): the elbow's swivel about the shoulder-wrist line (radians, or degrees "
+                        "with --degrees; 0 = elbow in the plane of that line and joint 1's axis, on the side "
+                        "joint 1's axis points to); every solution at that angle, up to 8")
     p.add_argument("--method", choices=("auto", "analytic", "numeric"), default="auto",
                    help="solver (default: auto = closed form when one fits)")
     p.add_argument("--tol-position", type=float, default=1e-9, metavar="LENGTH",
@@ -93,9 +100,17 @@ def run(args: argparse.Namespace) -> int:
         if len(mask) != 6:
             raise InputError(f"--mask: expected 6 values 0/1 for x,y,z,rx,ry,rz, got {len(mask)}")
     lock = _parse_lock(robot, args.lock, args.degrees)
+    arm_angle = None
+    if args.arm_angle is not None:
+        import math
+
+        from ..io.numbers import number
+
+        arm_angle = number(args.arm_angle, "--arm-angle")
+        arm_angle = math.radians(arm_angle) if args.degrees else arm_angle
     result = robot.ik(T, q0=q0, mask=mask, method=args.method, all_solutions=args.all,
                       tol_position=args.tol_position, tol_orientation=args.tol_orientation,
-                      restarts=args.restarts, rng=args.seed, lock=lock)
+                      restarts=args.restarts, rng=args.seed, lock=lock, arm_angle=arm_angle)
     if result.success:
         solutions = result.solutions if args.all else result.q[None]
     else:

@@ -123,7 +123,8 @@ class IKResult:
 def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
        method: str = "auto", all_solutions: bool = False, tol_position: float = _TOL,
        tol_orientation: float = _TOL, max_iterations: int = _MAX_ITERATIONS, restarts: int = _RESTARTS,
-       rng: np.random.Generator | int | None = 0, lock: Mapping[str, float] | None = None) -> IKResult:
+       rng: np.random.Generator | int | None = 0, lock: Mapping[str, float] | None = None,
+       arm_angle: ArrayLike | None = None) -> IKResult:
     """Joint values that put the tool at T.
 
     Parameters
@@ -156,11 +157,19 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         Joints held at these values (radians or length units, within the limits): the rest is solved as
         a shorter arm (``kinematics.lock``; a 7-joint arm with one joint locked gets a 6R closed form).
         Every method works with it; q, q0 and the solutions stay full length, the locked values in place.
+    arm_angle : float or (N,) array, optional
+        SRS arms (iiwa, ideal Gen3): the elbow's swivel angle (radians) about the shoulder-wrist line; every
+        solution at that angle, q on q0's branch (``kinematics.srs``, docs/ik.md). Not with lock or mask.
 
     Returns
     -------
     IKResult
     """
+    if arm_angle is not None:
+        from .srs import ik_arm_angle
+
+        return ik_arm_angle(robot, T, arm_angle, q0, all_solutions, tol_position, tol_orientation, mask=mask,
+                            method=method, lock=lock)
     if lock:
         from .lock import ik_locked
 

@@ -157,8 +157,17 @@ def _describe(label: np.ndarray) -> str:
 
 
 def ik_arm_angle(robot: Robot, T: Any, psi: Any, q0: Any, all_solutions: bool, tol_position: float,
-                 tol_orientation: float) -> Any:
-    """``kinematics.ik.ik`` with ``arm_angle=psi`` (see the module docstring); an ``IKResult``."""
+                 tol_orientation: float, mask: Any = None, method: str = "auto", lock: Any = None) -> Any:
+    """``kinematics.ik.ik`` with ``arm_angle=psi`` (see the module docstring); an ``IKResult``.
+
+    The arm angle fixes the redundancy of a full pose: ``lock``, a partial ``mask`` and the numeric method
+    do not combine with it (InputError)."""
+    if lock:
+        raise InputError("arm_angle and lock: give one or the other (both fix the redundancy of a 7-joint arm)")
+    if mask is not None and not (isinstance(mask, str) and mask == "pose"):
+        raise InputError("arm_angle: works on full poses only; leave mask out (or 'pose')")
+    if method not in ("auto", "analytic"):
+        raise InputError(f"arm_angle: is solved in closed form; method must be 'auto' or 'analytic', got {method!r}")
     from .ik import SAME_SOLUTION_TOL, IKResult, _settings, _start
 
     geo = srs_geometry(robot)
@@ -253,16 +262,17 @@ def feasible_arm_angles(robot: Robot, T: Any, step: float = math.radians(0.25)
     K = int(math.ceil(2 * math.pi / step))
     grid = -math.pi + 2 * math.pi * np.arange(K + 1) / K          # both ends: -pi and pi
     ok = _margins(robot, geo, targets[0], grid) >= 0               # (K + 1, 8)
+    crossings = [(i, b) for b in range(8) for i in np.flatnonzero(ok[1:, b] != ok[:-1, b])]
+    x = _bisect(robot, geo, targets[0], crossings, grid, ok)
     out: dict[tuple[int, int, int], list[tuple[float, float]]] = {}
     for b, label in enumerate(BRANCHES):
         f = ok[:, b]
         if f.all():
             out[label] = [(-math.pi, math.pi)]
             continue
-        edges = np.flatnonzero(f[1:] != f[:-1])                   # crossing between grid[i] and grid[i+1]
-        xs = [_bisect(robot, geo, targets[0], b, grid[i], grid[i + 1], bool(f[i])) for i in edges]
-        starts = [x for x, i in zip(xs, edges) if not f[i]]
-        ends = [x for x, i in zip(xs, edges) if f[i]]
+        mine = [(float(x[k]), bool(f[i])) for k, (i, bb) in enumerate(crossings) if bb == b]
+        starts = [v for v, was in mine if not was]
+        ends = [v for v, was in mine if was]
         if f[0]:                       # feasible at -pi (= pi): the first stretch continues the last one
             first_end = ends.pop(0)
             ends.append(first_end + 2 * math.pi)
@@ -270,14 +280,19 @@ def feasible_arm_angles(robot: Robot, T: Any, step: float = math.radians(0.25)
     return out
 
 
-def _bisect(robot: Robot, geo: SRSGeometry, target: np.ndarray, b: int, lo: float, hi: float,
-            feasible_lo: bool) -> float:
-    """The arm angle between lo and hi where branch b's feasibility changes, to 1e-12 rad (bisection:
-    ~40 halvings of a sweep step)."""
-    while hi - lo > 1e-12:
+def _bisect(robot: Robot, geo: SRSGeometry, target: np.ndarray, crossings: list[tuple[int, int]],
+            grid: np.ndarray, ok: np.ndarray) -> np.ndarray:
+    """The arm angles (C,) where branch b's feasibility changes between grid[i] and grid[i + 1], for every
+    crossing (i, b), to 1e-12 rad: bisection, all crossings side by side (~40 halvings of a sweep step)."""
+    if not crossings:
+        return np.zeros(0)
+    idx = np.array([i for i, _ in crossings])
+    br = np.array([b for _, b in crossings])
+    lo, hi = grid[idx].copy(), grid[idx + 1].copy()
+    was = ok[idx, br]
+    while np.max(hi - lo) > 1e-12:
         mid = 0.5 * (lo + hi)
-        if (_margins(robot, geo, target, np.array([mid]))[0, b] >= 0) == feasible_lo:
-            lo = mid
-        else:
-            hi = mid
+        same = (_margins(robot, geo, target, mid)[np.arange(len(mid)), br] >= 0) == was
+        lo = np.where(same, mid, lo)
+        hi = np.where(same, hi, mid)
     return 0.5 * (lo + hi)
