@@ -39,7 +39,7 @@ __all__ = ["METHOD", "solve_arm_angle", "ik_arm_angle", "feasible_arm_angles", "
 METHOD = "srs-arm-angle"
 
 #: the 8 candidates' branch labels (shoulder, elbow, wrist), in the order ``solve_arm_angle`` returns them
-BRANCHES = tuple((s, e, w) for e in (1, -1) for s in (1, -1) for w in (1, -1))
+BRANCHES = tuple((s, e, w) for e in (-1, 1) for s in (-1, 1) for w in (-1, 1))
 _LABELS = np.array(BRANCHES, dtype=float)
 
 #: |cos| of the elbow equation may exceed 1 by rounding at full stretch: 1e-12 relative is ~1e4 ulps

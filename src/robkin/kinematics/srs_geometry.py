@@ -13,7 +13,7 @@ centre W (where axes 5-7 meet, fixed in the tool) are fixed, the elbow angle q4 
   at q = 0 instead (psi is not continuous through that pose: no choice is).
 
 Branches: the shoulder, elbow and wrist each come in two mirror forms, labelled +1/-1 by ``branch_of``
-(the sign of the middle joint's excursion from its aligned pose: for iiwa the signs of q2, q4, q6).
+(the sign of the middle joint's excursion from its aligned pose: for iiwa and Gen3 the signs of q2, q4, q6).
 """
 
 from __future__ import annotations
@@ -185,9 +185,9 @@ def branch_of(robot: Robot, q: Any) -> np.ndarray:
     """Branch labels (3,) or (N, 3) of configurations q: shoulder, elbow, wrist, each +1 or -1 (0 on the
     singular pose between the two: shoulder or wrist axes aligned, elbow stretched or folded).
 
-    Shoulder: the side of the plane of axes 1 and 2 that axis 3 points to after joint 2's motion; wrist
-    likewise with axes 5-7; elbow: the sign of sin(q4 - q4*), q4* joint 4's value where the arm
-    folds (the shortest shoulder-wrist distance).
+    Shoulder: the sign of (axis 2 x axis 1) . (axis 3 after joint 2's motion), which is sin q2 for iiwa and
+    Gen3; wrist likewise with axes 5-7 (sin q6); elbow: the sign of sin(q4 - q4s), q4s joint 4's value
+    at full stretch (sin q4 for iiwa and Gen3).
     """
     geo = srs_geometry(robot)
     Q = check_q(q, robot.n)
@@ -197,8 +197,8 @@ def branch_of(robot: Robot, q: Any) -> np.ndarray:
     out = np.empty((len(Q), 3))
     for col, (i, j) in enumerate(((0, 1), (4, 5))):
         c = rot(a[j], Q[:, j]) @ a[j + 1]                # axis j+2 turned by joint j+1
-        g = c @ np.cross(a[i], a[j])
+        g = c @ np.cross(a[j], a[i])
         out[:, 2 * col] = np.where(np.abs(g) < 1e-12, 0.0, np.sign(g))  # 1e-12: rounding of unit vectors
-    s = np.sin(Q[:, 3] - math.atan2(geo.elbow_B, geo.elbow_A))
+    s = -np.sin(Q[:, 3] - math.atan2(geo.elbow_B, geo.elbow_A))   # folded at atan2(B, A)
     out[:, 1] = np.where(np.abs(s) < 1e-12, 0.0, np.sign(s))
     return out[0] if single else out
