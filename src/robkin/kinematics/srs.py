@@ -30,9 +30,9 @@ import numpy as np
 from ..compiled.solutions import nearest_verified
 from ..errors import InputError
 from ..robot import Robot
-from .limits import LIMIT_TOL, wrap_into_limits
+from .limits import LIMIT_TOL
 from .pose_error import check_targets
-from .srs_geometry import SRSGeometry, branch_of, reference_frame, rot, srs_geometry
+from .srs_geometry import branch_of, srs_geometry
 
 __all__ = ["METHOD", "solve_arm_angle", "ik_arm_angle", "feasible_arm_angles", "BRANCHES"]
 
@@ -42,100 +42,46 @@ METHOD = "srs-arm-angle"
 BRANCHES = tuple((s, e, w) for e in (-1, 1) for s in (-1, 1) for w in (-1, 1))
 _LABELS = np.array(BRANCHES, dtype=float)
 
-#: |cos| of the elbow equation may exceed 1 by rounding at full stretch: 1e-12 relative is ~1e4 ulps
-_REACH_TOL = 1e-12
+#: per Robot (immutable): the compiled kernel, keyed by id with a weak reference proving identity
+_KERNELS: dict[int, tuple[Any, Any]] = {}
 
 
-def _three_axes(R: np.ndarray, w1: np.ndarray, w2: np.ndarray, w3: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Angles (M, 2, 3) with Rot(w1, a) Rot(w2, b) Rot(w3, c) = R (M, 3, 3), for +gamma and -gamma (the two
-    branches: the side of the w1-w2 plane that axis 3 turned by b points to), and whether they exist (M, 2)."""
-    x = R @ w3                                        # where axis 3 must end up
-    k = float(w1 @ w2)
-    n12 = np.cross(w1, w2)
-    den = k * k - 1.0
-    p2 = float(w2 @ w3)
-    q1 = x @ w1
-    alpha = (k * p2 - q1) / den
-    beta = (k * q1 - p2) / den
-    g2 = (1.0 - alpha ** 2 - beta ** 2 - 2 * alpha * beta * k) / float(n12 @ n12)
-    # -1e-12: rounding of unit vectors makes an aligned pose's gamma^2 a few ulps negative
-    exists = g2 > -1e-12
-    gamma = np.sqrt(np.maximum(g2, 0.0))
-    out = np.empty(R.shape[:-2] + (2, 3))
-    y0 = np.cross(w3, [1.0, 0, 0] if abs(w3[0]) < 0.9 else [0, 1.0, 0])
-    y0 /= np.linalg.norm(y0)
-    for b, sign in enumerate((1.0, -1.0)):
-        c = alpha[..., None] * w1 + beta[..., None] * w2 + (sign * gamma)[..., None] * n12
-        qb = _turn(w2, w3, c)
-        qa = _turn(w1, c, x)
-        Rab = rot(w1, qa) @ rot(w2, qb)
-        z = np.einsum("...ji,...j->...i", Rab, R @ y0)      # (Ra Rb)^T R y0
-        qc = np.arctan2(np.cross(y0, z) @ w3, z @ y0)
-        out[..., b, 0], out[..., b, 1], out[..., b, 2] = qa, qb, qc
-    return out, np.stack([exists, exists], axis=-1)
+def srs_kernel(robot: Robot) -> Any:
+    """The compiled kernel (``compiled.closed_form_srs.SRSKernel``) of an SRS arm, built once per robot."""
+    import weakref
+
+    from ..compiled.closed_form_srs import SRSKernel
+    from .limits import default_preference
+
+    hit = _KERNELS.get(id(robot))
+    if hit is not None and hit[0]() is robot:
+        return hit[1]
+    g = srs_geometry(robot)
+    kernel = SRSKernel(robot._chain, robot.limits, default_preference(robot.limits), robot.scale, LIMIT_TOL,
+                       g.axes, g.S, g.W0, g.p4, g.E0, g.w_tool, g.R_home, g.z_ref, g.z_alt, g.elbow_A,
+                       g.elbow_B, g.elbow_C0)
+    _KERNELS[id(robot)] = (weakref.ref(robot, lambda _r, k=id(robot): _KERNELS.pop(k, None)), kernel)
+    return kernel
 
 
-def _turn(w: np.ndarray, p: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """The angle (...) about w that turns p (3,) or (..., 3) onto q (..., 3) (their parts across w)."""
-    pp = p - (p @ w)[..., None] * w if p.ndim > 1 else p - (p @ w) * w
-    qq = q - (q @ w)[..., None] * w
-    return np.arctan2(np.cross(pp, qq) @ w, np.sum(pp * qq, axis=-1))
-
-
-def solve_arm_angle(geo: SRSGeometry, targets: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Every candidate for targets (N, 4, 4) at arm angles psi (N,).
+def solve_arm_angle(robot: Robot, targets: np.ndarray, psi: np.ndarray, q_ref: np.ndarray | None = None
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray]:
+    """Every candidate for targets (N, 4, 4) at arm angles psi (N,) (compiled).
 
     Returns
     -------
     Q : (N, 8, 7) array
-        Raw joint angles (not yet wrapped into limits), branches in the order of ``BRANCHES``.
+        Joint angles, branches in the order of ``BRANCHES``; raw, or with q_ref (N, 7) wrapped into the
+        limits nearest q_ref.
     exists : (N, 8) bool array
         The candidate exists geometrically.
+    valid : (N, 8) bool array or None
+        With q_ref: exists and within the limits.
     code : (N,) int array
-        0, or why no candidate exists: 1 out of reach, 2 elbow stretched or folded (psi undefined).
+        0, or why no candidate exists: 1 out of reach, 2 elbow stretched or folded (psi undefined),
+        3 no shoulder or wrist rotation fits.
     """
-    N = len(targets)
-    a, p = geo.axes, geo.points
-    W = np.einsum("nij,j->ni", targets[:, :3, :3], geo.w_tool) + targets[:, :3, 3]
-    w = W - geo.S
-    d2 = np.sum(w * w, axis=1)
-    r = math.hypot(geo.elbow_A, geo.elbow_B)
-    ratio = (geo.elbow_C0 - d2 / 2) / r
-    reach = np.abs(ratio) <= 1 + _REACH_TOL
-    phi = math.atan2(geo.elbow_B, geo.elbow_A)
-    acos = np.arccos(np.clip(ratio, -1.0, 1.0))
-    wh, n1, n2 = reference_frame(geo, w)
-    n_t = np.cos(psi)[:, None] * n1 + np.sin(psi)[:, None] * n2
-    Ft = np.stack([wh, n_t, np.cross(wh, n_t)], axis=-1)      # (N, 3, 3) target frame, columns
-    u0 = geo.E0 - geo.S
-    Q = np.full((N, 8, 7), np.nan)
-    exists = np.zeros((N, 8), bool)
-    flat = np.zeros(N, bool)
-    Rt = targets[:, :3, :3] @ geo.R_home.T
-    for e, sign in enumerate((1.0, -1.0)):
-        q4 = phi + sign * acos
-        v0 = np.einsum("nij,j->ni", rot(a[3], q4), geo.W0 - p[3]) + p[3] - geo.S
-        v0h = v0 / np.linalg.norm(v0, axis=1, keepdims=True)
-        u_perp = u0 - (v0h @ u0)[:, None] * v0h
-        m = np.linalg.norm(u_perp, axis=1)
-        # the elbow within 1e-9 (relative) of the shoulder-wrist line: the arm angle means nothing there
-        bent = m > 1e-9 * np.linalg.norm(u0)
-        flat |= ~bent & reach
-        n0 = u_perp / np.where(bent, m, 1.0)[:, None]
-        Fs = np.stack([v0h, n0, np.cross(v0h, n0)], axis=-1)
-        R123 = Ft @ np.swapaxes(Fs, 1, 2)
-        sh, sh_ok = _three_axes(R123, a[0], a[1], a[2])
-        for s in range(2):
-            R4 = rot(a[0], sh[:, s, 0]) @ rot(a[1], sh[:, s, 1]) @ rot(a[2], sh[:, s, 2]) @ rot(a[3], q4)
-            wr, wr_ok = _three_axes(np.swapaxes(R4, 1, 2) @ Rt, a[4], a[5], a[6])
-            for k in range(2):
-                j = 4 * e + 2 * s + k
-                Q[:, j, :3] = sh[:, s]
-                Q[:, j, 3] = q4
-                Q[:, j, 4:] = wr[:, k]
-                exists[:, j] = reach & bent & sh_ok[:, s] & wr_ok[:, k]
-    code = np.where(~reach, 1, np.where(flat & ~exists.any(axis=1), 2, 0))
-    return Q, exists, code
+    return srs_kernel(robot).candidates(targets, psi, q_ref)
 
 
 def _check_psi(psi: Any, N: int) -> np.ndarray:
@@ -170,16 +116,13 @@ def ik_arm_angle(robot: Robot, T: Any, psi: Any, q0: Any, all_solutions: bool, t
         raise InputError(f"arm_angle: is solved in closed form; method must be 'auto' or 'analytic', got {method!r}")
     from .ik import SAME_SOLUTION_TOL, IKResult, _settings, _start
 
-    geo = srs_geometry(robot)
+    srs_geometry(robot)                 # the SRS check (InputError naming what fails)
     targets, single = check_targets(T)
     N = len(targets)
     psi_v = _check_psi(psi, N)
     settings = _settings(tol_position, tol_orientation, 1, 0)
     q_ref = np.ascontiguousarray(_start(robot, q0, N))
-    Q, exists, code = solve_arm_angle(geo, targets, psi_v)
-    Qw, inside = wrap_into_limits(Q.reshape(-1, 7), robot.limits, robot.revolute, np.repeat(q_ref, 8, axis=0))
-    Qw = np.ascontiguousarray(Qw.reshape(N, 8, 7))
-    valid = exists & inside.reshape(N, 8)
+    Qw, exists, valid, code = solve_arm_angle(robot, targets, psi_v, q_ref)
     keep = valid
     if q0 is not None:      # the branch of q0 (its singular labels, 0, accept either side)
         ref_label = branch_of(robot, q_ref).reshape(N, 3)
@@ -200,7 +143,7 @@ def ik_arm_angle(robot: Robot, T: Any, psi: Any, q0: Any, all_solutions: bool, t
         elif code[i] == 2:
             reasons[i] = ("the elbow is on the shoulder-wrist line (stretched or folded): the arm angle is "
                           "undefined; use lock= or the numeric solver")
-        elif not exists[i].any():
+        elif code[i] == 3:
             reasons[i] = "no rotation of the shoulder or wrist reaches this target at this arm angle"
         elif not valid[i].any():
             reasons[i] = f"every solution at arm angle {psi_v[i]:.6g} rad violates a joint limit"
@@ -218,11 +161,12 @@ def ik_arm_angle(robot: Robot, T: Any, psi: Any, q0: Any, all_solutions: bool, t
         solutions=None if sols is None else (sols[0] if single else sols))
 
 
-def _margins(robot: Robot, geo: SRSGeometry, target: np.ndarray, psi: np.ndarray) -> np.ndarray:
+def _margins(robot: Robot, target: np.ndarray, psi: np.ndarray) -> np.ndarray:
     """(K, 8) the smallest distance (radians) of any joint to its limits per branch at arm angles psi (K,);
     negative outside the limits, -inf where the branch does not exist. Continuous in psi along a branch."""
     K = len(psi)
-    Q, exists, _ = solve_arm_angle(geo, np.broadcast_to(target, (K, 4, 4)), psi)
+    Q, exists, _, _ = solve_arm_angle(robot, np.ascontiguousarray(np.broadcast_to(target, (K, 4, 4))),
+                                      np.ascontiguousarray(psi, dtype=float))
     lo, hi = robot.limits[:, 0], robot.limits[:, 1]
     limited = np.isfinite(lo) & np.isfinite(hi) & (hi - lo < 2 * np.pi)
     mid = np.where(limited, (lo + hi) / 2, 0.0)
@@ -253,7 +197,7 @@ def feasible_arm_angles(robot: Robot, T: Any, step: float = math.radians(0.25)
         of (lo, hi) intervals with -pi <= lo < pi and lo <= hi < lo + 2 pi (an interval through +-pi has
         hi > pi; the whole circle is (-pi, pi)). Branches with no feasible arm angle map to [].
     """
-    geo = srs_geometry(robot)
+    srs_geometry(robot)
     targets, single = check_targets(T)
     if not single:
         raise InputError("feasible_arm_angles: expected one target (4, 4)")
@@ -261,9 +205,9 @@ def feasible_arm_angles(robot: Robot, T: Any, step: float = math.radians(0.25)
         raise InputError(f"step: expected a number of radians in [1e-6, 0.5], got {step!r}")
     K = int(math.ceil(2 * math.pi / step))
     grid = -math.pi + 2 * math.pi * np.arange(K + 1) / K          # both ends: -pi and pi
-    ok = _margins(robot, geo, targets[0], grid) >= 0               # (K + 1, 8)
+    ok = _margins(robot, targets[0], grid) >= 0               # (K + 1, 8)
     crossings = [(i, b) for b in range(8) for i in np.flatnonzero(ok[1:, b] != ok[:-1, b])]
-    x = _bisect(robot, geo, targets[0], crossings, grid, ok)
+    x = _bisect(robot, targets[0], crossings, grid, ok)
     out: dict[tuple[int, int, int], list[tuple[float, float]]] = {}
     for b, label in enumerate(BRANCHES):
         f = ok[:, b]
@@ -280,7 +224,7 @@ def feasible_arm_angles(robot: Robot, T: Any, step: float = math.radians(0.25)
     return out
 
 
-def _bisect(robot: Robot, geo: SRSGeometry, target: np.ndarray, crossings: list[tuple[int, int]],
+def _bisect(robot: Robot, target: np.ndarray, crossings: list[tuple[int, int]],
             grid: np.ndarray, ok: np.ndarray) -> np.ndarray:
     """The arm angles (C,) where branch b's feasibility changes between grid[i] and grid[i + 1], for every
     crossing (i, b), to 1e-12 rad: bisection, all crossings side by side (~40 halvings of a sweep step)."""
@@ -292,7 +236,7 @@ def _bisect(robot: Robot, geo: SRSGeometry, target: np.ndarray, crossings: list[
     was = ok[idx, br]
     while np.max(hi - lo) > 1e-12:
         mid = 0.5 * (lo + hi)
-        same = (_margins(robot, geo, target, mid)[np.arange(len(mid)), br] >= 0) == was
+        same = (_margins(robot, target, mid)[np.arange(len(mid)), br] >= 0) == was
         lo = np.where(same, mid, lo)
         hi = np.where(same, hi, mid)
     return 0.5 * (lo + hi)

@@ -43,11 +43,12 @@ class SRSGeometry:
     Attributes
     ----------
     axes : (7, 3) unit joint axes; points : (7, 3) a point on each axis.
-    S : (3,) shoulder point; W0 : (3,) wrist centre at q = 0; E0 : (3,) elbow point at q = 0.
+    S : (3,) shoulder point; W0 : (3,) wrist centre at q = 0; E0 : (3,) elbow point at q = 0;
+    p4 : (3,) a point on joint 4's axis.
     w_tool : (3,) the wrist centre in tool coordinates (constant).
     R_home : (3, 3) tool orientation at q = 0.
     z_ref, z_alt : (3,) the reference direction of psi = 0 (joint 1's axis) and its stand-in.
-    elbow_A, elbow_B, elbow_a_par, elbow_r2 : the elbow equation's constants (see ``srs._elbow``).
+    elbow_A, elbow_B, elbow_C0 : the elbow equation A cos q4 + B sin q4 = C0 - |W - S|^2 / 2.
     """
 
     axes: np.ndarray
@@ -55,6 +56,7 @@ class SRSGeometry:
     S: np.ndarray
     W0: np.ndarray
     E0: np.ndarray
+    p4: np.ndarray
     w_tool: np.ndarray
     R_home: np.ndarray
     z_ref: np.ndarray
@@ -110,7 +112,7 @@ def srs_condition(robot: Robot) -> tuple[SRSGeometry | None, str]:
     w_tool = tool[:3, :3].T @ (W0 - tool[:3, 3])
     z_ref = a[0] / np.linalg.norm(a[0])
     z_alt = a[1] / np.linalg.norm(a[1])
-    geo = SRSGeometry(axes=a.copy(), points=p.copy(), S=S, W0=W0, E0=E0, w_tool=w_tool, R_home=tool[:3, :3].copy(),
+    geo = SRSGeometry(axes=a.copy(), points=p.copy(), S=S, W0=W0, E0=E0, p4=p4.copy(), w_tool=w_tool, R_home=tool[:3, :3].copy(),
                       z_ref=z_ref, z_alt=z_alt, elbow_A=A, elbow_B=B, elbow_C0=C0)
     return geo, ""
 
