@@ -60,7 +60,12 @@ def srs_kernel(robot: Robot) -> Any:
     kernel = SRSKernel(robot._chain, robot.limits, default_preference(robot.limits), robot.scale, LIMIT_TOL,
                        g.axes, g.S, g.W0, g.p4, g.E0, g.w_tool, g.R_home, g.z_ref, g.z_alt, g.elbow_A,
                        g.elbow_B, g.elbow_C0)
-    _KERNELS[id(robot)] = (weakref.ref(robot, lambda _r, k=id(robot): _KERNELS.pop(k, None)), kernel)
+    key = id(robot)
+
+    def forget(_ref: Any, key: int = key) -> None:
+        _KERNELS.pop(key, None)
+
+    _KERNELS[key] = (weakref.ref(robot, forget), kernel)
     return kernel
 
 
@@ -122,7 +127,8 @@ def ik_arm_angle(robot: Robot, T: Any, psi: Any, q0: Any, all_solutions: bool, t
     psi_v = _check_psi(psi, N)
     settings = _settings(tol_position, tol_orientation, 1, 0)
     q_ref = np.ascontiguousarray(_start(robot, q0, N))
-    Qw, exists, valid, code = solve_arm_angle(robot, targets, psi_v, q_ref)
+    Qw, exists, checked, code = solve_arm_angle(robot, targets, psi_v, q_ref)
+    valid: np.ndarray = checked if checked is not None else exists    # (never None: q_ref is given)
     keep = valid
     if q0 is not None:      # the branch of q0 (its singular labels, 0, accept either side)
         ref_label = branch_of(robot, q_ref).reshape(N, 3)
@@ -206,7 +212,7 @@ def feasible_arm_angles(robot: Robot, T: Any, step: float = math.radians(0.25)
     K = int(math.ceil(2 * math.pi / step))
     grid = -math.pi + 2 * math.pi * np.arange(K + 1) / K          # both ends: -pi and pi
     ok = _margins(robot, targets[0], grid) >= 0               # (K + 1, 8)
-    crossings = [(i, b) for b in range(8) for i in np.flatnonzero(ok[1:, b] != ok[:-1, b])]
+    crossings = [(int(i), b) for b in range(8) for i in np.flatnonzero(ok[1:, b] != ok[:-1, b])]
     x = _bisect(robot, targets[0], crossings, grid, ok)
     out: dict[tuple[int, int, int], list[tuple[float, float]]] = {}
     for b, label in enumerate(BRANCHES):

@@ -127,7 +127,12 @@ def srs_geometry(robot: Robot) -> SRSGeometry:
     hit = _CACHE.get(id(robot))
     if hit is None or hit[0]() is not robot:
         geo, why = srs_condition(robot)
-        _CACHE[id(robot)] = hit = (weakref.ref(robot, lambda _r, k=id(robot): _CACHE.pop(k, None)), geo, why)
+        key = id(robot)
+
+        def forget(_ref: Any, key: int = key) -> None:
+            _CACHE.pop(key, None)
+
+        _CACHE[key] = hit = (weakref.ref(robot, forget), geo, why)
     if hit[1] is None:
         raise InputError(f"arm_angle: {robot.name or 'this robot'} is not an SRS arm (7R, axes 1-3 meeting in a "
                          f"shoulder point and axes 5-7 in a wrist centre): {hit[2]}")
