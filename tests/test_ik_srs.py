@@ -207,3 +207,24 @@ def test_cli_arm_angle(capsys):
     assert np.allclose(arm_angle_of(robot, Q), np.radians(30), atol=1e-9)
     assert main(["ik", IIWA_URDF, "--pose", "0.5,0,0.5,0,pi,0", "--arm-angle", "0.5", "--position-only"]) == 2
     assert "mask" in capsys.readouterr().err
+
+
+def test_gui_arm_angle():
+    from robkin.viz import gui_api
+
+    text = open(IIWA_URDF).read()
+    robot = arms.iiwa()
+    q = np.array([0.3, 0.6, -0.4, -1.2, 0.5, 0.9, 0.2])
+    shown = gui_api.describe(text, "urdf", q=q.tolist())
+    assert shown["srs"] and abs(shown["arm_angle"] - arm_angle_of(robot, q)) < 1e-12
+    res = gui_api.solve_ik(text, "urdf", robot.fk(q).tolist(), q.tolist(), arm_angle=shown["arm_angle"] + 0.2)
+    assert res["success"] and res["method"] == "srs-arm-angle"
+    assert abs(res["arm_angle"] - (shown["arm_angle"] + 0.2)) < 1e-9                 # the elbow swivelled
+    assert np.abs(robot.fk(res["q"]) - robot.fk(q)).max() < 1e-9                     # the tool stayed
+    assert np.array_equal(branch_of(robot, np.array(res["q"])), branch_of(robot, q))
+    with pytest.raises(InputError, match="arm_angle"):
+        gui_api.solve_ik(text, "urdf", robot.fk(q).tolist(), q.tolist(), arm_angle="x")
+    from robkin.io.document import document_from_robot, dump
+
+    six = gui_api.describe(dump(document_from_robot(arms.xarm6())), "yaml")
+    assert six["srs"] is False and six["arm_angle"] is None

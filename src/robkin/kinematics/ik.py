@@ -78,7 +78,7 @@ class IKResult:
         |log(R_d R^T)| over the masked components (radians; inf where q is NaN).
     method : str
         'scara', 'spherical-wrist-6r', 'three-parallel-6r', 'near-spherical-wrist-6r',
-        'near-three-parallel-6r', 'pieper-6r', 'pieper-6r-reversed', 'general-6r' (closed forms; targets the closed form could not settle
+        'near-three-parallel-6r', 'pieper-6r', 'pieper-6r-reversed', 'general-6r', 'srs-arm-angle' (closed forms; targets the closed form could not settle
         are retried numerically in 'auto') or 'numeric'.
     message : str or list of str
         Why a target failed ('' where it succeeded).
