@@ -228,3 +228,55 @@ def test_gui_arm_angle():
 
     six = gui_api.describe(dump(document_from_robot(arms.xarm6())), "yaml")
     assert six["srs"] is False and six["arm_angle"] is None
+
+
+def test_browser_arm_angle_slider():
+    """In the page: the slider shows for the iiwa; moving it swivels the elbow with the tool held."""
+    import tempfile
+
+    from test_gui import CHROMIUM_FLAGS, _chromium, _pose, _skip_or_fail
+
+    from robkin.viz.gui import make_server
+
+    try:
+        from playwright import sync_api
+    except ImportError:
+        _skip_or_fail("the browser test needs the playwright package (test extra)")
+    exe = _chromium()
+    if exe is None:
+        _skip_or_fail("no Chromium installed (apt-get install chromium); the browser test needs one")
+    robot = arms.iiwa()
+    srv = make_server(port=0, text=open(IIWA_URDF).read(), fmt="urdf")
+    srv.serve_in_thread()
+    errors: list[str] = []
+    try:
+        with sync_api.sync_playwright() as pw, tempfile.TemporaryDirectory() as profile:
+            ctx = pw.chromium.launch_persistent_context(profile, executable_path=exe, headless=True,
+                                                        args=CHROMIUM_FLAGS)
+            pg = ctx.new_page()
+            pg.on("pageerror", lambda e: errors.append(str(e)))
+            pg.goto(srv.url)
+            pg.wait_for_selector("body[data-state=ready]", timeout=15000)
+            assert pg.get_attribute("#arm-angle", "hidden") is None
+            q = [0.3, 0.6, -0.4, -1.2, 0.5, 0.9, 0.2]
+            for i, v in enumerate(q):
+                pg.eval_on_selector(f"#q{i}", "(e, v) => { e.value = v; e.dispatchEvent(new Event('input')); }", v)
+            for _ in range(300):        # until the page shows the whole of q (each slider asks on its own)
+                if np.abs(_pose(pg) - robot.fk(np.array(q))).max() < 1e-9:
+                    break
+                pg.wait_for_timeout(50)
+            pg.wait_for_function("(v) => document.querySelector('#arm-angle-value').textContent.startsWith(v)",
+                                 arg=f"{np.degrees(arm_angle_of(robot, np.array(q))):.1f}", timeout=15000)
+            pg.eval_on_selector("#arm-angle-slider", "e => { e.value = 80; e.dispatchEvent(new Event('input')); }")
+            pg.wait_for_function("() => document.body.dataset.ikSuccess == 'true'", timeout=15000)
+            pg.wait_for_function("() => document.querySelector('#arm-angle-value').textContent.startsWith('80.0')",
+                                 timeout=15000)
+            shown = np.array([float(pg.input_value(f"#q{i}")) for i in range(7)])
+            ctx.close()
+    finally:
+        srv.shutdown()
+        srv.server_close()
+    assert not errors
+    # the sliders' values are the answer to ~1e-13 (their text form): the tool stayed, the elbow turned
+    assert np.abs(robot.fk(shown) - robot.fk(np.array(q))).max() < 1e-6
+    assert abs(arm_angle_of(robot, shown) - np.radians(80)) < 1e-6
