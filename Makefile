@@ -1,24 +1,42 @@
-# Two commands on a fresh machine with only python3:
+# Two commands on a fresh machine with python3 and a C compiler:
 #   make demo   create .venv, install robkin, run the paper examples through every representation
 #   make test   create .venv, install robkin with its test dependencies, run the test suite
 #   make docs   build the documentation site into site/ (strict)
+#   make dist   the release: sdist and wheel in dist/, carrying the GUI's three.js (the wheel needs
+#               neither npm nor a C compiler to install)
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip --disable-pip-version-check -q
 
-.PHONY: demo test bench ext assets docs clean
+.PHONY: demo test bench ext assets docs dist clean
 
-# The compiled core (src/robkin/compiled/*.pyx) is built by pip with the machine's C compiler.
-CORE_SOURCES := pyproject.toml setup.py $(wildcard src/robkin/compiled/*.pyx src/robkin/compiled/*.pxd)
+# The compiled core (src/robkin/compiled/*.pyx) is built once, by pip with the machine's C compiler;
+# the extras (test, docs, bench) then install only their own dependencies (EXTRA below), never
+# rebuilding the core.
+CORE_SOURCES := pyproject.toml setup.py $(wildcard src/robkin/compiled/*.pyx src/robkin/compiled/*.pxd \
+                                                   src/robkin/compiled/*.pxi)
+N_CORE := $(words $(wildcard src/robkin/compiled/*.pyx))
 
 $(VENV)/.core: $(CORE_SOURCES)
 	$(PYTHON) -m venv $(VENV)
-	$(PIP) install -e .
+	@echo "robkin: building the compiled core ($(N_CORE) Cython modules, compiled in parallel:" \
+	      "about 2-3 min on a loaded 2-core machine; pip prints nothing until it is done)..."
+	@start=$$(date +%s); $(PIP) install -e . && \
+	  echo "robkin: compiled core built in $$(( $$(date +%s) - start )) s"
 	touch $@
 
-$(VENV)/.test: $(VENV)/.core
-	$(PIP) install -e '.[test]'
+# The requirements of one extra of the installed robkin, read from its metadata (not rebuilding it).
+# (printed without the extra's marker, which pip would evaluate as false outside an extra)
+EXTRA = $(PY) -c "import sys, importlib.metadata as m; \
+  from packaging.requirements import Requirement as R; \
+  [print(r.name + ('[' + ','.join(sorted(r.extras)) + ']' if r.extras else '') + str(r.specifier)) \
+   for r in map(R, m.requires('robkin') or []) if r.marker and r.marker.evaluate({'extra': sys.argv[1]})]"
+
+$(VENV)/.test: $(VENV)/.core pyproject.toml
+	$(PIP) install packaging
+	$(EXTRA) test > $(VENV)/requirements-test.txt
+	$(PIP) install -r $(VENV)/requirements-test.txt
 	touch $@
 
 # The GUI's 3D viewer uses three.js from the npm registry (version pinned in package.json and
@@ -42,19 +60,31 @@ test: $(VENV)/.test $(ASSETS)
 
 # Benchmarks compare against peers in the same run (pinocchio; the Robotics Toolbox where it installs).
 bench: $(VENV)/.test
-	$(PIP) install -e '.[test,bench]'
+	$(EXTRA) bench > $(VENV)/requirements-bench.txt
+	$(PIP) install -r $(VENV)/requirements-bench.txt
 	for b in benchmarks/bench_*.py; do echo "== $$b"; $(PY) $$b || exit 1; done
 
 # The documentation site (MkDocs Material + mkdocstrings) into site/; strict: a broken link or
 # reference fails the build. The CLI reference is generated from the parsers (docs/hooks/).
 docs: $(VENV)/.core
-	$(PIP) install -e '.[docs]'
+	$(PIP) install packaging
+	$(EXTRA) docs > $(VENV)/requirements-docs.txt
+	$(PIP) install -r $(VENV)/requirements-docs.txt
 	NO_MKDOCS_2_WARNING=1 $(PY) -m mkdocs build --strict
 
 # Rebuild the compiled core in place after editing a .pyx (pip install -e . does the same, slower).
 ext: $(VENV)/.core
 	$(PY) setup.py -q build_ext --inplace
 
+# The release: an sdist and a wheel (python -m build: the wheel is built from the sdist) in dist/,
+# both carrying the GUI's three.js modules; .ci/check_dist.py refuses a wheel without them.
+dist: $(VENV)/.core $(ASSETS)
+	$(PIP) install 'build>=1.0'
+	rm -rf dist
+	@echo "robkin: building the sdist and the wheel (compiles the core once more: 2-3 min on 2 cores)..."
+	$(PY) -m build --outdir dist .
+	$(PY) .ci/check_dist.py dist
+
 clean:
-	rm -rf $(VENV) build site src/*.egg-info .pytest_cache .hypothesis src/robkin/compiled/*.c src/robkin/compiled/*.so \
+	rm -rf $(VENV) build dist site src/*.egg-info .pytest_cache .hypothesis src/robkin/compiled/*.c src/robkin/compiled/*.so \
 	       node_modules src/robkin/viz/static/vendor

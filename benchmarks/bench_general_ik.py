@@ -16,8 +16,11 @@ Checks, per arm, on every target:
   limits +-pi where the arm has none; compared modulo 2 pi) that fit the limits and reach the target
   (robkin's FK, 1e-6; the others are counted as ssik's wrong answers) are all among robkin's;
 - on the first ``--numeric`` targets, every solution of a seeded numeric solve (``method='numeric'``,
-  all solutions from 1 + 60 starts) is among robkin's (within 1e-5 rad, or near a singularity within
-  10 x 1e-9 / the Jacobian's smallest singular value: how far a 1e-9-accurate numeric answer can be).
+  all solutions from 1 + 60 starts) is among robkin's.
+
+Numeric and ssik answers count as found within 1e-5 rad of a robkin solution, or near a singularity
+within 10 x their FK error / the Jacobian's smallest singular value (how far an answer that accurate
+can be from the exact solution; ``spread``).
 
 Timing, per target (CPU time of this process; one thread each; medians of interleaved rounds):
 robkin ``Robot.ik(T, all_solutions=True[, lock=...])`` one target per call, and on the whole batch;
@@ -62,13 +65,14 @@ def wrapped(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.abs((a - b + np.pi) % (2 * np.pi) - np.pi)
 
 
-def numeric_spread(robot, q) -> float:
-    """How far a numeric solution q may be from the exact one it approximates: 1e-5 rad, or near a
-    singularity 10 x tolerance (1e-9) / the Jacobian's smallest singular value (a numeric answer is only
-    pinned to the target to 1e-9, and the joints then wander by that over the singular value: several
-    numeric answers of one near-double root land ~1e-5 apart)."""
+def spread(robot, q, T) -> float:
+    """How far an approximate solution q of target T may be from the exact one it stands for: 1e-5 rad,
+    or near a singularity 10 x its FK error (at least the 1e-9 tolerance) / the Jacobian's smallest
+    singular value (the joints of an answer pinned to the target only to e wander by ~e / sigma: numeric
+    and ssik answers of one near-double root land up to ~1e-3 apart)."""
     sigma = np.linalg.svd(robot.jacobian(q), compute_uv=False)[-1]
-    return max(1e-5, 10 * 1e-9 / max(sigma, 1e-12))
+    err = max(1e-9, float(np.abs(robot.fk(q) - T).max()))
+    return max(1e-5, 10 * err / max(sigma, 1e-12))
 
 
 def arm_list() -> list[tuple[str, object, dict | None]]:
@@ -150,7 +154,7 @@ def bench(name, robot, lock, n, rounds, n_numeric):
     for k in range(min(n_numeric, n)):
         num = robot.ik(T[k], method="numeric", all_solutions=True, restarts=60, rng=k, lock=lock)
         for s in num.solutions:
-            missing_numeric += wrapped(res.solutions[k], s).max(axis=1).min() >= numeric_spread(robot, s)
+            missing_numeric += wrapped(res.solutions[k], s).max(axis=1).min() >= spread(robot, s, T[k])
     m, prep = ssik_arm(six)
     ssik_missing, ssik_count, ssik_wrong = 0, 0, 0
     lim6 = six.limits
@@ -179,7 +183,7 @@ def bench(name, robot, lock, n, rounds, n_numeric):
                 ssik_wrong += 1
                 continue
             ssik_count += 1
-            ssik_missing += len(ours6) == 0 or wrapped(ours6, q).max(axis=1).min() >= 1e-5
+            ssik_missing += len(ours6) == 0 or wrapped(ours6, q).max(axis=1).min() >= spread(six, q, T[k])
     return dict(name=name, method=method, found=found, worst=worst, outside=outside, counts=counts,
                 missing_numeric=missing_numeric, ssik_missing=ssik_missing, ssik_count=ssik_count, prep=prep,
                 ssik_wrong=ssik_wrong,

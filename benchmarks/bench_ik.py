@@ -5,7 +5,7 @@ and a KUKA LBR iiwa 14 (URDF written here from the published kinematics). For ea
 the FK of random joint values within the limits. Solvers, each with joint limits on:
 
 - robkin, one call per target: ``Robot.ik(T, method="numeric")`` (default tolerances 1e-9 m / rad,
-  up to 50 random restarts);
+  up to 200 restarts);
 - robkin, batch: ``Robot.ik(targets, method="numeric")`` for all targets at once (time per target);
 - Robotics Toolbox (``roboticstoolbox-python``): ``ik_LM`` (C++, Chan's method) per target, tol
   5e-19 on E = e.e / 2 (|e| <= 1e-9), ``joint_limits=True``, 100 searches.

@@ -81,7 +81,7 @@ CASES = [
     Case("truncated URDF", {"t.urdf": GOOD_URDF[:150]}, _leg("t.urdf"), "t.urdf: not well-formed XML (line"),
     Case("not UTF-8", {"b.yaml": b"robkin: 1\njoints: [\xff\xfe]\n"}, _leg("b.yaml"), "b.yaml: not UTF-8 text"),
     Case("missing file", {}, _leg("nothing.yaml"), "nothing.yaml: no such file"),
-    Case("unknown extension", {"r.txt": GOOD_DOC}, _leg("r.txt"), "r.txt: unknown extension '.txt'"),
+    Case("unknown extension", {"r.dat": GOOD_DOC}, _leg("r.dat"), "r.dat: unknown extension '.dat'"),
     Case("document is a list", {"l.json": "[1, 2]"}, _leg("l.json"), "document must be a mapping"),
     Case("NaN in a DH row", {"n.yaml": GOOD_DOC.replace("0.4, 0, 0, 0", "0.4, .nan, 0, 0")}, _leg("n.yaml"),
          "n.yaml: dh.rows[1][1]: must be a finite number"),

@@ -82,7 +82,7 @@ def test_reversed_joint_is_a_sign(ur5):
 
 
 @pytest.mark.parametrize("column, amount, expect", [(0, 0.01, "axis position differs: parallel axes pointing "
-                                                                 "the same way, 0.01 apart"),
+                                                                 "the same way, 0.01 m apart"),
                                                       (2, 0.1, "axis direction differs by 5.73 deg")])
 def test_moved_axis_names_the_first_joint_and_how(ur5, column, amount, expect):
     dh = dh_from_robot(ur5)
@@ -265,6 +265,11 @@ def test_franka_published_mdh_is_the_panda_urdf(tmp_path, capsys):
     assert main(["check", str(doc), urdf, "--tip-link", "panda_link8", "--json"]) == 1
     out = json.loads(capsys.readouterr().out)
     assert not out["equivalent"]
-    assert [j["status"] for j in out["joints"]] == ["same"] * 4 + ["sign", "differs", "unchecked"]
+    # past joint 6 the comparison goes on row by row: joint 7's row matches ('aligned'), and the
+    # parameter-level difference is the typo itself, alpha4 (Craig's alpha_{i-1} of row 5)
+    assert [j["status"] for j in out["joints"]] == ["same"] * 4 + ["sign", "differs", "aligned"]
+    assert out["table"] == "mdh"
+    assert [(p["parameter"], p["unit"]) for p in out["parameters"] if p["parameter"].startswith("alpha")] == \
+        [("alpha4", "rad")]
     assert out["first_difference"].startswith("joint 6 ('joint6' / 'panda_joint6'): axis position differs: "
                                               "parallel axes pointing opposite ways")

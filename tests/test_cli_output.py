@@ -118,10 +118,10 @@ def test_fk_warns_per_joint_outside_its_limits(capsys, tmp_path):
     path.write_text(LIMITED)
     assert main(["fk", str(path), "--q", "1.5,0.2,9"]) == 0
     err = capsys.readouterr().err.splitlines()
-    assert err == ["robkin: warning: --q: joint 'shoulder' = 1.5 is outside its limits [-1, 1]"]
+    assert err == ["robkin: warning: --q: joint 'shoulder' = 1.5 rad is outside its limits [-1, 1] rad"]
     assert main(["fk", str(path), "--q", "1,-0.1,0", "--json"]) == 0   # at a limit is inside
     captured = capsys.readouterr()
-    assert captured.err == "robkin: warning: --q: joint 'slide' = -0.1 is outside its limits [0, 0.5]\n"
+    assert captured.err == "robkin: warning: --q: joint 'slide' = -0.1 m is outside its limits [0, 0.5] m\n"
     json.loads(captured.out)   # stdout stays clean JSON
 
 
@@ -132,7 +132,7 @@ def test_plot_warns_at_home_outside_the_limits(capsys, tmp_path):
     out = tmp_path / "p.svg"
     assert main(["plot", str(path), "-o", str(out)]) == 0
     err = capsys.readouterr().err.splitlines()
-    assert err == ["robkin: warning: home (q = 0): joint 'slide' = 0 is outside its limits [0.1, 0.5]",
+    assert err == ["robkin: warning: home (q = 0): joint 'slide' = 0 m is outside its limits [0.1, 0.5] m",
                    f"wrote {out}"]
 
 
@@ -159,5 +159,5 @@ def test_the_panda_at_zero_is_outside_joint4s_limits(capsys):
         pytest.skip("example-robot-data's panda.urdf is not installed")
     assert main(["fk", found[0], "--tip-link", "panda_hand_tcp", "--q", "0,0,0,0,0,0,0"]) == 0
     # the Panda's URDF limits joint 4 to [-3.0718, -0.0698]: its q = 0 is not reachable
-    assert capsys.readouterr().err == ("robkin: warning: --q: joint 'panda_joint4' = 0 is outside its limits "
-                                       "[-3.0718, -0.0698]\n")
+    assert capsys.readouterr().err == ("robkin: warning: --q: joint 'panda_joint4' = 0 rad is outside its limits "
+                                       "[-3.0718, -0.0698] rad\n")

@@ -33,12 +33,13 @@ def test_import_and_non_kinematic_commands_load_no_kinematics_module():
     assert _loaded_after(command("convert", str(EXAMPLE), "--to", "poe")) == ["robkin.compiled.rigid"]
     assert _loaded_after(command("convert", str(EXAMPLE), "--to", "dh")) == ["robkin.compiled.fk",
                                                                               "robkin.compiled.frames",
-                                                                              "robkin.compiled.rigid"]
+                                                                              "robkin.compiled.rigid",
+                                                                              "robkin.compiled.threads"]
     check = ("from robkin.cli import main\nwith contextlib.redirect_stdout(io.StringIO()):\n"
              f"    main(['check', {str(EXAMPLE)!r}, {str(EXAMPLE)!r}])")
-    assert _loaded_after(check) == ["robkin.compiled.fk", "robkin.compiled.rigid"]
+    assert _loaded_after(check) == ["robkin.compiled.fk", "robkin.compiled.rigid", "robkin.compiled.threads"]
 
 
 def test_first_kinematics_call_loads_it():
     loaded = _loaded_after(f"import robkin\nrobkin.load({str(EXAMPLE)!r}).fk([0, 0, 0, 0])")
-    assert loaded == ["robkin.compiled.fk", "robkin.compiled.rigid"]
+    assert loaded == ["robkin.compiled.fk", "robkin.compiled.rigid", "robkin.compiled.threads"]

@@ -111,6 +111,14 @@ def _make_kit(tmp_path: Path) -> Path:
     Path("vendor_dh.yaml").write_text(dump(vendor))
     ur5 = robkin.load("ur5.urdf", tip_link="tool0")
     Path("ur5_dh.yaml").write_text(dump(document_from_robot(ur5, ("dh",))))
+    Q = ur5.random_q(20, rng=0)
+    Path("q.csv").write_text(",".join(j.name for j in ur5.joints) + "\n"
+                             + "".join(",".join(repr(float(v)) for v in q) + "\n" for q in Q))
+    assert main(["fk", "ur5.urdf", "--tip-link", "tool0", "--q-file", "q.csv", "-o", "targets.csv"]) == 0
+    assert main(["convert", "ur5.urdf", "--base-link", "base", "--tip-link", "tool0", "--to", "dh", "--format",
+                 "csv", "-o", "ur5_dh.csv"]) == 0
+    Path("ur5_rows.txt").write_text("# UR5, Universal Robots' DH\n0 0.089159 pi/2 0\n-0.425 0 0 0\n"
+                                    "-0.39225 0 0 0\n0 0.10915 pi/2 0\n0 0.09465 -pi/2 0\n0 0.0823 0 0\n")
     assert main(["estimate", "--pose", "-1,0.9,0.8,-3.08232,-1.04169,-3.01168", "--joints", "4", "--type",
                  "all", "-o", "estimates"]) == 0
     for k in "ABCD":

@@ -749,6 +749,38 @@ def _settled(pg) -> None:
     pg.wait_for_function("() => document.body.dataset.state == 'ready'", timeout=15000)
 
 
+_LAYOUT = """() => {
+  const out = {page: document.documentElement.scrollWidth - window.innerWidth, over: [], wrapped: []};
+  for (const sec of document.querySelectorAll("main > section")) {
+    const right = sec.getBoundingClientRect().right + 1;  // 1 px: sub-pixel rounding of the layout
+    for (const e of sec.querySelectorAll("select, input, textarea, table, pre, .matrices")) {
+      const r = e.getBoundingClientRect();
+      if (r.width && r.right > right) out.over.push(`${sec.id} ${e.tagName} ${e.id} ${r.right - right}`);
+    }
+  }
+  for (const tr of document.querySelectorAll("#table-dh tr, #table-hayati tr")) {
+    const cells = tr.querySelectorAll("td");
+    if (cells.length > 1 && cells[0].getBoundingClientRect().height > 1.5 * cells[1].getBoundingClientRect().height)
+      out.wrapped.push(cells[0].textContent);
+  }
+  return out;
+}"""
+
+
+@pytest.mark.parametrize("width", [1280, 1400])
+def test_browser_layout_fits_1280_and_1400_wide(panda_page, width, tmp_path):
+    # The page never scrolls sideways; form fields and tables stay inside their panels (a table wider
+    # than its panel scrolls inside it); joint names are not wrapped.
+    pg = panda_page
+    pg.set_viewport_size({"width": width, "height": 900})
+    pg.wait_for_timeout(200)  # one layout pass after the resize
+    found = pg.evaluate(_LAYOUT)
+    assert found["page"] <= 0, f"the page scrolls sideways by {found['page']} px at {width} px"
+    assert not found["over"], found["over"]
+    assert not found["wrapped"], found["wrapped"]
+    _shot(pg, tmp_path, f"gui_{width}.png")
+
+
 def test_browser_panda_orbit_drag_paste_check(panda_page, tmp_path):
     pg = panda_page
     view = pg.query_selector("#view")
@@ -843,3 +875,52 @@ def test_browser_panda_orbit_drag_paste_check(panda_page, tmp_path):
     assert first == expected + 1
     assert pg.query_selector(f"#check-joints tr.differs td") is not None
     _shot(pg, tmp_path, "gui_check.png")
+
+
+# ------------------------------------------------------------------------------ the visual check, exaggerated
+RRPR_6MM = RRPR_TEXT.replace("{a: 0.3, d: 0,", "{a: 0.306, d: 0,")
+
+
+def _look_at(pg) -> np.ndarray:
+    return np.array([float(v) for v in pg.get_attribute("#view", "data-look-at").split(",")])
+
+
+def test_browser_differences_exaggerated_and_zoomed(page):
+    pg = page
+    before = _updates(pg)
+    pg.click("#check-panel summary")
+    pg.fill("#other-text", RRPR_6MM)
+    _wait_update(pg, before)
+    _settled(pg)
+    pg.wait_for_selector("#check:not([hidden])")
+    labels = [e.inner_text() for e in pg.query_selector_all(".label3d.differs")]
+    assert "J4: 0.006" in labels and "tool: 0.006" in labels  # true distances, whatever the factor
+    before = _updates(pg)
+    pg.select_option("#exaggerate", "100")
+    _wait_update(pg, before)
+    _settled(pg)
+    assert "differences ×100" in pg.inner_text("#check")
+    assert "J4: 0.006" in [e.inner_text() for e in pg.query_selector_all(".label3d.differs")]
+    # zoom: the camera looks at the middle of J4's arrow (A's J4 point and 100 x 6 mm further)
+    pg.click("#zoom-first")
+    target = _look_at(pg)
+    from robkin.viz import gui_api
+
+    res = gui_api.describe(RRPR_TEXT, "yaml", q=[0, 0, 0, 0], other={"text": RRPR_6MM, "fmt": "yaml",
+                                                                     "exaggerate": 100})
+    arrow = next(a for a in res["check"]["arrows"] if a["label"] == "J%d" % (res["check"]["first_joint"] + 1))
+    np.testing.assert_allclose(target, (np.array(arrow["start"]) + arrow["end"]) / 2, atol=1e-5)
+
+
+def test_browser_camera_follows_a_robot_that_leaves_the_view(page):
+    pg = page
+    pg.click("[data-view=fit]")
+    follows = int(pg.get_attribute("#view", "data-follows") or 0)
+    before = _updates(pg)
+    pg.fill("#robot-text", RRPR_TEXT.replace("{a: 0.2, d: 0,   alpha: pi,", "{a: 3.0, d: 0,   alpha: pi,"))
+    _wait_update(pg, before)
+    _settled(pg)
+    assert int(pg.get_attribute("#view", "data-follows") or 0) > follows
+    x, y = map(float, pg.get_attribute("#view", "data-tool-xy").split(","))
+    box = pg.query_selector("#view").bounding_box()
+    assert 0 <= x <= box["width"] and 0 <= y <= box["height"]  # the tool (3 m out) is in the picture

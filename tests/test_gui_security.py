@@ -157,11 +157,34 @@ def test_api_names_the_field_of_the_wrong_type(server, field, value):
 
 
 # ------------------------------------------------------------------------------------- slow clients
+@pytest.fixture
+def one_server():
+    """A server on 127.0.0.1 only, for the tests that change its limits."""
+    srv = make_server("127.0.0.1", 0)
+    thread = srv.serve_in_thread()
+    yield srv
+    srv.shutdown()
+    srv.server_close()
+    thread.join(5)
+
+
+def _half_sent(srv, count: int, kind: str) -> list[socket.socket]:
+    """``count`` connections that start a request and stall: in its head, its body, or never reading."""
+    held = []
+    for _ in range(count):
+        s = _connect(srv)
+        if kind == "head":  # a request line and half a header, never finished
+            s.sendall(f"POST /api/describe HTTP/1.1\r\nHost: {_host_header(srv)}\r\nContent-Len".encode())
+        elif kind == "body":  # a whole head announcing 1000 bytes, then 10 of them
+            s.sendall(f"POST /api/describe HTTP/1.1\r\nHost: {_host_header(srv)}\r\nContent-Length: 1000\r\n"
+                      f"\r\n{{\"text\": \"".encode())
+        held.append(s)
+    return held
+
+
 def test_half_sent_requests_do_not_block_others(server):
-    slow = [_connect(server) for _ in range(4)]
+    slow = _half_sent(server, 4, "head")
     try:
-        for s in slow:  # a request line and half a header, never finished
-            s.sendall(f"POST /api/describe HTTP/1.1\r\nHost: {_host_header(server)}\r\nContent-Len".encode())
         status, body = post(server, {"text": RRPR_TEXT})
         assert status == 200 and json.loads(body)["ok"] is True
     finally:
@@ -169,13 +192,42 @@ def test_half_sent_requests_do_not_block_others(server):
             s.close()
 
 
-def test_silent_and_trickling_clients_are_cut_off(server, monkeypatch):
-    monkeypatch.setattr(gui._Handler, "timeout", 0.5)
-    monkeypatch.setattr(gui, "MAX_CONNECTION_SECONDS", 1.5)
-    with _connect(server) as silent:
+def test_sixty_held_open_requests_do_not_starve_the_server(one_server):
+    # The security check's case: 60 half-sent requests (7x the worker threads), in the head and in the
+    # body, then normal requests: each must be answered (the client's 10 s timeout would raise).
+    slow = _half_sent(one_server, 30, "head") + _half_sent(one_server, 30, "body")
+    try:
+        for _ in range(3):
+            status, body = post(one_server, {"text": RRPR_TEXT})
+            assert status == 200 and json.loads(body)["ok"] is True
+        assert raw(one_server, "GET", "/", {"Host": _host_header(one_server)})[0] == 200
+        assert one_server.open_connections >= 60  # they are all still held, not dropped to make room
+    finally:
+        for s in slow:
+            s.close()
+
+
+def test_a_client_that_never_reads_its_answers_blocks_no_one(one_server):
+    # Pipelined requests for the page whose answers are never read fill the socket buffers; the loop
+    # stops writing to that client and goes on serving the others.
+    greedy = _connect(one_server)
+    try:
+        greedy.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        request = f"GET /static/app.js HTTP/1.1\r\nHost: {_host_header(one_server)}\r\n\r\n".encode()
+        greedy.sendall(request * 50)
+        status, body = post(one_server, {"text": RRPR_TEXT})
+        assert status == 200 and json.loads(body)["ok"] is True
+    finally:
+        greedy.close()
+
+
+def test_silent_and_trickling_clients_are_cut_off(one_server):
+    one_server.request_timeout = 0.5
+    one_server.max_request_seconds = 1.5
+    with _connect(one_server) as silent:
         silent.sendall(b"GET / HTTP/1.1\r\n")
         assert silent.recv(100) == b""  # closed by the server (the 10 s client timeout would raise)
-    with _connect(server) as trickle:
+    with _connect(one_server) as trickle:
         closed = False
         for _ in range(40):  # one header byte every 0.25 s: each read is quick, the whole is endless
             try:
@@ -187,19 +239,42 @@ def test_silent_and_trickling_clients_are_cut_off(server, monkeypatch):
         assert closed or trickle.recv(100) == b""
 
 
-def test_connections_beyond_the_queue_are_answered_503(monkeypatch):
-    srv = make_server("127.0.0.1", 0)
-    monkeypatch.setattr(srv, "_slots", gui.threading.BoundedSemaphore(1))
-    thread = srv.serve_in_thread()
+def test_beyond_the_connection_limit_the_longest_silent_connection_makes_room(one_server):
+    one_server.max_connections = 4
+    held = _half_sent(one_server, 4, "head")
     try:
-        with _connect(srv) as held:  # takes the only slot and never finishes its request
-            held.sendall(b"GET / HTTP/1.1\r\n")
-            time.sleep(0.2)
-            assert raw(srv, "GET", "/", {"Host": _host_header(srv)})[0] == 503
+        time.sleep(0.2)  # the loop has accepted all four
+        assert raw(one_server, "GET", "/", {"Host": _host_header(one_server)})[0] == 200
+        assert held[0].recv(100) == b""  # the first (silent longest) was closed to make room
     finally:
-        srv.shutdown()
-        srv.server_close()
-        thread.join(5)
+        for s in held:
+            s.close()
+
+
+def test_buffered_bytes_are_bounded(one_server):
+    one_server.max_buffered = 4096
+    with _connect(one_server) as big:
+        head = f"POST /api/describe HTTP/1.1\r\nHost: {_host_header(one_server)}\r\nContent-Length: 100000\r\n\r\n"
+        try:
+            big.sendall(head.encode() + b"x" * 100000)
+        except OSError:  # the server may close before all is sent
+            pass
+        assert big.recv(100).startswith(b"HTTP/1.1 503")
+    assert post(one_server, {"text": "x"})[0] == 200  # the others are served on
+
+
+def test_expect_100_continue_is_answered_then_the_body_read(server):
+    body = json.dumps({"text": RRPR_TEXT}).encode()
+    head = (f"POST /api/describe HTTP/1.1\r\nHost: {_host_header(server)}\r\nContent-Length: {len(body)}\r\n"
+            "Expect: 100-continue\r\nConnection: close\r\n\r\n")
+    with _connect(server) as s:
+        s.sendall(head.encode())
+        assert s.recv(100).startswith(b"HTTP/1.1 100 Continue")
+        s.sendall(body)
+        data = b""
+        while chunk := s.recv(65536):
+            data += chunk
+    assert data.startswith(b"HTTP/1.1 200") and b'"ok": true' in data
 
 
 # ------------------------------------------------------------------------------------- static files
@@ -241,3 +316,48 @@ def test_gui_refuses_to_listen_beyond_loopback(host, capsys):
     assert main(["gui", "--host", host, "--port", "0"]) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"robkin: error: --host '{host}': not a loopback address") and len(err.splitlines()) == 1
+
+
+# ------------------------------------------------------------------------------------- hostile values
+def test_a_400_digit_q_is_one_line_naming_q(server):
+    status, body = post(server, {"text": RRPR_TEXT, "q": [10 ** 400, 0, 0, 0]})
+    answer = json.loads(body)
+    assert status == 200 and answer["ok"] is False
+    assert answer["error"].startswith("q[0]: must be a finite number") and "internal" not in answer["error"]
+    assert len(answer["error"]) < 200 and "\n" not in answer["error"]
+
+
+@pytest.mark.parametrize("field", ["q0", "target"])
+def test_huge_numbers_in_ik_requests_name_their_field(server, field):
+    request = {"text": RRPR_TEXT, "q0": [0, 0, 0, 0], "target": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}
+    request[field] = [[10 ** 400] * 4] * 4 if field == "target" else [10 ** 400, 0, 0, 0]
+    answer = json.loads(post(server, request, path="/api/ik")[1])
+    assert answer["ok"] is False and answer["error"].startswith(f"{field}[0]") and "internal" not in answer["error"]
+
+
+_URDF = ('<robot name="r"><link name="a"/><link name="b"/><joint name="j1" type="revolute"><parent link="a"/>'
+         '<child link="b"/><origin xyz="0 0 0.1" rpy="0 0 0"/><axis xyz="0 0 1"/>'
+         '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>')
+_BIG = "x" * (3 * 1024 * 1024)  # a 3 MB attribute (the request limit is 4 MB of text)
+
+
+@pytest.mark.parametrize("old, new, field", [
+    ('xyz="0 0 0.1"', f'xyz="{_BIG}"', "origin xyz"),
+    ('axis xyz="0 0 1"', f'axis xyz="{_BIG}"', "axis xyz"),
+    ('type="revolute"', f'type="{_BIG}"', "unknown type"),
+    ('parent link="a"', f'parent link="{_BIG}"', "parent link"),
+    ('lower="-1"', f'lower="{_BIG}"', "limit lower"),
+    ('xyz="0 0 0.1"', f'xyz="0 0 1{"0" * 3_000_000}"', "origin xyz"),
+])
+def test_a_huge_attribute_gives_one_short_line_naming_it(one_server, old, new, field):
+    answer = json.loads(post(one_server, {"text": _URDF.replace(old, new)})[1])
+    error = answer["error"]
+    assert answer["ok"] is False and field in error and "joint 'j1'" in error
+    assert len(error) < 200 and "\n" not in error, len(error)
+
+
+def test_every_input_error_is_bounded():
+    from robkin.errors import MAX_MESSAGE, InputError
+
+    error = str(InputError("joint '" + _BIG + "': unknown type"))
+    assert len(error) <= MAX_MESSAGE <= 400 and error.endswith("unknown type")

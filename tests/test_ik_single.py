@@ -112,7 +112,7 @@ def test_single_call_results_stay_frozen_and_settings_are_still_checked():
     res = robot.ik(T)
     with pytest.raises(dataclasses.FrozenInstanceError):
         res.success = False
-    spelled = robot.ik(T, tol_position=1e-9, tol_orientation=1e-9, max_iterations=40, restarts=50)
+    spelled = robot.ik(T, tol_position=1e-9, tol_orientation=1e-9, max_iterations=40, restarts=200)
     assert_same(spelled, robot.ik(T[None]), 0)
     np.testing.assert_array_equal(spelled.q, res.q)
     for bad in (np.array([1e-9, 1e-9]), -1.0, float("nan")):

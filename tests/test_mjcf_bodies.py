@@ -165,7 +165,8 @@ def test_urdf_written_from_mjcf_keeps_the_shapes_where_mujoco_has_them(tmp_path)
     out = tmp_path / "out.urdf"  # next to the MJCF: the mesh's relative name still finds it
     out.write_text(urdf_from_robot(robot))
     text = out.read_text()
-    assert '<cylinder radius="0.03" length="0.26"/>' in text  # g_cap2: 0.2 between the caps + 2 x 0.03
+    # g_cap2: URDF has no capsule, so its cylinder (0.2 between the cap centres) and two spheres
+    assert '<cylinder radius="0.03" length="0.2"/>' in text and 'name="g_cap2_cap1"' in text
     assert '<material name="rgba 0 1 0 1"><color rgba="0 1 0 1"/></material>' in text  # URDF needs a name
     back = load(out, tip_link="tip")
     model = mujoco.MjModel.from_xml_path(str(path))
@@ -174,11 +175,20 @@ def test_urdf_written_from_mjcf_keeps_the_shapes_where_mujoco_has_them(tmp_path)
     _set_q(model, data, robot, q)
     for s, T in zip(back.bodies.shapes, back.world @ shape_poses(back, q)):
         g = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, s.name)
-        assert np.abs(_geom_world(model, data, g) - T).max() < POSE_TOL, s.name
+        W = _geom_world(model, data, g) if g >= 0 else None
+        if g < 0:  # a cap sphere of a capsule: at one end of MuJoCo's capsule, along its z axis
+            name, _, k = s.name.rpartition("_cap")
+            g = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name)
+            end = np.eye(4)
+            end[2, 3] = (-1 if k == "1" else 1) * model.geom_size[g, 1]  # MuJoCo's size: radius, half-length
+            W = _geom_world(model, data, g) @ end
+        assert np.abs(W - T).max() < POSE_TOL, s.name
     pin = pytest.importorskip("pinocchio")
     geoms = pin.buildGeomFromUrdf(pin.buildModelFromUrdf(str(out)), str(out), pin.GeometryType.VISUAL,
                                   package_dirs=[str(tmp_path)])
-    assert len(geoms.geometryObjects) == len(robot.bodies.visuals()) == 8  # none dropped by urdfdom
+    capsules = sum(v.geometry.kind == "capsule" for v in robot.bodies.visuals())
+    assert len(robot.bodies.visuals()) == 8 and capsules == 1
+    assert len(geoms.geometryObjects) == 8 + 2 * capsules  # none dropped by urdfdom; a capsule is 3 shapes
 
 
 def _ur5_mjcf(folder: Path) -> Path:

@@ -263,3 +263,10 @@ def test_quaternion_from_matrix_matches_scipy():
     np.testing.assert_allclose(got, expected, atol=1e-15)
     np.testing.assert_allclose(se3.quaternion_from_matrix(R[3]), got[3])
     assert np.all(got[:, 0] >= 0)
+
+
+def test_cross_equals_numpy_cross_with_broadcasting():
+    rng = np.random.default_rng(11)
+    a, b = rng.normal(size=(5, 4, 3)), rng.normal(size=(4, 3))
+    np.testing.assert_allclose(se3.cross(a, b), np.cross(a, b), rtol=0, atol=1e-15)
+    assert se3.cross([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]).tolist() == [0.0, 0.0, 1.0]

@@ -53,7 +53,7 @@ def joints_of(rows) -> tuple[Joint, ...]:
 @pytest.mark.parametrize("pi", [False, True])
 def test_csv_reads_back_to_the_same_fk(rep, pi):
     robot = ur5()
-    head, rows, transforms = parse_csv(render_table(robot, rep, "csv", pi=pi))
+    head, rows, transforms = parse_csv(render_table(robot, rep, "csv", pi=pi, digits="exact"))
     values = np.array([[number(v, "cell") for v in r[3:]] for r in rows])
     Q = sample_q(robot, 6, seed=1)
     if rep in ("dh", "mdh"):
@@ -92,7 +92,7 @@ def test_pi_multiples_only_where_exact():
 
 def test_ur5_dh_with_pi_shows_exact_angles_as_multiples_of_pi():
     robot = ur5()
-    _, rows, _ = parse_csv(render_table(robot, "dh", "csv", pi=True))
+    _, rows, _ = parse_csv(render_table(robot, "dh", "csv", pi=True, digits="exact"))
     table = dh_from_robot(robot).rows
     for r, values in zip(rows, table):
         for cell, x in zip(r[5:7], values[2:4]):  # alpha, theta
@@ -100,9 +100,9 @@ def test_ur5_dh_with_pi_shows_exact_angles_as_multiples_of_pi():
     assert any("pi" in r[5] for r in rows)
 
 
-def test_markdown_carries_full_precision():
+def test_markdown_carries_full_precision_when_exact():
     robot = ur5()
-    text = render_table(robot, "dh", "markdown")
+    text = render_table(robot, "dh", "markdown", digits="exact")
     lines = [ln for ln in text.splitlines() if ln.startswith("| ") and ln[2].isdigit()][:robot.n]
     cells = np.array([[float(c) for c in ln.strip("| ").split(" | ")[3:]] for ln in lines])
     np.testing.assert_array_equal(cells, dh_from_robot(robot).rows)
@@ -216,3 +216,35 @@ def test_a_single_input_into_a_new_folder(tmp_path):
     assert main(["convert", doc, "--to", "dh", "-o", str(out) + os.sep]) == 0
     assert [p.name for p in out.iterdir()] == ["rrpr.yaml"]
     assert main(["convert", doc, "--to", "dh", "-o", str(tmp_path / "b" / "c") + os.sep]) == 2  # one level only
+
+
+#: Panda (example-robot-data) values that the frame algebra leaves with noise in the last digit
+PANDA_NOISY = {"0.384", "0.316", "0.0825", "-0.0825", "0.088", "0.2104"}
+
+
+@pytest.mark.parametrize("fmt", ["csv", "markdown", "latex"])
+def test_default_numbers_are_short_and_within_the_fk_budget(fmt):
+    """No machine noise (0.3839999999999999, -4.16e-18) by default, and the table as written still
+    reproduces FK to the budget of exact conversions (1e-12 of the robot's size)."""
+    from robkin.io.table_read import table_document
+    from robkin.io.document import robot_from_data
+
+    robot = robot_from_urdf(robot_file(PANDA), tip_link="panda_hand_tcp")
+    text = render_table(robot, "mdh", fmt)
+    assert "99999" not in text and "00000" not in text and "e-18" not in text and "10^{-18}" not in text
+    assert all(v in text for v in PANDA_NOISY)
+    if fmt == "latex":
+        assert r"$\mathrm{base} = " in text and r"$\mathrm{tool} = " in text
+    if fmt == "csv":
+        back = robot_from_data(table_document(text))
+        Q = sample_q(robot, 20, seed=4)
+        np.testing.assert_allclose(back.fk(Q), robot.fk(Q), rtol=0, atol=1e-12 * robot.scale)
+    exact = render_table(robot, "mdh", fmt, digits="exact")
+    assert "0.3839999999999999" in exact or "0.38399999999999995" in exact
+
+
+def test_digits_n():
+    robot = robot_from_urdf(robot_file(PANDA), tip_link="panda_hand_tcp")
+    _, rows, transforms = parse_csv(render_table(robot, "mdh", "csv", digits=3))
+    assert [r[5] for r in rows] == ["0", "-1.57", "1.57", "1.57", "-1.57", "1.57", "1.57"]
+    assert transforms["tool"][0, 0] == 0.707 and transforms["tool"][1, 3] == 0  # noise stays 0

@@ -29,7 +29,7 @@ from .errors import ConditioningWarning, InputError, ProjectionWarning, RobkinEr
 from .lazy_exports import lazy_exports
 from .robot import Joint, Robot
 
-__version__ = "0.1.0"
+__version__ = "0.3.0"
 
 #: the representations' classes and converters, imported on first use (robkin.DHTable, robkin.dh_from_robot,
 #: ...; see robkin.lazy_exports): ``import robkin`` itself costs only the hub (Robot) and the errors
@@ -44,24 +44,32 @@ _REPRESENTATIONS = (
 __all__ = [
     "Joint", "Robot", *_REPRESENTATIONS,
     "RobkinError", "InputError", "ProjectionWarning", "ConditioningWarning", "load", "__version__",
+    "set_threads", "get_threads",
 ]
 
-__getattr__, __dir__ = lazy_exports(__name__, globals(), dict.fromkeys(_REPRESENTATIONS, ".representations"))
+__getattr__, __dir__ = lazy_exports(__name__, globals(), {**dict.fromkeys(_REPRESENTATIONS, ".representations"),
+                                                        "set_threads": ".threads", "get_threads": ".threads"})
 
 if TYPE_CHECKING:  # what static type checkers and IDEs see
     from .representations import (DHTable, HayatiTable, MDHTable, PoE, RPYTable, dh_from_robot,
                                   dh_from_robots, hayati_from_robot, mdh_from_robot, mdh_from_robots,
                                   poe_from_robot, robot_from_dh, robot_from_gjd, robot_from_hayati,
                                   robot_from_mdh, robot_from_poe, robot_from_rpy, rpy_from_robot)
+    from .threads import get_threads, set_threads
 
 
 def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None, *,
-         allow_xacro: bool = False) -> Robot:
-    """Load a robot from a robot document (.yaml/.yml/.json), a URDF (.urdf), MJCF (.xml/.mjcf) or SDF (.sdf) file.
+         allow_xacro: bool = False, representation: str | None = None) -> Robot:
+    """Load a robot from a robot document (.yaml/.yml/.json), a URDF (.urdf), MJCF (.xml/.mjcf) or SDF (.sdf) file,
+    or a table file (.csv/.tsv/.txt: what ``robkin convert --format csv`` writes, or bare rows).
+
+    ``representation`` ('dh', 'mdh', 'hayati', 'poe', 'poe-body', 'rpy-xyz', 'gjd') says which table a
+    table file holds where the file does not say (bare rows ``a d alpha theta``; a PoE's frame).
 
     ``base_link``/``tip_link`` pick a serial chain from a robot file: URDF/SDF links, MJCF bodies or sites.
     A .xacro file is expanded only with ``allow_xacro=True`` (xacro runs code from the file).
     """
     from .io import load as _load
 
-    return _load(path, base_link=base_link, tip_link=tip_link, allow_xacro=allow_xacro)
+    return _load(path, base_link=base_link, tip_link=tip_link, allow_xacro=allow_xacro,
+                 representation=representation)

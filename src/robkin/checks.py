@@ -13,7 +13,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .errors import InputError, ProjectionWarning
+from .errors import InputError, ProjectionWarning, quote
 from . import se3
 
 __all__ = ["PROJECTION_TOL", "EXACT_TOL", "check_pose", "check_poses", "check_q"]
@@ -98,14 +98,36 @@ def check_poses(A: np.ndarray, field_name: Callable[[int], str]) -> np.ndarray:
     return out
 
 
-def check_q(q: ArrayLike, n: int) -> np.ndarray:
-    """Joint values as float array (n,) or (N, n); InputError for wrong shapes or non-finite values."""
+def check_q(q: ArrayLike, n: int, name: str = "q") -> np.ndarray:
+    """Joint values as float array (n,) or (N, n); InputError (naming ``name``) for wrong shapes or
+    non-finite values."""
     try:
         Q = np.asarray(q, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"q: expected {n} numbers") from None
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{name}: expected {n} numbers") from None
     if Q.ndim == 0 or Q.shape[-1] != n or Q.ndim > 2:
-        raise InputError(f"q: expected shape ({n},) or (N, {n}), got {Q.shape}")
+        raise InputError(f"{name}: expected shape ({n},) or (N, {n}), got {Q.shape}")
     if not np.all(np.isfinite(Q)):
-        raise InputError("q: contains NaN or infinity")
+        raise InputError(f"{name}: contains NaN or infinity")
     return Q
+
+
+def check_threads(threads: object) -> int:
+    """A thread count given by the user: a whole number >= 1 (returned as int); InputError otherwise.
+
+    ``None`` (automatic) is the callers' business: they pass 0 to the kernels for it.
+    """
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
+        raise InputError(f"threads: expected a whole number >= 1 (or None for automatic), got {quote(repr(threads))}")
+    return int(threads)
+
+
+def check_out(out: object, shape: tuple[int, ...]) -> np.ndarray:
+    """An output array given by the user (``out=``): a writeable C-contiguous float64 ndarray of exactly
+    ``shape``; InputError naming what would be valid otherwise."""
+    ok = (isinstance(out, np.ndarray) and out.dtype == np.float64 and out.flags.c_contiguous
+          and out.flags.writeable and out.shape == shape)
+    if not ok:
+        got = (f"{out.dtype} array of shape {out.shape}" if isinstance(out, np.ndarray) else type(out).__name__)
+        raise InputError(f"out: expected a writeable C-contiguous float64 array of shape {shape}, got {got}")
+    return out  # type: ignore[return-value]

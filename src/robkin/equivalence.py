@@ -22,7 +22,13 @@ joint whose axis cannot be matched is reported with how it differs: type, axis d
 axis position (distance between the lines; revolute joints only, a prismatic joint is a direction).
 
 A rotation of the base about joint 1's axis cannot be told from a zero offset of joint 1 (FK is in
-the base frame), and is reported as the latter.
+the base frame), and is reported as the latter; a half turn there gets a note naming the base frame
+(a ROS URDF's ``base_link`` against a vendor table's ``base``) and ``base_link=``.
+
+Past the first joint that cannot be matched the comparison goes on parameter by parameter
+(``equivalence_params``): both robots written as the same kind of table by the same frame rules, each
+row that differs names its parameters with both values ('a2 -0.6127 vs -0.612 m'); a later joint whose
+row matches is 'aligned'.
 """
 
 from __future__ import annotations
@@ -33,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from .equivalence_params import ParameterDifference, parameter_differences
 from .equivalence_walk import Walk, pose_difference
 from .robot import Robot
 from .samples import unit_sample
@@ -54,7 +61,7 @@ class JointMatch:
     name_b: str
     type_a: str
     type_b: str
-    status: str  # same | sign | offset | sign+offset | differs | unchecked
+    status: str  # same | sign | offset | sign+offset | differs | unchecked (| aligned: see compare)
     sign: int = 1
     offset: float = 0.0
     detail: str = ""
@@ -84,6 +91,10 @@ class Comparison:
     max_fk_error: float
     tol: float
     notes: tuple[str, ...] = field(default_factory=tuple)
+    #: the table values that differ (both robots written as ``table`` by the same rules); see
+    #: ``equivalence_params``. Empty when the robots are the same or their joint counts differ.
+    parameters: tuple[ParameterDifference, ...] = field(default_factory=tuple)
+    table: str = ""
 
     def verdict(self) -> str:
         if self.same:
@@ -108,7 +119,8 @@ class Comparison:
                 "first_difference": self.first_difference, "joints": [j.to_dict() for j in self.joints],
                 "tool": self.tool, "world": self.world,
                 "max_fk_error": self.max_fk_error if math.isfinite(self.max_fk_error) else None, "tol": self.tol,
-                "n_a": self.n_a, "n_b": self.n_b, "notes": list(self.notes)}
+                "n_a": self.n_a, "n_b": self.n_b, "notes": list(self.notes),
+                "table": self.table or None, "parameters": [d.to_dict() for d in self.parameters]}
 
 
 # --------------------------------------------------------------------------------------- compare
@@ -133,7 +145,7 @@ def compare(a: Robot, b: Robot, tol: float = DEFAULT_TOL, samples: int = 64) -> 
     notes: list[str] = []
     world_d, world_a = pose_difference(a.world, b.world)
     world = ("same" if world_d <= tol * scale and world_a <= tol else
-             f"differs (position by {world_d:.4g}, rotation by {math.degrees(world_a):.4g} deg); "
+             f"differs (position by {world_d:.4g} m, rotation by {math.degrees(world_a):.4g} deg); "
              "it places the base in the world and is not part of FK")
     n = min(a.n, b.n)
     joints: list[JointMatch] = []
@@ -168,15 +180,40 @@ def compare(a: Robot, b: Robot, tol: float = DEFAULT_TOL, samples: int = 64) -> 
         if flipped:
             parts.append("positive direction reversed")
         if shifted:
-            unit = "rad" if a.joints[k].revolute else ""
-            parts.append(f"zero offset {offsets[k]:+.6g} {unit}".rstrip())
+            unit = "rad" if a.joints[k].revolute else "m"
+            parts.append(f"zero offset {offsets[k]:+.6g} {unit}")
         joints[k] = JointMatch(jm.index, jm.name_a, jm.name_b, jm.type_a, jm.type_b, status, int(signs[k]),
                                float(offsets[k]) if shifted else 0.0, "; ".join(parts))
-    for k in range(len(joints), n):
-        ja, jb = a.joints[k], b.joints[k]
-        joints.append(JointMatch(k, ja.name, jb.name, ja.type, jb.type, "unchecked"))
     mapped = all_joints and tool == "same"
     same = mapped and all(j.status == "same" for j in joints)
+    kind: str = ""
+    params: list[ParameterDifference] = []
+    if a.n == b.n and not mapped and a.types == b.types:
+        # past the first difference (a joint mapping, where there is one, explains every row instead): both robots as the same kind of table, row against row
+        kind, params = parameter_differences(a, b, scale, tol)
+        for k in range(min(matched, len(joints))):  # axes that match, with a row that does not
+            rows = "; ".join(d.text() for d in params if d.joint == k + 1)
+            if rows:
+                jm = joints[k]
+                joints[k] = JointMatch(jm.index, jm.name_a, jm.name_b, jm.type_a, jm.type_b, jm.status, jm.sign,
+                                       jm.offset, "; ".join(filter(None, [jm.detail, f"{kind}: {rows} (axis {k + 1} "
+                                                                          "matches; the axes after it move)"])))
+        if len(joints) > matched and params:
+            diff = joints[matched]
+            rows = "; ".join(d.text() for d in params if d.joint == matched + 1)
+            joints[matched] = JointMatch(diff.index, diff.name_a, diff.name_b, diff.type_a, diff.type_b, diff.status,
+                                         detail=diff.detail + (f" ({kind}: {rows})" if rows else ""))
+    for k in range(len(joints), n):
+        ja, jb = a.joints[k], b.joints[k]
+        if not kind:
+            joints.append(JointMatch(k, ja.name, jb.name, ja.type, jb.type, "unchecked"))
+            continue
+        texts = [d.text() for d in params if d.joint == k + 1]
+        joints.append(JointMatch(k, ja.name, jb.name, ja.type, jb.type, "differs" if texts else "aligned",
+                                 detail=f"{kind}: " + "; ".join(texts) if texts else
+                                 f"its {kind} row matches (compared after joint {matched + 1})"))
+    if not same:
+        notes += _base_hints(a, b, joints, params, matched, scale, tol)
     if mapped and not same and first is None:
         diff = next(j for j in joints if j.status != "same")
         first = f"joint {diff.index + 1} ('{diff.name_a}' / '{diff.name_b}'): {diff.detail}"
@@ -195,4 +232,26 @@ def compare(a: Robot, b: Robot, tol: float = DEFAULT_TOL, samples: int = 64) -> 
             first = first or "FK differs (the joint-by-joint walk could not explain how)"
     return Comparison(same=same, equivalent=mapped, n_a=a.n, n_b=b.n, joints=tuple(joints),
                       first_difference=None if same else first, tool=tool, world=world,
-                      max_fk_error=max_err, tol=tol, notes=tuple(notes))
+                      max_fk_error=max_err, tol=tol, notes=tuple(notes), parameters=tuple(params), table=kind)
+
+
+def _base_hints(a: Robot, b: Robot, joints: list[JointMatch], params: list[ParameterDifference], matched: int,
+                scale: float, tol: float) -> list[str]:
+    """A half turn about joint 1 is nearly always two base frames of the same robot: ROS URDFs of
+    Universal Robots arms start at ``base_link`` (x backwards) while UR's DH tables and controller use
+    ``base``, turned by pi about z. Seen as joint 1's zero offset pi, or, where the joints differ too,
+    as B turned half a turn about joint 1's axis matching more joints of A than B does."""
+    from . import se3
+
+    half = bool(joints) and joints[0].status in ("offset", "sign+offset") and \
+        abs(abs(joints[0].offset) - math.pi) <= max(tol, 1e-9)
+    if not half and a.n == b.n and b.n and matched < a.n and b.joints[0].revolute and a.types == b.types:
+        turned = b.replace(frames=se3.exp_twist(b.screws()[0], math.pi) @ b.frames, frames_from=b.frames_from)
+        walk = Walk(a, turned, a.screws(), turned.screws(), scale, tol).run(a.n)
+        fewer = len(parameter_differences(a, turned, scale, tol)[1]) < len(params)
+        half = walk.matched > matched or (walk.matched == matched and fewer)
+    if not half:
+        return []
+    return ["joint 1 differs by half a turn (pi rad): that is almost always the base frame, not the robot - a "
+            "URDF's base_link (ROS, x backwards) against the base of a vendor DH table; compare the URDF from "
+            "its vendor base with base_link= (Universal Robots: base_link='base')"]

@@ -74,10 +74,10 @@ def _describe(Sa: np.ndarray, Sb: np.ndarray, revolute: bool) -> str:
     if min(angle, 180.0 - angle) > 1e-6:
         text = f"axis direction differs by {angle:.4g} deg"
         if revolute:
-            text += f" (axes {dist:.4g} apart at their closest)"
+            text += f" (axes {dist:.4g} m apart at their closest)"
         return text
     way = "the same way" if angle < 90 else "opposite ways"
-    return f"axis position differs: parallel axes pointing {way}, {dist:.4g} apart"
+    return f"axis position differs: parallel axes pointing {way}, {dist:.4g} m apart"
 
 
 @dataclass
@@ -371,5 +371,5 @@ class Walk:
         if dist <= tol * scale and ang <= tol:
             return _Result(n, st.signs.copy(), offsets, None, "same")
         self._fail(n, replace(st, offsets=offsets), "",
-                   f"differs: position by {dist:.4g}, rotation by {math.degrees(ang):.4g} deg")
+                   f"differs: position by {dist:.4g} m, rotation by {math.degrees(ang):.4g} deg")
         return None

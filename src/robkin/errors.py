@@ -18,8 +18,9 @@ import unicodedata
 __all__ = ["RobkinError", "InputError", "ProjectionWarning", "ConditioningWarning", "quote", "printable", "unprintable",
            "MAX_MESSAGE", "MAX_QUOTE"]
 
-#: Longest error message (characters): room for two file paths, a field and the valid choices.
-MAX_MESSAGE = 1000
+#: Longest error message (characters): room for two file paths, a field, a quoted value and the valid
+#: choices, and still one line of a wide terminal or of the GUI's message bar.
+MAX_MESSAGE = 400
 #: Longest quotation of an input value inside a message: enough to recognise a name or a number.
 MAX_QUOTE = 80
 #: Characters that would break a one-line message or hide text: control characters (Cc), lone

@@ -39,6 +39,12 @@ def lazy_exports(package: str, namespace: dict[str, Any], where: Mapping[str, st
         return value
 
     def __dir__() -> list[str]:
-        return sorted(set(namespace) | set(where))
+        # With __all__: the public API and the dunders (not the helpers the module imported for
+        # itself, such as os, TYPE_CHECKING or __future__'s annotations); without, everything.
+        public = namespace.get("__all__")
+        if public is None:
+            return sorted(set(namespace) | set(where))
+        dunders = {n for n in namespace if n.startswith("__") and n.endswith("__")}
+        return sorted(set(public) | set(where) | dunders)
 
     return __getattr__, __dir__

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Callable, Iterable, Literal, Mapping, Seq
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .checks import EXACT_TOL, PROJECTION_TOL, check_pose, check_poses, check_q
+from .checks import EXACT_TOL, PROJECTION_TOL, check_out, check_pose, check_poses, check_q, check_threads
 from .errors import InputError, quote
 from .names import check_name, duplicates
 from .bodies import EMPTY_BODIES, Bodies
@@ -27,10 +27,16 @@ if TYPE_CHECKING:  # pragma: no cover
     from .compiled.fk import Chain
     from .kinematics.ik import IKResult
 
-__all__ = ["Joint", "Robot", "JOINT_TYPES", "EXACT_TOL", "PROJECTION_TOL", "check_pose", "check_poses", "check_q"]
+__all__ = ["Joint", "Robot", "JOINT_TYPES", "EXACT_TOL", "PROJECTION_TOL", "check_pose", "check_poses", "check_q",
+           "identity_pose"]
 
 JointType = Literal["revolute", "prismatic"]
 JOINT_TYPES: tuple[str, ...] = ("revolute", "prismatic")
+
+
+def identity_pose() -> np.ndarray:
+    """A new (4, 4) identity: the default of every pose field (``Robot.world``, a table's base and tool)."""
+    return np.eye(4)
 
 @dataclass(frozen=True)
 class Joint:
@@ -101,7 +107,7 @@ class Robot:
 
     frames: np.ndarray
     joints: tuple[Joint, ...]
-    world: np.ndarray = field(default_factory=lambda: np.eye(4))
+    world: np.ndarray = field(default_factory=identity_pose)
     name: str | None = None
     frames_from: str | None = None
     bodies: Bodies = EMPTY_BODIES
@@ -223,35 +229,44 @@ class Robot:
 
         return Chain(self._local, self.revolute)
 
-    def fk(self, q: ArrayLike) -> np.ndarray:
+    def fk(self, q: ArrayLike, *, threads: int | None = None, out: np.ndarray | None = None) -> np.ndarray:
         """Tool pose in the base frame: q (n,) -> (4, 4), or a batch (N, n) -> (N, 4, 4).
 
         Compiled (``robkin.compiled.fk``); a float64 array is used as it is, anything else is
         validated and converted first. Joint values in radians (revolute) or length units (prismatic).
+        ``threads``: at most that many threads for a large batch (default: ``robkin.set_threads``,
+        ROBKIN_NUM_THREADS or the cores; see ``robkin.threads``); the results are the same bits.
+        ``out``: a float64 array of the result's shape to write into and return (a large batch in
+        chunks then needs no new memory per chunk).
         """
-        T = self._chain.fk(q)
+        t = 0 if threads is None else check_threads(threads)
+        T = self._chain.fk(q, t, out)
         if T is None:   # not a float64 array of finite values as it is: validate, convert, explain
-            T = self._chain.fk(np.ascontiguousarray(check_q(q, self.n)))
+            qa = np.ascontiguousarray(check_q(q, self.n))
+            T = self._chain.fk(qa, t, None if out is None else check_out(out, qa.shape[:-1] + (4, 4)))
         assert T is not None  # a checked, contiguous float64 array is always usable
         return T
 
-    def frames_at(self, q: ArrayLike) -> np.ndarray:
+    def frames_at(self, q: ArrayLike, *, threads: int | None = None, out: np.ndarray | None = None) -> np.ndarray:
         """All GJD frames moved to configuration q: (n,) -> (n+1, 4, 4), (N, n) -> (N, n+1, 4, 4).
 
         Frame i is joint i's frame *after* its own motion, so frame n+1 is the tool pose fk(q).
         Joint i's axis at q is the z axis of frame i before its motion, which has the same z axis.
+        ``threads`` and ``out`` as for ``fk``.
         """
-        F = self._chain.frames(q)
+        t = 0 if threads is None else check_threads(threads)
+        F = self._chain.frames(q, t, out)
         if F is None:
-            F = self._chain.frames(np.ascontiguousarray(check_q(q, self.n)))
+            qa = np.ascontiguousarray(check_q(q, self.n))
+            F = self._chain.frames(qa, t, None if out is None else check_out(out, qa.shape[:-1] + (self.n + 1, 4, 4)))
         assert F is not None  # a checked, contiguous float64 array is always usable
         return F
 
     def ik(self, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
            method: str = "auto", all_solutions: bool = False, tol_position: float = 1e-9,
-           tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 50,
-           rng: np.random.Generator | int | None = 0, lock: "Mapping[str, float] | None" = None,
-           arm_angle: "ArrayLike | None" = None) -> "IKResult":
+           tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 200,
+           rng: np.random.Generator | int | None = 0, threads: int | None = None,
+           lock: "Mapping[str, float] | None" = None, arm_angle: "ArrayLike | None" = None) -> "IKResult":
         """Inverse kinematics: joint values that put the tool at T (``robkin.kinematics.ik.ik``).
 
         Parameters
@@ -275,6 +290,8 @@ class Robot:
             Numeric: random restarts per target after the first attempt.
         rng : Generator, int seed or None
             Source of the random restarts; the default seed 0 makes results reproducible.
+        threads : int, optional
+            Numeric batches: at most that many threads (see ``fk``); the answers do not depend on it.
         lock : mapping of joint name to value, optional
             Joints held at these values; the rest is solved as a shorter arm (a 7-joint arm with one
             joint locked gets a 6R closed form). q and the solutions stay full length.
@@ -289,10 +306,11 @@ class Robot:
         """
         return _ik_function()(self, T, q0=q0, mask=mask, method=method, all_solutions=all_solutions,
                   tol_position=tol_position, tol_orientation=tol_orientation,
-                  max_iterations=max_iterations, restarts=restarts, rng=rng, lock=lock,
+                  max_iterations=max_iterations, restarts=restarts, rng=rng, threads=threads, lock=lock,
                   arm_angle=arm_angle)
 
-    def jacobian(self, q: ArrayLike, frame: str = "base") -> np.ndarray:
+    def jacobian(self, q: ArrayLike, frame: str = "base", *, threads: int | None = None,
+                 out: np.ndarray | None = None) -> np.ndarray:
         """Jacobian at q (n,) -> (6, n), or at q (N, n) -> (N, 6, n).
 
         Parameters
@@ -307,6 +325,11 @@ class Robot:
             - ``'space'``: the space Jacobian of Modern Robotics, rows (w, v), the twist in the base frame.
             - ``'body'``: the body Jacobian of Modern Robotics, rows (w, v), the twist in the tool frame.
 
+        threads : int, optional
+            At most that many threads for a large batch (see ``fk``).
+        out : (6, n) or (N, 6, n) float64 array, optional
+            Written into and returned ('base', 'space', 'body'; see ``fk``).
+
         Returns
         -------
         (6, n) or (N, 6, n) array
@@ -315,16 +338,19 @@ class Robot:
         from .kinematics import jacobian as jac
 
         if frame == "base":
-            return jac.jacobian_geometric(self, q)
+            return jac.jacobian_geometric(self, q, threads, out)
         if frame == "space":
-            return jac.jacobian_space(self, q)
+            return jac.jacobian_space(self, q, threads, out)
+        if frame == "tool" and out is not None:
+            raise InputError("out: not available for frame='tool' (its rows are the body Jacobian's, reordered)")
         if frame in ("body", "tool"):
-            J = jac.jacobian_body(self, q)
+            J = jac.jacobian_body(self, q, threads, out)
             # the body twist's v is the velocity of the tool origin in tool axes: [v; w] is (w, v) swapped
             return J if frame == "body" else J[..., _V_THEN_W, :]
         raise InputError(f"frame: '{frame}' is not one of base, tool, space, body")
 
-    def manipulability(self, q: ArrayLike, kind: str = "translational") -> np.ndarray | float:
+    def manipulability(self, q: ArrayLike, kind: str = "translational", *,
+                       threads: int | None = None) -> np.ndarray | float:
         """Yoshikawa's manipulability at q (n,) -> float, or at q (N, n) -> (N,) array.
 
         Parameters
@@ -342,7 +368,26 @@ class Robot:
         """
         from .kinematics.jacobian import manipulability
 
-        return manipulability(self, q, kind)
+        return manipulability(self, q, kind, threads)
+
+    # ------------------------------------------------------------------ dynamics (robkin.dynamics)
+    def inverse_dynamics(self, q: ArrayLike, qd: ArrayLike | None = None, qdd: ArrayLike | None = None, *,
+                         gravity: ArrayLike | None = None, threads: int | None = None) -> np.ndarray:
+        """Joint torques/forces (n,) or (N, n) producing qdd at (q, qd): recursive Newton-Euler, compiled.
+
+        q, qd, qdd of one shape (n,) or (N, n), SI units; qd, qdd default to zero. ``gravity`` (3,) in
+        the world frame (``world`` maps it to the base), default (0, 0, -9.81) m/s^2. Needs the links'
+        mass properties (``bodies.inertials``); see ``robkin.dynamics.rigid_body``. ``threads`` as ``fk``.
+        """
+        return _dynamics().inverse_dynamics(self, q, qd, qdd, gravity, threads)
+
+    def gravity(self, q: ArrayLike, *, gravity: ArrayLike | None = None, threads: int | None = None) -> np.ndarray:
+        """Torques/forces (n,) or (N, n) that hold the robot still at q (``inverse_dynamics`` at rest)."""
+        return _dynamics().gravity_torques(self, q, gravity, threads)
+
+    def mass_matrix(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:
+        """Joint-space mass matrix at q: (n,) -> (n, n), (N, n) -> (N, n, n); composite rigid bodies."""
+        return _dynamics().mass_matrix(self, q, threads)
 
     # ------------------------------------------------------------------ conveniences
     def random_q(self, size: int | None = None, rng: np.random.Generator | int | None = None,
@@ -371,6 +416,14 @@ def _ik_function() -> Callable[..., "IKResult"]:
     from .kinematics.ik import ik
 
     return ik
+
+
+@cache
+def _dynamics() -> Any:
+    """``robkin.dynamics.rigid_body``, imported on first use and then kept (as ``_ik_function``)."""
+    from .dynamics import rigid_body
+
+    return rigid_body
 
 
 def robot_from_frames(frames: Sequence[ArrayLike], types: Sequence[str] | None = None,

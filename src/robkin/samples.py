@@ -14,12 +14,12 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["unit_sample"]
+__all__ = ["unit_sample", "golden"]
 
 _CACHE: dict[tuple[int, int], np.ndarray] = {}
 
 
-def _golden(d: int) -> float:
+def golden(d: int) -> float:
     """phi_d, the positive root of x^(d+1) = x + 1 (phi_1 is the golden ratio)."""
     x = 2.0
     # x <- (1 + x)^(1/(d+1)) contracts towards the root from above; 60 steps reach it to rounding for
@@ -46,7 +46,7 @@ def unit_sample(count: int, d: int) -> np.ndarray:
     key = (count, d)
     U = _CACHE.get(key)
     if U is None:
-        alpha = (1.0 / _golden(d)) ** np.arange(1, d + 1)
+        alpha = (1.0 / golden(d)) ** np.arange(1, d + 1)
         U = np.mod(0.5 + np.arange(1, count + 1)[:, None] * alpha[None, :], 1.0)
         U.setflags(write=False)
         _CACHE[key] = U

@@ -19,7 +19,8 @@ DEFAULT = "-"
 CHAIN_HELP = ("once for every robot file, or once per input in input order ('-' = the file's default); "
               "may be any link rigidly attached to the chain's end")
 #: = io.DOCUMENT_EXTENSIONS, not imported: robkin.io imports numpy, and this module loads with every command
-_DOCUMENTS = (".yaml", ".yml", ".json")
+#: (and the table files of io.TABLE_EXTENSIONS: like a document, a table holds one chain)
+_DOCUMENTS = (".yaml", ".yml", ".json", ".csv", ".tsv", ".txt")
 
 
 def add_chain_options(p: argparse.ArgumentParser) -> None:

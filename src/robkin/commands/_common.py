@@ -14,20 +14,32 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ..robot import Robot
 
-__all__ = ["add_input", "add_allow_xacro", "load_input", "seed", "parse_q", "parse_pose", "number_option_fix",
+__all__ = ["add_input", "add_allow_xacro", "add_from", "load_input", "seed", "parse_q", "parse_pose", "number_option_fix",
            "EXAMPLES_DIR"]
 
 EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "examples"
+#: = io.table_read.TABLE_INPUTS, not imported: robkin.io imports numpy, and this module loads with every command
+TABLE_INPUTS = ("dh", "mdh", "hayati", "poe", "poe-body", "rpy-xyz", "gjd")
 
 
 def add_input(p: argparse.ArgumentParser, many: bool = False) -> None:
     """INPUT argument(s) plus the URDF chain selectors."""
     p.add_argument("input", nargs="+" if many else None, metavar="INPUT",
                    help="robot document (.yaml/.yml/.json), URDF (.urdf; .xacro with --allow-xacro), "
-                        "MJCF (.xml/.mjcf) or SDF (.sdf)" + (" (one or more)" if many else ""))
+                        "MJCF (.xml/.mjcf), SDF (.sdf) or table (.csv/.tsv/.txt, see --from)"
+                        + (" (one or more)" if many else ""))
     p.add_argument("--base-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: first of the serial chain")
     p.add_argument("--tip-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: last of the chain (the tool)")
     add_allow_xacro(p)
+    add_from(p)
+
+
+def add_from(p: argparse.ArgumentParser) -> None:
+    """--from: which table a table file (.csv/.tsv/.txt) holds, where the file does not say."""
+    p.add_argument("--from", dest="representation", choices=TABLE_INPUTS, metavar="TABLE",
+                   help="for a table file (.csv/.tsv/.txt) that does not say what it holds: "
+                        + ", ".join(TABLE_INPUTS) + ". A CSV written by 'robkin convert --format csv' says it "
+                        "(except a PoE's frame); bare rows 'a d alpha theta [R|P]' need --from dh or mdh")
 
 
 def add_allow_xacro(p: argparse.ArgumentParser) -> None:
@@ -43,7 +55,16 @@ def load_input(path: str, args: argparse.Namespace) -> "Robot":
     from ..io import load
 
     return load(path, base_link=getattr(args, "base_link", None), tip_link=getattr(args, "tip_link", None),
-                allow_xacro=getattr(args, "allow_xacro", False))
+                allow_xacro=getattr(args, "allow_xacro", False),
+                representation=_table_only(path, getattr(args, "representation", None), args))
+
+
+def _table_only(path: str, representation: str | None, args: argparse.Namespace) -> str | None:
+    """--from for a table file; for other files only when it is the one input (so that the loader
+    says it does not apply), not when a command takes several inputs of mixed kinds."""
+    if representation is None or path.lower().endswith((".csv", ".tsv", ".txt")):
+        return representation
+    return representation if not isinstance(getattr(args, "input", None), list) else None
 
 
 def seed(text: str) -> int:

@@ -45,8 +45,9 @@ def warn_outside_limits(robot: "Robot", q: "np.ndarray", option: str = "--q") ->
     from ..io.tables import fmt_num
 
     for joint, value in zip(robot.joints, q):
+        unit = "rad" if joint.revolute else "m"
         lower = -float("inf") if joint.lower is None else joint.lower
         upper = float("inf") if joint.upper is None else joint.upper
         if not lower <= value <= upper:
-            print(f"robkin: warning: {option}: joint '{joint.name}' = {fmt_num(value)} is outside its limits "
-                  f"[{fmt_num(lower)}, {fmt_num(upper)}]", file=sys.stderr)
+            print(f"robkin: warning: {option}: joint '{joint.name}' = {fmt_num(value)} {unit} is outside its limits "
+                  f"[{fmt_num(lower)}, {fmt_num(upper)}] {unit}", file=sys.stderr)

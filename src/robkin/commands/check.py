@@ -14,18 +14,34 @@ type, axis direction (angle), axis position (distance), positive direction (sign
 Descriptions that differ only in signs and zero offsets are the same mechanism with another joint
 convention; the table gives the mapping q_A = sign * q_B + offset.
 
-exit status: 0 same robot; 1 not the same robot (including a different joint convention); 2 bad input.
+Past a difference the comparison goes on: both robots are written as the same kind of table (standard
+DH, or modified DH / Hayati when either came from one) by the same frame rules, and every row that
+differs says which parameters and by how much ("a2 -0.6127 vs -0.612 m"); a joint whose row matches is
+'aligned'. Lengths are in the robots' unit (metres), angles in radians unless marked deg. A half turn
+at joint 1 is nearly always the base frame (a UR URDF's base_link against the base of UR's DH tables):
+a note says so, with the option that picks the other base. Robots with different joint counts get
+the verdict first.
+
+Where both give mass properties (URDF/MJCF/SDF inertials, or m, r, I in a table's rows) and the
+mechanism is the same, they are compared too: body by body (mass, centre of mass, inertia; body i is
+everything that moves with joint i) and through the mass matrix M(q) and gravity torques g(q) at 16
+fixed configurations (gravity along -z of each base); the first body that differs is named. Bodies
+that differ make the exit status 1; a side without inertials is reported as not compared.
+
+exit status: 0 same robot (and the same mass properties, where both have them); 1 not the same robot
+(including a different joint convention, or different mass properties); 2 bad input.
 
 examples:
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0
   robkin check vendor_dh.yaml robot.urdf --tol 1e-4       # a table typed with 4 decimals
   robkin check a.yaml b.yaml --json
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0 --tip-link -     # a chain per input, in order
+  robkin check ur5_rows.txt ur5.urdf --from dh --base-link - --base-link base --tip-link - --tip-link tool0
 """
 
 
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
-    from ._common import add_allow_xacro
+    from ._common import add_allow_xacro, add_from
 
     p = sub.add_parser("check", help="are two descriptions the same robot? (exit 0 if yes)",
                        description="Compare two robot descriptions joint by joint: are they the same robot, "
@@ -35,6 +51,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("b", metavar="B", help="second robot")
     add_chain_options(p)
     add_allow_xacro(p)
+    add_from(p)
     p.add_argument("--tol", type=float, default=1e-6,  # = equivalence.DEFAULT_TOL (not imported: startup time)
                    help="relative tolerance on angles (rad) and lengths / robot size (default 1e-06)")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
@@ -51,12 +68,22 @@ def run(args: argparse.Namespace) -> int:
     from ..io import load
 
     (base_a, tip_a), (base_b, tip_b) = chain_ends(args, [args.a, args.b])
-    a = load(args.a, base_link=base_a, tip_link=tip_a, allow_xacro=args.allow_xacro)
-    b = load(args.b, base_link=base_b, tip_link=tip_b, allow_xacro=args.allow_xacro)
+    rep = args.representation
+    a = load(args.a, base_link=base_a, tip_link=tip_a, allow_xacro=args.allow_xacro,
+             representation=rep if args.a.lower().endswith((".csv", ".tsv", ".txt")) else None)
+    b = load(args.b, base_link=base_b, tip_link=tip_b, allow_xacro=args.allow_xacro,
+             representation=rep if args.b.lower().endswith((".csv", ".tsv", ".txt")) else None)
+    from ..messages import render_options
+
     result = compare(a, b, tol=args.tol)
+    from ..dynamics.compare import compare_masses
+
+    masses = compare_masses(a, b, result)
     if args.json:
         d = result.to_dict()
         d["a"], d["b"] = args.a, args.b
+        d["notes"] = [render_options(note, args._flags) for note in d["notes"]]
+        d["mass"] = masses.to_dict()
         from ._output import print_json
 
         print_json(d)
@@ -66,7 +93,10 @@ def run(args: argparse.Namespace) -> int:
 
         kinds = lambda r: "".join("R" if j.revolute else "P" for j in r.joints)  # noqa: E731
         title = f"A: {args.a} ({a.n} joints {kinds(a)})   B: {args.b} ({b.n} joints {kinds(b)})"
-        show_blocks(comparison_blocks(result, title))
-    return 0 if result.same else 1
+        # notes name options as the library does (base_link=): here as this command's flags
+        show_blocks([render_options(blk, args._flags) if isinstance(blk, str) else blk
+                     for blk in comparison_blocks(result, title)])
+        print(masses.summary())
+    return 0 if result.same and masses.same is not False else 1
 
 

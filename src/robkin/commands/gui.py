@@ -14,6 +14,7 @@ examples:
   robkin gui rrpr.yaml --open         # also opens the page in your web browser
   robkin gui ur5.urdf --tip-link tool0 --port 9000
   robkin gui rrpr.yaml rrpr_dh.yaml   # visual check: B drawn over A, first differing joint in red
+  robkin gui vendor_dh.yaml robot.urdf --exaggerate 100   # B's differences from A drawn 100x larger
 
 The app runs on this machine only: it listens on a loopback address (127.0.0.1 by default; --host
 takes another 127.x.y.z, ::1 or localhost, nothing else) and answers only requests from its own page
@@ -43,6 +44,9 @@ def register(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--port", type=int, default=8765, help="port (default 8765; 0 picks a free one)")
     p.add_argument("--open", action="store_true", help="open the page in the default web browser")
     p.add_argument("--verbose", action="store_true", help="log every request to stderr")
+    p.add_argument("--exaggerate", type=int, choices=[1, 10, 100, 1000], default=1, metavar="K",
+                   help="with B: draw B's differences from A K times larger (1, 10, 100 or 1000; the page's "
+                        "'differences x' field); arrows give the true distances")
     return p
 
 
@@ -92,8 +96,10 @@ def run(args: argparse.Namespace) -> int:
         # the same chain in B when A and B are the same XML format (two descriptions of one robot)
         chain = fmt in _CHAIN_FORMATS and _format_of(args.other) == fmt
         b_text, b_fmt = _read(args.other, *((args.base_link, args.tip_link) if chain else (None, None)))
-        other = {"text": b_text, "fmt": b_fmt, "source": args.other,
+        other = {"text": b_text, "fmt": b_fmt, "source": args.other, "exaggerate": args.exaggerate,
                  "base_link": (args.base_link or "") if chain else "", "tip_link": (args.tip_link or "") if chain else ""}
+    elif args.exaggerate != 1:
+        raise InputError("--exaggerate: give a second robot B to compare with")
     server = make_server(args.host, args.port, text, fmt, args.base_link, args.tip_link, source,
                          quiet=not args.verbose, other=other)
     print(f"robkin gui: serving on {server.url}  (Ctrl-C to stop)", file=sys.stderr, flush=True)

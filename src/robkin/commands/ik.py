@@ -28,8 +28,21 @@ elbow's swivel instead: --arm-angle PSI gives every solution (up to 8) at that a
 one on --q0's branch. Every solution printed is checked by forward kinematics to the
 tolerances.
 
-A pose with no solution is not an error: the output has no solutions, the reason goes to stderr
-(one line), and the exit status is 0. Exit status 2 means bad input (file, pose, options).
+A pose with no solution is not an error: the output has no solutions, the reason and the closest
+configuration's distance from the target (as the GUI shows it; JSON key "closest": q, position_error
+in length units, orientation_error in radians) go to stderr (one line), and the exit status is 0.
+Exit status 2 means bad input (file, pose, options).
+
+Many targets: --poses FILE (CSV with a header: x, y, z and qw, qx, qy, qz or roll, pitch, yaw, as
+'robkin fk -o' writes them, or m11..m34; .npy (N, 4, 4), (N, 6), (N, 7) or .npz; '-' for standard
+input) solves them in one batch (Robot.ik on (N, 4, 4)) and writes one row per target - success, the
+joint values (the closest configuration where there is no solution), position_error, orientation_error
+and the reason - as CSV on stdout, as JSON with --json ({"joints", "method", "results": [{"q", "success",
+"position_error", "orientation_error", "reason"}, ...]}), or to -o OUT.csv|.npy|.npz|.json (.npy: the
+(N, n) joint values). With --all every solution of every target: one CSV row each (column 'solution'
+numbers them; 0 marks a target without one), "solutions" per target in JSON, and in .npz an array
+'solutions' (M, 1 + n) of the target's row index (from 0) and q. Progress goes to stderr on a terminal
+for runs of 4096 targets or more.
 
 examples:
   robkin ik scara.yaml --pose 7.87,0,-3.94,0,0,0
@@ -38,6 +51,7 @@ examples:
   robkin ik panda.urdf --tip-link panda_hand_tcp --pose 0.5,0,0.4,pi,0,0 --q0=0,0,0,-1.5,0,1.5,0
   robkin ik panda.urdf --tip-link panda_hand_tcp --pose 0.5,0,0.4,0,0,0 --position-only
   robkin ik panda.urdf --tip-link panda_hand_tcp --pose 0.5,0,0.4,pi,0,0 --lock panda_joint7=0.8 --all
+  robkin ik ur5.urdf --tip-link tool0 --poses targets.csv -o solutions.csv
   robkin ik iiwa14.urdf --pose 0.5,0,0.5,0,180,0 --degrees --arm-angle 30 --all
 """
 
@@ -48,8 +62,12 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                                    "robot base frame.",
                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     add_input(p)
-    p.add_argument("--pose", required=True, metavar="POSE",
-                   help="x,y,z,roll,pitch,yaw or 16 numbers (row-major 4x4)")
+    which = p.add_mutually_exclusive_group(required=True)
+    which.add_argument("--pose", metavar="POSE", help="x,y,z,roll,pitch,yaw or 16 numbers (row-major 4x4)")
+    which.add_argument("--poses", metavar="FILE",
+                       help="many target poses: CSV with a header (x, y, z with qw, qx, qy, qz or roll, pitch, "
+                            "yaw; or m11..m34), .npy (N, 4, 4) / (N, 6) / (N, 7) or .npz; '-' reads standard "
+                            "input. One output row per target, with success and error columns")
     p.add_argument("--all", action="store_true",
                    help="every distinct solution (closed form: all branches; numeric: those found from "
                         "1 + RESTARTS starts)")
@@ -80,6 +98,9 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--restarts", type=int, default=50, metavar="N",
                    help="numeric: random restarts after the first attempt (default 50)")
     p.add_argument("--seed", type=seed, default=0, help="numeric: random seed (default 0)")
+    from ._batches import add_output
+
+    add_output(p, "--poses")
     return p
 
 
@@ -90,7 +111,9 @@ def run(args: argparse.Namespace) -> int:
     from ..errors import InputError
 
     robot = load_input(args.input, args)
-    T = parse_pose(args.pose, degrees=args.degrees)
+    if args.output and not args.poses:
+        raise InputError("-o: writes the results of --poses; for one --pose use --json > FILE")
+    T = None if args.poses else parse_pose(args.pose, degrees=args.degrees)
     q0 = parse_q(args.q0, robot.n, "--q0") if args.q0 else None
     if q0 is not None and args.degrees:
         q0 = revolute_degrees(robot, q0, to_radians=True)
@@ -99,23 +122,32 @@ def run(args: argparse.Namespace) -> int:
         mask = number_list(args.mask, "--mask")
         if len(mask) != 6:
             raise InputError(f"--mask: expected 6 values 0/1 for x,y,z,rx,ry,rz, got {len(mask)}")
-    lock = _parse_lock(robot, args.lock, args.degrees)
-    arm_angle = None
+    solve = dict(q0=q0, mask=mask, method=args.method, tol_position=args.tol_position,
+                 tol_orientation=args.tol_orientation, restarts=args.restarts,
+                 lock=_parse_lock(robot, args.lock, args.degrees))
     if args.arm_angle is not None:
         import math
 
         from ..io.numbers import number
 
-        arm_angle = number(args.arm_angle, "--arm-angle")
-        arm_angle = math.radians(arm_angle) if args.degrees else arm_angle
-    result = robot.ik(T, q0=q0, mask=mask, method=args.method, all_solutions=args.all,
-                      tol_position=args.tol_position, tol_orientation=args.tol_orientation,
-                      restarts=args.restarts, rng=args.seed, lock=lock, arm_angle=arm_angle)
+        psi = number(args.arm_angle, "--arm-angle")
+        solve["arm_angle"] = math.radians(psi) if args.degrees else psi
+    if args.poses:
+        from ._batches import ik_batch
+
+        return ik_batch(robot, args, solve)
+    result = robot.ik(T, all_solutions=args.all, rng=args.seed, **solve)
+    closest = None
     if result.success:
         solutions = result.solutions if args.all else result.q[None]
     else:
+        from ._batches import closest_of
+
         solutions = np.empty((0, robot.n))
-        print(f"robkin: ik: no solution ({result.method}): {result.message}", file=sys.stderr)
+        closest = closest_of(robot, T, result, args.seed)
+        print(f"robkin: ik: no solution ({result.method}): {result.message}; closest: "
+              f"{closest['position_error']:.4g} m from the target position, "
+              f"{closest['orientation_error']:.4g} rad from its orientation", file=sys.stderr)
     errors = [_residuals(robot, q, T) for q in solutions]
     if args.degrees:
         solutions = revolute_degrees(robot, solutions, to_radians=False)
@@ -125,7 +157,9 @@ def run(args: argparse.Namespace) -> int:
         print_json({"solutions": [{"q": q, "position_error": e[0], "orientation_error": e[1]}
                                   for q, e in zip(solutions, errors)],
                     "joints": joint_names(robot), "method": result.method, "success": bool(result.success),
-                    "reason": None if result.success else result.message})
+                    "reason": None if result.success else result.message,
+                    **({} if closest is None else {"closest": {**closest, "q": revolute_degrees(
+                        robot, closest["q"], to_radians=False) if args.degrees else closest["q"]}})})
         return 0
     if len(solutions):
         from ..io.table_views import solutions_block

@@ -153,11 +153,13 @@ def run(args: argparse.Namespace) -> int:
              lim(j["upper"]), vec(j["axis"]), vec(j["point"]) if j["type"] == "revolute" else "(direction only)",
              j["relation"], j["angle_deg"], "-" if j["distance"] is None else j["distance"]]
             for j in d["joints"]]
-    title = (f"{robot.name or args.input}: {robot.n} joints ({d['types']}), size {fmt_num(robot.scale, 4)}; "
-             f"axes in the base frame at q = 0, relation to the previous axis (joint 1: base z)")
-    items = [(title, ["i", "joint", "type", "lower", "upper", "axis", "point on axis", "relation",
-                      "angle deg", "distance"], rows),
-             "tool at q = 0: position " + vec(d["tool"]["position"]) + ", rpy " + vec(d["tool"]["rpy"])]
+    title = (f"{robot.name or args.input}: {robot.n} joints ({d['types']}); axes in the base frame at q = 0, "
+             f"relation to the previous axis (joint 1: base z)")
+    items = [(title, ["i", "joint", "type", "lower", "upper", "axis", "point on axis (m)", "relation",
+                      "angle deg", "distance m"], rows),
+             "tool at q = 0: position " + vec(d["tool"]["position"]) + " m, rpy " + vec(d["tool"]["rpy"]) + " rad",
+             f"size: {fmt_num(robot.scale, 4)} m (the largest distance of a joint axis or of the tool from the base "
+             f"origin; relative tolerances are fractions of it); limits in rad (revolute) and m (prismatic)"]
     if not np.allclose(robot.world, np.eye(4), atol=1e-12, rtol=0):
         items.append(matrix_text(robot.world, "world -> base"))
     show_blocks(items)

@@ -15,6 +15,7 @@ examples:
   robkin plot rrpr.yaml --q 3*pi/4,-pi/4,0.3,-3*pi/4 --overlay dh,poe -o rrpr_q.svg
   robkin plot ur5.urdf --tip-link tool0 --frames -o ur5.png
   robkin plot original.yaml converted.yaml -o both.png     # several robots in one picture
+  robkin plot vendor_dh.yaml robot.urdf --exaggerate 100 -o diff.png   # 4-decimal table vs the robot
   robkin plot --metrics pose1_A.yaml pose1_B.yaml pose1_C.yaml pose1_D.yaml -o metrics.png
 
 --overlay draws the robot rebuilt from each listed representation (gjd, dh, mdh, poe, poe-body,
@@ -24,6 +25,10 @@ tool frame coincide; the title states by how much they disagree (rounding only, 
 the current folder. .html is an interactive 3D page (the GUI's viewer: drag to turn, right-drag to
 pan, wheel to zoom, front/side/top views), one self-contained file that works offline; it needs the
 three.js modules of `make assets`, not matplotlib.
+With several INPUTs, --exaggerate K draws every robot after the first with its differences from the
+first multiplied by K (where an axis lies and points, the tool origin), and red arrows from the
+first robot's joint axes to the others', labelled with the true distance: a 6 mm difference on a 1 m
+arm is invisible as it is and plain at K = 100.
 With --metrics, each INPUT is an estimation result document; its metrics object (or, if absent,
 metrics computed at q = 0) is drawn as the estimation paper's bar and log plots. Results named
 <group>_<type> (pose1_A.yaml, or name: pose1-A) are grouped per pose, one bar per type.
@@ -39,6 +44,9 @@ def register(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--overlay", metavar="REPS", default="",
                    help="comma-separated representations to overlay: gjd, dh, mdh, poe, poe-body, rpy-xyz")
     p.add_argument("--frames", action="store_true", help="also draw every joint frame (RGB triads)")
+    p.add_argument("--exaggerate", metavar="K",
+                   help="several INPUTs: multiply their differences from the first by K (1 to 1e6) and draw "
+                        "difference arrows labelled with the true distance")
     p.add_argument("--view", metavar="ELEV,AZIM", default="25,-60", help="camera angles in degrees (default 25,-60)")
     p.add_argument("--title", help="picture title (default: robot name and q)")
     p.add_argument("--metrics", action="store_true",
@@ -102,7 +110,21 @@ def _robots(args: argparse.Namespace):
             if r.n != robots[0].n:
                 raise InputError(f"{path}: has {r.n} joints, {args.input[0]} has {robots[0].n}; "
                                  f"robots drawn together must share q")
+    elif args.exaggerate is not None:
+        raise InputError("--exaggerate: give two or more INPUTs (the first is the reference)")
     return overlay, robots, q
+
+
+def _exaggeration(args: argparse.Namespace) -> float | None:
+    """--exaggerate K as a number (None when not given)."""
+    if args.exaggerate is None:
+        return None
+    from ..io.numbers import number
+
+    k = number(args.exaggerate, "--exaggerate")
+    if not 1 <= k <= 1e6:
+        raise InputError(f"--exaggerate: expected a factor from 1 to 1e6, got {args.exaggerate}")
+    return k
 
 
 def _caption(robot, q) -> str:
@@ -127,7 +149,7 @@ def _viewer_page(args: argparse.Namespace, out, view: list[float]) -> int:
     where = "home (q = 0)" if q is None else f"q = {np.round(q, 4).tolist()}"
     title = args.title or (f"{robots[0].name or Path(args.input[0]).stem} at {where}" if len(robots) == 1
                            else f"{len(robots)} robots at {where}")
-    data = viewer_data(robots, q, overlay, labels, frames=args.frames, view=view)
+    data = viewer_data(robots, q, overlay, labels, frames=args.frames, view=view, exaggerate=_exaggeration(args))
     write_text_atomic(out, viewer_page(data, title, _caption(robots[0], q)))
     wrote(out)
     return 0
@@ -146,9 +168,10 @@ def _robot_figure(args: argparse.Namespace, view: list[float]):
         fig = plot_robot(robots[0], q, overlay or ("gjd",), frames=args.frames, view=tuple(view), title=args.title)
         robot = robots[0]
     else:
+        k = _exaggeration(args)
         scenes = [build_scene(r, q, label=Path(path).name) for path, r in zip(args.input, robots)]
         robot = robots[0]
         where = "home (q = 0)" if q is None else f"q = {np.round(q, 4).tolist()}"
-        title = args.title or f"{len(robots)} robots at {where}"
-        fig = plot_scenes(scenes, frames=args.frames, view=tuple(view), title=title)
+        title = args.title or f"{len(robots)} robots at {where}" + ("" if k is None else f", differences x{k:g}")
+        fig = plot_scenes(scenes, frames=args.frames, view=tuple(view), title=title, exaggerate=k)
     return fig, _caption(robot, q)

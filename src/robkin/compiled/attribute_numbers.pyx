@@ -12,7 +12,7 @@ from cpython.object cimport PyObject
 
 import math
 
-from robkin.errors import InputError
+from robkin.errors import InputError, quote
 
 cdef extern from "Python.h":
     const char* PyUnicode_AsUTF8AndSize(object text, Py_ssize_t* size) except NULL
@@ -166,14 +166,14 @@ cpdef tuple numbers(text, Py_ssize_t count, where, what, tuple default):
     at = where if what is None else f"{where}: {what}"
     wanted = "a number" if count == 1 else f"{count} numbers"
     if values is None:
-        raise InputError(f"{at}: '{text}' is not {wanted}")
+        raise InputError(f"{at}: {quote(text)} is not {wanted}")
     if len(values) != count:
-        raise InputError(f"{at}: '{text}' has {len(values)} numbers; expected {wanted}")
+        raise InputError(f"{at}: {quote(text)} has {len(values)} numbers; expected {wanted}")
     for v in values:
         if not -MAX_ABS <= v <= MAX_ABS:
             break
     bad = "contains NaN or infinity" if not math.isfinite(v) else f"has a number beyond +-{MAX_ABS:g}"
-    raise InputError(f"{at}: '{text}' {bad}; expected {count} finite numbers of a robot's size")
+    raise InputError(f"{at}: {quote(text)} {bad}; expected {count} finite numbers of a robot's size")
 
 
 cpdef object number(text, where, what, bint infinite_ok=False):
@@ -186,7 +186,7 @@ cpdef object number(text, where, what, bint infinite_ok=False):
     try:
         v = float(text)
     except ValueError:
-        raise InputError(f"{where}: {what}: '{text}' is not a number") from None
+        raise InputError(f"{where}: {what}: {quote(text)} is not a number") from None
     if math.isnan(v) or not (infinite_ok or math.isfinite(v)):
-        raise InputError(f"{where}: {what}: '{text}' is NaN or infinite; expected a finite number")
+        raise InputError(f"{where}: {what}: {quote(text)} is NaN or infinite; expected a finite number")
     return v

@@ -38,10 +38,11 @@ cimport numpy as cnp
 from libc.math cimport atan, atan2, cos, fabs, sin, sqrt, INFINITY
 from robkin.compiled.closed_form_kernel cimport ClosedFormKernel
 from robkin.compiled.fk cimport Chain
-from robkin.compiled.linalg cimport cross3, dot3, tf_inv, tf_mul
+from robkin.compiled.elimination cimport (line_quantities, move_line, null_vector, pair_angle,
+                                          quadratic_pencil_eigenvalues, rz_mul, transform3)
+from robkin.compiled.linalg cimport tf_inv, tf_mul
 from robkin.compiled.newton cimport CANDIDATE_TOL, newton_polish
 from robkin.compiled.subproblems cimport wrap_branches
-from scipy.linalg.cython_lapack cimport dgeev, dggev
 
 cnp.import_array()
 
@@ -63,90 +64,6 @@ cdef double RANK_TOL = 1e-11
 
 cdef double TWO_PI_3 = 2.0943951023931957
 
-
-cdef inline void _rz_mul(double t, const double* A, double* out) noexcept nogil:
-    """out = Rz(t) A for 4x4 row-major transforms."""
-    cdef double c = cos(t), s = sin(t)
-    cdef int j
-    for j in range(4):
-        out[j] = c * A[j] - s * A[4 + j]
-        out[4 + j] = s * A[j] + c * A[4 + j]
-        out[8 + j] = A[8 + j]
-        out[12 + j] = A[12 + j]
-
-
-cdef inline void _line(const double* A, const double* p, const double* l, double* po, double* lo) noexcept nogil:
-    """The line (point p, direction l) moved by the 4x4 transform A."""
-    cdef int i
-    for i in range(3):
-        lo[i] = A[4 * i] * l[0] + A[4 * i + 1] * l[1] + A[4 * i + 2] * l[2]
-        po[i] = A[4 * i] * p[0] + A[4 * i + 1] * p[1] + A[4 * i + 2] * p[2] + A[4 * i + 3]
-
-
-cdef inline void _quantities(const double* p, const double* l, double* out, int stride) noexcept nogil:
-    """Raghavan and Roth's 14 quantities of the line (p, l): p, l, p.p, p.l, p x l, (p.p) l - 2 (p.l) p;
-    out[stride * k] for k < 14."""
-    cdef double pp = dot3(p, p), pl = dot3(p, l)
-    cdef double x[3]
-    cdef int i
-    cross3(p, l, x)
-    for i in range(3):
-        out[stride * i] = p[i]
-        out[stride * (3 + i)] = l[i]
-        out[stride * (8 + i)] = x[i]
-        out[stride * (11 + i)] = pp * l[i] - 2.0 * pl * p[i]
-    out[stride * 6] = pp
-    out[stride * 7] = pl
-
-
-cdef inline void _null_vector(double* A, int n, double* v, int* rp, int* cp) noexcept nogil:
-    """v (n,) spanning the (numerical) null space of the singular A (n x n row-major, overwritten):
-    LU with full pivoting, the last pivot taken as zero, back-substitution."""
-    cdef int i, j, k, bi, bj, t
-    cdef double big, x, f
-    for i in range(n):
-        rp[i] = i
-        cp[i] = i
-    for k in range(n - 1):
-        big = -1.0
-        bi = k
-        bj = k
-        for i in range(k, n):
-            for j in range(k, n):
-                x = fabs(A[rp[i] * n + cp[j]])
-                if x > big:
-                    big, bi, bj = x, i, j
-        t = rp[k]; rp[k] = rp[bi]; rp[bi] = t
-        t = cp[k]; cp[k] = cp[bj]; cp[bj] = t
-        if big == 0.0:
-            continue
-        for i in range(k + 1, n):
-            f = A[rp[i] * n + cp[k]] / A[rp[k] * n + cp[k]]
-            A[rp[i] * n + cp[k]] = f
-            for j in range(k + 1, n):
-                A[rp[i] * n + cp[j]] -= f * A[rp[k] * n + cp[j]]
-    v[cp[n - 1]] = 1.0
-    for i in range(n - 2, -1, -1):
-        x = 0.0
-        for j in range(i + 1, n):
-            x += A[rp[i] * n + cp[j]] * v[cp[j]]
-        f = A[rp[i] * n + cp[i]]
-        v[cp[i]] = -x / f if f != 0.0 else 0.0
-
-
-cdef inline double _pair_angle(const double* v, int stride_lo, int count_i, int count_j, int si, int sj) noexcept nogil:
-    """The angle theta' with (lo, up) ~ (cos theta'/2, sin theta'/2) over the monomial pairs of the
-    null vector v: lo = v[si * i + sj * j], up = the entry stride_lo further (the next power)."""
-    cdef double a = 0.0, b = 0.0, c = 0.0, lo, up
-    cdef int i, j
-    for i in range(count_i):
-        for j in range(count_j):
-            lo = v[si * i + sj * j]
-            up = v[si * i + sj * j + stride_lo]
-            a += lo * lo
-            b += up * up
-            c += lo * up
-    return atan2(2.0 * c, a - b)
 
 cdef class General6RKernel(ClosedFormKernel):
     """One formulation of the loop (see the module docstring) of one 6R robot."""
@@ -235,9 +152,8 @@ cdef class General6RKernel(ClosedFormKernel):
         cdef unsigned char geometric[NB]
         cdef int rp[12]
         cdef int cp[12]
-        cdef int i, j, k, r, c, s, I, Jp, Kp, n24 = NP, lda = NP, lwork = LWORK, info, ldv = 1, nroots = 0
-        cdef double x, t, nrm, alpha, dotv, big, piv_min, piv_max, xr, xi, res, sum0
-        cdef char jobN = b'N'
+        cdef int i, j, k, r, c, s, I, Jp, Kp, info, nroots = 0
+        cdef double x, t, nrm, alpha, dotv, big, xr, xi, res
         cdef bint any_real = False, rank_ok = True
         # work layout
         cdef double* F = work                     # 14 x 27 LHS samples -> x-power coefficients
@@ -284,9 +200,9 @@ cdef class General6RKernel(ClosedFormKernel):
             p0[i] = Kc[4 * i + 3]
             l0[i] = Kc[4 * i + 2]
         for i in range(3):
-            _rz_mul(self.sgn[0] * (TWO_PI_3 * i + self.delta[0]), Ka, X1)
+            rz_mul(self.sgn[0] * (TWO_PI_3 * i + self.delta[0]), Ka, X1)
             for j in range(3):
-                _rz_mul(self.sgn[1] * (TWO_PI_3 * j + self.delta[1]), Kb, X3)
+                rz_mul(self.sgn[1] * (TWO_PI_3 * j + self.delta[1]), Kb, X3)
                 tf_mul(X1, X3, X2)
                 for k in range(3):
                     t = self.sgn[2] * (TWO_PI_3 * k + self.delta[2])
@@ -296,22 +212,22 @@ cdef class General6RKernel(ClosedFormKernel):
                     la[0] = cos(t) * l0[0] - sin(t) * l0[1]
                     la[1] = sin(t) * l0[0] + cos(t) * l0[1]
                     la[2] = l0[2]
-                    _line(X2, pa, la, pl, pl + 3)
-                    _quantities(pl, pl + 3, F + 9 * i + 3 * j + k, 27)
+                    move_line(X2, pa, la, pl, pl + 3)
+                    line_quantities(pl, pl + 3, F + 9 * i + 3 * j + k, 27)
         for i in range(3):
             p0[i] = Kdi[4 * i + 3]
             l0[i] = Kdi[4 * i + 2]
         for i in range(3):
             t = -self.sgn[4] * (TWO_PI_3 * i + self.delta[4])
-            _rz_mul(t, Kdi, X1)
+            rz_mul(t, Kdi, X1)
             tf_mul(Kei, X1, X2)                   # Ke^-1 Rz(-phi_e) Kd^-1
             for j in range(3):
-                _rz_mul(-self.sgn[5] * (TWO_PI_3 * j + self.delta[5]), X2, X3)
+                rz_mul(-self.sgn[5] * (TWO_PI_3 * j + self.delta[5]), X2, X3)
                 tf_mul(Kfi, X3, X4)
                 for k in range(3):
                     pa[k] = X4[4 * k + 3]
                     la[k] = X4[4 * k + 2]
-                _quantities(pa, la, G + 3 * i + j, 9)
+                line_quantities(pa, la, G + 3 * i + j, 9)
         # ---- 3. coefficients: RHS in (1, cos, sin)^2; LHS (minus the RHS constant) in x powers
         for r in range(14):
             for I in range(3):
@@ -324,7 +240,7 @@ cdef class General6RKernel(ClosedFormKernel):
         for r in range(14):
             for i in range(27):
                 F[27 * r + i] -= Rc[9 * r]
-            _transform3(F + 27 * r, self.W, Px + 27 * r)
+            transform3(F + 27 * r, self.W, Px + 27 * r)
         # ---- Householder QR of the 14 x 8 block C8 = Rc[:, 1:]; Q^T applied to Px (14 x 27)
         big = 0.0
         for c in range(8):
@@ -377,70 +293,8 @@ cdef class General6RKernel(ClosedFormKernel):
                         x = Px[27 * (8 + r) + 9 * I + 3 * Jp + Kp]
                         Mq[144 * I + 12 * r + 3 * Jp + Kp] = x
                         Mq[144 * I + 12 * (r + 6) + 3 * (Jp + 1) + Kp] = x
-        # ---- eigenvalues: LU of M2 (partial pivoting); well conditioned -> companion + dgeev
-        for i in range(144):
-            Bp[i] = M2[i]
-        piv_min = INFINITY
-        piv_max = 0.0
-        for k in range(12):
-            big = -1.0
-            j = k
-            for i in range(k, 12):
-                if fabs(Bp[12 * i + k]) > big:
-                    big = fabs(Bp[12 * i + k])
-                    j = i
-            piv[k] = j
-            if j != k:
-                for i in range(12):
-                    x = Bp[12 * k + i]; Bp[12 * k + i] = Bp[12 * j + i]; Bp[12 * j + i] = x
-            piv_min = min(piv_min, big)
-            piv_max = max(piv_max, big)
-            if big == 0.0:
-                break
-            for i in range(k + 1, 12):
-                x = Bp[12 * i + k] / Bp[12 * k + k]
-                Bp[12 * i + k] = x
-                for j in range(k + 1, 12):
-                    Bp[12 * i + j] -= x * Bp[12 * k + j]
-        if piv_max > 0.0 and piv_min > M2_RCOND * piv_max:
-            # companion C = [[0, I], [-M2^-1 M0, -M2^-1 M1]] (column-major 24 x 24)
-            for i in range(NP * NP):
-                Ap[i] = 0.0
-            for i in range(12):
-                Ap[i + NP * (12 + i)] = 1.0
-            for c in range(24):
-                # column c of -M2^-1 [M0 M1]
-                for i in range(12):
-                    Mx[i] = -(M0[12 * i + c] if c < 12 else M1[12 * i + c - 12])
-                for k in range(12):                # apply the row swaps, then L, then U
-                    j = piv[k]
-                    if j != k:
-                        x = Mx[k]; Mx[k] = Mx[j]; Mx[j] = x
-                for i in range(12):
-                    for k in range(i):
-                        Mx[i] -= Bp[12 * i + k] * Mx[k]
-                for i in range(11, -1, -1):
-                    for k in range(i + 1, 12):
-                        Mx[i] -= Bp[12 * i + k] * Mx[k]
-                    Mx[i] /= Bp[12 * i + i]
-                for i in range(12):
-                    Ap[12 + i + NP * c] = Mx[i]
-            dgeev(&jobN, &jobN, &n24, Ap, &lda, ar, ai, NULL, &ldv, NULL, &ldv, lw, &lwork, &info)
-            for i in range(NP):
-                be[i] = 1.0
-        else:
-            for i in range(NP * NP):
-                Ap[i] = 0.0
-                Bp[i] = 0.0
-            for i in range(12):
-                Ap[i + NP * (12 + i)] = 1.0
-                Bp[i + NP * i] = 1.0
-                for j in range(12):
-                    Ap[12 + i + NP * j] = -M0[12 * i + j]
-                    Ap[12 + i + NP * (12 + j)] = -M1[12 * i + j]
-                    Bp[12 + i + NP * (12 + j)] = M2[12 * i + j]
-            dggev(&jobN, &jobN, &n24, Ap, &lda, Bp, &lda, ar, ai, be, NULL, &ldv, NULL, &ldv, lw, &lwork,
-                  &info)
+        # ---- eigenvalues of the quadratic pencil (companion + dgeev, or dggev when M2 is singular)
+        info = quadratic_pencil_eigenvalues(M0, M1, M2, 12, Ap, Bp, ar, ai, be, lw, LWORK, Mx, piv, M2_RCOND)
         if info != 0:
             uncertain[0] = True
             for s in range(NB):
@@ -463,20 +317,20 @@ cdef class General6RKernel(ClosedFormKernel):
             any_real = True
             for i in range(144):
                 Mx[i] = M0[i] + xr * (M1[i] + xr * M2[i])
-            _null_vector(Mx, 12, vnull, rp, cp)
+            null_vector(Mx, 12, vnull, rp, cp)
             th[0] = 2.0 * atan(xr)
-            th[1] = _pair_angle(vnull, 3, 3, 3, 3, 1)      # x_b: v[3 i + j] -> v[3 (i + 1) + j]
-            th[2] = _pair_angle(vnull, 1, 4, 2, 3, 1)      # x_c: v[3 i + j] -> v[3 i + j + 1]
+            th[1] = pair_angle(vnull, 3, 3, 3, 3, 1)      # x_b: v[3 i + j] -> v[3 (i + 1) + j]
+            th[2] = pair_angle(vnull, 1, 4, 2, 3, 1)      # x_c: v[3 i + j] -> v[3 i + j + 1]
             # joints e, f: C8 m8 = LHS(a, b, c) - c0, by the QR (Q^T, then R's back-substitution)
-            _rz_mul(self.sgn[0] * (th[0] + self.delta[0]), Ka, X1)
-            _rz_mul(self.sgn[1] * (th[1] + self.delta[1]), Kb, X3)
+            rz_mul(self.sgn[0] * (th[0] + self.delta[0]), Ka, X1)
+            rz_mul(self.sgn[1] * (th[1] + self.delta[1]), Kb, X3)
             tf_mul(X1, X3, X2)
-            _rz_mul(self.sgn[2] * (th[2] + self.delta[2]), Kc, X3)
+            rz_mul(self.sgn[2] * (th[2] + self.delta[2]), Kc, X3)
             tf_mul(X2, X3, X4)                              # Lh = Z_a K_a Z_b K_b Z_c K_c
             for i in range(3):
                 pa[i] = X4[4 * i + 3]
                 la[i] = X4[4 * i + 2]
-            _quantities(pa, la, y, 1)
+            line_quantities(pa, la, y, 1)
             for r in range(14):
                 y[r] -= Rc[9 * r]                           # column 0: untouched by the QR
             for c in range(8):
@@ -495,9 +349,9 @@ cdef class General6RKernel(ClosedFormKernel):
             th[4] = atan2(m8[5], m8[2])
             th[5] = atan2(m8[1], m8[0])
             # joint d: Rz(phi_d) = Lh^-1 Rh^-1 with Rh = K_d Z_e K_e Z_f K_f
-            _rz_mul(self.sgn[4] * (th[4] + self.delta[4]), Ke, X1)
+            rz_mul(self.sgn[4] * (th[4] + self.delta[4]), Ke, X1)
             tf_mul(Kd, X1, X2)
-            _rz_mul(self.sgn[5] * (th[5] + self.delta[5]), Kf, X1)
+            rz_mul(self.sgn[5] * (th[5] + self.delta[5]), Kf, X1)
             tf_mul(X2, X1, X3)                              # Rh
             tf_mul(X3, X4, X1)                              # Rh Lh = Rz(-phi_d)
             t = atan2(X1[1], X1[0])                         # phi_d
@@ -519,35 +373,6 @@ cdef class General6RKernel(ClosedFormKernel):
             return 3
         uncertain[0] = any_real
         return 1 if any_real else 2
-
-
-cdef inline void _transform3(const double* f, const double* W, double* out) noexcept nogil:
-    """out[9 I + 3 J + K] = sum W[I, i] W[J, j] W[K, k] f[9 i + 3 j + k] (3 x 3 x 3 tensor, each axis by W)."""
-    cdef double t1[27]
-    cdef double t2[27]
-    cdef int I, i, j, k
-    cdef double x
-    for I in range(3):              # axis c
-        for i in range(3):
-            for j in range(3):
-                x = 0.0
-                for k in range(3):
-                    x += W[3 * I + k] * f[9 * i + 3 * j + k]
-                t1[9 * i + 3 * j + I] = x
-    for I in range(3):              # axis b
-        for i in range(3):
-            for k in range(3):
-                x = 0.0
-                for j in range(3):
-                    x += W[3 * I + j] * t1[9 * i + 3 * j + k]
-                t2[9 * i + 3 * I + k] = x
-    for I in range(3):              # axis a
-        for j in range(3):
-            for k in range(3):
-                x = 0.0
-                for i in range(3):
-                    x += W[3 * I + i] * t2[9 * i + 3 * j + k]
-                out[9 * I + 3 * j + k] = x
 
 
 def polish(Chain chain, Q, valid, targets, double scale):

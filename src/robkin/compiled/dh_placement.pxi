@@ -216,11 +216,18 @@ cdef void dh_chain(const double* cand, Py_ssize_t n, const double* tool, double 
     cdef double A[16]
     cdef const double* prev = I
     cdef Py_ssize_t i
+    cdef double ref[16]
     tf_identity(I)
     for i in range(n):
         line_of(prev, pa, ua)
         line_of(cand + 16 * i, pb, ub)
         normal_frame_c(pa, ua, pb, ub, True, prev, scale, cand + 16 * i if keep else NULL, F + 16 * i)
+        if i == 0 and tilted_base(cand, F, scale, False, ref):
+            # joint 1 nearly parallel to the base z axis: frame {0} on joint 1's axis below the base
+            # origin, from the base turned onto that axis (the modified DH rule), not where the common
+            # normal lies ~offset / tilt away
+            line_of(ref, pa, ua)
+            normal_frame_c(pa, ua, pb, ub, True, ref, scale, cand if keep else NULL, F)
         prev = F + 16 * i
     line_of(prev, pa, ua)
     if satisfies(tool, pa, ua, scale, KEEP_TOL):
@@ -233,30 +240,26 @@ cdef void dh_chain(const double* cand, Py_ssize_t n, const double* tool, double 
         dh_params_c(F + 16 * i, F + 16 * (i + 1), rows + 4 * i)
 
 
-cdef void mdh_base(const double* joint1, double scale, double* out) noexcept nogil:
-    """Frame {0} of a modified DH table (``representations.mdh._base_frame``): on the base z axis with
-    x towards joint 1's axis, or, for a joint 1 axis nearly parallel to that axis, on joint 1's axis
-    turned from the base by the smallest rotation taking z onto it."""
-    cdef double I[16]
-    cdef double zero[3]
+cdef bint tilted_base(const double* joint1, const double* frame0, double scale, bint parallel_too,
+                      double* ref) noexcept nogil:
+    """For a joint 1 axis nearly parallel to the base z axis whose frame {0} (``frame0``, placed by the
+    common-normal rule) lies more than FAR robot sizes away (or, with ``parallel_too``, whose axis is
+    parallel to within ANGLE_TOL): the base turned by the smallest rotation taking z onto joint 1's
+    axis, moved onto that axis (into ``ref``), and True; else False. Shared by DH and modified DH."""
     cdef double ez[3]
     cdef double p[3]
     cdef double u[3]
     cdef double w[3]
     cdef double v[3]
     cdef double K[9]
-    cdef double ref[16]
     cdef double c, t
-    cdef int i, j, k
-    tf_identity(I)
-    zero[0], zero[1], zero[2] = 0.0, 0.0, 0.0
+    cdef int i, j
     ez[0], ez[1], ez[2] = 0.0, 0.0, 1.0
     line_of(joint1, p, u)
-    normal_frame_c(zero, ez, p, u, False, I, scale, I, out)
     cdef double s = sin_between(ez, u)
-    cdef double r = sqrt(out[3] * out[3] + out[7] * out[7] + out[11] * out[11])
-    if not (NOISE_TILT < s and (s < ANGLE_TOL or r > FAR * scale)):
-        return
+    cdef double r = sqrt(frame0[3] * frame0[3] + frame0[7] * frame0[7] + frame0[11] * frame0[11])
+    if not (NOISE_TILT < s and ((parallel_too and s < ANGLE_TOL) or r > FAR * scale)):
+        return False
     # an anti-parallel axis is taken as the line along -u, so frame {0}'s z stays near the base z
     for i in range(3):
         w[i] = u[i] if u[2] > 0 else -u[i]
@@ -272,9 +275,32 @@ cdef void mdh_base(const double* joint1, double scale, double* out) noexcept nog
                 K[3 * i] * K[j] + K[3 * i + 1] * K[3 + j] + K[3 * i + 2] * K[6 + j]) / (1.0 + c)
         ref[4 * i + 3] = p[i] - t * w[i]
     ref[12], ref[13], ref[14], ref[15] = 0.0, 0.0, 0.0, 1.0
+    return True
+
+
+cdef void mdh_base(const double* joint1, double scale, double* out) noexcept nogil:
+    """Frame {0} of a modified DH table (``representations.mdh._base_frame``): on the base z axis with
+    x towards joint 1's axis, or, for a joint 1 axis nearly parallel to that axis, on joint 1's axis
+    turned from the base by the smallest rotation taking z onto it (``tilted_base``)."""
+    cdef double I[16]
+    cdef double zero[3]
+    cdef double ez[3]
+    cdef double p[3]
+    cdef double u[3]
+    cdef double v[3]
+    cdef double ref[16]
+    cdef int i
+    tf_identity(I)
+    zero[0], zero[1], zero[2] = 0.0, 0.0, 0.0
+    ez[0], ez[1], ez[2] = 0.0, 0.0, 1.0
+    line_of(joint1, p, u)
+    normal_frame_c(zero, ez, p, u, False, I, scale, I, out)
+    if not tilted_base(joint1, out, scale, True, ref):
+        return
     for i in range(3):
         v[i] = ref[4 * i + 3]
-    normal_frame_c(v, w, p, u, False, ref, scale, ref, out)
+        ez[i] = u[i] if u[2] > 0 else -u[i]  # the axis tilted_base turned z onto
+    normal_frame_c(v, ez, p, u, False, ref, scale, ref, out)
 
 
 cdef void mdh_chain(const double* cand, Py_ssize_t n, double scale, bint keep,

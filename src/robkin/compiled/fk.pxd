@@ -175,6 +175,24 @@ cdef inline bint usable_q(object q, int n) noexcept:
     return True
 
 
+cdef inline bint usable_out(object out, cnp.ndarray q, cnp.npy_intp d0, cnp.npy_intp d1,
+                            cnp.npy_intp d2) noexcept:
+    """out is a writeable C-contiguous float64 ndarray of the shape ``empty_result`` would make."""
+    cdef cnp.ndarray a
+    cdef int lead = cnp.PyArray_NDIM(q) - 1, nd = lead + (3 if d2 > 0 else 2)
+    if not cnp.PyArray_Check(out):
+        return False
+    a = <cnp.ndarray>out
+    if (cnp.PyArray_TYPE(a) != cnp.NPY_DOUBLE or not cnp.PyArray_IS_C_CONTIGUOUS(a)
+            or not cnp.PyArray_ISWRITEABLE(a) or cnp.PyArray_NDIM(a) != nd):
+        return False
+    if lead and cnp.PyArray_DIM(a, 0) != cnp.PyArray_DIM(q, 0):
+        return False
+    if cnp.PyArray_DIM(a, lead) != d0 or cnp.PyArray_DIM(a, lead + 1) != d1:
+        return False
+    return d2 <= 0 or cnp.PyArray_DIM(a, lead + 2) == d2
+
+
 cdef inline cnp.ndarray empty_result(cnp.ndarray q, cnp.npy_intp d0, cnp.npy_intp d1, cnp.npy_intp d2):
     """An uninitialised float64 array of shape q.shape[:-1] + (d0, d1) or + (d0, d1, d2) if d2 > 0:
     one result per configuration of a usable q (n,) or (N, n)."""

@@ -2,18 +2,52 @@
 """Forward kinematics and the frames along the chain, single configuration and batch.
 
 ``Chain`` holds a robot's fixed transforms once (built by ``Robot``, cached on it); its methods take
-joint values and return new numpy arrays. They validate nothing beyond what they need to stay memory
+joint values and return new numpy arrays. Large batches are split over threads by blocks
+(``threads`` = 0: automatic, see ``threads.pyx``); a block is computed the same way on any thread. They validate nothing beyond what they need to stay memory
 safe: they return ``None`` unless q is a C-contiguous float64 array of shape (n,) or (N, n) with only
 finite values, and the Python wrapper (``Robot.fk``) then validates and explains.
 """
 
 cimport numpy as cnp
-from robkin.compiled.fk cimport BLOCK, tool_poses, frame_poses, usable_q, empty_result
+from cython.parallel cimport prange
+from robkin.compiled.fk cimport BLOCK, tool_poses, frame_poses, usable_q, empty_result, walk_block, store_poses
 from robkin.compiled.sincos cimport rk_sincos_array
+from robkin.compiled.threads cimport batch_threads
 
 import numpy as np
 
 cnp.import_array()
+
+cdef enum:
+    # blocks (of 32 configurations) each thread must get before a batch is split: ~2-4 us of work per
+    # block at 7 joints, so >= ~100 us per thread, many times the cost of starting an OpenMP region
+    # (~5-20 us) and of a late thread's wake-up on a busy machine
+    MIN_BLOCKS_PER_THREAD = 32
+    # blocks a thread takes at a time: dynamic scheduling, so a thread that starts late (the machine
+    # is busy) takes less of the batch instead of holding the others up at the end
+    CHUNK_BLOCKS = 4
+
+
+cdef void pose_block(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t m,
+                     Py_ssize_t j, double* T, double* F) noexcept nogil:
+    """Block j of a batch of m configurations: tool poses into T (m x 16) or, if F is not NULL, the
+    frames into F (m x (n+1) x 16)."""
+    cdef double P[12 * BLOCK]
+    cdef Py_ssize_t k = BLOCK * j
+    cdef int size = <int>(m - k if m - k < BLOCK else BLOCK)
+    if F != NULL:
+        walk_block(L, rev, n, Q + n * k, size, P, F + 16 * (n + 1) * k, NULL, 0)
+    else:
+        walk_block(L, rev, n, Q + n * k, size, P, NULL, NULL, 0)
+        store_poses(P, size, T + 16 * k, 16)
+
+
+cdef void threaded_poses(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t m,
+                         double* T, double* F, int threads) noexcept nogil:
+    """``tool_poses`` (F NULL) or ``frame_poses`` (T NULL) with the blocks split over ``threads``."""
+    cdef Py_ssize_t j
+    for j in prange((m + BLOCK - 1) // BLOCK, num_threads=threads, schedule="dynamic", chunksize=CHUNK_BLOCKS):
+        pose_block(L, rev, n, Q, m, j, T, F)
 
 
 cdef class Chain:
@@ -38,35 +72,53 @@ cdef class Chain:
         self.L = <double*>cnp.PyArray_DATA(La)
         self.rev = <unsigned char*>cnp.PyArray_DATA(ra)
 
-    def fk(self, q):
-        """Tool pose (4, 4) for q (n,), or (N, 4, 4) for q (N, n); None if q is not usable as is."""
+    def fk(self, q, int threads=0, out=None):
+        """Tool pose (4, 4) for q (n,), or (N, 4, 4) for q (N, n); None if q (or ``out``) is not usable
+        as is. ``threads``: 0 automatic, else at most that many. ``out``: a C-contiguous float64 array of
+        the result's shape to write into (returned), else a new one."""
         cdef Py_ssize_t N
         cdef const double* Q
         cdef double* O
+        cdef int nt
         if not usable_q(q, self.n):
             return None
-        out = empty_result(q, 4, 4, 0)
+        if out is None:
+            out = empty_result(q, 4, 4, 0)
+        elif not usable_out(out, q, 4, 4, 0):
+            return None
         Q = <const double*>cnp.PyArray_DATA(q)
         O = <double*>cnp.PyArray_DATA(out)
         N = cnp.PyArray_SIZE(q) // self.n
         with nogil:
-            tool_poses(self.L, self.rev, self.n, Q, N, O)
+            nt = batch_threads(threads, (N + BLOCK - 1) // BLOCK, MIN_BLOCKS_PER_THREAD) if N > BLOCK else 1
+            if nt > 1:
+                threaded_poses(self.L, self.rev, self.n, Q, N, O, NULL, nt)
+            else:
+                tool_poses(self.L, self.rev, self.n, Q, N, O)
         return out
 
-    def frames(self, q):
+    def frames(self, q, int threads=0, out=None):
         """Frames after each joint's motion and the tool: (n+1, 4, 4) for q (n,), (N, n+1, 4, 4) for
-        q (N, n); None if q is not usable as is."""
+        q (N, n); None if q (or ``out``) is not usable as is. ``threads`` and ``out`` as for ``fk``."""
         cdef Py_ssize_t N
         cdef const double* Q
         cdef double* O
+        cdef int nt
         if not usable_q(q, self.n):
             return None
-        out = empty_result(q, self.n + 1, 4, 4)
+        if out is None:
+            out = empty_result(q, self.n + 1, 4, 4)
+        elif not usable_out(out, q, self.n + 1, 4, 4):
+            return None
         Q = <const double*>cnp.PyArray_DATA(q)
         O = <double*>cnp.PyArray_DATA(out)
         N = cnp.PyArray_SIZE(q) // self.n
         with nogil:
-            frame_poses(self.L, self.rev, self.n, Q, N, O)
+            nt = batch_threads(threads, (N + BLOCK - 1) // BLOCK, MIN_BLOCKS_PER_THREAD) if N > BLOCK else 1
+            if nt > 1:
+                threaded_poses(self.L, self.rev, self.n, Q, N, NULL, O, nt)
+            else:
+                frame_poses(self.L, self.rev, self.n, Q, N, O)
         return out
 
 

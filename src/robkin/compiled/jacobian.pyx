@@ -8,9 +8,11 @@ and converts). ``kind``: 0 = geometric [v; w] at the tool origin in the base fra
 """
 
 cimport numpy as cnp
-from robkin.compiled.fk cimport BLOCK, Chain, empty_result, store_poses, usable_q, walk_block
+from cython.parallel cimport parallel, prange
+from robkin.compiled.fk cimport BLOCK, Chain, empty_result, store_poses, usable_out, usable_q, walk_block
 from libc.stdlib cimport malloc, free
 from robkin.compiled.linalg cimport tall_volume
+from robkin.compiled.threads cimport batch_threads
 
 import numpy as np
 
@@ -19,6 +21,15 @@ cnp.import_array()
 GEOMETRIC = 0
 SPACE = 1
 BODY = 2
+
+cdef enum:
+    # blocks of 32 configurations per thread before a batch is split (~3-6 us each at 7 joints: >= ~100
+    # us per thread, see fk.pyx), and the blocks a thread takes at a time (dynamic scheduling)
+    MIN_BLOCKS_PER_THREAD = 24
+    CHUNK_BLOCKS = 2
+    # Jacobians per thread before ``volumes`` splits its batch (~0.3 us each), taken 64 at a time
+    MIN_VOLUMES_PER_THREAD = 512
+    CHUNK_VOLUMES = 64
 
 
 cdef void jacobian_one(const double* L, const unsigned char* rev, int n, const double* q, int kind,
@@ -37,19 +48,47 @@ cdef void jacobians(const double* L, const unsigned char* rev, int n, const doub
     turns them into columns. With m = 1, Z may be NULL: one configuration's (p; z) fit in J itself.
     """
     cdef double P[12 * BLOCK]
-    cdef Py_ssize_t j, k
-    cdef int size
+    cdef Py_ssize_t j
     if m == 1:      # one configuration: (p; z) parked in J itself; literal sizes drop the loops' set-up
         walk_block(L, rev, n, Q, 1, P, NULL, J, 1)
         finish_block(rev, n, kind, P, J, 1, 1, J)
         store_poses(P, 1, T, 16)
         return
     for j in range((m + BLOCK - 1) // BLOCK):
-        k = BLOCK * j
-        size = <int>(m - k if m - k < BLOCK else BLOCK)
-        walk_block(L, rev, n, Q + n * k, size, P, NULL, Z, BLOCK)
-        finish_block(rev, n, kind, P, Z, BLOCK, size, J + 6 * n * k)
+        jacobian_block(L, rev, n, Q, m, j, kind, J, T, Z, P)
+
+
+cdef inline void jacobian_block(const double* L, const unsigned char* rev, int n, const double* Q,
+                                Py_ssize_t m, Py_ssize_t j, int kind, double* J, double* T, double* Z,
+                                double* P) noexcept nogil:
+    """Block j of ``jacobians`` (Z, P: this thread's scratch); T gets the tool pose of the batch's last
+    configuration when block j holds it."""
+    cdef Py_ssize_t k = BLOCK * j
+    cdef int size = <int>(m - k if m - k < BLOCK else BLOCK)
+    walk_block(L, rev, n, Q + n * k, size, P, NULL, Z, BLOCK)
+    finish_block(rev, n, kind, P, Z, BLOCK, size, J + 6 * n * k)
+    if k + size == m:
         store_poses(P + size - 1, 1, T, 16)
+
+
+cdef int threaded_jacobians(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t m,
+                            int kind, double* J, double* T, int threads) noexcept nogil:
+    """``jacobians`` with the blocks split over ``threads``, each with its own scratch; -1 if out of
+    memory."""
+    cdef Py_ssize_t j
+    cdef double* Z = NULL     # each thread's own (firstprivate: NULL until it allocates)
+    cdef double* P = NULL
+    cdef int failed = 0
+    with parallel(num_threads=threads):
+        Z = <double*>malloc((6 * n + 12) * BLOCK * sizeof(double))
+        P = Z + 6 * n * BLOCK
+        for j in prange((m + BLOCK - 1) // BLOCK, schedule="dynamic", chunksize=CHUNK_BLOCKS):
+            if Z != NULL:
+                jacobian_block(L, rev, n, Q, m, j, kind, J, T, Z, P)
+            else:
+                failed += 1   # a reduction: any thread that ran out of memory counts
+        free(Z)
+    return -1 if failed else 0
 
 
 cdef inline void finish_block(const unsigned char* rev, int n, int kind, const double* P, const double* Z,
@@ -139,10 +178,12 @@ cdef inline void rotate_back(const double* P, double* X, int m) noexcept nogil:
         X[2 * BLOCK + b] = P[BLOCK * 2 + b] * x0 + P[BLOCK * 6 + b] * x1 + P[BLOCK * 10 + b] * x2
 
 
-def jacobian(Chain chain, q, int kind):
-    """(6, n) for q (n,), (N, 6, n) for q (N, n); None if q is not usable as is (see the module doc)."""
+def jacobian(Chain chain, q, int kind, int threads=0, out=None):
+    """(6, n) for q (n,), (N, 6, n) for q (N, n); None if q (or ``out``) is not usable as is (see the
+    module doc). ``threads``: 0 automatic (``threads.pyx``), else at most that many; the same bits
+    either way. ``out``: a C-contiguous float64 array of the result's shape to write into."""
     cdef Py_ssize_t N
-    cdef int n = chain.n
+    cdef int n = chain.n, nt, failed = 0
     cdef const double* Q
     cdef double* O
     cdef double T[16]
@@ -150,11 +191,21 @@ def jacobian(Chain chain, q, int kind):
         raise ValueError("kind must be 0 (geometric), 1 (space) or 2 (body)")
     if not usable_q(q, n):
         return None
-    out = empty_result(q, 6, n, 0)
+    if out is None:
+        out = empty_result(q, 6, n, 0)
+    elif not usable_out(out, q, 6, n, 0):
+        return None
     Q = <const double*>cnp.PyArray_DATA(q)
     O = <double*>cnp.PyArray_DATA(out)
     N = cnp.PyArray_SIZE(q) // n
     cdef double* Z = NULL
+    nt = batch_threads(threads, (N + BLOCK - 1) // BLOCK, MIN_BLOCKS_PER_THREAD) if N > BLOCK else 1
+    if nt > 1:
+        with nogil:
+            failed = threaded_jacobians(chain.L, chain.rev, n, Q, N, kind, O, T, nt)
+        if failed:
+            raise MemoryError()
+        return out
     if N > 1:
         Z = <double*>malloc(6 * n * BLOCK * sizeof(double))
         if Z == NULL:
@@ -165,7 +216,7 @@ def jacobian(Chain chain, q, int kind):
     return out
 
 
-def volumes(J):
+def volumes(J, int threads=0):
     """Product of the singular values of each matrix of J (..., m, k): (...) array.
 
     The volume of the image of the unit ball within the span (Yoshikawa's measure for a Jacobian's
@@ -176,26 +227,36 @@ def volumes(J):
     if Ja.ndim < 2:
         raise ValueError("volumes: expected (..., m, k)")
     cdef Py_ssize_t m = Ja.shape[Ja.ndim - 2], k = Ja.shape[Ja.ndim - 1]
-    cdef Py_ssize_t count = Ja.size // (m * k) if m * k else 0, b, i, j
+    cdef Py_ssize_t count = Ja.size // (m * k) if m * k else 0, b
     cdef bint wide = m < k
     cdef Py_ssize_t rows = k if wide else m, cols = m if wide else k
     lead = np.shape(Ja)
     out = np.empty(lead[:len(lead) - 2])
     cdef double* O = <double*>cnp.PyArray_DATA(out)
     cdef const double* src = <const double*>cnp.PyArray_DATA(Ja)
-    cdef const double* A
-    cdef double* M = <double*>malloc((m * k if m * k else 1) * sizeof(double))
-    if M == NULL:
+    cdef int nt = batch_threads(threads, count, MIN_VOLUMES_PER_THREAD), failed = 0
+    cdef double* M = NULL     # each thread's own scratch
+    with nogil, parallel(num_threads=nt):
+        M = <double*>malloc((m * k if m * k else 1) * sizeof(double))
+        for b in prange(count, schedule="dynamic", chunksize=CHUNK_VOLUMES):
+            if M != NULL:
+                O[b] = one_volume(src + b * m * k, M, m, k, wide, rows, cols)
+            else:
+                failed += 1   # a reduction: any thread that ran out of memory counts
+        free(M)
+    if failed:
         raise MemoryError()
-    with nogil:
-        for b in range(count):
-            A = src + b * m * k
-            for i in range(m):
-                for j in range(k):
-                    if wide:
-                        M[j * cols + i] = A[i * k + j]     # transpose: rows x cols = k x m
-                    else:
-                        M[i * k + j] = A[i * k + j]
-            O[b] = tall_volume(M, <int>rows, <int>cols) if cols else 1.0
-    free(M)
     return out
+
+
+cdef inline double one_volume(const double* A, double* M, Py_ssize_t m, Py_ssize_t k, bint wide,
+                              Py_ssize_t rows, Py_ssize_t cols) noexcept nogil:
+    """The volume of one m x k matrix A, through the scratch M (m * k doubles)."""
+    cdef Py_ssize_t i, j
+    for i in range(m):
+        for j in range(k):
+            if wide:
+                M[j * cols + i] = A[i * k + j]     # transpose: rows x cols = k x m
+            else:
+                M[i * k + j] = A[i * k + j]
+    return tall_volume(M, <int>rows, <int>cols) if cols else 1.0

@@ -29,15 +29,21 @@ cimport numpy as cnp
 from libc.math cimport sqrt, fabs, ceil, isfinite, INFINITY, M_PI
 from libc.stdlib cimport malloc, free
 from libc.stdint cimport uint64_t
+from cython.parallel cimport parallel, prange
 from robkin.compiled.dense cimport cholesky_solve
 from robkin.compiled.fk cimport Chain, walk_tool
 from robkin.compiled.jacobian cimport jacobian_one
 from robkin.compiled.linalg cimport rot_log
 from robkin.compiled.pose_check cimport tool_errors
+from robkin.compiled.threads cimport batch_threads
 
 import numpy as np
 
 cnp.import_array()
+
+cdef enum:
+    # targets per thread before a batch is split: one target takes ~30-100 us
+    MIN_TARGETS_PER_THREAD = 2
 
 #: slack on "on a limit": a value clipped onto a limit may differ from it by a few ulps of 2 pi
 #: (kinematics.limits.LIMIT_TOL, repeated here as a C constant)
@@ -60,6 +66,7 @@ cdef struct Params:
     double limit_check_E
     double scale
     bint limited
+    const double* alpha     # (n,) the R_d sequence's step per joint (restart starts)
 
 
 cdef inline uint64_t splitmix64(uint64_t* state) noexcept nogil:
@@ -177,6 +184,7 @@ cdef bint solve_one(Chain chain, const Params* P, const double* w, const double*
     cdef double* Jt = J + 6 * n
     cdef double* Jb = Jt + 6 * n
     cdef double* Ewin = Jb + 6 * n
+    cdef double* shift = Ewin + P.stall_window   # n used: this target's random shift of the R_d sequence
     cdef double e[6]
     cdef double et[6]
     cdef double E, Et, mu, nu, diag, diag_max, predicted, actual, rho, x, before, two_pi = 2.0 * M_PI
@@ -193,7 +201,14 @@ cdef bint solve_one(Chain chain, const Params* P, const double* w, const double*
                 q[j] = lo[j] if x < lo[j] else (hi[j] if x > hi[j] else x)
                 best_q[j] = q[j]      # defined even if no attempt ever has a finite E
             else:
-                q[j] = rlo[j] + (rhi[j] - rlo[j]) * uniform01(&state)
+                # restarts walk the R_d sequence (Roberts' additive recurrence, see robkin.samples), shifted
+                # by a random offset per target: successive starts spread evenly over the whole box of
+                # the limits, its corners and edges included, where uniform draws leave gaps and clumps
+                if attempt == 1:
+                    shift[j] = uniform01(&state)
+                x = shift[j] + attempt * P.alpha[j]
+                x -= <double>(<long>x)
+                q[j] = rlo[j] + (rhi[j] - rlo[j]) * x
         E = evaluate(chain, P, w, Td, q, e, J)
         # largest diagonal entry of J^T J; the floor keeps the damping positive for a zero Jacobian
         diag_max = 1e-12
@@ -332,11 +347,26 @@ cdef inline cnp.ndarray _doubles(object a, int ndim, Py_ssize_t d0, Py_ssize_t d
     return arr
 
 
+_ALPHA = {}
+
+
+def _alpha(int n):
+    """The R_d sequence's steps (n,) for n joints: phi^-1 .. phi^-n, phi the positive root of
+    x^(n+1) = x + 1 (``robkin.samples``); computed once per n."""
+    found = _ALPHA.get(n)
+    if found is None:
+        from robkin.samples import golden
+        found = _ALPHA[n] = np.ascontiguousarray(1.0 / golden(n) ** np.arange(1, n + 1))
+    return found
+
+
 def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_upper, double scale,
-          settings, uint64_t seed):
+          settings, uint64_t seed, int threads=0):
     """Solve every target (N, 4, 4) from its start q0 (N, n); see ``kinematics.lm.solve_lm``.
 
-    Returns q (N, n), converged (N,) bool, iterations (N,) int64, attempts (N,) int64.
+    Returns q (N, n), converged (N,) bool, iterations (N,) int64, attempts (N,) int64. The targets are
+    split over ``threads`` (0: automatic, see ``threads.pyx``); each target's random restarts come from
+    its own stream (seed and index), so the results do not depend on the thread count.
     """
     cdef int n = chain.n
     cdef cnp.ndarray Ta = _doubles(targets, 3, -1, 4, 4, "targets")
@@ -373,10 +403,10 @@ def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_u
     if P.stall_window < 1:
         raise ValueError("stall_window must be >= 1")
     cdef unsigned char* wrap = <unsigned char*>malloc(n * sizeof(unsigned char))
-    cdef double* work = <double*>malloc((24 * n + 6 + P.stall_window) * sizeof(double))
-    if work == NULL or wrap == NULL:
-        free(work)
-        free(wrap)
+    cdef double* work = NULL      # each thread's own (allocated in the parallel block)
+    cdef Py_ssize_t work_size = 25 * n + 6 + P.stall_window
+    cdef int nt = batch_threads(threads, N, MIN_TARGETS_PER_THREAD), failed = 0
+    if wrap == NULL:
         raise MemoryError()
     cdef int j
     for j in range(n):
@@ -384,6 +414,8 @@ def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_u
             P.limited = True
         # revolute joints whose range spans a full turn: a value past a limit is turned back by 2 pi
         wrap[j] = chain.rev[j] and hi[j] - lo[j] >= 2.0 * M_PI
+    alpha = _alpha(n)
+    P.alpha = <const double*>cnp.PyArray_DATA(alpha)
     cdef double w[6]
     for j in range(6):
         w[j] = msk[j] / scale if j < 3 else msk[j]
@@ -399,14 +431,21 @@ def solve(Chain chain, targets, q0, mask, lower, upper, restart_lower, restart_u
     cdef long* its = <long*>cnp.PyArray_DATA(it_arr)
     cdef long* att = <long*>cnp.PyArray_DATA(at_arr)
     cdef uint64_t stream
-    with nogil:
-        for k in range(N):
+    with nogil, parallel(num_threads=nt):
+        work = <double*>malloc(work_size * sizeof(double))
+        # dynamic schedule: a target's time varies (restarts), so threads take the next one when free
+        for k in prange(N, schedule="dynamic", chunksize=1):
+            if work == NULL:
+                failed += 1   # a reduction: any thread that ran out of memory counts
+                continue
             # one stream per target: seed and index mixed, so neighbouring targets get unrelated streams
             stream = seed ^ (<uint64_t>k * <uint64_t>0xD1B54A32D192ED03)
             ok[k] = solve_one(chain, &P, w, lo, hi, wrap, rlo, rhi, T + 16 * k, Q0 + n * k, stream, work,
                               Qo + n * k, its + k, att + k)
-    free(work)
+        free(work)
     free(wrap)
+    if failed:
+        raise MemoryError()
     return q_arr, ok_arr, it_arr, at_arr
 
 

@@ -23,7 +23,7 @@ from robkin.compiled.attribute_numbers cimport number, numbers
 import os.path
 
 from robkin import bodies  # bodies.Mimic, imported only for a file with a <mimic>
-from robkin.errors import InputError
+from robkin.errors import InputError, quote
 from robkin.io.urdf import NO_LIMIT, SUPPORTED_TYPES, UNSUPPORTED_TYPES  # urdf.py imports this module lazily
 from robkin.io.urdf_joint import UrdfJoint
 
@@ -234,7 +234,7 @@ cdef object _joint(_Joint raw, str src, Py_ssize_t index):
         if jtype is None:
             raise InputError(f"{where}: no type attribute; one of {', '.join(SUPPORTED_TYPES)}")
         if jtype not in UNSUPPORTED_TYPES:
-            raise InputError(f"{where}: unknown type '{jtype}'; one of "
+            raise InputError(f"{where}: unknown type {quote(jtype)}; one of "
                              f"{', '.join(SUPPORTED_TYPES + UNSUPPORTED_TYPES)}")
     if not raw.parent:
         raise InputError(f"{where}: missing <parent link=\"...\"/>")
@@ -307,9 +307,9 @@ cdef _check_tree(list links, list joints, set known, str src):
     cdef dict kids = {}
     for j in joints:
         if j.parent not in known:
-            raise InputError(f"{src}: joint '{j.name}': parent link '{j.parent}' is not a <link> of the file")
+            raise InputError(f"{src}: joint '{j.name}': parent link {quote(j.parent)} is not a <link> of the file")
         if j.child not in known:
-            raise InputError(f"{src}: joint '{j.name}': child link '{j.child}' is not a <link> of the file")
+            raise InputError(f"{src}: joint '{j.name}': child link {quote(j.child)} is not a <link> of the file")
         if j.parent == j.child:
             raise InputError(f"{src}: joint '{j.name}': parent and child are the same link '{j.child}'")
         if j.child in parent_of:

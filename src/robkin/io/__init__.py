@@ -9,20 +9,26 @@ from ..errors import InputError
 from ..robot import Robot
 
 __all__ = ["load", "DOCUMENT_EXTENSIONS", "URDF_EXTENSIONS", "MJCF_EXTENSIONS", "SDF_EXTENSIONS",
-           "ROBOT_FILE_EXTENSIONS"]
+           "ROBOT_FILE_EXTENSIONS", "TABLE_EXTENSIONS"]
 
 DOCUMENT_EXTENSIONS = (".yaml", ".yml", ".json")
 URDF_EXTENSIONS = (".urdf", ".xacro")
 MJCF_EXTENSIONS = (".xml", ".mjcf")
 SDF_EXTENSIONS = (".sdf",)
+#: Table files (``robkin convert --format csv`` output, bare rows): ``io.table_read``
+TABLE_EXTENSIONS = (".csv", ".tsv", ".txt")
 #: Robot files holding a tree from which --base-link/--tip-link pick a serial chain.
 ROBOT_FILE_EXTENSIONS = URDF_EXTENSIONS + MJCF_EXTENSIONS + SDF_EXTENSIONS
 
 
 def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None, *,
-         allow_xacro: bool = False) -> Robot:
+         allow_xacro: bool = False, representation: str | None = None) -> Robot:
     """Load a Robot from a robot document (.yaml/.yml/.json), a URDF (.urdf, .xacro), an MJCF model
-    (.xml, .mjcf) or an SDF model (.sdf).
+    (.xml, .mjcf), an SDF model (.sdf) or a table (.csv, .tsv, .txt: what ``robkin convert --format
+    csv`` writes, or bare rows such as ``a d alpha theta``; see ``robkin.io.table_read``).
+
+    ``representation`` ('dh', 'mdh', 'hayati', 'poe', 'poe-body', 'rpy-xyz', 'gjd') says which table
+    a table file holds where the file does not say (bare rows, a PoE's frame); tables only.
 
     ``base_link``/``tip_link`` pick a serial chain out of a robot file's tree: links of a URDF or
     SDF, bodies or sites of an MJCF model (giving them for a document is an error). A .xacro file is a
@@ -31,13 +37,23 @@ def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: s
     """
     p = os.fspath(path)  # a str: making a Path costs ~10 us, a share of a small URDF's load
     try:
-        return _load(p, base_link, tip_link, allow_xacro)
+        return _load(p, base_link, tip_link, allow_xacro, representation)
     except InputError as exc:  # errors found past the reader (e.g. by Robot) name the file too
         raise exc.in_source(p) from None
 
 
-def _load(p: str, base_link: str | None, tip_link: str | None, allow_xacro: bool) -> Robot:
+def _load(p: str, base_link: str | None, tip_link: str | None, allow_xacro: bool,
+          representation: str | None = None) -> Robot:
     ext = os.path.splitext(p.rstrip("/" + os.sep))[1].lower()
+    if ext in TABLE_EXTENSIONS:
+        if base_link or tip_link:
+            raise InputError(f"{p}: base_link=/tip_link= apply to robot files (URDF, MJCF, SDF) only")
+        from .table_read import read_table_file
+
+        return read_table_file(p, representation)
+    if representation is not None:
+        raise InputError(f"{p}: representation= applies to table files ({', '.join(TABLE_EXTENSIONS)}); "
+                         f"this file says what it holds")
     if ext in DOCUMENT_EXTENSIONS:
         if base_link or tip_link:
             raise InputError(f"{p}: base_link=/tip_link= apply to robot files (URDF, MJCF, SDF) only")
@@ -59,4 +75,4 @@ def _load(p: str, base_link: str | None, tip_link: str | None, allow_xacro: bool
 
         return robot_from_sdf(Path(p), base_link=base_link, tip_link=tip_link)
     raise InputError(f"{p}: unknown extension '{ext}'; expected one of "
-                     f"{', '.join(DOCUMENT_EXTENSIONS + ROBOT_FILE_EXTENSIONS)}")
+                     f"{', '.join(DOCUMENT_EXTENSIONS + ROBOT_FILE_EXTENSIONS + TABLE_EXTENSIONS)}")

@@ -31,7 +31,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from .. import se3
-from ..errors import InputError
+from ..errors import InputError, quote
 from ..representations import DHTable, HayatiTable, MDHTable, PoE, RPYTable
 from ..representations.gjd import robot_from_gjd
 from ..robot import JOINT_TYPES, Joint, Robot, check_pose
@@ -206,7 +206,7 @@ def _joints(value: Any, unit: str = "radians") -> tuple[Joint, ...]:
         if jtype == "continuous":
             jtype = "revolute"
         if jtype not in JOINT_TYPES:
-            raise InputError(f"{where} ('{name}').type: '{entry.get('type')}' is not one of {', '.join(JOINT_TYPES)}")
+            raise InputError(f"{where} ('{name}').type: {quote(entry.get('type'))} is not one of {', '.join(JOINT_TYPES)}")
         flip = entry.get("flip", False)
         if not isinstance(flip, bool):
             raise InputError(f"{where} ('{name}').flip: expected true or false, got {flip!r}")
@@ -293,7 +293,7 @@ def _robot_of(key: str, value: Any, joints: tuple[Joint, ...], name: str | None,
         sec = _mapping(value, key, ("frame", "M", "screws"))
         frame = sec.get("frame", "space" if key == "poe" else "body")
         if frame not in ("space", "body"):
-            raise InputError(f"{key}.frame: '{frame}' is not one of space, body")
+            raise InputError(f"{key}.frame: {quote(frame)} is not one of space, body")
         if sec.get("M") is None:
             raise InputError(f"{key}.M: missing; the 4x4 home pose of the tool")
         screws = sec.get("screws")
@@ -353,3 +353,13 @@ def same_robot(a: Robot, b: Robot, tol: float = AGREE_TOL) -> str | None:
     k = int(bad[0])
     where = "at q = 0" if k == 0 else f"at q = [{', '.join(f'{v:.3g}' for v in Q[k])}]"
     return f"tool poses differ {where}: position by {pos[k] * scale:.3g}, rotation by {rot[k]:.3g}"
+
+
+def robot_from_data(data: Any, source: str = "<document>") -> Robot:
+    """A Robot from a robot document already parsed into plain data (dicts, lists, numbers), with
+    the same checks and messages as a document file; InputError names ``source``."""
+    try:
+        sections, joints, name = _sections(data)
+        return _robot_from_sections(sections, joints, name, _angle_unit(data))
+    except InputError as exc:
+        raise exc.in_source(source) from None

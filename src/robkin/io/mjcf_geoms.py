@@ -41,7 +41,7 @@ from typing import Any, Callable
 import numpy as np
 
 from ..bodies import Geometry, Inertial, Material, Shape
-from ..errors import InputError
+from ..errors import InputError, quote
 from .files import file_inside
 from .mjcf_source import MjcfSource
 from .urdf import LinkContent, _floats
@@ -165,7 +165,7 @@ class MjcfContent(ContentOnce):
         elif kind == "mesh":
             mesh = a.get("mesh")
             if mesh not in meshes:
-                raise InputError(f"{where}: mesh '{mesh}' is not a <mesh> of the <asset>s")
+                raise InputError(f"{where}: mesh {quote(mesh)} is not a <mesh> of the <asset>s")
             file, scale = meshes[mesh]
             if file == "":  # a mesh given by its vertices in the file: no file to draw
                 return []
@@ -175,7 +175,7 @@ class MjcfContent(ContentOnce):
                 return []
             geometry = Geometry("mesh", scale, file)
         else:
-            raise InputError(f"{where}: type '{kind}' is not one of {', '.join(PRIMITIVES + ('mesh',) + SKIPPED)}")
+            raise InputError(f"{where}: type {quote(kind)} is not one of {', '.join(PRIMITIVES + ('mesh',) + SKIPPED)}")
         rgba = tuple(float(x) for x in _floats(a.get("rgba"), 4, f"{where}: rgba", DEFAULT_RGBA))
         material = materials.get(a.get("material") or "") if rgba == DEFAULT_RGBA else None
         material = material or Material(a.get("material"), rgba)  # type: ignore[arg-type]

@@ -33,7 +33,7 @@ from typing import Any, Callable, Mapping
 import numpy as np
 
 from .. import se3
-from ..errors import InputError
+from ..errors import InputError, quote
 from ..robot import Robot
 from .chain_path import refuse_on_chain
 from .mjcf import matrix_from_quat
@@ -137,7 +137,7 @@ class _TreeBuilder:
     def _attrs(self, el: Any, cls: str, where: str) -> dict[str, str]:
         name = el.get("class") or cls
         if name not in self.src.defaults:
-            raise InputError(f"{where}: class '{name}' is not a <default> class of the file")
+            raise InputError(f"{where}: class {quote(name)} is not a <default> class of the file")
         out = dict(self.src.defaults[name].get(el.tag, {}))
         out.update(el.attrib)
         return out
@@ -230,7 +230,7 @@ class _TreeBuilder:
         attrs = self._attrs(el, cls, where)
         kind = attrs.get("type", "hinge")
         if kind not in JOINT_TYPES:
-            raise InputError(f"{where}: type '{kind}' is not one of {', '.join(JOINT_TYPES)}")
+            raise InputError(f"{where}: type {quote(kind)} is not one of {', '.join(JOINT_TYPES)}")
         pos = frame[:3, :3] @ _floats(attrs.get("pos"), 3, f"{where}: pos", (0, 0, 0)) + frame[:3, 3]
         if kind in ("ball", "free"):
             self.kinds[name] = kind
@@ -249,7 +249,7 @@ class _TreeBuilder:
                 scale: Callable[[float], float]) -> tuple[float | None, float | None]:
         limited = attrs.get("limited", "auto")
         if limited not in ("auto", "true", "false"):
-            raise InputError(f"{where}: limited '{limited}' is not one of auto, true, false")
+            raise InputError(f"{where}: limited {quote(limited)} is not one of auto, true, false")
         lo, hi = _floats(attrs.get("range"), 2, f"{where}: range", (0, 0))
         if limited == "auto":
             has_range = not (lo == 0 and hi == 0)  # MuJoCo's rule: range "0 0" is no range
@@ -260,7 +260,7 @@ class _TreeBuilder:
         if limited == "false":
             return None, None
         if not lo < hi:
-            raise InputError(f"{where}: range '{attrs.get('range', '0 0')}': the lower end must be below the "
+            raise InputError(f"{where}: range {quote(attrs.get('range', '0 0'))}: the lower end must be below the "
                              f"upper end for a limited joint")
         return scale(float(lo)), scale(float(hi))
 

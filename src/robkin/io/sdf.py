@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from .. import se3
-from ..errors import InputError
+from ..errors import InputError, quote
 from ..robot import Robot
 from .chain_path import refuse_on_chain
 from .files import read_text_file
@@ -77,7 +77,7 @@ def _pose(el: Any, where: str) -> tuple[np.ndarray, str | None]:
         x, y, z, w = v[3:] / n
         return se3.homogeneous(matrix_from_quat(np.array([w, x, y, z])), v[:3]), pose.get("relative_to") or None
     if pose.get("rotation_format", "euler_rpy") != "euler_rpy":
-        raise InputError(f"{at}: rotation_format '{pose.get('rotation_format')}' is not euler_rpy or quat_xyzw")
+        raise InputError(f"{at}: rotation_format {quote(pose.get('rotation_format'))} is not euler_rpy or quat_xyzw")
     v = _floats(text, 6, at, (0, 0, 0, 0, 0, 0))
     rpy = np.radians(v[3:]) if pose.get("degrees") == "true" else v[3:]
     return se3.homogeneous(se3.matrix_from_rpy(rpy), v[:3]), pose.get("relative_to") or None
@@ -159,7 +159,7 @@ class _Model:
             if name not in self.raw and name + "::__model__" in self.raw:
                 name += "::__model__"  # a nested model's name stands for its model frame
             if name not in self.raw:
-                raise InputError(f"{where}: frame '{name}' is not a link, joint, frame or model of the file")
+                raise InputError(f"{where}: frame {quote(name)} is not a link, joint, frame or model of the file")
             if name in seen:
                 raise InputError(f"{where}: the poses' relative_to form a loop through '{name}'")
             seen.add(name)
@@ -242,12 +242,12 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
         where = f"{src}: joint '{name}'"
         jtype = el.get("type")
         if jtype not in JOINT_TYPES and jtype not in OTHER_JOINTS:
-            raise InputError(f"{where}: type '{jtype}' is not one of {', '.join(JOINT_TYPES + OTHER_JOINTS)}")
+            raise InputError(f"{where}: type {quote(jtype)} is not one of {', '.join(JOINT_TYPES + OTHER_JOINTS)}")
         parent = j.scoped(j._text(el, "parent", name), prefix)
         child = j.scoped(j._text(el, "child", name), prefix)
         for role, link in (("parent", parent), ("child", child)):
             if link != "world" and j.kind.get(link) != "link":
-                raise InputError(f"{where}: {role} '{link}' is not a link of the model")
+                raise InputError(f"{where}: {role} {quote(link)} is not a link of the model")
         X_joint = j.pose(name, where)
         X_parent = se3.inv(world) if parent == "world" else j.pose(parent, where)  # in the model frame
         uses_world |= parent == "world"

@@ -1,9 +1,13 @@
 """Tables for papers and spreadsheets: a representation as CSV, Markdown or LaTeX, full precision.
 
-Every number is written so that it reads back to the same float (``repr``), or, with ``pi=True``, as
-an exact multiple of pi (``-pi/2``, ``3*pi/4``) wherever an angle *is* that float (evaluating the text
-``k*pi/m`` gives back the very same number; 1.57079632679 typed into a URDF is not pi/2 and stays a
-decimal). Lengths are in the robot's unit (normally metres), angles in radians.
+Every number is written as the shortest decimal that reproduces it to the FK budget of exact
+conversions (``rounding.SNAP_BUDGET``: the whole table moves the tool by at most 1e-12 of the robot's
+size; ``float_text.decimal_tolerances``), so 0.3839999999999999 is written 0.384 and -4.16e-18 is 0;
+``digits=N`` writes N significant digits instead, and ``digits="exact"`` every digit (``repr``: reads
+back to the same float). With ``pi=True`` an angle that is exactly a multiple of pi (``-pi/2``,
+``3*pi/4``) is written as such (evaluating the text ``k*pi/m`` gives back the very same number;
+1.57079632679 typed into a URDF is not pi/2 and stays a decimal). Lengths are in the robot's unit
+(normally metres), angles in radians.
 
 Layout (the same content in each format)
     the joint rows: index, joint name, type, then the representation's columns (DH: a, d, alpha,
@@ -25,6 +29,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..robot import Robot
+from .float_text import decimal_tolerances, digits_text, short_text
 from .float_text import float_text as _num
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -45,13 +50,37 @@ _BLOCK = [f"m{r}{c}" for r in (1, 2, 3) for c in (1, 2, 3, 4)]
 @dataclass
 class Table:
     """One representation as a table: columns (name, LaTeX header, whether it is an angle), rows
-    (labels then numbers), and the fixed transforms (name, (4, 4)) that complete it."""
+    (labels then numbers), and the fixed transforms (name, (4, 4)) that complete it.
+
+    ``tolerances`` (length units, radians) are how far a written value may lie from the float
+    (``short_text``); (0, 0) writes every digit. ``digits`` (if set) writes that many significant
+    digits instead.
+    """
 
     title: str
     labels: Sequence[str]
     columns: Sequence[tuple[str, str, bool]]
     rows: list[tuple[list[str], list[float]]]
     transforms: list[tuple[str, np.ndarray]] = field(default_factory=list)
+    tolerances: tuple[float, float] = (0.0, 0.0)
+    digits: int | None = None
+
+    def text(self, x: float, column: str) -> str:
+        """A value of column ``column`` (a name of ``columns``, or m11..m34 of a transform) as text."""
+        kind = _KIND.get(column)
+        if kind is None:  # a column of another kind (e.g. a mass): every digit
+            return _num(x)
+        tol = self.tolerances[0 if kind == "length" else 1]
+        if self.digits is not None:  # rounding noise is 0 at any number of digits
+            return "0" if abs(x) <= tol else digits_text(x, self.digits)
+        return short_text(x, tol)
+
+
+#: The kind of each column robkin writes: a length (robot units) or an angle-like value (radians, or a
+#: unit direction / rotation entry, whose error turns the chain like an angle).
+_KIND = {**dict.fromkeys(("a", "d", "a(i-1)", "vx", "vy", "vz", "x", "y", "z", "m14", "m24", "m34"), "length"),
+         **dict.fromkeys(("alpha", "theta", "beta", "alpha(i-1)", "roll", "pitch", "yaw", "wx", "wy", "wz",
+                          "m11", "m12", "m13", "m21", "m22", "m23", "m31", "m32", "m33"), "angle")}
 
 
 def pi_text(x: float) -> str | None:
@@ -74,12 +103,32 @@ def _tex(text: str) -> str:
     return f"{mantissa} \\times 10^{{{int(exponent)}}}" if e else text
 
 
-def _cell(x: float, angle: bool, pi: bool) -> str:
-    if pi and angle:
-        t = pi_text(float(x))
-        if t is not None:
-            return t
-    return _num(x)
+def _cell(t: Table, x: float, column: tuple[str, str, bool], pi: bool) -> str:
+    if pi and column[2]:
+        text = pi_text(float(x))
+        if text is not None:
+            return text
+    return t.text(x, column[0])
+
+
+def _block_text(t: Table, T: np.ndarray) -> list[str]:
+    """The 3 x 4 block [R | p] of a transform, row-major, as text."""
+    return [t.text(v, m) for v, m in zip(np.asarray(T)[:3].ravel(), _BLOCK)]
+
+
+def with_precision(t: Table, robot: Robot, digits: int | str | None = None) -> Table:
+    """``t`` set to write its numbers to the FK budget (``digits=None``), with ``digits`` significant
+    digits (an int), or bit-exact (``digits='exact'``)."""
+    from ..representations.rounding import SNAP_BUDGET
+
+    if digits == "exact":
+        return t
+    t.digits = None if digits is None else int(digits)
+    lengths = [abs(v) for _, values in t.rows for v, c in zip(values, t.columns) if _KIND.get(c[0]) == "length"]
+    lengths += [float(np.linalg.norm(np.asarray(T)[:3, 3])) for _, T in t.transforms]
+    count = len(t.rows) * len(t.columns) + 12 * len(t.transforms)
+    t.tolerances = decimal_tolerances(robot.scale, robot.scale + float(sum(lengths)), count, SNAP_BUDGET)
+    return t
 
 
 def _joint_labels(robot: Robot) -> list[list[str]]:
@@ -136,12 +185,12 @@ def to_csv(t: Table, pi: bool = False) -> str:
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(list(t.labels) + [c[0] for c in t.columns])
     for lab, values in t.rows:
-        w.writerow(lab + [_cell(v, c[2], pi) for v, c in zip(values, t.columns)])
+        w.writerow(lab + [_cell(t, v, c, pi) for v, c in zip(values, t.columns)])
     if t.transforms:
         w.writerow([])
         w.writerow(["transform"] + _BLOCK)
         for name, T in t.transforms:
-            w.writerow([name] + [_num(v) for v in np.asarray(T)[:3].ravel()])
+            w.writerow([name] + _block_text(t, T))
     return buf.getvalue()
 
 
@@ -154,11 +203,12 @@ def to_markdown(t: Table, pi: bool = False) -> str:
     align = [":--"] * len(t.labels) + ["--:"] * len(t.columns)
     out = [f"**{_md_escape(t.title)}**", "", "| " + " | ".join(heads) + " |", "|" + "|".join(align) + "|"]
     for lab, values in t.rows:
-        cells = [_md_escape(s) for s in lab] + [_cell(v, c[2], pi) for v, c in zip(values, t.columns)]
+        cells = [_md_escape(s) for s in lab] + [_cell(t, v, c, pi) for v, c in zip(values, t.columns)]
         out.append("| " + " | ".join(cells) + " |")
     for name, T in t.transforms:
         out += ["", f"{name} [R | p]:", "", "| | 1 | 2 | 3 | 4 |", "|:--|--:|--:|--:|--:|"]
-        out += [f"| {r + 1} | " + " | ".join(_num(v) for v in np.asarray(T)[r]) + " |" for r in range(3)]
+        block = _block_text(t, T)
+        out += [f"| {r + 1} | " + " | ".join(block[4 * r:4 * r + 4]) + " |" for r in range(3)]
     return "\n".join(out) + "\n"
 
 
@@ -170,10 +220,10 @@ def _tex_text(s: str) -> str:
     return "".join(_TEX.get(c, c) for c in s)
 
 
-def _tex_num(x: float, angle: bool, pi: bool) -> str:
-    t = pi_text(float(x)) if pi and angle else None
+def _tex_num(table: Table, x: float, column: tuple[str, str, bool], pi: bool) -> str:
+    t = pi_text(float(x)) if pi and column[2] else None
     if t is None:
-        return f"${_tex(_num(x))}$"
+        return f"${_tex(table.text(x, column[0]))}$"
     sign, body = ("-", t[1:]) if t.startswith("-") else ("", t)
     k, _, m = body.partition("/")
     k = k.replace("*pi", r"\pi").replace("pi", r"\pi")
@@ -188,12 +238,15 @@ def to_latex(t: Table, pi: bool = False) -> str:
            r"\begin{tabular}{" + "l" * len(t.labels) + "r" * len(t.columns) + "}", r"\hline",
            " & ".join(heads) + r" \\", r"\hline"]
     for lab, values in t.rows:
-        cells = [_tex_text(s) for s in lab] + [_tex_num(v, c[2], pi) for v, c in zip(values, t.columns)]
+        cells = [_tex_text(s) for s in lab] + [_tex_num(t, v, c, pi) for v, c in zip(values, t.columns)]
         out.append(" & ".join(cells) + r" \\")
     out += [r"\hline", r"\end{tabular}"]
     for name, T in t.transforms:
-        rows = [" & ".join(_tex(_num(v)) for v in np.asarray(T)[r]) for r in range(4)]
-        out += ["", r"\smallskip", f"${_tex_text(name)} = \\begin{{bmatrix}} " + r" \\ ".join(rows)
+        block = [_tex(s) for s in _block_text(t, T)] + ["0", "0", "0", "1"]
+        rows = [" & ".join(block[4 * r:4 * r + 4]) for r in range(4)]
+        # a word upright (\mathrm{base}), not a product of the variables b, a, s, e; M stays a symbol
+        label = _tex_text(name) if len(name) == 1 else f"\\mathrm{{{_tex_text(name)}}}"
+        out += ["", r"\smallskip", f"${label} = \\begin{{bmatrix}} " + r" \\ ".join(rows)
                 + r" \end{bmatrix}$"]
     out.append(r"\end{table}")
     if ncol > 12:  # the GJD's 15 columns: let the float be as wide as the page allows
@@ -201,7 +254,11 @@ def to_latex(t: Table, pi: bool = False) -> str:
     return "\n".join(out) + "\n"
 
 
-def render_table(robot: Robot, rep: str, fmt: str, pi: bool = False) -> str:
-    """The robot in representation ``rep`` as ``fmt`` ('csv', 'markdown' or 'latex') text."""
-    t = table_of(robot, rep)
+def render_table(robot: Robot, rep: str, fmt: str, pi: bool = False, digits: int | str | None = None) -> str:
+    """The robot in representation ``rep`` as ``fmt`` ('csv', 'markdown' or 'latex') text.
+
+    ``digits``: None (default) the shortest decimals within the FK budget; N significant digits;
+    'exact' every digit (reads back bit for bit). See the module.
+    """
+    t = with_precision(table_of(robot, rep), robot, digits)
     return {"csv": to_csv, "markdown": to_markdown, "latex": to_latex}[fmt](t, pi)

@@ -24,6 +24,9 @@ joint the source called ``continuous`` stays ``continuous``. Effort and velocity
 in ``<limit>``, are written from the joint; where they are unknown (robots not read from a URDF)
 they are written as 0, which a file comment marks as unknown.
 
+Shapes: URDF has no capsule, so a capsule (MJCF, SDF, ``robkin.link_geometry``) is written as its
+cylinder and a sphere on each end.
+
 Numbers are written in full precision (``repr``). Origins that still hold are written with the
 source's own numbers; re-expressed ones carry the rounding of the products that made them, except
 that rpy angles and axis components below 1e-15 are written as 0 (rounding noise of unit-size
@@ -116,10 +119,33 @@ def _geometry(s: Shape) -> str:
         return f'<sphere radius="{_num(g.size[0])}"/>'
     if g.kind == "cylinder":
         return f'<cylinder radius="{_num(g.size[0])}" length="{_num(g.size[1])}"/>'
-    if g.kind == "capsule":  # URDF has no capsule: the cylinder of its radius that spans both caps
-        return f'<cylinder radius="{_num(g.size[0])}" length="{_num(g.size[1] + 2 * g.size[0])}"/>'
+    if g.kind == "capsule":  # split by _urdf_shapes before it gets here; a lone one: its cylinder
+        return f'<cylinder radius="{_num(g.size[0])}" length="{_num(g.size[1])}"/>'
     scale = "" if tuple(g.size) == (1.0, 1.0, 1.0) else f' scale="{" ".join(_num(v) for v in g.size)}"'
     return f"<mesh filename={quoteattr(g.filename or '')}{scale}/>"
+
+
+def _urdf_shapes(shapes: list[Shape]) -> list[Shape]:
+    """The shapes as URDF can say them: URDF has no capsule, so each capsule becomes its cylinder
+    (same radius, the length between the cap centres) and a sphere on each end, which urdfdom,
+    pinocchio and MuJoCo all read. Names of the caps: the capsule's name + ``_cap1`` / ``_cap2``."""
+    from dataclasses import replace
+
+    from ..bodies import Geometry
+
+    out: list[Shape] = []
+    for s in shapes:
+        if s.geometry.kind != "capsule":
+            out.append(s)
+            continue
+        r, length = s.geometry.size[0], s.geometry.size[1]
+        out.append(replace(s, geometry=Geometry("cylinder", (r, length))))  # same pose, same origin
+        for k, sign in ((1, -1.0), (2, 1.0)):
+            end = np.eye(4)
+            end[2, 3] = sign * length / 2
+            out.append(replace(s, pose=s.pose @ end, geometry=Geometry("sphere", (r,)), origin=None,
+                               name=None if s.name is None else f"{s.name}_cap{k}"))
+    return out
 
 
 def _link_xml(name: str, frame: np.ndarray, shapes: list[Shape], inertial: Inertial | None,
@@ -134,7 +160,7 @@ def _link_xml(name: str, frame: np.ndarray, shapes: list[Shape], inertial: Inert
                 f'      <mass value="{_num(inertial.mass)}"/>',
                 f'      <inertia ixx="{_num(I[0, 0])}" ixy="{_num(I[0, 1])}" ixz="{_num(I[0, 2])}" '
                 f'iyy="{_num(I[1, 1])}" iyz="{_num(I[1, 2])}" izz="{_num(I[2, 2])}"/>', "    </inertial>"]
-    for s in shapes:
+    for s in _urdf_shapes(shapes):
         head = f"    <{s.role}" + (f" name={quoteattr(s.name)}" if s.name else "") + ">"
         out += [head, f"      {_origin(inv @ s.pose, s.origin, scale)}".rstrip(),
                 f"      <geometry>{_geometry(s)}</geometry>"]

@@ -91,8 +91,8 @@ class _Closed6R(KernelSolver):
     def _reach_message(self, what: str) -> Callable[[float], str]:
         """The out-of-reach message quoting the distance ``what`` is from axis 2."""
         la, lb = abs(self.a), abs(self.b)
-        return lambda d: (f"out of reach: {what} {d:.6g} from axis 2, joints 2-3 reach {abs(la - lb):.6g} "
-                          f"to {la + lb:.6g}")
+        return lambda d: (f"out of reach: {what} {d:.6g} m from axis 2, joints 2-3 reach {abs(la - lb):.6g} "
+                          f"to {la + lb:.6g} m")
 
 
 class SphericalWrist6R(_Closed6R):

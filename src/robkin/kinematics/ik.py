@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 from typing import Any, Mapping
 
@@ -34,6 +34,7 @@ from numpy.typing import ArrayLike
 
 from ..compiled.lm import pose_errors
 from ..compiled.solutions import distinct_sorted, nearest_verified
+from ..checks import check_threads
 from ..errors import InputError
 from ..robot import Robot, check_q
 from .closed_form import ClosedFormSolver, closed_form_solver
@@ -51,10 +52,11 @@ METHODS = ("auto", "analytic", "numeric")
 SAME_SOLUTION_TOL = 1e-6
 
 #: Defaults of ``ik``: 1e-9 (length units, radians) is ~1e6 times the rounding of a closed-form solve
-#: and what the numeric method reliably reaches; 40 iterations per attempt and 50 restarts.
+#: and what the numeric method reliably reaches; 40 iterations per attempt and 200 restarts (see
+#: ``LMSettings.restarts``).
 _TOL = 1e-9
 _MAX_ITERATIONS = 40
-_RESTARTS = 50
+_RESTARTS = 200
 
 
 @dataclass(frozen=True)
@@ -123,8 +125,8 @@ class IKResult:
 def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
        method: str = "auto", all_solutions: bool = False, tol_position: float = _TOL,
        tol_orientation: float = _TOL, max_iterations: int = _MAX_ITERATIONS, restarts: int = _RESTARTS,
-       rng: np.random.Generator | int | None = 0, lock: Mapping[str, float] | None = None,
-       arm_angle: ArrayLike | None = None) -> IKResult:
+       rng: np.random.Generator | int | None = 0, threads: int | None = None,
+       lock: Mapping[str, float] | None = None, arm_angle: ArrayLike | None = None) -> IKResult:
     """Joint values that put the tool at T.
 
     Parameters
@@ -153,6 +155,9 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         Numeric: random restarts per target after the first attempt.
     rng : Generator, int seed or None
         Source of random restarts; the default seed 0 makes results reproducible.
+    threads : int, optional
+        Numeric batches: at most that many threads (default automatic, see ``robkin.threads``); the
+        answers do not depend on it.
     lock : mapping of joint name to value, optional
         Joints held at these values (radians or length units, within the limits): the rest is solved as
         a shorter arm (``kinematics.lock``; a 7-joint arm with one joint locked gets a 6R closed form).
@@ -175,7 +180,7 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
 
         return ik_locked(ik, robot, T, lock, q0, mask=mask, method=method, all_solutions=all_solutions,
                          tol_position=tol_position, tol_orientation=tol_orientation,
-                         max_iterations=max_iterations, restarts=restarts, rng=rng)
+                         max_iterations=max_iterations, restarts=restarts, rng=rng, threads=threads)
     if q0 is None and mask is None and (method == "auto" or method == "analytic") \
             and max_iterations is _MAX_ITERATIONS and restarts is _RESTARTS:    # else: checked below
         # The single-target path: one compiled call checks the target (a float64 4x4 exact pose) and
@@ -202,6 +207,8 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
     except TypeError:   # unhashable (a list, an array): not a number
         raise InputError(f"tol_position, tol_orientation, max_iterations, restarts: expected numbers, got "
                          f"{tol_position!r}, {tol_orientation!r}, {max_iterations!r}, {restarts!r}") from None
+    if threads is not None:
+        settings = replace(settings, threads=check_threads(threads))
 
     solver = None
     if method != "numeric":

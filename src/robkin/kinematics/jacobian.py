@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..checks import check_out, check_threads
 from ..compiled.jacobian import jacobian, volumes
 from ..errors import InputError
 from ..robot import Robot, check_q
@@ -22,37 +23,43 @@ __all__ = ["jacobian_space", "jacobian_body", "jacobian_geometric", "manipulabil
            "singular_values", "inverse_condition_number", "min_singular_value", "measures"]
 
 
-def _compiled(robot: Robot, q: ArrayLike, kind: int) -> np.ndarray:
-    """The compiled Jacobian (``robkin.compiled.jacobian``) of the given kind at q (n,) or (N, n)."""
-    J = jacobian(robot._chain, q, kind)
+def _compiled(robot: Robot, q: ArrayLike, kind: int, threads: int | None, out: np.ndarray | None) -> np.ndarray:
+    """The compiled Jacobian (``robkin.compiled.jacobian``) of the given kind at q (n,) or (N, n), on
+    at most ``threads`` threads (None: automatic, see ``robkin.threads``), into ``out`` if given."""
+    t = 0 if threads is None else check_threads(threads)
+    J = jacobian(robot._chain, q, kind, t, out)
     if J is None:   # not a float64 array of finite values as it is: validate, convert, explain
-        J = jacobian(robot._chain, np.ascontiguousarray(check_q(q, robot.n)), kind)
+        qa = np.ascontiguousarray(check_q(q, robot.n))
+        J = jacobian(robot._chain, qa, kind, t, None if out is None else check_out(out, qa.shape[:-1] + (6, robot.n)))
     assert J is not None  # a checked, contiguous float64 array is always usable
     return J
 
 
-def jacobian_space(robot: Robot, q: ArrayLike) -> np.ndarray:
+def jacobian_space(robot: Robot, q: ArrayLike, threads: int | None = None,
+                   out: np.ndarray | None = None) -> np.ndarray:
     """Space Jacobian (6, n) for q (n,), or (N, 6, n) for q (N, n); rows (w, v).
 
     Column i is joint i's unit screw at q in the base frame: revolute (z_i, p_i x z_i), prismatic
     (0, z_i), with z_i the axis and p_i a point on it. Compiled.
     """
-    return _compiled(robot, q, 1)
+    return _compiled(robot, q, 1, threads, out)
 
 
-def jacobian_body(robot: Robot, q: ArrayLike) -> np.ndarray:
+def jacobian_body(robot: Robot, q: ArrayLike, threads: int | None = None,
+                  out: np.ndarray | None = None) -> np.ndarray:
     """Body Jacobian (6, n) or (N, 6, n): the space Jacobian seen from the tool frame,
     Ad_{T^-1} J_s; rows (w, v). Compiled."""
-    return _compiled(robot, q, 2)
+    return _compiled(robot, q, 2, threads, out)
 
 
-def jacobian_geometric(robot: Robot, q: ArrayLike) -> np.ndarray:
+def jacobian_geometric(robot: Robot, q: ArrayLike, threads: int | None = None,
+                       out: np.ndarray | None = None) -> np.ndarray:
     """Base-frame geometric Jacobian (6, n) or (N, 6, n), rows [v; w] at the tool origin.
 
     Revolute column (z_i x (p_tool - p_i); z_i), prismatic (z_i; 0). Length units per radian in the
     v rows of revolute joints. Compiled.
     """
-    return _compiled(robot, q, 0)
+    return _compiled(robot, q, 0, threads, out)
 
 
 def singular_values(J: ArrayLike) -> np.ndarray:
@@ -75,7 +82,8 @@ def _scalar(x: np.ndarray) -> np.ndarray | float:
     return float(x) if np.ndim(x) == 0 else x
 
 
-def manipulability(robot: Robot, q: ArrayLike, kind: str = "translational") -> np.ndarray | float:
+def manipulability(robot: Robot, q: ArrayLike, kind: str = "translational",
+                   threads: int | None = None) -> np.ndarray | float:
     """Yoshikawa's manipulability of the geometric Jacobian at the tool origin.
 
     Parameters
@@ -92,11 +100,14 @@ def manipulability(robot: Robot, q: ArrayLike, kind: str = "translational") -> n
         The product of the singular values of the selected rows: sqrt(det(J J^T)) when n >= rows,
         and sqrt(det(J^T J)) otherwise (the volume of the image of the unit ball within its span).
         Units: length^3 (translational), 1 (rotational), length^3 (full, mixed rows).
+
+    ``threads`` bounds the threads of a large batch (see ``robkin.threads``).
     """
     if kind not in _ROWS:
         raise InputError(f"manipulability kind '{kind}' is not one of {', '.join(_ROWS)}")
     # compiled Householder QR of the selected rows: the same product as the SVD's, several times cheaper
-    return _scalar(volumes(jacobian_geometric(robot, q)[..., _ROWS[kind], :]))
+    t = 0 if threads is None else check_threads(threads)
+    return _scalar(volumes(jacobian_geometric(robot, q, threads)[..., _ROWS[kind], :], t))
 
 
 def inverse_condition_number(robot: Robot, q: ArrayLike, kind: str = "translational") -> np.ndarray | float:

@@ -111,12 +111,15 @@ class NearClass(KernelSolver):
 
     def solve(self, targets: np.ndarray, q_ref: np.ndarray) -> Branches:
         """The ideal arm's branches (N, 8, 6), polished on the real arm (invalid where they do not
-        converge)."""
+        converge; limits and the FK check are the caller's, on the real arm)."""
         from ..compiled.closed_form_general6r import polish
 
         b = self.ideal.solve(targets, q_ref)
         Q = np.ascontiguousarray(b.q)
-        valid = np.ascontiguousarray(b.valid)
+        # every finite branch, not only the ideal arm's valid ones: at a reach boundary (a stretched
+        # elbow) the real arm may reach where the ideal one misses by ~1e-6, and the ideal kernel's
+        # clamped branch then polishes onto the real solution; the check on the real arm decides
+        valid = np.isfinite(Q).all(axis=-1)
         polish(self.robot._chain, Q, valid, targets, self.robot.scale)
         return Branches(Q, valid, b.reason, b.uncertain)
 

@@ -90,10 +90,10 @@ class ScaraSolver(KernelSolver):
             lambda tilt: (f"the target orientation is tilted {tilt:.3g} rad away from a rotation about the "
                           f"joint axes' common direction {_vec(u)}; this arm can only turn its tool about "
                           f"that direction"),
-            lambda h: (f"the travel along {_vec(u)} ({h:.6g}) is outside what the prismatic joints reach "
+            lambda h: (f"the travel along {_vec(u)} ({h:.6g} m) is outside what the prismatic joints reach "
                        f"within their limits"),
-            lambda d: (f"out of reach in the plane: the point is {d:.6g} from the first axis, the arm "
-                       f"reaches {abs(la - lb):.6g} to {la + lb:.6g}"),
+            lambda d: (f"out of reach in the plane: the point is {d:.6g} m from the first axis, the arm "
+                       f"reaches {abs(la - lb):.6g} to {la + lb:.6g} m"),
             "the orientation about the common axis does not match the position (this arm has no wrist joint)",
             "solutions exist but violate the joint limits",
         )

@@ -11,9 +11,10 @@ a DH table is its frames {0}..{n-1} plus the tool.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, ClassVar, Iterable
+from typing import Any, Callable, ClassVar, Iterable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import se3
 from ..robot import Robot
@@ -47,9 +48,17 @@ class DHTable(LinkTable):
         return robot_from_dh(self, name=name)
 
 
-def robot_from_dh(table: DHTable, name: str | None = None) -> Robot:
-    """The GJD of a DH table: J_i = frame {i-1} (flip-adjusted), J_{n+1} = frame {n} tool."""
-    return robot_from_links(table, "dh", name)
+def robot_from_dh(table: "DHTable | ArrayLike", name: str | None = None, *, joints: Any = None,
+                  base: ArrayLike | None = None, tool: ArrayLike | None = None) -> Robot:
+    """The GJD of a DH table: J_i = frame {i-1} (flip-adjusted), J_{n+1} = frame {n} tool.
+
+    ``table`` may also be the rows alone, an (n, 4) array of (a, d, alpha, theta) (lengths in the robot's unit,
+    angles in radians), with ``joints`` (None: all revolute; a type string such as "RRPR"; or n
+    ``Joint``) and optional ``base`` / ``tool`` (4, 4); anything else raises one InputError.
+    """
+    from .table_input import link_table_of
+
+    return robot_from_links(link_table_of(DHTable, table, "robot_from_dh", joints, base, tool), "dh", name)
 
 
 def robot_from_links(table: LinkTable, frames_from: str, name: str | None = None) -> Robot:

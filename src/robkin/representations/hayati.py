@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable, ClassVar
+from typing import Any, Callable, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -67,9 +67,18 @@ class HayatiTable(LinkTable):
         return robot_from_hayati(self, name=name)
 
 
-def robot_from_hayati(table: HayatiTable, name: str | None = None) -> Robot:
-    """The GJD of a Hayati table: J_i = frame {i-1} (flip-adjusted), J_{n+1} = frame {n} tool."""
-    return robot_from_links(table, "hayati", name)
+def robot_from_hayati(table: "HayatiTable | ArrayLike", name: str | None = None, *, joints: Any = None,
+                      base: ArrayLike | None = None, tool: ArrayLike | None = None) -> Robot:
+    """The GJD of a Hayati table: J_i = frame {i-1} (flip-adjusted), J_{n+1} = frame {n} tool.
+
+    ``table`` may also be the rows alone, an (n, 5) array of (a, d, alpha, theta, beta) (lengths in the robot's unit,
+    angles in radians), with ``joints`` (None: all revolute; a type string such as "RRPR"; or n
+    ``Joint``) and optional ``base`` / ``tool`` (4, 4); anything else raises one InputError.
+    """
+    from .table_input import link_table_of
+
+    return robot_from_links(link_table_of(HayatiTable, table, "robot_from_hayati", joints, base, tool),
+                            "hayati", name)
 
 
 def _near_parallel(u_a: np.ndarray, u_b: np.ndarray) -> bool:

@@ -14,7 +14,7 @@ from numpy.typing import ArrayLike
 
 from .. import se3
 from ..errors import InputError
-from ..robot import Joint, Robot, check_pose, check_q
+from ..robot import Joint, Robot, check_pose, check_q, identity_pose
 from ..samples import unit_sample
 from .frames import identity_mask, is_identity, relative_pose
 
@@ -146,8 +146,8 @@ def report_fk_error(err: float, robot: Robot, section: str, *, where: str = "",
         why = (", ".join(tilts) if tilts else
                "of rounding in the table's parameters")
         hint = "" if section == "hayati" else "; the hayati table is exact there"
-        warnings.warn(f"{where}{section}: this table reproduces the robot's FK only to {err:.2g} (robot "
-                      f"size {robot.scale:.3g}; measured at q = 0 and {_CHECK_SAMPLES} configurations) because "
+        warnings.warn(f"{where}{section}: this table reproduces the robot's FK only to {err:.2g} m (robot "
+                      f"size {robot.scale:.3g} m; measured at q = 0 and {_CHECK_SAMPLES} configurations) because "
                       f"{why}{hint}", ConditioningWarning, stacklevel=stacklevel)
 
 
@@ -197,8 +197,8 @@ class LinkTable:
 
     rows: np.ndarray
     joints: tuple[Joint, ...]
-    base: np.ndarray = field(default_factory=lambda: np.eye(4))
-    tool: np.ndarray = field(default_factory=lambda: np.eye(4))
+    base: np.ndarray = field(default_factory=identity_pose)
+    tool: np.ndarray = field(default_factory=identity_pose)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "joints", tuple(self.joints))

@@ -9,9 +9,10 @@ extension the conversion paper names as future work; it follows from the same hu
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, ClassVar, Iterable
+from typing import Any, Callable, ClassVar, Iterable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import se3
 from ..robot import Robot
@@ -32,16 +33,25 @@ class MDHTable(LinkTable):
         return robot_from_mdh(self, name=name)
 
 
-def robot_from_mdh(table: MDHTable, name: str | None = None) -> Robot:
-    """The GJD of a modified DH table: J_i = frame {i} (flip-adjusted), J_{n+1} = frame {n} tool."""
-    A = table.link_transforms(np.zeros(table.n))
-    frames = np.empty((table.n + 1, 4, 4))
-    T = table.base
-    for i, joint in enumerate(table.joints):
+def robot_from_mdh(table: "MDHTable | ArrayLike", name: str | None = None, *, joints: Any = None,
+                   base: ArrayLike | None = None, tool: ArrayLike | None = None) -> Robot:
+    """The GJD of a modified DH table: J_i = frame {i} (flip-adjusted), J_{n+1} = frame {n} tool.
+
+    ``table`` may also be the rows alone, an (n, 4) array of (a(i-1), d, alpha(i-1), theta) (lengths in the
+    robot's unit, angles in radians), with ``joints`` (None: all revolute; a type string such as "RRPR"; or n
+    ``Joint``) and optional ``base`` / ``tool`` (4, 4); anything else raises one InputError.
+    """
+    from .table_input import link_table_of
+
+    t: MDHTable = link_table_of(MDHTable, table, "robot_from_mdh", joints, base, tool)
+    A = t.link_transforms(np.zeros(t.n))
+    frames = np.empty((t.n + 1, 4, 4))
+    T = t.base
+    for i, joint in enumerate(t.joints):
         T = T @ A[i]
         frames[i] = flip_frame(T, joint.flip)
-    frames[-1] = T @ table.tool
-    return Robot(frames, table.joints, name=name, frames_from="mdh")
+    frames[-1] = T @ t.tool
+    return Robot(frames, t.joints, name=name, frames_from="mdh")
 
 
 def mdh_frames(robot: Robot) -> list[np.ndarray]:

@@ -128,4 +128,11 @@ def _convert_group(cls: type[Table], robots: list[Robot], idx: list[int], label:
     for k in np.flatnonzero(err > WARN_TOL * scale):
         report_fk_error(float(err[k]), robots[k], section, where=f"robots[{idx[k]}]: " if label else "",
                         stacklevel=stacklevel + 1)
+    from .long_lengths import LONG_FACTOR, warn_long_lengths
+
+    lengths = np.maximum(np.abs(rows[..., :2]).max(axis=(1, 2)),
+                         np.linalg.norm(np.concatenate([base, tool], axis=0)[:, :3, 3], axis=1).reshape(2, B).max(0))
+    for k in np.flatnonzero(lengths > LONG_FACTOR * scale):
+        warn_long_lengths(section, rows[k], base[k], tool[k], robots[k].axes, float(scale[k]),
+                          where=f"robots[{idx[k]}]: " if label else "", stacklevel=stacklevel + 1)
     return tables  # type: ignore[return-value]

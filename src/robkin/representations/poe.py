@@ -161,8 +161,19 @@ class PoE:
         return robot_from_poe(self, name=name)
 
 
-def robot_from_poe(poe: PoE, name: str | None = None) -> Robot:
-    """GJD from a PoE: DH-style frames on the screw axes (prismatic axes through the previous axis point)."""
+def robot_from_poe(poe: "PoE | ArrayLike", name: str | None = None, *, M: ArrayLike | None = None,
+                   joints: Any = None, frame: Frame = "space") -> Robot:
+    """GJD from a PoE: DH-style frames on the screw axes (prismatic axes through the previous axis point).
+
+    ``poe`` may also be the screws alone, an (n, 6) array of (wx, wy, wz, vx, vy, vz), with ``M`` (the
+    home tool pose (4, 4); identity when absent), ``frame`` ('space' or 'body') and ``joints`` (None:
+    prismatic where w = 0, revolute elsewhere; a type string such as "RRPR"; or n ``Joint``); anything
+    else raises one InputError.
+    """
+    if not isinstance(poe, PoE):
+        poe = _poe_of(poe, M, joints, frame)
+    elif M is not None or joints is not None:
+        raise InputError("robot_from_poe: M= and joints= go with an array of screws; the PoE has its own")
     S = poe.space_screws()
     # Scale for tolerances: the robot's size from M and the axis points closest to the origin.
     pts = np.cross(S[:, :3], S[:, 3:])
@@ -190,3 +201,17 @@ def poe_from_robot(robot: Robot, frame: Frame = "space") -> PoE:
     """PoE of a robot: M = J_{n+1}, screws from the GJD axes (space frame, or body via the adjoint)."""
     poe = PoE(robot.tool, robot.screws(), robot.joints, "space")
     return poe if frame == "space" else poe.to_frame("body")
+
+
+def _poe_of(screws: Any, M: ArrayLike | None, joints: Any, frame: Frame) -> PoE:
+    """A PoE from an (n, 6) array of screws (``robot_from_poe``)."""
+    from .table_input import joints_for, rows_array
+
+    where = "robot_from_poe"
+    if hasattr(screws, "SECTION"):
+        raise InputError(f"{where}: got a {type(screws).__name__}; use robot_from_{screws.SECTION} or its .to_robot()")
+    S = rows_array(screws, ("wx", "wy", "wz", "vx", "vy", "vz"), where,
+                   expected="a PoE or an (n, 6) array of screws (wx, wy, wz, vx, vy, vz)")
+    if joints is None:  # a screw without rotation is a prismatic joint's
+        joints = "".join("P" if not np.any(s[:3]) else "R" for s in S)
+    return PoE(np.eye(4) if M is None else np.asarray(M, dtype=float), S, joints_for(joints, len(S), where), frame)

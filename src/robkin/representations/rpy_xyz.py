@@ -97,7 +97,24 @@ class RPYTable:
         return robot_from_rpy(self, name=name)
 
 
-def robot_from_rpy(table: RPYTable, name: str | None = None) -> Robot:
+def robot_from_rpy(table: "RPYTable | ArrayLike", name: str | None = None, *, joints: Any = None) -> Robot:
+    """The GJD of an RPY-XYZ table (world -> base row, one row per joint, the tool row).
+
+    ``table`` may also be the rows alone, an (n + 2, 6) array of (roll, pitch, yaw, x, y, z), with
+    ``joints`` (None: all revolute; a type string such as "RRPR"; or n ``Joint``); anything else raises
+    one InputError.
+    """
+    if not isinstance(table, RPYTable):
+        from .table_input import joints_for, rows_array
+
+        if hasattr(table, "SECTION") or hasattr(table, "screws"):
+            raise InputError(f"robot_from_rpy: got a {type(table).__name__}; use its .to_robot()")
+        R = rows_array(table, ("roll", "pitch", "yaw", "x", "y", "z"), "robot_from_rpy", extra_rows=2,
+                       expected="an RPYTable or an (n + 2, 6) array of rows (roll, pitch, yaw, x, y, z): "
+                                "world->base, one per joint, joint n->tool")
+        table = RPYTable(R, joints_for(joints, len(R) - 2, "robot_from_rpy"))
+    elif joints is not None:
+        raise InputError("robot_from_rpy: joints= goes with an array of rows; the RPYTable has its own")
     P = pose_from_row(table.rows)
     frames = np.empty((table.n + 1, 4, 4))
     T = np.eye(4)

@@ -111,29 +111,34 @@ class Model:
         frames = dh_frames(a, d, alpha, Q)
         return tuple(f[0] for f in frames) if z.ndim == 1 else frames
 
-    def residual(self, z: np.ndarray) -> np.ndarray:
-        o, _, _, Rt = self.chain(z)
-        return self._residual(o[:, -1], Rt).ravel()
+    def _at(self, z: np.ndarray):
+        """``chain(z)`` of one design and its orientation residual (K, 3) (None for position tasks),
+        kept for the last z: the optimiser asks for the residual and the Jacobian at the same point."""
+        key = z.tobytes()
+        if getattr(self, "_last_key", None) != key:
+            o, zs, xs, Rt = self.chain(z)
+            phi = se3.log_rotation(Rt @ np.swapaxes(self.target_R, -1, -2)) if self.pose else None
+            self._last_key, self._last = key, (o, zs, xs, Rt, phi)
+        return self._last
 
-    def _residual(self, p: np.ndarray, Rt: np.ndarray) -> np.ndarray:
-        r = [p - self.target_p]
-        if self.pose:
-            r.append(se3.log_rotation(Rt @ np.swapaxes(self.target_R, -1, -2)))
-        return np.concatenate(r, axis=1)  # (K, m)
+    def residual(self, z: np.ndarray) -> np.ndarray:
+        o, _, _, _, phi = self._at(z)
+        r = o[:, -1] - self.target_p
+        return (r if phi is None else np.concatenate([r, phi], axis=1)).ravel()  # (K * m,)
 
     def jacobian(self, z: np.ndarray) -> np.ndarray:
         """d residual / d z, (K * m, 3n + K n), analytic."""
-        o, zs, xs, Rt = self.chain(z)
+        o, zs, xs, Rt, phi = self._at(z)
         K, n, m = self.K, self.n, self.m
         a, d, alpha, _ = self.split(z)
         p = o[:, -1]  # tool origin (K, 3)
         # twists (w, v) of each parameter, per pose: theta_i (= q) about z_{i-1} through o_{i-1};
         # d_i along z_{i-1}; a_i along x_i; alpha_i about x_i through o_i.
         z_prev, o_prev = zs[:, :-1], o[:, :-1]
-        dp_theta = np.cross(z_prev, p[:, None] - o_prev)
+        dp_theta = se3.cross(z_prev, p[:, None] - o_prev)
         dp_d = z_prev
         dp_a = xs
-        dp_alpha = np.cross(xs, p[:, None] - o[:, 1:])
+        dp_alpha = se3.cross(xs, p[:, None] - o[:, 1:])
         J = np.zeros((K, m, 3 * n + K * n))
         J[:, :3, :n] = np.swapaxes(dp_a, 1, 2)
         J[:, :3, n:2 * n] = np.swapaxes(dp_d, 1, 2)
@@ -141,7 +146,6 @@ class Model:
         for k in range(K):
             J[k, :3, 3 * n + k * n:3 * n + (k + 1) * n] = dp_theta[k].T
         if self.pose:
-            phi = se3.log_rotation(Rt @ np.swapaxes(self.target_R, -1, -2))
             Jl = left_jacobian_inverse(phi)  # (K, 3, 3): d phi = Jl^-1 w
             w_alpha = Jl @ np.swapaxes(xs, 1, 2)  # (K, 3, n)
             w_theta = Jl @ np.swapaxes(z_prev, 1, 2)

@@ -20,32 +20,31 @@ Bad input is answered with ``ok: false`` and a message the page shows; an unexpe
 logged and answered the same way, so no request can stop the server. The server binds loopback
 addresses only (127.0.0.0/8, ::1, localhost) and answers only requests that pass
 :func:`robkin.viz.http_policy.check_request` (a loopback Host header with this port; same-origin for
-anything but GET/HEAD), checked in ``parse_request`` before any route runs, so every route, present or
-future, is covered. A bounded pool of worker threads serves the connections; each one is closed after
-``REQUEST_TIMEOUT`` seconds of silence or ``MAX_CONNECTION_SECONDS`` in all, so slow clients cannot pin
-the server.
+anything but GET/HEAD), checked on the request head before its body is read and again in
+``parse_request`` before any route runs, so every route, present or future, is covered. Connections
+are read and written by one non-blocking loop (:mod:`robkin.viz.http_loop`) and only whole requests
+reach the worker threads, so slow clients cannot pin the server.
 """
 
 from __future__ import annotations
 
 import base64
 import hashlib
+import io
 import json
 import re
-import socket
 import sys
 import threading
-import time
 import traceback
-from concurrent.futures import ThreadPoolExecutor
 from http import HTTPStatus
-from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from http.server import BaseHTTPRequestHandler
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, quote
-from .http_policy import (MAX_BODY, MAX_CONNECTION_SECONDS, MAX_PENDING, MAX_WORKERS, REQUEST_TIMEOUT,
-                          check_request, is_loopback, static_file)
+from .http_loop import ConnectionLoop
+from .http_policy import (MAX_BODY, MAX_CONNECTION_SECONDS, MAX_WORKERS, REQUEST_TIMEOUT, check_request,
+                          is_loopback, static_file)
 from .assets import STATIC_DIR, VENDOR
 from .meshes import MeshRegistry
 
@@ -66,76 +65,38 @@ def _inline_script_hashes() -> str:
                     for t in found)
 
 
-class GuiServer(ThreadingHTTPServer):
-    """The GUI's HTTP server; ``start`` holds the robot text to show first (may be empty).
+def _answered_inline(request: bytes) -> bool:
+    """GET/HEAD of the page, its static files and /api/start: answered by the connection loop itself
+    (a file read or a prepared answer, well under a millisecond); meshes (up to 64 MB) and the API's
+    POSTs, which compute, go to the worker threads."""
+    line = request[:request.find(b"\n")]
+    return line.startswith((b"GET ", b"HEAD ")) and b" /api/mesh/" not in line
 
-    Connections are served by at most ``MAX_WORKERS`` threads; up to ``MAX_PENDING`` more wait for
-    one, and beyond that a connection is answered 503 at once. A watchdog closes connections older
-    than ``MAX_CONNECTION_SECONDS``.
+
+class GuiServer(ConnectionLoop):
+    """The GUI's HTTP server; ``start_payload`` holds the robot text to show first (may be empty).
+
+    One thread reads and writes every connection without blocking, and ``MAX_WORKERS`` threads
+    answer whole requests (see :mod:`robkin.viz.http_loop`), so slow or stalled clients cost a buffer,
+    never a thread. A connection is closed after ``request_timeout`` seconds without progress, and a
+    request that takes longer than ``max_request_seconds`` to arrive and leave is cut off.
     """
 
-    daemon_threads = True
+    request_timeout = REQUEST_TIMEOUT
+    max_request_seconds = MAX_CONNECTION_SECONDS
 
     def __init__(self, address: tuple[str, int], start: dict[str, Any], quiet: bool = True,
                  meshes: MeshRegistry | None = None) -> None:
-        if ":" in address[0]:
-            self.address_family = socket.AF_INET6
-        # Before binding: a failed bind calls server_close, which needs the pool and the event.
-        self._pool = ThreadPoolExecutor(MAX_WORKERS, thread_name_prefix="robkin-gui-worker")
-        self._slots = threading.BoundedSemaphore(MAX_WORKERS + MAX_PENDING)
-        self._deadlines: dict[socket.socket, float] = {}
-        self._lock = threading.Lock()
-        self._closed = threading.Event()
-        super().__init__(address, _Handler)
+        super().__init__(address, self._respond, MAX_WORKERS, inline=_answered_inline)
         self.start_payload = start
         self.meshes = meshes or MeshRegistry()
         self.quiet = quiet
         self.script_src = f"'self' {_inline_script_hashes()}"
-        threading.Thread(target=self._watchdog, name="robkin-gui-watchdog", daemon=True).start()
 
-    def process_request(self, request: Any, client_address: Any) -> None:
-        """Queue the connection for the worker pool (or refuse it at once when the queue is full)."""
-        if not self._slots.acquire(blocking=False):
-            try:
-                request.sendall(b"HTTP/1.1 503 Service Unavailable\r\nContent-Length: 0\r\n"
-                                b"Connection: close\r\n\r\n")
-            except OSError:
-                pass
-            self.shutdown_request(request)
-            return
-        with self._lock:
-            self._deadlines[request] = time.monotonic() + MAX_CONNECTION_SECONDS
-        self._pool.submit(self._serve, request, client_address)
-
-    def _serve(self, request: Any, client_address: Any) -> None:
-        try:
-            self.process_request_thread(request, client_address)  # handles, logs errors, closes
-        finally:
-            with self._lock:
-                self._deadlines.pop(request, None)
-            self._slots.release()
-
-    def _watchdog(self) -> None:
-        """Once a second, cut connections that have lived longer than MAX_CONNECTION_SECONDS."""
-        while not self._closed.wait(1.0):
-            now = time.monotonic()
-            with self._lock:
-                expired = [s for s, t in self._deadlines.items() if t < now]
-            for s in expired:
-                try:
-                    s.shutdown(socket.SHUT_RDWR)  # the worker's next read or write fails; it closes
-                except OSError:
-                    pass
-
-    def handle_error(self, request: Any, client_address: Any) -> None:
-        """Log a handler's exception, except a client that went away or timed out (an OSError)."""
-        if not isinstance(sys.exc_info()[1], OSError):
-            super().handle_error(request, client_address)
-
-    def server_close(self) -> None:
-        super().server_close()
-        self._closed.set()
-        self._pool.shutdown(wait=False, cancel_futures=True)
+    def _respond(self, request: bytes, client_address: Any) -> tuple[bytes, bool]:
+        """Answer one whole request (in a worker thread): (response bytes, close the connection)."""
+        handler = _Handler(request, client_address, self)
+        return handler.wfile.getvalue(), bool(handler.close_connection)
 
     @property
     def url(self) -> str:
@@ -185,15 +146,28 @@ def make_server(host: str = "127.0.0.1", port: int = 8765, text: str = "", fmt: 
 
 
 class _Handler(BaseHTTPRequestHandler):
+    """One whole request, answered from memory: ``request`` is its bytes, the answer collects in ``wfile``.
+
+    The connection loop (``http_loop``) has read the request and sends the answer; the handler never
+    touches a socket, so it never waits for a client.
+    """
+
     server: GuiServer
     server_version = "robkin-gui"
     protocol_version = "HTTP/1.1"
-    timeout = REQUEST_TIMEOUT  # per read/write on the connection (socketserver sets it in setup)
-    # Headers and body go out as separate writes; with Nagle's algorithm the body then waits for the
-    # client's delayed ACK (~40 ms on Linux), which would cap dragging to IK at ~20 updates/s.
-    disable_nagle_algorithm = True
 
     # ----------------------------------------------------------------- plumbing
+    def setup(self) -> None:
+        self.rfile = io.BytesIO(self.request)
+        self.wfile = io.BytesIO()
+
+    def handle(self) -> None:
+        self.close_connection = True  # unless the request asks to keep it open (handle_one_request)
+        self.handle_one_request()
+
+    def finish(self) -> None:
+        """Nothing to flush or close: the loop sends ``wfile``'s bytes."""
+
     def log_message(self, format: str, *args: Any) -> None:  # noqa: A002 - signature of the base class
         if not self.server.quiet:
             super().log_message(format, *args)
@@ -203,8 +177,8 @@ class _Handler(BaseHTTPRequestHandler):
         return super().parse_request() and self._allowed()
 
     def handle_expect_100(self) -> bool:
-        """``Expect: 100-continue``: apply the policy before inviting the client to send its body."""
-        return self._allowed() and super().handle_expect_100()
+        """``Expect: 100-continue``: the loop has invited the body (after the same policy); just check."""
+        return self._allowed()
 
     def _allowed(self) -> bool:
         """True if the request passes ``check_request``; else answer the refusal and close."""

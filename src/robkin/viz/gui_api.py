@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, quote
 from ..robot import Robot
 
 __all__ = ["INPUT_FORMATS", "EXPORTS", "parse_robot", "describe", "solve_ik", "export", "MAX_TEXT"]
@@ -76,7 +76,7 @@ def parse_robot(text: str, fmt: str = "auto", base_link: str | None = None, tip_
     if len(text) > MAX_TEXT:
         raise InputError(f"input: {len(text)} characters; at most {MAX_TEXT} accepted")
     if fmt not in INPUT_FORMATS:
-        raise InputError(f"format: '{fmt}' is not one of {', '.join(INPUT_FORMATS)}")
+        raise InputError(f"format: {quote(fmt)} is not one of {', '.join(INPUT_FORMATS)}")
     kind = _detect(text) if fmt == "auto" else fmt
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -143,18 +143,28 @@ def _robot(text: Any, fmt: Any, base_link: Any = None, tip_link: Any = None, too
     return robot, list(notes), names
 
 
-def _q_of(robot: Robot, q: Any, strict: bool = True) -> np.ndarray:
+def _q_of(robot: Robot, q: Any, strict: bool = True, field: str = "q") -> np.ndarray:
+    """Joint values from a request field: n finite numbers (as ``robkin.io.numbers.number`` reads them)."""
+    from ..io.numbers import number
+
     if q is None or (not strict and isinstance(q, (list, tuple)) and len(q) != robot.n):
         return np.zeros(robot.n)  # no q, or q of a robot the user has just edited into another one
     if not isinstance(q, (list, tuple)) or len(q) != robot.n:
-        raise InputError(f"q: expected {robot.n} numbers (one per joint)")
-    try:
-        Q = np.array([float(v) for v in q])
-    except (TypeError, ValueError):
-        raise InputError("q: expected numbers") from None
-    if not np.all(np.isfinite(Q)):
-        raise InputError("q: contains NaN or infinity")
-    return Q
+        raise InputError(f"{field}: expected {robot.n} numbers (one per joint)")
+    if not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in q):
+        raise InputError(f"{field}: expected numbers")
+    return np.array([number(v, f"{field}[{i}]") for i, v in enumerate(q)])
+
+
+def _matrix_of(value: Any, field: str) -> np.ndarray:
+    """A 4x4 matrix of finite numbers from a request field (lists of 4 rows of 4 numbers)."""
+    from ..io.numbers import number
+
+    rows = value if isinstance(value, (list, tuple)) and len(value) == 4 else None
+    if rows is None or not all(isinstance(r, (list, tuple)) and len(r) == 4 for r in rows) or not all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) for r in rows for v in r):
+        raise InputError(f"{field}: expected a 4x4 matrix of numbers")
+    return np.array([[number(v, f"{field}[{i}][{j}]") for j, v in enumerate(r)] for i, r in enumerate(rows)])
 
 
 def _finite(x: float | None) -> float | None:
@@ -176,8 +186,10 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
     from and draw on top: their scenes come back as ``overlays`` and by how much they and the robot
     disagree as ``agreement`` {position, rotation, axes} (rounding-size for a correct conversion).
     ``links`` lists a URDF's link names (the candidates for base and tip link). ``other`` (a dict of
-    text, fmt, base_link, tip_link, tool_row) is a second description to compare with: ``check``
-    holds its scene at the same q, ``robkin check``'s diagnosis, and the first joint that differs.
+    text, fmt, base_link, tip_link, tool_row, and ``exaggerate``, a factor from 1 to 1e6) is a second
+    description to compare with: ``check`` holds its scene at the same q (its differences from the
+    robot multiplied by ``exaggerate``, see ``robkin.viz.difference``), the difference ``arrows``
+    (true distances), ``robkin check``'s diagnosis, and the first joint that differs.
     """
     from .. import se3
     from ..io.document import document_from_robot
@@ -246,8 +258,30 @@ def _check(robot: Robot, Q: np.ndarray, other: Any) -> dict[str, Any]:
     if first is None and result.n_a != result.n_b:
         first = min(result.n_a, result.n_b)
     qb = Q if b.n == robot.n else np.zeros(b.n)
-    return {"name": b.name or "", "n": b.n, "scene": build_scene(b, qb, label=b.name or "B").to_json(),
-            "comparison": result.to_dict(), "first_joint": first}
+    scene_b = build_scene(b, qb, label=b.name or "B")
+    factor, arrows = _exaggeration(other.get("exaggerate")), []
+    if b.n == robot.n and np.array_equal(b.revolute, robot.revolute):
+        from .difference import difference_arrows, exaggerate
+
+        scene_a = build_scene(robot, Q)
+        arrows = [a.to_json() for a in difference_arrows(scene_a, scene_b, factor)]
+        scene_b = exaggerate(scene_a, scene_b, factor)
+    return {"name": b.name or "", "n": b.n, "scene": scene_b.to_json(), "comparison": result.to_dict(),
+            "first_joint": first, "exaggerate": factor, "arrows": arrows}
+
+
+def _exaggeration(value: Any) -> float:
+    """other.exaggerate: the factor differences are drawn with (1 when absent)."""
+    from ..io.numbers import number
+
+    if value is None:
+        return 1.0
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError("other.exaggerate: expected a number from 1 to 1e6")
+    k = number(value, "other.exaggerate")
+    if not 1 <= k <= 1e6:
+        raise InputError(f"other.exaggerate: expected a number from 1 to 1e6, got {quote(value)}")
+    return k
 
 
 def solve_ik(text: str, fmt: str, target: Any, q0: Any, base_link: str | None = None,
@@ -267,13 +301,8 @@ def solve_ik(text: str, fmt: str, target: Any, q0: Any, base_link: str | None = 
     from .scene import build_scene
 
     robot, _, _ = _robot(text, fmt, base_link, tip_link, tool_row)
-    Q0 = _q_of(robot, q0)
-    try:
-        T = np.array(target, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError("target: expected a 4x4 matrix of numbers") from None
-    if T.shape != (4, 4) or not np.all(np.isfinite(T)):
-        raise InputError("target: expected a 4x4 matrix of finite numbers")
+    Q0 = _q_of(robot, q0, field="q0")
+    T = _matrix_of(target, "target")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # a dragged target is projected onto a rotation silently
         if arm_angle is None:
@@ -347,7 +376,7 @@ def export(text: str, fmt: str, to: str, base_link: str | None = None, tip_link:
     from ..io.document import document_from_robot, dump
 
     if to not in EXPORTS:
-        raise InputError(f"download: '{to}' is not one of {', '.join(EXPORTS)}")
+        raise InputError(f"download: {quote(to)} is not one of {', '.join(EXPORTS)}")
     robot, _, _ = _robot(text, fmt, base_link, tip_link, tool_row)
     sections, suffix, mime = EXPORTS[to]
     stem = _safe_stem(robot.name or "robot")

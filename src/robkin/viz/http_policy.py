@@ -21,8 +21,10 @@ The server (``robkin.viz.gui``) calls ``check_request`` from its handler's ``par
 every request of every method before any ``do_GET``/``do_POST`` runs. **A new route is therefore
 protected without doing anything**: add it to ``do_GET`` (read-only answers) or ``do_POST`` (anything
 that takes input), never to a route that changes state on GET. Static files are looked up only with
-``static_file`` (resolved, then checked to lie inside the static folder). Timeouts and the bounded
-worker pool (``REQUEST_TIMEOUT``, ``MAX_CONNECTION_SECONDS``, ``MAX_WORKERS``) live in the server.
+``static_file`` (resolved, then checked to lie inside the static folder). The connection loop
+(``robkin.viz.http_loop``) also applies ``check_request`` to each request head before it reads or invites
+the body. Timeouts and the worker count (``REQUEST_TIMEOUT``, ``MAX_CONNECTION_SECONDS``, ``MAX_WORKERS``)
+are defined here and used by the server.
 """
 
 from __future__ import annotations
@@ -36,7 +38,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from email.message import Message
 
 __all__ = ["Refusal", "check_request", "is_loopback", "parse_host", "static_file", "MAX_BODY",
-           "REQUEST_TIMEOUT", "MAX_CONNECTION_SECONDS", "MAX_WORKERS", "MAX_PENDING"]
+           "REQUEST_TIMEOUT", "MAX_CONNECTION_SECONDS", "MAX_WORKERS"]
 
 #: Largest request body: the GUI's robot text limit (4 MB) plus room for the JSON wrapper and escaping.
 MAX_BODY = 10 * 1024 * 1024
@@ -44,15 +46,13 @@ MAX_BODY = 10 * 1024 * 1024
 #: loopback client needs between two packets, short enough that idle keep-alive connections and
 #: half-sent requests give their worker back soon.
 REQUEST_TIMEOUT = 10.0
-#: Longest life of one connection (seconds), however it trickles its bytes: a slow client that sends
-#: one byte every few seconds is cut off here. Far above the slowest honest request (a large URDF
+#: Longest time one request may take to arrive and its answer to leave (seconds), however it trickles
+#: its bytes: a slow client that sends one byte every few seconds is cut off here. Far above the slowest honest request (a large URDF
 #: with every representation takes about a second).
 MAX_CONNECTION_SECONDS = 60.0
-#: Worker threads answering requests; more connections wait in a queue. A browser opens at most six
-#: connections to one server, so eight never leaves the page waiting on another tab's idle ones.
+#: Worker threads answering whole requests (the connection loop reads and writes the sockets, so an
+#: idle or slow connection never holds one); more requests wait in the pool's queue.
 MAX_WORKERS = 8
-#: Connections accepted but not yet being served; beyond this new ones are answered 503 at once.
-MAX_PENDING = 64
 #: METHODS that only read: no Origin check (navigations and ``<script>`` loads carry foreign Origins).
 _SAFE_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
 #: ``host[:port]``: a bracketed IPv6 literal or a plain name / IPv4 address, then an optional port.

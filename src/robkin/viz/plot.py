@@ -22,11 +22,14 @@ from .scene import Scene, disagreement, overlay_scenes
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-__all__ = ["plot_robot", "plot_scenes", "save_figure", "PICTURE_FORMATS", "AXIS_BLUE", "TOOL_PINK"]
+__all__ = ["plot_robot", "plot_scenes", "save_figure", "PICTURE_FORMATS", "AXIS_BLUE", "TOOL_PINK",
+           "DIFFERENCE_RED"]
 
 #: Colours of the paper's figures: joint axes blue, tool frame pink.
 AXIS_BLUE = "#1f4fe0"
 TOOL_PINK = "#ff3fa4"
+#: Difference arrows (plot A B --exaggerate): the GUI's colour for a joint that differs.
+DIFFERENCE_RED = "#e02020"
 _LINK_STYLES = (("#3a3a3a", "-", 4.0), ("#f28e2b", "--", 2.5), ("#2ca02c", ":", 2.5), ("#9467bd", "-.", 2.0),
                 ("#8c564b", "--", 1.5), ("#17becf", ":", 1.5))
 #: Output formats by file extension.
@@ -74,12 +77,15 @@ def _default_title(name: str | None, q: np.ndarray) -> str:
 
 
 def plot_scenes(scenes: Sequence[Scene], *, frames: bool = False, view: tuple[float, float] = (25.0, -60.0),
-                title: str | None = None) -> "Figure":
+                title: str | None = None, exaggerate: float | None = None) -> "Figure":
     """Draw one or more scenes (same robot in several representations, or several robots) in one 3D plot.
 
     The first scene's joint names and tool axes are labelled; the others are drawn on top with their
     own link style. When several scenes are given, the subtitle states by how much their tool poses
-    and joint axes disagree (0 up to rounding for representations of one robot).
+    and joint axes disagree (0 up to rounding for representations of one robot). ``exaggerate``
+    (several robots of one structure): the others are drawn with their differences from the first
+    multiplied by it, with red arrows labelled with the true distances (``robkin.viz.difference``);
+    the subtitle gives the true differences.
     """
     # A bare Figure (no pyplot) renders off-screen with any backend and never opens a window.
     from matplotlib.figure import Figure
@@ -87,6 +93,13 @@ def plot_scenes(scenes: Sequence[Scene], *, frames: bool = False, view: tuple[fl
 
     if not scenes:
         raise InputError("plot: nothing to draw")
+    true_scenes, arrows = list(scenes), []
+    if exaggerate is not None and len(scenes) > 1:
+        from .difference import difference_arrows
+        from .difference import exaggerate as exaggerated
+
+        arrows = [a for s in scenes[1:] for a in difference_arrows(scenes[0], s, exaggerate)]
+        scenes = [scenes[0]] + [exaggerated(scenes[0], s, exaggerate) for s in scenes[1:]]
     fig = Figure(figsize=(7.5, 7.0), dpi=100, layout="constrained")
     ax = fig.add_subplot(projection="3d")
     L = max(s.scale for s in scenes)
@@ -111,6 +124,13 @@ def plot_scenes(scenes: Sequence[Scene], *, frames: bool = False, view: tuple[fl
                 _triad(ax, F, _JOINT_TRIAD * L, ("#d62728", "#2ca02c", "#1f77b4"), width=1.0)
         tips.append(_triad(ax, s.tool, _TRIAD * L, (TOOL_PINK,) * 3, width=2.0 if k == 0 else 1.2,
                            names=("x", "y", "z") if k == 0 else None))
+    for arrow in arrows:
+        d = arrow.end - arrow.start
+        ax.quiver(*arrow.start, *d, color=DIFFERENCE_RED, linewidth=2.0, arrow_length_ratio=0.25, zorder=10)
+        ax.text(*arrow.end, f" {arrow.label}: {arrow.distance:.3g}", color=DIFFERENCE_RED, fontsize=8)
+        tips.append(arrow.end[None, :])
+    if arrows:
+        handles.append(Line2D([], [], color=DIFFERENCE_RED, linewidth=2, label="difference (true length)"))
     tips.append(_triad(ax, np.eye(4), _TRIAD * L, ("black",) * 3, width=1.5, names=("x0", "y0", "z0")))
     handles += [Line2D([], [], color=AXIS_BLUE, linewidth=2, label="joint axes (+ direction)"),
                 Line2D([], [], color=TOOL_PINK, linewidth=2, label="tool frame"),
@@ -123,7 +143,7 @@ def plot_scenes(scenes: Sequence[Scene], *, frames: bool = False, view: tuple[fl
     ax.legend(handles=handles, loc="upper left", fontsize=8, framealpha=0.85)
     text = title or _default_title(None, scenes[0].q)
     if len(scenes) > 1:
-        pos, rot, axes = disagreement(scenes)
+        pos, rot, axes = disagreement(true_scenes)
         text += (f"\n{len(scenes)} descriptions: tool poses differ by {pos:.1e} (position), {rot:.1e} "
                  f"(rotation); joint axes by {axes:.1e}")
     ax.set_title(text, fontsize=10)

@@ -43,7 +43,7 @@ h1 { font-size: 1.1em; margin: 0 1em 0 0; }
 #view { position: relative; height: 72vh; border-top: 1px solid #ddd; border-bottom: 1px solid #ddd; }
 #view canvas { display: block; width: 100%; height: 100%; }
 .label3d { position: absolute; transform: translate(3px, -100%); font-size: 11px; white-space: nowrap; }
-.label3d.axis { color: #1f4fe0; } .label3d.base { color: #000; }
+.label3d.axis { color: #1f4fe0; } .label3d.base { color: #000; } .label3d.differs { color: #e02020; font-weight: 700; }
 .legend { padding: 0.3em 1em; display: flex; gap: 1em; flex-wrap: wrap; font-size: 0.85em; }
 .k::before { content: ""; display: inline-block; width: 1.4em; height: 3px; margin-right: 0.3em; vertical-align: middle; }
 .link::before { background: #3a3a3a; } .axis::before { background: #1f4fe0; }
@@ -54,21 +54,31 @@ pre { margin: 0.5em 1em; font-size: 12px; }
 
 
 def viewer_data(robots: Sequence[Robot], q: np.ndarray | None, overlay: Sequence[str], labels: Sequence[str],
-                frames: bool = False, view: Sequence[float] | None = None) -> dict[str, Any]:
+                frames: bool = False, view: Sequence[float] | None = None,
+                exaggerate: float | None = None) -> dict[str, Any]:
     """What the page draws: the first robot's scene, and as dashed overlays its representations
-    (``overlay``) or the other robots (each at the same q), like ``robkin plot``'s pictures."""
+    (``overlay``) or the other robots (each at the same q), like ``robkin plot``'s pictures.
+    ``exaggerate`` (several robots): the others' differences from the first multiplied by it, and
+    ``arrows`` (``robkin.viz.difference``) from the first robot's axes to theirs."""
     from .scene import build_scene, overlay_scenes
 
     robot = robots[0]
     Q = np.zeros(robot.n) if q is None else np.asarray(q, dtype=float)
     scene = build_scene(robot, Q, label=labels[0])
+    arrows: list[dict[str, Any]] = []
     if len(robots) > 1:
         overlays = [build_scene(r, Q, label=label) for r, label in zip(robots[1:], labels[1:])]
+        if exaggerate is not None:
+            from .difference import difference_arrows
+            from .difference import exaggerate as exaggerated
+
+            arrows = [a.to_json() for s in overlays for a in difference_arrows(scene, s, exaggerate)]
+            overlays = [exaggerated(scene, s, exaggerate) for s in overlays]
     else:
         overlays = overlay_scenes(robot, Q, [r for r in overlay if r != "gjd"])
     return {"scene": scene.to_json(), "overlays": [s.to_json() for s in overlays],
             "scale": max(r.scale for r in robots), "show_frames": bool(frames),
-            "view": list(view) if view is not None else None}
+            "view": list(view) if view is not None else None, "arrows": arrows}
 
 
 def _embed(text: str) -> str:

@@ -42,7 +42,7 @@ function otherInputs() {
   if (!text.trim()) return null;
   // robot B from the command line keeps its URDF chain (the same links as A's) while unedited
   const chain = given && text === given.text ? { base_link: given.base_link, tip_link: given.tip_link } : {};
-  return { text, fmt: $("other-format").value, ...chain };
+  return { text, fmt: $("other-format").value, exaggerate: Number($("exaggerate").value), ...chain };
 }
 
 function overlayList() {
@@ -378,9 +378,30 @@ function showCheck(res) {
   }
   const first = c.first_joint === null ? "" :
     "first joint that differs: J" + (c.first_joint + 1) + " (red in the view)";
-  box.replaceChildren(el("div", { text: "B: " + (c.name || "robot") + ", " + c.n + " joints, drawn dashed orange" }),
-                      verdict, el("div", { id: "check-first", text: first }), t,
+  const zoom = el("button", { type: "button", id: "zoom-first", text: "zoom to the first difference" });
+  zoom.disabled = c.first_joint === null && !c.arrows.length;
+  zoom.addEventListener("click", () => zoomToFirstDifference(res));
+  const scaled = c.exaggerate > 1 ? ", differences ×" + c.exaggerate : "";
+  const arrows = c.arrows.length ? "; red arrows: where B's axes are (true distance at the arrow head)" : "";
+  box.replaceChildren(el("div", { text: "B: " + (c.name || "robot") + ", " + c.n + " joints, drawn dashed orange" +
+                                        scaled + arrows }),
+                      verdict, el("div", { id: "check-first", text: first }, zoom), t,
                       el("div", { text: "tool: " + cmp.tool }));
+}
+
+// The camera on the first joint that differs (its difference arrow, else its axis on robot A), close
+// enough to see the difference as drawn.
+function zoomToFirstDifference(res) {
+  const c = res.check, L = res.scale || 1;
+  const label = c.first_joint === null ? null : "J" + (c.first_joint + 1);
+  const arrow = c.arrows.find((a) => a.label === label) || (label === null ? c.arrows[0] : null);
+  if (arrow) {
+    const mid = arrow.start.map((v, k) => (v + arrow.end[k]) / 2);
+    const len = Math.hypot(...arrow.end.map((v, k) => v - arrow.start[k]));
+    viewer.zoomTo(mid, Math.max(1.5 * len, 0.08 * L));
+  } else if (label !== null) {
+    viewer.zoomTo(res.scene.axis_points[c.first_joint], 0.15 * L);
+  }
 }
 
 function showPose(res) {
@@ -452,6 +473,7 @@ async function start() {
   $("robot-text").addEventListener("input", edited);
   $("other-text").addEventListener("input", edited);
   for (const id of ["format", "base-link", "tip-link", "last-row", "other-format"]) $(id).addEventListener("change", edited);
+  $("exaggerate").addEventListener("change", () => refresh());
   $("units").addEventListener("change", () => { state.tablesKey = null; refresh(); });
   for (const [input, text, format] of [["file", "robot-text", "format"], ["other-file", "other-text", "other-format"]]) {
     $(input).addEventListener("change", async () => {
@@ -497,6 +519,8 @@ async function start() {
   if (init.other) {
     $("other-text").value = init.other.text;
     $("other-format").value = init.other.fmt || "auto";
+    if (!$("other-format").value) $("other-format").value = "auto";  // a document or file format: auto-detected
+    if (init.other.exaggerate) $("exaggerate").value = String(init.other.exaggerate);
     $("check-panel").open = true;
   }
   showFields();

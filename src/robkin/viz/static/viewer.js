@@ -60,12 +60,19 @@ export class Viewer {
       this.scene.add(this.gizmo.getHelper());
       this.gizmo.addEventListener("dragging-changed", (e) => {
         this.orbit.enabled = !e.value;
+        this.dragging = e.value;
+        // the camera holds still during a drag (it would move the gizmo under the mouse); after it,
+        // it follows a robot the drag took out of the picture
+        if (e.value) this.inViewAtDrag = this.inView();
+        else if (this.follow && this.inViewAtDrag && !this.inView()) this.followRobot();
         if (!e.value && onDragEnd) onDragEnd();
       });
       this.gizmo.addEventListener("objectChange", () => onDrag(this.targetMatrix()));
       this.gizmo.addEventListener("change", () => this.render());
     }
     this.labels = [];   // [{el, p: Vector3}] HTML labels placed at projected points
+    this.follow = true;     // fit the view again when the robot leaves it (see inView)
+    this.dragging = false;  // the gizmo is being dragged: the camera holds still
     this.res = null;
     this.scale = 0;     // the robot's size; 0 until the first show()
     new ResizeObserver(() => this.resize()).observe(container);
@@ -99,6 +106,7 @@ export class Viewer {
   // res: {scene, overlays, check?: {scene, first_joint}, scale}; keepTarget: leave the gizmo where it is.
   show(res, { keepTarget = false } = {}) {
     const first = !this.res, rescaled = (res.scale || 1) !== this.scale;
+    const wasInView = !first && this.inView();  // a view the user zoomed into stays as it is
     this.res = res;
     this.scale = res.scale || 1;
     this.clear(this.robot);
@@ -110,10 +118,54 @@ export class Viewer {
     this.stick(res.scene, COLORS.link, false, check ? check.first_joint : null);
     this.triad(res.scene.tool, COLORS.tool, 1, this.robot);
     if (res.show_frames) for (const F of res.scene.frames) this.rgbTriad(F);
+    for (const a of (check ? check.arrows : res.arrows) || []) this.differenceArrow(a);
     if (!keepTarget) this.placeTarget(res.scene.tool);
     if (first || rescaled) this.buildWorld();  // grid and base frame sized to the robot
     if (first) this.view("iso");
     this.posesMeshes(res);
+    if (wasInView && this.follow && !this.dragging && !this.inView()) this.followRobot();
+    this.render();
+  }
+
+  // A red arrow from robot A's point to robot B's (exaggerated) one, labelled with the true distance
+  // (robkin.viz.difference.DifferenceArrow as JSON).
+  differenceArrow(a) {
+    const from = v3(a.start), d = v3(a.end).sub(from), len = d.length(), L = this.scale;
+    if (!(len > 0)) return;
+    const head = Math.min(0.05 * L, 0.4 * len);
+    this.robot.add(new THREE.ArrowHelper(d.clone().normalize(), from, len, COLORS.differs, head, 0.5 * head));
+    this.label(v3(a.end), a.label + ": " + Number(a.distance.toPrecision(3)), "true distance", "differs");
+  }
+
+  // Is everything drawn inside the view (with a small margin)? The camera follows the robot: when a
+  // robot that was entirely in the picture moves (or grows) out of it, show() fits it again, keeping
+  // the direction; a view the user zoomed into is left alone.
+  inView() {
+    const box = this.bounds(), m = 0.98;
+    for (let i = 0; i < 8; i++) {
+      const p = new THREE.Vector3(i & 1 ? box.max.x : box.min.x, i & 2 ? box.max.y : box.min.y,
+                                  i & 4 ? box.max.z : box.min.z).project(this.camera);
+      if (Math.abs(p.x) > m || Math.abs(p.y) > m || p.z > 1) return false;
+    }
+    return true;
+  }
+
+  followRobot() {
+    this.view("fit");
+    this.container.dataset.follows = String(Number(this.container.dataset.follows || 0) + 1);  // for tests
+  }
+
+  // Camera on a point, close enough to see a detail of size `radius` (zoom to a differing joint).
+  zoomTo(point, radius) {
+    const c = v3(point), r = Math.max(radius, 1e-6 * this.scale);
+    const dist = r / Math.sin((this.camera.fov * Math.PI / 180) / 2);
+    const dir = this.camera.position.clone().sub(this.orbit.target).normalize();
+    this.orbit.target.copy(c);
+    this.camera.position.copy(c).addScaledVector(dir, dist);
+    this.camera.near = dist / 1000;
+    this.camera.far = dist * 1000;
+    this.camera.updateProjectionMatrix();
+    this.orbit.update();
     this.render();
   }
 
@@ -229,6 +281,8 @@ export class Viewer {
   bounds() {
     const box = new THREE.Box3();
     if (this.res) for (const p of this.res.scene.links) box.expandByPoint(v3(p));
+    if (this.res && this.res.check) for (const p of this.res.check.scene.links) box.expandByPoint(v3(p));
+    if (this.res) for (const o of this.res.overlays || []) for (const p of o.links) box.expandByPoint(v3(p));
     box.expandByPoint(new THREE.Vector3());
     box.expandByScalar(0.1 * this.scale);
     return box;
@@ -273,6 +327,7 @@ export class Viewer {
     // where the tool frame (the gizmo's centre) is on screen, in CSS pixels of the view: for tests
     const t = this.target.position.clone().project(this.camera);
     this.container.dataset.toolXy = [(t.x + 1) / 2 * w, (1 - t.y) / 2 * h].map((v) => v.toFixed(1)).join(",");
+    this.container.dataset.lookAt = this.orbit.target.toArray().map((v) => v.toPrecision(6)).join(",");
     this.container.dataset.frames = String(Number(this.container.dataset.frames || 0) + 1);
   }
 }

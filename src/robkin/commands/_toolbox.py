@@ -1,0 +1,58 @@
+"""The code formats of ``robkin convert`` (--to rtb, matlab, eaik, opw): their options and their text."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..errors import InputError
+
+__all__ = ["CODE_FORMATS", "CODE_EXTENSIONS", "add_toolbox_options", "check_toolbox_options", "render_code"]
+
+#: --to FORMAT -> output file extensions (the first is the default: batch names, stdout)
+CODE_EXTENSIONS = {"rtb": (".py",), "matlab": (".m",), "eaik": (".json", ".py"), "opw": (".yaml", ".yml", ".json")}
+CODE_FORMATS = tuple(CODE_EXTENSIONS)
+#: formats that --json prints as JSON
+_JSON_FORMS = ("eaik", "opw")
+
+
+def add_toolbox_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--convention", choices=["dh", "mdh"], default=None,
+                   help="--to rtb / matlab: write the standard DH table (dh, the default: RevoluteDH links) or the "
+                        "modified (Craig) DH table (mdh: RevoluteMDH links)")
+
+
+def check_toolbox_options(args: argparse.Namespace) -> None:
+    """InputError for options that do not fit the chosen code format (before anything is read)."""
+    if args.convention and args.to not in ("rtb", "matlab"):
+        raise InputError(f"--convention {args.convention}: applies to --to rtb and --to matlab, not --to {args.to}")
+    if args.to in CODE_FORMATS and args.json and (args.to not in _JSON_FORMS or args.output):
+        raise InputError(f"--json: --to {args.to} " + ("writes Python or MATLAB code; it has no JSON form"
+                                                        if args.to not in _JSON_FORMS else
+                                                        "with -o: name a .json file instead"))
+    if args.to in CODE_FORMATS and args.layout != "robkin":
+        raise InputError(f"--layout {args.layout}: applies to the tables on stdout, not to --to {args.to}")
+    if args.to in CODE_FORMATS and args.degrees:
+        raise InputError(f"--degrees: --to {args.to} writes angles in radians, as the toolboxes take them")
+
+
+def render_code(robot, fmt: str, out_ext: str, args: argparse.Namespace | None = None) -> str:
+    """Text of the code file of one robot; ``out_ext`` picks JSON or Python (eaik) and YAML or JSON (opw)."""
+    convention = (args.convention if args is not None else None) or "dh"
+    if fmt == "rtb":
+        from ..io.rtb_write import rtb_from_robot
+
+        return rtb_from_robot(robot, convention)
+    if fmt == "matlab":
+        from ..io.matlab_write import matlab_from_robot
+
+        return matlab_from_robot(robot, convention)
+    if fmt == "eaik":
+        from ..io.eaik_write import eaik_json, eaik_python
+
+        return eaik_python(robot) if out_ext == ".py" else eaik_json(robot)
+    if fmt == "opw":
+        from ..io.document import dump
+        from ..io.opw import opw_document
+
+        return dump(opw_document(robot), "json" if out_ext == ".json" else "yaml")
+    raise ValueError(f"not a code format: {fmt}")  # pragma: no cover  (argparse's choices)

@@ -1,0 +1,238 @@
+"""Many joint vectors or poses from a file, and many results into one: the CLI's batch input/output.
+
+Input (``read_rows``): a CSV file with a header row (``.csv``, or any name holding text), a NumPy
+``.npy`` array or an ``.npz`` archive; ``-`` reads standard input (CSV text, or ``.npy`` bytes, told
+apart by NumPy's magic string). Arrays are read without pickles and only after their header says
+they are numbers of a bounded size, so no file can run code or exhaust memory.
+
+Output (``write_rows``): ``.csv`` (a header, one row per input row), ``.npy`` (one numeric array),
+``.npz`` (every column) or ``.json``; written atomically (``robkin.io.atomic``).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+import sys
+import zipfile
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from ..errors import InputError
+from .numbers import number
+
+__all__ = ["MAX_BYTES", "MAX_VALUES", "Rows", "read_rows", "write_rows", "csv_text"]
+
+#: Largest batch file read (text or array): 10^6 joint vectors of 6 values as CSV are ~100 MB with
+#: every digit, so 256 MB holds any batch that belongs on a command line (larger ones: robkin's Python
+#: API); a CSV is parsed row by row into one float array, so memory stays a small multiple of this.
+MAX_BYTES = 256 * 1024 * 1024
+#: Largest number of values in one array (128 MB of float64): bounds memory whatever the header says.
+MAX_VALUES = 16 * 1024 * 1024
+_MAGIC = b"\x93NUMPY"
+
+
+class Rows:
+    """A batch read from a file: ``values`` (N, k) float, ``columns`` (k names, or None without a
+    header) and ``shape`` (the array's own shape for .npy/.npz input, e.g. (N, 4, 4)).
+
+    A CSV column holding text (a ``success`` or ``error`` column of robkin's own output) is NaN in
+    ``values``; ``take`` raises the message of its first unreadable cell when such a column is used.
+    """
+
+    def __init__(self, values: np.ndarray, columns: list[str] | None, shape: tuple[int, ...], source: str,
+                 errors: dict[int, str] | None = None):
+        self.values, self.columns, self.shape, self.source = values, columns, shape, source
+        self.errors = errors or {}
+
+    def take(self, idx: Sequence[int]) -> np.ndarray:
+        """The columns ``idx`` (N, len(idx)); InputError if one of them holds something not a number."""
+        for i in idx:
+            if i in self.errors:
+                raise InputError(self.errors[i])
+        return self.values[:, list(idx)]
+
+    def __len__(self) -> int:
+        return len(self.values)
+
+
+def _read_bytes(path: str) -> bytes:
+    if path == "-":
+        data = sys.stdin.buffer.read(MAX_BYTES + 1)
+        if len(data) > MAX_BYTES:
+            raise InputError(f"-: standard input is more than {MAX_BYTES} bytes; a batch is at most that")
+        return data
+    from .files import read_bytes_file
+
+    return read_bytes_file(path, MAX_BYTES, "a batch file")
+
+
+def read_rows(path: str, key: str = "") -> Rows:
+    """The rows of a batch file (see the module). ``key`` names the preferred array of an .npz."""
+    data = _read_bytes(path)
+    name = "standard input" if path == "-" else path
+    if data.startswith(_MAGIC):
+        arr = _npy(io.BytesIO(data), name)
+        return _as_rows(arr, name)
+    if data.startswith(b"PK\x03\x04"):
+        return _npz(data, name, key)
+    if path.lower().endswith((".npy", ".npz")):
+        raise InputError(f"{name}: not a NumPy {os.path.splitext(path)[1]} file (no NumPy header)")
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{name}: not UTF-8 text nor a NumPy array (byte {exc.start})") from None
+    return _csv(text, name)
+
+
+def _npy(stream: Any, name: str) -> np.ndarray:
+    """A numeric array from an .npy stream, its header checked before any data is read."""
+    from numpy.lib import format as npformat
+
+    try:
+        version = npformat.read_magic(stream)
+        # the header is a Python literal read by ast.literal_eval (no code runs), at most 10 kB
+        read_header = npformat.read_array_header_1_0 if version == (1, 0) else npformat.read_array_header_2_0
+        shape, fortran, dtype = read_header(stream, max_header_size=10000)
+    except (ValueError, OSError) as exc:
+        raise InputError(f"{name}: not a readable .npy array ({str(exc).splitlines()[0][:80]})") from None
+    if dtype.hasobject or dtype.kind not in "biuf":
+        raise InputError(f"{name}: array of {dtype}; expected numbers (float or integer)")
+    count = int(np.prod(shape, dtype=np.int64)) if shape else 1
+    if count > MAX_VALUES:
+        raise InputError(f"{name}: array of shape {shape} holds {count} values; a batch is at most {MAX_VALUES}")
+    raw = stream.read(count * dtype.itemsize)
+    if len(raw) != count * dtype.itemsize:
+        raise InputError(f"{name}: array data ends early ({len(raw)} of {count * dtype.itemsize} bytes)")
+    arr = np.frombuffer(raw, dtype=dtype, count=count)
+    arr = arr.reshape(shape[::-1]).T if fortran else arr.reshape(shape)
+    return np.array(arr, dtype=float)
+
+
+def _npz(data: bytes, name: str, key: str) -> Rows:
+    try:
+        archive = zipfile.ZipFile(io.BytesIO(data))
+        members = [m for m in archive.namelist() if m.endswith(".npy")]
+    except zipfile.BadZipFile:
+        raise InputError(f"{name}: not a readable .npz archive") from None
+    if not members:
+        raise InputError(f"{name}: the .npz archive holds no array")
+    keys = [m[:-4] for m in members]
+    pick = key if key in keys else keys[0]
+    if len(keys) > 1 and key not in keys:
+        raise InputError(f"{name}: the .npz archive holds {', '.join(keys)[:80]}; name the array '{key}' "
+                         f"(or save only one)")
+    info = archive.getinfo(pick + ".npy")
+    if info.file_size > MAX_BYTES:
+        raise InputError(f"{name}: array '{pick}' is {info.file_size} bytes; a batch is at most {MAX_BYTES}")
+    with archive.open(info) as stream:
+        return _as_rows(_npy(stream, f"{name}['{pick}']"), name)
+
+
+def _as_rows(arr: np.ndarray, name: str) -> Rows:
+    if arr.ndim == 1:
+        arr = arr[None]
+    if arr.ndim < 2 or arr.shape[0] == 0:
+        raise InputError(f"{name}: array of shape {arr.shape}; expected one row per item, (N, ...)")
+    return Rows(arr.reshape(arr.shape[0], -1), None, arr.shape, name)
+
+
+def _csv(text: str, name: str) -> Rows:
+    lines = [(k, line) for k, line in enumerate(text.splitlines(), start=1)
+             if line.strip() and not line.lstrip().startswith("#")]
+    if not lines:
+        raise InputError(f"{name}: no rows")
+    tab = "\t" in lines[0][1] and "," not in lines[0][1]
+    delimiter = "\t" if tab else ","
+    first = [c.strip() for c in next(csv.reader([lines[0][1]], delimiter=delimiter))]
+    header: list[str] | None = None
+    if first and not _is_number(first[0]):
+        header, lines = first, lines[1:]
+    if not lines:
+        raise InputError(f"{name}: no rows after the header")
+    width = len(header) if header else len(first)
+    if len(lines) * width > MAX_VALUES:
+        raise InputError(f"{name}: {len(lines)} rows of {width} values; a batch is at most {MAX_VALUES} values")
+    out = np.empty((len(lines), width))
+    errors: dict[int, str] = {}
+    reader = csv.reader((line for _, line in lines), delimiter=delimiter)
+    for i, ((k, _), raw) in enumerate(zip(lines, reader)):
+        row = [c.strip() for c in raw]
+        if len(row) != width:
+            raise InputError(f"{name}: line {k}: expected {width} values, got {len(row)}")
+        for j, cell in enumerate(row):
+            try:
+                out[i, j] = _cell(cell, name, k, header[j] if header else str(j + 1))
+            except InputError as exc:
+                if header is None:  # without a header every column is data
+                    raise
+                out[i, j] = np.nan
+                errors.setdefault(j, str(exc))
+    return Rows(out, header, out.shape, name, errors)
+
+
+def _is_number(cell: str) -> bool:
+    try:
+        number(cell, "")
+    except InputError:
+        return False
+    return True
+
+
+def _cell(cell: str, name: str, line: int, column: str) -> float:
+    """A CSV cell: a number (fast path), an expression such as pi/2, or empty/'nan' (not a number:
+    kept as NaN, for columns the command does not use). Infinity is refused by the user of the column."""
+    try:
+        return float(cell)
+    except ValueError:
+        pass
+    if cell == "" or cell.lower() in ("nan", "null", "none"):
+        return float("nan")
+    return number(cell, f"{name}: line {line}, column {column[:40]}")
+
+
+def csv_text(columns: Sequence[str], table: Sequence[Sequence[Any]]) -> str:
+    """CSV text with a header: floats so that they read back bit for bit, booleans true/false."""
+    from .float_text import float_text
+
+    def cell(v: Any) -> str:
+        if isinstance(v, (bool, np.bool_)):
+            return "true" if v else "false"
+        if isinstance(v, (float, np.floating)):
+            return "nan" if not np.isfinite(v) else float_text(float(v))
+        return str(v)
+
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(columns)
+    for row in table:
+        w.writerow([cell(v) for v in row])
+    return buf.getvalue()
+
+
+def write_rows(path: str, columns: Sequence[str], table: Sequence[Sequence[Any]], arrays: Mapping[str, np.ndarray],
+               main_array: str, document: Any) -> None:
+    """Write a batch's results to ``path`` by its extension (atomically).
+
+    ``.csv``: ``columns`` and ``table``; ``.npy``: ``arrays[main_array]``; ``.npz``: every array of
+    ``arrays``; ``.json``: ``document`` (robkin's JSON style).
+    """
+    from .atomic import atomic_file, write_text_atomic
+
+    ext = os.path.splitext(path)[1].lower()
+    if ext == ".csv":
+        write_text_atomic(path, csv_text(columns, table))
+    elif ext == ".json":
+        from .jsontext import dumps
+
+        write_text_atomic(path, dumps(document) + "\n")
+    elif ext in (".npy", ".npz"):
+        with atomic_file(path, binary=True) as f:
+            if ext == ".npy":
+                np.save(f, np.asarray(arrays[main_array]), allow_pickle=False)
+            else:
+                np.savez(f, **{k: np.asarray(v) for k, v in arrays.items()})
+    else:
+        raise InputError(f"{path}: unknown output extension '{ext}'; -o writes .csv, .npy, .npz or .json")

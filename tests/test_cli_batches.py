@@ -1,0 +1,157 @@
+"""``robkin fk --q-file`` / ``robkin ik --poses``: files of many rows through the batch kernels, checked
+against the Python batch API (Robot.fk on (N, n), Robot.ik on (N, 4, 4)), every input and output
+format, per-row success and errors, and one clear line for bad files."""
+
+from __future__ import annotations
+
+import io
+import json
+import sys
+
+import numpy as np
+import pytest
+
+import robkin
+from robkin.cli import main
+from test_urdf import robot_file
+
+
+@pytest.fixture(scope="module")
+def ur5():
+    path = robot_file("ur_description/urdf/ur5_robot.urdf")
+    return path, robkin.load(path, tip_link="tool0")
+
+
+def _csv(path) -> tuple[list[str], list[list[str]]]:
+    lines = [line.split(",") for line in path.read_text().splitlines()]
+    return lines[0], lines[1:]
+
+
+def test_fk_file_equals_the_batch_api(tmp_path, ur5):
+    path, robot = ur5
+    Q = robot.random_q(1000, rng=7)
+    qfile = tmp_path / "q.csv"
+    qfile.write_text(",".join(j.name for j in robot.joints) + "\n"
+                     + "\n".join(",".join(repr(float(v)) for v in q) for q in Q) + "\n")
+    assert main(["fk", path, "--tip-link", "tool0", "--q-file", str(qfile), "-o", str(tmp_path / "T.npy")]) == 0
+    np.testing.assert_array_equal(np.load(tmp_path / "T.npy"), robot.fk(Q))  # bit for bit
+    assert main(["fk", path, "--tip-link", "tool0", "--q-file", str(qfile), "-o", str(tmp_path / "p.csv")]) == 0
+    header, rows = _csv(tmp_path / "p.csv")
+    assert header[:8] == ["row", *[j.name for j in robot.joints], "x"] and len(rows) == 1000
+    xyz = np.array([[float(r[header.index(c)]) for c in "xyz"] for r in rows])
+    np.testing.assert_array_equal(xyz, robot.fk(Q)[:, :3, 3])  # the CSV reads back bit for bit
+
+
+def test_1000_targets_from_a_file_equal_the_batch_api(tmp_path, ur5):
+    path, robot = ur5
+    T = robot.fk(robot.random_q(1000, rng=8))
+    T[::97, 0, 3] += 3.0  # 11 targets out of reach
+    np.save(tmp_path / "T.npy", T)
+    assert main(["ik", path, "--tip-link", "tool0", "--poses", str(tmp_path / "T.npy"),
+                 "-o", str(tmp_path / "sol.npz")]) == 0
+    got = np.load(tmp_path / "sol.npz")
+    want = robot.ik(T)
+    ok = np.asarray(want.success)
+    assert ok.sum() == 1000 - 11
+    np.testing.assert_array_equal(got["success"], ok)
+    np.testing.assert_array_equal(got["q"][ok], want.q[ok])
+    # rows without a solution: the reason, and the closest configuration with its finite distance
+    assert all("out of reach" in m for m in got["error"][~ok]) and not any(got["error"][ok])
+    # 3 m beyond a reachable pose of an arm reaching ~0.95 m: more than 1 m from anything it reaches
+    assert np.all(np.isfinite(got["q"][~ok])) and np.all(got["position_error"][~ok] > 1.0)
+    dist = np.linalg.norm(robot.fk(got["q"][~ok])[:, :3, 3] - T[~ok, :3, 3], axis=1)
+    np.testing.assert_allclose(dist, got["position_error"][~ok], rtol=1e-12)
+
+
+def test_fk_output_feeds_ik_and_back_through_stdin(tmp_path, ur5, monkeypatch, capsys):
+    path, robot = ur5
+    Q = robot.random_q(50, rng=9)
+    np.save(tmp_path / "q.npy", Q)
+    assert main(["fk", path, "--tip-link", "tool0", "--q-file", str(tmp_path / "q.npy"), "-o",
+                 str(tmp_path / "poses.csv")]) == 0
+    # the CSV fk wrote is the input of ik (x, y, z and the quaternion), read here from stdin
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO((tmp_path / "poses.csv").read_bytes())))
+    capsys.readouterr()
+    assert main(["ik", path, "--tip-link", "tool0", "--poses", "-", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert [r["success"] for r in doc["results"]] == [True] * 50
+    q = np.array([r["q"] for r in doc["results"]])
+    np.testing.assert_allclose(robot.fk(q), robot.fk(Q), atol=1e-9)
+
+
+def test_progress_on_a_terminal(tmp_path, ur5, monkeypatch, capsys):
+    from robkin.commands import _batches
+
+    path, robot = ur5
+    np.save(tmp_path / "q.npy", robot.random_q(30, rng=1))
+    monkeypatch.setattr(_batches, "BLOCK", 8)
+    monkeypatch.setattr(_batches, "PROGRESS_FROM", 10)
+    monkeypatch.setattr(_batches, "_is_terminal", lambda stream: True)
+    assert main(["fk", path, "--tip-link", "tool0", "--q-file", str(tmp_path / "q.npy"), "--json"]) == 0
+    err = capsys.readouterr().err
+    assert "fk: 8/30" in err and "fk: 30/30 (100%)" in err
+    monkeypatch.setattr(_batches, "_is_terminal", lambda stream: False)
+    assert main(["fk", path, "--tip-link", "tool0", "--q-file", str(tmp_path / "q.npy"), "--json"]) == 0
+    assert "30/30" not in capsys.readouterr().err  # a pipe or a log gets no progress lines
+
+
+def test_single_pose_without_solution_gives_the_closest_distance(ur5, capsys):
+    path, robot = ur5
+    assert main(["ik", path, "--tip-link", "tool0", "--pose", "2,0,0.3,pi,0,0", "--json"]) == 0
+    out, err = capsys.readouterr()
+    closest = json.loads(out)["closest"]
+    # UR5 reaches ~0.95 m from the shoulder: a target 2 m out is at least ~1 m away from any pose
+    assert 0.9 < closest["position_error"] < 1.2
+    assert np.linalg.norm(robot.fk(closest["q"])[:3, 3] - [2, 0, 0.3]) == pytest.approx(closest["position_error"])
+    assert "closest: " in err and " m from the target position" in err and err.count("\n") == 1
+
+
+def _bad(tmp_path, name: str, data: bytes | str) -> str:
+    p = tmp_path / name
+    p.write_bytes(data if isinstance(data, bytes) else data.encode())
+    return str(p)
+
+
+def test_bad_batch_files_are_one_line(tmp_path, ur5, capsys):
+    path, robot = ur5
+    buf = io.BytesIO()
+    np.save(buf, np.array([{"a": 1}], dtype=object), allow_pickle=True)
+    npz = io.BytesIO()
+    np.savez(npz, a=np.zeros((2, 6)), b=np.zeros((2, 6)))
+    cases = [
+        (["fk", "--q-file", _bad(tmp_path, "obj.npy", buf.getvalue())], "expected numbers"),
+        (["fk", "--q-file", _bad(tmp_path, "two.npz", npz.getvalue())], "name the array 'q'"),
+        (["fk", "--q-file", _bad(tmp_path, "w.csv", "q1,q2\n0,0\n")], "no joint columns"),
+        (["fk", "--q-file", _bad(tmp_path, "n.csv", "1,2,3\n")], "3 values per row; the robot has 6"),
+        (["fk", "--q-file", _bad(tmp_path, "x.csv", "q1,q2,q3,q4,q5,q6\n0,0,0,0,0,nan\n")], "not a finite number"),
+        (["ik", "--poses", _bad(tmp_path, "p.csv", "x,y,z\n0,0,0\n")], "no pose columns"),
+        (["ik", "--poses", _bad(tmp_path, "q.csv", "x,y,z,qw,qx,qy,qz\n0,0,0,2,0,0,0\n")], "unit quaternion"),
+        (["ik", "--poses", _bad(tmp_path, "fake.npy", "x,y\n")], "not a NumPy"),
+        (["fk", "--q-file", _bad(tmp_path, "ok.csv", "q1,q2,q3,q4,q5,q6\n0,0,0,0,0,0\n"), "-o",
+          str(tmp_path / "out.txt")], "-o writes .csv, .npy, .npz or .json"),
+        (["fk", "--q", "0,0,0,0,0,0", "-o", str(tmp_path / "one.csv")], "writes the results of --q-file"),
+    ]
+    for argv, words in cases:
+        assert main([argv[0], path, "--tip-link", "tool0", *argv[1:]]) == 2, argv
+        err = capsys.readouterr().err
+        assert words in err and err.count("\n") == 1, (argv, err)
+    assert not (tmp_path / "out.txt").exists() and not (tmp_path / "one.csv").exists()
+
+
+def test_all_solutions_of_every_target(tmp_path, ur5, capsys):
+    path, robot = ur5
+    T = robot.fk(robot.random_q(5, rng=3))
+    T[2, 0, 3] += 3.0
+    np.save(tmp_path / "T.npy", T)
+    assert main(["ik", path, "--tip-link", "tool0", "--poses", str(tmp_path / "T.npy"), "--all", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    want = robot.ik(T, all_solutions=True)
+    for k, r in enumerate(doc["results"]):
+        got = np.array([s["q"] for s in r["solutions"]]).reshape(-1, robot.n)
+        np.testing.assert_array_equal(got, np.atleast_2d(want.solutions[k]).reshape(-1, robot.n))
+    assert [len(r["solutions"]) for r in doc["results"]][2] == 0 and not doc["results"][2]["success"]
+    assert main(["ik", path, "--tip-link", "tool0", "--poses", str(tmp_path / "T.npy"), "--all",
+                 "-o", str(tmp_path / "all.npz")]) == 0
+    sols = np.load(tmp_path / "all.npz")["solutions"]
+    assert sols.shape == (sum(len(r["solutions"]) for r in doc["results"]), 1 + robot.n)
+    np.testing.assert_allclose(robot.fk(sols[:, 1:]), T[sols[:, 0].astype(int)], atol=1e-9)

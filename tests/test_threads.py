@@ -1,0 +1,115 @@
+"""Batch kernels on several threads (robkin.threads): the same bits as one thread and as single calls."""
+
+from __future__ import annotations
+
+import threading
+import warnings
+
+import numpy as np
+import pytest
+
+import robkin
+from robkin import InputError
+from robkin.compiled import threads as compiled
+from test_urdf import robot_file
+
+needs_openmp = pytest.mark.skipif(not compiled.compiled_with_openmp(), reason="built without OpenMP")
+
+
+@pytest.fixture(scope="module")
+def panda() -> robkin.Robot:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return robkin.load(robot_file("panda_description/urdf/panda.urdf"), base_link="panda_link0",
+                           tip_link="panda_leftfinger")      # 7R + a prismatic finger
+
+
+@pytest.mark.parametrize("N", [33, 257, 1000, 4099])
+def test_every_batch_kernel_gives_the_same_bits_on_any_number_of_threads(panda, N):
+    rng = np.random.default_rng(N)
+    Q, QD, QDD = (panda.random_q(N, rng) for _ in range(3))
+    calls = [lambda t: panda.fk(Q, threads=t), lambda t: panda.frames_at(Q, threads=t),
+             lambda t: panda.jacobian(Q, threads=t), lambda t: panda.jacobian(Q, "body", threads=t),
+             lambda t: panda.manipulability(Q, "full", threads=t),
+             lambda t: panda.inverse_dynamics(Q, QD, QDD, threads=t), lambda t: panda.gravity(Q, threads=t),
+             lambda t: panda.mass_matrix(Q, threads=t)]
+    for call in calls:
+        one = call(1)
+        for t in (2, 3, 8, None):
+            assert np.array_equal(call(t), one)
+    # and a batch equals its single calls (the last of each block edge)
+    for k in (0, 31, 32, N - 1):
+        assert np.array_equal(panda.fk(Q, threads=4)[k], panda.fk(Q[k]))
+        assert np.array_equal(panda.jacobian(Q, threads=4)[k], panda.jacobian(Q[k]))
+
+
+def test_numeric_ik_answers_do_not_depend_on_threads(panda):
+    T = panda.fk(panda.random_q(24, rng=7))
+    one = panda.ik(T, method="numeric", threads=1)
+    for t in (2, 5, None):
+        other = panda.ik(T, method="numeric", threads=t)
+        assert np.array_equal(other.q, one.q) and np.array_equal(other.success, one.success)
+        assert np.array_equal(other.iterations, one.iterations)
+
+
+@needs_openmp
+def test_automatic_thread_count_rules():
+    default = compiled.default_threads()
+    assert compiled.plan(0, 1, 8) == 1                    # too small to split
+    assert compiled.plan(0, 10_000, 8) == default          # large: the default
+    assert compiled.plan(3, 2, 8) == 2                     # asked: at most one thread per unit
+    assert compiled.plan(3, 10_000, 8) == 3
+    seen = []
+    worker = threading.Thread(target=lambda: seen.extend([compiled.plan(0, 10_000, 8), compiled.plan(2, 10_000, 8)]))
+    worker.start()
+    worker.join()
+    assert seen == [1, 2]   # another thread (a Dask worker, a pool) gets one unless it asks
+
+
+def test_set_threads_and_bad_values(panda):
+    before = robkin.get_threads()
+    try:
+        robkin.set_threads(3)
+        assert robkin.get_threads() == 3
+        robkin.set_threads(None)
+        assert robkin.get_threads() == compiled._from_environment()
+    finally:
+        robkin.set_threads(before)
+    for bad in (0, -1, 1.5, "2", True):
+        with pytest.raises(InputError, match="threads: expected a whole number >= 1"):
+            panda.fk(np.zeros(panda.n), threads=bad)
+    with pytest.raises(InputError, match="threads"):
+        robkin.set_threads(0)
+
+
+def test_environment_variable(monkeypatch):
+    monkeypatch.setenv("ROBKIN_NUM_THREADS", "3")
+    assert compiled._from_environment() == 3
+    for unusable in ("0", "abc", "", "-2"):
+        monkeypatch.setenv("ROBKIN_NUM_THREADS", unusable)
+        assert compiled._from_environment() == compiled.available_cores()
+
+
+def test_out_arrays_are_written_and_checked(panda):
+    """``out=`` writes a batch into memory the caller owns: the same bits, the same array back, and a
+    large batch walked in chunks through one buffer equals the whole batch at once."""
+    Q = panda.random_q(300, rng=3)
+    T = np.empty((300, 4, 4))
+    assert panda.fk(Q, out=T) is T and np.array_equal(T, panda.fk(Q))
+    F = np.empty((300, panda.n + 1, 4, 4))
+    assert panda.frames_at(Q, out=F) is F and np.array_equal(F, panda.frames_at(Q))
+    J = np.empty((300, 6, panda.n))
+    for frame in ("base", "space", "body"):
+        assert panda.jacobian(Q, frame, out=J) is J and np.array_equal(J, panda.jacobian(Q, frame))
+    whole, buf, chunks = panda.fk(Q), np.empty((100, 4, 4)), []
+    for k in range(0, 300, 100):
+        chunks.append(panda.fk(Q[k:k + 100], out=buf).copy())
+    assert np.array_equal(np.concatenate(chunks), whole)
+    # lists are validated first, then written into out
+    assert np.array_equal(panda.fk(Q[:2].tolist(), out=T[:2]), whole[:2])
+    for bad in (np.empty((300, 4, 4), dtype=np.float32), np.empty((299, 4, 4)), np.empty((300, 4, 4))[:, :, ::-1],
+                [[0.0] * 4] * 4):
+        with pytest.raises(InputError, match="out: expected a writeable C-contiguous float64 array of shape"):
+            panda.fk(Q.tolist(), out=bad)
+    with pytest.raises(InputError, match="out: not available for frame='tool'"):
+        panda.jacobian(Q, "tool", out=J)
