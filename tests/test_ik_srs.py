@@ -10,6 +10,8 @@ import json
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import ik_arms as arms
 import robkin
@@ -280,3 +282,50 @@ def test_browser_arm_angle_slider():
     # the sliders' values are the answer to ~1e-13 (their text form): the tool stayed, the elbow turned
     assert np.abs(robot.fk(shown) - robot.fk(np.array(q))).max() < 1e-6
     assert abs(arm_angle_of(robot, shown) - np.radians(80)) < 1e-6
+
+
+SCALE = int(arms.os.environ.get("ROBKIN_PROPERTY_SCALE", "1"))
+
+
+@settings(max_examples=15 * SCALE, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(d=st.lists(st.floats(0.1, 0.6), min_size=4, max_size=4),
+       alpha=st.lists(st.floats(0.35, PI - 0.35), min_size=7, max_size=7),
+       signs=st.lists(st.sampled_from([-1.0, 1.0]), min_size=7, max_size=7),
+       seed=st.integers(0, 2**31))
+def test_random_srs_geometry(d, alpha, signs, seed):
+    """Any SRS arm (a = 0, d2 = d4 = d6 = 0 in DH; twists anywhere between 20 and 160 degrees, so axes are
+    oblique, not just perpendicular): every target's generating configuration comes back at its arm angle."""
+    rows = np.column_stack([np.zeros(7), [d[0], 0, d[1], 0, d[2], 0, d[3]], np.multiply(alpha, signs), np.zeros(7)])
+    robot = robkin.DHTable(rows, tuple(Joint(f"j{i + 1}", "revolute") for i in range(7))).to_robot(name="srs")
+    q = np.random.default_rng(seed).uniform(-PI, PI, (20, 7))
+    psi = arm_angle_of(robot, q)
+    res = robot.ik(robot.fk(q), arm_angle=psi, all_solutions=True)
+    for k, sols in enumerate(res.solutions):
+        assert wrapped(sols, q[k]).max(axis=1).min() < 1e-7
+        assert np.abs(robot.fk(sols) - robot.fk(q[k])).max() < 1e-9
+
+
+def test_arm_angle_solutions_are_among_the_locked_joint_solutions():
+    """The arm angle's solutions against ik-general's closed form with joint 3 locked at each one's value:
+    two independent methods on the same arm."""
+    robot = arms.iiwa()
+    for q in robot.random_q(10, rng=21):
+        T = robot.fk(q)
+        for s in robot.ik(T, arm_angle=arm_angle_of(robot, q), all_solutions=True).solutions:
+            locked = robot.ik(T, lock={"iiwa_joint_3": s[2]}, all_solutions=True)
+            assert locked.method != "numeric" and wrapped(locked.solutions, s).max(axis=1).min() < 1e-7
+
+
+def test_cli_poses_at_one_arm_angle(tmp_path, capsys):
+    import csv
+
+    poses = tmp_path / "poses.csv"
+    poses.write_text("x,y,z,roll,pitch,yaw\n0.5,0,0.5,0,180,0\n0.4,0.2,0.6,0,180,0\n3,0,0,0,0,0\n")
+    out = tmp_path / "q.csv"
+    assert main(["ik", IIWA_URDF, "--poses", str(poses), "--degrees", "--arm-angle", "30", "-o", str(out)]) == 0
+    rows = list(csv.DictReader(out.open()))
+    robot = arms.iiwa()
+    assert [r["success"] for r in rows] == ["true", "true", "false"] and "out of reach" in rows[2]["error"]
+    for r in rows[:2]:
+        q = np.radians([float(r[j.name]) for j in robot.joints])
+        assert abs(arm_angle_of(robot, q) - np.radians(30)) < 1e-9
