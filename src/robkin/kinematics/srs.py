@@ -10,6 +10,9 @@ Kinova Gen3) and a tool pose T, every configuration with arm angle psi comes fro
    pairs of vectors, then split into three turns about axes 1, 2, 3 (two ways: the shoulder branches);
 3. the wrist's rotation R4^T R_T R_home^T split into turns about axes 5, 6, 7 (two ways: the wrist branches).
 
+The steps run compiled (``compiled.closed_form_srs.SRSKernel``, built once per robot); this module checks
+inputs, keeps the branch and explains failures.
+
 Up to 8 configurations per target and arm angle; each is wrapped into the joint limits and verified by
 forward kinematics (``compiled.solutions.nearest_verified``), sorted by distance to q0. With an explicit
 q0, ``q`` is the nearest solution on q0's branch (shoulder, elbow, wrist: ``srs_geometry.branch_of``), so a
