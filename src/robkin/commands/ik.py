@@ -52,7 +52,7 @@ examples:
   robkin ik panda.urdf --tip-link panda_hand_tcp --pose 0.5,0,0.4,0,0,0 --position-only
   robkin ik panda.urdf --tip-link panda_hand_tcp --pose 0.5,0,0.4,pi,0,0 --lock panda_joint7=0.8 --all
   robkin ik ur5.urdf --tip-link tool0 --poses targets.csv -o solutions.csv
-  robkin ik iiwa14.urdf --pose 0.5,0,0.5,0,180,0 --degrees --arm-angle 30 --all
+  robkin ik iiwa14.yaml --pose 0.5,0,0.5,0,180,0 --degrees --arm-angle 30 --all
 """
 
 
