@@ -14,6 +14,8 @@ Methods:
   ``kinematics.near_class`` for arms within calibration error of those two; ``kinematics.pieper``
   for 6R arms with three meeting axes at the wrist or the base; ``kinematics.general6r`` for every
   other revolute 6R arm, up to 16 solutions; docs/ik.md lists the conditions). Full poses only.
+- ``arm_angle=psi`` (SRS arms: 7R, spherical shoulder and wrist): ``kinematics.srs``, every solution at that
+  arm angle, ``q`` on ``q0``'s branch; method 'srs-arm-angle'.
 - ``'numeric'``: damped least squares / Levenberg-Marquardt (``kinematics.lm``) with joint limits,
   masks and random restarts, vectorised across targets.
 - ``'auto'`` (default): the closed form when one fits the robot and the mask is the full pose, else
