@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from functools import cache, cached_property
-from typing import TYPE_CHECKING, Any, Callable, Iterable, Literal, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Literal, Mapping, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -266,7 +266,8 @@ class Robot:
     def ik(self, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
            method: str = "auto", all_solutions: bool = False, tol_position: float = 1e-9,
            tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 200,
-           rng: np.random.Generator | int | None = 0, threads: int | None = None) -> "IKResult":
+           rng: np.random.Generator | int | None = 0, threads: int | None = None,
+           lock: "Mapping[str, float] | None" = None, arm_angle: "ArrayLike | None" = None) -> "IKResult":
         """Inverse kinematics: joint values that put the tool at T (``robkin.kinematics.ik.ik``).
 
         Parameters
@@ -292,6 +293,11 @@ class Robot:
             Source of the random restarts; the default seed 0 makes results reproducible.
         threads : int, optional
             Numeric batches: at most that many threads (see ``fk``); the answers do not depend on it.
+        lock : mapping of joint name to value, optional
+            Joints held at these values; the rest is solved as a shorter arm (a 7-joint arm with one
+            joint locked gets a 6R closed form). q and the solutions stay full length.
+        arm_angle : float or (N,) array, optional
+            SRS arms: the elbow's swivel (radians) about the shoulder-wrist line (``kinematics.srs``).
 
         Returns
         -------
@@ -301,7 +307,8 @@ class Robot:
         """
         return _ik_function()(self, T, q0=q0, mask=mask, method=method, all_solutions=all_solutions,
                   tol_position=tol_position, tol_orientation=tol_orientation,
-                  max_iterations=max_iterations, restarts=restarts, rng=rng, threads=threads)
+                  max_iterations=max_iterations, restarts=restarts, rng=rng, threads=threads, lock=lock,
+                  arm_angle=arm_angle)
 
     def jacobian(self, q: ArrayLike, frame: str = "base", *, threads: int | None = None,
                  out: np.ndarray | None = None) -> np.ndarray:

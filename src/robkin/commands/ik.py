@@ -20,8 +20,13 @@ The pose is the tool frame in the robot base frame: x,y,z,roll,pitch,yaw (URDF r
 The solver is closed-form where the geometry allows - SCARA-type arms (all axes parallel: both elbow
 solutions; redundant vertical joints split nearest to --q0), 6R arms with axes 2 || 3 and a spherical
 wrist (KUKA, ABB, Fanuc type) and 6R arms with axes 2 || 3 || 4 (Universal Robots type), up to 8
-solutions - and Levenberg-Marquardt with joint limits and random restarts otherwise. Every solution
-printed is checked by forward kinematics to the tolerances.
+solutions, arms within calibration error of those, and every other revolute 6R arm (up to 16 solutions)
+- and Levenberg-Marquardt with joint limits and random restarts otherwise. A 7-joint arm is solved in
+closed form with one joint held: --lock NAME=VALUE (repeatable; any method, any number of joints; the
+solutions printed are full length). An SRS arm (KUKA iiwa: 7R, axes 1-3 and 5-7 meeting) takes the
+elbow's swivel instead: --arm-angle PSI gives every solution (up to 8) at that arm angle, the printed
+one on --q0's branch. Every solution printed is checked by forward kinematics to the
+tolerances.
 
 A pose with no solution is not an error: the output has no solutions, the reason and the closest
 configuration's distance from the target (as the GUI shows it; JSON key "closest": q, position_error
@@ -45,7 +50,9 @@ examples:
   robkin ik ur5.urdf --tip-link tool0 --pose 0.4,0.1,0.3,pi,0,0 --all
   robkin ik panda.urdf --tip-link panda_hand_tcp --pose 0.5,0,0.4,pi,0,0 --q0=0,0,0,-1.5,0,1.5,0
   robkin ik panda.urdf --tip-link panda_hand_tcp --pose 0.5,0,0.4,0,0,0 --position-only
+  robkin ik panda.urdf --tip-link panda_hand_tcp --pose 0.5,0,0.4,pi,0,0 --lock panda_joint7=0.8 --all
   robkin ik ur5.urdf --tip-link tool0 --poses targets.csv -o solutions.csv
+  robkin ik iiwa14.yaml --pose 0.5,0,0.5,0,180,0 --degrees --arm-angle 30 --all
 """
 
 
@@ -74,6 +81,14 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     mask.add_argument("--position-only", action="store_true", help="match the position only (numeric)")
     mask.add_argument("--mask", metavar="X,Y,Z,RX,RY,RZ",
                       help="components to match, six 0/1 values (numeric unless all 1)")
+    p.add_argument("--lock", action="append", default=[], metavar="NAME=VALUE",
+                   help="hold joint NAME at VALUE (radians, or degrees with --degrees; within its limits) and "
+                        "solve the others: a 7-joint arm with one joint locked gets a 6R closed form; "
+                        "repeatable")
+    p.add_argument("--arm-angle", metavar="PSI",
+                   help="SRS arms (iiwa): the elbow's swivel about the shoulder-wrist line (radians, or degrees "
+                        "with --degrees; 0 = elbow in the plane of that line and joint 1's axis, on the side "
+                        "joint 1's axis points to); every solution at that angle, up to 8")
     p.add_argument("--method", choices=("auto", "analytic", "numeric"), default="auto",
                    help="solver (default: auto = closed form when one fits)")
     p.add_argument("--tol-position", type=float, default=1e-9, metavar="LENGTH",
@@ -108,7 +123,15 @@ def run(args: argparse.Namespace) -> int:
         if len(mask) != 6:
             raise InputError(f"--mask: expected 6 values 0/1 for x,y,z,rx,ry,rz, got {len(mask)}")
     solve = dict(q0=q0, mask=mask, method=args.method, tol_position=args.tol_position,
-                 tol_orientation=args.tol_orientation, restarts=args.restarts)
+                 tol_orientation=args.tol_orientation, restarts=args.restarts,
+                 lock=_parse_lock(robot, args.lock, args.degrees))
+    if args.arm_angle is not None:
+        import math
+
+        from ..io.numbers import number
+
+        psi = number(args.arm_angle, "--arm-angle")
+        solve["arm_angle"] = math.radians(psi) if args.degrees else psi
     if args.poses:
         from ._batches import ik_batch
 
@@ -144,6 +167,27 @@ def run(args: argparse.Namespace) -> int:
 
         show_blocks([solutions_block(solutions, result.method, [j.name for j in robot.joints])])
     return 0
+
+
+def _parse_lock(robot: "Robot", items: list[str], degrees: bool) -> dict[str, float] | None:
+    """--lock NAME=VALUE options as {name: value} (radians / length units), or None; each name once."""
+    import math
+
+    from ..errors import InputError, quote
+    from ..io.numbers import number
+
+    lock: dict[str, float] = {}
+    for item in items:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise InputError(f"--lock: expected NAME=VALUE, got {quote(item)}")
+        if name in lock:
+            raise InputError(f"--lock: joint {quote(name)} is given twice")
+        value = number(text, f"--lock {name}")
+        revolute = {j.name: j.revolute for j in robot.joints}.get(name, True)
+        lock[name] = math.radians(value) if degrees and revolute else value
+    return lock or None
 
 
 def _residuals(robot: "Robot", q: "np.ndarray", T: "np.ndarray") -> tuple[float, float]:

@@ -104,16 +104,25 @@ def closed_form_solver(robot: Robot) -> ClosedFormSolver | None:
         return cached[1]
     found = None
     from .analytic6r import SphericalWrist6R, ThreeParallel6R
+    from .general6r import General6R
+    from .near_class import NearClass
+    from .pieper import Pieper6R
     from .scara import ScaraSolver
 
-    for cls in (ScaraSolver, SphericalWrist6R, ThreeParallel6R):
-        found = cls.detect(robot)
+    # the special classes first (fastest), then an arm within calibration error of one of them (its
+    # closed form on the ideal arm, polished on the real one), then 6R arms with three axes meeting
+    # (Pieper's case, where the elimination degenerates), then any 6R by elimination
+    for detect in (ScaraSolver.detect, SphericalWrist6R.detect, ThreeParallel6R.detect, NearClass.detect,
+                   Pieper6R.detect, General6R.detect):
+        found = detect(robot)
         if found is not None:
             break
 
-    def forget(ref: weakref.ref[Robot], key: int = key) -> None:
-        if _SOLVERS.get(key, (None,))[0] is ref:       # not an entry of a later robot with the same id
-            del _SOLVERS[key]
+    def forget(ref: weakref.ref[Robot], key: int = key, solvers: dict = _SOLVERS) -> None:
+        # (the dict bound here: at interpreter exit the module's globals may be gone before a cached
+        # robot, e.g. a reduced arm of kinematics.lock, is collected)
+        if solvers.get(key, (None,))[0] is ref:        # not an entry of a later robot with the same id
+            del solvers[key]
 
     _SOLVERS[key] = (weakref.ref(robot, forget), found)
     return found

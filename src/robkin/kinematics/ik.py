@@ -10,7 +10,12 @@ Methods:
 
 - ``'analytic'``: closed-form, all solutions (``kinematics.scara`` for SCARA-type arms,
   ``kinematics.analytic6r`` for 6R arms with parallel axes 2, 3 and a spherical wrist, and for 6R
-  arms of the Universal Robots type: axes 2, 3, 4 parallel, axes 5, 6 meeting). Full poses only.
+  arms of the Universal Robots type: axes 2, 3, 4 parallel, axes 5, 6 meeting;
+  ``kinematics.near_class`` for arms within calibration error of those two; ``kinematics.pieper``
+  for 6R arms with three meeting axes at the wrist or the base; ``kinematics.general6r`` for every
+  other revolute 6R arm, up to 16 solutions; docs/ik.md lists the conditions). Full poses only.
+- ``arm_angle=psi`` (SRS arms: 7R, spherical shoulder and wrist): ``kinematics.srs``, every solution at that
+  arm angle, ``q`` on ``q0``'s branch; method 'srs-arm-angle'.
 - ``'numeric'``: damped least squares / Levenberg-Marquardt (``kinematics.lm``) with joint limits,
   masks and random restarts, vectorised across targets.
 - ``'auto'`` (default): the closed form when one fits the robot and the mask is the full pose, else
@@ -24,7 +29,7 @@ import math
 import weakref
 from dataclasses import dataclass, replace
 from functools import lru_cache
-from typing import Any
+from typing import Any, Mapping
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -76,8 +81,9 @@ class IKResult:
     orientation_error : float or (N,) array
         |log(R_d R^T)| over the masked components (radians; inf where q is NaN).
     method : str
-        'scara', 'spherical-wrist-6r', 'three-parallel-6r' (closed forms; targets the closed form
-        could not settle are retried numerically in 'auto') or 'numeric'.
+        'scara', 'spherical-wrist-6r', 'three-parallel-6r', 'near-spherical-wrist-6r',
+        'near-three-parallel-6r', 'pieper-6r', 'pieper-6r-reversed', 'general-6r', 'srs-arm-angle' (closed forms; targets the closed form could not settle
+        are retried numerically in 'auto') or 'numeric'.
     message : str or list of str
         Why a target failed ('' where it succeeded).
     solutions : (S, n) array, list of (S_i, n) arrays, or None
@@ -121,7 +127,8 @@ class IKResult:
 def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
        method: str = "auto", all_solutions: bool = False, tol_position: float = _TOL,
        tol_orientation: float = _TOL, max_iterations: int = _MAX_ITERATIONS, restarts: int = _RESTARTS,
-       rng: np.random.Generator | int | None = 0, threads: int | None = None) -> IKResult:
+       rng: np.random.Generator | int | None = 0, threads: int | None = None,
+       lock: Mapping[str, float] | None = None, arm_angle: ArrayLike | None = None) -> IKResult:
     """Joint values that put the tool at T.
 
     Parameters
@@ -153,11 +160,29 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
     threads : int, optional
         Numeric batches: at most that many threads (default automatic, see ``robkin.threads``); the
         answers do not depend on it.
+    lock : mapping of joint name to value, optional
+        Joints held at these values (radians or length units, within the limits): the rest is solved as
+        a shorter arm (``kinematics.lock``; a 7-joint arm with one joint locked gets a 6R closed form).
+        Every method works with it; q, q0 and the solutions stay full length, the locked values in place.
+    arm_angle : float or (N,) array, optional
+        SRS arms (iiwa, ideal Gen3): the elbow's swivel angle (radians) about the shoulder-wrist line; every
+        solution at that angle, q on q0's branch (``kinematics.srs``, docs/ik.md). Not with lock or mask.
 
     Returns
     -------
     IKResult
     """
+    if arm_angle is not None:
+        from .srs import ik_arm_angle
+
+        return ik_arm_angle(robot, T, arm_angle, q0, all_solutions, tol_position, tol_orientation, mask=mask,
+                            method=method, lock=lock)
+    if lock:
+        from .lock import ik_locked
+
+        return ik_locked(ik, robot, T, lock, q0, mask=mask, method=method, all_solutions=all_solutions,
+                         tol_position=tol_position, tol_orientation=tol_orientation,
+                         max_iterations=max_iterations, restarts=restarts, rng=rng, threads=threads)
     if q0 is None and mask is None and (method == "auto" or method == "analytic") \
             and max_iterations is _MAX_ITERATIONS and restarts is _RESTARTS:    # else: checked below
         # The single-target path: one compiled call checks the target (a float64 4x4 exact pose) and
@@ -193,8 +218,8 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         solver = closed_form_solver(robot) if full_pose else None
         if solver is None and method == "analytic":
             why = "the mask is not the full pose" if not full_pose else \
-                ("no closed-form solver fits this robot (SCARA-type; 6R with axes 2 || 3 and a spherical "
-                 "wrist; or 6R with axes 2 || 3 || 4 and axes 5, 6 meeting)")
+                ("no closed-form solver fits this robot (SCARA-type, or six revolute joints: lock joints of "
+                 "a longer arm with lock=)")
             raise InputError(f"method 'analytic': {why}; use method 'numeric'")
 
     if solver is not None and single:

@@ -11,7 +11,7 @@ tool frame, joint sliders, tables of every representation, downloads), the three
     A mesh file of the command-line robot, by the id ``/api/start`` gave it (see ``meshes.py``).
 ``POST /api/describe`` ``{text, fmt, q, strict_q, overlay, base_link, tip_link, tool_row, other}``
     ``{"ok": true, ...describe()}`` or ``{"ok": false, "error": "one line"}``.
-``POST /api/ik`` ``{text, fmt, base_link, tip_link, tool_row, target, q0}``
+``POST /api/ik`` ``{text, fmt, base_link, tip_link, tool_row, target, q0[, arm_angle]}``
     ``{"ok": true, ...solve_ik()}`` or ``{"ok": false, "error"}``.
 ``POST /api/export`` ``{text, fmt, to, base_link, tip_link, tool_row}``
     ``{"ok": true, "filename", "mime", "content"}`` or ``{"ok": false, "error"}``.
@@ -269,7 +269,8 @@ class _Handler(BaseHTTPRequestHandler):
                 return {"ok": True, **gui_api.describe(q=req.get("q"), strict_q=req.get("strict_q") is not False,
                                                        overlay=req.get("overlay"), other=req.get("other"), **args)}
             if path == "/api/ik":
-                return {"ok": True, **gui_api.solve_ik(target=req.get("target"), q0=req.get("q0"), **args)}
+                return {"ok": True, **gui_api.solve_ik(target=req.get("target"), q0=req.get("q0"),
+                                                       arm_angle=req.get("arm_angle"), **args)}
             filename, mime, content = gui_api.export(to=str(req.get("to", "")), **args)
             return {"ok": True, "filename": filename, "mime": mime, "content": content}
         except InputError as exc:

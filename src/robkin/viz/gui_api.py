@@ -222,6 +222,7 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
         "agreement": agreement,
         "links": list(links),
         "motions": _motions(robot, Q),
+        **_arm_angle(robot, Q),
         "check": None if other is None else _check(robot, Q, other),
         "warnings": notes,
     }
@@ -284,7 +285,7 @@ def _exaggeration(value: Any) -> float:
 
 
 def solve_ik(text: str, fmt: str, target: Any, q0: Any, base_link: str | None = None,
-             tip_link: str | None = None, tool_row: bool = False) -> dict[str, Any]:
+             tip_link: str | None = None, tool_row: bool = False, arm_angle: Any = None) -> dict[str, Any]:
     """Joint values putting the tool at ``target`` (4x4), started from ``q0`` (the configuration shown).
 
     One IK attempt (no random restarts: dragging asks 30+ times a second and each answer seeds the
@@ -292,7 +293,9 @@ def solve_ik(text: str, fmt: str, target: Any, q0: Any, base_link: str | None = 
     solution, or where the numeric method got closest; ``q0`` when no configuration exists),
     ``success``, ``position_error`` / ``orientation_error`` (length units / rad), ``message``,
     ``at_limit`` (indices of joints on a limit), ``solutions`` (all branches found), and at ``q``
-    the tool pose ``T``, its ``rpy_xyz`` and the ``scene`` to draw.
+    the tool pose ``T``, its ``rpy_xyz`` and the ``scene`` to draw. ``arm_angle`` (radians, SRS arms
+    only): solve at that arm angle, on q0's branch (``kinematics.srs``); the answer's ``srs`` and
+    ``arm_angle`` say whether the arm is SRS and the arm angle of ``q``.
     """
     from .. import se3
     from .scene import build_scene
@@ -302,7 +305,13 @@ def solve_ik(text: str, fmt: str, target: Any, q0: Any, base_link: str | None = 
     T = _matrix_of(target, "target")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # a dragged target is projected onto a rotation silently
-        res = robot.ik(T, q0=Q0, restarts=0, all_solutions=True)
+        if arm_angle is None:
+            res = robot.ik(T, q0=Q0, restarts=0, all_solutions=True)
+        else:
+            if not (isinstance(arm_angle, (int, float)) and not isinstance(arm_angle, bool)
+                    and np.isfinite(arm_angle)):
+                raise InputError(f"arm_angle: expected a finite number of radians, got {arm_angle!r}")
+            res = robot.ik(T, q0=Q0, arm_angle=float(arm_angle), all_solutions=True)
     q = np.asarray(res.q, dtype=float)
     found = bool(np.all(np.isfinite(q)))
     q = q if found else Q0
@@ -317,7 +326,19 @@ def solve_ik(text: str, fmt: str, target: Any, q0: Any, base_link: str | None = 
             "message": res.message or "", "method": res.method, "at_limit": at_limit.tolist(),
             "solutions": sols, "T": T_q.tolist(),
             "rpy_xyz": np.concatenate([se3.rpy_from_matrix(T_q[:3, :3]), T_q[:3, 3]]).tolist(),
-            "scene": build_scene(robot, q).to_json(), "motions": _motions(robot, q)}
+            "scene": build_scene(robot, q).to_json(), "motions": _motions(robot, q), **_arm_angle(robot, q)}
+
+
+def _arm_angle(robot: Robot, q: np.ndarray) -> dict[str, Any]:
+    """``srs``: the robot is an SRS arm (``kinematics.srs_geometry``); ``arm_angle``: q's (radians; None
+    where undefined or not SRS)."""
+    from ..kinematics.srs_geometry import arm_angle_of, srs_geometry
+
+    try:
+        srs_geometry(robot)
+    except InputError:
+        return {"srs": False, "arm_angle": None}
+    return {"srs": True, "arm_angle": _finite(float(arm_angle_of(robot, q)))}
 
 
 def _overlays(robot: Robot, Q: np.ndarray, scene: Any, overlay: Any) -> tuple[list[dict], dict | None]:

@@ -82,6 +82,7 @@ function dragged(T) {
   if (!state.robot) return;
   $("view").dataset.target = JSON.stringify(T);
   const body = { ...inputs(), target: T, q0: currentQ() };
+  if (!$("arm-angle").hidden && $("arm-angle-hold").checked) body.arm_angle = armAngle();
   if (state.ik.inflight) { state.ik.pending = body; return; }
   sendIK(body);
 }
@@ -97,6 +98,7 @@ function sendIK(body) {
       if (secs > 0) document.body.dataset.ikRate = (state.ik.count / secs).toFixed(1);
       setQ(res.q);
       showIK(res);
+      showArmAngle(res);
       const scene = res.scene;
       state.robot = { ...state.robot, q: res.q, T: res.T, rpy_xyz: res.rpy_xyz, scene, motions: res.motions,
                       overlays: [], check: null };
@@ -111,6 +113,25 @@ function sendIK(body) {
     });
 }
 
+// SRS arms: the elbow's swivel about the shoulder-wrist line (arm angle). Moving the slider solves for
+// the tool pose shown at that arm angle, on the branch shown; "hold" keeps the arm angle while dragging.
+function armAngle() { return Number($("arm-angle-slider").value) * Math.PI / 180; }
+
+function showArmAngle(res) {
+  $("arm-angle").hidden = !res.srs;
+  if (!res.srs) return;
+  const ok = res.arm_angle !== null && res.arm_angle !== undefined;
+  if (ok && document.activeElement !== $("arm-angle-slider")) $("arm-angle-slider").value = (res.arm_angle * 180 / Math.PI).toFixed(1);
+  $("arm-angle-value").textContent = ok ? (res.arm_angle * 180 / Math.PI).toFixed(1) + "\u00b0" : "undefined (stretched elbow)";
+}
+
+function swivel() {
+  if (!state.robot) return;
+  const body = { ...inputs(), target: state.robot.T, q0: currentQ(), arm_angle: armAngle() };
+  if (state.ik.inflight) { state.ik.pending = body; return; }
+  sendIK(body);
+}
+
 function dragEnded() {
   state.ik.since = 0;
   state.ik.count = 0;
@@ -123,7 +144,8 @@ function showIK(res) {
   const limits = res.at_limit.map((i) => names[i]);
   document.querySelectorAll("#sliders .slider").forEach((d, i) => d.classList.toggle("limit", res.at_limit.includes(i)));
   s.className = !res.success ? "bad" : limits.length ? "limit" : "";
-  s.textContent = !res.found ? "target out of reach: no configuration puts the tool there" :
+  s.textContent = !res.found ? (res.method === "srs-arm-angle" && res.message ? "no configuration: " + res.message :
+                                "target out of reach: no configuration puts the tool there") :
     !res.success ? "target out of reach (closest: " + num(res.position_error) + " away, " +
                    num(res.orientation_error) + " rad turned)" +
                    (limits.length ? "; against the limit of " + limits.join(", ") : "") :
@@ -171,6 +193,7 @@ function apply(res, body) {
   if (changed) viewer.view("fit");
   $("grid-unit").textContent = "grid: " + num(Number($("view").dataset.gridCell)) + " per cell";
   showPose(res);
+  showArmAngle(res);
   showAgreement(res);
   showCheck(res);
   const tkey = [body.text, body.fmt, body.base_link, body.tip_link, body.tool_row, $("units").value].join("\u0000");
@@ -488,6 +511,8 @@ async function start() {
     });
   }
   $("other-clear").addEventListener("click", () => { $("other-text").value = ""; $("other-file").value = ""; refresh(); });
+  $("arm-angle-slider").addEventListener("input", swivel);
+  $("arm-angle-slider").addEventListener("change", () => { dragEnded(); });
   $("home").addEventListener("click", () => { setQ(currentQ().map(() => 0)); refresh(); });
   document.querySelectorAll("[data-view]").forEach((b) => b.addEventListener("click", () => viewer.view(b.dataset.view)));
   $("gizmo-mode").addEventListener("change", () => viewer.setGizmoMode($("gizmo-mode").value));

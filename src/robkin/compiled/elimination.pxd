@@ -1,0 +1,199 @@
+# cython: language_level=3
+"""The small pieces of the general 6R elimination (``closed_form_general6r``) as ``cdef inline``
+functions: rotations about z, lines moved by transforms, Raghavan and Roth's 14 quantities of a line,
+the null vector of a singular matrix, half-angle ratios, and the 3 x 3 x 3 coefficient transform."""
+
+from libc.math cimport atan2, cos, fabs, sin
+from robkin.compiled.linalg cimport cross3, dot3
+from scipy.linalg.cython_lapack cimport dgeev, dggev
+
+
+cdef inline void rz_mul(double t, const double* A, double* out) noexcept nogil:
+    """out = Rz(t) A for 4x4 row-major transforms."""
+    cdef double c = cos(t), s = sin(t)
+    cdef int j
+    for j in range(4):
+        out[j] = c * A[j] - s * A[4 + j]
+        out[4 + j] = s * A[j] + c * A[4 + j]
+        out[8 + j] = A[8 + j]
+        out[12 + j] = A[12 + j]
+
+
+cdef inline void move_line(const double* A, const double* p, const double* l, double* po, double* lo) noexcept nogil:
+    """The line (point p, direction l) moved by the 4x4 transform A."""
+    cdef int i
+    for i in range(3):
+        lo[i] = A[4 * i] * l[0] + A[4 * i + 1] * l[1] + A[4 * i + 2] * l[2]
+        po[i] = A[4 * i] * p[0] + A[4 * i + 1] * p[1] + A[4 * i + 2] * p[2] + A[4 * i + 3]
+
+
+cdef inline void line_quantities(const double* p, const double* l, double* out, int stride) noexcept nogil:
+    """Raghavan and Roth's 14 quantities of the line (p, l): p, l, p.p, p.l, p x l, (p.p) l - 2 (p.l) p;
+    out[stride * k] for k < 14."""
+    cdef double pp = dot3(p, p), pl = dot3(p, l)
+    cdef double x[3]
+    cdef int i
+    cross3(p, l, x)
+    for i in range(3):
+        out[stride * i] = p[i]
+        out[stride * (3 + i)] = l[i]
+        out[stride * (8 + i)] = x[i]
+        out[stride * (11 + i)] = pp * l[i] - 2.0 * pl * p[i]
+    out[stride * 6] = pp
+    out[stride * 7] = pl
+
+
+cdef inline void null_vector(double* A, int n, double* v, int* rp, int* cp) noexcept nogil:
+    """v (n,) spanning the (numerical) null space of the singular A (n x n row-major, overwritten):
+    LU with full pivoting, the last pivot taken as zero, back-substitution."""
+    cdef int i, j, k, bi, bj, t
+    cdef double big, x, f
+    for i in range(n):
+        rp[i] = i
+        cp[i] = i
+    for k in range(n - 1):
+        big = -1.0
+        bi = k
+        bj = k
+        for i in range(k, n):
+            for j in range(k, n):
+                x = fabs(A[rp[i] * n + cp[j]])
+                if x > big:
+                    big, bi, bj = x, i, j
+        t = rp[k]; rp[k] = rp[bi]; rp[bi] = t
+        t = cp[k]; cp[k] = cp[bj]; cp[bj] = t
+        if big == 0.0:
+            continue
+        for i in range(k + 1, n):
+            f = A[rp[i] * n + cp[k]] / A[rp[k] * n + cp[k]]
+            A[rp[i] * n + cp[k]] = f
+            for j in range(k + 1, n):
+                A[rp[i] * n + cp[j]] -= f * A[rp[k] * n + cp[j]]
+    v[cp[n - 1]] = 1.0
+    for i in range(n - 2, -1, -1):
+        x = 0.0
+        for j in range(i + 1, n):
+            x += A[rp[i] * n + cp[j]] * v[cp[j]]
+        f = A[rp[i] * n + cp[i]]
+        v[cp[i]] = -x / f if f != 0.0 else 0.0
+
+
+cdef inline double pair_angle(const double* v, int stride_lo, int count_i, int count_j, int si, int sj) noexcept nogil:
+    """The angle theta' with (lo, up) ~ (cos theta'/2, sin theta'/2) over the monomial pairs of the
+    null vector v: lo = v[si * i + sj * j], up = the entry stride_lo further (the next power)."""
+    cdef double a = 0.0, b = 0.0, c = 0.0, lo, up
+    cdef int i, j
+    for i in range(count_i):
+        for j in range(count_j):
+            lo = v[si * i + sj * j]
+            up = v[si * i + sj * j + stride_lo]
+            a += lo * lo
+            b += up * up
+            c += lo * up
+    return atan2(2.0 * c, a - b)
+
+
+cdef inline void transform3(const double* f, const double* W, double* out) noexcept nogil:
+    """out[9 I + 3 J + K] = sum W[I, i] W[J, j] W[K, k] f[9 i + 3 j + k] (3 x 3 x 3 tensor, each axis by W)."""
+    cdef double t1[27]
+    cdef double t2[27]
+    cdef int I, i, j, k
+    cdef double x
+    for I in range(3):              # axis c
+        for i in range(3):
+            for j in range(3):
+                x = 0.0
+                for k in range(3):
+                    x += W[3 * I + k] * f[9 * i + 3 * j + k]
+                t1[9 * i + 3 * j + I] = x
+    for I in range(3):              # axis b
+        for i in range(3):
+            for k in range(3):
+                x = 0.0
+                for j in range(3):
+                    x += W[3 * I + j] * t1[9 * i + 3 * j + k]
+                t2[9 * i + 3 * I + k] = x
+    for I in range(3):              # axis a
+        for j in range(3):
+            for k in range(3):
+                x = 0.0
+                for i in range(3):
+                    x += W[3 * I + i] * t2[9 * i + 3 * j + k]
+                out[9 * I + 3 * j + k] = x
+
+
+cdef inline int quadratic_pencil_eigenvalues(const double* M0, const double* M1, const double* M2, int m,
+                                             double* Ap, double* Bp, double* ar, double* ai, double* be,
+                                             double* lw, int lwork, double* col, int* piv,
+                                             double rcond) noexcept nogil:
+    """The 2m eigenvalues x = (ar + i ai) / be of det(M0 + M1 x + M2 x^2) = 0 (m x m row-major blocks).
+
+    M2 is LU-factored (partial pivoting); if its pivots stay above ``rcond`` x the largest, the
+    companion matrix [[0, I], [-M2^-1 M0, -M2^-1 M1]] goes to LAPACK ``dgeev`` (be = 1), else the pencil
+    [[0, I], [-M0, -M1]] - x [[I, 0], [0, M2]] to ``dggev`` (infinite eigenvalues: be = 0). Ap, Bp:
+    (2m)^2 doubles of scratch each; lw: lwork doubles; col: m doubles; piv: m ints. Returns LAPACK's info.
+    """
+    cdef int n2 = 2 * m, lda = 2 * m, ldv = 1, info = 0, i, j, k, c
+    cdef double big, x, piv_min = 1e308, piv_max = 0.0
+    cdef char jobN = b'N'
+    for i in range(m * m):
+        Bp[i] = M2[i]
+    for k in range(m):
+        big = -1.0
+        j = k
+        for i in range(k, m):
+            if fabs(Bp[m * i + k]) > big:
+                big = fabs(Bp[m * i + k])
+                j = i
+        piv[k] = j
+        if j != k:
+            for i in range(m):
+                x = Bp[m * k + i]
+                Bp[m * k + i] = Bp[m * j + i]
+                Bp[m * j + i] = x
+        piv_min = min(piv_min, big)
+        piv_max = max(piv_max, big)
+        if big == 0.0:
+            break
+        for i in range(k + 1, m):
+            x = Bp[m * i + k] / Bp[m * k + k]
+            Bp[m * i + k] = x
+            for j in range(k + 1, m):
+                Bp[m * i + j] -= x * Bp[m * k + j]
+    for i in range(n2 * n2):
+        Ap[i] = 0.0
+    for i in range(m):
+        Ap[i + n2 * (m + i)] = 1.0
+    if piv_max > 0.0 and piv_min > rcond * piv_max:
+        for c in range(n2):                    # column c of -M2^-1 [M0 M1]: row swaps, L, then U
+            for i in range(m):
+                col[i] = -(M0[m * i + c] if c < m else M1[m * i + c - m])
+            for k in range(m):
+                j = piv[k]
+                if j != k:
+                    x = col[k]
+                    col[k] = col[j]
+                    col[j] = x
+            for i in range(m):
+                for k in range(i):
+                    col[i] -= Bp[m * i + k] * col[k]
+            for i in range(m - 1, -1, -1):
+                for k in range(i + 1, m):
+                    col[i] -= Bp[m * i + k] * col[k]
+                col[i] /= Bp[m * i + i]
+            for i in range(m):
+                Ap[m + i + n2 * c] = col[i]
+        dgeev(&jobN, &jobN, &n2, Ap, &lda, ar, ai, NULL, &ldv, NULL, &ldv, lw, &lwork, &info)
+        for i in range(n2):
+            be[i] = 1.0
+        return info
+    for i in range(n2 * n2):
+        Bp[i] = 0.0
+    for i in range(m):
+        Bp[i + n2 * i] = 1.0
+        for j in range(m):
+            Ap[m + i + n2 * j] = -M0[m * i + j]
+            Ap[m + i + n2 * (m + j)] = -M1[m * i + j]
+            Bp[m + i + n2 * (m + j)] = M2[m * i + j]
+    dggev(&jobN, &jobN, &n2, Ap, &lda, Bp, &lda, ar, ai, be, NULL, &ldv, NULL, &ldv, lw, &lwork, &info)
+    return info

@@ -1,0 +1,227 @@
+"""General closed-form IK: any 6R arm (elimination), Pieper's case, near-class arms, and 7-joint arms with
+a locked joint. Every solution is re-checked by pinocchio's forward kinematics (an independent peer) and
+the joint limits; the generating configuration of every target must come back; and the solutions that
+many seeded numeric solves find must all be among the closed-form ones.
+
+The >= 1000-target runs and the timings against ssik are benchmarks/bench_general_ik.py."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import ik_arms as arms
+import robkin
+from robkin.errors import InputError
+from robkin.io.urdf_write import urdf_from_robot
+from robkin.kinematics.closed_form import closed_form_solver
+from robkin.kinematics.lock import check_lock, locked_robot
+from robkin.robot import Joint
+from strategies import robot_specs
+
+pin = pytest.importorskip("pinocchio")
+
+SCALE = int(os.environ.get("ROBKIN_PROPERTY_SCALE", "1"))
+#: pinocchio's FK of each solution must reach the target to this (m, and the 4x4 entries): the solutions
+#: are polished to ~1e-15, pinocchio's own rounding over a 1 m chain is ~1e-15
+CHECK = 1e-9
+#: two configurations are the same when every joint agrees to this (rad): ik's SAME_SOLUTION_TOL
+SAME = 1e-6
+
+
+def pin_model(robot: robkin.Robot):
+    """pinocchio's model of the robot, from robkin's URDF (the chain as pinocchio reads it), and its tip."""
+    model = pin.buildModelFromXML(urdf_from_robot(robot))
+    return model, model.frames[len(model.frames) - 1].name
+
+
+def pin_fk(model, tip: str, robot: robkin.Robot, q: np.ndarray) -> np.ndarray:
+    data = model.createData()
+    qp = pin.neutral(model)
+    for joint, value in zip(robot.joints, q):
+        jm = model.joints[model.getJointId(joint.name)]
+        if jm.nq == 2:
+            qp[jm.idx_q], qp[jm.idx_q + 1] = np.cos(value), np.sin(value)
+        else:
+            qp[jm.idx_q] = value
+    pin.framesForwardKinematics(model, data, qp)
+    return data.oMf[model.getFrameId(tip)].homogeneous
+
+
+def wrapped(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """|a - b| per joint modulo 2 pi."""
+    return np.abs((a - b + np.pi) % (2 * np.pi) - np.pi)
+
+
+def check_arm(robot: robkin.Robot, Q: np.ndarray, lock: dict | None = None, numeric: int = 0,
+              method: str | None = None) -> None:
+    """Targets FK(Q) solved with all solutions: the generating configuration among them, each verified
+    by pinocchio and the limits, and the numeric solver's solutions of the first ``numeric`` targets all
+    among them."""
+    model, tip = pin_model(robot)
+    targets = np.array([pin_fk(model, tip, robot, q) for q in Q])        # targets from the peer
+    res = robot.ik(targets, q0=Q, all_solutions=True, lock=lock)
+    if method is not None:
+        assert res.method == method
+    assert res.success.all()
+    lim = robot.limits
+    for q, T, sols in zip(Q, targets, res.solutions):
+        assert sols.shape[1] == robot.n
+        assert wrapped(sols, q).max(axis=1).min() < SAME                 # the original configuration
+        for s in sols:
+            assert np.all((s >= lim[:, 0] - 1e-12) & (s <= lim[:, 1] + 1e-12))
+            assert np.abs(pin_fk(model, tip, robot, s) - T).max() <= CHECK
+        assert len({tuple(np.round(s, 5)) for s in sols}) == len(sols)   # duplicates merged
+    for k in range(numeric):
+        num = robot.ik(targets[k], method="numeric", all_solutions=True, restarts=60, rng=k, lock=lock)
+        for s in num.solutions:
+            # near a singularity a 1e-9-accurate numeric answer is only pinned to ~1e-9 / sigma_min
+            spread = max(1e-5, 10 * 1e-9 / np.linalg.svd(robot.jacobian(s), compute_uv=False)[-1])
+            assert wrapped(res.solutions[k], s).max(axis=1).min() < spread, "a numeric solution is missing"
+
+
+@pytest.mark.parametrize("make", [lambda: arms.generic_6r(1), lambda: arms.generic_6r(2),
+                                  lambda: arms.parallel_pair_6r(3, 1), lambda: arms.parallel_pair_6r(4, 3),
+                                  arms.jaco2, arms.xarm6], ids=["generic1", "generic2", "parallel23",
+                                                                "parallel45", "jaco2", "xarm6"])
+def test_general_6r_finds_every_solution(make):
+    robot = make()
+    assert closed_form_solver(robot).name == "general-6r"
+    check_arm(robot, robot.random_q(40, rng=5), numeric=4, method="general-6r")
+
+
+def test_general_6r_counts_up_to_16_real_solutions():
+    # a generic arm has up to 16 solutions; over 300 targets some have more than 8 (beyond any
+    # class's count) and none more than 16
+    robot = arms.generic_6r(1)
+    res = robot.ik(robot.fk(robot.random_q(300, rng=6)), all_solutions=True)
+    counts = np.array([len(s) for s in res.solutions])
+    assert counts.max() > 8 and counts.max() <= 16 and (counts % 2 == 0).mean() > 0.9
+
+
+@pytest.mark.parametrize("name", sorted(arms.SEVEN))
+def test_seven_joint_arms_with_a_locked_joint(name):
+    make, joint = arms.SEVEN[name]
+    robot = make()
+    if robot is None:
+        pytest.skip("example-robot-data not installed")
+    j = [x.name for x in robot.joints].index(joint)
+    Q = robot.random_q(30, rng=7)
+    Q[:, j] = 0.4                              # the locked joint's value in every generating configuration
+    check_arm(robot, Q, lock={joint: 0.4}, numeric=2)
+    res = robot.ik(robot.fk(Q[0]), lock={joint: 0.4})
+    assert res.method != "numeric" and res.q[j] == 0.4
+
+
+def test_near_class_arm_takes_the_class_closed_form_polished():
+    ur5 = arms.ur5()
+    if ur5 is None:
+        pytest.skip("example-robot-data not installed")
+    calibrated = arms.perturbed(ur5, 1e-6, seed=0)
+    assert closed_form_solver(ur5).name == "three-parallel-6r"
+    check_arm(calibrated, calibrated.random_q(30, rng=8), numeric=2, method="near-three-parallel-6r")
+    one = calibrated.ik(calibrated.fk(calibrated.random_q(1, rng=9)[0]), all_solutions=True)
+    assert one.success and one.method == "near-three-parallel-6r" and len(one.solutions) >= 1
+
+
+def test_pieper_arms_forward_and_reversed():
+    iiwa = arms.iiwa()
+    for joint, name in (("iiwa_joint_1", "pieper-6r"), ("iiwa_joint_7", "pieper-6r-reversed")):
+        idx, values = check_lock(iiwa, {joint: -0.3})
+        assert closed_form_solver(locked_robot(iiwa, idx, values)).name == name
+        Q = iiwa.random_q(15, rng=10)
+        Q[:, idx[0]] = -0.3
+        check_arm(iiwa, Q, lock={joint: -0.3})
+
+
+@st.composite
+def generic_dh(draw):
+    """6R DH tables with arbitrary values, and one of: nothing special, a parallel pair, a pair of
+    intersecting axes (a = 0)."""
+    f = st.floats(-0.6, 0.6).filter(lambda x: abs(x) > 0.02)
+    ang = st.floats(-3.0, 3.0).filter(lambda x: min(abs(x), abs(abs(x) - np.pi / 2), abs(abs(x) - np.pi)) > 0.05)
+    a = np.array([draw(f) for _ in range(6)])
+    d = np.array([draw(f) for _ in range(6)])
+    alpha = np.array([draw(ang) for _ in range(6)])
+    special, k = draw(st.sampled_from(["none", "parallel", "intersecting"])), draw(st.integers(0, 4))
+    if special == "parallel":
+        alpha[k] = 0.0
+    elif special == "intersecting":
+        a[k] = 0.0
+    return arms.dh_arm(a, d, alpha, "drawn")
+
+
+@settings(max_examples=6 * SCALE, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(robot=generic_dh(), seed=st.integers(0, 2**16))
+def test_random_6r_arms_find_their_generating_configuration(robot, seed):
+    solver = closed_form_solver(robot)
+    assert solver is not None
+    check_arm(robot, robot.random_q(15, rng=seed))
+
+
+def test_lock_returns_full_length_for_every_method_and_any_number_of_joints():
+    iiwa = arms.iiwa()
+    q = np.array([0.3, 0.5, -0.2, -1.2, 0.4, 0.9, 0.1])
+    T = iiwa.fk(q)
+    for method in ("auto", "analytic", "numeric"):
+        res = iiwa.ik(T, lock={"iiwa_joint_3": -0.2}, method=method, q0=q + 0.05)
+        assert res.success and res.q.shape == (7,) and res.q[2] == -0.2
+        assert np.abs(iiwa.fk(res.q) - T).max() < 1e-9
+    two = iiwa.ik(T, lock={"iiwa_joint_3": -0.2, "iiwa_joint_7": 0.1}, all_solutions=True)  # 5 joints: numeric
+    assert two.method == "numeric" and two.success and np.all(two.solutions[:, [2, 6]] == [-0.2, 0.1])
+    batch = iiwa.ik(np.stack([T, T]), lock={"iiwa_joint_3": -0.2}, all_solutions=True)
+    assert batch.q.shape == (2, 7) and all(s.shape[1] == 7 for s in batch.solutions)
+
+
+@pytest.mark.parametrize("lock, message", [({"nope": 0.1}, "no joint 'nope'"),
+                                           ({"iiwa_joint_2": 3.0}, "outside its limits"),
+                                           ({"iiwa_joint_2": "x"}, "expected a number"),
+                                           ({"iiwa_joint_2": float("nan")}, "not finite"),
+                                           ({f"iiwa_joint_{i}": 0.0 for i in range(1, 8)}, "every joint")])
+def test_bad_locks_are_input_errors(lock, message):
+    with pytest.raises(InputError, match=message):
+        arms.iiwa().ik(np.eye(4), lock=lock)
+
+
+def test_cli_lock(tmp_path, capsys):
+    import json
+
+    from robkin.cli import main
+
+    path = os.path.join(arms.DATA, "iiwa14.urdf")
+    iiwa = arms.iiwa()
+    q = np.array([0.3, 0.5, -0.2, -1.2, 0.4, 0.9, 0.1])
+    pose = ",".join(repr(float(x)) for x in iiwa.fk(q).ravel())
+    assert main(["ik", path, "--pose", pose, "--lock", "iiwa_joint_3=-0.2", "--all", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["method"] == "pieper-6r" and out["success"]
+    sols = np.array([s["q"] for s in out["solutions"]])
+    assert np.all(sols[:, 2] == -0.2) and wrapped(sols, q).max(axis=1).min() < SAME
+    assert main(["ik", path, "--pose", pose, "--lock", "iiwa_joint_3"]) == 2
+    assert "NAME=VALUE" in capsys.readouterr().err
+    assert main(["ik", path, "--pose", pose, "--lock", "iiwa_joint_3=1", "--lock", "iiwa_joint_3=2"]) == 2
+    assert main(["ik", path, "--pose", pose, "--lock", "iiwa_joint_3=-11.4591559", "--degrees", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["solutions"][0]["q"][2] == pytest.approx(-11.4591559)
+
+
+@settings(max_examples=25 * SCALE, deadline=None, suppress_health_check=list(HealthCheck))
+@given(spec=robot_specs(6, 6, tiny=False), seed=st.integers(0, 2**16))
+def test_random_arms_of_the_shared_strategy(spec, seed):
+    # the shared robot strategy (every axis relation: parallel, coincident, intersecting, skew, ...)
+    # made revolute: when a closed form takes the arm, it finds every generating configuration and every
+    # solution reaches its target (arms with coincident axes have no finite solution set: numeric)
+    robot = spec.robot.replace(joints=tuple(Joint(j.name, "revolute") for j in spec.robot.joints))
+    solver = closed_form_solver(robot)
+    if solver is None:
+        return
+    Q = robot.random_q(12, rng=seed)
+    T = robot.fk(Q)
+    res = robot.ik(T, q0=Q, all_solutions=True, method="analytic")
+    for q, Tk, sols in zip(Q, T, res.solutions):
+        assert wrapped(sols, q).max(axis=1).min() < SAME
+        F = robot.fk(sols)
+        assert np.abs(F - Tk).max() <= 1e-9 * max(1.0, spec.unit)
