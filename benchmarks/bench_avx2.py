@@ -1,7 +1,7 @@
 """Batch FK and Jacobian: robkin's portable and AVX2 kernel builds against a hand-written AVX2 kernel.
 
 The Franka Panda of example-robot-data (7 revolute joints, tool ``panda_hand_tcp``), N random
-configurations (N = 1e3, 1e4, 1e5), one thread. Three contenders per kernel, each writing into a
+configurations (N = 1e3, 1e4, 1e5), one thread. Three contenders per kernel (FK, geometric Jacobian), each writing into a
 buffer allocated beforehand (robkin: ``out=``):
 - robkin with ``robkin.compiled.kernels.use("portable")`` (x86-64 baseline, SSE2: 2 doubles a vector),
 - robkin with ``use("avx2")`` (the same source built with -mavx2, chosen at import on an AVX2 CPU),
@@ -9,6 +9,8 @@ buffer allocated beforehand (robkin: ``out=``):
   intrinsics (4 configurations a vector, a group's poses in registers), compiled here with the machine's
   C compiler (``cc -O3 -mavx2 -ffp-contract=off``, no FMA, as robkin) into a temporary folder and called
   through ctypes. It is not part of robkin.
+
+Then the dynamics blocks (inverse dynamics ``rnea``, mass matrix ``crba``), portable against AVX2 only.
 
 Interleaved rounds, medians of **CPU time of this thread** (``time.thread_time``: the machine's other
 load shows up less than in wall time). The two robkin builds are checked to give identical bits, and
@@ -139,6 +141,22 @@ def main(argv: list[str] | None = None) -> int:
                     status = 1
                 print(f"{method:<10}{N:>8}{t['portable'] * 1e6:>13.1f}{t['avx2'] * 1e6:>10.1f}"
                       f"{t['floor'] * 1e6:>10.1f}{t['avx2'] / t['floor']:>12.2f}"
+                      f"{t['portable'] / t['avx2']:>15.2f}")
+        for N in (1_000, 10_000, 100_000):      # and the dynamics blocks (no floor written for them)
+            Q, QD, QDD = (np.ascontiguousarray(robot.random_q(N, rng)) for _ in range(3))
+            for method, args_ in (("rnea", (Q, QD, QDD)), ("crba", (Q,))):
+                call = robot.inverse_dynamics if method == "rnea" else robot.mass_matrix
+                got: dict = {}
+
+                def run(build, call=call, args_=args_, got=got):
+                    kernels.use(build)
+                    got[build] = call(*args_, threads=1)
+                t = interleaved({b: (lambda b=b: run(b)) for b in ("portable", "avx2")}, rounds,
+                                max(1, 20_000 // N))
+                if not np.array_equal(got["portable"], got["avx2"]):
+                    print(f"{method} N={N}: the portable and AVX2 builds differ")
+                    status = 1
+                print(f"{method:<10}{N:>8}{t['portable'] * 1e6:>13.1f}{t['avx2'] * 1e6:>10.1f}{'-':>10}{'-':>12}"
                       f"{t['portable'] / t['avx2']:>15.2f}")
     kernels.use(before)
     return status
