@@ -89,6 +89,22 @@ def test_choice_falls_back_to_portable_without_avx2():
     assert chosen == "portable" and "'sse9' is not one of auto, portable, avx2" in why
 
 
+def test_import_on_a_cpu_without_avx2_runs_the_portable_kernels(panda, restore_kernels, monkeypatch):
+    """The import-time choice (``_from_environment``) with the CPU check answering no, as on a CPU
+    without AVX2: the portable kernels, a warning when AVX2 was asked for, and the same batch results."""
+    Q = panda.random_q(100, rng=9)
+    expected = panda.jacobian(Q, threads=1)
+    monkeypatch.setattr(kernels, "cpu_has_avx2", lambda: False)
+    monkeypatch.setenv("ROBKIN_KERNELS", "auto")
+    assert kernels._from_environment() == "portable" == kernels.active()
+    monkeypatch.setenv("ROBKIN_KERNELS", "avx2")
+    with pytest.warns(RuntimeWarning, match="this CPU has no AVX2: using the portable kernels"):
+        assert kernels._from_environment() == "portable" == kernels.active()
+    assert np.array_equal(panda.jacobian(Q, threads=1), expected)
+    with pytest.raises(RuntimeError, match="this CPU has no AVX2"):
+        kernels.use("avx2")
+
+
 def test_use_checks_its_argument(restore_kernels):
     with pytest.raises(ValueError, match="expected one of auto, portable, avx2"):
         kernels.use("fast")

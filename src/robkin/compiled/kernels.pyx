@@ -138,12 +138,14 @@ def _from_environment():
     chosen, why = choose(os.environ.get("ROBKIN_KERNELS", "auto"), cpu_has_avx2(), avx2_built())
     if why is not None:
         warnings.warn(why, RuntimeWarning, stacklevel=2)
+    _active = &TABLE
     if chosen == "avx2":
         try:
             _active = _load_avx2()
         except ImportError:     # a broken installation: the portable kernels give the same results
             chosen = "portable"
     _active_name = chosen
+    return chosen
 
 
 _from_environment()
