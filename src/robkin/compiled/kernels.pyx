@@ -22,7 +22,6 @@ The choice: ``ROBKIN_KERNELS`` = ``auto`` (default: AVX2 when the CPU has it and
 """
 
 import importlib
-import importlib.util
 import os
 import warnings
 
@@ -65,6 +64,9 @@ def cpu_has_avx2():
 def avx2_built():
     """True when this installation has the AVX2 build of the kernels (x86-64 with a compiler that
     takes -mavx2); says nothing about whether this CPU can run it."""
+    if _avx2 != NULL:
+        return True
+    import importlib.util
     return importlib.util.find_spec("robkin.compiled.kernels_avx2") is not None
 
 
@@ -135,15 +137,19 @@ def active():
 def _from_environment():
     """Follow ROBKIN_KERNELS at import (a request that cannot be followed warns and runs portable)."""
     global _active, _active_name
-    chosen, why = choose(os.environ.get("ROBKIN_KERNELS", "auto"), cpu_has_avx2(), avx2_built())
+    requested = os.environ.get("ROBKIN_KERNELS", "auto")
+    cpu = cpu_has_avx2()
+    built = False
+    if cpu and requested.strip().lower() != "portable":
+        try:                    # the import is the test of the build (cheaper than a search for it)
+            _load_avx2()
+            built = True
+        except ImportError:     # not built here: the portable kernels give the same results
+            pass
+    chosen, why = choose(requested, cpu, built)
     if why is not None:
         warnings.warn(why, RuntimeWarning, stacklevel=2)
-    _active = &TABLE
-    if chosen == "avx2":
-        try:
-            _active = _load_avx2()
-        except ImportError:     # a broken installation: the portable kernels give the same results
-            chosen = "portable"
+    _active = _avx2 if chosen == "avx2" else &TABLE
     _active_name = chosen
     return chosen
 
