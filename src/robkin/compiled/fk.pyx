@@ -3,7 +3,8 @@
 
 ``Chain`` holds a robot's fixed transforms once (built by ``Robot``, cached on it); its methods take
 joint values and return new numpy arrays. Large batches are split over threads by blocks
-(``threads`` = 0: automatic, see ``threads.pyx``); a block is computed the same way on any thread. They validate nothing beyond what they need to stay memory
+(``threads`` = 0: automatic, see ``threads.pyx``); a block is computed the same way on any thread, by
+the portable or the AVX2 build of the block kernels (``kernels.pyx``: the CPU's choice, the same bits). They validate nothing beyond what they need to stay memory
 safe: they return ``None`` unless q is a C-contiguous float64 array of shape (n,) or (N, n) with only
 finite values, and the Python wrapper (``Robot.fk``) then validates and explains.
 """
