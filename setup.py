@@ -43,6 +43,43 @@ def openmp_flags() -> list[str]:
 
 OPENMP = openmp_flags()
 
+
+def avx2_flags() -> list[str] | None:
+    """``-mavx2`` for the one module built for AVX2 (``robkin.compiled.kernels_avx2``, chosen at import
+    by the CPU, see ``kernels.pyx``) when the target is x86-64 and the C compiler takes the flag; else
+    None and that module is not built (the portable kernels run, with the same results). Only -mavx2:
+    no -mfma (with -ffp-contract=off there would be no fused multiply-add anyway) and no -march, so the
+    module's code is the portable one's at twice the vector width. ROBKIN_NO_AVX2=1 builds without."""
+    import platform
+
+    if os.environ.get("ROBKIN_NO_AVX2") == "1" or platform.machine().lower() not in ("x86_64", "amd64"):
+        return None
+    from setuptools._distutils.ccompiler import new_compiler
+    from setuptools._distutils.sysconfig import customize_compiler
+
+    compiler = new_compiler()
+    customize_compiler(compiler)
+    with tempfile.TemporaryDirectory() as tmp:
+        src = Path(tmp) / "probe.c"
+        src.write_text("#include <immintrin.h>\nint probe(void) { __m256i a = _mm256_set1_epi64x(1); "
+                       "return _mm256_extract_epi32(_mm256_add_epi64(a, a), 0); }\n")
+        try:
+            compiler.compile([str(src)], output_dir=tmp, extra_postargs=["-mavx2"])
+        except Exception:  # a compiler without the flag (or not for x86): the portable kernels only
+            return None
+    return ["-mavx2"]
+
+
+AVX2 = avx2_flags()
+
+
+def instruction_flags(path: Path) -> list[str] | None:
+    """Extra flags for one module: ``-mavx2`` for the ``*_avx2.pyx`` builds (None: skip it)."""
+    if path.stem.endswith("_avx2"):
+        return AVX2
+    return []
+
+
 extensions = [
     Extension(
         f"robkin.compiled.{path.stem}",
@@ -53,10 +90,12 @@ extensions = [
         # no -ffast-math: results must stay IEEE-exact so the compiled core agrees with the independent
         # oracles to rounding. -ffp-contract=off: no fused multiply-adds, which a compiler may use in a
         # vectorised loop and not in its scalar remainder; single and batch results stay bit-for-bit equal.
-        extra_compile_args=["-O3", "-ffp-contract=off", "-fno-tree-loop-distribute-patterns", *OPENMP],
+        extra_compile_args=["-O3", "-ffp-contract=off", "-fno-tree-loop-distribute-patterns", *OPENMP,
+                            *instruction_flags(path)],
         extra_link_args=OPENMP,
     )
     for path in SOURCES
+    if instruction_flags(path) is not None
 ]
 
 # Every core of the machine compiles (cythonize translates, build_ext compiles the C in parallel).

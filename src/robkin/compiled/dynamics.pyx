@@ -21,6 +21,8 @@ from libc.stdlib cimport malloc, free
 from robkin.compiled.threads cimport batch_threads
 from robkin.compiled.fk cimport usable_q
 from robkin.compiled.sincos cimport rk_sincos_array, rk_sincos_one
+from robkin.compiled.kernel_table cimport BlockKernels
+from robkin.compiled.kernels cimport active_kernels
 
 import numpy as np
 
@@ -106,6 +108,7 @@ cdef class ChainDynamics:
         cdef double g[3]
         cdef int n = self.n, size, nt, failed = 0
         cdef Py_ssize_t nb
+        cdef const BlockKernels* K
         if not usable_q(q, n):
             return None
         if qd is not None and not same_shape_q(qd, q, n):
@@ -126,6 +129,7 @@ cdef class ChainDynamics:
         N = cnp.PyArray_SIZE(q) // n
         nb = (N + BLOCK - 1) // BLOCK
         nt = batch_threads(threads, nb, MIN_BLOCKS_PER_THREAD) if nb > 1 else 1
+        K = active_kernels()    # blocks of more than one: the portable or AVX2 build (kernels.pyx)
         with nogil, parallel(num_threads=nt):
             S = <double*>malloc(sizeof(double) * BLOCK * PER_JOINT * n)   # each thread's scratch
             for j in prange(nb, schedule="dynamic", chunksize=CHUNK_BLOCKS):
@@ -139,7 +143,7 @@ cdef class ChainDynamics:
                                QD + k * n if QD != NULL else QD, QDD + k * n if QDD != NULL else QDD, 1, g, S,
                                O + k * n)
                 else:
-                    rnea_block(self.L, self.rev, n, self.mass, self.com, self.inertia, Q + k * n,
+                    K.rnea_block(self.L, self.rev, n, self.mass, self.com, self.inertia, Q + k * n,
                                QD + k * n if QD != NULL else QD, QDD + k * n if QDD != NULL else QDD, size, g,
                                S, O + k * n)
             free(S)
@@ -156,6 +160,7 @@ cdef class ChainDynamics:
         cdef double* S = NULL
         cdef int n = self.n, size, nt, failed = 0
         cdef Py_ssize_t nb
+        cdef const BlockKernels* K
         if not usable_q(q, n):
             return None
         cdef cnp.npy_intp dims[3]
@@ -169,6 +174,7 @@ cdef class ChainDynamics:
         N = cnp.PyArray_SIZE(q) // n
         nb = (N + BLOCK - 1) // BLOCK
         nt = batch_threads(threads, nb, MIN_BLOCKS_PER_THREAD) if nb > 1 else 1
+        K = active_kernels()    # blocks of more than one: the portable or AVX2 build (kernels.pyx)
         with nogil, parallel(num_threads=nt):
             S = <double*>malloc(sizeof(double) * BLOCK * PER_JOINT * n)   # each thread's scratch
             for j in prange(nb, schedule="dynamic", chunksize=CHUNK_BLOCKS):
@@ -181,7 +187,7 @@ cdef class ChainDynamics:
                     crba_block(self.L, self.rev, n, self.mass, self.com, self.inertia, self.beyond, Q + k * n, 1,
                                S, O + k * n * n)
                 else:
-                    crba_block(self.L, self.rev, n, self.mass, self.com, self.inertia, self.beyond, Q + k * n,
+                    K.crba_block(self.L, self.rev, n, self.mass, self.com, self.inertia, self.beyond, Q + k * n,
                                size, S, O + k * n * n)
             free(S)
         if failed:

@@ -3,14 +3,17 @@
 
 ``Chain`` holds a robot's fixed transforms once (built by ``Robot``, cached on it); its methods take
 joint values and return new numpy arrays. Large batches are split over threads by blocks
-(``threads`` = 0: automatic, see ``threads.pyx``); a block is computed the same way on any thread. They validate nothing beyond what they need to stay memory
+(``threads`` = 0: automatic, see ``threads.pyx``); a block is computed the same way on any thread, by
+the portable or the AVX2 build of the block kernels (``kernels.pyx``: the CPU's choice, the same bits). They validate nothing beyond what they need to stay memory
 safe: they return ``None`` unless q is a C-contiguous float64 array of shape (n,) or (N, n) with only
 finite values, and the Python wrapper (``Robot.fk``) then validates and explains.
 """
 
 cimport numpy as cnp
 from cython.parallel cimport prange
-from robkin.compiled.fk cimport BLOCK, tool_poses, frame_poses, usable_q, empty_result, walk_block, store_poses
+from robkin.compiled.fk cimport BLOCK, tool_poses, frame_poses, usable_q, empty_result
+from robkin.compiled.kernel_table cimport pose_block_t
+from robkin.compiled.kernels cimport active_kernels
 from robkin.compiled.sincos cimport rk_sincos_array
 from robkin.compiled.threads cimport batch_threads
 
@@ -28,25 +31,29 @@ cdef enum:
     CHUNK_BLOCKS = 4
 
 
-cdef void pose_block(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t m,
-                     Py_ssize_t j, double* T, double* F) noexcept nogil:
-    """Block j of a batch of m configurations: tool poses into T (m x 16) or, if F is not NULL, the
-    frames into F (m x (n+1) x 16)."""
-    cdef double P[12 * BLOCK]
-    cdef Py_ssize_t k = BLOCK * j
-    cdef int size = <int>(m - k if m - k < BLOCK else BLOCK)
-    if F != NULL:
-        walk_block(L, rev, n, Q + n * k, size, P, F + 16 * (n + 1) * k, NULL, 0)
-    else:
-        walk_block(L, rev, n, Q + n * k, size, P, NULL, NULL, 0)
-        store_poses(P, size, T + 16 * k, 16)
-
-
 cdef void threaded_poses(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t m,
                          double* T, double* F, int threads) noexcept nogil:
     """``tool_poses`` (F NULL) or ``frame_poses`` (T NULL) with the blocks split over ``threads``."""
     cdef Py_ssize_t j
+    cdef pose_block_t pose_block = active_kernels().pose_block
     for j in prange((m + BLOCK - 1) // BLOCK, num_threads=threads, schedule="dynamic", chunksize=CHUNK_BLOCKS):
+        pose_block(L, rev, n, Q, m, j, T, F)
+
+
+cdef void batch_poses(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t m,
+                      double* T, double* F) noexcept nogil:
+    """``threaded_poses`` on this thread; one configuration takes ``fk.pxd``'s inlined walk (a block of
+    one fills no SIMD lanes, and the literal size drops the loops' set-up)."""
+    cdef Py_ssize_t j
+    cdef pose_block_t pose_block
+    if m == 1:
+        if F != NULL:
+            frame_poses(L, rev, n, Q, 1, F)
+        else:
+            tool_poses(L, rev, n, Q, 1, T)
+        return
+    pose_block = active_kernels().pose_block
+    for j in range((m + BLOCK - 1) // BLOCK):
         pose_block(L, rev, n, Q, m, j, T, F)
 
 
@@ -94,7 +101,7 @@ cdef class Chain:
             if nt > 1:
                 threaded_poses(self.L, self.rev, self.n, Q, N, O, NULL, nt)
             else:
-                tool_poses(self.L, self.rev, self.n, Q, N, O)
+                batch_poses(self.L, self.rev, self.n, Q, N, O, NULL)
         return out
 
     def frames(self, q, int threads=0, out=None):
@@ -118,7 +125,7 @@ cdef class Chain:
             if nt > 1:
                 threaded_poses(self.L, self.rev, self.n, Q, N, NULL, O, nt)
             else:
-                frame_poses(self.L, self.rev, self.n, Q, N, O)
+                batch_poses(self.L, self.rev, self.n, Q, N, NULL, O)
         return out
 
 

@@ -96,8 +96,10 @@ static inline void rk_sincos_one(double x, double *s, double *c)
 /* With GCC on x86-64 Linux with glibc (which provides ifuncs) the array version is compiled twice, for AVX2 (4 doubles a vector) and for the
  * baseline (SSE2, 2 doubles), and the loader picks the one the CPU runs (an ifunc, resolved once). Both
  * do the same IEEE operations in the same order (AVX2 brings no FMA, and -ffp-contract=off forbids it
- * anyway), so results do not depend on the clone. Elsewhere: the baseline only. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && defined(__GLIBC__)
+ * anyway), so results do not depend on the clone. Elsewhere: the baseline only. A module already built
+ * for AVX2 (kernels_avx2, see kernels.pyx) needs no clones and inlines the one version. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && defined(__GLIBC__) \
+    && !defined(__AVX2__)
 #define RK_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define RK_SIMD_CLONES
