@@ -27,36 +27,18 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")  # one thread each: before numpy is imported
 
 import argparse  # noqa: E402
-import glob  # noqa: E402
 import sys  # noqa: E402
-import time  # noqa: E402
 import warnings  # noqa: E402
 
 import numpy as np  # noqa: E402
 
 import robkin  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_fk import interleaved, robots_dir  # noqa: E402  (CPU time of this thread, interleaved rounds)
+
 ROBOTS = [("Panda", "panda_description/urdf/panda.urdf", "panda_hand_tcp"),
           ("UR5", "ur_description/urdf/ur5_robot.urdf", "tool0")]
-
-
-def robots_dir() -> str:
-    """example-robot-data's robots folder inside this Python's site-packages ('' if not installed)."""
-    found = glob.glob(os.path.join(sys.prefix, "lib", "python*", "site-packages", "cmeel.prefix", "share",
-                                   "example-robot-data", "robots"))
-    return found[0] if found else ""
-
-
-def interleaved(fns: dict, rounds: int) -> dict:
-    """Median CPU seconds (this thread's) per call of each function over ``rounds`` interleaved rounds."""
-    times: dict = {k: [] for k in fns}
-    for _ in range(rounds):
-        for k, (fn, reps) in fns.items():
-            t0 = time.thread_time()
-            for _ in range(reps):
-                fn()
-            times[k].append((time.thread_time() - t0) / reps)
-    return {k: float(np.median(v)) for k, v in times.items()}
 
 
 def measure(label: str, path: str, tip: str, quick: bool) -> list[tuple[str, float, float]] | None:

@@ -25,7 +25,6 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")  # BLAS on one thread: only robkin's own threads are measured
 
 import argparse  # noqa: E402
-import glob  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
 import warnings  # noqa: E402
@@ -35,11 +34,8 @@ import numpy as np  # noqa: E402
 import robkin  # noqa: E402
 from robkin.threads import available_cores, parallel_build  # noqa: E402
 
-
-def robots_dir() -> str:
-    found = glob.glob(os.path.join(sys.prefix, "lib", "python*", "site-packages", "cmeel.prefix", "share",
-                                   "example-robot-data", "robots"))
-    return found[0] if found else ""
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_fk import robots_dir  # noqa: E402
 
 
 def interleaved(fns: dict, rounds: int) -> dict:

@@ -99,16 +99,13 @@ cdef class ChainDynamics:
         """Joint torques/forces (n,) or (N, n) for q, qd, qdd of one shape (qd, qdd may be None: zero),
         gravity a float64 array (3,) in the base frame; None if an array is not usable as is.
         ``threads``: 0 automatic (``threads.pyx``), else at most that many; the same bits either way."""
-        cdef Py_ssize_t N, k, j
+        cdef Py_ssize_t N
         cdef const double* Q
         cdef const double* QD = NULL
         cdef const double* QDD = NULL
         cdef double* O
-        cdef double* S = NULL
         cdef double g[3]
-        cdef int n = self.n, size, nt, failed = 0
-        cdef Py_ssize_t nb
-        cdef const BlockKernels* K
+        cdef int n = self.n
         if not usable_q(q, n):
             return None
         if qd is not None and not same_shape_q(qd, q, n):
@@ -127,40 +124,17 @@ cdef class ChainDynamics:
             QDD = <const double*>cnp.PyArray_DATA(qdd)
         O = <double*>cnp.PyArray_DATA(out)
         N = cnp.PyArray_SIZE(q) // n
-        nb = (N + BLOCK - 1) // BLOCK
-        nt = batch_threads(threads, nb, MIN_BLOCKS_PER_THREAD) if nb > 1 else 1
-        K = active_kernels()    # blocks of more than one: the portable or AVX2 build (kernels.pyx)
-        with nogil, parallel(num_threads=nt):
-            S = <double*>malloc(sizeof(double) * BLOCK * PER_JOINT * n)   # each thread's scratch
-            for j in prange(nb, schedule="dynamic", chunksize=CHUNK_BLOCKS):
-                if S == NULL:
-                    failed += 1   # a reduction: any thread that ran out of memory counts
-                    continue
-                k = BLOCK * j
-                size = <int>(N - k if N - k < BLOCK else BLOCK)
-                if size == 1:   # a literal block of one: the compiler drops the lane loops' set-up
-                    rnea_block(self.L, self.rev, n, self.mass, self.com, self.inertia, Q + k * n,
-                               QD + k * n if QD != NULL else QD, QDD + k * n if QDD != NULL else QDD, 1, g, S,
-                               O + k * n)
-                else:
-                    K.rnea_block(self.L, self.rev, n, self.mass, self.com, self.inertia, Q + k * n,
-                               QD + k * n if QD != NULL else QD, QDD + k * n if QDD != NULL else QDD, size, g,
-                               S, O + k * n)
-            free(S)
-        if failed:
+        if self.walk(False, Q, QD, QDD, g, N, O, threads):
             raise MemoryError()
         return out
 
     def mass_matrix(self, q, int threads=0):
         """Mass matrix (n, n) for q (n,), (N, n, n) for q (N, n); None if q is not usable as is.
         ``threads`` as for ``inverse_dynamics``."""
-        cdef Py_ssize_t N, k, j
+        cdef Py_ssize_t N
         cdef const double* Q
         cdef double* O
-        cdef double* S = NULL
-        cdef int n = self.n, size, nt, failed = 0
-        cdef Py_ssize_t nb
-        cdef const BlockKernels* K
+        cdef int n = self.n
         if not usable_q(q, n):
             return None
         cdef cnp.npy_intp dims[3]
@@ -172,24 +146,56 @@ cdef class ChainDynamics:
         Q = <const double*>cnp.PyArray_DATA(q)
         O = <double*>cnp.PyArray_DATA(out)
         N = cnp.PyArray_SIZE(q) // n
-        nb = (N + BLOCK - 1) // BLOCK
-        nt = batch_threads(threads, nb, MIN_BLOCKS_PER_THREAD) if nb > 1 else 1
-        K = active_kernels()    # blocks of more than one: the portable or AVX2 build (kernels.pyx)
+        if self.walk(True, Q, NULL, NULL, NULL, N, O, threads):
+            raise MemoryError()
+        return out
+
+    cdef int walk(self, bint mass_matrix, const double* Q, const double* QD, const double* QDD, const double* g,
+                  Py_ssize_t N, double* O, int threads) noexcept:
+        """The N configurations Q (N x n) in blocks of up to BLOCK, split over threads: inverse dynamics
+        into O (N x n) or, with ``mass_matrix``, mass matrices into O (N x n x n). The number of threads
+        that ran out of memory for their scratch (0: all done)."""
+        cdef Py_ssize_t j, nb = (N + BLOCK - 1) // BLOCK
+        cdef int failed = 0
+        cdef int nt = batch_threads(threads, nb, MIN_BLOCKS_PER_THREAD) if nb > 1 else 1
+        cdef double* S = NULL
+        cdef const BlockKernels* K = active_kernels()   # blocks of more than one: portable or AVX2 build
+        if nt <= 1:     # no OpenMP region: entering one costs as much as a single configuration's work
+            S = <double*>malloc(sizeof(double) * BLOCK * PER_JOINT * self.n)
+            if S == NULL:
+                return 1
+            with nogil:
+                for j in range(nb):
+                    self.block(mass_matrix, Q, QD, QDD, g, N, O, j, S, K)
+            free(S)
+            return 0
         with nogil, parallel(num_threads=nt):
-            S = <double*>malloc(sizeof(double) * BLOCK * PER_JOINT * n)   # each thread's scratch
+            S = <double*>malloc(sizeof(double) * BLOCK * PER_JOINT * self.n)   # each thread's scratch
             for j in prange(nb, schedule="dynamic", chunksize=CHUNK_BLOCKS):
                 if S == NULL:
                     failed += 1   # a reduction: any thread that ran out of memory counts
                     continue
-                k = BLOCK * j
-                size = <int>(N - k if N - k < BLOCK else BLOCK)
-                if size == 1:   # a literal block of one: the compiler drops the lane loops' set-up
-                    crba_block(self.L, self.rev, n, self.mass, self.com, self.inertia, self.beyond, Q + k * n, 1,
-                               S, O + k * n * n)
-                else:
-                    K.crba_block(self.L, self.rev, n, self.mass, self.com, self.inertia, self.beyond, Q + k * n,
-                               size, S, O + k * n * n)
+                self.block(mass_matrix, Q, QD, QDD, g, N, O, j, S, K)
             free(S)
-        if failed:
-            raise MemoryError()
-        return out
+        return failed
+
+    cdef inline void block(self, bint mass_matrix, const double* Q, const double* QD, const double* QDD,
+                           const double* g, Py_ssize_t N, double* O, Py_ssize_t j, double* S,
+                           const BlockKernels* K) noexcept nogil:
+        """Block j of ``walk`` with the scratch S (BLOCK * PER_JOINT * n doubles)."""
+        cdef Py_ssize_t k = BLOCK * j
+        cdef int n = self.n, size = <int>(N - k if N - k < BLOCK else BLOCK)
+        if mass_matrix:
+            if size == 1:   # a literal block of one: the compiler drops the lane loops' set-up
+                crba_block(self.L, self.rev, n, self.mass, self.com, self.inertia, self.beyond, Q + k * n, 1, S,
+                           O + k * n * n)
+            else:
+                K.crba_block(self.L, self.rev, n, self.mass, self.com, self.inertia, self.beyond, Q + k * n, size,
+                             S, O + k * n * n)
+        elif size == 1:
+            rnea_block(self.L, self.rev, n, self.mass, self.com, self.inertia, Q + k * n,
+                       QD + k * n if QD != NULL else QD, QDD + k * n if QDD != NULL else QDD, 1, g, S, O + k * n)
+        else:
+            K.rnea_block(self.L, self.rev, n, self.mass, self.com, self.inertia, Q + k * n,
+                         QD + k * n if QD != NULL else QD, QDD + k * n if QDD != NULL else QDD, size, g, S,
+                         O + k * n)
