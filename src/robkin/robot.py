@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from functools import cache, cached_property
-from typing import TYPE_CHECKING, Any, Callable, Iterable, Literal, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -20,67 +20,21 @@ from .checks import EXACT_TOL, PROJECTION_TOL, check_out, check_pose, check_pose
 from .errors import InputError, quote
 from .names import check_name, duplicates
 from .bodies import EMPTY_BODIES, Bodies
+from .joints import JOINT_TYPES, Joint, JointType, default_joints
 from .frame_stacks import frame_scales, local_transforms
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .body_parts import Mimic
     from .compiled.fk import Chain
     from .kinematics.ik import IKResult
 
-__all__ = ["Joint", "Robot", "JOINT_TYPES", "EXACT_TOL", "PROJECTION_TOL", "check_pose", "check_poses", "check_q",
+__all__ = ["Joint", "JointType", "Robot", "JOINT_TYPES", "default_joints", "EXACT_TOL", "PROJECTION_TOL", "check_pose", "check_poses", "check_q",
            "identity_pose"]
 
-JointType = Literal["revolute", "prismatic"]
-JOINT_TYPES: tuple[str, ...] = ("revolute", "prismatic")
 
 
 def identity_pose() -> np.ndarray:
     """A new (4, 4) identity: the default of every pose field (``Robot.world``, a table's base and tool)."""
     return np.eye(4)
-
-@dataclass(frozen=True)
-class Joint:
-    """One joint: name, type, optional limits (rad or length units) and Corke's ``flip`` flag.
-
-    ``flip`` means the joint moves opposite to the z axis of its frame in frame-based representations
-    (DH, modified DH, RPY-XYZ). The GJD and PoE always use the positive direction, so for them flip
-    only decides how frame-based tables are written.
-
-    ``effort`` (N or N m), ``velocity`` (m/s or rad/s), ``damping``, ``friction`` and ``mimic`` are
-    kept from robot files and written back; kinematics never uses them.
-    """
-
-    name: str
-    type: JointType = "revolute"
-    lower: float | None = None
-    upper: float | None = None
-    flip: bool = False
-    effort: float | None = None
-    velocity: float | None = None
-    damping: float | None = None
-    friction: float | None = None
-    armature: float | None = None
-    mimic: Mimic | None = None
-
-    def __post_init__(self) -> None:
-        if self.type not in JOINT_TYPES:
-            raise InputError(f"joint '{self.name}': type '{self.type}' is not one of {', '.join(JOINT_TYPES)}")
-        for bound in ("lower", "upper"):
-            v = getattr(self, bound)
-            if v is not None and math.isnan(v):
-                raise InputError(f"joint '{self.name}': limits.{bound} is NaN")
-        if self.lower is not None and self.upper is not None and self.lower > self.upper:
-            raise InputError(f"joint '{self.name}': limits.lower {self.lower} > limits.upper {self.upper}")
-
-    @property
-    def revolute(self) -> bool:
-        return self.type == "revolute"
-
-
-def default_joints(types: Iterable[str]) -> tuple[Joint, ...]:
-    """Joints named joint1..jointN with the given types."""
-    return tuple(Joint(f"joint{i + 1}", t) for i, t in enumerate(types))  # type: ignore[arg-type]
-
 
 @dataclass(frozen=True, eq=False)
 class Robot:
