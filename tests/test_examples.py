@@ -5,7 +5,9 @@ user's shell would (variables, quoting, comments, line continuations), and run i
 holds the files they name: the bundled robots, real URDFs from example-robot-data (UR5, Panda), and
 files made from them (a URDF of the RRPR robot, a DH table typed with 4 decimals, estimation results).
 ``robkin`` commands run in-process through ``robkin.cli.main``; ``robkin gui`` is only parsed and its
-input loaded (it serves until stopped). A failing example names itself.
+input loaded (it serves until stopped). The README's tour starts with ``cd "$(mktemp -d)"`` and makes
+its own files there (TMPDIR points into the test's folder); a ``cd`` line moves the test into the folder
+bash ends up in. A failing example names itself.
 """
 
 from __future__ import annotations
@@ -149,6 +151,9 @@ def _measurements(ur5: robkin.Robot, rrpr: robkin.Robot) -> None:
 def _env(extra: dict[str, str]) -> dict[str, str]:
     env = dict(os.environ, **extra)
     env["PATH"] = os.path.dirname(sys.executable) + os.pathsep + env.get("PATH", "")
+    # a 'python -c "import robkin ..."' line imports the robkin under test, from any folder
+    package_parent = str(Path(robkin.__file__).resolve().parent.parent)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (package_parent, env.get("PYTHONPATH", "")) if p)
     return env
 
 
@@ -162,15 +167,19 @@ def _argv(line: str, env: dict[str, str]) -> list[str]:
 def run_example(line: str, env: dict[str, str]) -> None:
     """Run one printed command: 'robkin ...' in-process (exit status 0), anything else in bash."""
     command = line.split(" | ")[0]          # 'robkin demo | less': the pager is the user's business
-    argv = _argv(command, env)
-    if argv[:1] != ["robkin"]:
+    if command.split(maxsplit=1)[:1] != ["robkin"]:   # a shell line (redirections and all): bash runs it
         assignment = re.match(r"^([A-Za-z_]\w*)=", command)
-        script = f"{command}\nprintf %s \"${assignment.group(1)}\"" if assignment else command
+        moves = command.startswith("cd ")
+        script = (f"{command}\nprintf %s \"${assignment.group(1)}\"" if assignment else
+                  f"set -e\n{command}\npwd" if moves else command)
         done = subprocess.run([BASH, "-c", script], env=_env(env), capture_output=True, text=True)
         assert done.returncode == 0, f"{line}\n{done.stderr}"
         if assignment:
             env[assignment.group(1)] = done.stdout
+        if moves:
+            os.chdir(done.stdout.strip())   # the workdir fixture's monkeypatch restores the folder
         return
+    argv = _argv(command, env)
     if argv[1] == "gui":                    # serves until stopped: parse and load its input only
         args = build_parser().parse_args(argv[1:])
         if args.input:
@@ -191,13 +200,21 @@ def test_every_readme_command_runs(workdir, capsys):
     lines = [line for line in readme_shell_lines()
              if not line.startswith(("source ", "pip "))]   # the venv and the network: the user's setup
     assert sum(line.startswith("robkin ") for line in lines) >= 15
-    env: dict[str, str] = {}
+    before = sorted(p.name for p in workdir.iterdir())
+    env: dict[str, str] = {"TMPDIR": str(workdir)}   # mktemp -d makes the tour's folder in the test's
     for line in lines:
         if line.startswith("#"):
             continue
         run_example(line, env)
         capsys.readouterr()
+    tour = Path.cwd()
+    # the tour worked in a folder of its own and left the one it started in as it was
+    assert tour.parent == workdir and sorted(p.name for p in workdir.iterdir()) == sorted(before + [tour.name])
     assert sorted(p.name for p in Path("out").iterdir()) == ["3r.yaml", "rrpr.yaml", "scara.yaml"]
+    # what the tour's comments promise: the MJCF folder carries its meshes, the calibrated URDF explains
+    # the measurements (robkin check exited 0 above) where the nominal one does not
+    assert Path("ur5_mjcf/ur5.xml").is_file() and any(Path("ur5_mjcf/meshes").glob("*.stl"))
+    assert main(["check", "ur5.urdf", "measurements.csv", "--tip-link", "tool0"]) == 1
 
 
 def test_readme_python_runs(workdir, capsys):
@@ -210,3 +227,12 @@ def test_readme_python_runs(workdir, capsys):
                                atol=1e-15)
     assert "standard Denavit-Hartenberg table" in out and "verdict: different robots" in out
     np.testing.assert_allclose(namespace["J"], namespace["robot"].jacobian(namespace["q"]))
+    ur5, q6 = namespace["ur5"], namespace["q6"]
+    # gravity torques are inverse dynamics at rest; a batch of mass matrices is symmetric
+    np.testing.assert_allclose(namespace["g"], ur5.inverse_dynamics(q6, np.zeros(6), np.zeros(6)), rtol=1e-12)
+    assert namespace["Mq"].shape == (1000, 6, 6)
+    np.testing.assert_allclose(namespace["Mq"], namespace["Mq"].transpose(0, 2, 1), atol=1e-12)
+    sol = namespace["sol"]
+    assert len(sol.solutions) >= 1 and np.allclose(sol.solutions[:, 6], 0.4)
+    np.testing.assert_allclose(namespace["panda"].fk(sol.solutions), np.broadcast_to(namespace["T"],
+                               (len(sol.solutions), 4, 4)), atol=1e-9)

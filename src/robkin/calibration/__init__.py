@@ -7,7 +7,9 @@
 - ``simulate``: a perturbed robot and its measurements, to plan a campaign (``simulation``)
 
 Modules: ``parameters`` (error models and their Jacobian), ``identifiability`` (which parameters the
-poses determine), ``solve`` (the fit), ``report``, ``diagnosis``, ``measurements``, ``simulation``.
+poses determine), ``solve`` (the calibration, step by step), ``inputs`` (its checked inputs), ``start``
+(the starting base and marker), ``fit`` (the robust bounded fit), ``report``, ``diagnosis``,
+``measurements``, ``simulation``.
 """
 
 from __future__ import annotations

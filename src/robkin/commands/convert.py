@@ -1,4 +1,8 @@
-"""robkin convert: one robot (or a batch) into another representation."""
+"""robkin convert: one robot (or a batch) into another representation.
+
+The parser and the run: options checked, inputs loaded, output paths checked, files written all or
+nothing. The help text is ``_convert_help``; the output text for one robot, ``_convert_render``.
+"""
 
 from __future__ import annotations
 
@@ -9,115 +13,11 @@ from pathlib import Path
 from ..errors import InputError
 from ._chains import add_chain_options, chain_ends
 from ._common import add_allow_xacro, add_from, add_package_path
+from ._convert_help import EPILOG
+from ._convert_render import (DOC_EXTENSIONS, EXTENSIONS, SECTION_OF, TABLE_EXTENSIONS, TABLE_REPRESENTATIONS,
+                              check_link_geometry, render_file, render_in)
 from ._output import wrote
-from ._toolbox import CODE_EXTENSIONS, CODE_FORMATS, add_toolbox_options, check_toolbox_options, render_code
-
-#: --to FORMAT -> document section written for it (None: a whole document or another file type)
-SECTION_OF = {"dh": "dh", "mdh": "mdh", "hayati": "hayati", "poe": "poe", "poe-body": "poe_body", "rpy-xyz": "rpy_xyz",
-              "gjd": "gjd", "json": None, "yaml": None, "urdf": None, "mjcf": None,
-              **{code: None for code in CODE_FORMATS}}
-#: Output file extensions accepted for each format (the first is used for batch output names).
-EXTENSIONS = {"urdf": (".urdf",), "mjcf": (".xml", ".mjcf"), "json": (".json",), "yaml": (".yaml", ".yml"),
-              **CODE_EXTENSIONS}
-DOC_EXTENSIONS = (".yaml", ".yml", ".json")
-#: --format -> output file extension (kept here, not imported, for the start-up time of every convert)
-TABLE_EXTENSIONS = {"csv": ".csv", "markdown": ".md", "latex": ".tex"}
-#: --to values that have a table form for --format
-TABLE_REPRESENTATIONS = ("dh", "mdh", "hayati", "poe", "poe-body", "rpy-xyz", "gjd")
-
-EPILOG = """\
-formats:
-  dh        standard DH table (+ base, + residual tool)     mdh       modified (Craig) DH table
-  hayati    Hayati's parameters: DH with a tilt beta about y instead of d between nearly parallel
-            axes (exact and short there, the calibration standard)
-  poe       Product of Exponentials, space frame            poe-body  PoE, body frame
-  rpy-xyz   RPY-XYZ table, n+2 rows (URDF convention)       gjd       Global Joint Description frames
-  json/yaml a robot document with every section             urdf      a URDF file (a URDF input's whole file)
-  mjcf      a MuJoCo model (MJCF) that simulates: bodies, geoms, meshes, inertials, actuators
-code for other toolboxes (need no robkin; names and numbers from the input are data in them, never code):
-  rtb       a Python file defining `robot`, a Robotics Toolbox DHRobot (--convention mdh: modified DH)
-            with base, tool, offsets, limits and each link's mass, centre of mass and inertia in its
-            DH frame: robot.fkine, robot.rne and robot.gravload equal robkin's
-  matlab    a MATLAB/Octave script (.m) defining the struct `robot` (DH or --convention mdh table,
-            base, tool, limits, mass properties) and `robot_fk`: T = robot_fk(q)
-  eaik      the joint axes H and offsets P that EAIK's IK takes: JSON, or a Python file (-o x.py)
-  opw       the seven OPW parameters (a1 a2 b c1 c2 c3 c4) with joint offsets and sign corrections
-            of an industrial 6R arm (ortho-parallel base, spherical wrist), as moveit_opw_kinematics
-            reads them (YAML, or JSON); other arms are refused with the condition they fail
-
-Without -o a readable table (or the document/URDF/MJCF text) goes to stdout; --json prints the
-robot document with the chosen section as JSON instead of a table. With -o FILE a robot document
-(.yaml/.yml/.json) holding the joints and the chosen section is written (or the whole document for
-json/yaml, or the URDF/MJCF). Several inputs need -o DIR; every input is read and converted first,
-and files are written only if all of them succeed. Output goes to a temporary file renamed into
-place, so a failed run never leaves a partial or clobbered file.
-
-Angles are in radians unless --degrees is given: then the table on stdout shows degrees, and a
-written robot document holds its angles in degrees and says 'angles: degrees'. Tables note where an
-offset had to go into the base or tool transform, and warn (with the FK error measured) where a DH
-or modified DH table cannot be exact (nearly parallel axes: use --to hayati). The table on stdout shows
-values closer to 0 than 1e-9 (lengths: times the robot's size) as 0 and says so in a note; -o, --format
-and --json keep every digit.
-
-Tables as input: a CSV table written with --format csv reads back as INPUT (its header says which
-table it is, except a PoE's frame: --from poe or poe-body), and so do bare rows as pasted from a paper
-('a d alpha theta [R|P]' per line, .txt/.csv/.tsv) with --from dh or mdh (poe: screw rows then 'M ...';
-rpy-xyz: n + 2 rows).
-
-Tables for papers and spreadsheets: --format csv|markdown|latex with a table --to (dh, mdh, hayati, poe,
-poe-body, rpy-xyz, gjd) writes the table as CSV (reads back: the fixed transforms follow the rows
-after an empty line), Markdown or LaTeX (a table environment; matrices use amsmath); -o names a .csv,
-.md or .tex file.
-
-Numbers in files: tables and YAML documents write each value as the shortest decimal that keeps the
-table's FK within 1e-12 of the robot's size (0.3839999999999999 is written 0.384, -4.16e-18 is 0);
---digits N writes N significant digits, and --exact every digit, so that the file reads back to the
-very same floats (JSON documents always keep every digit). --pi writes angles that are exactly k*pi/m as
-such (-pi/2, 3*pi/4).
-
-Mass properties: when the input has them (URDF/MJCF/SDF inertials, or m, r, I on a document's rows),
-every table carries each link's mass m (kg), centre of mass r (m) and inertia about it I (kg m^2:
-Ixx, Iyy, Izz, Ixy, Iyz, Ixz) in that table's own link frame i (DH, Hayati: frame {i} after joint i;
-modified DH: frame {i} on joint i's axis; RPY-XYZ: joint i's frame; PoE: its reference frame at q = 0),
-everything rigidly attached to a link (fixed links, the tool) merged in: a block under the table on
-stdout, m/r/I on the rows of a document, ten more columns in CSV/Markdown/LaTeX. A table with them
-converts back (--to urdf: <inertial>s) with the same mass matrix and gravity torques.
-
-Chains: --base-link / --tip-link given once apply to every robot file among the inputs; given once
-per input, in input order, the k-th belongs to the k-th input ('-' = that file's default, and what a
-robot document takes). A base or tip may be any link rigidly attached to the chain's end (UR's
-'base', 'tool0'). A folder given with -o (several inputs, or a name ending in '/') that does not exist
-is created in an existing one, once every input has been converted; so is the folder of
---to mjcf -o FOLDER/robot.xml (the model and its meshes).
-
-Joint variables are the same in every output: q_i means the same configuration in the DH table, the
-PoE and the URDF it came from (same sign, same zero); a note on stderr says so for URDF input.
-
-{mjcf}
-examples:
-  robkin convert rrpr.yaml --to poe
-  robkin convert rrpr.yaml --to dh --layout paper
-  robkin convert ur5.urdf --tip-link tool0 --to dh -o ur5_dh.yaml
-  robkin convert panda.urdf --tip-link panda_hand_tcp --to mdh --json
-  robkin convert ur5.urdf --tip-link tool0 --to dh --degrees
-  robkin convert ur5.urdf --tip-link tool0 --to hayati -o ur5_hayati.yaml
-  robkin convert robot.yaml --to urdf -o robot.urdf
-  robkin convert robot.yaml --to mjcf -o robot.xml
-  robkin convert panda.urdf --tip-link panda_hand_tcp --to mjcf -o panda_mjcf/panda.xml
-  robkin convert ur5.urdf --tip-link tool0 --to mjcf --actuators position --kp 500 --kv 50 -o ur5/ur5.xml
-  robkin convert panda.urdf --tip-link panda_hand_tcp --to rtb -o panda_rtb.py
-  robkin convert ur5.urdf --tip-link tool0 --to rtb --convention mdh -o ur5_mdh.py
-  robkin convert ur5.urdf --tip-link tool0 --to matlab -o ur5.m
-  robkin convert ur5.urdf --tip-link tool0 --to eaik -o ur5_eaik.py
-  robkin convert kr6_r700.yaml --to opw -o kr6_opw.yaml
-  robkin convert a.yaml b.yaml c.urdf --to yaml -o converted/
-  robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format latex --pi
-  robkin convert ur5.urdf --base-link base --tip-link tool0 --to dh --format csv -o ur5_dh.csv
-  robkin convert ur5_dh.yaml --to urdf -o ur5_again.urdf     # the DH rows' m, r, I become inertials
-  robkin convert ur5_dh.csv --to mdh
-  robkin convert ur5_rows.txt --from dh --to urdf -o ur5_from_rows.urdf
-  robkin convert ur5.urdf panda.urdf a.yaml --tip-link tool0 --tip-link panda_hand_tcp --tip-link - --to mdh -o out/
-"""
+from ._toolbox import CODE_FORMATS, add_toolbox_options, check_toolbox_options
 
 
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -178,79 +78,6 @@ def _digits(text: str) -> int:
     if not 1 <= value <= 17:
         raise argparse.ArgumentTypeError(f"{value} is not 1 .. 17")
     return value
-
-
-def _check_link_geometry(args: argparse.Namespace) -> float | None:
-    """The capsule radius (None: the default), after checking the --link-* options fit --to."""
-    from ..io.numbers import number
-
-    style, radius = getattr(args, "link_geometry", "none"), getattr(args, "link_radius", None)
-    if style != "none" and args.to not in ("urdf", "mjcf"):
-        raise InputError(f"--link-geometry {style}: shapes are written by --to urdf or --to mjcf only, "
-                         f"not --to {args.to}")
-    if radius is None:
-        return None
-    if style == "none":
-        raise InputError("--link-radius: applies with --link-geometry capsules")
-    r = number(radius, "--link-radius")
-    if not r > 0:
-        raise InputError(f"--link-radius: must be a positive length, got {radius}")
-    return r
-
-
-def _with_link_geometry(robot, args: argparse.Namespace | None):
-    """The robot with stand-in link shapes when --link-geometry asks for them (robkin.link_geometry)."""
-    if args is None or getattr(args, "link_geometry", "none") == "none":
-        return robot
-    from ..link_geometry import with_link_capsules
-
-    return with_link_capsules(robot, _check_link_geometry(args))
-
-
-def _render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None = None,
-                 source: str | None = None, out_dir: Path | None = None, mesh_dir: str = "meshes") -> str:
-    """Text of the output file for one robot (``source``: its input file; ``out_dir``: where the
-    output goes, for the meshes an MJCF or a URDF takes along)."""
-    from ..io.document import document_from_robot, dump
-
-    degrees = bool(args is not None and args.degrees)
-
-    if args is not None and args.format:
-        from ..io.table_files import render_table
-
-        return render_table(robot, fmt, args.format, pi=args.pi, digits="exact" if args.exact else args.digits)
-    if fmt in CODE_FORMATS:
-        return render_code(robot, fmt, out_ext, args)
-    if fmt == "urdf":
-        from ._urdf_output import render_urdf
-
-        return render_urdf(_with_link_geometry(robot, args), args or argparse.Namespace(), source, out_dir, mesh_dir)
-    if fmt == "mjcf":
-        if args is None:
-            from ..io.mjcf import mjcf_from_robot
-
-            return mjcf_from_robot(robot)
-        from ._mjcf_output import render_mjcf
-
-        return render_mjcf(_with_link_geometry(robot, args), args, source, out_dir, mesh_dir)
-    section = SECTION_OF[fmt]
-    doc = document_from_robot(robot, degrees=degrees) if section is None else \
-        document_from_robot(robot, (section,), degrees=degrees)
-    doc_fmt = "json" if (fmt == "json" or out_ext == ".json") and fmt != "yaml" else "yaml"
-    if doc_fmt == "yaml" and not (args is not None and args.exact):
-        from ..io.document_round import round_document
-
-        doc = round_document(doc, robot.scale, None if args is None else args.digits)
-    return dump(doc, doc_fmt)
-
-
-def _render_in(path: str, robot, fmt: str, out_ext: str, args: argparse.Namespace, out_dir: Path | None = None,
-               mesh_dir: str = "meshes") -> str:
-    """``_render_file`` for one input of a batch: an error names the input it is about."""
-    try:
-        return _render_file(robot, fmt, out_ext, args, path, out_dir, mesh_dir)
-    except InputError as exc:
-        raise exc.in_source(path) from None
 
 
 def _out_ext(fmt: str, table_format: str | None = None) -> str:
@@ -324,7 +151,7 @@ def run(args: argparse.Namespace) -> int:
     fmt: str = args.to
     _check_table_options(args)
     check_toolbox_options(args)
-    _check_link_geometry(args)
+    check_link_geometry(args)
     from ._mjcf_output import check_mjcf_options
 
     check_mjcf_options(args)
@@ -352,7 +179,7 @@ def run(args: argparse.Namespace) -> int:
         if fmt == "mjcf":  # the meshes are copied while the models are written: the folder is needed first
             out_dir.mkdir(exist_ok=True)
         # the meshes of each model in a folder of their own (meshes/<name>/): two robots' base.stl differ
-        texts = [_render_in(path, robot, fmt, ext, args, out_dir, f"meshes/{t.stem}")
+        texts = [render_in(path, robot, fmt, ext, args, out_dir, f"meshes/{t.stem}")
                  for path, robot, t in zip(inputs, robots, targets)]
         out_dir.mkdir(exist_ok=True)  # only now: a failed conversion leaves no empty folder behind
         write_texts_atomic(list(zip(targets, texts)))  # all or nothing
@@ -380,7 +207,7 @@ def run(args: argparse.Namespace) -> int:
             if not parent.exists() and (parent.parent if str(parent.parent) else Path(".")).is_dir():
                 parent.mkdir()
             check_writable_dir(out)
-        text = _render_file(robot, fmt, out.suffix.lower(), args, inputs[0], out.parent)
+        text = render_file(robot, fmt, out.suffix.lower(), args, inputs[0], out.parent)
         write_text_atomic(out, text)
         wrote(out)
         if fmt in ("urdf", "mjcf"):
@@ -391,14 +218,14 @@ def run(args: argparse.Namespace) -> int:
             print(f"robkin: note: {note}", file=sys.stderr)
         return 0
     if args.format:
-        sys.stdout.write(_render_file(robot, fmt, ext, args))
+        sys.stdout.write(render_file(robot, fmt, ext, args))
         return 0
     if args.json:
-        sys.stdout.write(_render_file(robot, fmt if SECTION_OF[fmt] or fmt in CODE_FORMATS else "json", ".json",
+        sys.stdout.write(render_file(robot, fmt if SECTION_OF[fmt] or fmt in CODE_FORMATS else "json", ".json",
                                       args))
         return 0
     if SECTION_OF[fmt] is None:
-        sys.stdout.write(_render_file(robot, fmt, ".json" if fmt == "json" else EXTENSIONS.get(fmt, (".yaml",))[0],
+        sys.stdout.write(render_file(robot, fmt, ".json" if fmt == "json" else EXTENSIONS.get(fmt, (".yaml",))[0],
                                       args, inputs[0]))
         return 0
     from ..io.tables import blocks, show_blocks
