@@ -155,3 +155,32 @@ def test_all_solutions_of_every_target(tmp_path, ur5, capsys):
     sols = np.load(tmp_path / "all.npz")["solutions"]
     assert sols.shape == (sum(len(r["solutions"]) for r in doc["results"]), 1 + robot.n)
     np.testing.assert_allclose(robot.fk(sols[:, 1:]), T[sols[:, 0].astype(int)], atol=1e-9)
+
+
+def test_threads_option_bounds_the_batch_and_keeps_the_bits(tmp_path, ur5, monkeypatch, capsys):
+    path, robot = ur5
+    Q = robot.random_q(3000, rng=9)
+    np.save(tmp_path / "q.npy", Q)
+    T = robot.fk(Q)
+    np.save(tmp_path / "T.npy", T[:300])
+    seen = []
+    import robkin.threads as threads
+
+    real = threads.set_threads
+    monkeypatch.setattr(threads, "set_threads", lambda n: (seen.append(n), real(n))[1])
+    before = robkin.get_threads()
+    for n in (1, 2):
+        assert main(["fk", path, "--tip-link", "tool0", "--q-file", str(tmp_path / "q.npy"), "--threads", str(n),
+                     "-o", str(tmp_path / f"T{n}.npy")]) == 0
+        assert main(["ik", path, "--tip-link", "tool0", "--poses", str(tmp_path / "T.npy"), "--method", "numeric",
+                     "--threads", str(n), "-o", str(tmp_path / f"q{n}.npy")]) == 0
+    assert seen[::2] == [1, 1, 2, 2]  # set for each run, and the process default put back after it
+    assert robkin.get_threads() == before
+    np.testing.assert_array_equal(np.load(tmp_path / "T1.npy"), T)
+    np.testing.assert_array_equal(np.load(tmp_path / "T2.npy"), T)
+    np.testing.assert_array_equal(np.load(tmp_path / "q1.npy"), np.load(tmp_path / "q2.npy"))
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as exc:
+        main(["fk", path, "--tip-link", "tool0", "--q", "0,0,0,0,0,0", "--threads", "0"])
+    assert exc.value.code == 2
+    assert "--threads: 0: expected a whole number >= 1" in capsys.readouterr().err

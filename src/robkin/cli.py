@@ -80,6 +80,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         warnings.simplefilter("default")
         warnings.showwarning = _show_warning_one_line
         try:
+            if getattr(args, "threads", None) is not None:  # --threads N (fk, ik): the batch kernels' bound
+                return _run_with_threads(args)
             status = int(args._run(args) or 0)
             sys.stdout.flush()  # here, so that a full disk or closed pipe is reported like any error
             return status
@@ -100,6 +102,21 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(f"robkin: error: cannot write to standard output ({exc.strerror})", file=sys.stderr)
             _discard_stdout()
             return 2
+
+
+def _run_with_threads(args: argparse.Namespace) -> int:
+    """Run a command with the batch kernels bound to --threads; the process default comes back after
+    (``main`` is also called in-process, by tests and scripts)."""
+    from .threads import get_threads, set_threads
+
+    before = get_threads()
+    set_threads(args.threads)
+    try:
+        status = int(args._run(args) or 0)
+        sys.stdout.flush()
+        return status
+    finally:
+        set_threads(before)
 
 
 #: errno values of a write that failed for lack of room or a broken device (ENOSPC, EDQUOT, EFBIG, EIO)

@@ -7,7 +7,7 @@ same bits with one thread or many. The default thread count is, in order: ``set_
 small for threads to pay (a few hundred configurations, a couple of IK targets per thread) runs on one,
 and so does a call from a thread other than the main one (a Dask worker, your own thread pool), unless
 the call's ``threads=`` asks for more. Every batch method takes ``threads=`` to bound it per call; the
-command line takes ``--threads N``.
+command line takes ``--threads N`` (``robkin fk``, ``robkin ik``).
 """
 
 from __future__ import annotations

@@ -100,6 +100,24 @@ def seed(text: str) -> int:
     return value
 
 
+def add_threads(p: argparse.ArgumentParser) -> None:
+    """--threads N: how many threads this command's batch kernels may use (robkin.set_threads)."""
+    p.add_argument("--threads", type=thread_count, metavar="N",
+                   help="threads for the batch kernels (default: ROBKIN_NUM_THREADS, else every core this "
+                        "process may use); the results are the same bits on any number of threads")
+
+
+def thread_count(text: str) -> int:
+    """argparse type of --threads: a whole number >= 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text[:40]}' is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value}: expected a whole number >= 1")
+    return value
+
+
 def parse_q(text: str, n: int, option: str = "--q") -> "np.ndarray":
     """Joint values 'q1,q2,...' (numbers or expressions like pi/2) for a robot with n joints."""
     import numpy as np

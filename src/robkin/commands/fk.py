@@ -7,7 +7,7 @@ import argparse
 from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError
-from ._common import add_degrees, add_input, load_input, parse_q, revolute_degrees
+from ._common import add_degrees, add_input, add_threads, load_input, parse_q, revolute_degrees
 from ._gravity import EPILOG as GRAVITY_EPILOG
 from ._gravity import add_gravity, gravity_extras, print_gravity
 
@@ -53,6 +53,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help='print JSON: "T" (4x4), "position", "rpy", "quaternion" {w, x, y, z}, "joints" '
                         'and "q"')
     add_degrees(p, "revolute joint values in --q, and roll, pitch, yaw and q in the output")
+    add_threads(p)
     from ._batches import add_output
 
     add_output(p, "--q-file")

@@ -6,7 +6,7 @@ import argparse
 import sys
 from typing import TYPE_CHECKING
 
-from ._common import add_degrees, add_input, load_input, parse_pose, parse_q, revolute_degrees, seed
+from ._common import add_degrees, add_input, add_threads, load_input, parse_pose, parse_q, revolute_degrees, seed
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
@@ -95,9 +95,11 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="position tolerance in length units (default 1e-9)")
     p.add_argument("--tol-orientation", type=float, default=1e-9, metavar="RAD",
                    help="orientation tolerance in radians (default 1e-9)")
-    p.add_argument("--restarts", type=int, default=50, metavar="N",
-                   help="numeric: random restarts after the first attempt (default 50)")
+    p.add_argument("--restarts", type=int, default=200, metavar="N",
+                   help="numeric: restarts after the first attempt, spread over the joint limits (default "
+                        "200, as Robot.ik; a target stops at its first success)")
     p.add_argument("--seed", type=seed, default=0, help="numeric: random seed (default 0)")
+    add_threads(p)
     from ._batches import add_output
 
     add_output(p, "--poses")
