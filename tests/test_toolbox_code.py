@@ -472,11 +472,15 @@ def test_cli_writes_each_code_format(tmp_path, capsys):
     assert main(["convert", str(kr6), "--to", "opw"]) == 0
     doc = yaml.safe_load(capsys.readouterr().out)
     g, offsets, signs = PUBLISHED["KUKA KR6 R700 sixx"]
-    assert doc["opw_kinematics_geometric_parameters"] == pytest.approx(g, abs=1e-12)
+    assert doc["opw_kinematics_geometric_parameters"] == g   # the data sheet's decimals, no rounding noise
     assert doc["opw_kinematics_joint_offsets"] == pytest.approx(offsets, abs=1e-12)   # the published ones
     assert doc["opw_kinematics_joint_sign_corrections"] == signs
     assert main(["convert", str(kr6), "--to", "opw", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["opw_kinematics_joint_sign_corrections"]
+    assert main(["convert", str(kr6), "--to", "opw", "--exact"]) == 0   # every digit of the computation
+    exact = yaml.safe_load(capsys.readouterr().out)["opw_kinematics_geometric_parameters"]
+    assert exact == {k: float(v) for k, v in opw_document(robkin.load(kr6))["opw_kinematics_geometric_parameters"].items()}
+    assert exact == pytest.approx(g, abs=1e-12)
 
 
 @pytest.mark.parametrize("argv, message", [

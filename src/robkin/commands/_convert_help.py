@@ -36,8 +36,8 @@ Angles are in radians unless --degrees is given: then the table on stdout shows 
 written robot document holds its angles in degrees and says 'angles: degrees'. Tables note where an
 offset had to go into the base or tool transform, and warn (with the FK error measured) where a DH
 or modified DH table cannot be exact (nearly parallel axes: use --to hayati). The table on stdout shows
-values closer to 0 than 1e-9 (lengths: times the robot's size) as 0 and says so in a note; -o, --format
-and --json keep every digit.
+values closer to 0 than 1e-9 (lengths: times the robot's size) as 0 and says so in a note; files
+and --json carry more digits (see 'Numbers in files').
 
 Tables as input: a CSV table written with --format csv reads back as INPUT (its header says which
 table it is, except a PoE's frame: --from poe or poe-body), and so do bare rows as pasted from a paper
@@ -52,7 +52,8 @@ after an empty line), Markdown or LaTeX (a table environment; matrices use amsma
 Numbers in files: tables and YAML documents write each value as the shortest decimal that keeps the
 table's FK within 1e-12 of the robot's size (0.3839999999999999 is written 0.384, -4.16e-18 is 0);
 --digits N writes N significant digits, and --exact every digit, so that the file reads back to the
-very same floats (JSON documents always keep every digit). --pi writes angles that are exactly k*pi/m as
+very same floats (JSON documents always keep every digit). --to opw writes its seven lengths the same
+way (0.365, not 0.36500000000000005; --exact: every digit). --pi writes angles that are exactly k*pi/m as
 such (-pi/2, 3*pi/4).
 
 Mass properties: when the input has them (URDF/MJCF/SDF inertials, or m, r, I on a document's rows),

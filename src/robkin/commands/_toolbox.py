@@ -54,5 +54,24 @@ def render_code(robot, fmt: str, out_ext: str, args: argparse.Namespace | None =
         from ..io.document import dump
         from ..io.opw import opw_document
 
-        return dump(opw_document(robot), "json" if out_ext == ".json" else "yaml")
+        doc = opw_document(robot)
+        if not (args is not None and getattr(args, "exact", False)):
+            _shorten_opw(doc, robot)
+        return dump(doc, "json" if out_ext == ".json" else "yaml")
     raise ValueError(f"not a code format: {fmt}")  # pragma: no cover  (argparse's choices)
+
+
+def _shorten_opw(doc: dict, robot) -> None:
+    """The seven OPW lengths as their shortest decimals within the FK budget the tables use (0.365, not
+    0.36500000000000005: rounding noise of the DH arithmetic), in place; --exact keeps every digit. The
+    offsets, sign corrections, base and tool are written as computed (multiples of pi/2 stay exact)."""
+    import math
+
+    from ..io.float_text import decimal_tolerances, short_text
+    from ..representations.rounding import SNAP_BUDGET
+
+    geometry = doc["opw_kinematics_geometric_parameters"]
+    tol, _ = decimal_tolerances(robot.scale, robot.scale + math.fsum(abs(v) for v in geometry.values()),
+                                len(geometry), SNAP_BUDGET)
+    for key, value in geometry.items():
+        geometry[key] = float(short_text(value, tol))

@@ -45,8 +45,8 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                            help="tables (--format) and YAML documents: N significant digits (default: the "
                                 "shortest decimal that keeps FK within 1e-12 of the robot's size)")
     precision.add_argument("--exact", action="store_true",
-                           help="tables (--format) and YAML documents: every digit, reading back to the very "
-                                "same floats (JSON documents always do)")
+                           help="tables (--format), YAML documents and --to opw: every digit, reading back to "
+                                "the very same floats (JSON documents always do)")
     p.add_argument("-o", "--output", metavar="OUT", help="output file, or folder for several inputs")
     p.add_argument("--json", action="store_true",
                    help="print the robot document with the chosen section as JSON (instead of a table)")
