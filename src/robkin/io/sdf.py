@@ -241,10 +241,13 @@ def _axis_dynamics(el: Any, where: str) -> tuple[float | None, float | None, flo
     """(effort, velocity, damping, friction) of a joint's ``<axis>``: ``<limit><effort><velocity>`` (SDF's
     default -1, no limit, read as None) and ``<dynamics><damping><friction>``; None where absent."""
     out: list[float | None] = []
-    for path in ("axis/limit/effort", "axis/limit/velocity", "axis/dynamics/damping", "axis/dynamics/friction"):
-        text = el.findtext(path)
+    axis = el.find("axis")
+    for group, tag in (("limit", "effort"), ("limit", "velocity"), ("dynamics", "damping"), ("dynamics", "friction")):
+        sub = None if axis is None else axis.find(group)  # a find per step: a path would go through ElementPath
+        text = None if sub is None else sub.findtext(tag)
+        path = f"axis/{group}/{tag}"
         v = None if text is None or not text.strip() else numbers(text.strip(), 1, f"{where}: {path}", None, ())[0]
-        out.append(None if v is None or (v < 0 and "limit" in path) else v)
+        out.append(None if v is None or (v < 0 and group == "limit") else v)
     return out[0], out[1], out[2], out[3]
 
 
@@ -258,6 +261,7 @@ def _limit(text: str | None, where: str) -> float | None:
 def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str, str]]:
     """The kinematic tree of an SDF file (path) or SDF text, and the joints robkin cannot model."""
     from .sdf_shapes import sdf_content
+    from .sdf_trees import check_tree
 
     folder = None
     if isinstance(source, str) and source.lstrip().startswith("<"):
@@ -329,7 +333,9 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
                                 pose=j.relative(base, name, src)))
     if uses_world:
         links.insert(0, "world")
-    return UrdfModel(models[0].get("name"), tuple(links), tuple(joints), src, sdf_content(j, folder)), kinds
+    model = UrdfModel(models[0].get("name"), tuple(links), tuple(joints), src, sdf_content(j, folder))
+    check_tree(model)
+    return model, kinds
 
 
 def robot_from_sdf(source: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None,
