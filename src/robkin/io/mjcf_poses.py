@@ -35,9 +35,11 @@ Pose = tuple[float, ...]
 
 def unit(v: tuple[float, ...], where: str) -> tuple[float, ...]:
     """``v`` divided by its length; InputError naming ``where`` when it is no direction."""
-    n = math.sqrt(sum(x * x for x in v))
+    n = math.hypot(*v)
     if n < ZERO_VECTOR:
         raise InputError(f"{where}: is a zero vector; a direction is needed")
+    if len(v) == 3:
+        return (v[0] / n, v[1] / n, v[2] / n)
     return tuple(x / n for x in v)
 
 

@@ -48,6 +48,8 @@ IDENTITY = pose_rows.IDENTITY
 Z_AXIS = (0.0, 0.0, 1.0)
 #: (element, pose of its frame in the body (twelve floats), active class): a body's content
 Part = tuple[Any, Pose, str]
+#: the elements ``_flatten`` handles (dissolved or refused) in a body's content
+_NESTING = frozenset(("frame", "replicate", "attach"))
 
 
 def _shift(x: float, y: float, z: float) -> Pose:
@@ -103,8 +105,11 @@ class _TreeBuilder:
 
     def _flatten(self, el: Any, cls: str) -> list[Part]:
         """(element, pose relative to el, active class) of el's content, ``<frame>``s dissolved."""
+        kids = list(el)
+        if _NESTING.isdisjoint([child.tag for child in kids]):  # the usual body: no <frame> in it
+            return [(child, IDENTITY, cls) for child in kids]
         out: list[Part] = []
-        todo = [(child, IDENTITY, cls) for child in reversed(el)]
+        todo = [(child, IDENTITY, cls) for child in reversed(kids)]
         while todo:
             child, T, c = todo.pop()
             tag = child.tag
@@ -212,8 +217,11 @@ class _TreeBuilder:
     @staticmethod
     def _dynamics(attrs: Mapping[str, str], where: str) -> tuple[float | None, float | None, float | None]:
         """(damping, frictionloss, armature) of a joint, None where neither the joint nor its class gives one."""
-        return tuple(None if attrs.get(k) is None else numbers(attrs[k], 1, f"{where}: {k}", None, ())[0]
-                     for k in ("damping", "frictionloss", "armature"))  # type: ignore[return-value]
+        get = attrs.get
+        damping, friction, armature = get("damping"), get("frictionloss"), get("armature")
+        return (None if damping is None else numbers(damping, 1, f"{where}: damping", None, ())[0],
+                None if friction is None else numbers(friction, 1, f"{where}: frictionloss", None, ())[0],
+                None if armature is None else numbers(armature, 1, f"{where}: armature", None, ())[0])
 
     def _limits(self, attrs: Mapping[str, str], where: str,
                 scale: Callable[[float], float]) -> tuple[float | None, float | None]:
