@@ -20,7 +20,10 @@ from ..compiled.attribute_numbers import numbers
 from ..errors import InputError
 
 if TYPE_CHECKING:  # pragma: no cover
+    from ..compiled.pose_rows import Pose  # twelve floats: the top three rows of a (4, 4) pose
     from .mjcf_source import MjcfSource
+else:
+    Pose = tuple
 
 __all__ = ["placement", "geom_placement", "geom_pose", "rotation_from_mjcf", "unit", "Pose", "ORIENTATIONS", "ZERO_VECTOR"]
 
@@ -29,8 +32,6 @@ ORIENTATIONS = ("quat", "axisangle", "xyaxes", "zaxis", "euler")
 #: refuses such vectors too; typed directions have lengths ~1 (at least ~1e-6 with few decimals).
 ZERO_VECTOR = 1e-10
 _ORIGIN = (0.0, 0.0, 0.0)
-#: A pose as twelve floats, the top three rows of its (4, 4) matrix (see ``robkin.compiled.pose_rows``)
-Pose = tuple[float, ...]
 
 
 def unit(v: tuple[float, ...], where: str) -> tuple[float, ...]:

@@ -198,9 +198,10 @@ class _TreeBuilder:
             at = pos if kind == "ball" else (0.0, 0.0, 0.0)
             return (name, "floating", Z_AXIS, _shift(*at), (-at[0], -at[1], -at[2]), None, None,
                     self._dynamics(attrs, where))
-        axis = unit(numbers(attrs.get("axis"), 3, f"{where}: axis", None, Z_AXIS), f"{where}: axis")
+        x, y, z = unit(numbers(attrs.get("axis"), 3, f"{where}: axis", None, Z_AXIS), f"{where}: axis")
+        axis = (x, y, z)
         if frame is not IDENTITY:  # R @ axis
-            r, (x, y, z) = frame, axis
+            r = frame
             axis = (r[0] * x + r[1] * y + r[2] * z, r[4] * x + r[5] * y + r[6] * z, r[8] * x + r[9] * y + r[10] * z)
         scale = self.src.angle if kind == "hinge" else float
         ref = scale(numbers(attrs.get("ref"), 1, f"{where}: ref", None, (0.0,))[0])

@@ -26,7 +26,7 @@ from __future__ import annotations
 import math
 import os
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..compiled import pose_rows
 from ..compiled.attribute_numbers import numbers
@@ -35,6 +35,11 @@ from ..robot import Robot
 from .chain_path import refuse_on_chain
 from .files import read_text_file
 from .urdf import NO_LIMIT, UrdfJoint, UrdfModel, _parse_xml, robot_from_model
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..compiled.pose_rows import Pose  # twelve floats: the top three rows of a (4, 4) pose
+else:
+    Pose = tuple
 
 __all__ = ["robot_from_sdf", "model_from_sdf"]
 
@@ -54,8 +59,6 @@ CHAIN_JOINTS = "revolute, continuous, prismatic and fixed"
 NEAR_STEPS = 8
 IDENTITY = pose_rows.IDENTITY
 Z_AXIS = (0.0, 0.0, 1.0)
-#: A pose as twelve floats, the top three rows of its (4, 4) matrix (see ``robkin.compiled.pose_rows``)
-Pose = tuple[float, ...]
 
 
 def _version(root: Any, source: str) -> tuple[int, int]:
