@@ -191,8 +191,8 @@ def main(argv: list[str] | None = None) -> int:
             per_link["MJCF"][n], per_link["SDF"][n] = m["xml"] / n, m["sdf"] / n
             mj = f"{m['mj']:>10.2f}" if has_mj else f"{'refused':>10}"
             r_mjcf, r_sdf = m["xml"] / m["mj"], m["sdf"] / m["mj"]
-            print(f"{n:>4} links {m['xml']:>8.2f} {m['sdf']:>8.2f} {m['urdf']:>8.2f} {mj} {m['pin']:>12.2f} "
-                  f"{r_mjcf:>11.2f} {r_sdf:>10.2f}")
+            shown = f"{r_mjcf:>11.2f} {r_sdf:>10.2f}" if has_mj else f"{'-':>11} {'-':>10}"
+            print(f"{n:>4} links {m['xml']:>8.2f} {m['sdf']:>8.2f} {m['urdf']:>8.2f} {mj} {m['pin']:>12.2f} {shown}")
             if has_mj:
                 ratios[f"MJCF {n}"], ratios[f"SDF {n}"] = r_mjcf, r_sdf
         for name, path, tip in _real_files(folder):
