@@ -28,6 +28,7 @@ else:
 __all__ = ["placement", "geom_placement", "geom_pose", "rotation_from_mjcf", "unit", "Pose", "ORIENTATIONS", "ZERO_VECTOR"]
 
 ORIENTATIONS = ("quat", "axisangle", "xyaxes", "zaxis", "euler")
+_ORIENTATION_SET = frozenset(ORIENTATIONS)
 #: A direction (quaternion, axis, xyaxes, zaxis, fromto) shorter than this is no direction: MuJoCo
 #: refuses such vectors too; typed directions have lengths ~1 (at least ~1e-6 with few decimals).
 ZERO_VECTOR = 1e-10
@@ -66,7 +67,10 @@ def placement(attrs: Mapping[str, str], src: MjcfSource, where: str) -> Pose:
 def _oriented(attrs: Mapping[str, str], src: MjcfSource, where: str) -> Pose:
     """Pose of ``pos`` and the one orientation given."""
     get = attrs.get
-    pos = numbers(get("pos"), 3, f"{where}: pos", None, _ORIGIN)
+    pos = numbers(get("pos"), 3, where, "pos", _ORIGIN)
+    if _ORIENTATION_SET.isdisjoint(attrs):
+        x, y, z = pos
+        return (1.0, 0.0, 0.0, x, 0.0, 1.0, 0.0, y, 0.0, 0.0, 1.0, z)
     given = [k for k in ORIENTATIONS if get(k) is not None]
     if not given:
         x, y, z = pos
@@ -100,7 +104,7 @@ def geom_placement(attrs: Mapping[str, str], src: MjcfSource, where: str) -> tup
     """(pose relative to the parent, length of the ``fromto`` segment or None) of a geom or site."""
     if attrs.get("fromto") is None:
         return _oriented(attrs, src, where), None
-    v = numbers(attrs["fromto"], 6, f"{where}: fromto", None, ())
+    v = numbers(attrs["fromto"], 6, where, "fromto", ())
     d = (v[0] - v[3], v[1] - v[4], v[2] - v[5])
     centre = ((v[0] + v[3]) / 2, (v[1] + v[4]) / 2, (v[2] + v[5]) / 2)
     return _z_to(unit(d, f"{where}: fromto"), centre), math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])

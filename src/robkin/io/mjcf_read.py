@@ -190,7 +190,7 @@ class _TreeBuilder:
         kind = attrs.get("type", "hinge")
         if kind not in JOINT_TYPES:
             raise InputError(f"{where}: type {quote(kind)} is not one of {', '.join(JOINT_TYPES)}")
-        pos = numbers(attrs.get("pos"), 3, f"{where}: pos", None, (0.0, 0.0, 0.0))
+        pos = numbers(attrs.get("pos"), 3, where, "pos", (0.0, 0.0, 0.0))
         if frame is not IDENTITY:
             pos = pose_rows.compose(frame, _shift(*pos))[3::4]
         if kind in ("ball", "free"):
@@ -198,13 +198,13 @@ class _TreeBuilder:
             at = pos if kind == "ball" else (0.0, 0.0, 0.0)
             return (name, "floating", Z_AXIS, _shift(*at), (-at[0], -at[1], -at[2]), None, None,
                     self._dynamics(attrs, where))
-        x, y, z = unit(numbers(attrs.get("axis"), 3, f"{where}: axis", None, Z_AXIS), f"{where}: axis")
+        x, y, z = unit(numbers(attrs.get("axis"), 3, where, "axis", Z_AXIS), f"{where}: axis")
         axis = (x, y, z)
         if frame is not IDENTITY:  # R @ axis
             r = frame
             axis = (r[0] * x + r[1] * y + r[2] * z, r[4] * x + r[5] * y + r[6] * z, r[8] * x + r[9] * y + r[10] * z)
         scale = self.src.angle if kind == "hinge" else float
-        ref = scale(numbers(attrs.get("ref"), 1, f"{where}: ref", None, (0.0,))[0])
+        ref = scale(numbers(attrs.get("ref"), 1, where, "ref", (0.0,))[0])
         self.refs[name] = ref
         lo, hi = self._limits(attrs, where, scale)
         dynamics = self._dynamics(attrs, where)
@@ -220,16 +220,16 @@ class _TreeBuilder:
         """(damping, frictionloss, armature) of a joint, None where neither the joint nor its class gives one."""
         get = attrs.get
         damping, friction, armature = get("damping"), get("frictionloss"), get("armature")
-        return (None if damping is None else numbers(damping, 1, f"{where}: damping", None, ())[0],
-                None if friction is None else numbers(friction, 1, f"{where}: frictionloss", None, ())[0],
-                None if armature is None else numbers(armature, 1, f"{where}: armature", None, ())[0])
+        return (None if damping is None else numbers(damping, 1, where, "damping", ())[0],
+                None if friction is None else numbers(friction, 1, where, "frictionloss", ())[0],
+                None if armature is None else numbers(armature, 1, where, "armature", ())[0])
 
     def _limits(self, attrs: Mapping[str, str], where: str,
                 scale: Callable[[float], float]) -> tuple[float | None, float | None]:
         limited = attrs.get("limited", "auto")
         if limited not in ("auto", "true", "false"):
             raise InputError(f"{where}: limited {quote(limited)} is not one of auto, true, false")
-        lo, hi = numbers(attrs.get("range"), 2, f"{where}: range", None, (0.0, 0.0))
+        lo, hi = numbers(attrs.get("range"), 2, where, "range", (0.0, 0.0))
         if limited == "auto":
             has_range = not (lo == 0 and hi == 0)  # MuJoCo's rule: range "0 0" is no range
             if has_range and not self.src.autolimits:
