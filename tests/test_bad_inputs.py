@@ -34,6 +34,11 @@ joints: [revolute, revolute]
 poe: {{frame: space, M: {M}, screws: {S}}}
 """
 EYE = "[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]"
+#: a four-bar linkage (as in Cassie's legs): link c hangs from b and from d; walking it as a tree never ended
+LOOP_SDF = ('<sdf version="1.9"><model name="m">' + "".join(f'<link name="{x}"/>' for x in "abcd")
+            + "".join(f'<joint name="{n}" type="revolute"><parent>{p}</parent><child>{c}</child><axis><xyz>0 0 1'
+                      f'</xyz></axis></joint>' for n, p, c in (("jb", "a", "b"), ("jc", "b", "c"), ("jd", "a", "d"),
+                                                               ("loop", "d", "c"))) + "</model></sdf>")
 BOMB = """<?xml version="1.0"?>
 <!DOCTYPE lolz [<!ENTITY lol "lol"><!ENTITY lol2 "&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;">
 <!ENTITY lol3 "&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;">]>
@@ -212,6 +217,8 @@ CASES = [
          "--plot", writes=False),
     Case("check: bad second input", {"g.yaml": GOOD_DOC, "e.urdf": ""}, ["check", "{d}/g.yaml", "{d}/e.urdf"],
          "e.urdf: file is empty", writes=False),
+    Case("SDF joints closing a loop", {"loop.sdf": LOOP_SDF}, _leg("loop.sdf"),
+         "loop.sdf: link 'c' is the child of two joints, 'jc' and 'loop'"),
 ]
 
 

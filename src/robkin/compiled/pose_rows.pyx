@@ -7,20 +7,25 @@ chain; on (4, 4) arrays each product costs a numpy call and an array, and in Pyt
 unpacking of 24 floats per product was still a good share of a small URDF's load. Here each
 operation is one call on C doubles, with the same operations in the same order as the formulas below
 (so the same bits as plain Python floats would give: the extension is built without FMA contraction).
-``matrices`` turns many poses into one (m, 4, 4) array at the end.
+``matrices`` turns many poses into one (m, 4, 4) array at the end. ``from_quat``, ``from_axis_angle``
+and ``from_euler`` make the orientations of MJCF and SDF elements (their callers check the directions
+are not zero and say which attribute was; here a zero direction gives NaNs).
 """
 
 cimport numpy as cnp
 from cpython.tuple cimport PyTuple_New, PyTuple_SET_ITEM, PyTuple_GET_ITEM, PyTuple_GET_SIZE
 from cpython.float cimport PyFloat_FromDouble, PyFloat_AsDouble
 from cpython.ref cimport Py_INCREF
-from libc.math cimport sin, cos
+from libc.math cimport sin, cos, sqrt
+
+from robkin.compiled.linalg cimport mat3_mul, rodrigues
 
 import numpy as np
 
 cnp.import_array()
 
-__all__ = ["IDENTITY", "from_xyz_rpy", "from_matrix", "compose", "inverse", "matrix", "matrices"]
+__all__ = ["IDENTITY", "from_xyz_rpy", "from_quat", "from_axis_angle", "from_euler", "from_matrix", "compose",
+           "inverse", "matrix", "matrices"]
 
 #: (r00, r01, r02, x, r10, r11, r12, y, r20, r21, r22, z) of the identity
 IDENTITY = (1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0)
@@ -68,6 +73,81 @@ def from_xyz_rpy(xyz, rpy):
             sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr, y,
             -sp, cp * sr, cp * cr, z]
     return _tuple(v)
+
+
+cdef tuple _placed(const double* R, pos):
+    """The pose of rotation R (3x3 row-major) and translation pos (3,)."""
+    cdef double v[12]
+    cdef int i
+    x, y, z = pos
+    for i in range(3):
+        v[4 * i] = R[3 * i]
+        v[4 * i + 1] = R[3 * i + 1]
+        v[4 * i + 2] = R[3 * i + 2]
+    v[3], v[7], v[11] = x, y, z
+    return _tuple(v)
+
+
+def from_quat(pos, quat):
+    """Translation pos (3,), rotation of the quaternion quat (4,) = (w, x, y, z) (MuJoCo's order)
+    divided by its length first."""
+    cdef double w, x, y, z, n
+    cdef double R[9]
+    w, x, y, z = quat
+    n = sqrt(w * w + x * x + y * y + z * z)
+    w, x, y, z = w / n, x / n, y / n, z / n
+    R[:] = [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
+            2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+            2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]
+    return _placed(R, pos)
+
+
+def from_axis_angle(pos, axis, double angle):
+    """Translation pos (3,), rotation by ``angle`` (rad) about axis (3,) divided by its length first."""
+    cdef double a[3]
+    cdef double R[9]
+    cdef double n
+    a[0], a[1], a[2] = axis
+    n = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+    a[0] /= n
+    a[1] /= n
+    a[2] /= n
+    rodrigues(a, angle, R)
+    return _placed(R, pos)
+
+
+def from_euler(pos, angles, str seq):
+    """Translation pos (3,), rotation of three angles (rad) about the axes named by ``seq``, three of
+    x y z X Y Z: a lower-case letter turns about the rotated axis (R = R step), an upper-case one
+    about the fixed axis (R = step R) (MuJoCo's ``eulerseq``; the caller checks the letters)."""
+    cdef double R[9]
+    cdef double step[9]
+    cdef double tmp[9]
+    cdef int k, i, u, v, w
+    cdef double angle, c, s
+    R[:] = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
+    values = tuple(angles)
+    for k in range(3):
+        letter = seq[k]
+        angle = values[k]
+        c, s = cos(angle), sin(angle)
+        # the rotation about coordinate axis u, its entries exactly 1, 0, +-c, +-s (orthonormal to the
+        # rounding of c and s: a chain of a thousand such frames stays rigid to ~1e-13)
+        u = "xyz".index(letter.lower())
+        v, w = (u + 1) % 3, (u + 2) % 3
+        step[:] = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+        step[3 * u + u] = 1.0
+        step[3 * v + v] = c
+        step[3 * w + w] = c
+        step[3 * v + w] = -s
+        step[3 * w + v] = s
+        if letter.islower():
+            mat3_mul(R, step, tmp)
+        else:
+            mat3_mul(step, R, tmp)
+        for i in range(9):
+            R[i] = tmp[i]
+    return _placed(R, pos)
 
 
 def from_matrix(T):

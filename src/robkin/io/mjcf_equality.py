@@ -13,13 +13,16 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Mapping
 
-from .urdf import _floats
+from ..compiled.attribute_numbers import numbers
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..body_parts import Mimic
     from .mjcf_source import MjcfSource
 
 __all__ = ["joint_mimics", "joint_locks"]
+
+#: MuJoCo's default polycoef: joint1 = joint2
+_POLYCOEF = (0.0, 1.0, 0.0, 0.0, 0.0)
 
 
 def joint_mimics(src: MjcfSource, refs: Mapping[str, float]) -> dict[str, Mimic]:
@@ -34,7 +37,7 @@ def joint_mimics(src: MjcfSource, refs: Mapping[str, float]) -> dict[str, Mimic]
             if not j1 or not j2 or el.get("active", "true") == "false":
                 continue
             where = f"{src.source}: equality joint '{j1}'"
-            a = [float(x) for x in _floats(el.get("polycoef"), 5, f"{where}: polycoef", (0, 1, 0, 0, 0))]
+            a = numbers(el.get("polycoef"), 5, f"{where}: polycoef", None, _POLYCOEF)
             if any(a[2:]):
                 continue
             y0, x0 = refs.get(j1, 0.0), refs.get(j2, 0.0)
@@ -51,7 +54,6 @@ def joint_locks(src: MjcfSource, refs: Mapping[str, float]) -> dict[str, float]:
             j1 = el.get("joint1")
             if not j1 or el.get("joint2") or el.get("active", "true") == "false":
                 continue
-            a = [float(x) for x in _floats(el.get("polycoef"), 5, f"{src.source}: equality joint '{j1}': polycoef",
-                                           (0, 1, 0, 0, 0))]
+            a = numbers(el.get("polycoef"), 5, f"{src.source}: equality joint '{j1}': polycoef", None, _POLYCOEF)
             out[j1] = refs.get(j1, 0.0) + a[0]  # MuJoCo uses only a0 when there is no joint2
     return out

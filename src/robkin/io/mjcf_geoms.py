@@ -35,12 +35,14 @@ draws the file.)
 from __future__ import annotations
 
 from pathlib import PurePosixPath
-from typing import Any, Callable
+from typing import Any, Callable, Mapping
 
 import numpy as np
 
 from ..bodies import Geometry, Inertial, Material, Shape
+from ..compiled import pose_rows
 from ..errors import InputError, quote
+from .mjcf_poses import Pose, geom_placement
 from .mjcf_source import MjcfSource
 from .urdf import LinkContent, _floats
 from .urdf_content import ContentOnce
@@ -55,7 +57,7 @@ PRIMITIVES = ("sphere", "box", "cylinder", "capsule")
 SKIPPED = ("plane", "hfield", "ellipsoid", "sdf")
 
 #: (element, class, where) -> the element's attributes, its class's defaults applied
-Attrs = Callable[[Any, str, str], dict[str, str]]
+Attrs = Callable[[Any, str, str], Mapping[str, str]]
 
 
 def _int(text: str | None, default: int, where: str) -> int:
@@ -83,13 +85,14 @@ class MjcfContent(ContentOnce):
     src : MjcfSource
         The resolved model (assets, compiler settings, classes).
     parts : dict
-        Body name -> [(element, pose (4, 4) of its frame relative to the body, class)] of its
+        Body name -> [(element, pose (twelve floats, ``pose_rows``) of its frame relative to the body,
+        class)] of its
         ``<geom>`` and ``<inertial>`` children (``<frame>``s dissolved).
     attrs : callable
         (element, class, where) -> the element's attributes with its class's defaults applied.
     """
 
-    def __init__(self, src: MjcfSource, parts: dict[str, list[tuple[Any, np.ndarray, str]]], attrs: Attrs):
+    def __init__(self, src: MjcfSource, parts: dict[str, list[tuple[Any, Pose, str]]], attrs: Attrs):
         self._src, self._parts, self._attrs = src, parts, attrs
         super().__init__(self._build)
 
@@ -134,10 +137,8 @@ class MjcfContent(ContentOnce):
         """meshdir/file, relative to the model's folder unless either is absolute (MuJoCo's rule)."""
         return str(PurePosixPath(self._src.meshdir.replace("\\", "/")) / file.replace("\\", "/"))
 
-    def _geom(self, el: Any, T: np.ndarray, cls: str, link: str, k: int,
+    def _geom(self, el: Any, T: Pose, cls: str, link: str, k: int,
               meshes: dict[str, tuple[str, tuple[float, ...]]], materials: dict[str, Material]) -> list[Shape]:
-        from .mjcf_read import geom_pose
-
         name = el.get("name")
         where = f"{self._src.source}: geom '{name or f'#{k + 1}'}' (body '{link}')"
         a = self._attrs(el, cls, where)
@@ -149,7 +150,7 @@ class MjcfContent(ContentOnce):
             roles.append("collision")
         if not roles or kind in SKIPPED or (kind in PRIMITIVES and a.get("mesh")):
             return []
-        pose, length = geom_pose(a, self._src, where)
+        pose, length = geom_placement(a, self._src, where)
         size = _sizes(a.get("size"), f"{where}: size")
         if kind == "sphere":
             geometry = Geometry("sphere", (size[0],))
@@ -172,13 +173,11 @@ class MjcfContent(ContentOnce):
         rgba = tuple(float(x) for x in _floats(a.get("rgba"), 4, f"{where}: rgba", DEFAULT_RGBA))
         material = materials.get(a.get("material") or "") if rgba == DEFAULT_RGBA else None
         material = material or Material(a.get("material"), rgba)  # type: ignore[arg-type]
-        P = T @ pose
+        P = pose_rows.matrix(pose_rows.compose(T, pose))
         return [Shape(link, 0, role, P, geometry, material if role == "visual" else None, name)  # type: ignore[arg-type]
                 for role in roles]
 
-    def _inertial(self, el: Any, T: np.ndarray, link: str) -> Inertial:
-        from .mjcf_read import geom_pose
-
+    def _inertial(self, el: Any, T: Pose, link: str) -> Inertial:
         where = f"{self._src.source}: body '{link}' inertial"
         a = dict(el.attrib)
         if a.get("fullinertia") is not None and a.get("diaginertia") is not None:
@@ -189,5 +188,5 @@ class MjcfContent(ContentOnce):
         else:
             inertia = np.diag(_floats(a.get("diaginertia"), 3, f"{where}: diaginertia", (0, 0, 0)))
         mass = float(_floats(a.get("mass"), 1, f"{where}: mass", ())[0])
-        pose, _ = geom_pose(a, self._src, where)
-        return Inertial(link, 0, T @ pose, mass, inertia)
+        pose, _ = geom_placement(a, self._src, where)
+        return Inertial(link, 0, pose_rows.matrix(pose_rows.compose(T, pose)), mass, inertia)

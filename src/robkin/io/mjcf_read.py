@@ -30,90 +30,31 @@ import math
 import os
 from typing import Any, Callable, Mapping
 
-import numpy as np
-
-from .. import se3
+from ..compiled import pose_rows
+from ..compiled.attribute_numbers import numbers
 from ..errors import InputError, quote
 from ..robot import Robot
 from .chain_path import refuse_on_chain
-from .mjcf import matrix_from_quat
+from .mjcf_poses import Pose, geom_pose, placement, rotation_from_mjcf, unit
 from .mjcf_source import MjcfSource, read_mjcf_source
-from .urdf import UrdfJoint, UrdfModel, _floats, robot_from_model
+from .urdf import UrdfJoint, UrdfModel, robot_from_model
 
-__all__ = ["robot_from_mjcf", "model_from_mjcf", "rotation_from_mjcf"]
+__all__ = ["robot_from_mjcf", "model_from_mjcf", "rotation_from_mjcf", "geom_pose"]
 
-ORIENTATIONS = ("quat", "axisangle", "xyaxes", "zaxis", "euler")
 JOINT_TYPES = ("hinge", "slide", "ball", "free")
 #: The joint kinds that make a serial chain, as messages word them.
 CHAIN_JOINTS = "hinge and slide"
-#: A direction (quaternion, axis, xyaxes, zaxis, fromto) shorter than this is no direction: MuJoCo
-#: refuses such vectors too; typed directions have lengths ~1 (at least ~1e-6 with few decimals).
-ZERO_VECTOR = 1e-10
+IDENTITY = pose_rows.IDENTITY
+Z_AXIS = (0.0, 0.0, 1.0)
+#: (element, pose of its frame in the body (twelve floats), active class): a body's content
+Part = tuple[Any, Pose, str]
+#: the elements ``_flatten`` handles (dissolved or refused) in a body's content
+_NESTING = frozenset(("frame", "replicate", "attach"))
 
 
-def _rodrigues(axis: np.ndarray, angle: float) -> np.ndarray:
-    """Rotation (3, 3) by ``angle`` (rad) about the unit ``axis`` (3,)."""
-    K = se3.skew(axis)
-    return np.eye(3) + math.sin(angle) * K + (1.0 - math.cos(angle)) * (K @ K)
-
-
-def _unit(v: np.ndarray, where: str) -> np.ndarray:
-    n = float(np.linalg.norm(v))
-    if n < ZERO_VECTOR:
-        raise InputError(f"{where}: is a zero vector; a direction is needed")
-    return v / n
-
-
-def _z_to(v: np.ndarray) -> np.ndarray:
-    """Minimal rotation taking +z onto the unit v (MuJoCo's rule; +z -> -z turns by pi about x)."""
-    s = math.hypot(v[0], v[1])
-    if s < ZERO_VECTOR:
-        return np.eye(3) if v[2] > 0 else np.diag([1.0, -1.0, -1.0])
-    return _rodrigues(np.array([-v[1] / s, v[0] / s, 0.0]), math.atan2(s, v[2]))
-
-
-def rotation_from_mjcf(attrs: Mapping[str, str], src: MjcfSource, where: str) -> np.ndarray:
-    """Rotation (3, 3) of an element's orientation attributes (identity when it has none)."""
-    given = [k for k in ORIENTATIONS if attrs.get(k) is not None]
-    if len(given) > 1:
-        raise InputError(f"{where}: has both {given[0]} and {given[1]}; give one orientation")
-    if not given:
-        return np.eye(3)
-    kind = given[0]
-    text, at = attrs[kind], f"{where}: {kind}"
-    if kind == "quat":
-        return matrix_from_quat(_unit(_floats(text, 4, at, ()), at))
-    if kind == "axisangle":
-        v = _floats(text, 4, at, ())
-        return _rodrigues(_unit(v[:3], at), src.angle(v[3]))
-    if kind == "zaxis":
-        return _z_to(_unit(_floats(text, 3, at, ()), at))
-    if kind == "xyaxes":
-        v = _floats(text, 6, at, ())
-        x = _unit(v[:3], at)
-        y = _unit(v[3:] - x * float(x @ v[3:]), f"{at} (y is parallel to x)")
-        return np.column_stack([x, y, np.cross(x, y)])
-    v = _floats(text, 3, at, ())
-    R = np.eye(3)
-    for letter, angle in zip(src.eulerseq, v):
-        step = _rodrigues(np.eye(3)["xyz".index(letter.lower())], src.angle(angle))
-        R = R @ step if letter.islower() else step @ R  # lower case: rotating axes; upper: fixed axes
-    return R
-
-
-def _pose(attrs: Mapping[str, str], src: MjcfSource, where: str) -> np.ndarray:
-    """Pose (4, 4) of a body, site, geom or frame relative to its parent."""
-    return geom_pose(attrs, src, where)[0]
-
-
-def geom_pose(attrs: Mapping[str, str], src: MjcfSource, where: str) -> tuple[np.ndarray, float | None]:
-    """(pose (4, 4) relative to the parent, length of the ``fromto`` segment or None) of an element."""
-    if attrs.get("fromto") is not None:  # centre of the segment, z from 'to' towards 'from' (MuJoCo's)
-        v = _floats(attrs["fromto"], 6, f"{where}: fromto", ())
-        d = v[:3] - v[3:]
-        return se3.homogeneous(_z_to(_unit(d, f"{where}: fromto")), (v[:3] + v[3:]) / 2), float(np.linalg.norm(d))
-    pos = _floats(attrs.get("pos"), 3, f"{where}: pos", (0, 0, 0))
-    return se3.homogeneous(rotation_from_mjcf(attrs, src, where), pos), None
+def _shift(x: float, y: float, z: float) -> Pose:
+    """The pure translation (x, y, z)."""
+    return (1.0, 0.0, 0.0, x, 0.0, 1.0, 0.0, y, 0.0, 0.0, 1.0, z)
 
 
 class _TreeBuilder:
@@ -125,7 +66,7 @@ class _TreeBuilder:
         self.joints: list[UrdfJoint] = []
         self.kinds: dict[str, str] = {}  # chain joint name -> MuJoCo type, for ball/free refusal
         self.refs: dict[str, float] = {}  # hinge/slide joint name -> ref (qpos units), for the equalities
-        self.content: dict[str, list[tuple[Any, np.ndarray, str]]] = {}  # link -> its geoms and inertial
+        self.content: dict[str, list[Part]] = {}  # link -> its geoms and inertial
         self.counts = {"body": 0, "joint": 0, "site": 0}
         self.names: set[str] = {"world"}
         # every body's name, known before the walk so that a site named like a later body steps aside
@@ -135,11 +76,17 @@ class _TreeBuilder:
         self.counts[kind] += 1
         return self.counts[kind] - 1
 
-    def _attrs(self, el: Any, cls: str, where: str) -> dict[str, str]:
+    def _attrs(self, el: Any, cls: str, where: str) -> Mapping[str, str]:
+        """The element's attributes with its class's defaults applied (not to be changed: without
+        defaults this is the element's own ``attrib``)."""
         name = el.get("class") or cls
-        if name not in self.src.defaults:
+        kinds = self.src.defaults.get(name)
+        if kinds is None:
             raise InputError(f"{where}: class {quote(name)} is not a <default> class of the file")
-        out = dict(self.src.defaults[name].get(el.tag, {}))
+        given = kinds.get(el.tag)
+        if not given:
+            return el.attrib
+        out = dict(given)
         out.update(el.attrib)
         return out
 
@@ -150,120 +97,139 @@ class _TreeBuilder:
         self.links.append(name)
         return name
 
-    def _add(self, name: str, jtype: str, parent: str, child: str, origin: np.ndarray,
-             axis: np.ndarray = np.array([0.0, 0.0, 1.0]), lower: float | None = None,
-             upper: float | None = None,
+    def _add(self, name: str, jtype: str, parent: str, child: str, pose: Pose,
+             axis: tuple[float, float, float] = Z_AXIS, lower: float | None = None, upper: float | None = None,
              dynamics: tuple[float | None, float | None, float | None] = (None, None, None)) -> None:
-        self.joints.append(UrdfJoint(name, jtype, parent, child, origin, axis, lower, upper, None,
-                                     damping=dynamics[0], friction=dynamics[1], armature=dynamics[2]))
+        self.joints.append(UrdfJoint(name, jtype, parent, child, None, axis, lower, upper, None,
+                                     damping=dynamics[0], friction=dynamics[1], armature=dynamics[2], pose=pose))
 
-    def _flatten(self, el: Any, cls: str) -> list[tuple[Any, np.ndarray, str]]:
+    def _flatten(self, el: Any, cls: str) -> list[Part]:
         """(element, pose relative to el, active class) of el's content, ``<frame>``s dissolved."""
-        out: list[tuple[Any, np.ndarray, str]] = []
-        todo = [(child, np.eye(4), cls) for child in reversed(list(el))]
+        kids = list(el)
+        if _NESTING.isdisjoint([child.tag for child in kids]):  # the usual body: no <frame> in it
+            return [(child, IDENTITY, cls) for child in kids]
+        out: list[Part] = []
+        todo = [(child, IDENTITY, cls) for child in reversed(kids)]
         while todo:
             child, T, c = todo.pop()
-            if child.tag == "frame":
+            tag = child.tag
+            if tag == "frame":
                 where = f"{self.src.source}: <frame{' ' + child.get('name') if child.get('name') else ''}>"
-                F = T @ _pose(child.attrib, self.src, where)
+                F = pose_rows.compose(T, placement(child.attrib, self.src, where))
                 inner = child.get("childclass") or c
-                todo.extend((g, F, inner) for g in reversed(list(child)))
-            elif child.tag in ("replicate", "attach"):
-                raise InputError(f"{self.src.source}: <{child.tag}> is not supported; expand it in MuJoCo "
+                todo.extend((g, F, inner) for g in reversed(child))
+            elif tag in ("replicate", "attach"):
+                raise InputError(f"{self.src.source}: <{tag}> is not supported; expand it in MuJoCo "
                                  f"first (mujoco.mj_saveLastXML writes the expanded model)")
             else:
                 out.append((child, T, c))
         return out
 
     def build(self) -> None:
-        todo: list[tuple[Any, str, np.ndarray, str]] = []  # (body element, parent link, pose, class)
-        world_parts = [p for wb in self.src.root.findall("worldbody") for p in self._flatten(wb, "main")]
+        todo: list[tuple[Any, str, Pose, str]] = []  # (body element, parent link, pose, class)
+        world_parts = [p for wb in self.src.root.iterfind("worldbody") for p in self._flatten(wb, "main")]
         self._id("body")
         self._contents("world", world_parts, todo)
         while todo:
             el, parent, T, cls = todo.pop()
             self._body(el, parent, T, cls, todo)
 
-    def _contents(self, link: str, parts: list[tuple[Any, np.ndarray, str]],
-                  todo: list[tuple[Any, str, np.ndarray, str]]) -> None:
-        for el, T, cls in parts:
-            if el.tag in ("geom", "inertial"):
-                self.content.setdefault(link, []).append((el, T, cls))
-            elif el.tag == "site":
+    def _contents(self, link: str, parts: list[Part], todo: list[tuple[Any, str, Pose, str]]) -> None:
+        bodies = []
+        for part in parts:
+            tag = part[0].tag
+            if tag == "body":
+                bodies.append(part)
+            elif tag in ("geom", "inertial"):
+                self.content.setdefault(link, []).append(part)
+            elif tag == "site":
+                el, T, cls = part
                 i = self._id("site")
                 name = el.get("name") or f"site{i}"
                 where = f"{self.src.source}: site '{name}'"
                 attrs = self._attrs(el, cls, where)
                 if name in self.body_names:
                     name = f"site:{name}"
-                self._add(f"{name}:fixed", "fixed", link, self._link(name), T @ _pose(attrs, self.src, where))
-        todo.extend((el, link, T, cls) for el, T, cls in reversed(parts) if el.tag == "body")
+                self._add(f"{name}:fixed", "fixed", link, self._link(name),
+                          pose_rows.compose(T, placement(attrs, self.src, where)))
+        todo.extend((el, link, T, cls) for el, T, cls in reversed(bodies))
 
-    def _body(self, el: Any, parent: str, T: np.ndarray, cls: str,
-              todo: list[tuple[Any, str, np.ndarray, str]]) -> None:
+    def _body(self, el: Any, parent: str, T: Pose, cls: str,
+              todo: list[tuple[Any, str, Pose, str]]) -> None:
         i = self._id("body")
         name = el.get("name") or f"body{i}"
         where = f"{self.src.source}: body '{name}'"
         cls = el.get("childclass") or cls
-        pending = T @ _pose(el.attrib, self.src, where)
+        pending = pose_rows.compose(T, placement(el.attrib, self.src, where))
         parts = self._flatten(el, cls)
-        joints = [(j, F, c) for j, F, c in parts if j.tag in ("joint", "freejoint")]  # file order, as MuJoCo
+        joints = [p for p in parts if p[0].tag in ("joint", "freejoint")]  # file order, as MuJoCo
         link = parent
         for k, (j, F, c) in enumerate(joints):
-            jname, jtype, axis, origin, after, lo, hi = self._joint(j, c, name, F)
-            last = k == len(joints) - 1 and not after.any()
+            jname, jtype, axis, origin, after, lo, hi, dynamics = self._joint(j, c, name, F)
+            last = k == len(joints) - 1 and not any(after)
             child = self._link(name if last else f"{name}/{jname}")
-            self._add(jname, jtype, link, child, pending @ origin, axis, lo, hi, self._dynamics(j, c, name))
-            link, pending = child, se3.trans(*after)
+            self._add(jname, jtype, link, child, pose_rows.compose(pending, origin), axis, lo, hi, dynamics)
+            link, pending = child, _shift(*after)
         if not joints or link != name:  # welded body, or its frame is off the last joint's
             self._add(f"{name}:fixed", "fixed", link, self._link(name), pending)
         self._contents(name, parts, todo)
 
-    def _joint(self, el: Any, cls: str, body: str, frame: np.ndarray
-               ) -> tuple[str, str, np.ndarray, np.ndarray, np.ndarray, float | None, float | None]:
-        """(name, URDF type, unit axis, origin relative to the body frame before the joint,
-        offset to apply after it, lower, upper) of one MJCF joint; ``frame`` (4, 4) is the pose of
-        the ``<frame>`` holding it in its body (identity when it sits directly in the body)."""
+    def _joint(self, el: Any, cls: str, body: str, frame: Pose
+               ) -> tuple[str, str, tuple[float, float, float], Pose, tuple[float, float, float],
+                          float | None, float | None, tuple[float | None, float | None, float | None]]:
+        """(name, URDF type, unit axis, origin relative to the body frame before the joint, offset to
+        apply after it, lower, upper, (damping, frictionloss, armature)) of one MJCF joint; ``frame``
+        is the pose of the ``<frame>`` holding it in its body (identity when it sits directly in the body)."""
         i = self._id("joint")
         name = el.get("name") or f"joint{i}"
         where = f"{self.src.source}: joint '{name}' (body '{body}')"
         if el.tag == "freejoint":
             self.kinds[name] = "free"
-            return name, "floating", np.array([0.0, 0.0, 1.0]), np.eye(4), np.zeros(3), None, None
+            return name, "floating", Z_AXIS, IDENTITY, (0.0, 0.0, 0.0), None, None, (None, None, None)
         attrs = self._attrs(el, cls, where)
         kind = attrs.get("type", "hinge")
         if kind not in JOINT_TYPES:
             raise InputError(f"{where}: type {quote(kind)} is not one of {', '.join(JOINT_TYPES)}")
-        pos = frame[:3, :3] @ _floats(attrs.get("pos"), 3, f"{where}: pos", (0, 0, 0)) + frame[:3, 3]
+        pos = numbers(attrs.get("pos"), 3, where, "pos", (0.0, 0.0, 0.0))
+        if frame is not IDENTITY:
+            pos = pose_rows.compose(frame, _shift(*pos))[3::4]
         if kind in ("ball", "free"):
             self.kinds[name] = kind
-            at = pos if kind == "ball" else np.zeros(3)
-            return name, "floating", np.array([0.0, 0.0, 1.0]), se3.trans(*at), -at, None, None
-        axis = frame[:3, :3] @ _unit(_floats(attrs.get("axis"), 3, f"{where}: axis", (0, 0, 1)), f"{where}: axis")
+            at = pos if kind == "ball" else (0.0, 0.0, 0.0)
+            return (name, "floating", Z_AXIS, _shift(*at), (-at[0], -at[1], -at[2]), None, None,
+                    self._dynamics(attrs, where))
+        x, y, z = unit(numbers(attrs.get("axis"), 3, where, "axis", Z_AXIS), f"{where}: axis")
+        axis = (x, y, z)
+        if frame is not IDENTITY:  # R @ axis
+            r = frame
+            axis = (r[0] * x + r[1] * y + r[2] * z, r[4] * x + r[5] * y + r[6] * z, r[8] * x + r[9] * y + r[10] * z)
         scale = self.src.angle if kind == "hinge" else float
-        ref = scale(float(_floats(attrs.get("ref"), 1, f"{where}: ref", (0,))[0]))
+        ref = scale(numbers(attrs.get("ref"), 1, where, "ref", (0.0,))[0])
         self.refs[name] = ref
         lo, hi = self._limits(attrs, where, scale)
+        dynamics = self._dynamics(attrs, where)
         if kind == "slide":
-            return name, "prismatic", axis, se3.trans(*(-ref * axis)), np.zeros(3), lo, hi
-        origin = se3.homogeneous(_rodrigues(axis, -ref), pos)
-        return name, "revolute" if lo is not None else "continuous", axis, origin, -pos, lo, hi
+            return (name, "prismatic", axis, _shift(-ref * axis[0], -ref * axis[1], -ref * axis[2]),
+                    (0.0, 0.0, 0.0), lo, hi, dynamics)
+        origin = pose_rows.from_axis_angle(pos, axis, -ref) if ref else _shift(*pos)
+        return (name, "revolute" if lo is not None else "continuous", axis, origin, (-pos[0], -pos[1], -pos[2]),
+                lo, hi, dynamics)
 
-    def _dynamics(self, el: Any, cls: str, body: str) -> tuple[float | None, float | None, float | None]:
+    @staticmethod
+    def _dynamics(attrs: Mapping[str, str], where: str) -> tuple[float | None, float | None, float | None]:
         """(damping, frictionloss, armature) of a joint, None where neither the joint nor its class gives one."""
-        if el.tag == "freejoint":
-            return None, None, None
-        where = f"{self.src.source}: joint '{el.get('name') or ''}' (body '{body}')"
-        attrs = self._attrs(el, cls, where)
-        return tuple(None if attrs.get(k) is None else float(_floats(attrs[k], 1, f"{where}: {k}", ())[0])
-                     for k in ("damping", "frictionloss", "armature"))  # type: ignore[return-value]
+        get = attrs.get
+        damping, friction, armature = get("damping"), get("frictionloss"), get("armature")
+        return (None if damping is None else numbers(damping, 1, where, "damping", ())[0],
+                None if friction is None else numbers(friction, 1, where, "frictionloss", ())[0],
+                None if armature is None else numbers(armature, 1, where, "armature", ())[0])
 
     def _limits(self, attrs: Mapping[str, str], where: str,
                 scale: Callable[[float], float]) -> tuple[float | None, float | None]:
         limited = attrs.get("limited", "auto")
         if limited not in ("auto", "true", "false"):
             raise InputError(f"{where}: limited {quote(limited)} is not one of auto, true, false")
-        lo, hi = _floats(attrs.get("range"), 2, f"{where}: range", (0, 0))
+        lo, hi = numbers(attrs.get("range"), 2, where, "range", (0.0, 0.0))
         if limited == "auto":
             has_range = not (lo == 0 and hi == 0)  # MuJoCo's rule: range "0 0" is no range
             if has_range and not self.src.autolimits:

@@ -146,7 +146,8 @@ class _Includes:
             raise InputError(f"{where}: <include file=\"{name}\">: the model and its includes exceed {MAX_BYTES} bytes")
         text = read_text_file(path, MAX_BYTES, "an MJCF file")
         sub = _parse(text, str(path), included=True)
-        self.expand(sub, str(path), stack + (path,))
+        if "<include" in text:
+            self.expand(sub, str(path), stack + (path,))
         return list(sub)
 
 
@@ -193,6 +194,19 @@ def _compiler(src: MjcfSource) -> None:
             src.autolimits = auto == "true"
 
 
+def _expand_includes(root: Any, text: str, name: str, folder: Path | None, main: Path | None) -> None:
+    """Resolve the ``<include>``s of the main file's tree ``root`` in place (see ``_Includes``)."""
+    includes = _Includes(folder, len(text.encode("utf-8")))
+    includes.expand(root, name, (main,) if main is not None else ())
+    if includes.outside:
+        import warnings
+
+        listed = ", ".join(n[:60] for n in includes.outside[:3])
+        more = f" and {len(includes.outside) - 3} more" if len(includes.outside) > 3 else ""
+        warnings.warn(f"{name}: {len(includes.outside)} included file(s) outside the model's folder are read: "
+                      f"{listed}{more}", UserWarning, stacklevel=4)
+
+
 def read_mjcf_source(source: str | os.PathLike) -> MjcfSource:
     """The resolved tree of an MJCF file (path) or MJCF text (a string starting with '<')."""
     if isinstance(source, str) and source.lstrip().startswith("<"):
@@ -204,16 +218,8 @@ def read_mjcf_source(source: str | os.PathLike) -> MjcfSource:
             raise InputError(f"{p}: file is empty; expected an MJCF <mujoco> element")
         name, folder = str(p), p.parent
     root = _parse(text, name)
-    includes = _Includes(folder, len(text.encode("utf-8")))
-    main = (Path(source).resolve(),) if folder is not None else ()
-    includes.expand(root, name, main)
-    if includes.outside:
-        import warnings
-
-        listed = ", ".join(n[:60] for n in includes.outside[:3])
-        more = f" and {len(includes.outside) - 3} more" if len(includes.outside) > 3 else ""
-        warnings.warn(f"{name}: {len(includes.outside)} included file(s) outside the model's folder are read: "
-                      f"{listed}{more}", UserWarning, stacklevel=2)
+    if "<include" in text:  # an <include> element is spelled so in the text (XML allows no space after '<')
+        _expand_includes(root, text, name, folder, Path(source).resolve() if folder is not None else None)
     src = MjcfSource(root, name, folder=folder)
     _compiler(src)
     src.defaults = _defaults(root, name)

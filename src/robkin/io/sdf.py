@@ -23,19 +23,23 @@ screw...) on the chosen chain are refused with one line naming the joint.
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
-from .. import se3
+from ..compiled import pose_rows
+from ..compiled.attribute_numbers import numbers
 from ..errors import InputError, quote
 from ..robot import Robot
 from .chain_path import refuse_on_chain
 from .files import read_text_file
-from .mjcf import matrix_from_quat
-from .urdf import NO_LIMIT, UrdfJoint, UrdfModel, _floats, _parse_xml, robot_from_model
+from .urdf import NO_LIMIT, UrdfJoint, UrdfModel, _parse_xml, robot_from_model
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..compiled.pose_rows import Pose  # twelve floats: the top three rows of a (4, 4) pose
+else:
+    Pose = tuple
 
 __all__ = ["robot_from_sdf", "model_from_sdf"]
 
@@ -47,6 +51,14 @@ JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 OTHER_JOINTS = ("ball", "universal", "revolute2", "screw", "gearbox")
 #: The joint kinds that make a serial chain, as messages word them.
 CHAIN_JOINTS = "revolute, continuous, prismatic and fixed"
+#: The pose of one frame in another is composed through their nearest common frame of the relative_to
+#: graph when that is at most this many steps away (a joint next to its links: 1-3), from the file's own
+#: numbers; farther, through the model frame (poses of frames deep in a chain of relative_to carry the
+#: rounding of every pose above them, ~1e-16 per step: a 1000-link chain's frames were then no longer
+#: rigid to 1e-12). A bound keeps each lookup O(1).
+NEAR_STEPS = 8
+IDENTITY = pose_rows.IDENTITY
+Z_AXIS = (0.0, 0.0, 1.0)
 
 
 def _version(root: Any, source: str) -> tuple[int, int]:
@@ -62,25 +74,25 @@ def _version(root: Any, source: str) -> tuple[int, int]:
     return major, minor
 
 
-def _pose(el: Any, where: str) -> tuple[np.ndarray, str | None]:
-    """(pose (4, 4), relative_to or None) of an element's ``<pose>`` child (identity when absent)."""
+def _pose(el: Any, where: str) -> tuple[Pose, str | None]:
+    """(pose (twelve floats, see ``pose_rows``), relative_to or None) of an element's ``<pose>`` child
+    (identity when absent)."""
     pose = el.find("pose")
     if pose is None:
-        return np.eye(4), None
+        return IDENTITY, None
     text = (pose.text or "").strip() or None
     at = f"{where}: <pose>"
-    if pose.get("rotation_format", "euler_rpy") == "quat_xyzw":
-        v = _floats(text, 7, at, (0, 0, 0, 0, 0, 0, 1))
-        n = float(np.linalg.norm(v[3:]))
-        if n < 1e-10:  # a quaternion this short is a typo; unit quaternions have length 1
+    form = pose.get("rotation_format", "euler_rpy")
+    if form == "quat_xyzw":
+        v = numbers(text, 7, at, None, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0))
+        if math.hypot(*v[3:]) < 1e-10:  # a quaternion this short is a typo; unit quaternions have length 1
             raise InputError(f"{at}: quaternion is zero")
-        x, y, z, w = v[3:] / n
-        return se3.homogeneous(matrix_from_quat(np.array([w, x, y, z])), v[:3]), pose.get("relative_to") or None
-    if pose.get("rotation_format", "euler_rpy") != "euler_rpy":
+        return pose_rows.from_quat(v[:3], (v[6], v[3], v[4], v[5])), pose.get("relative_to") or None
+    if form != "euler_rpy":
         raise InputError(f"{at}: rotation_format {quote(pose.get('rotation_format'))} is not euler_rpy or quat_xyzw")
-    v = _floats(text, 6, at, (0, 0, 0, 0, 0, 0))
-    rpy = np.radians(v[3:]) if pose.get("degrees") == "true" else v[3:]
-    return se3.homogeneous(se3.matrix_from_rpy(rpy), v[:3]), pose.get("relative_to") or None
+    v = numbers(text, 6, at, None, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+    rpy = tuple(math.radians(a) for a in v[3:]) if pose.get("degrees") == "true" else v[3:]
+    return pose_rows.from_xyz_rpy(v[:3], rpy), pose.get("relative_to") or None
 
 
 class _Model:
@@ -89,16 +101,18 @@ class _Model:
     def __init__(self, source: str, version: tuple[int, int]):
         self.source = source
         self.version = version
-        self.raw: dict[str, tuple[np.ndarray, str]] = {}  # frame -> (pose, frame it is relative to)
+        self.raw: dict[str, tuple[Pose, str]] = {}  # frame -> (pose, frame it is relative to)
         self.kind: dict[str, str] = {}                       # frame -> link | joint | frame | model
         self.attached: dict[str, str] = {}                   # explicit frame -> frame it is attached to
         self.links: list[str] = []
         self.joints: list[tuple[str, Any, str]] = []         # (scoped name, element, scope prefix)
-        self.resolved: dict[str, np.ndarray] = {}
+        self.resolved: dict[str, Pose] = {}
+        self.up: dict[str, str] = {}     # frame -> the frame its pose is relative to (nested models: X::__model__)
+        self.depth: dict[str, int] = {}  # frame -> steps of relative_to from it to the model frame
         self.joint_child: dict[str, str] = {}                # joint -> its child link
         self.link_elements: list[tuple[str, Any, str]] = []  # (scoped link name, <link>, scope prefix)
 
-    def _frame(self, name: str, kind: str, pose: np.ndarray, rel: str) -> None:
+    def _frame(self, name: str, kind: str, pose: Pose, rel: str) -> None:
         if name in self.kind:
             raise InputError(f"{self.source}: two {self.kind[name]}/{kind} elements are called '{name}'")
         self.kind[name] = kind
@@ -118,11 +132,10 @@ class _Model:
                     raise InputError(f"{self.source}: <{tag}> #{i + 1} of model '{prefix or model.get('name')}' "
                                      f"has no name attribute")
                 name = prefix + local
-                where = f"{self.source}: {tag} '{name}'"
-                pose, rel = _pose(el, where)
                 if tag == "joint":
                     self.joints.append((name, el, prefix))
                     continue  # its frame (by default its child link's) is registered below, after the links
+                pose, rel = _pose(el, f"{self.source}: {tag} '{name}'")
                 if tag == "frame":
                     attached = self.scoped(el.get("attached_to") or "__model__", prefix)
                     self.attached[name] = attached
@@ -152,8 +165,8 @@ class _Model:
     def scoped(name: str, prefix: str) -> str:
         return name if name == "world" else prefix + name
 
-    def pose(self, name: str, where: str) -> np.ndarray:
-        """Pose (4, 4) of frame ``name`` in the outermost model frame (q = 0)."""
+    def pose(self, name: str, where: str) -> Pose:
+        """Pose of frame ``name`` in the outermost model frame (q = 0), as twelve floats."""
         chain, seen = [], set()
         while name != "__model__" and name not in self.resolved:
             if name not in self.raw and name + "::__model__" in self.raw:
@@ -165,36 +178,58 @@ class _Model:
             seen.add(name)
             chain.append(name)
             name = self.raw[name][1]
-        T = np.eye(4) if name == "__model__" else self.resolved[name]
+        T = IDENTITY if name == "__model__" else self.resolved[name]
+        depth = 0 if name == "__model__" else self.depth[name]
         for n in reversed(chain):
-            T = T @ self.raw[n][0]
-            self.resolved[n] = T
+            T = pose_rows.compose(T, self.raw[n][0])
+            depth += 1
+            self.resolved[n], self.depth[n], self.up[n], name = T, depth, name, n
         return T
 
+    def relative(self, a: str, b: str, where: str) -> Pose:
+        """Pose of frame ``b`` in frame ``a`` (q = 0): through their nearest common frame when that is
+        at most ``NEAR_STEPS`` away (see there), else through the model frame."""
+        Xa, Xb = self.pose(a, where), self.pose(b, where)
+        a = a if a == "__model__" or a in self.raw else a + "::__model__"  # pose() has checked the names
+        b = b if b == "__model__" or b in self.raw else b + "::__model__"
+        A = B = IDENTITY  # poses of the given a and b in the frames a and b have walked up to
+        da, db = self.depth.get(a, 0), self.depth.get(b, 0)
+        for _ in range(NEAR_STEPS):
+            if a == b:
+                return pose_rows.compose(pose_rows.inverse(A), B)
+            if da >= db:
+                A, a, da = pose_rows.compose(self.raw[a][0], A), self.up[a], da - 1
+            else:
+                B, b, db = pose_rows.compose(self.raw[b][0], B), self.up[b], db - 1
+        return pose_rows.compose(pose_rows.inverse(Xa), Xb)
 
-def _axis(j: _Model, el: Any, name: str, X_joint: np.ndarray) -> tuple[np.ndarray, float | None, float | None]:
+
+def _rotate(T: Pose, v: tuple[float, ...]) -> tuple[float, float, float]:
+    """The rotation of pose T applied to the vector v (3,)."""
+    x, y, z = v
+    return (T[0] * x + T[1] * y + T[2] * z, T[4] * x + T[5] * y + T[6] * z, T[8] * x + T[9] * y + T[10] * z)
+
+
+def _axis(j: _Model, el: Any, name: str) -> tuple[tuple[float, float, float], float | None, float | None]:
     """(unit axis in the joint frame, lower, upper) of a joint's ``<axis>``."""
     where = f"{j.source}: joint '{name}'"
     axis_el = el.find("axis")
     if axis_el is None:
         raise InputError(f"{where}: no <axis>; a moving joint needs <axis><xyz>0 0 1</xyz></axis>")
     xyz_el = axis_el.find("xyz")
-    axis = _floats((xyz_el.text or "").strip() or None if xyz_el is not None else None, 3, f"{where}: axis xyz",
-                   (0, 0, 1))
-    n = float(np.linalg.norm(axis))
+    axis = numbers((xyz_el.text or "").strip() or None if xyz_el is not None else None, 3, f"{where}: axis xyz",
+                   None, Z_AXIS)
+    n = math.sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2])
     if n < 1e-9:  # SDF axes are unit vectors typed with a few decimals; this short is a zero or a typo
         raise InputError(f"{where}: axis xyz is zero; a moving joint needs a direction such as '0 0 1'")
-    axis = axis / n
+    axis = (axis[0] / n, axis[1] / n, axis[2] / n)
     expressed = xyz_el.get("expressed_in") if xyz_el is not None else None
     use_parent = (axis_el.findtext("use_parent_model_frame") or "").strip() in ("true", "1")
     prefix = name[: name.rfind("::") + 2] if "::" in name else ""
-    if expressed:
-        frame = j.pose(j.scoped(expressed, prefix), where)
-    elif use_parent or j.version < (1, 5):
-        frame = j.pose(prefix + "__model__", where) if prefix else np.eye(4)
-    else:
-        frame = X_joint
-    axis = X_joint[:3, :3].T @ frame[:3, :3] @ axis
+    frame = j.scoped(expressed, prefix) if expressed else prefix + "__model__" if use_parent or j.version < (1, 5) \
+        else None
+    if frame is not None:  # into the joint frame
+        axis = _rotate(j.relative(name, frame, where), axis)
     lower = upper = None
     lim = axis_el.find("limit")
     if lim is not None:
@@ -209,23 +244,27 @@ def _axis_dynamics(el: Any, where: str) -> tuple[float | None, float | None, flo
     """(effort, velocity, damping, friction) of a joint's ``<axis>``: ``<limit><effort><velocity>`` (SDF's
     default -1, no limit, read as None) and ``<dynamics><damping><friction>``; None where absent."""
     out: list[float | None] = []
-    for path in ("axis/limit/effort", "axis/limit/velocity", "axis/dynamics/damping", "axis/dynamics/friction"):
-        text = el.findtext(path)
-        v = None if text is None or not text.strip() else float(_floats(text.strip(), 1, f"{where}: {path}", ())[0])
-        out.append(None if v is None or (v < 0 and "limit" in path) else v)
+    axis = el.find("axis")
+    for group, tag in (("limit", "effort"), ("limit", "velocity"), ("dynamics", "damping"), ("dynamics", "friction")):
+        sub = None if axis is None else axis.find(group)  # a find per step: a path would go through ElementPath
+        text = None if sub is None else sub.findtext(tag)
+        path = f"axis/{group}/{tag}"
+        v = None if text is None or not text.strip() else numbers(text.strip(), 1, f"{where}: {path}", None, ())[0]
+        out.append(None if v is None or (v < 0 and group == "limit") else v)
     return out[0], out[1], out[2], out[3]
 
 
 def _limit(text: str | None, where: str) -> float | None:
     if text is None or not text.strip():
         return None
-    v = float(_floats(text.strip(), 1, where, ())[0])
+    v = numbers(text.strip(), 1, where, None, ())[0]
     return v if abs(v) < NO_LIMIT else None  # SDF's default limits are +-1e16: no limit
 
 
 def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str, str]]:
     """The kinematic tree of an SDF file (path) or SDF text, and the joints robkin cannot model."""
     from .sdf_shapes import sdf_content
+    from .sdf_trees import check_tree
 
     folder = None
     if isinstance(source, str) and source.lstrip().startswith("<"):
@@ -259,32 +298,30 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
         for role, link in (("parent", parent), ("child", child)):
             if link != "world" and j.kind.get(link) != "link":
                 raise InputError(f"{where}: {role} {quote(link)} is not a link of the model")
-        X_joint = j.pose(name, where)
-        X_parent = se3.inv(world) if parent == "world" else j.pose(parent, where)  # in the model frame
+        # the joint frame in the parent link's (the world's: the model's pose in it)
+        origin = pose_rows.compose(world, j.pose(name, where)) if parent == "world" else \
+            j.relative(parent, name, where)
         uses_world |= parent == "world"
-        origin = se3.inv(X_parent) @ X_joint
-        pose, rel = j.raw[name]
         # joint frame -> child link frame; exactly the identity when the joint's pose is the default
-        rest = se3.inv(pose) if rel == child else se3.inv(X_joint) @ j.pose(child, where)
+        rest = j.relative(name, child, where)
         moving = jtype if jtype in JOINT_TYPES else "floating"
-        axis, lower, upper = (np.array([0.0, 0.0, 1.0]), None, None) if jtype == "fixed" or moving == "floating" \
-            else _axis(j, el, name, X_joint)
+        axis, lower, upper = (Z_AXIS, None, None) if jtype == "fixed" or moving == "floating" \
+            else _axis(j, el, name)
         if moving == "floating":
             kinds[name] = jtype
         if moving == "revolute" and lower is None and upper is None:
             moving = "continuous"
         # the joint moves the joint frame; the child link hangs off it (directly when the frames coincide)
-        exact = bool(np.array_equal(rest, np.eye(4)))
+        exact = rest == IDENTITY
         mid = child if exact else f"{child}@{name}"
         if not exact:
             links.append(mid)
         effort, velocity, damping, friction = (_axis_dynamics(el, f"{j.source}: joint '{name}'")
                                                if moving != "floating" else (None, None, None, None))
-        joints.append(UrdfJoint(name, moving, parent, mid, origin, axis, lower, upper, None, effort=effort,
-                                velocity=velocity, damping=damping, friction=friction))
+        joints.append(UrdfJoint(name, moving, parent, mid, None, axis, lower, upper, None, effort=effort,
+                                velocity=velocity, damping=damping, friction=friction, pose=origin))
         if not exact:
-            joints.append(UrdfJoint(f"{name}:child", "fixed", mid, child, rest, np.array([0.0, 0.0, 1.0]),
-                                    None, None, None))
+            joints.append(UrdfJoint(f"{name}:child", "fixed", mid, child, None, Z_AXIS, None, None, None, pose=rest))
     for name, attached in j.attached.items():
         base = attached
         while j.kind.get(base) == "frame":
@@ -295,11 +332,13 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
         if j.kind.get(base) != "link":
             raise InputError(f"{src}: frame '{name}' is attached to '{attached}', which is not a link, joint or "
                              f"frame of the model's top level; attach it to a link (attached_to=\"LINK\")")
-        joints.append(UrdfJoint(f"{name}:frame", "fixed", base, name, se3.inv(j.pose(base, src)) @ j.pose(name, src),
-                                np.array([0.0, 0.0, 1.0]), None, None, None))
+        joints.append(UrdfJoint(f"{name}:frame", "fixed", base, name, None, Z_AXIS, None, None, None,
+                                pose=j.relative(base, name, src)))
     if uses_world:
         links.insert(0, "world")
-    return UrdfModel(models[0].get("name"), tuple(links), tuple(joints), src, sdf_content(j, folder)), kinds
+    model = UrdfModel(models[0].get("name"), tuple(links), tuple(joints), src, sdf_content(j, folder))
+    check_tree(model)
+    return model, kinds
 
 
 def robot_from_sdf(source: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None,

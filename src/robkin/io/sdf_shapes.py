@@ -20,8 +20,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .. import se3
 from ..bodies import Geometry, Inertial, Material, Shape
+from ..compiled import pose_rows
 from ..errors import InputError
 from .urdf import LinkContent, _floats
 from .urdf_content import ContentOnce
@@ -101,16 +101,11 @@ def sdf_content(model: "_Model", folder: Path | None) -> ContentOnce:
     def make() -> dict[str, LinkContent]:
         out = {}
         for link, el, prefix in model.link_elements:
-            X_link = None
-
             def placed(sub: Any, where: str) -> np.ndarray:
-                nonlocal X_link
                 pose, rel = _pose(sub, where)
                 if rel is None or model.scoped(rel, prefix) == link:
-                    return pose
-                if X_link is None:
-                    X_link = se3.inv(model.pose(link, where))
-                return X_link @ model.pose(model.scoped(rel, prefix), where) @ pose
+                    return pose_rows.matrix(pose)
+                return pose_rows.matrix(pose_rows.compose(model.relative(link, model.scoped(rel, prefix), where), pose))
 
             shapes = []
             for role in ("visual", "collision"):

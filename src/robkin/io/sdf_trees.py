@@ -5,6 +5,10 @@ nested models, free objects): each unconnected tree moves on its own. A serial c
 them. The tree is the one holding ``tip_link`` or ``base_link``; without either, the only tree with a
 moving joint; otherwise one line lists the trees and what to pass. The links of the other trees are
 left out of the robot (a URDF has one root), said in one warning line.
+
+A model whose joints close a loop (Cassie's leg linkages: a link that is the child of two joints) is no
+tree: ``check_tree`` refuses it with one line naming the link and both joints (walking it as a tree
+would never end).
 """
 
 from __future__ import annotations
@@ -15,10 +19,28 @@ from dataclasses import replace
 from ..errors import InputError
 from .urdf import UrdfModel
 
-__all__ = ["trees", "pick_tree"]
+__all__ = ["trees", "pick_tree", "check_tree"]
 
 #: Trees listed in a message at most (one line stays readable).
 MAX_LISTED = 6
+
+
+def check_tree(model: UrdfModel) -> None:
+    """InputError (one line) when a link is the child of two joints, or the joints form a cycle."""
+    parent: dict[str, str] = {}
+    for j in model.joints:
+        if j.child == j.parent:
+            raise InputError(f"{model.source}: joint '{j.name}': parent and child are the same link '{j.child}'")
+        if j.child in parent:
+            raise InputError(f"{model.source}: link '{j.child}' is the child of two joints, '{parent[j.child]}' and "
+                             f"'{j.name.removesuffix(':child')}': the joints close a kinematic loop; robkin reads trees (remove one of "
+                             f"the joints to read a chain)")
+        parent[j.child] = j.name.removesuffix(":child")  # the SDF joint, not the reader's link behind it
+    reached = {link for tree in trees(model) for link in tree}
+    cycle = [link for link in model.links if link not in reached]
+    if cycle:
+        raise InputError(f"{model.source}: the joints form a cycle through link(s) {', '.join(cycle[:6])}; "
+                         f"robkin reads trees")
 
 
 def trees(model: UrdfModel) -> list[list[str]]:

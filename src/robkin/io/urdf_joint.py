@@ -22,7 +22,8 @@ class UrdfJoint:
     mimic are None where the file gave none.
 
     The URDF reader gives ``origin`` as None and ``axis`` as three floats: the (4, 4) and (3,) arrays
-    are then made from ``xyz_rpy`` and those floats only when asked for; the chain reader works with
+    are then made from ``xyz_rpy`` (the MJCF and SDF readers: from ``pose``, twelve floats) and those
+    floats only when asked for; the chain reader works with
     ``pose()`` and ``axis_xyz()`` (plain floats), so a load makes no array per joint. Read-only by
     convention (the attributes are not to be changed).
     """
@@ -34,11 +35,12 @@ class UrdfJoint:
                  axis: np.ndarray | tuple[float, float, float], lower: float | None, upper: float | None,
                  mimic: Mimic | None = None, effort: float | None = None, velocity: float | None = None,
                  damping: float | None = None, friction: float | None = None,
-                 xyz_rpy: tuple[float, ...] | None = None, armature: float | None = None) -> None:
-        if origin is None and xyz_rpy is None:
-            raise TypeError("UrdfJoint needs an origin or its xyz_rpy numbers")
+                 xyz_rpy: tuple[float, ...] | None = None, armature: float | None = None,
+                 pose: pose_rows.Pose | None = None) -> None:
+        if origin is None and xyz_rpy is None and pose is None:
+            raise TypeError("UrdfJoint needs an origin, its pose or its xyz_rpy numbers")
         self.name, self.type, self.parent, self.child = name, type, parent, child
-        self._origin, self._axis, self._pose = origin, axis, None
+        self._origin, self._axis, self._pose = origin, axis, pose
         self.lower, self.upper, self.mimic = lower, upper, mimic
         self.effort, self.velocity, self.damping, self.friction = effort, velocity, damping, friction
         self.xyz_rpy, self.armature = xyz_rpy, armature
