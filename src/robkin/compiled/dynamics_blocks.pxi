@@ -5,7 +5,14 @@
 # configuration b, and every step is a loop over b with the same operations in the same order for each b,
 # which the compiler turns into SIMD code (no fused multiply-adds: setup.py builds with
 # -ffp-contract=off). A single configuration is a block of one, so a batch equals its single calls bit for
-# bit. Notation per joint i: X_i = L_i Z_i(q_i) = (R, p), the parent -> child transform; body i's mass
+# bit.
+#
+# LANE INDEX: the lane loops count with a 64-bit index (Py_ssize_t). Python's own CFLAGS hold -fwrapv, under
+# which an int index such as BLOCK * 3 + b may wrap before it is widened for the address; GCC then sees
+# the accesses as gathers/scatters, cannot rule out that a load from the scratch and a store into it
+# overlap, and leaves the loop scalar (the CRBA's composite merge ran scalar that way).
+#
+# Notation per joint i: X_i = L_i Z_i(q_i) = (R, p), the parent -> child transform; body i's mass
 # m, centre c and inertia I (about c) are in its own frame.
 
 cdef enum:
@@ -26,7 +33,8 @@ cdef inline void block_transforms(const double* L, const unsigned char* rev, int
     cdef double cb[BLOCK]
     cdef const double* Li
     cdef double* X
-    cdef int i, b, r
+    cdef int i, r
+    cdef Py_ssize_t b   # lane index: 64-bit, see LANE INDEX below
     for i in range(n):
         Li = L + 16 * i
         X = S + BLOCK * PER_JOINT * i
@@ -81,7 +89,8 @@ cdef inline void rnea_block(const double* L, const unsigned char* rev, int n, co
     cdef bint moving = QD != NULL or QDD != NULL
     cdef double* X
     cdef const double* C
-    cdef int i, b
+    cdef int i
+    cdef Py_ssize_t b
     block_transforms(L, rev, n, Q, m, S)
     for b in range(m):
         w0[b] = 0.0; w1[b] = 0.0; w2[b] = 0.0
@@ -223,10 +232,11 @@ cdef inline void crba_block(const double* L, const unsigned char* rev, int n, co
     cdef double r0, r1, r2, r3, r4, r5, r6, r7, r8, p0, p1, p2
     cdef double x0, x1, x2, y0, y1, y2, e0, e1, e2, h0, h1, h2, g0, g1, g2
     cdef double J0, J1, J2, J3, J4, J5, J6, J7, J8, K0, K1, K2, K3, K4, K5, K6, K7, K8
-    cdef double mi, mc, mt, dd, cm
+    cdef double mi, mc, mt, dd, cm, c0, c1, c2, I0, I1, I2, I3, I4, I5, I6, I7, I8
     cdef double* X
     cdef const double* C
-    cdef int i, j, b, k, nn = n * n
+    cdef int i, j, k
+    cdef Py_ssize_t b, nn = n * n
     block_transforms(L, rev, n, Q, m, S)
     # composite bodies, tip to base
     for i in range(n - 1, -1, -1):
@@ -244,7 +254,16 @@ cdef inline void crba_block(const double* L, const unsigned char* rev, int n, co
                     X[BLOCK * (16 + k) + b] = inertia[9 * i + k]
             continue
         mt = mi + mc
-        C = S + BLOCK * PER_JOINT * (i + 1)
+        # this body's constants as locals: read once, and no possible aliasing with the stores into S
+        # keeps the compiler's lane loop vectorised
+        c0 = com[3 * i]; c1 = com[3 * i + 1]; c2 = com[3 * i + 2]
+        I0 = inertia[9 * i]; I1 = inertia[9 * i + 1]; I2 = inertia[9 * i + 2]
+        I3 = inertia[9 * i + 3]; I4 = inertia[9 * i + 4]; I5 = inertia[9 * i + 5]
+        I6 = inertia[9 * i + 6]; I7 = inertia[9 * i + 7]; I8 = inertia[9 * i + 8]
+        # C from X by a constant offset: GCC then knows the child's loads and the stores into X do not
+        # overlap (from S with two run-time offsets it would need more alias checks than it makes, and
+        # left the loop scalar)
+        C = X + BLOCK * PER_JOINT
         for b in range(m):
             r0 = C[b]; r1 = C[BLOCK + b]; r2 = C[BLOCK * 2 + b]
             r3 = C[BLOCK * 3 + b]; r4 = C[BLOCK * 4 + b]; r5 = C[BLOCK * 5 + b]
@@ -265,10 +284,10 @@ cdef inline void crba_block(const double* L, const unsigned char* rev, int n, co
             J3 = r3 * K0 + r4 * K3 + r5 * K6; J4 = r3 * K1 + r4 * K4 + r5 * K7; J5 = r3 * K2 + r4 * K5 + r5 * K8
             J6 = r6 * K0 + r7 * K3 + r8 * K6; J7 = r6 * K1 + r7 * K4 + r8 * K7; J8 = r6 * K2 + r7 * K5 + r8 * K8
             # the merged centre g, and both parts' offsets from it (e: this body's, h: the child's)
-            g0 = (mi * com[3 * i] + mc * y0) / mt
-            g1 = (mi * com[3 * i + 1] + mc * y1) / mt
-            g2 = (mi * com[3 * i + 2] + mc * y2) / mt
-            e0 = com[3 * i] - g0; e1 = com[3 * i + 1] - g1; e2 = com[3 * i + 2] - g2
+            g0 = (mi * c0 + mc * y0) / mt
+            g1 = (mi * c1 + mc * y1) / mt
+            g2 = (mi * c2 + mc * y2) / mt
+            e0 = c0 - g0; e1 = c1 - g1; e2 = c2 - g2
             h0 = y0 - g0; h1 = y1 - g1; h2 = y2 - g2
             # parallel axis for both parts about g: I + m (|d|^2 E - d d^T)
             dd = mi * (e0 * e0 + e1 * e1 + e2 * e2) + mc * (h0 * h0 + h1 * h1 + h2 * h2)
@@ -276,17 +295,19 @@ cdef inline void crba_block(const double* L, const unsigned char* rev, int n, co
             X[BLOCK * 13 + b] = g0
             X[BLOCK * 14 + b] = g1
             X[BLOCK * 15 + b] = g2
-            X[BLOCK * 16 + b] = inertia[9 * i] + J0 - mi * e0 * e0 - mc * h0 * h0 + dd
-            X[BLOCK * 17 + b] = inertia[9 * i + 1] + J1 - mi * e0 * e1 - mc * h0 * h1
-            X[BLOCK * 18 + b] = inertia[9 * i + 2] + J2 - mi * e0 * e2 - mc * h0 * h2
-            X[BLOCK * 19 + b] = inertia[9 * i + 3] + J3 - mi * e1 * e0 - mc * h1 * h0
-            X[BLOCK * 20 + b] = inertia[9 * i + 4] + J4 - mi * e1 * e1 - mc * h1 * h1 + dd
-            X[BLOCK * 21 + b] = inertia[9 * i + 5] + J5 - mi * e1 * e2 - mc * h1 * h2
-            X[BLOCK * 22 + b] = inertia[9 * i + 6] + J6 - mi * e2 * e0 - mc * h2 * h0
-            X[BLOCK * 23 + b] = inertia[9 * i + 7] + J7 - mi * e2 * e1 - mc * h2 * h1
-            X[BLOCK * 24 + b] = inertia[9 * i + 8] + J8 - mi * e2 * e2 - mc * h2 * h2 + dd
+            X[BLOCK * 16 + b] = I0 + J0 - mi * e0 * e0 - mc * h0 * h0 + dd
+            X[BLOCK * 17 + b] = I1 + J1 - mi * e0 * e1 - mc * h0 * h1
+            X[BLOCK * 18 + b] = I2 + J2 - mi * e0 * e2 - mc * h0 * h2
+            X[BLOCK * 19 + b] = I3 + J3 - mi * e1 * e0 - mc * h1 * h0
+            X[BLOCK * 20 + b] = I4 + J4 - mi * e1 * e1 - mc * h1 * h1 + dd
+            X[BLOCK * 21 + b] = I5 + J5 - mi * e1 * e2 - mc * h1 * h2
+            X[BLOCK * 22 + b] = I6 + J6 - mi * e2 * e0 - mc * h2 * h0
+            X[BLOCK * 23 + b] = I7 + J7 - mi * e2 * e1 - mc * h2 * h1
+            X[BLOCK * 24 + b] = I8 + J8 - mi * e2 * e2 - mc * h2 * h2 + dd
     # column i: the force and moment (about frame i's origin) a unit motion of joint i asks of composite
-    # body i, carried down to the base; entry (j, i) is its component along joint j
+    # body i, carried down to the base; entry (j, i) is its component along joint j. The lane loops
+    # compute, separate loops store into M (a stride of n * n doubles between lanes, which no SIMD store
+    # does: kept out of the computing loops so that those vectorise)
     for i in range(n):
         X = S + BLOCK * PER_JOINT * i
         cm = mass[i] + beyond[i]
@@ -294,12 +315,15 @@ cdef inline void crba_block(const double* L, const unsigned char* rev, int n, co
             for b in range(m):
                 # w = z, v_origin = 0: f = m (z x c), n = I_c z + c x f
                 x0 = X[BLOCK * 13 + b]; x1 = X[BLOCK * 14 + b]; x2 = X[BLOCK * 15 + b]
-                f0[b] = -cm * x1
-                f1[b] = cm * x0
+                y0 = -cm * x1
+                y1 = cm * x0
+                f0[b] = y0
+                f1[b] = y1
                 f2[b] = 0.0
-                n0[b] = X[BLOCK * 18 + b] + (x1 * f2[b] - x2 * f1[b])
-                n1[b] = X[BLOCK * 21 + b] + (x2 * f0[b] - x0 * f2[b])
-                n2[b] = X[BLOCK * 24 + b] + (x0 * f1[b] - x1 * f0[b])
+                n0[b] = X[BLOCK * 18 + b] + (x1 * 0.0 - x2 * y1)
+                n1[b] = X[BLOCK * 21 + b] + (x2 * y0 - x0 * 0.0)
+                n2[b] = X[BLOCK * 24 + b] + (x0 * y1 - x1 * y0)
+            for b in range(m):
                 M[nn * b + n * i + i] = n2[b]
         else:
             for b in range(m):
@@ -311,7 +335,8 @@ cdef inline void crba_block(const double* L, const unsigned char* rev, int n, co
                 n0[b] = x1 * cm
                 n1[b] = -x0 * cm
                 n2[b] = 0.0
-                M[nn * b + n * i + i] = f2[b]
+            for b in range(m):
+                M[nn * b + n * i + i] = cm
         for j in range(i - 1, -1, -1):
             C = S + BLOCK * PER_JOINT * (j + 1)
             for b in range(m):
