@@ -332,19 +332,35 @@ cdef inline void crba_block(const double* L, const unsigned char* rev, int n, co
                 M[nn * b + n * i + i] = cm
         for j in range(i - 1, -1, -1):
             C = S + BLOCK * PER_JOINT * (j + 1)
-            for b in range(m):
-                r0 = C[b]; r1 = C[BLOCK + b]; r2 = C[BLOCK * 2 + b]
-                r3 = C[BLOCK * 3 + b]; r4 = C[BLOCK * 4 + b]; r5 = C[BLOCK * 5 + b]
-                r6 = C[BLOCK * 6 + b]; r7 = C[BLOCK * 7 + b]; r8 = C[BLOCK * 8 + b]
-                p0 = C[BLOCK * 9 + b]; p1 = C[BLOCK * 10 + b]; p2 = C[BLOCK * 11 + b]
-                x0 = r0 * f0[b] + r1 * f1[b] + r2 * f2[b]
-                x1 = r3 * f0[b] + r4 * f1[b] + r5 * f2[b]
-                x2 = r6 * f0[b] + r7 * f1[b] + r8 * f2[b]
-                y0 = r0 * n0[b] + r1 * n1[b] + r2 * n2[b] + (p1 * x2 - p2 * x1)
-                y1 = r3 * n0[b] + r4 * n1[b] + r5 * n2[b] + (p2 * x0 - p0 * x2)
-                y2 = r6 * n0[b] + r7 * n1[b] + r8 * n2[b] + (p0 * x1 - p1 * x0)
-                f0[b] = x0; f1[b] = x1; f2[b] = x2
-                n0[b] = y0; n1[b] = y1; n2[b] = y2
+            if j == 0:
+                # the last step, to the base joint: only the component along its axis is needed (the
+                # same expression as in the full step, so the same bits)
+                if rev[0]:
+                    for b in range(m):
+                        r0 = C[b]; r1 = C[BLOCK + b]; r2 = C[BLOCK * 2 + b]
+                        r3 = C[BLOCK * 3 + b]; r4 = C[BLOCK * 4 + b]; r5 = C[BLOCK * 5 + b]
+                        r6 = C[BLOCK * 6 + b]; r7 = C[BLOCK * 7 + b]; r8 = C[BLOCK * 8 + b]
+                        p0 = C[BLOCK * 9 + b]; p1 = C[BLOCK * 10 + b]
+                        x0 = r0 * f0[b] + r1 * f1[b] + r2 * f2[b]
+                        x1 = r3 * f0[b] + r4 * f1[b] + r5 * f2[b]
+                        n2[b] = r6 * n0[b] + r7 * n1[b] + r8 * n2[b] + (p0 * x1 - p1 * x0)
+                else:
+                    for b in range(m):
+                        f2[b] = C[BLOCK * 6 + b] * f0[b] + C[BLOCK * 7 + b] * f1[b] + C[BLOCK * 8 + b] * f2[b]
+            else:
+                for b in range(m):
+                    r0 = C[b]; r1 = C[BLOCK + b]; r2 = C[BLOCK * 2 + b]
+                    r3 = C[BLOCK * 3 + b]; r4 = C[BLOCK * 4 + b]; r5 = C[BLOCK * 5 + b]
+                    r6 = C[BLOCK * 6 + b]; r7 = C[BLOCK * 7 + b]; r8 = C[BLOCK * 8 + b]
+                    p0 = C[BLOCK * 9 + b]; p1 = C[BLOCK * 10 + b]; p2 = C[BLOCK * 11 + b]
+                    x0 = r0 * f0[b] + r1 * f1[b] + r2 * f2[b]
+                    x1 = r3 * f0[b] + r4 * f1[b] + r5 * f2[b]
+                    x2 = r6 * f0[b] + r7 * f1[b] + r8 * f2[b]
+                    y0 = r0 * n0[b] + r1 * n1[b] + r2 * n2[b] + (p1 * x2 - p2 * x1)
+                    y1 = r3 * n0[b] + r4 * n1[b] + r5 * n2[b] + (p2 * x0 - p0 * x2)
+                    y2 = r6 * n0[b] + r7 * n1[b] + r8 * n2[b] + (p0 * x1 - p1 * x0)
+                    f0[b] = x0; f1[b] = x1; f2[b] = x2
+                    n0[b] = y0; n1[b] = y1; n2[b] = y2
             if rev[j]:
                 for b in range(m):
                     M[nn * b + n * j + i] = n2[b]
