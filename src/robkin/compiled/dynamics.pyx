@@ -5,8 +5,9 @@
 L_n Z_n(q_n) L_{n+1}) and, per moving body i, its mass, centre of mass and inertia about that centre,
 expressed in the body's own frame F_i(q) = L_1 Z_1 ... L_i Z_i (the GJD frame J_i moved to q, whose z
 axis is joint i's axis through its origin). Everything is done in body frames with 3-vectors (Craig's
-formulation of Luh-Walker-Paul's recursion; Featherstone's CRBA with the spatial inertia kept as mass,
-centre and rotational inertia). The walks (``dynamics_blocks.pxi``) take blocks of up to 32
+formulation of Luh-Walker-Paul's recursion; Featherstone's CRBA with each composite body's spatial
+inertia kept as its first moment and its rotational inertia about the frame's origin, the composite
+masses being constants). The walks (``dynamics_blocks.pxi``) take blocks of up to 32
 configurations at once, structure-of-arrays, one configuration being a block of one, so a batch and
 the single calls agree bit for bit.
 
