@@ -15,8 +15,8 @@ Goal (issue 24): at N >= 1e4, >= 1.8x the one-core speed on this 2-core machine 
 the limit beyond: the speed-up on N cores is min(N, bandwidth / per-core traffic)), identical bits.
 
 Then 1e7 configurations (without --quick) through FK and the Jacobian in chunks of 1e5 written into
-one ``out=`` buffer: time per configuration and the peak memory this process added (bounded by the
-chunk, not by 1e7: a fresh 3.4 GB Jacobian array would cost its page faults on every call).
+one ``out=`` buffer: time per configuration and the peak of the arrays allocated meanwhile (bounded by
+the chunk, not by 1e7: a fresh 3.4 GB Jacobian array would cost its page faults on every call).
 
 Run: ``python benchmarks/bench_threads.py [--quick]``. Exit status 0 whatever the speed-up, 1 if the
 bits differ.
@@ -98,20 +98,22 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{name:<30}{N:>10,}{t1 / N * 1e6:>17.3f}" + "".join(f"{speed[k]:>11.2f}x" for k in counts))
     print(f"bits identical with every thread count: {'yes' if bits_ok else 'NO'}")
     if not args.quick:
-        import resource
+        import tracemalloc
 
         chunk, total = 100_000, 10_000_000
-        before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
         bufs = {"FK": np.empty((chunk, 4, 4)), "Jacobian": np.empty((chunk, 6, robot.n))}
         for name, buf in bufs.items():
+            tracemalloc.start()     # numpy reports every array it allocates (the peak, not the process's RSS)
             t0 = time.perf_counter()
             for k in range(total // chunk):
                 Qc = robot.random_q(chunk, np.random.default_rng(k))
                 (robot.fk if name == "FK" else robot.jacobian)(Qc, out=buf)
             dt = time.perf_counter() - t0
-            added = (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024
-            print(f"{name} of 1e7 configurations in chunks of 1e5 through out=: {dt / total * 1e6:.3f} us/cfg "
-                  f"(random q included), peak memory +{added:.0f} MB")
+            peak = tracemalloc.get_traced_memory()[1] / 2**20
+            tracemalloc.stop()
+            print(f"{name} of 1e7 configurations in chunks of 1e5 through out= ({buf.nbytes / 2**20:.0f} MB): "
+                  f"{dt / total * 1e6:.3f} us/cfg (random q included), arrays allocated meanwhile: peak "
+                  f"{peak:.0f} MB (the chunks' q)")
     if counts:
         best = counts[-1]
         missed = [f"{name} at {N:,}" for name, N, _, speed in rows if speed[best] < 0.9 * best]
