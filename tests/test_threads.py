@@ -113,3 +113,78 @@ def test_out_arrays_are_written_and_checked(panda):
             panda.fk(Q.tolist(), out=bad)
     with pytest.raises(InputError, match="out: not available for frame='tool'"):
         panda.jacobian(Q, "tool", out=J)
+
+
+@pytest.mark.parametrize("N", [63, 64, 65, 32 * 24 * 2 + 1])
+def test_block_edges_and_manipulability_batches_give_the_same_bits(panda, N):
+    """Batches a block (32) either side of an edge, split over two threads (the guided schedule hands out
+    uneven stretches of blocks): the same bits as one thread and as the single calls, and a batch's
+    manipulability (measured block by block in per-thread scratch) the same bits as the measure taken
+    on the whole batch's Jacobians."""
+    from robkin.compiled.jacobian import volumes
+
+    Q = panda.random_q(N, rng=N)
+    J = panda.jacobian(Q, threads=1)
+    for t in (1, 2):
+        assert np.array_equal(panda.fk(Q, threads=t), panda.fk(Q, threads=1))
+        assert np.array_equal(panda.frames_at(Q, threads=t), panda.frames_at(Q, threads=1))
+        assert np.array_equal(panda.jacobian(Q, "space", threads=t), panda.jacobian(Q, "space", threads=1))
+        for kind, rows in (("translational", slice(0, 3)), ("rotational", slice(3, 6)), ("full", slice(0, 6))):
+            w = panda.manipulability(Q, kind, threads=t)
+            assert w.shape == (N,) and np.array_equal(w, volumes(J[:, rows, :]))
+    for k in (0, 31, 32, 33, N - 1):
+        assert np.array_equal(panda.frames_at(Q, threads=2)[k], panda.frames_at(Q[k]))
+        assert panda.manipulability(Q, "full", threads=2)[k] == panda.manipulability(Q[k], "full")
+    # Yoshikawa's measure is the product of the singular values (numpy's LAPACK SVD, an independent
+    # computation: 1e-12 relative is ~1e4 ulp, far above the two factorisations' rounding on 6 x 8)
+    assert np.allclose(panda.manipulability(Q, "full", threads=2),
+                       np.prod(np.linalg.svd(J, compute_uv=False), axis=-1), rtol=1e-12, atol=0)
+
+
+@pytest.mark.parametrize("where", [0, 700, 1599])
+def test_a_value_that_is_not_finite_is_found_in_any_block_on_any_thread(panda, where):
+    """The batch kernels check each block's values on the thread that walks it: a NaN or an infinity in
+    any block, on one thread or two, is still the one clear error (naming q), never a result."""
+    Q = panda.random_q(1600, rng=1)
+    for bad in (np.nan, np.inf):
+        Qb = Q.copy()
+        Qb[where, 3] = bad
+        for t in (1, 2):
+            for call in (lambda: panda.fk(Qb, threads=t), lambda: panda.frames_at(Qb, threads=t),
+                         lambda: panda.jacobian(Qb, threads=t), lambda: panda.jacobian(Qb, "body", threads=t),
+                         lambda: panda.manipulability(Qb, threads=t),
+                         lambda: panda.fk(Qb, threads=t, out=np.empty((1600, 4, 4))),
+                         lambda: panda.jacobian(Qb, threads=t, out=np.empty((1600, 6, panda.n)))):
+                with pytest.raises(InputError, match="q"):
+                    call()
+    with pytest.raises(InputError, match="q"):
+        panda.manipulability(np.full(panda.n, np.nan))
+
+
+def test_batches_allocate_their_result_and_nothing_of_the_batch_size_more(panda):
+    """Memory stays bounded however large the batch: FK and Jacobians written into ``out=`` allocate no
+    array at all, a fresh result is the only array of the batch's size, and manipulability needs no
+    N x 6 x n Jacobians (numpy reports every array it allocates to tracemalloc; the kernels' per-thread
+    scratch, a few kB from C's malloc, is not traced and does not grow with N)."""
+    import tracemalloc
+
+    N = 20_000
+    Q = panda.random_q(N, rng=2)
+    T, J = np.empty((N, 4, 4)), np.empty((N, 6, panda.n))
+    small = 64 * 1024   # Python objects of a call (a few kB); any array of N rows is >= 160 kB
+
+    def peak(call):
+        tracemalloc.start()
+        try:
+            call()
+            return tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+
+    for t in (1, 2):
+        assert peak(lambda: panda.fk(Q, threads=t, out=T)) < small
+        assert peak(lambda: panda.frames_at(Q[:1000], threads=t, out=np.empty((1000, panda.n + 1, 4, 4)))) \
+            < 1000 * (panda.n + 1) * 128 + small
+        assert peak(lambda: panda.jacobian(Q, "body", threads=t, out=J)) < small
+        assert peak(lambda: panda.jacobian(Q, threads=t)) < J.nbytes + small
+        assert peak(lambda: panda.manipulability(Q, "full", threads=t)) < N * 8 + small

@@ -192,7 +192,8 @@ class Robot:
         ``threads``: at most that many threads for a large batch (default: ``robkin.set_threads``,
         ROBKIN_NUM_THREADS or the cores; see ``robkin.threads``); the results are the same bits.
         ``out``: a float64 array of the result's shape to write into and return (a large batch in
-        chunks then needs no new memory per chunk).
+        chunks then needs no new memory per chunk); when q holds a NaN or an infinity the call raises
+        and ``out`` may hold part of the batch (each block's values are checked by its thread).
         """
         t = 0 if threads is None else check_threads(threads)
         T = self._chain.fk(q, t, out)

@@ -4,14 +4,23 @@
 ``Chain`` holds a robot's fixed transforms once (built by ``Robot``, cached on it); its methods take
 joint values and return new numpy arrays. Large batches are split over threads by blocks
 (``threads`` = 0: automatic, see ``threads.pyx``); a block is computed the same way on any thread, by
-the portable or the AVX2 build of the block kernels (``kernels.pyx``: the CPU's choice, the same bits). They validate nothing beyond what they need to stay memory
-safe: they return ``None`` unless q is a C-contiguous float64 array of shape (n,) or (N, n) with only
-finite values, and the Python wrapper (``Robot.fk``) then validates and explains.
+the portable or the AVX2 build of the block kernels (``kernels.pyx``: the CPU's choice, the same bits).
+They validate nothing beyond what they need to stay memory safe: they return ``None`` unless q is a
+C-contiguous float64 array of shape (n,) or (N, n) with only finite values, and the Python wrapper
+(``Robot.fk``) then validates and explains. The values are checked block by block, by the thread that
+walks the block (no serial pass over the batch): when one is not finite, ``out`` may already hold some
+of the results.
+
+Threads take the blocks in a guided schedule: the first thread a contiguous half of them, the next a
+half of the rest, and so on down to ``CHUNK_BLOCKS``. Each thread thus writes (and, for a fresh result,
+first touches: the page faults that zero new memory) its own long stretch of the output, instead of
+two threads faulting on the same 2 MB huge page in turn; a thread that starts late (a busy machine)
+still finds work left, and none waits long at the end.
 """
 
 cimport numpy as cnp
 from cython.parallel cimport prange
-from robkin.compiled.fk cimport BLOCK, tool_poses, frame_poses, usable_q, empty_result
+from robkin.compiled.fk cimport BLOCK, finite_block, tool_poses, frame_poses, usable_layout, empty_result
 from robkin.compiled.kernel_table cimport pose_block_t
 from robkin.compiled.kernels cimport active_kernels
 from robkin.compiled.sincos cimport rk_sincos_array
@@ -26,35 +35,69 @@ cdef enum:
     # block at 7 joints, so >= ~100 us per thread, many times the cost of starting an OpenMP region
     # (~5-20 us) and of a late thread's wake-up on a busy machine
     MIN_BLOCKS_PER_THREAD = 32
-    # blocks a thread takes at a time: dynamic scheduling, so a thread that starts late (the machine
-    # is busy) takes less of the batch instead of holding the others up at the end
+    # the smallest share of blocks a thread takes at a time (guided schedule, see the module doc)
     CHUNK_BLOCKS = 4
 
 
-cdef void threaded_poses(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t m,
-                         double* T, double* F, int threads) noexcept nogil:
-    """``tool_poses`` (F NULL) or ``frame_poses`` (T NULL) with the blocks split over ``threads``."""
-    cdef Py_ssize_t j
+cdef Py_ssize_t threaded_poses(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t m,
+                               double* T, double* F, int threads) noexcept nogil:
+    """``tool_poses`` (F NULL) or ``frame_poses`` (T NULL) with the blocks split over ``threads``; returns
+    the number of blocks left unwritten because a value in them is not finite (0: all written)."""
+    cdef Py_ssize_t j, bad = 0
     cdef pose_block_t pose_block = active_kernels().pose_block
-    for j in prange((m + BLOCK - 1) // BLOCK, num_threads=threads, schedule="dynamic", chunksize=CHUNK_BLOCKS):
-        pose_block(L, rev, n, Q, m, j, T, F)
+    for j in prange((m + BLOCK - 1) // BLOCK, num_threads=threads, schedule="guided", chunksize=CHUNK_BLOCKS):
+        if finite_block(Q, n, m, j):
+            pose_block(L, rev, n, Q, m, j, T, F)
+        else:
+            bad += 1
+    return bad
 
 
-cdef void batch_poses(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t m,
-                      double* T, double* F) noexcept nogil:
-    """``threaded_poses`` on this thread; one configuration takes ``fk.pxd``'s inlined walk (a block of
-    one fills no SIMD lanes, and the literal size drops the loops' set-up)."""
+cdef Py_ssize_t batch_poses(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t m,
+                            double* T, double* F) noexcept nogil:
+    """``threaded_poses`` on this thread (no OpenMP region: entering one costs more than a small batch);
+    one configuration takes ``fk.pxd``'s inlined walk (a block of one fills no SIMD lanes, and the
+    literal size drops the loops' set-up)."""
     cdef Py_ssize_t j
     cdef pose_block_t pose_block
     if m == 1:
+        if not finite_block(Q, n, 1, 0):
+            return 1
         if F != NULL:
             frame_poses(L, rev, n, Q, 1, F)
         else:
             tool_poses(L, rev, n, Q, 1, T)
-        return
+        return 0
     pose_block = active_kernels().pose_block
     for j in range((m + BLOCK - 1) // BLOCK):
+        if not finite_block(Q, n, m, j):
+            return 1
         pose_block(L, rev, n, Q, m, j, T, F)
+    return 0
+
+
+cdef object poses(Chain chain, q, int threads, out, cnp.npy_intp d0, cnp.npy_intp d1, cnp.npy_intp d2, bint frames):
+    """``Chain.fk`` (``frames`` false: results d0 x d1 = 4 x 4) or ``Chain.frames`` (n+1 x 4 x 4)."""
+    cdef Py_ssize_t N, bad
+    cdef const double* Q
+    cdef double* O
+    cdef int nt, n = chain.n
+    if not usable_layout(q, n):
+        return None
+    if out is None:
+        out = empty_result(q, d0, d1, d2)
+    elif not usable_out(out, q, d0, d1, d2):
+        return None
+    Q = <const double*>cnp.PyArray_DATA(q)
+    O = <double*>cnp.PyArray_DATA(out)
+    N = cnp.PyArray_SIZE(q) // n
+    with nogil:
+        nt = batch_threads(threads, (N + BLOCK - 1) // BLOCK, MIN_BLOCKS_PER_THREAD) if N > BLOCK else 1
+        if nt > 1:
+            bad = threaded_poses(chain.L, chain.rev, n, Q, N, NULL if frames else O, O if frames else NULL, nt)
+        else:
+            bad = batch_poses(chain.L, chain.rev, n, Q, N, NULL if frames else O, O if frames else NULL)
+    return None if bad else out
 
 
 cdef class Chain:
@@ -83,50 +126,12 @@ cdef class Chain:
         """Tool pose (4, 4) for q (n,), or (N, 4, 4) for q (N, n); None if q (or ``out``) is not usable
         as is. ``threads``: 0 automatic, else at most that many. ``out``: a C-contiguous float64 array of
         the result's shape to write into (returned), else a new one."""
-        cdef Py_ssize_t N
-        cdef const double* Q
-        cdef double* O
-        cdef int nt
-        if not usable_q(q, self.n):
-            return None
-        if out is None:
-            out = empty_result(q, 4, 4, 0)
-        elif not usable_out(out, q, 4, 4, 0):
-            return None
-        Q = <const double*>cnp.PyArray_DATA(q)
-        O = <double*>cnp.PyArray_DATA(out)
-        N = cnp.PyArray_SIZE(q) // self.n
-        with nogil:
-            nt = batch_threads(threads, (N + BLOCK - 1) // BLOCK, MIN_BLOCKS_PER_THREAD) if N > BLOCK else 1
-            if nt > 1:
-                threaded_poses(self.L, self.rev, self.n, Q, N, O, NULL, nt)
-            else:
-                batch_poses(self.L, self.rev, self.n, Q, N, O, NULL)
-        return out
+        return poses(self, q, threads, out, 4, 4, 0, False)
 
     def frames(self, q, int threads=0, out=None):
         """Frames after each joint's motion and the tool: (n+1, 4, 4) for q (n,), (N, n+1, 4, 4) for
         q (N, n); None if q (or ``out``) is not usable as is. ``threads`` and ``out`` as for ``fk``."""
-        cdef Py_ssize_t N
-        cdef const double* Q
-        cdef double* O
-        cdef int nt
-        if not usable_q(q, self.n):
-            return None
-        if out is None:
-            out = empty_result(q, self.n + 1, 4, 4)
-        elif not usable_out(out, q, self.n + 1, 4, 4):
-            return None
-        Q = <const double*>cnp.PyArray_DATA(q)
-        O = <double*>cnp.PyArray_DATA(out)
-        N = cnp.PyArray_SIZE(q) // self.n
-        with nogil:
-            nt = batch_threads(threads, (N + BLOCK - 1) // BLOCK, MIN_BLOCKS_PER_THREAD) if N > BLOCK else 1
-            if nt > 1:
-                threaded_poses(self.L, self.rev, self.n, Q, N, NULL, O, nt)
-            else:
-                batch_poses(self.L, self.rev, self.n, Q, N, NULL, O)
-        return out
+        return poses(self, q, threads, out, self.n + 1, 4, 4, True)
 
 
 def sincos(x):

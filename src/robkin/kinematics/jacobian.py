@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..checks import check_out, check_threads
-from ..compiled.jacobian import jacobian, volumes
+from ..compiled.jacobian import jacobian, manipulability as _manipulability
 from ..errors import InputError
 from ..robot import Robot, check_q
 
@@ -101,13 +101,21 @@ def manipulability(robot: Robot, q: ArrayLike, kind: str = "translational",
         and sqrt(det(J^T J)) otherwise (the volume of the image of the unit ball within its span).
         Units: length^3 (translational), 1 (rotational), length^3 (full, mixed rows).
 
-    ``threads`` bounds the threads of a large batch (see ``robkin.threads``).
+    ``threads`` bounds the threads of a large batch (see ``robkin.threads``); the values are the same
+    bits on any number of threads. A batch is measured block by block in per-thread scratch, so its
+    memory is the (N,) result whatever N (no N x 6 x n Jacobians).
     """
     if kind not in _ROWS:
         raise InputError(f"manipulability kind '{kind}' is not one of {', '.join(_ROWS)}")
     # compiled Householder QR of the selected rows: the same product as the SVD's, several times cheaper
     t = 0 if threads is None else check_threads(threads)
-    return _scalar(volumes(jacobian_geometric(robot, q, threads)[..., _ROWS[kind], :], t))
+    rows = _ROWS[kind]
+    w = _manipulability(robot._chain, q, rows.start, rows.stop - rows.start, t)
+    if w is None:   # not a float64 array of finite values as it is: validate, convert, explain
+        w = _manipulability(robot._chain, np.ascontiguousarray(check_q(q, robot.n)), rows.start,
+                            rows.stop - rows.start, t)
+    assert w is not None  # a checked, contiguous float64 array is always usable
+    return _scalar(w)
 
 
 def inverse_condition_number(robot: Robot, q: ArrayLike, kind: str = "translational") -> np.ndarray | float:
