@@ -179,7 +179,7 @@ def placement(bint modified, cand, tool, scale, keep):
     return F, R
 
 
-def robots_fk(L, revolute, Q):
+def robots_fk(L, revolute, Q, int threads=0):
     """Tool poses (B, m, 4, 4) of B robots with n joints each at m configurations each: the robots' own
     compiled FK (``Robot.fk``: the walk of ``fk.pxd``), for the conversions' FK self-check.
 
@@ -190,6 +190,8 @@ def robots_fk(L, revolute, Q):
     revolute : (B, n) bool array
     Q : (B, m, n) float array
         Joint values (rad or length units); finite.
+    threads : int
+        At most this many threads (<= 0: automatic, ``robkin.threads``); the same bits with any.
     """
     cdef cnp.ndarray La = _f64(L), Qa = _f64(Q)
     cdef cnp.ndarray ra = np.ascontiguousarray(revolute, dtype=np.uint8)
@@ -203,8 +205,9 @@ def robots_fk(L, revolute, Q):
     cdef double* q = _ptr(Qa)
     cdef unsigned char* r = <unsigned char*>cnp.PyArray_DATA(ra)
     cdef double* o = _ptr(out)
+    cdef int nt = batch_threads(threads, B, MIN_ROBOTS_PER_THREAD)
     with nogil:
-        for k in range(B):      # one block walk per robot over its m configurations
+        for k in prange(B, num_threads=nt, schedule="dynamic", chunksize=8):  # one block walk per robot
             tool_poses(l + 16 * (n + 1) * k, r + n * k, <int>n, q + n * m * k, m, o + 16 * m * k)
     return out
 

@@ -9,8 +9,8 @@
 # evaluate them, and the two kinds of 4x4 / 3x3 matrix product NumPy's ``@`` does (through its BLAS):
 # a matrix-matrix product sums each entry as a chain of fused multiply-adds in k order
 # (``gemm_fma``); a matrix-vector product sums plain products in k order (``relative_np``). These are
-# what the x86-64 OpenBLAS that NumPy ships computes on FMA-capable machines; the test
-# ``test_convert_batch.test_compiled_stages_match_numpy`` checks them against NumPy on every run.
+# what the x86-64 OpenBLAS that NumPy ships computes on FMA-capable machines; the tests
+# in ``tests/test_convert_stages.py`` check every stage against the NumPy functions it replaces.
 
 from libc.math cimport fma, rint, isfinite, INFINITY
 
