@@ -139,12 +139,16 @@ def _convert_group(cls: type[Table], robots: list[Robot], idx: list[int], label:
     # configurations (``link_table.sample_configurations``), and each table's longest length
     err, lengths = check_tables(modified, base, rows, tool, local, J, scale,
                                 unit_sample(CHECK_SAMPLES, rows.shape[1]), threads)
-    for k in np.flatnonzero(err > WARN_TOL * scale):
-        report_fk_error(float(err[k]), robots[k], section, where=f"robots[{idx[k]}]: " if label else "",
-                        stacklevel=stacklevel + 1)
+    off = err > WARN_TOL * scale
+    if off.any():  # (the test first: flatnonzero costs more than the check of a single table)
+        for k in np.flatnonzero(off):
+            report_fk_error(float(err[k]), robots[k], section, where=f"robots[{idx[k]}]: " if label else "",
+                            stacklevel=stacklevel + 1)
     from .long_lengths import LONG_FACTOR, warn_long_lengths
 
-    for k in np.flatnonzero(lengths > LONG_FACTOR * scale):
-        warn_long_lengths(section, rows[k], base[k], tool[k], robots[k].axes, float(scale[k]),
-                          where=f"robots[{idx[k]}]: " if label else "", stacklevel=stacklevel + 1)
+    long = lengths > LONG_FACTOR * scale
+    if long.any():
+        for k in np.flatnonzero(long):
+            warn_long_lengths(section, rows[k], base[k], tool[k], robots[k].axes, float(scale[k]),
+                              where=f"robots[{idx[k]}]: " if label else "", stacklevel=stacklevel + 1)
     return tables
