@@ -52,8 +52,9 @@ include "frame_geometry.pxi"
 include "dh_placement.pxi"
 include "table_pipeline.pxi"
 
-#: Robots per thread below which a batch conversion stays on fewer threads: one robot's table and FK
-#: check cost ~10-20 us, starting a thread ~5-10 us (measured: benchmarks/bench_convert.py --threads).
+#: Robots per thread below which a batch conversion stays on fewer threads: a 6-joint robot's table
+#: costs ~5 us here and its FK check ~11 us (benchmarks/bench_convert.py, "by part"), so 16 robots are
+#: ~0.25 ms of work per thread, far above the ~10 us of waking a thread team.
 MIN_ROBOTS_PER_THREAD = 16
 
 
