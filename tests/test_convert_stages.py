@@ -147,3 +147,32 @@ def test_batches_on_two_threads_are_one_threads_bit_for_bit(batch):
 def test_a_bad_thread_count_is_one_clear_error(batch, threads):
     with pytest.raises(robkin.InputError, match="threads"):
         batch(_random_robots(1, 2, seed=0), threads=threads)
+
+
+def _numpy_frame_stacks(frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``Robot.scale`` and ``Robot._local`` as the NumPy expressions of ``robkin.frame_stacks`` give them."""
+    p, z = frames[:, :-1, :3, 3], frames[:, :-1, :3, 2]
+    feet = p - np.einsum("bij,bij->bi", p, z)[..., None] * z
+    s = np.maximum(np.linalg.norm(frames[:, -1, :3, 3], axis=-1), np.linalg.norm(feet, axis=-1).max(axis=-1))
+    origins = np.linalg.norm(frames[:, :, :3, 3], axis=-1).max(axis=-1)
+    s = np.where(s <= 1e-9 * origins, origins, s)
+    s = np.maximum(s, 1e-3 * origins)
+    L = np.empty_like(frames)
+    L[:, 0] = frames[:, 0]
+    L[:, 1:] = se3.inv(frames[:, :-1]) @ frames[:, 1:]
+    return np.where(s > 0, s, 1.0), L
+
+
+@settings(max_examples=60, **SETTINGS)
+@given(specs=st.integers(1, 7).flatmap(lambda n: st.lists(robot_specs(min_joints=n, max_joints=n), min_size=1,
+                                                             max_size=3)))
+def test_compiled_frame_stacks_are_numpys_bit_for_bit(specs):
+    frames = np.stack([s.robot.frames for s in specs])
+    scale, L = _numpy_frame_stacks(frames)
+    np.testing.assert_array_equal(frame_scales(frames), scale)
+    if _numpy_matmul_is_an_fma_chain():
+        np.testing.assert_array_equal(local_transforms(frames), L)
+    else:
+        np.testing.assert_allclose(local_transforms(frames), L, rtol=0, atol=1e-12 * float(scale.max()))
+    np.testing.assert_array_equal(local_transforms(frames[0]), local_transforms(frames)[0])  # any leading shape
+    assert specs[0].robot.scale == scale[0]
