@@ -419,23 +419,3 @@ def check_tables(bint modified, base, rows, tool, L, joints, scale, U, int threa
             free(work)
     return err, length
 
-
-def frame_stacks(frames, bint want_scale, bint want_local):
-    """``Robot.scale`` (B,) and the fixed transforms L (B, n + 1, 4, 4) of B robots' GJD frames
-    (B, n + 1, 4, 4) (``robkin.frame_stacks``, which documents them); None for what is not wanted."""
-    cdef cnp.ndarray Fa = _f64(frames)
-    if Fa.ndim != 4 or Fa.shape[1] < 2 or Fa.shape[2] != 4 or Fa.shape[3] != 4:
-        raise ValueError("expected frames (B, n + 1, 4, 4)")
-    cdef Py_ssize_t B = Fa.shape[0], n = Fa.shape[1] - 1, k
-    scale = np.empty(B) if want_scale else None
-    local = np.empty((B, n + 1, 4, 4)) if want_local else None
-    cdef double* f = _ptr(Fa)
-    cdef double* s = _ptr(scale) if want_scale else NULL
-    cdef double* l = _ptr(local) if want_local else NULL
-    with nogil:
-        for k in range(B):
-            if want_scale:
-                s[k] = frames_scale(f + 16 * (n + 1) * k, n)
-            if want_local:
-                frames_local(f + 16 * (n + 1) * k, n, l + 16 * (n + 1) * k)
-    return scale, local

@@ -8,29 +8,17 @@
 # NumPy's, operation for operation: element-wise products and sums in the order the NumPy expressions
 # evaluate them, and the two kinds of 4x4 / 3x3 matrix product NumPy's ``@`` does (through its BLAS):
 # a matrix-matrix product sums each entry as a chain of fused multiply-adds in k order
-# (``gemm_fma``); a matrix-vector product sums plain products in k order (``relative_np``). These are
+# (``numpy_order.gemm_fma``); a matrix-vector product sums plain products in k order (``relative_np``). These are
 # what the x86-64 OpenBLAS that NumPy ships computes on FMA-capable machines; the tests
 # in ``tests/test_convert_stages.py`` check every stage against the NumPy functions it replaces.
 
 from libc.math cimport fma, rint, isfinite, INFINITY
+from robkin.compiled.numpy_order cimport gemm_fma, norm3_np
 
 #: rounding.SNAP_WINDOW, rounding.SNAP_BUDGET (their reasons are stated there)
 cdef double SNAP_WINDOW = _SNAP_WINDOW
 cdef double SNAP_BUDGET = _SNAP_BUDGET
 cdef double QUARTER = M_PI / 2
-
-
-cdef inline void gemm_fma(const double* A, const double* B, double* out) noexcept nogil:
-    """out = A B (4x4 row-major) as NumPy's ``@`` computes it: each entry a chain of fused
-    multiply-adds over k = 0..3."""
-    cdef int i, j
-    cdef double s
-    for i in range(4):
-        for j in range(4):
-            s = A[4 * i] * B[j]
-            s = fma(A[4 * i + 1], B[4 + j], s)
-            s = fma(A[4 * i + 2], B[8 + j], s)
-            out[4 * i + j] = fma(A[4 * i + 3], B[12 + j], s)
 
 
 cdef inline void relative_np(const double* P, const double* F, double* T) noexcept nogil:
@@ -48,11 +36,6 @@ cdef inline void relative_np(const double* P, const double* F, double* T) noexce
             T[4 * i + j] = fma(P[8 + i], F[8 + j], s)
         T[4 * i + 3] = (P[i] * w[0] + P[4 + i] * w[1]) + P[8 + i] * w[2]
     T[12], T[13], T[14], T[15] = 0.0, 0.0, 0.0, 1.0
-
-
-cdef inline double norm3_np(double x, double y, double z) noexcept nogil:
-    """``np.linalg.norm`` of (x, y, z): the squares summed in order."""
-    return sqrt((x * x + y * y) + z * z)
 
 
 cdef inline bint identity_np(const double* T, double scale) noexcept nogil:
@@ -210,47 +193,3 @@ cdef void check_of_table(bint modified, const double* base, const double* rows, 
     length[0] = max(norm3_np(base[3], base[7], base[11]), norm3_np(tool[3], tool[7], tool[11]))
     for i in range(n):
         length[0] = max(length[0], max(fabs(rows[4 * i]), fabs(rows[4 * i + 1])))
-
-
-cdef double frames_scale(const double* frames, Py_ssize_t n) noexcept nogil:
-    """``frame_stacks.frame_scales`` of one robot's GJD frames (n + 1 poses), with NumPy's sums."""
-    cdef Py_ssize_t i
-    cdef const double* T
-    cdef double e, feet = -INFINITY, origins = -INFINITY, s, v
-    for i in range(n):
-        T = frames + 16 * i
-        e = (T[3] * T[2] + T[7] * T[6]) + T[11] * T[10]   # p . z, the einsum's order
-        v = norm3_np(T[3] - e * T[2], T[7] - e * T[6], T[11] - e * T[10])
-        if v > feet or v != v:
-            feet = v
-    for i in range(n + 1):
-        T = frames + 16 * i
-        v = norm3_np(T[3], T[7], T[11])
-        if v > origins or v != v:
-            origins = v
-    T = frames + 16 * n
-    s = norm3_np(T[3], T[7], T[11])
-    if not (s >= feet):   # np.maximum (the frames are finite)
-        s = feet
-    if s <= 1e-9 * origins:   # the tolerances' reasons: frame_stacks.frame_scales
-        s = origins
-    if not (s >= 1e-3 * origins):
-        s = 1e-3 * origins
-    return s if s > 0 else 1.0
-
-
-cdef void frames_local(const double* frames, Py_ssize_t n, double* L) noexcept nogil:
-    """``frame_stacks.local_transforms`` of one robot's GJD frames (n + 1 poses) into L (n + 1 poses):
-    L_1 = J_1, L_i = J_{i-1}^-1 J_i, with ``se3.inv`` (R^T, -R^T p) and NumPy's matrix product."""
-    cdef Py_ssize_t i
-    cdef int r
-    cdef const double* T
-    cdef double V[16]
-    tf_copy(frames, L)
-    for i in range(1, n + 1):
-        T = frames + 16 * (i - 1)
-        for r in range(3):
-            V[4 * r], V[4 * r + 1], V[4 * r + 2] = T[r], T[4 + r], T[8 + r]
-            V[4 * r + 3] = -((T[r] * T[3] + T[4 + r] * T[7]) + T[8 + r] * T[11])
-        V[12], V[13], V[14], V[15] = 0.0, 0.0, 0.0, 1.0
-        gemm_fma(V, frames + 16 * i, L + 16 * i)
