@@ -36,7 +36,7 @@ __version__ = "0.3.0"
 _REPRESENTATIONS = (
     "DHTable", "MDHTable", "HayatiTable", "PoE", "RPYTable",
     "dh_from_robot", "dh_from_robots", "mdh_from_robot", "mdh_from_robots", "hayati_from_robot",
-    "poe_from_robot", "rpy_from_robot",
+    "hayati_from_robots", "poe_from_robot", "rpy_from_robot",
     "robot_from_dh", "robot_from_mdh", "robot_from_hayati", "robot_from_poe", "robot_from_rpy",
     "robot_from_gjd",
 )
@@ -53,7 +53,7 @@ __getattr__, __dir__ = lazy_exports(__name__, globals(), {**dict.fromkeys(_REPRE
 
 if TYPE_CHECKING:  # what static type checkers and IDEs see
     from .representations import (DHTable, HayatiTable, MDHTable, PoE, RPYTable, dh_from_robot,
-                                  dh_from_robots, hayati_from_robot, mdh_from_robot, mdh_from_robots,
+                                  dh_from_robots, hayati_from_robot, hayati_from_robots, mdh_from_robot, mdh_from_robots,
                                   poe_from_robot, robot_from_dh, robot_from_gjd, robot_from_hayati,
                                   robot_from_mdh, robot_from_poe, robot_from_rpy, rpy_from_robot)
     from .calibration import calibrate

@@ -9,9 +9,10 @@ are those of ``robkin.lines`` and ``robkin.representations.frames``; their reaso
 The C code sits in two included files, so that it stays one extension module (static, inlinable C
 functions; nothing more to load on ``robkin convert``): ``frame_geometry.pxi``, the line geometry
 (closest points, classification, frames from z and x), and ``dh_placement.pxi``, the DH / MDH rules
-(common-normal frames, parameters between frames, link matrices, the frame chains). This file holds
-the tolerances, the Python entry points and the FK self-check of the conversions (``robots_fk``,
-``tables_fk``).
+(common-normal frames, parameters between frames, link matrices, the frame chains). ``table_pipeline.pxi`` holds the stages after the placement
+(rounding, residual tool, FK self-check) that ``convert_tables`` and ``check_tables`` run one robot
+after another, on several threads for a large batch. This file holds the tolerances and the Python
+entry points.
 
 Poses are row-major ``double[16]`` as in ``linalg.pxd``; frame columns x, y, z are T[0, 4, 8],
 T[1, 5, 9], T[2, 6, 10] and the origin T[3, 7, 11]. The arithmetic follows the Python statements of
@@ -22,6 +23,9 @@ cimport numpy as cnp
 from libc.math cimport sqrt, sin, cos, atan2, fabs, M_PI
 from robkin.compiled.linalg cimport dot3, norm3, cross3, tf_identity, tf_copy, tf_mul
 from robkin.compiled.fk cimport tool_poses
+from robkin.compiled.threads cimport batch_threads
+from cython.parallel cimport prange
+from libc.stdlib cimport malloc, free
 
 import numpy as np
 
@@ -29,6 +33,7 @@ cnp.import_array()
 
 from robkin.lines import ANGLE_TOL as _ANGLE_TOL, LENGTH_TOL as _LENGTH_TOL
 from robkin.representations.frames import KEEP_TOL as _KEEP_TOL, TIE_TOL as _TIE_TOL
+from robkin.representations.rounding import SNAP_BUDGET as _SNAP_BUDGET, SNAP_WINDOW as _SNAP_WINDOW
 
 # the tolerances of robkin.lines and robkin.representations.frames, read from there (reasons stated there)
 cdef double ANGLE_TOL = _ANGLE_TOL
@@ -45,6 +50,12 @@ cdef double FAR = 10.0
 
 include "frame_geometry.pxi"
 include "dh_placement.pxi"
+include "table_pipeline.pxi"
+
+#: Robots per thread below which a batch conversion stays on fewer threads: a 6-joint robot's table
+#: costs ~5 us here and its FK check ~11 us (benchmarks/bench_convert.py, "by part"), so 16 robots are
+#: ~0.25 ms of work per thread, far above the ~10 us of waking a thread team.
+MIN_ROBOTS_PER_THREAD = 16
 
 
 # ---- Python entry points: inputs are converted to contiguous float64 once, nothing else is checked
@@ -169,7 +180,7 @@ def placement(bint modified, cand, tool, scale, keep):
     return F, R
 
 
-def robots_fk(L, revolute, Q):
+def robots_fk(L, revolute, Q, int threads=0):
     """Tool poses (B, m, 4, 4) of B robots with n joints each at m configurations each: the robots' own
     compiled FK (``Robot.fk``: the walk of ``fk.pxd``), for the conversions' FK self-check.
 
@@ -180,6 +191,8 @@ def robots_fk(L, revolute, Q):
     revolute : (B, n) bool array
     Q : (B, m, n) float array
         Joint values (rad or length units); finite.
+    threads : int
+        At most this many threads (<= 0: automatic, ``robkin.threads``); the same bits with any.
     """
     cdef cnp.ndarray La = _f64(L), Qa = _f64(Q)
     cdef cnp.ndarray ra = np.ascontiguousarray(revolute, dtype=np.uint8)
@@ -193,8 +206,9 @@ def robots_fk(L, revolute, Q):
     cdef double* q = _ptr(Qa)
     cdef unsigned char* r = <unsigned char*>cnp.PyArray_DATA(ra)
     cdef double* o = _ptr(out)
+    cdef int nt = batch_threads(threads, B, MIN_ROBOTS_PER_THREAD)
     with nogil:
-        for k in range(B):      # one block walk per robot over its m configurations
+        for k in prange(B, num_threads=nt, schedule="dynamic", chunksize=8):  # one block walk per robot
             tool_poses(l + 16 * (n + 1) * k, r + n * k, <int>n, q + n * m * k, m, o + 16 * m * k)
     return out
 
@@ -257,3 +271,151 @@ def tables_fk(bint modified, base, rows, tool, revolute, sign, Q):
                     tf_copy(U, T)
                 tf_mul(T, tp + 16 * k, o + 16 * (m * k + c))
     return out
+
+
+def _joint_array(J, Py_ssize_t B, Py_ssize_t n):
+    cdef cnp.ndarray a = _f64(J)
+    if a.ndim != 3 or a.shape[0] != B or a.shape[1] != n or a.shape[2] != 4:
+        raise ValueError("expected joints (B, n, 4)")
+    return a
+
+
+def convert_tables(bint modified, frames, joints, keep, snap, scale, flip_x, int threads=0):
+    """Rows, base and residual tool of B standard (``modified`` false) or modified DH tables, each
+    robot with n joints: the frame placement (``placement``), the rounding of near-round values for
+    the robots with ``snap`` (``rounding.snap_many``) and the residual tool
+    (``link_table.residual_tool``), one robot after another in C.
+
+    Parameters
+    ----------
+    frames : (B, n + 1, 4, 4) float array
+        Each robot's GJD frames (joint frames, then the tool pose).
+    joints : (B, n, 4) float array
+        Per joint: revolute (1 or 0), flip (1 or 0), lower and upper limit (-inf / +inf for none).
+    keep, snap : (B,) bool arrays
+        Keep the robot's own frames where they satisfy the convention; round near-round values.
+    scale : (B,) float array
+        Each robot's size (``Robot.scale``).
+    flip_x : (4, 4) float array
+        ``link_table.FLIP_X``.
+    threads : int
+        At most this many threads (<= 0: automatic, ``robkin.threads``); the same bits with any.
+
+    Returns
+    -------
+    rows : (B, n, 4), base : (B, 4, 4), tool : (B, 4, 4)
+    """
+    cdef cnp.ndarray Fa = _f64(frames)
+    if Fa.ndim != 4 or Fa.shape[1] < 2 or Fa.shape[2] != 4 or Fa.shape[3] != 4:
+        raise ValueError("expected frames (B, n + 1, 4, 4)")
+    cdef Py_ssize_t B = Fa.shape[0], n = Fa.shape[1] - 1, k, i
+    cdef cnp.ndarray Ja = _joint_array(joints, B, n), Xa = _f64(flip_x)
+    cdef cnp.ndarray Ka = np.ascontiguousarray(keep, dtype=np.uint8)
+    cdef cnp.ndarray Na = np.ascontiguousarray(snap, dtype=np.uint8), Sa = _f64(scale)
+    if Ka.shape[0] != B or Na.shape[0] != B or Sa.shape[0] != B or Xa.size != 16:
+        raise ValueError("expected keep, snap, scale (B,) and flip_x (4, 4)")
+    rows = np.empty((B, n, 4))
+    base = np.empty((B, 4, 4))
+    tool = np.empty((B, 4, 4))
+    cdef double* f = _ptr(Fa)
+    cdef double* j = _ptr(Ja)
+    cdef double* x = _ptr(Xa)
+    cdef unsigned char* kp = <unsigned char*>cnp.PyArray_DATA(Ka)
+    cdef unsigned char* np_ = <unsigned char*>cnp.PyArray_DATA(Na)
+    cdef double* s = _ptr(Sa)
+    cdef double* r = _ptr(rows)
+    cdef double* b = _ptr(base)
+    cdef double* t = _ptr(tool)
+    cdef int nt = batch_threads(threads, B, MIN_ROBOTS_PER_THREAD)
+    cdef double* work
+    cdef unsigned char* flip
+    cdef double* trav
+    cdef Py_ssize_t size = 48 * n + 16 + 2 * n
+    with nogil:
+        for k in prange(B, num_threads=nt, schedule="dynamic", chunksize=8):
+            work = <double*>malloc(size * sizeof(double))
+            if work == NULL:
+                continue   # reported below: a table of NaN
+            trav = work + 48 * n + 16
+            flip = <unsigned char*>(trav + n)
+            for i in range(n):
+                flip[i] = j[4 * (n * k + i) + 1] > 0
+                trav[i] = 0.0 if j[4 * (n * k + i)] > 0 else max(fabs(j[4 * (n * k + i) + 2]),
+                                                                   fabs(j[4 * (n * k + i) + 3]))
+            table_of_robot(modified, f + 16 * (n + 1) * k, n, flip, x, trav, s[k], kp[k], np_[k],
+                           r + 4 * n * k, t + 16 * k, work)
+            tf_copy(work + 32 * n, b + 16 * k)
+            free(work)
+    return rows, base, tool
+
+
+def check_tables(bint modified, base, rows, tool, L, joints, scale, U, int threads=0):
+    """The FK self-check of B standard (``modified`` false) or modified DH tables with n joints each:
+    each table's FK from its rows against its robot's compiled FK at q = 0 and the sample U scaled to
+    the joints' ranges (``link_table.sample_configurations``), and each table's longest length.
+
+    Parameters
+    ----------
+    base, tool : (B, 4, 4) float arrays
+    rows : (B, n, 4) float array
+    L : (B, n + 1, 4, 4) float array
+        Each robot's fixed transforms (``frame_stacks.local_transforms``, ``Robot._local``).
+    joints : (B, n, 4) float array
+        As for ``convert_tables``.
+    scale : (B,) float array
+    U : (m, n) float array
+        ``samples.unit_sample(m, n)``.
+    threads : int
+        As for ``convert_tables``.
+
+    Returns
+    -------
+    err : (B,) float array
+        ``link_table.pose_difference`` of the table's FK from the robot's over the m + 1
+        configurations (length units).
+    length : (B,) float array
+        The largest |a|, |d| and base / tool offset of each table.
+    """
+    cdef cnp.ndarray Ra = _f64(rows), Ba = _f64(base), Ta = _f64(tool), La = _f64(L), Sa = _f64(scale)
+    cdef cnp.ndarray Ua = _f64(U)
+    if Ra.ndim != 3 or Ra.shape[2] != 4:
+        raise ValueError("expected rows (B, n, 4)")
+    cdef Py_ssize_t B = Ra.shape[0], n = Ra.shape[1], k, i, m
+    cdef cnp.ndarray Ja = _joint_array(joints, B, n)
+    if Ba.size != 16 * B or Ta.size != 16 * B or La.size != 16 * (n + 1) * B or Sa.shape[0] != B \
+            or Ua.ndim != 2 or Ua.shape[1] != n:
+        raise ValueError("expected base, tool (B, 4, 4), L (B, n + 1, 4, 4), scale (B,), U (m, n)")
+    m = Ua.shape[0]
+    err = np.empty(B)
+    length = np.empty(B)
+    cdef double* b = _ptr(Ba)
+    cdef double* r = _ptr(Ra)
+    cdef double* t = _ptr(Ta)
+    cdef double* l = _ptr(La)
+    cdef double* j = _ptr(Ja)
+    cdef double* s = _ptr(Sa)
+    cdef double* u = _ptr(Ua)
+    cdef double* e = _ptr(err)
+    cdef double* g = _ptr(length)
+    cdef int nt = batch_threads(threads, B, MIN_ROBOTS_PER_THREAD)
+    cdef double* work
+    cdef unsigned char* rev
+    cdef Py_ssize_t size = (m + 1) * n + 32 * (m + 1) + 4 * n + n
+    with nogil:
+        for k in prange(B, num_threads=nt, schedule="dynamic", chunksize=8):
+            work = <double*>malloc(size * sizeof(double))
+            if work == NULL:
+                e[k] = INFINITY   # reported as an FK error by the caller
+                continue
+            rev = <unsigned char*>(work + (m + 1) * n + 32 * (m + 1) + 3 * n)
+            for i in range(n):
+                rev[i] = j[4 * (n * k + i)] > 0
+                work[(m + 1) * n + 32 * (m + 1) + i] = -1.0 if j[4 * (n * k + i) + 1] > 0 else 1.0
+                work[(m + 1) * n + 32 * (m + 1) + n + 2 * i] = j[4 * (n * k + i) + 2]
+                work[(m + 1) * n + 32 * (m + 1) + n + 2 * i + 1] = j[4 * (n * k + i) + 3]
+            check_of_table(modified, b + 16 * k, r + 4 * n * k, t + 16 * k, l + 16 * (n + 1) * k, n, rev,
+                           work + (m + 1) * n + 32 * (m + 1), work + (m + 1) * n + 32 * (m + 1) + n,
+                           s[k], u, m, work, work + (m + 1) * n, e + k, g + k)
+            free(work)
+    return err, length
+

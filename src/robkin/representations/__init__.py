@@ -11,7 +11,7 @@ from ..lazy_exports import lazy_exports
 _WHERE = {
     **dict.fromkeys(("DHTable", "dh_from_robot", "dh_from_robots", "robot_from_dh"), ".dh"),
     **dict.fromkeys(("gjd_from_robot", "robot_from_gjd"), ".gjd"),
-    **dict.fromkeys(("HayatiTable", "hayati_from_robot", "robot_from_hayati"), ".hayati"),
+    **dict.fromkeys(("HayatiTable", "hayati_from_robot", "hayati_from_robots", "robot_from_hayati"), ".hayati"),
     **dict.fromkeys(("MDHTable", "mdh_from_robot", "mdh_from_robots", "robot_from_mdh"), ".mdh"),
     **dict.fromkeys(("PoE", "poe_from_robot", "robot_from_poe"), ".poe"),
     **dict.fromkeys(("RPYTable", "robot_from_rpy", "rpy_from_robot"), ".rpy_xyz"),
@@ -22,7 +22,8 @@ __all__ = [
     "dh_from_robot", "dh_from_robots", "robot_from_dh", "mdh_from_robot", "mdh_from_robots",
     "robot_from_mdh",
     "poe_from_robot", "robot_from_poe", "rpy_from_robot", "robot_from_rpy",
-    "gjd_from_robot", "robot_from_gjd", "hayati_from_robot", "robot_from_hayati",
+    "gjd_from_robot", "robot_from_gjd", "hayati_from_robot", "hayati_from_robots",
+    "robot_from_hayati",
 ]
 
 __getattr__, __dir__ = lazy_exports(__name__, globals(), _WHERE)
@@ -30,7 +31,7 @@ __getattr__, __dir__ = lazy_exports(__name__, globals(), _WHERE)
 if TYPE_CHECKING:  # what static type checkers and IDEs see
     from .dh import DHTable, dh_from_robot, dh_from_robots, robot_from_dh
     from .gjd import gjd_from_robot, robot_from_gjd
-    from .hayati import HayatiTable, hayati_from_robot, robot_from_hayati
+    from .hayati import HayatiTable, hayati_from_robot, hayati_from_robots, robot_from_hayati
     from .mdh import MDHTable, mdh_from_robot, mdh_from_robots, robot_from_mdh
     from .poe import PoE, poe_from_robot, robot_from_poe
     from .rpy_xyz import RPYTable, robot_from_rpy, rpy_from_robot

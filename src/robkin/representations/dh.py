@@ -101,7 +101,7 @@ def dh_from_robot(robot: Robot) -> DHTable:
     return tables_from_robots(DHTable, [robot], label=False)[0]
 
 
-def dh_from_robots(robots: Iterable[Robot]) -> list[DHTable]:
+def dh_from_robots(robots: Iterable[Robot], *, threads: int | None = None) -> list[DHTable]:
     """Standard DH tables of many robots at once (e.g. the candidates of a synthesis run), in order.
 
     Each table is the one ``dh_from_robot`` gives for that robot, bit for bit; converted together, the
@@ -113,10 +113,13 @@ def dh_from_robots(robots: Iterable[Robot]) -> list[DHTable]:
     ----------
     robots : iterable of Robot
         Any joint counts.
+    threads : int >= 1, optional
+        At most this many threads for the compiled stages (default: automatic, ``robkin.threads``: one
+        below a few dozen robots per thread); the tables are the same bits with any number.
 
     Returns
     -------
     list of DHTable
         One per robot, in the order given.
     """
-    return tables_from_robots(DHTable, list(robots))
+    return tables_from_robots(DHTable, list(robots), threads=threads)

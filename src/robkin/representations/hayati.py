@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Callable, ClassVar
+from typing import Any, Callable, ClassVar, Iterable
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -29,11 +29,10 @@ from ..robot import Robot
 from .dh import robot_from_links
 from .frames import (TIE_TOL, approx_dh_params, common_normal_frame, dh_params_between, is_identity,
                      relative_pose, satisfies_normal, tidy_angle)
-from .link_table import LinkTable, flip_frame, residual_tool, warn_fk_error
+from .link_table import WARN_TOL, LinkTable, chain_poses, flip_frame, joint_links, residual_tool
 from .mass_rows import masses_of_robot
-from .rounding import snap_rows
 
-__all__ = ["HayatiTable", "hayati_from_robot", "robot_from_hayati", "hayati_matrix", "HAYATI_COLUMNS",
+__all__ = ["HayatiTable", "hayati_from_robot", "hayati_from_robots", "robot_from_hayati", "hayati_matrix", "HAYATI_COLUMNS",
            "NEAR_PARALLEL"]
 
 HAYATI_COLUMNS = ("a", "d", "alpha", "theta", "beta")
@@ -161,16 +160,97 @@ def hayati_frames(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def hayati_from_robot(robot: Robot) -> HayatiTable:
     """Hayati table (+ base, + residual tool) of a robot; FK-identical at every q, also where axes are
-    nearly parallel (the rows stay short there). With the robot's mass properties in frames {i}."""
+    nearly parallel (the rows stay short there). With the robot's mass properties in frames {i}.
+    The same as ``hayati_from_robots([robot])[0]``."""
+    return _hayati_tables([robot], label=False, stacklevel=3, threads=None)[0]
+
+
+def hayati_from_robots(robots: Iterable[Robot], *, threads: int | None = None) -> list[HayatiTable]:
+    """Hayati tables of many robots at once (e.g. the candidates of a synthesis run), in order.
+
+    Each table is the one ``hayati_from_robot`` gives for that robot, bit for bit. The frames are
+    placed robot by robot; the rounding of near-round values, the residual tool, the validation of the
+    base and tool poses and the FK self-check run for all robots with the same joint count as whole
+    arrays. A table that reproduces its robot's FK only to more than WARN_TOL gets a
+    ConditioningWarning starting with ``robots[i]:``.
+
+    Parameters
+    ----------
+    robots : iterable of Robot
+        Any joint counts.
+    threads : int >= 1, optional
+        At most this many threads for the robots' compiled FK in the self-check (default: automatic,
+        ``robkin.threads``); the tables are the same bits with any number.
+
+    Returns
+    -------
+    list of HayatiTable
+        One per robot, in the order given.
+    """
+    return _hayati_tables(list(robots), label=True, stacklevel=3, threads=threads)
+
+
+def _hayati_rows(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A robot's unrounded Hayati rows (n, 5), frame {0} (the base) and last frame (``hayati_frames``)."""
     F, last, beta_row = hayati_frames(robot)
     chain = list(F) + [last]
     rows = np.array([hayati_params_between(chain[i], chain[i + 1]) if beta_row[i]
                      else dh_params_between(chain[i], chain[i + 1]) + (0.0,) for i in range(robot.n)])
-    if robot.frames_from != "hayati":
-        rows = snap_rows(rows, robot.joints, relative_pose(last, robot.tool), robot.scale)
-    tool = residual_tool(F[0], rows, hayati_matrix, robot.tool, robot.scale)
-    table = HayatiTable(rows, robot.joints, base=F[0], tool=tool)
-    warn_fk_error(table.fk, robot, "hayati")
-    if robot.bodies.inertials:  # the mass properties, in the table's own link frames {i}
-        table = table.with_masses(masses_of_robot(robot, table.link_frames()))
-    return table
+    return rows, F[0], last
+
+
+def _hayati_tables(robots: list[Robot], label: bool, stacklevel: int, threads: int | None) -> list[HayatiTable]:
+    """``hayati_from_robots``: robots grouped by joint count, every stage after the frame placement
+    on whole arrays (as ``placement.tables_from_robots`` does for DH tables)."""
+    from ..checks import check_poses, check_threads
+    from ..compiled.frames import robots_fk
+    from ..errors import InputError
+    from ..frame_stacks import local_transforms
+    from .link_table import pose_difference, report_fk_error, sample_configurations
+    from .rounding import snap_many, travel
+
+    t = 0 if threads is None else check_threads(threads)
+    for i, r in enumerate(robots):
+        if not isinstance(r, Robot):
+            raise InputError(f"robots[{i}]: expected a robkin.Robot, got {type(r).__name__}")
+    out: list[HayatiTable | None] = [None] * len(robots)
+    groups: dict[int, list[int]] = {}
+    for i, r in enumerate(robots):
+        groups.setdefault(r.n, []).append(i)
+    for idx in groups.values():
+        group = [robots[i] for i in idx]
+        B = len(group)
+        parts = [_hayati_rows(r) for r in group]
+        rows = np.stack([p[0] for p in parts])  # (B, n, 5)
+        base = np.stack([p[1] for p in parts])
+        last = np.stack([p[2] for p in parts])
+        tool_pose = np.stack([r.tool for r in group])
+        scale = np.array([r.scale for r in group])
+        revolute = np.stack([r.revolute for r in group])
+        limits = np.stack([r.limits for r in group])
+        snap = np.array([r.frames_from != "hayati" for r in group])
+        if snap.any():
+            rows[snap] = snap_many(rows[snap], travel(revolute[snap], limits[snap]),
+                                   relative_pose(last[snap], tool_pose[snap]), scale[snap])
+        tool = residual_tool(base, rows, hayati_matrix, tool_pose, scale)
+        for k in range(B):
+            if not np.isfinite(rows[k]).all():  # cannot happen for a valid robot: let the table explain
+                HayatiTable(rows[k], group[k].joints, base=base[k], tool=tool[k])
+        poses = check_poses(np.concatenate([base, tool]), lambda k: f"hayati.{'base' if k < B else 'tool'}")
+        base, tool = poses[:B], poses[B:]
+        tables = [HayatiTable._from_checked(rows[k], r.joints, base[k], tool[k]) for k, r in enumerate(group)]
+        # the FK self-check: each table's FK from its rows against the robot's compiled FK
+        Q = sample_configurations(revolute, limits, scale)  # (B, m, n)
+        sign = np.stack([np.where([j.flip for j in r.joints], -1.0, 1.0) for r in group])
+        links = joint_links(hayati_matrix, rows[:, None], revolute[:, None], sign[:, None], Q)
+        table_fk = chain_poses(base[:, None], links, tool[:, None])
+        L = np.stack([r._local for r in group]) if B == 1 else local_transforms(np.stack([r.frames for r in group]))
+        err = pose_difference(table_fk, robots_fk(L, revolute, Q, t), scale)
+        for bad in np.flatnonzero(err > WARN_TOL * scale):
+            report_fk_error(float(err[bad]), group[bad], "hayati", where=f"robots[{idx[bad]}]: " if label else "",
+                            stacklevel=stacklevel + 1)
+        for k, (i, r) in enumerate(zip(idx, group)):
+            if r.bodies.inertials:  # the mass properties, in the table's own link frames {i}
+                tables[k] = tables[k].with_masses(masses_of_robot(r, tables[k].link_frames()))
+            out[i] = tables[k]
+    return out  # type: ignore[return-value]  # every slot filled above

@@ -81,7 +81,7 @@ def mdh_from_robot(robot: Robot) -> MDHTable:
     return tables_from_robots(MDHTable, [robot], label=False)[0]
 
 
-def mdh_from_robots(robots: Iterable[Robot]) -> list[MDHTable]:
+def mdh_from_robots(robots: Iterable[Robot], *, threads: int | None = None) -> list[MDHTable]:
     """Modified DH tables of many robots at once, in order; each the one ``mdh_from_robot`` gives,
-    bit for bit (see ``dh.dh_from_robots``; warnings start with ``robots[i]:``)."""
-    return tables_from_robots(MDHTable, list(robots))
+    bit for bit (see ``dh.dh_from_robots``, also for ``threads``; warnings start with ``robots[i]:``)."""
+    return tables_from_robots(MDHTable, list(robots), threads=threads)
