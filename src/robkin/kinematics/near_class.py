@@ -109,12 +109,12 @@ class NearClass(KernelSolver):
                 return cls(robot, solver)
         return None
 
-    def solve(self, targets: np.ndarray, q_ref: np.ndarray) -> Branches:
+    def solve(self, targets: np.ndarray, q_ref: np.ndarray, threads: int = 0) -> Branches:
         """The ideal arm's branches (N, 8, 6), polished on the real arm (invalid where they do not
         converge; limits and the FK check are the caller's, on the real arm)."""
         from ..compiled.closed_form_general6r import polish
 
-        b = self.ideal.solve(targets, q_ref)
+        b = self.ideal.solve(targets, q_ref, threads)
         Q = np.ascontiguousarray(b.q)
         # every finite branch, not only the ideal arm's valid ones: at a reach boundary (a stretched
         # elbow) the real arm may reach where the ideal one misses by ~1e-6, and the ideal kernel's
