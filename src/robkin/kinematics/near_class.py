@@ -120,7 +120,7 @@ class NearClass(KernelSolver):
         # elbow) the real arm may reach where the ideal one misses by ~1e-6, and the ideal kernel's
         # clamped branch then polishes onto the real solution; the check on the real arm decides
         valid = np.isfinite(Q).all(axis=-1)
-        polish(self.robot._chain, Q, valid, targets, self.robot.scale)
+        polish(self.robot._chain, Q, valid, targets, self.robot.scale, threads)
         return Branches(Q, valid, b.reason, b.uncertain)
 
     def _nearest(self, target: Any, q_ref: np.ndarray | None, tol_position: Any, tol_orientation: Any,
