@@ -23,6 +23,11 @@ Attempts that are going nowhere restart from a random configuration within the l
 ``kinematics.lm.LMSettings`` for the rules). The random numbers come from a splitmix64 stream seeded
 per target (from one seed drawn from the caller's numpy Generator and the target's index), so a batch
 gives each target the same answer as solving it alone with the same seed and index.
+
+A batch is finished in the same loop, without the GIL and split over threads: each answer is turned by
+whole turns into the limits nearest its preference and checked by an independent forward kinematics
+(``pose_check.tool_errors``, the walk of ``Robot.fk``), so no per-target work is left to Python. The one
+target's solver is ``lm_target.pxi``.
 """
 
 cimport numpy as cnp
