@@ -247,7 +247,7 @@ class Robot:
         rng : Generator, int seed or None
             Source of the random restarts; the default seed 0 makes results reproducible.
         threads : int, optional
-            Numeric batches: at most that many threads (see ``fk``); the answers do not depend on it.
+            Batches (numeric and closed form): at most that many threads (see ``fk``); the same bits.
         lock : mapping of joint name to value, optional
             Joints held at these values; the rest is solved as a shorter arm (a 7-joint arm with one
             joint locked gets a 6R closed form). q and the solutions stay full length.

@@ -21,3 +21,5 @@ cdef class ClosedFormKernel:
     cdef signed char solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
                                unsigned char* valid, double* detail, unsigned char* uncertain,
                                double* work) noexcept nogil
+    cdef int branches(self, const double* t, const double* ref, double* q, unsigned char* v, signed char* c,
+                      double* det, unsigned char* u, Py_ssize_t k, double* work) noexcept nogil

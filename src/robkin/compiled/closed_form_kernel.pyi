@@ -12,7 +12,7 @@ class ClosedFormKernel:
     S: int
     def __init__(self, chain: Chain, limits: ArrayLike, revolute: ArrayLike, scale: float, limit_tol: float,
                  ref0: ArrayLike, S: int, work_size: int) -> None: ...
-    def solve(self, targets: ArrayLike, q_ref: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.bool_],
+    def solve(self, targets: ArrayLike, q_ref: ArrayLike, threads: int = ...) -> tuple[NDArray[np.float64], NDArray[np.bool_],
                                                                    NDArray[np.int8], NDArray[np.float64],
                                                                    NDArray[np.bool_], int]: ...
     def nearest(self, target: object, q_ref: ArrayLike | None, tol_position: object, tol_orientation: object,

@@ -23,8 +23,16 @@ from robkin.compiled.fk cimport Chain
 from robkin.compiled.nearest cimport check_work_size, keep_distinct, nearest_branch, rows_array
 from robkin.compiled.rigid cimport exact_pose
 from robkin.compiled.subproblems cimport c_doubles, new_array, read_pose
+from robkin.compiled.threads cimport batch_threads
+from cython.parallel cimport parallel, prange
 
 cnp.import_array()
+
+cdef enum:
+    # a target takes 1-10 us (up to ~100 us for the general 6R): threads pay from a few hundred targets
+    # per thread; chunks of targets keep the dynamic schedule's bookkeeping small beside them
+    MIN_TARGETS_PER_THREAD = 256
+    TARGETS_PER_CHUNK = 32
 
 cdef extern from "Python.h":
     int PyObject_GenericSetDict(object obj, object value, void* context) except -1
@@ -73,9 +81,11 @@ cdef class ClosedFormKernel:
         singular target not proven unreachable); work: work_size doubles of scratch. Returns the code."""
         return 0
 
-    def solve(self, targets, q_ref):
+    def solve(self, targets, q_ref, int threads=0):
         """Every branch of targets (N, 4, 4), preferring q_ref (N, n) for the free choices.
 
+        The targets are split over ``threads`` (0: automatic, see ``threads.pyx``; one thread runs
+        without an OpenMP region); each target's branches are the same bits on any thread.
         Returns Q (N, S, n), valid (N, S) bool, code (N,) int8, detail (N,) float, uncertain (N,) bool
         and the number of targets without a valid branch.
         """
@@ -90,7 +100,6 @@ cdef class ClosedFormKernel:
         cdef cnp.ndarray code = new_array(1, N, 0, 0, cnp.NPY_INT8)
         cdef cnp.ndarray detail = new_array(1, N, 0, 0, cnp.NPY_DOUBLE)
         cdef cnp.ndarray unc = new_array(1, N, 0, 0, cnp.NPY_BOOL)
-        cdef cnp.ndarray scratch = new_array(1, self.work_size, 0, 0, cnp.NPY_DOUBLE)   # per call: nogil
         cdef const double* t = <const double*>cnp.PyArray_DATA(T)
         cdef const double* ref = <const double*>cnp.PyArray_DATA(R)
         cdef double* q = <double*>cnp.PyArray_DATA(Q)
@@ -98,15 +107,39 @@ cdef class ClosedFormKernel:
         cdef signed char* c = <signed char*>cnp.PyArray_DATA(code)
         cdef double* det = <double*>cnp.PyArray_DATA(detail)
         cdef unsigned char* u = <unsigned char*>cnp.PyArray_DATA(unc)
-        cdef double* work = <double*>cnp.PyArray_DATA(scratch)
+        cdef double* work = NULL      # scratch per call, and per thread (not per kernel: see nearest)
+        cdef int nt = batch_threads(threads, N, MIN_TARGETS_PER_THREAD), short = 0
+        if nt <= 1:     # no OpenMP region: entering one costs as much as solving a target
+            work = <double*>malloc(self.work_size * sizeof(double))
+            if work == NULL:
+                raise MemoryError()
+            with nogil:
+                for k in range(N):
+                    failed += self.branches(t, ref, q, v, c, det, u, k, work)
+            free(work)
+            return Q, valid, code, detail, unc, failed
+        with nogil, parallel(num_threads=nt):
+            work = <double*>malloc(self.work_size * sizeof(double))
+            for k in prange(N, schedule="dynamic", chunksize=TARGETS_PER_CHUNK):
+                if work == NULL:
+                    short += 1    # a reduction: any thread that ran out of memory counts
+                    continue
+                failed += self.branches(t, ref, q, v, c, det, u, k, work)
+            free(work)
+        if short:
+            raise MemoryError()
+        return Q, valid, code, detail, unc, failed
+
+    cdef int branches(self, const double* t, const double* ref, double* q, unsigned char* v,
+                             signed char* c, double* det, unsigned char* u, Py_ssize_t k,
+                             double* work) noexcept nogil:
+        """Target k of ``solve``: its branches into its rows of the outputs; 1 if none is valid."""
         cdef double Rd[9]
         cdef double pd[3]
-        with nogil:
-            for k in range(N):
-                read_pose(t + 16 * k, Rd, pd)
-                c[k] = self.solve_one(Rd, pd, ref + n * k, q + S * n * k, v + S * k, det + k, u + k, work)
-                failed += c[k] != 0
-        return Q, valid, code, detail, unc, failed
+        cdef Py_ssize_t n = self.n, S = self.S
+        read_pose(t + 16 * k, Rd, pd)
+        c[k] = self.solve_one(Rd, pd, ref + n * k, q + S * n * k, v + S * k, det + k, u + k, work)
+        return c[k] != 0
 
     def nearest(self, target, q_ref, tol_position, tol_orientation, bint every, double same_tol,
                 result_type, str method):

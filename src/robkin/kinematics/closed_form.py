@@ -52,8 +52,9 @@ class Branches:
 class ClosedFormSolver(Protocol):
     name: str
 
-    def solve(self, targets: np.ndarray, q_ref: np.ndarray) -> Branches:
-        """All branches for targets (N, 4, 4), preferring q_ref (N, n) where a joint is free."""
+    def solve(self, targets: np.ndarray, q_ref: np.ndarray, threads: int = 0) -> Branches:
+        """All branches for targets (N, 4, 4), preferring q_ref (N, n) where a joint is free; the
+        targets split over at most ``threads`` threads (0: automatic), the same bits on any."""
 
     def nearest(self, target: Any, q_ref: np.ndarray | None, tol_position: Any, tol_orientation: Any,
                 every: bool, same_tol: float, result_type: type, method: str) -> Any:
@@ -83,9 +84,10 @@ class KernelSolver:
         self._kernel = kernel
         self.nearest = kernel.nearest
 
-    def solve(self, targets: np.ndarray, q_ref: np.ndarray) -> Branches:
-        """Every branch (N, S, n) for targets (N, 4, 4); q_ref (N, n) decides the free choices."""
-        Q, valid, code, detail, uncertain, failed = self._kernel.solve(targets, q_ref)
+    def solve(self, targets: np.ndarray, q_ref: np.ndarray, threads: int = 0) -> Branches:
+        """Every branch (N, S, n) for targets (N, 4, 4); q_ref (N, n) decides the free choices; the
+        targets split over at most ``threads`` threads (0: automatic, see ``robkin.threads``)."""
+        Q, valid, code, detail, uncertain, failed = self._kernel.solve(targets, q_ref, threads)
         reasons = reasons_from_codes(code, detail, self.messages) if failed else [""] * len(Q)
         return Branches(Q, valid, reasons, uncertain)
 

@@ -26,7 +26,6 @@ Methods:
 from __future__ import annotations
 
 import math
-import weakref
 from dataclasses import dataclass, replace
 from functools import lru_cache
 from typing import Any, Mapping
@@ -34,24 +33,17 @@ from typing import Any, Mapping
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..compiled.lm import pose_errors
-from ..compiled.solutions import distinct_sorted, nearest_verified
 from ..checks import check_threads
 from ..errors import InputError
-from ..robot import Robot, check_q
-from .closed_form import ClosedFormSolver, closed_form_solver
-from .limits import LIMIT_TOL, default_preference, wrap_into_limits, within_limits
-from .lm import LMSettings, solve_lm
+from ..robot import Robot
+from .closed_form import closed_form_solver
+from .ik_methods import SAME_SOLUTION_TOL, closed_form_batch, numeric_batch, preferred_starts
+from .lm import LMSettings
 from .pose_error import FULL_POSE, check_mask, check_targets
 
 __all__ = ["IKResult", "ik", "METHODS"]
 
 METHODS = ("auto", "analytic", "numeric")
-
-#: Two solutions of one target are the same when no joint differs by more than this (radians, or
-#: lengths relative to the robot's size): far above the ~1e-12 spread of one solution reached
-#: along different branches or restarts, far below any real difference between branches.
-SAME_SOLUTION_TOL = 1e-6
 
 #: Defaults of ``ik``: 1e-9 (length units, radians) is ~1e6 times the rounding of a closed-form solve
 #: and what the numeric method reliably reaches; 40 iterations per attempt and 200 restarts (see
@@ -158,8 +150,8 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
     rng : Generator, int seed or None
         Source of random restarts; the default seed 0 makes results reproducible.
     threads : int, optional
-        Numeric batches: at most that many threads (default automatic, see ``robkin.threads``); the
-        answers do not depend on it.
+        Batches (numeric and closed form): at most that many threads (default automatic, see
+        ``robkin.threads``); the answers are the same bits whatever it is.
     lock : mapping of joint name to value, optional
         Joints held at these values (radians or length units, within the limits): the rest is solved as
         a shorter arm (``kinematics.lock``; a 7-joint arm with one joint locked gets a 6R closed form).
@@ -200,7 +192,7 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
     m = check_mask(mask)
     if method not in METHODS:
         raise InputError(f"method: '{method}' is not one of {', '.join(METHODS)}")
-    q_ref = _start(robot, q0, N)
+    q_ref = preferred_starts(robot, q0, N)
     try:
         # the defaults themselves (identity: cheap, and safe for arrays) skip even the cache's hashing
         settings = _DEFAULT_SETTINGS if tol_position is _TOL and tol_orientation is _TOL and \
@@ -231,24 +223,24 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
             return one
 
     if solver is not None:
-        out = _closed_form(robot, solver, targets, q_ref, settings, all_solutions)
+        out = closed_form_batch(robot, solver, targets, q_ref, settings, all_solutions)
         used = solver.name
         if method == "auto" and out.retry is not None:
             r = np.flatnonzero(out.retry)
-            sub = _numeric(robot, targets[r], q_ref[r], m, settings, rng, all_solutions)
+            sub = numeric_batch(robot, targets[r], q_ref[r], m, settings, rng, all_solutions)
             out.q[r], out.success[r] = sub.q, sub.success
-            out.errors = None
+            out.errors[0][r], out.errors[1][r] = sub.errors
             out.iterations[r], out.attempts[r] = sub.iterations, sub.attempts
             for j, i in enumerate(r):
                 out.reasons[i] = sub.reasons[j]
                 if out.solutions is not None and sub.solutions is not None:  # all_solutions: both are lists
                     out.solutions[i] = sub.solutions[j]
     else:
-        out = _numeric(robot, targets, q_ref, m, settings, rng, all_solutions)
+        out = numeric_batch(robot, targets, q_ref, m, settings, rng, all_solutions)
         used = "numeric"
 
     # inf where q is NaN (no closed-form solution)
-    ep, eo = out.errors if out.errors is not None else _errors(robot, out.q, targets, m)
+    ep, eo = out.errors
     sols, iters, attempts = out.solutions, out.iterations, out.attempts
     return IKResult._build(
         q=out.q[0] if single else out.q,
@@ -261,20 +253,6 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         message=out.reasons[0] if single else out.reasons,
         solutions=None if sols is None else (sols[0] if single else sols),
     )
-
-
-@dataclass
-class _Found:
-    """Internal per-batch outcome of one method."""
-
-    q: np.ndarray                       # (N, n)
-    success: np.ndarray                 # (N,) bool
-    reasons: list[str]
-    iterations: np.ndarray              # (N,) int
-    attempts: np.ndarray                # (N,) int
-    solutions: list[np.ndarray] | None  # per target (S_i, n), with all_solutions
-    retry: np.ndarray | None            # (N,) bool: closed-form trouble, worth a numeric try (None: none)
-    errors: tuple[np.ndarray, np.ndarray] | None = None   # (N,) position, orientation errors of q
 
 
 @lru_cache(maxsize=64)
@@ -297,137 +275,3 @@ def _settings(tol_position: float, tol_orientation: float, max_iterations: int, 
 _DEFAULT_SETTINGS = _settings(_TOL, _TOL, _MAX_ITERATIONS, _RESTARTS)
 
 
-def _generator(rng: np.random.Generator | int | None) -> np.random.Generator:
-    """A numpy Generator from a Generator, an int seed or None (fresh entropy)."""
-    try:
-        return rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
-    except (TypeError, ValueError) as e:
-        raise InputError(f"rng: expected a numpy Generator, a non-negative int seed or None ({e})") from None
-
-
-def _seed(rng: np.random.Generator | int | None) -> int:
-    """One 64-bit seed for the compiled solver's restart streams. An int seed is used as it is (no
-    Generator built: that costs ~10 us, as much as solving an easy target)."""
-    if isinstance(rng, (int, np.integer)) and not isinstance(rng, bool) and rng >= 0:
-        return int(rng) & 0xFFFFFFFFFFFFFFFF
-    return int(_generator(rng).integers(0, 2**63))
-
-
-#: per Robot (immutable), zero clipped into its limits (1, n): the default preference, built once
-_ZERO_STARTS: "weakref.WeakKeyDictionary[Robot, np.ndarray]" = weakref.WeakKeyDictionary()
-
-
-def _start(robot: Robot, q0: ArrayLike | None, N: int) -> np.ndarray:
-    """Preferred configurations (N, n), clipped into the limits (read-only when q0 is None)."""
-    lim = robot.limits
-    if q0 is None:
-        zero = _ZERO_STARTS.get(robot)
-        if zero is None:
-            zero = default_preference(lim)[None]
-            zero.setflags(write=False)
-            _ZERO_STARTS[robot] = zero
-        return zero if N == 1 else np.broadcast_to(zero, (N, robot.n))
-    Q = check_q(q0, robot.n)
-    if Q.ndim == 1:
-        Q = Q[None] if N == 1 else np.broadcast_to(Q, (N, robot.n))
-    elif Q.shape[0] != N:
-        raise InputError(f"q0: expected shape ({robot.n},) or ({N}, {robot.n}) for {N} targets, "
-                         f"got {Q.shape}")
-    return np.minimum(np.maximum(Q, lim[:, 0]), lim[:, 1])     # np.clip, without its wrapper cost
-
-
-def _verify(robot: Robot, Q: np.ndarray, targets: np.ndarray, mask: np.ndarray,
-            settings: LMSettings) -> np.ndarray:
-    """(...) bool: configurations Q (..., n) reach their targets (...) within tolerance and limits.
-
-    Checked by forward kinematics (``_errors``), not by the residuals the solvers report.
-    """
-    flat = Q.reshape(-1, robot.n)
-    ep, eo = _errors(robot, flat, targets.reshape(-1, 4, 4), mask)
-    ok = (ep <= settings.tol_position) & (eo <= settings.tol_orientation) & within_limits(flat, robot.limits)
-    return ok.reshape(Q.shape[:-1])
-
-
-def _errors(robot: Robot, q: np.ndarray, targets: np.ndarray, mask: np.ndarray
-            ) -> tuple[np.ndarray, np.ndarray]:
-    """Masked position and orientation errors (M,) of the tool at q (M, n) towards targets (M, 4, 4),
-    by forward kinematics (compiled, the walk of ``Robot.fk``); inf where q is NaN."""
-    return pose_errors(robot._chain, q, targets, mask)
-
-
-def _distinct_sorted(Q: np.ndarray, ref: np.ndarray, scale: np.ndarray) -> np.ndarray:
-    """Rows of Q (k, n) without near-duplicates, sorted by distance to ref (n,) (compiled)."""
-    return distinct_sorted(Q, ref, scale, SAME_SOLUTION_TOL)
-
-
-def _joint_scale(robot: Robot) -> np.ndarray:
-    """Per-joint unit for comparing solutions: 1 rad for revolute, the robot size for prismatic."""
-    return np.where(robot.revolute, 1.0, robot.scale)
-
-
-def _closed_form(robot: Robot, solver: ClosedFormSolver, targets: np.ndarray, q_ref: np.ndarray, settings: LMSettings,
-                 all_solutions: bool) -> _Found:
-    """Verified closed-form solutions: the one nearest q_ref per target (and all, if asked).
-
-    The branches' forward-kinematics check, the choice of the nearest and (for all_solutions) the
-    distinct verified branches per target are one compiled pass (``compiled.solutions.nearest_verified``).
-    """
-    N = len(q_ref)
-    branches = solver.solve(targets, q_ref)
-    q, success, sols, ep, eo, n_failed = nearest_verified(
-        robot._chain, branches.q, branches.valid, targets, q_ref, robot.limits, robot.scale,
-        settings.tol_position, settings.tol_orientation, LIMIT_TOL, all_solutions, SAME_SOLUTION_TOL)
-    reasons = branches.reason       # the solver's own list, fresh per call: ours to amend
-    retry = None
-    if n_failed:
-        failed = ~success
-        retry = failed & branches.valid.any(axis=1)
-        for i in np.flatnonzero(retry):
-            reasons[i] = "closed-form solutions failed the forward-kinematics check (near a singularity)"
-        if branches.uncertain is not None:
-            retry |= failed & branches.uncertain
-        if not retry.any():
-            retry = None
-    iterations = np.zeros(N, int)     # no iterations, one attempt (np.ones costs 4x np.zeros + 1)
-    return _Found(q, success, reasons, iterations, iterations + 1, sols, retry, (ep, eo))
-
-
-def _numeric(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndarray,
-             settings: LMSettings, rng: np.random.Generator | int | None, all_solutions: bool) -> _Found:
-    """Numeric solutions; where a target fails, q is the best configuration found."""
-    N, n = q_ref.shape
-    lim = robot.limits
-    sols = None
-    if all_solutions:
-        scale = _joint_scale(robot)
-        # 1 + restarts starts per target side by side, each one attempt; keep every distinct success
-        K = 1 + settings.restarts
-        span = np.where(robot.revolute, np.pi, robot.scale)
-        lo = np.where(np.isfinite(lim[:, 0]), lim[:, 0], -span)
-        hi = np.where(np.isfinite(lim[:, 1]), lim[:, 1], span)
-        starts = _generator(rng).uniform(lo, hi, size=(N, K, n))
-        starts[:, 0] = q_ref
-        one = LMSettings(**{**settings.__dict__, "restarts": 0})
-        out = solve_lm(robot, np.repeat(targets, K, axis=0), starts.reshape(N * K, n), mask, one, _seed(rng))
-        Q, _ = wrap_into_limits(out.q.reshape(N, K, n), lim, robot.revolute, q_ref[:, None])
-        ok = _verify(robot, Q, np.repeat(targets[:, None], K, axis=1), mask, settings)
-        sols = [_distinct_sorted(Q[i][ok[i]], q_ref[i], scale) for i in range(N)]
-        iters = out.iterations.reshape(N, K).sum(axis=1)
-        attempts = np.full(N, K)
-        ep, eo = _errors(robot, Q.reshape(-1, n), np.repeat(targets, K, axis=0), mask)
-        E = np.hypot(ep, eo).reshape(N, K)
-        success: np.ndarray = np.any(ok, axis=1)
-        best = Q[np.arange(N), np.argmin(E, axis=1)]
-        q = np.where(success[:, None], np.array([s[0] if len(s) else np.zeros(n) for s in sols]), best)
-    else:
-        out = solve_lm(robot, targets, q_ref, mask, settings, _seed(rng))
-        q, inside = wrap_into_limits(out.q, lim, robot.revolute, q_ref)
-        errors = _errors(robot, q, targets, mask)       # the same check as _verify, errors kept
-        success = inside & (errors[0] <= settings.tol_position) & (errors[1] <= settings.tol_orientation)
-        iters, attempts = out.iterations, out.attempts
-    reasons = [""] * N
-    for i in ([] if success.all() else np.flatnonzero(~success)):
-        reasons[i] = (f"no solution found from {attempts[i]} start(s) (the target may be unreachable, "
-                      f"or need more restarts)")
-    return _Found(q, success, reasons, iters, attempts, sols, None,
-                  None if all_solutions else errors)

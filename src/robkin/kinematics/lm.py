@@ -89,15 +89,24 @@ class LMSettings:
 class LMOutcome:
     """Per-target outcome of :func:`solve_lm` (arrays over the N targets)."""
 
-    q: np.ndarray            # (N, n) converged or best configuration found
-    converged: np.ndarray    # (N,) bool, by the solver's own residual
-    iterations: np.ndarray   # (N,) int, total over all attempts
-    attempts: np.ndarray     # (N,) int, 1 + restarts used
+    q: np.ndarray                  # (N, n) converged or best configuration found, turned into the limits
+    success: np.ndarray            # (N,) bool, verified by forward kinematics (tolerances and limits)
+    iterations: np.ndarray         # (N,) int, total over all attempts
+    attempts: np.ndarray           # (N,) int, 1 + restarts used
+    position_error: np.ndarray     # (N,) masked |p_d - p| of q (length units)
+    orientation_error: np.ndarray  # (N,) masked |log(R_d R^T)| of q (radians)
 
 
 def solve_lm(robot: Robot, targets: np.ndarray, q0: np.ndarray, mask: np.ndarray,
-             settings: LMSettings, seed: int) -> LMOutcome:
-    """Solve IK for targets (N, 4, 4) from starts q0 (N, n), one compiled loop per target.
+             settings: LMSettings, seed: int, ref: np.ndarray | None = None) -> LMOutcome:
+    """Solve IK for targets (N, 4, 4) from starts q0 (N, n), one compiled loop per target, and check
+    every answer.
+
+    The whole of a target is compiled and runs without the GIL, split over threads for a batch: the
+    attempts, then the answer's revolute joints turned by whole turns into the limits nearest ``ref``
+    (``kinematics.limits.wrap_into_limits``), then an independent forward kinematics (the walk of
+    ``Robot.fk``) measuring the masked errors: a target succeeds when they are within the tolerances
+    and every joint within its limits.
 
     A stuck attempt restarts from a new configuration within the limits (unlimited revolute joints
     over +-pi, unlimited prismatic ones over +-scale, the robot's size: any reach of interest lies
@@ -110,23 +119,24 @@ def solve_lm(robot: Robot, targets: np.ndarray, q0: np.ndarray, mask: np.ndarray
     robot : Robot
     targets : (N, 4, 4) array
         Tool poses in the robot base frame, rotations exactly orthonormal.
-    q0 : (N, n) array
-        First-attempt starts (clipped into the limits).
+    q0 : (N, n) or (1, n) array
+        First-attempt starts (clipped into the limits); one row serves every target.
     mask : (6,) array of 0/1
         Residual components (x, y, z, rx, ry, rz) that count.
     settings : LMSettings
     seed : int
         64-bit seed of the random restarts: target k's come from a stream seeded by it and k (the
         same answers for a target whatever else is in the batch, for the same seed and position).
+    ref : (N, n) or (1, n) array, optional
+        Preferred turns of the revolute joints (default q0).
 
     Returns
     -------
     LMOutcome
     """
     lo, hi, rlo, rhi = _ranges(robot)
-    q, converged, iterations, attempts = solve(robot._chain, targets, q0, mask, lo, hi, rlo, rhi,
-                                               robot.scale, settings, seed, settings.threads)
-    return LMOutcome(q, converged, iterations, attempts)
+    return LMOutcome(*solve(robot._chain, targets, q0, mask, lo, hi, rlo, rhi, robot.scale, settings, seed,
+                            settings.threads, ref))
 
 
 #: per robot: limits and restart ranges (computed once; a single-target solve costs ~10 us)

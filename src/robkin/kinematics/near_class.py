@@ -109,18 +109,18 @@ class NearClass(KernelSolver):
                 return cls(robot, solver)
         return None
 
-    def solve(self, targets: np.ndarray, q_ref: np.ndarray) -> Branches:
+    def solve(self, targets: np.ndarray, q_ref: np.ndarray, threads: int = 0) -> Branches:
         """The ideal arm's branches (N, 8, 6), polished on the real arm (invalid where they do not
         converge; limits and the FK check are the caller's, on the real arm)."""
         from ..compiled.closed_form_general6r import polish
 
-        b = self.ideal.solve(targets, q_ref)
+        b = self.ideal.solve(targets, q_ref, threads)
         Q = np.ascontiguousarray(b.q)
         # every finite branch, not only the ideal arm's valid ones: at a reach boundary (a stretched
         # elbow) the real arm may reach where the ideal one misses by ~1e-6, and the ideal kernel's
         # clamped branch then polishes onto the real solution; the check on the real arm decides
         valid = np.isfinite(Q).all(axis=-1)
-        polish(self.robot._chain, Q, valid, targets, self.robot.scale)
+        polish(self.robot._chain, Q, valid, targets, self.robot.scale, threads)
         return Branches(Q, valid, b.reason, b.uncertain)
 
     def _nearest(self, target: Any, q_ref: np.ndarray | None, tol_position: Any, tol_orientation: Any,

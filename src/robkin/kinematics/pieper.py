@@ -86,8 +86,8 @@ class ReversedChain(KernelSolver):
         self.name = inner.name + "-reversed"
         self.messages = inner.messages
 
-    def solve(self, targets: np.ndarray, q_ref: np.ndarray) -> Branches:
-        b = self.inner.solve(se3.inv(targets), np.ascontiguousarray(q_ref[:, ::-1]))
+    def solve(self, targets: np.ndarray, q_ref: np.ndarray, threads: int = 0) -> Branches:
+        b = self.inner.solve(se3.inv(targets), np.ascontiguousarray(q_ref[:, ::-1]), threads)
         return Branches(np.ascontiguousarray(b.q[:, :, ::-1]), b.valid, b.reason, b.uncertain)
 
     def nearest(self, target: Any, q_ref: Any, tol_position: Any, tol_orientation: Any, every: bool,
