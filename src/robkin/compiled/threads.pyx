@@ -10,8 +10,9 @@ and so does a call made from a thread other than the main one (a Dask worker, a 
 already use the cores, and more threads would only contend) unless its ``threads=`` says otherwise.
 """
 
+import _thread
 import os
-import threading
+import sys
 
 cdef extern from "Python.h":
     # the calling OS thread's identifier: safe without the GIL (pthread_self or its equivalent)
@@ -90,7 +91,10 @@ cdef int batch_threads(int requested, Py_ssize_t units, Py_ssize_t min_units) no
 
 
 _default = _from_environment()
-_main_thread = threading.main_thread().ident
+# The main thread: threading's, if something imported threading already; else this thread, which is what
+# threading itself would call main were it imported now (its main thread is the one that first imports it).
+# Not importing threading saves ~0.8 ms of every command's start-up.
+_main_thread = sys.modules["threading"].main_thread().ident if "threading" in sys.modules else _thread.get_ident()
 
 
 def plan(int requested, Py_ssize_t units, Py_ssize_t min_units):
