@@ -61,7 +61,7 @@ def batches(robot: Robot, N: int, seed: int, threads: int | None = 1) -> tuple[n
 @pytest.mark.parametrize("N", [1, 6, 31, 32, 33, 65])
 def test_every_configuration_of_a_batch_equals_its_single_call(robot, N):
     """At and around the block edges, every row (not a sample) of every kernel's batch. The mass
-    matrix's column walk takes a block's lanes 4 at a time, then the rest one by one (6 and 31: a lane
+    matrix's walk (crba_walk.h) takes a block's lanes 4 at a time, then the rest one by one (6 and 31: a lane
     group and 2 or 3 lanes left over)."""
     Q, QD, QDD, M, g, tau = batches(robot, N, N)
     assert M.shape == (N, robot.n, robot.n) and g.shape == tau.shape == (N, robot.n)

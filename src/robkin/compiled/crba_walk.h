@@ -24,6 +24,12 @@
 
 #include <string.h>
 
+#if defined(_MSC_VER) && !defined(__cplusplus) && !defined(__clang__)
+#define RK_CRBA_INLINE static __inline   /* MSVC's C before C11 */
+#else
+#define RK_CRBA_INLINE static inline
+#endif
+
 #define RK_WALK rk_crba_walk_1
 #define RK_T double
 #define RK_W 1
@@ -66,9 +72,9 @@ typedef double rk_crba_v4 __attribute__((vector_size(32)));
 #endif
 
 /* Lanes 0..m-1: groups of RK_CRBA_GROUP lanes, then the rest one by one. */
-static inline void rk_crba_walk(double* S, const unsigned char* rev, int n, int m, const double* mass,
-                                const double* com, const double* inertia, const double* beyond, double* M,
-                                Py_ssize_t B, Py_ssize_t PJ)
+RK_CRBA_INLINE void rk_crba_walk(double* S, const unsigned char* rev, int n, int m, const double* mass,
+                                 const double* com, const double* inertia, const double* beyond, double* M,
+                                 Py_ssize_t B, Py_ssize_t PJ)
 {
     Py_ssize_t b = 0;
 #if RK_CRBA_GROUP == 4

@@ -3,9 +3,9 @@
    doubles), RK_W, RK_LOAD(p) (RK_W lanes from p), RK_STORE(p, v), RK_SPLAT(x), RK_LANE(v, k).
 
    Lanes b0 .. b0 + RK_W - 1 of a block: the composite bodies, tip to base, then the columns of M. */
-static inline void RK_WALK(double* S, const unsigned char* rev, int n, const double* mass,
-                              const double* com, const double* inertia, const double* beyond, double* M,
-                              Py_ssize_t b0, Py_ssize_t B, Py_ssize_t PJ)
+RK_CRBA_INLINE void RK_WALK(double* S, const unsigned char* rev, int n, const double* mass,
+                            const double* com, const double* inertia, const double* beyond, double* M,
+                            Py_ssize_t b0, Py_ssize_t B, Py_ssize_t PJ)
 {
     const Py_ssize_t nn = (Py_ssize_t)n * n;
     int i, j, k;
