@@ -19,17 +19,20 @@ from test_urdf import robot_file
 RUNS_AVX2 = kernels.cpu_has_avx2() and kernels.avx2_built()
 
 
-def mixed_chain() -> Robot:
-    """Six joints R P R R P R, every other one flipped, random frames and two random inertials a body."""
+def mixed_chain(prismatic_base: bool = False) -> Robot:
+    """Six joints R P R R P R (P P R R P R with ``prismatic_base``: the mass matrix's last step down to
+    the base is then the prismatic one), every other one flipped, random frames and two random
+    inertials a body."""
     rng = np.random.default_rng(7)
-    kinds = ["revolute", "prismatic", "revolute", "revolute", "prismatic", "revolute"]
+    kinds = ["prismatic" if prismatic_base else "revolute", "prismatic", "revolute", "revolute", "prismatic",
+             "revolute"]
     joints = tuple(Joint(f"j{i + 1}", kind, flip=i % 2 == 1) for i, kind in enumerate(kinds))
     frames = np.stack([se3.homogeneous(se3.matrix_from_rpy(rng.uniform(-3, 3, 3)), rng.normal(scale=0.3, size=3))
                        for _ in range(len(joints) + 1)])
     return random_inertials(Robot(frames, joints), rng)
 
 
-@pytest.fixture(scope="module", params=["panda+finger", "ur5", "mixed"])
+@pytest.fixture(scope="module", params=["panda+finger", "ur5", "mixed", "mixed, prismatic base"])
 def robot(request) -> Robot:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -38,7 +41,7 @@ def robot(request) -> Robot:
                                tip_link="panda_leftfinger")
         if request.param == "ur5":
             return robkin.load(robot_file("ur_description/urdf/ur5_robot.urdf"), tip_link="tool0")
-    return mixed_chain()
+    return mixed_chain(prismatic_base=request.param == "mixed, prismatic base")
 
 
 @pytest.fixture
@@ -55,9 +58,11 @@ def batches(robot: Robot, N: int, seed: int, threads: int | None = 1) -> tuple[n
             robot.inverse_dynamics(Q, QD, QDD, threads=threads))
 
 
-@pytest.mark.parametrize("N", [1, 31, 32, 33, 65])
+@pytest.mark.parametrize("N", [1, 6, 31, 32, 33, 65])
 def test_every_configuration_of_a_batch_equals_its_single_call(robot, N):
-    """At and around the block edges, every row (not a sample) of every kernel's batch."""
+    """At and around the block edges, every row (not a sample) of every kernel's batch. The mass
+    matrix's walk (crba_walk.h) takes a block's lanes 4 at a time, then the rest one by one (6 and 31: a lane
+    group and 2 or 3 lanes left over)."""
     Q, QD, QDD, M, g, tau = batches(robot, N, N)
     assert M.shape == (N, robot.n, robot.n) and g.shape == tau.shape == (N, robot.n)
     for k in range(N):

@@ -5,7 +5,9 @@
 # configuration b, and every step is a loop over b with the same operations in the same order for each b,
 # which the compiler turns into SIMD code (no fused multiply-adds: setup.py builds with
 # -ffp-contract=off). A single configuration is a block of one, so a batch equals its single calls bit for
-# bit.
+# bit. The one exception to the lane loops is the mass matrix's walk after its transforms (crba_walk.h, C):
+# it carries each composite body and column down the chain in registers, 4 lanes to a GCC vector, with the
+# same operations per lane in the same order, so the same bits.
 #
 # LANE INDEX: the lane loops count with a 64-bit index (Py_ssize_t). Python's own CFLAGS hold -fwrapv, under
 # which an int index such as BLOCK * 3 + b may wrap before it is widened for the address; GCC then sees
@@ -25,6 +27,13 @@ cdef extern from *:
     #endif
     """
     void RK_PREFETCH_WRITE(const void* p) noexcept nogil
+
+
+cdef extern from "crba_walk.h" nogil:
+    # the mass matrix's composite bodies and columns, in C: lane groups held in registers (see the header)
+    void rk_crba_walk(double* S, const unsigned char* rev, int n, int m, const double* mass, const double* com,
+                      const double* inertia, const double* beyond, double* M, Py_ssize_t lanes,
+                      Py_ssize_t per_joint)
 
 
 cdef enum:
@@ -233,24 +242,10 @@ cdef inline void crba_block(const double* L, const unsigned char* rev, int n, co
                             int m, double* S, double* M) noexcept nogil:
     """Mass matrices M (m x n x n, row-major) at the block's configurations Q (m x n). ``beyond[i]`` is the
     mass of bodies i+1..n-1 (q-independent, as the composite masses are: never stored per lane).
-    S: scratch of BLOCK * PER_JOINT * n doubles; the composite body of joints i..n-1 goes to
-    S[BLOCK * (PER_JOINT * i + 12 + k) + b] as a spatial inertia about frame i's origin in its axes: the
-    first moment h = m c (k = 0..2) and the rotational inertia about the origin, symmetric, as xx, yy,
-    zz, xy, xz, yz (k = 3..8). No centre of mass, so no division, and a merge is a rotation, a shift
-    and a sum."""
-    cdef double f0[BLOCK]
-    cdef double f1[BLOCK]
-    cdef double f2[BLOCK]
-    cdef double n0[BLOCK]
-    cdef double n1[BLOCK]
-    cdef double n2[BLOCK]
-    cdef double r0, r1, r2, r3, r4, r5, r6, r7, r8, p0, p1, p2
-    cdef double x0, x1, x2, y0, y1, y2, u0, u1, u2
-    cdef double J0, J1, J2, J4, J5, J8, K0, K1, K2, K3, K4, K5, K6, K7, K8
-    cdef double mi, mc, cm, c0, c1, c2, H0, H1, H2, O0, O1, O2, O3, O4, O5
-    cdef double* X
-    cdef const double* C
-    cdef int i, j
+    S: scratch of BLOCK * PER_JOINT * n doubles: the transforms (``block_transforms``), then the
+    composite bodies in rows 12..20 of each joint, and the columns of M (``rk_crba_walk``, crba_walk.h:
+    Featherstone's composite-rigid-body algorithm with each composite body a spatial inertia about its
+    frame's origin, lanes held in registers)."""
     cdef Py_ssize_t b, nn = n * n
     # the block's matrices are written lane by lane, n * n doubles apart: a batch's output is fresh memory,
     # so ask for its cache lines now, and they arrive while the transforms and the composite bodies are
@@ -258,131 +253,5 @@ cdef inline void crba_block(const double* L, const unsigned char* rev, int n, co
     for b in range(0, m * nn, 8):
         RK_PREFETCH_WRITE(M + b)
     block_transforms(L, rev, n, Q, m, S)
-    # composite bodies, tip to base
-    for i in range(n - 1, -1, -1):
-        X = S + BLOCK * PER_JOINT * i
-        mi = mass[i]
-        mc = beyond[i]
-        # body i alone about frame i's origin (constants of the lane loop): h = m c,
-        # I_o = I_c + m (|c|^2 E - c c^T)
-        c0 = com[3 * i]; c1 = com[3 * i + 1]; c2 = com[3 * i + 2]
-        H0 = mi * c0; H1 = mi * c1; H2 = mi * c2
-        O0 = inertia[9 * i] + (H1 * c1 + H2 * c2)
-        O1 = inertia[9 * i + 4] + (H0 * c0 + H2 * c2)
-        O2 = inertia[9 * i + 8] + (H0 * c0 + H1 * c1)
-        O3 = inertia[9 * i + 1] - H0 * c1
-        O4 = inertia[9 * i + 2] - H0 * c2
-        O5 = inertia[9 * i + 5] - H1 * c2
-        if i == n - 1 or mc == 0.0:
-            for b in range(m):
-                X[BLOCK * 12 + b] = H0
-                X[BLOCK * 13 + b] = H1
-                X[BLOCK * 14 + b] = H2
-                X[BLOCK * 15 + b] = O0
-                X[BLOCK * 16 + b] = O1
-                X[BLOCK * 17 + b] = O2
-                X[BLOCK * 18 + b] = O3
-                X[BLOCK * 19 + b] = O4
-                X[BLOCK * 20 + b] = O5
-            continue
-        # C from X by a constant offset: GCC then knows the child's loads and the stores into X do not
-        # overlap (from S with two run-time offsets it would need more alias checks than it makes, and
-        # leaves the loop scalar)
-        C = X + BLOCK * PER_JOINT
-        for b in range(m):
-            r0 = C[b]; r1 = C[BLOCK + b]; r2 = C[BLOCK * 2 + b]
-            r3 = C[BLOCK * 3 + b]; r4 = C[BLOCK * 4 + b]; r5 = C[BLOCK * 5 + b]
-            r6 = C[BLOCK * 6 + b]; r7 = C[BLOCK * 7 + b]; r8 = C[BLOCK * 8 + b]
-            p0 = C[BLOCK * 9 + b]; p1 = C[BLOCK * 10 + b]; p2 = C[BLOCK * 11 + b]
-            # the child composite's first moment in this frame's axes: u = R h
-            x0 = C[BLOCK * 12 + b]; x1 = C[BLOCK * 13 + b]; x2 = C[BLOCK * 14 + b]
-            u0 = r0 * x0 + r1 * x1 + r2 * x2
-            u1 = r3 * x0 + r4 * x1 + r5 * x2
-            u2 = r6 * x0 + r7 * x1 + r8 * x2
-            # its inertia about its origin in this frame's axes: R J R^T (K = J R^T, then the upper half)
-            J0 = C[BLOCK * 15 + b]; J4 = C[BLOCK * 16 + b]; J8 = C[BLOCK * 17 + b]
-            J1 = C[BLOCK * 18 + b]; J2 = C[BLOCK * 19 + b]; J5 = C[BLOCK * 20 + b]
-            K0 = J0 * r0 + J1 * r1 + J2 * r2; K1 = J0 * r3 + J1 * r4 + J2 * r5; K2 = J0 * r6 + J1 * r7 + J2 * r8
-            K3 = J1 * r0 + J4 * r1 + J5 * r2; K4 = J1 * r3 + J4 * r4 + J5 * r5; K5 = J1 * r6 + J4 * r7 + J5 * r8
-            K6 = J2 * r0 + J5 * r1 + J8 * r2; K7 = J2 * r3 + J5 * r4 + J8 * r5; K8 = J2 * r6 + J5 * r7 + J8 * r8
-            # moved to this frame's origin (its points at p + r): I + 2 (p.u) E - p u^T - u p^T
-            # + m (|p|^2 E - p p^T), entry by entry; then this body's own part added
-            y0 = p0 * u0; y1 = p1 * u1; y2 = p2 * u2
-            x0 = mc * p0; x1 = mc * p1; x2 = mc * p2
-            X[BLOCK * 12 + b] = H0 + (u0 + x0)
-            X[BLOCK * 13 + b] = H1 + (u1 + x1)
-            X[BLOCK * 14 + b] = H2 + (u2 + x2)
-            X[BLOCK * 15 + b] = O0 + ((r0 * K0 + r1 * K3 + r2 * K6) + 2.0 * (y1 + y2) + (x1 * p1 + x2 * p2))
-            X[BLOCK * 16 + b] = O1 + ((r3 * K1 + r4 * K4 + r5 * K7) + 2.0 * (y0 + y2) + (x0 * p0 + x2 * p2))
-            X[BLOCK * 17 + b] = O2 + ((r6 * K2 + r7 * K5 + r8 * K8) + 2.0 * (y0 + y1) + (x0 * p0 + x1 * p1))
-            X[BLOCK * 18 + b] = O3 + ((r0 * K1 + r1 * K4 + r2 * K7) - (p0 * u1 + u0 * p1) - x0 * p1)
-            X[BLOCK * 19 + b] = O4 + ((r0 * K2 + r1 * K5 + r2 * K8) - (p0 * u2 + u0 * p2) - x0 * p2)
-            X[BLOCK * 20 + b] = O5 + ((r3 * K2 + r4 * K5 + r5 * K8) - (p1 * u2 + u1 * p2) - x1 * p2)
-    # column i: the force and moment (about frame i's origin) a unit motion of joint i asks of composite
-    # body i, carried down to the base; entry (j, i) is its component along joint j. The lane loops
-    # compute, separate loops store into M (a stride of n * n doubles between lanes, which no SIMD store
-    # does: kept out of the computing loops so that those vectorise)
-    for i in range(n):
-        X = S + BLOCK * PER_JOINT * i
-        cm = mass[i] + beyond[i]
-        if rev[i]:
-            for b in range(m):
-                # w = z, v_origin = 0: f = z x h, n = I_o z
-                f0[b] = -X[BLOCK * 13 + b]
-                f1[b] = X[BLOCK * 12 + b]
-                f2[b] = 0.0
-                n0[b] = X[BLOCK * 19 + b]
-                n1[b] = X[BLOCK * 20 + b]
-                n2[b] = X[BLOCK * 17 + b]
-            for b in range(m):
-                M[nn * b + n * i + i] = n2[b]
-        else:
-            for b in range(m):
-                # w = 0, v = z: f = m z, n = h x z
-                f0[b] = 0.0
-                f1[b] = 0.0
-                f2[b] = cm
-                n0[b] = X[BLOCK * 13 + b]
-                n1[b] = -X[BLOCK * 12 + b]
-                n2[b] = 0.0
-            for b in range(m):
-                M[nn * b + n * i + i] = cm
-        for j in range(i - 1, -1, -1):
-            C = S + BLOCK * PER_JOINT * (j + 1)
-            if j == 0:
-                # the last step, to the base joint: only the component along its axis is needed (the
-                # same expression as in the full step, so the same bits)
-                if rev[0]:
-                    for b in range(m):
-                        r0 = C[b]; r1 = C[BLOCK + b]; r2 = C[BLOCK * 2 + b]
-                        r3 = C[BLOCK * 3 + b]; r4 = C[BLOCK * 4 + b]; r5 = C[BLOCK * 5 + b]
-                        r6 = C[BLOCK * 6 + b]; r7 = C[BLOCK * 7 + b]; r8 = C[BLOCK * 8 + b]
-                        p0 = C[BLOCK * 9 + b]; p1 = C[BLOCK * 10 + b]
-                        x0 = r0 * f0[b] + r1 * f1[b] + r2 * f2[b]
-                        x1 = r3 * f0[b] + r4 * f1[b] + r5 * f2[b]
-                        n2[b] = r6 * n0[b] + r7 * n1[b] + r8 * n2[b] + (p0 * x1 - p1 * x0)
-                else:
-                    for b in range(m):
-                        f2[b] = C[BLOCK * 6 + b] * f0[b] + C[BLOCK * 7 + b] * f1[b] + C[BLOCK * 8 + b] * f2[b]
-            else:
-                for b in range(m):
-                    r0 = C[b]; r1 = C[BLOCK + b]; r2 = C[BLOCK * 2 + b]
-                    r3 = C[BLOCK * 3 + b]; r4 = C[BLOCK * 4 + b]; r5 = C[BLOCK * 5 + b]
-                    r6 = C[BLOCK * 6 + b]; r7 = C[BLOCK * 7 + b]; r8 = C[BLOCK * 8 + b]
-                    p0 = C[BLOCK * 9 + b]; p1 = C[BLOCK * 10 + b]; p2 = C[BLOCK * 11 + b]
-                    x0 = r0 * f0[b] + r1 * f1[b] + r2 * f2[b]
-                    x1 = r3 * f0[b] + r4 * f1[b] + r5 * f2[b]
-                    x2 = r6 * f0[b] + r7 * f1[b] + r8 * f2[b]
-                    y0 = r0 * n0[b] + r1 * n1[b] + r2 * n2[b] + (p1 * x2 - p2 * x1)
-                    y1 = r3 * n0[b] + r4 * n1[b] + r5 * n2[b] + (p2 * x0 - p0 * x2)
-                    y2 = r6 * n0[b] + r7 * n1[b] + r8 * n2[b] + (p0 * x1 - p1 * x0)
-                    f0[b] = x0; f1[b] = x1; f2[b] = x2
-                    n0[b] = y0; n1[b] = y1; n2[b] = y2
-            if rev[j]:
-                for b in range(m):
-                    M[nn * b + n * j + i] = n2[b]
-                    M[nn * b + n * i + j] = n2[b]
-            else:
-                for b in range(m):
-                    M[nn * b + n * j + i] = f2[b]
-                    M[nn * b + n * i + j] = f2[b]
+    # the composite bodies and the columns: crba_walk.h
+    rk_crba_walk(S, rev, n, m, mass, com, inertia, beyond, M, BLOCK, PER_JOINT)
