@@ -15,7 +15,7 @@ PIP    := $(PY) -m pip --disable-pip-version-check -q
 # the extras (test, docs, bench) then install only their own dependencies (EXTRA below), never
 # rebuilding the core.
 CORE_SOURCES := pyproject.toml setup.py $(wildcard src/robkin/compiled/*.pyx src/robkin/compiled/*.pxd \
-                                                   src/robkin/compiled/*.pxi)
+                                                   src/robkin/compiled/*.pxi src/robkin/compiled/*.h)
 N_CORE := $(words $(wildcard src/robkin/compiled/*.pyx))
 
 $(VENV)/.core: $(CORE_SOURCES)
@@ -74,7 +74,9 @@ docs: $(VENV)/.core
 	NO_MKDOCS_2_WARNING=1 $(PY) -m mkdocs build --strict
 
 # Rebuild the compiled core in place after editing a .pyx (pip install -e . does the same, slower).
+# (pip built the core in an isolated environment: the venv itself gets the build requirements here)
 ext: $(VENV)/.core
+	$(PIP) install 'setuptools>=68' wheel 'cython>=3.0'
 	$(PY) setup.py -q build_ext --inplace
 
 # The release: an sdist and a wheel (python -m build: the wheel is built from the sdist) in dist/,
