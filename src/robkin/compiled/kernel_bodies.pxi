@@ -20,9 +20,9 @@ cdef void pose_block(const double* L, const unsigned char* rev, int n, const dou
     cdef Py_ssize_t k = POSE_BLOCK * j
     cdef int size = <int>(m - k if m - k < POSE_BLOCK else POSE_BLOCK)
     if F != NULL:
-        walk_block(L, rev, n, Q + n * k, size, P, F + 16 * (n + 1) * k, NULL, 0)
+        walk_block(L, rev, n, Q + n * k, size, P, F + 16 * (n + 1) * k, NULL, 0, NULL, 0)
     else:
-        walk_block(L, rev, n, Q + n * k, size, P, NULL, NULL, 0)
+        walk_block(L, rev, n, Q + n * k, size, P, NULL, NULL, 0, T + 16 * k, 128 * size)
         store_poses(P, size, T + 16 * k, 16)
 
 
@@ -32,7 +32,7 @@ cdef void jacobian_block(const double* L, const unsigned char* rev, int n, const
     thread's scratch); T gets the tool pose of the batch's last configuration when block j holds it."""
     cdef Py_ssize_t k = POSE_BLOCK * j
     cdef int size = <int>(m - k if m - k < POSE_BLOCK else POSE_BLOCK)
-    walk_block(L, rev, n, Q + n * k, size, P, NULL, Z, POSE_BLOCK)
+    walk_block(L, rev, n, Q + n * k, size, P, NULL, Z, POSE_BLOCK, J + 6 * n * k, 48 * n * size)
     finish_block(rev, n, kind, P, Z, POSE_BLOCK, size, J + 6 * n * k)
     if k + size == m:
         store_poses(P + size - 1, 1, T, 16)
