@@ -17,16 +17,7 @@
 # Notation per joint i: X_i = L_i Z_i(q_i) = (R, p), the parent -> child transform; body i's mass
 # m, centre c and inertia I (about c) are in its own frame.
 
-cdef extern from *:
-    """
-    /* Ask for a cache line that is about to be written (GCC, Clang; elsewhere nothing). */
-    #if defined(__GNUC__) || defined(__clang__)
-    #define RK_PREFETCH_WRITE(p) __builtin_prefetch((p), 1, 3)
-    #else
-    #define RK_PREFETCH_WRITE(p) ((void)(p))
-    #endif
-    """
-    void RK_PREFETCH_WRITE(const void* p) noexcept nogil
+from robkin.compiled.fk cimport rk_prefetch_part   # a range of cache lines asked for writing (a hint)
 
 
 cdef extern from "crba_walk.h" nogil:
@@ -246,12 +237,10 @@ cdef inline void crba_block(const double* L, const unsigned char* rev, int n, co
     composite bodies in rows 12..20 of each joint, and the columns of M (``rk_crba_walk``, crba_walk.h:
     Featherstone's composite-rigid-body algorithm with each composite body a spatial inertia about its
     frame's origin, lanes held in registers)."""
-    cdef Py_ssize_t b, nn = n * n
     # the block's matrices are written lane by lane, n * n doubles apart: a batch's output is fresh memory,
     # so ask for its cache lines now, and they arrive while the transforms and the composite bodies are
     # computed (without, the scattered stores waited on them: a quarter of the walk)
-    for b in range(0, m * nn, 8):
-        RK_PREFETCH_WRITE(M + b)
+    rk_prefetch_part(M, <Py_ssize_t>m * n * n * 8, 0, 1)
     block_transforms(L, rev, n, Q, m, S)
     # the composite bodies and the columns: crba_walk.h
     rk_crba_walk(S, rev, n, m, mass, com, inertia, beyond, M, BLOCK, PER_JOINT)
