@@ -37,14 +37,7 @@
 #define RK_SPLAT(x) (x)
 #define RK_STORE(p, v) (*(p) = (v))
 #define RK_LANE(v, k) (v)
-#include "crba_walk_body.h"
-#undef RK_WALK
-#undef RK_T
-#undef RK_W
-#undef RK_LOAD
-#undef RK_SPLAT
-#undef RK_LANE
-#undef RK_STORE
+#include "crba_walk_body.h"   /* (it undefines its parameters) */
 
 #if defined(__GNUC__) || defined(__clang__)
 typedef double rk_crba_v4 __attribute__((vector_size(32)));
@@ -58,14 +51,7 @@ typedef double rk_crba_v4 __attribute__((vector_size(32)));
 #define RK_SPLAT(x) ((rk_crba_v4){(x), (x), (x), (x)})
 #define RK_STORE(p, v) do { rk_crba_v4 s_ = (v); memcpy((p), &s_, sizeof s_); } while (0)
 #define RK_LANE(v, k) ((v)[k])
-#include "crba_walk_body.h"
-#undef RK_WALK
-#undef RK_T
-#undef RK_W
-#undef RK_LOAD
-#undef RK_SPLAT
-#undef RK_LANE
-#undef RK_STORE
+#include "crba_walk_body.h"   /* (it undefines its parameters) */
 #define RK_CRBA_GROUP 4
 #else
 #define RK_CRBA_GROUP 1   /* no vector extension: every lane on its own, the same bits */

@@ -1,6 +1,7 @@
 /* The body of crba_walk.h's walk, included once per lane type (no include guard on purpose). Defined by
    the includer: RK_WALK (the function's name), RK_T (a lane group: double, or a GCC vector of RK_W
-   doubles), RK_W, RK_LOAD(p) (RK_W lanes from p), RK_STORE(p, v), RK_SPLAT(x), RK_LANE(v, k).
+   doubles), RK_W, RK_LOAD(p) (RK_W lanes from p), RK_STORE(p, v), RK_SPLAT(x), RK_LANE(v, k); undefined
+   again at the end, ready for the next lane type.
 
    Lanes b0 .. b0 + RK_W - 1 of a block: the composite bodies, tip to base, then the columns of M. */
 RK_CRBA_INLINE void RK_WALK(double* S, const unsigned char* rev, int n, const double* mass,
@@ -119,3 +120,11 @@ RK_CRBA_INLINE void RK_WALK(double* S, const unsigned char* rev, int n, const do
         }
     }
 }
+
+#undef RK_WALK
+#undef RK_T
+#undef RK_W
+#undef RK_LOAD
+#undef RK_SPLAT
+#undef RK_LANE
+#undef RK_STORE
