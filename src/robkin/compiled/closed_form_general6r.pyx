@@ -19,8 +19,12 @@ Manocha and Canny solve it (a matrix polynomial's eigenvalues), built numericall
    x = infinity) they are quadratic in x_a, x_b, x_c; multiplied by x_b too, they are 12 equations
    M(x_a) v = 0 in the 12 monomials x_b^i x_c^j (i <= 3, j <= 2), M quadratic in x_a.
 4. det M(x_a) = 0 is the degree-16 problem (24 with the 8 spurious roots x = +-i): the eigenvalues of
-   the 24 x 24 companion pencil (LAPACK ``dgeev`` on M2^-1 companion, ``dggev`` when M2 is
-   ill-conditioned), through ``scipy.linalg.cython_lapack`` (no linking: scipy exports LAPACK).
+   the 24 x 24 companion matrix [[0, I], -M2^-1 [M0, M1]]. The spurious roots' eigenvectors are the
+   arm's, the same for every target, so the Python side finds their invariant subspace once
+   (``kinematics.general6r.spurious_complement``) and each target solves the 16 x 16 block on its
+   orthonormal complement, by the small-matrix QR of ``hessenberg_qr.h`` (LAPACK ``dgeev`` where that
+   does not converge); ``dggev`` on the 24 x 24 pencil when M2 is ill-conditioned (LAPACK through
+   ``scipy.linalg.cython_lapack``: no linking, scipy exports it).
 5. Back-substitution. Per real root: v is M(x_a)'s null vector (full-pivoting LU), whose monomial
    ratios give x_b and x_c; joints e, f from the eliminated equations (least squares on the QR);
    joint d from the remaining rotation. Each candidate is polished by Newton steps on the exact forward
@@ -41,7 +45,8 @@ from robkin.compiled.fk cimport Chain
 from robkin.compiled.threads cimport batch_threads
 from cython.parallel cimport prange
 from robkin.compiled.elimination cimport (line_quantities, move_line, null_vector, pair_angle,
-                                          quadratic_pencil_eigenvalues, rz_mul, transform3)
+                                          quadratic_pencil_eigenvalues, rz_mul, small_eigenvalues,
+                                          transform3)
 from robkin.compiled.linalg cimport tf_inv, tf_mul
 from robkin.compiled.newton cimport CANDIDATE_TOL, newton_polish
 from robkin.compiled.subproblems cimport wrap_branches
@@ -65,6 +70,27 @@ cdef double M2_RCOND = 1e-8
 cdef double RANK_TOL = 1e-11
 
 cdef double TWO_PI_3 = 2.0943951023931957
+#: where M0, M1, M2 start in the work array (after F, G, Rc, Px, Vq: see ``_pencil``)
+cdef Py_ssize_t MQ_OFFSET = 14 * 27 + 14 * 9 + 14 * 9 + 14 * 27 + 14 * 8
+
+
+def eigenvalues(A):
+    """The eigenvalues (n,) complex of the small square matrix A (n <= 32) by the kernel's own routine
+    (``hessenberg_qr.h``, LAPACK where it does not converge): for tests."""
+    cdef double[::1, :] a = np.array(A, dtype=np.float64, order="F", copy=True)
+    cdef int n = a.shape[0]
+    if a.shape[1] != n or not 0 < n <= 32:
+        raise ValueError("eigenvalues: expected a square matrix of size 1 to 32")
+    cdef double[::1] scratch = np.empty(n * n)
+    cdef double[::1] wr = np.empty(n)
+    cdef double[::1] wi = np.empty(n)
+    cdef double[::1] lw = np.empty(64 * n)
+    cdef int info
+    with nogil:
+        info = small_eigenvalues(&a[0, 0], n, n, &scratch[0], &wr[0], &wi[0], &lw[0], 64 * n)
+    if info != 0:
+        raise ArithmeticError(f"eigenvalues: LAPACK dgeev info {info}")
+    return np.asarray(wr) + 1j * np.asarray(wi)
 
 
 cdef class General6RKernel(ClosedFormKernel):
@@ -78,6 +104,8 @@ cdef class General6RKernel(ClosedFormKernel):
     cdef bint reverse
     cdef double W[9]               # samples at 0, 2pi/3, 4pi/3 -> (1 + x^2)-scaled coefficients of 1, x, x^2
     cdef double Vinv[9]            # samples -> coefficients of 1, cos, sin
+    cdef bint deflate              # the spurious roots' invariant subspace is known: solve the 16 x 16
+    cdef double complement[NP * (NP - 8)]  # its orthonormal complement (24 x 16, column-major)
 
     def __init__(self, Chain chain, limits, ref0, double scale, double limit_tol, L, int shift, bint reverse,
                  delta):
@@ -108,6 +136,40 @@ cdef class General6RKernel(ClosedFormKernel):
                 self.W[3 * i + j] = Wm[i, j]
                 self.Vinv[3 * i + j] = Vi[i, j]
 
+    def pencil(self, T):
+        """The matrix polynomial M(x) = M0 + M1 x + M2 x^2 (3, 12, 12) of the target T (4 x 4, the
+        robot's units), or None where the elimination is rank-deficient (step 3)."""
+        cdef double[:, ::1] t = np.ascontiguousarray(T, dtype=np.float64)
+        cdef double[::1] w = np.empty(self.work_size)
+        cdef double K[96]
+        cdef double tau[8]
+        cdef double Rd[9]
+        cdef double pd[3]
+        cdef int i, j
+        for i in range(3):
+            pd[i] = t[i, 3]
+            for j in range(3):
+                Rd[3 * i + j] = t[i, j]
+        if not self._pencil(Rd, pd, K, tau, &w[0]):
+            return None
+        return np.asarray(w[MQ_OFFSET:MQ_OFFSET + 432]).reshape(3, 12, 12).copy()
+
+    def set_deflation(self, complement):
+        """Solve the 16 x 16 problem on ``complement`` (24, 16), the orthonormal complement of the
+        invariant subspace of the 8 spurious roots x = +-i of every target's companion matrix (computed
+        by ``kinematics.general6r``); None: the full 24 x 24 problem."""
+        cdef int i, j
+        if complement is None:
+            self.deflate = False
+            return
+        c = np.asarray(complement, dtype=np.float64)
+        if c.shape != (NP, NP - 8):
+            raise ValueError(f"set_deflation: expected a ({NP}, {NP - 8}) array, got {c.shape}")
+        for j in range(NP - 8):
+            for i in range(NP):
+                self.complement[i + NP * j] = c[i, j]
+        self.deflate = True
+
     cdef void _link(self, int pos, const double* K6, const double* K6inv, double* out) noexcept nogil:
         """The fixed link after loop position pos (of joint order[pos])."""
         cdef int j = self.order[pos], i, m
@@ -120,19 +182,16 @@ cdef class General6RKernel(ClosedFormKernel):
         for i in range(16):
             out[i] = src[i]
 
-    cdef signed char solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
-                               unsigned char* valid, double* detail, unsigned char* uncertain,
-                               double* work) noexcept nogil:
+    cdef bint _pencil(self, const double* Rd, const double* pd, double* K, double* tau,
+                      double* work) noexcept nogil:
+        """Steps 1-4 of the module docstring for the target (Rd, pd): the loop's six links in loop order
+        into K (6 x 16), the eliminated block's QR (Householder vectors, ``tau`` (8), R) and
+        M0, M1, M2 into ``work`` (see ``solve_one``'s layout). False when the eliminated block is
+        rank-deficient at this target (no M then)."""
         cdef double T[16]
         cdef double Ti[16]
         cdef double K6[16]
         cdef double K6inv[16]
-        cdef double Ka[16]
-        cdef double Kb[16]
-        cdef double Kc[16]
-        cdef double Kd[16]
-        cdef double Ke[16]
-        cdef double Kf[16]
         cdef double Kdi[16]
         cdef double Kei[16]
         cdef double Kfi[16]
@@ -145,39 +204,20 @@ cdef class General6RKernel(ClosedFormKernel):
         cdef double l0[3]
         cdef double pa[3]
         cdef double la[3]
-        cdef double y[14]
-        cdef double tau[8]
-        cdef double m8[8]
-        cdef double vnull[12]
-        cdef double qc[6]
-        cdef double th[6]
-        cdef unsigned char geometric[NB]
-        cdef int rp[12]
-        cdef int cp[12]
-        cdef int i, j, k, r, c, s, I, Jp, Kp, info, nroots = 0
-        cdef double x, t, nrm, alpha, dotv, big, xr, xi, res
-        cdef bint any_real = False, rank_ok = True
-        # work layout
+        cdef int i, j, k, r, c, I, Jp, Kp
+        cdef double x, t, nrm, alpha, dotv, big
+        cdef double* Ka = K
+        cdef double* Kb = K + 16
+        cdef double* Kc = K + 32
+        cdef double* Kd = K + 48
+        cdef double* Ke = K + 64
+        cdef double* Kf = K + 80
         cdef double* F = work                     # 14 x 27 LHS samples -> x-power coefficients
         cdef double* G = F + 14 * 27              # 14 x 9 RHS samples
         cdef double* Rc = G + 14 * 9              # 14 x 9 RHS coefficients (1, cos, sin)^2
         cdef double* Px = Rc + 14 * 9             # 14 x 27 LHS coefficients in x powers (after c0)
         cdef double* Vq = Px + 14 * 27            # 14 x 8 Householder vectors (column-major by column)
         cdef double* Mq = Vq + 14 * 8             # 3 x 12 x 12 M0, M1, M2 (row-major)
-        cdef double* Ap = Mq + 3 * 144            # 24 x 24 (column-major) pencil A
-        cdef double* Bp = Ap + NP * NP            # 24 x 24 pencil B / LU of M2
-        cdef double* ar = Bp + NP * NP            # alphar, alphai, beta (24 each)
-        cdef double* ai = ar + NP
-        cdef double* be = ai + NP
-        cdef double* lw = be + NP                 # LAPACK workspace
-        cdef double* Mx = lw + LWORK              # 12 x 12 M(x)
-        cdef double* nw = Mx + 144                # Newton's scratch (6)
-        cdef double* M0 = Mq
-        cdef double* M1 = Mq + 144
-        cdef double* M2 = Mq + 288
-        cdef int* piv = rp
-        detail[0] = INFINITY
-        uncertain[0] = False
         # ---- 1. the loop's target link K_6 = L_7 T^-1 L_1 (scaled), and the six links in loop order
         for i in range(3):
             for j in range(3):
@@ -254,8 +294,7 @@ cdef class General6RKernel(ClosedFormKernel):
             if c == 0:
                 big = nrm
             if nrm <= RANK_TOL * big or nrm == 0.0:
-                rank_ok = False
-                break
+                return False
             alpha = -nrm if Rc[9 * c + 1 + c] >= 0.0 else nrm
             for r in range(14):
                 Vq[14 * c + r] = 0.0 if r < c else Rc[9 * r + 1 + c]
@@ -278,13 +317,6 @@ cdef class General6RKernel(ClosedFormKernel):
                 dotv *= tau[c]
                 for r in range(c, 14):
                     Px[27 * r + k] -= dotv * Vq[14 * c + r]
-        if not rank_ok:
-            uncertain[0] = True
-            for s in range(NB):
-                valid[s] = False
-                for j in range(6):
-                    Q[6 * s + j] = 0.0
-            return 1
         # ---- 4. M(x_a) = M0 + M1 x_a + M2 x_a^2 from the 6 remaining rows (8..13) of Q^T Px
         for i in range(3 * 144):
             Mq[i] = 0.0
@@ -295,8 +327,65 @@ cdef class General6RKernel(ClosedFormKernel):
                         x = Px[27 * (8 + r) + 9 * I + 3 * Jp + Kp]
                         Mq[144 * I + 12 * r + 3 * Jp + Kp] = x
                         Mq[144 * I + 12 * (r + 6) + 3 * (Jp + 1) + Kp] = x
-        # ---- eigenvalues of the quadratic pencil (companion + dgeev, or dggev when M2 is singular)
-        info = quadratic_pencil_eigenvalues(M0, M1, M2, 12, Ap, Bp, ar, ai, be, lw, LWORK, Mx, piv, M2_RCOND)
+        return True
+
+    cdef signed char solve_one(self, const double* Rd, const double* pd, const double* ref, double* Q,
+                               unsigned char* valid, double* detail, unsigned char* uncertain,
+                               double* work) noexcept nogil:
+        cdef double K[96]
+        cdef double X1[16]
+        cdef double X2[16]
+        cdef double X3[16]
+        cdef double X4[16]
+        cdef double pa[3]
+        cdef double la[3]
+        cdef double y[14]
+        cdef double tau[8]
+        cdef double m8[8]
+        cdef double vnull[12]
+        cdef double qc[6]
+        cdef double th[6]
+        cdef unsigned char geometric[NB]
+        cdef int rp[12]
+        cdef int cp[12]
+        cdef int i, j, k, r, c, s, info, nroots = 0
+        cdef double x, t, dotv, xr, xi, res
+        cdef bint any_real = False
+        cdef double* Ka = K
+        cdef double* Kb = K + 16
+        cdef double* Kc = K + 32
+        cdef double* Kd = K + 48
+        cdef double* Ke = K + 64
+        cdef double* Kf = K + 80
+        # work layout (the first five: _pencil's)
+        cdef double* Rc = work + 14 * 27 + 14 * 9     # 14 x 9 RHS coefficients; R of the QR
+        cdef double* Vq = Rc + 14 * 9 + 14 * 27       # 14 x 8 Householder vectors
+        cdef double* Mq = Vq + 14 * 8                 # 3 x 12 x 12 M0, M1, M2 (row-major)
+        cdef double* Ap = Mq + 3 * 144            # 24 x 24 (column-major) pencil A
+        cdef double* Bp = Ap + NP * NP            # 24 x 24 pencil B / LU of M2
+        cdef double* ar = Bp + NP * NP            # alphar, alphai, beta (24 each)
+        cdef double* ai = ar + NP
+        cdef double* be = ai + NP
+        cdef double* lw = be + NP                 # LAPACK workspace
+        cdef double* Mx = lw + LWORK              # 12 x 12 M(x)
+        cdef double* nw = Mx + 144                # Newton's scratch (6)
+        cdef double* M0 = Mq
+        cdef double* M1 = Mq + 144
+        cdef double* M2 = Mq + 288
+        cdef int* piv = rp
+        detail[0] = INFINITY
+        uncertain[0] = False
+        if not self._pencil(Rd, pd, K, tau, work):
+            uncertain[0] = True
+            for s in range(NB):
+                valid[s] = False
+                for j in range(6):
+                    Q[6 * s + j] = 0.0
+            return 1
+        # ---- eigenvalues of the quadratic pencil (companion + dgeev, or dggev when M2 is singular),
+        # the 8 spurious roots x = +-i deflated when the robot's invariant subspace is known
+        info = quadratic_pencil_eigenvalues(M0, M1, M2, 12, Ap, Bp, ar, ai, be, lw, LWORK, Mx, piv, M2_RCOND,
+                                            <const double*>self.complement if self.deflate else NULL, NP - 8)
         if info != 0:
             uncertain[0] = True
             for s in range(NB):

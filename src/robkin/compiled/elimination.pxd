@@ -8,6 +8,27 @@ from robkin.compiled.linalg cimport cross3, dot3
 from scipy.linalg.cython_lapack cimport dgeev, dggev
 
 
+cdef extern from "hessenberg_qr.h" nogil:
+    int rk_eigenvalues(double* A, int n, int lda, double* wr, double* wi)
+
+
+cdef inline int small_eigenvalues(double* A, int n, int lda, double* scratch, double* wr, double* wi,
+                                  double* lw, int lwork) noexcept nogil:
+    """The eigenvalues of A (n x n, column-major, leading dimension lda) into wr, wi: by
+    ``hessenberg_qr.h`` on a copy in scratch (n * n doubles), or by LAPACK ``dgeev`` on A where that
+    does not converge (lw: lwork doubles of LAPACK workspace). Returns LAPACK's info (0 from the
+    header)."""
+    cdef int i, j, info = 0, ldv = 1
+    cdef char jobN = b'N'
+    for j in range(n):
+        for i in range(n):
+            scratch[i + n * j] = A[i + lda * j]
+    if rk_eigenvalues(scratch, n, n, wr, wi) == 0:
+        return 0
+    dgeev(&jobN, &jobN, &n, A, &lda, wr, wi, NULL, &ldv, NULL, &ldv, lw, &lwork, &info)
+    return info
+
+
 cdef inline void rz_mul(double t, const double* A, double* out) noexcept nogil:
     """out = Rz(t) A for 4x4 row-major transforms."""
     cdef double c = cos(t), s = sin(t)
@@ -125,13 +146,18 @@ cdef inline void transform3(const double* f, const double* W, double* out) noexc
 cdef inline int quadratic_pencil_eigenvalues(const double* M0, const double* M1, const double* M2, int m,
                                              double* Ap, double* Bp, double* ar, double* ai, double* be,
                                              double* lw, int lwork, double* col, int* piv,
-                                             double rcond) noexcept nogil:
+                                             double rcond, const double* Q2, int nd) noexcept nogil:
     """The 2m eigenvalues x = (ar + i ai) / be of det(M0 + M1 x + M2 x^2) = 0 (m x m row-major blocks).
 
     M2 is LU-factored (partial pivoting); if its pivots stay above ``rcond`` x the largest, the
-    companion matrix [[0, I], [-M2^-1 M0, -M2^-1 M1]] goes to LAPACK ``dgeev`` (be = 1), else the pencil
+    companion matrix [[0, I], [-M2^-1 M0, -M2^-1 M1]] goes to ``small_eigenvalues`` (be = 1), else the pencil
     [[0, I], [-M0, -M1]] - x [[I, 0], [0, M2]] to ``dggev`` (infinite eigenvalues: be = 0). Ap, Bp:
     (2m)^2 doubles of scratch each; lw: lwork doubles; col: m doubles; piv: m ints. Returns LAPACK's info.
+
+    Q2 (2m x nd, column-major, orthonormal columns) or NULL: the complement of an invariant subspace of
+    the companion matrix C whose eigenvalues are known (the general 6R's spurious roots): ``dgeev`` then
+    solves Q2^T C Q2 (nd x nd), whose eigenvalues are C's others (Q = [Q1 Q2] makes Q^T C Q block upper
+    triangular), and be = 0 marks the 2m - nd entries left out. The pencil path ignores Q2.
     """
     cdef int n2 = 2 * m, lda = 2 * m, ldv = 1, info = 0, i, j, k, c
     cdef double big, x, piv_min = 1e308, piv_max = 0.0
@@ -183,7 +209,27 @@ cdef inline int quadratic_pencil_eigenvalues(const double* M0, const double* M1,
                 col[i] /= Bp[m * i + i]
             for i in range(m):
                 Ap[m + i + n2 * c] = col[i]
-        dgeev(&jobN, &jobN, &n2, Ap, &lda, ar, ai, NULL, &ldv, NULL, &ldv, lw, &lwork, &info)
+        if Q2 != NULL:
+            # Y = C Q2 into Bp (C = [[0, I], [X0, X1]]: Y's top rows are Q2's bottom rows), then
+            # Q2^T Y into Ap (nd x nd, leading dimension nd)
+            for j in range(nd):
+                for i in range(m):
+                    Bp[i + n2 * j] = Q2[m + i + n2 * j]
+                    x = 0.0
+                    for k in range(n2):
+                        x += Ap[m + i + n2 * k] * Q2[k + n2 * j]
+                    Bp[m + i + n2 * j] = x
+            for j in range(nd):
+                for i in range(nd):
+                    x = 0.0
+                    for k in range(n2):
+                        x += Q2[k + n2 * i] * Bp[k + n2 * j]
+                    Ap[i + nd * j] = x
+            info = small_eigenvalues(Ap, nd, nd, Bp, ar, ai, lw, lwork)
+            for i in range(n2):
+                be[i] = 1.0 if i < nd else 0.0
+            return info
+        info = small_eigenvalues(Ap, n2, lda, Bp, ar, ai, lw, lwork)
         for i in range(n2):
             be[i] = 1.0
         return info

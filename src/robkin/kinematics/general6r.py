@@ -2,8 +2,8 @@
 
 The solver of last resort among the closed forms (``closed_form.closed_form_solver`` tries the faster
 special classes first): Raghavan and Roth's 14 equations, eliminated as Manocha and Canny do to a
-quadratic 12 x 12 matrix polynomial whose eigenvalues are the roots of the degree-16 polynomial, then
-every root back-substituted and polished by Newton steps on the exact forward kinematics (see
+quadratic 12 x 12 matrix polynomial whose eigenvalues are the roots of the degree-16 polynomial (the 8
+spurious roots x = +-i deflated once per arm: ``spurious_complement``), then every root back-substituted and polished by Newton steps on the exact forward kinematics (see
 ``robkin.compiled.closed_form_general6r`` for the steps).
 
 The elimination is written for a *formulation*: which joint is eliminated first and in which direction
@@ -34,9 +34,51 @@ _TRIAL_TARGETS = 12
 _FOUND_TOL = 1e-6
 
 
+#: M(i)'s null space: singular values below _NULL_TOL x the largest are zero (rounding leaves ~1e-16;
+#: a million-fold margin), and the last non-zero one must stay above _GAP_TOL x the largest (an
+#: eigenspace of exactly four dimensions, well separated: ~0.07 on generic arms) for the space to be
+#: well defined. Two targets' spaces agree to rounding (~1e-15); _SAME_SPACE_TOL leaves room for
+#: conditioning and still rejects a target-dependent space.
+_NULL_TOL = 1e-10
+_GAP_TOL = 1e-6
+_SAME_SPACE_TOL = 1e-9
+
 #: per (arm, locked joints) of ``kinematics.lock``, the formulation that last worked: tried first for
 #: the next locked value (a dict of a few tuples; entries are never large)
 _HINTS: dict[tuple, tuple[int, bool]] = {}
+
+
+def spurious_complement(kernel, scale: float) -> np.ndarray | None:
+    """The orthonormal complement (24, 16) of the spurious roots' invariant subspace, or None.
+
+    Of M(x)'s 24 eigenvalues, 8 are x = +-i for every target (four each, from the half-angle
+    substitution). Their eigenvectors [v; x v] of the companion matrix are the arm's, not the
+    target's: v spans the null space of M(i), the same 4-dimensional space at any target (it is found
+    here at two unrelated poses and must agree). The real and imaginary parts of the four [v; i v] span
+    an 8-dimensional invariant subspace; on its complement the eigenvalue problem is 16 x 16, the
+    degree of the problem, and costs (16 / 24)^3 ~ 0.3 of the full one in LAPACK. None when M(i)'s
+    null space is not exactly four-dimensional or depends on the target (a special formulation): the
+    kernel then solves the full 24 x 24 problem.
+    """
+    rng = np.random.default_rng(20261128)
+    bases = []
+    for _ in range(2):
+        T = np.eye(4)
+        T[:3, :3] = np.linalg.qr(rng.standard_normal((3, 3)))[0]
+        T[:3, 3] = scale * rng.standard_normal(3)
+        M = kernel.pencil(T)
+        if M is None:
+            return None
+        _, sv, vh = np.linalg.svd(M[0] - M[2] + 1j * M[1])
+        if not (sv[8] <= _NULL_TOL * sv[0] and sv[7] > _GAP_TOL * sv[0]):
+            return None
+        bases.append(vh[8:].conj().T)
+    first, second = bases
+    if np.linalg.norm(second - first @ (first.conj().T @ second)) > _SAME_SPACE_TOL:
+        return None
+    a, b = first.real, first.imag
+    basis = np.block([[a, b], [-b, a]])                 # Re and Im of [v; i v]: (24, 8), rank 8
+    return np.linalg.qr(basis, mode="complete")[0][:, 8:]
 
 
 def _formulations() -> list[tuple[int, bool]]:
@@ -55,8 +97,10 @@ class General6R(KernelSolver):
         from ..compiled.closed_form_general6r import General6RKernel
 
         self.shift, self.reverse = shift, reverse
-        self._use(General6RKernel(robot._chain, robot.limits, default_preference(robot.limits), robot.scale,
-                                  LIMIT_TOL, robot._local, shift, reverse, delta))
+        kernel = General6RKernel(robot._chain, robot.limits, default_preference(robot.limits), robot.scale,
+                                 LIMIT_TOL, robot._local, shift, reverse, delta)
+        kernel.set_deflation(spurious_complement(kernel, robot.scale))
+        self._use(kernel)
         self.messages = (
             "",
             "no solution found: the elimination was ill-conditioned at this target (a singular or "
