@@ -6,7 +6,8 @@ random joint values within the limits. EAIK (``pip install EAIK``, C++) gets the
 and points are read from pinocchio's model of the URDF (from the DH table for the Puma).
 
 Measured, per target (CPU time of this process: the machine is shared, see ``_clock``), one thread
-each (EAIK's batch call with one worker thread; robkin is single-threaded), median of interleaved
+each (EAIK's batch call with one worker thread; robkin's batches on one thread: ``OMP_NUM_THREADS=1``),
+median of interleaved
 rounds (robkin, EAIK, robkin, EAIK, ...):
 
 - batch, all solutions: robkin's closed-form solver on the whole batch (``closed_form_solver(robot)
@@ -37,17 +38,21 @@ whatever the result (a benchmark, not a test); the last lines say whether the go
 
 from __future__ import annotations
 
-import argparse
-import glob
 import os
-import subprocess
-import sys
-import time
 
-import numpy as np
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")  # one thread each: before numpy and robkin are imported
 
-import robkin
-from robkin.kinematics.closed_form import closed_form_solver
+import argparse  # noqa: E402
+import glob  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+import robkin  # noqa: E402
+from robkin.kinematics.closed_form import closed_form_solver  # noqa: E402
 
 ROBOTS_DIR = (glob.glob(os.path.join(sys.prefix, "lib", "python*", "site-packages", "cmeel.prefix", "share",
                                      "example-robot-data", "robots")) or [""])[0]

@@ -83,10 +83,27 @@ def test_set_threads_and_bad_values(panda):
 
 
 def test_environment_variable(monkeypatch):
+    monkeypatch.delenv("OMP_NUM_THREADS", raising=False)
     monkeypatch.setenv("ROBKIN_NUM_THREADS", "3")
     assert compiled._from_environment() == 3
     for unusable in ("0", "abc", "", "-2"):
         monkeypatch.setenv("ROBKIN_NUM_THREADS", unusable)
+        assert compiled._from_environment() == compiled.available_cores()
+
+
+def test_omp_num_threads_is_the_fallback(monkeypatch):
+    """Process pools (joblib's loky, Dask's nanny) share the cores out through OMP_NUM_THREADS: robkin
+    follows it unless ROBKIN_NUM_THREADS says otherwise."""
+    monkeypatch.delenv("ROBKIN_NUM_THREADS", raising=False)
+    monkeypatch.setenv("OMP_NUM_THREADS", "1")
+    assert compiled._from_environment() == 1
+    monkeypatch.setenv("OMP_NUM_THREADS", "5,2")              # OpenMP's nested form: the outer level
+    assert compiled._from_environment() == 5
+    monkeypatch.setenv("ROBKIN_NUM_THREADS", "2")
+    assert compiled._from_environment() == 2
+    monkeypatch.delenv("ROBKIN_NUM_THREADS")
+    for unusable in ("0", "many", "", " ,3"):
+        monkeypatch.setenv("OMP_NUM_THREADS", unusable)
         assert compiled._from_environment() == compiled.available_cores()
 
 

@@ -190,7 +190,7 @@ class Robot:
         Compiled (``robkin.compiled.fk``); a float64 array is used as it is, anything else is
         validated and converted first. Joint values in radians (revolute) or length units (prismatic).
         ``threads``: at most that many threads for a large batch (default: ``robkin.set_threads``,
-        ROBKIN_NUM_THREADS or the cores; see ``robkin.threads``); the results are the same bits.
+        ROBKIN_NUM_THREADS, OMP_NUM_THREADS or the cores; see ``robkin.threads``); the results are the same bits.
         ``out``: a float64 array of the result's shape to write into and return (a large batch in
         chunks then needs no new memory per chunk); when q holds a NaN or an infinity the call raises
         and ``out`` may hold part of the batch (each block's values are checked by its thread).

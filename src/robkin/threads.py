@@ -3,7 +3,8 @@
 Batch FK, frames, Jacobians, dynamics and numeric IK split large batches over threads (OpenMP, in the
 compiled core); every configuration is computed by the same code on any thread, so the results are the
 same bits with one thread or many. The default thread count is, in order: ``set_threads(n)``, the
-``ROBKIN_NUM_THREADS`` environment variable, the number of cores this process may run on. A batch too
+``ROBKIN_NUM_THREADS`` environment variable, ``OMP_NUM_THREADS`` (set by process pools such as joblib's
+and Dask's to share the cores among their workers), the number of cores this process may run on. A batch too
 small for threads to pay (a few hundred configurations, a couple of IK targets per thread) runs on one,
 and so does a call from a thread other than the main one (a Dask worker, your own thread pool), unless
 the call's ``threads=`` asks for more. Every batch method takes ``threads=`` to bound it per call; the
@@ -21,7 +22,8 @@ def set_threads(threads: int | None) -> None:
     Parameters
     ----------
     threads : int >= 1, or None
-        None goes back to the automatic default (ROBKIN_NUM_THREADS, else the cores available).
+        None goes back to the automatic default (ROBKIN_NUM_THREADS, else OMP_NUM_THREADS, else the
+        cores available).
     """
     from .checks import check_threads
     from .compiled import threads as compiled

@@ -4,8 +4,9 @@
 The batch kernels (FK, frames, Jacobians, dynamics, numeric IK) split their blocks of configurations, or
 their targets, over OpenMP threads (``cython.parallel.prange``, dynamic schedule). Every configuration is
 computed by the same code whatever the thread, so the results are the same bits with any number of
-threads. The default is the ``ROBKIN_NUM_THREADS`` environment variable, else the number of cores this
-process may run on; ``robkin.set_threads`` changes it. A batch too small for threads to pay uses one,
+threads. The default is the ``ROBKIN_NUM_THREADS`` environment variable, else ``OMP_NUM_THREADS`` (what
+process pools - joblib's loky, Dask's nanny, ``threadpoolctl`` users - set to share the cores out among
+their workers), else the number of cores this process may run on; ``robkin.set_threads`` changes it. A batch too small for threads to pay uses one,
 and so does a call made from a thread other than the main one (a Dask worker, a user's pool: they
 already use the cores, and more threads would only contend) unless its ``threads=`` says otherwise.
 """
@@ -41,11 +42,14 @@ def available_cores():
 
 
 def _from_environment():
-    """ROBKIN_NUM_THREADS when it is a whole number >= 1, else the available cores (robkin's command
-    line checks the variable and says when it is not usable)."""
-    text = os.environ.get("ROBKIN_NUM_THREADS", "").strip()
-    if text.isdigit() and int(text) >= 1:
-        return min(int(text), 1024)
+    """ROBKIN_NUM_THREADS when it is a whole number >= 1 (robkin's command line checks the variable and
+    says when it is not usable); else OMP_NUM_THREADS when it is one (or a list of them, OpenMP's
+    nested form: its first); else the available cores. Capped at 1024."""
+    for name, text in (("ROBKIN_NUM_THREADS", os.environ.get("ROBKIN_NUM_THREADS", "")),
+                       ("OMP_NUM_THREADS", os.environ.get("OMP_NUM_THREADS", "").split(",")[0])):
+        text = text.strip()
+        if text.isdigit() and int(text) >= 1:
+            return min(int(text), 1024)
     return available_cores()
 
 
