@@ -7,8 +7,7 @@ and points are read from pinocchio's model of the URDF (from the DH table for th
 
 Measured, per target (CPU time of this process: the machine is shared, see ``_clock``), one thread
 each (EAIK's batch call with one worker thread; robkin's batches on one thread: ``OMP_NUM_THREADS=1``),
-median of interleaved
-rounds (robkin, EAIK, robkin, EAIK, ...):
+median of interleaved rounds (robkin, EAIK, robkin, EAIK, ...):
 
 - batch, all solutions: robkin's closed-form solver on the whole batch (``closed_form_solver(robot)
   .solve``: every branch, wrapped into the limits, marked valid) vs EAIK ``calculate_IK_batched``;
