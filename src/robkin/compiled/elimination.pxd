@@ -150,12 +150,13 @@ cdef inline int quadratic_pencil_eigenvalues(const double* M0, const double* M1,
     """The 2m eigenvalues x = (ar + i ai) / be of det(M0 + M1 x + M2 x^2) = 0 (m x m row-major blocks).
 
     M2 is LU-factored (partial pivoting); if its pivots stay above ``rcond`` x the largest, the
-    companion matrix [[0, I], [-M2^-1 M0, -M2^-1 M1]] goes to ``small_eigenvalues`` (be = 1), else the pencil
-    [[0, I], [-M0, -M1]] - x [[I, 0], [0, M2]] to ``dggev`` (infinite eigenvalues: be = 0). Ap, Bp:
-    (2m)^2 doubles of scratch each; lw: lwork doubles; col: m doubles; piv: m ints. Returns LAPACK's info.
+    companion matrix [[0, I], [-M2^-1 M0, -M2^-1 M1]] goes to ``small_eigenvalues`` (be = 1), else the
+    pencil [[0, I], [-M0, -M1]] - x [[I, 0], [0, M2]] to ``dggev`` (infinite eigenvalues: be = 0). Ap,
+    Bp: (2m)^2 doubles of scratch each; lw: lwork doubles; col: m doubles; piv: m ints. Returns LAPACK's
+    info.
 
     Q2 (2m x nd, column-major, orthonormal columns) or NULL: the complement of an invariant subspace of
-    the companion matrix C whose eigenvalues are known (the general 6R's spurious roots): ``dgeev`` then
+    the companion matrix C whose eigenvalues are known (the general 6R's spurious roots): the header then
     solves Q2^T C Q2 (nd x nd), whose eigenvalues are C's others (Q = [Q1 Q2] makes Q^T C Q block upper
     triangular), and be = 0 marks the 2m - nd entries left out. The pencil path ignores Q2.
     """
