@@ -11,7 +11,9 @@ degenerates on these arms; they decouple instead:
    two equations in (q_2, q_3), each linear in (1, cos, sin) of both (read off exactly by trigonometric
    interpolation at 3 x 3 angles). With x = tan(theta / 2) (angles from fixed random offsets) they are
    quadratics in x_2 whose coefficients are quadratic in x_3; their Sylvester resultant (4 x 4, quadratic
-   in x_3) vanishes at the up to 4 real x_3: the eigenvalues of the 8 x 8 pencil (LAPACK ``dggev``).
+   in x_3) vanishes at the up to 4 real x_3: the eigenvalues of its 8 x 8 companion matrix
+   (``elimination.quadratic_pencil_eigenvalues``: the compiled QR of ``hessenberg_qr.h``, or LAPACK
+   ``dggev`` on the pencil when the leading coefficient is singular).
 3. Per root: q_2 from the equation that depends on it more (2 candidates, checked against the other),
    q_1 from the turn that carries f onto L_1^-1 p_w (free where p_w is on axis 1: the preference), and
    the wrist R_w = Rot(z_4, q_4) Rot(z_5, q_5) Rot(z_6, q_6) by Paden-Kahan subproblem 2 and an angle
@@ -30,7 +32,7 @@ from robkin.compiled.fk cimport Chain
 from robkin.compiled.linalg cimport mat3_mul, mat3_vec, mat3T_vec, rodrigues, tf_inv, tf_mul
 from robkin.compiled.newton cimport CANDIDATE_TOL, newton_polish
 from robkin.compiled.subproblems cimport angle_about, cos_sin_equation, mat3T_mul, two_axes, wrap_branches
-from scipy.linalg.cython_lapack cimport dggev
+from robkin.compiled.elimination cimport quadratic_pencil_eigenvalues
 
 cnp.import_array()
 
@@ -40,6 +42,9 @@ cdef enum:
 
 #: as in ``closed_form_general6r``: near-real eigenvalues are kept for the Newton polish to decide
 cdef double IMAG_TOL = 1e-4
+#: the leading coefficient S2 counts as singular below this pivot ratio (the companion matrix would
+#: lose more than half the digits): the pencil then goes to LAPACK ``dggev``, as in the general 6R
+cdef double S2_RCOND = 1e-8
 #: a q2 candidate of the stronger equation is kept when the other equation's residual (squared robot
 #: sizes) is below this: loose, since a double root leaves ~sqrt(eps) errors that Newton removes
 cdef double OTHER_TOL = 1e-3
@@ -126,6 +131,9 @@ cdef class PieperKernel(ClosedFormKernel):
         cdef double xc[2][9]           # their x-power coefficients (index 3 p2 + p3)
         cdef double A[64]
         cdef double B[64]
+        cdef double Sq[48]
+        cdef double col[4]
+        cdef int piv[4]
         cdef double ar[8]
         cdef double ai[8]
         cdef double be[8]
@@ -149,9 +157,8 @@ cdef class PieperKernel(ClosedFormKernel):
         cdef double v[3]
         cdef double x6t[3]
         cdef unsigned char geometric[NB]
-        cdef int i, j, k, m, r, s, w, strong, n8 = 8, lda = 8, ldv = 1, lwork = LWORK, info, nb = 0
+        cdef int i, j, k, m, r, s, w, strong, info, nb = 0
         cdef double pp2, x, t2, t3, c3, s3, res, other, q1
-        cdef char jobN = b'N'
         cdef bint any_real = False
         detail[0] = INFINITY
         uncertain[0] = False
@@ -184,26 +191,17 @@ cdef class PieperKernel(ClosedFormKernel):
                             res += self.W[3 * i + m] * self.W[3 * j + r] * e[k][3 * m + r]
                     tc[k][3 * i + j] = x
                     xc[k][3 * i + j] = res
-        # S(x3) = S0 + S1 x3 + S2 x3^2, rows (a2 a1 a0 0), (0 a2 a1 a0), (b2 b1 b0 0), (0 b2 b1 b0), with
-        # a_p = sum_j xc[0][3 p + j] x3^j; pencil A z = x3 B z, z = (v, x3 v), column-major 8 x 8
-        for i in range(64):
-            A[i] = 0.0
-            B[i] = 0.0
-        for i in range(4):
-            A[i + 8 * (4 + i)] = 1.0
-            B[i + 8 * i] = 1.0
+        # S(x3) = S0 + S1 x3 + S2 x3^2 (4 x 4, row-major), rows (a2 a1 a0 0), (0 a2 a1 a0), (b2 b1 b0 0),
+        # (0 b2 b1 b0), with a_p = sum_j xc[0][3 p + j] x3^j: S_j in Sq[16 j ..]
+        for i in range(48):
+            Sq[i] = 0.0
         for k in range(2):
             for r in range(2):                  # the row of equation k shifted by r
                 for m in range(3):              # power p = 2 - m of x2 in column m + r
                     for j in range(3):
-                        x = xc[k][3 * (2 - m) + j]
-                        if j == 0:
-                            A[4 + 2 * k + r + 8 * (m + r)] = -x
-                        elif j == 1:
-                            A[4 + 2 * k + r + 8 * (4 + m + r)] = -x
-                        else:
-                            B[4 + 2 * k + r + 8 * (4 + m + r)] = x
-        dggev(&jobN, &jobN, &n8, A, &lda, B, &lda, ar, ai, be, NULL, &ldv, NULL, &ldv, lw, &lwork, &info)
+                        Sq[16 * j + 4 * (2 * k + r) + m + r] = xc[k][3 * (2 - m) + j]
+        info = quadratic_pencil_eigenvalues(Sq, Sq + 16, Sq + 32, 4, A, B, ar, ai, be, lw, LWORK, col, piv,
+                                            S2_RCOND, NULL, 0)
         if info != 0:
             uncertain[0] = True
             return 1
