@@ -233,6 +233,31 @@ def test_merge_masses_is_the_parallel_axis_theorem():
     assert merge_masses([0.0], [[5.0, 5.0, 5.0]], np.zeros((1, 3, 3)))[0] == 0.0
 
 
+def test_merge_masses_in_groups_equals_each_group_merged_alone():
+    """Grouped merging (what ``link_masses`` does for all bodies at once) gives each group what merging
+    its parts alone gives; an empty group and a massless one are zero, centre at the origin."""
+    rng = np.random.default_rng(8)
+    k = 12
+    mass = rng.uniform(0.1, 3.0, k)
+    mass[[4, 5]] = 0.0                                  # group 3 below is massless
+    com = rng.normal(size=(k, 3))
+    A = rng.normal(size=(k, 3, 3))
+    inertia = A @ A.transpose(0, 2, 1)
+    groups = np.array([0, 2, 0, 1, 3, 3, 2, 0, 1, 2, 0, 1])
+    m, c, I = merge_masses(mass, com, inertia, groups=groups, count=5)
+    assert m.shape == (5,) and c.shape == (5, 3) and I.shape == (5, 3, 3)
+    for g in range(3):
+        mg, cg, Ig = merge_masses(mass[groups == g], com[groups == g], inertia[groups == g])
+        assert m[g] == pytest.approx(mg, rel=1e-15)
+        np.testing.assert_allclose(c[g], cg, rtol=1e-14, atol=1e-15)
+        np.testing.assert_allclose(I[g], Ig, rtol=1e-13, atol=1e-14)
+        np.testing.assert_array_equal(I[g], I[g].T)
+    for g in (3, 4):                                    # massless, empty
+        assert m[g] == 0.0
+        np.testing.assert_array_equal(c[g], 0.0)
+        np.testing.assert_array_equal(I[g], 0.0)
+
+
 def test_in_frames_and_back_round_trip():
     path = robot_file("panda_description/urdf/panda.urdf")
     robot = robkin.load(path, tip_link="panda_hand_tcp")

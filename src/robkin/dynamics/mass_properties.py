@@ -28,8 +28,9 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["LinkMasses", "link_masses", "merge_masses", "inertials_from_frames", "check_inertia"]
 
 
-def merge_masses(mass: ArrayLike, com: ArrayLike, inertia: ArrayLike) -> tuple[float, np.ndarray, np.ndarray]:
-    """Combine k rigid bodies given in one frame into one, exactly.
+def merge_masses(mass: ArrayLike, com: ArrayLike, inertia: ArrayLike, groups: ArrayLike | None = None,
+                 count: int = 1) -> tuple[float | np.ndarray, np.ndarray, np.ndarray]:
+    """Combine k rigid bodies given in one frame into one, exactly (or, with ``groups``, into several).
 
     Parameters
     ----------
@@ -39,28 +40,41 @@ def merge_masses(mass: ArrayLike, com: ArrayLike, inertia: ArrayLike) -> tuple[f
         Centres of mass in the common frame (m).
     inertia : (k, 3, 3) array
         Inertias about each body's own centre of mass, in the common frame's axes (kg m^2).
+    groups : (k,) int array, optional
+        Merge the bodies of each group 0..count-1 separately (all k bodies together without it).
+    count : int
+        Number of groups (with ``groups``).
 
     Returns
     -------
-    mass : float
+    mass : float, or (count,) array with ``groups``
         Total mass.
-    com : (3,) array
+    com : (3,) or (count, 3) array
         Centre of mass of the whole (the origin when the total mass is 0).
-    inertia : (3, 3) array
+    inertia : (3, 3) or (count, 3, 3) array
         Inertia of the whole about its centre of mass (parallel-axis theorem), symmetric.
     """
     m = np.asarray(mass, dtype=float).reshape(-1)
     c = np.asarray(com, dtype=float).reshape(-1, 3)
     inertia_c = np.asarray(inertia, dtype=float).reshape(-1, 3, 3)
-    total = float(m.sum())
-    if total == 0.0:
-        return 0.0, np.zeros(3), np.zeros((3, 3))
-    centre = (m[:, None] * c).sum(axis=0) / total
-    d = c - centre                                   # offsets of each body's centre from the whole's
-    # parallel axis: I_about_centre = I_c + m (|d|^2 E - d d^T), summed
+    g = np.zeros(len(m), dtype=np.intp) if groups is None else np.asarray(groups, dtype=np.intp)
+    G = 1 if groups is None else count
+    total = np.bincount(g, weights=m, minlength=G)
+    moment = np.zeros((G, 3))
+    np.add.at(moment, g, m[:, None] * c)
+    massive = total > 0.0
+    centre = np.zeros((G, 3))
+    centre[massive] = moment[massive] / total[massive, None]
+    d = c - centre[g]                                # offsets of each body's centre from its whole's
+    # parallel axis: I_about_centre = I_c + m (|d|^2 E - d d^T), summed per group
     shift = m[:, None, None] * ((d * d).sum(axis=1)[:, None, None] * np.eye(3) - d[:, :, None] * d[:, None, :])
-    merged = (inertia_c + shift).sum(axis=0)
-    return total, centre, 0.5 * (merged + merged.T)
+    merged = np.zeros((G, 3, 3))
+    np.add.at(merged, g, inertia_c + shift)
+    merged[~massive] = 0.0
+    merged = 0.5 * (merged + merged.transpose(0, 2, 1))
+    if groups is None:
+        return float(total[0]), centre[0], merged[0]
+    return total, centre, merged
 
 
 @dataclass(frozen=True, eq=False)
@@ -135,18 +149,16 @@ def link_masses(robot: "Robot") -> LinkMasses | None:
     if not inertials:
         return None
     n = robot.n
-    mass, com, inertia = np.zeros(n + 1), np.zeros((n + 1, 3)), np.zeros((n + 1, 3, 3))
-    by_body: dict[int, list["Inertial"]] = {}
-    for part in inertials:
-        if not 0 <= part.body <= n:
-            raise InputError(f"inertial of link '{part.link}': on body {part.body}, outside 0..{n}")
-        by_body.setdefault(part.body, []).append(part)
-    for body, parts in by_body.items():
-        R = np.stack([p.pose[:3, :3] for p in parts])
-        m = np.array([p.mass for p in parts])
-        c = np.stack([p.pose[:3, 3] for p in parts])
-        rotated = R @ np.stack([p.inertia for p in parts]) @ R.transpose(0, 2, 1)   # into base axes
-        mass[body], com[body], inertia[body] = merge_masses(m, c, rotated)
+    body = np.array([part.body for part in inertials], dtype=np.intp)
+    outside = (body < 0) | (body > n)
+    if outside.any():
+        part = inertials[int(np.argmax(outside))]
+        raise InputError(f"inertial of link '{part.link}': on body {part.body}, outside 0..{n}")
+    pose = np.stack([part.pose for part in inertials])
+    R = pose[:, :3, :3]
+    rotated = R @ np.stack([part.inertia for part in inertials]) @ R.transpose(0, 2, 1)   # into base axes
+    mass, com, inertia = merge_masses(np.array([part.mass for part in inertials]), pose[:, :3, 3], rotated,
+                                      groups=body, count=n + 1)
     return LinkMasses(mass, com, inertia)
 
 

@@ -109,6 +109,22 @@ class MassRows:
             values.setflags(write=False)
             object.__setattr__(self, name, values)
 
+    @classmethod
+    def _checked_already(cls, mass: np.ndarray, com: np.ndarray, inertia: np.ndarray,
+                         base: "MassRows | None" = None) -> "MassRows":
+        """Rows from arrays that are valid by construction (a robot's merged, symmetric inertials moved
+        into link frames): the checks of ``__post_init__`` skipped but finiteness (huge inputs can
+        overflow in the merge), the arrays made read-only."""
+        if not (np.isfinite(mass).all() and np.isfinite(com).all() and np.isfinite(inertia).all()):
+            return cls(mass, com, inertia, base)             # the checks, and their message
+        rows = object.__new__(cls)
+        for name, values in (("mass", mass), ("com", com), ("inertia", inertia)):
+            values = np.array(values, dtype=float)
+            values.setflags(write=False)
+            object.__setattr__(rows, name, values)
+        object.__setattr__(rows, "base", base)
+        return rows
+
     @property
     def n(self) -> int:
         return int(self.mass.shape[0])
@@ -145,9 +161,10 @@ def masses_of_robot(robot: "Robot", frames: ArrayLike) -> MassRows | None:
     masses = link_masses(robot)
     if masses is None:
         return None
-    m, c, I = masses.in_frames(np.asarray(frames, dtype=float))
-    base = MassRows(m[:1], c[:1], I[:1]) if any(p.body == 0 for p in robot.bodies.inertials) else None
-    return MassRows(m[1:], c[1:], I[1:], base)
+    m, c, I = masses.in_frames(np.asarray(frames, dtype=float))    # finite, m >= 0, I symmetric
+    base = MassRows._checked_already(m[:1], c[:1], I[:1]) \
+        if any(p.body == 0 for p in robot.bodies.inertials) else None
+    return MassRows._checked_already(m[1:], c[1:], I[1:], base)
 
 
 def bodies_from_masses(masses: MassRows, frames: np.ndarray, names: Sequence[str] | None = None) -> "Bodies":
