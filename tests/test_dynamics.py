@@ -18,6 +18,7 @@ from robkin import InputError, Robot
 from robkin.bodies import Bodies
 from robkin.body_parts import Inertial
 from robkin.dynamics import inertials_from_frames, link_masses, merge_masses
+from robkin.dynamics.mass_properties import merge_masses_by_group
 from strategies import robots
 from test_properties import SCALE as PROPERTY_SCALE
 from test_urdf import robot_file
@@ -244,7 +245,7 @@ def test_merge_masses_in_groups_equals_each_group_merged_alone():
     A = rng.normal(size=(k, 3, 3))
     inertia = A @ A.transpose(0, 2, 1)
     groups = np.array([0, 2, 0, 1, 3, 3, 2, 0, 1, 2, 0, 1])
-    m, c, I = merge_masses(mass, com, inertia, groups=groups, count=5)
+    m, c, I = merge_masses_by_group(mass, com, inertia, groups, 5)
     assert m.shape == (5,) and c.shape == (5, 3) and I.shape == (5, 3, 3)
     for g in range(3):
         mg, cg, Ig = merge_masses(mass[groups == g], com[groups == g], inertia[groups == g])

@@ -25,12 +25,12 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..body_parts import Inertial
     from ..robot import Robot
 
-__all__ = ["LinkMasses", "link_masses", "merge_masses", "inertials_from_frames", "check_inertia"]
+__all__ = ["LinkMasses", "link_masses", "merge_masses", "merge_masses_by_group", "inertials_from_frames",
+           "check_inertia"]
 
 
-def merge_masses(mass: ArrayLike, com: ArrayLike, inertia: ArrayLike, groups: ArrayLike | None = None,
-                 count: int = 1) -> tuple[float | np.ndarray, np.ndarray, np.ndarray]:
-    """Combine k rigid bodies given in one frame into one, exactly (or, with ``groups``, into several).
+def merge_masses(mass: ArrayLike, com: ArrayLike, inertia: ArrayLike) -> tuple[float, np.ndarray, np.ndarray]:
+    """Combine k rigid bodies given in one frame into one, exactly.
 
     Parameters
     ----------
@@ -40,41 +40,59 @@ def merge_masses(mass: ArrayLike, com: ArrayLike, inertia: ArrayLike, groups: Ar
         Centres of mass in the common frame (m).
     inertia : (k, 3, 3) array
         Inertias about each body's own centre of mass, in the common frame's axes (kg m^2).
-    groups : (k,) int array, optional
-        Merge the bodies of each group 0..count-1 separately (all k bodies together without it).
-    count : int
-        Number of groups (with ``groups``).
 
     Returns
     -------
-    mass : float, or (count,) array with ``groups``
+    mass : float
         Total mass.
-    com : (3,) or (count, 3) array
+    com : (3,) array
         Centre of mass of the whole (the origin when the total mass is 0).
-    inertia : (3, 3) or (count, 3, 3) array
+    inertia : (3, 3) array
         Inertia of the whole about its centre of mass (parallel-axis theorem), symmetric.
+    """
+    m = np.asarray(mass, dtype=float).reshape(-1)
+    total, centre, merged = merge_masses_by_group(m, com, inertia, np.zeros(len(m), dtype=np.intp), 1)
+    return float(total[0]), centre[0], merged[0]
+
+
+def merge_masses_by_group(mass: ArrayLike, com: ArrayLike, inertia: ArrayLike, groups: ArrayLike,
+                          count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``merge_masses`` for several wholes at once: the k bodies of each group 0..count-1 merged.
+
+    Parameters
+    ----------
+    mass, com, inertia : (k,), (k, 3), (k, 3, 3) arrays
+        As ``merge_masses``.
+    groups : (k,) int array
+        The group of each body, in 0..count-1.
+    count : int
+        Number of groups.
+
+    Returns
+    -------
+    mass : (count,) array
+    com : (count, 3) array
+        The origin for a group without mass (or without bodies).
+    inertia : (count, 3, 3) array
+        Zero for a group without mass.
     """
     m = np.asarray(mass, dtype=float).reshape(-1)
     c = np.asarray(com, dtype=float).reshape(-1, 3)
     inertia_c = np.asarray(inertia, dtype=float).reshape(-1, 3, 3)
-    g = np.zeros(len(m), dtype=np.intp) if groups is None else np.asarray(groups, dtype=np.intp)
-    G = 1 if groups is None else count
-    total = np.bincount(g, weights=m, minlength=G)
-    moment = np.zeros((G, 3))
+    g = np.asarray(groups, dtype=np.intp).reshape(-1)
+    total = np.bincount(g, weights=m, minlength=count)
+    moment = np.zeros((count, 3))
     np.add.at(moment, g, m[:, None] * c)
     massive = total > 0.0
-    centre = np.zeros((G, 3))
+    centre = np.zeros((count, 3))
     centre[massive] = moment[massive] / total[massive, None]
     d = c - centre[g]                                # offsets of each body's centre from its whole's
     # parallel axis: I_about_centre = I_c + m (|d|^2 E - d d^T), summed per group
     shift = m[:, None, None] * ((d * d).sum(axis=1)[:, None, None] * np.eye(3) - d[:, :, None] * d[:, None, :])
-    merged = np.zeros((G, 3, 3))
+    merged = np.zeros((count, 3, 3))
     np.add.at(merged, g, inertia_c + shift)
     merged[~massive] = 0.0
-    merged = 0.5 * (merged + merged.transpose(0, 2, 1))
-    if groups is None:
-        return float(total[0]), centre[0], merged[0]
-    return total, centre, merged
+    return total, centre, 0.5 * (merged + merged.transpose(0, 2, 1))
 
 
 @dataclass(frozen=True, eq=False)
@@ -157,8 +175,8 @@ def link_masses(robot: "Robot") -> LinkMasses | None:
     pose = np.stack([part.pose for part in inertials])
     R = pose[:, :3, :3]
     rotated = R @ np.stack([part.inertia for part in inertials]) @ R.transpose(0, 2, 1)   # into base axes
-    mass, com, inertia = merge_masses(np.array([part.mass for part in inertials]), pose[:, :3, 3], rotated,
-                                      groups=body, count=n + 1)
+    mass, com, inertia = merge_masses_by_group(np.array([part.mass for part in inertials]), pose[:, :3, 3],
+                                               rotated, body, n + 1)
     return LinkMasses(mass, com, inertia)
 
 
