@@ -39,14 +39,12 @@ root (out of reach); 3 solutions exist but violate the joint limits.
 import numpy as np
 
 cimport numpy as cnp
-from libc.math cimport atan, atan2, cos, fabs, sin, sqrt, INFINITY
+from libc.math cimport atan, atan2, cos, fabs, sin, INFINITY
 from robkin.compiled.closed_form_kernel cimport ClosedFormKernel
 from robkin.compiled.fk cimport Chain
-from robkin.compiled.threads cimport batch_threads
-from cython.parallel cimport prange
-from robkin.compiled.elimination cimport (line_quantities, move_line, null_vector, pair_angle,
-                                          quadratic_pencil_eigenvalues, rz_mul, small_eigenvalues,
-                                          transform3)
+from robkin.compiled.elimination cimport (eliminate_block, line_quantities, move_line, null_vector,
+                                          pair_angle, quadratic_pencil_eigenvalues, rz_mul, small_eigenvalues,
+                                          solve_block, transform3)
 from robkin.compiled.linalg cimport tf_inv, tf_mul
 from robkin.compiled.newton cimport CANDIDATE_TOL, newton_polish
 from robkin.compiled.subproblems cimport wrap_branches
@@ -284,39 +282,8 @@ cdef class General6RKernel(ClosedFormKernel):
                 F[27 * r + i] -= Rc[9 * r]
             transform3(F + 27 * r, self.W, Px + 27 * r)
         # ---- Householder QR of the 14 x 8 block C8 = Rc[:, 1:]; Q^T applied to Px (14 x 27)
-        big = 0.0
-        for c in range(8):
-            nrm = 0.0
-            for r in range(c, 14):
-                x = Rc[9 * r + 1 + c]
-                nrm += x * x
-            nrm = sqrt(nrm)
-            if c == 0:
-                big = nrm
-            if nrm <= RANK_TOL * big or nrm == 0.0:
-                return False
-            alpha = -nrm if Rc[9 * c + 1 + c] >= 0.0 else nrm
-            for r in range(14):
-                Vq[14 * c + r] = 0.0 if r < c else Rc[9 * r + 1 + c]
-            Vq[14 * c + c] -= alpha
-            nrm = 0.0
-            for r in range(c, 14):
-                nrm += Vq[14 * c + r] * Vq[14 * c + r]
-            tau[c] = 2.0 / nrm
-            for k in range(c, 8):                  # the block's remaining columns
-                dotv = 0.0
-                for r in range(c, 14):
-                    dotv += Vq[14 * c + r] * Rc[9 * r + 1 + k]
-                dotv *= tau[c]
-                for r in range(c, 14):
-                    Rc[9 * r + 1 + k] -= dotv * Vq[14 * c + r]
-            for k in range(27):                    # Px's columns
-                dotv = 0.0
-                for r in range(c, 14):
-                    dotv += Vq[14 * c + r] * Px[27 * r + k]
-                dotv *= tau[c]
-                for r in range(c, 14):
-                    Px[27 * r + k] -= dotv * Vq[14 * c + r]
+        if not eliminate_block(Rc, Px, Vq, tau, RANK_TOL):
+            return False
         # ---- 4. M(x_a) = M0 + M1 x_a + M2 x_a^2 from the 6 remaining rows (8..13) of Q^T Px
         for i in range(3 * 144):
             Mq[i] = 0.0
@@ -424,18 +391,7 @@ cdef class General6RKernel(ClosedFormKernel):
             line_quantities(pa, la, y, 1)
             for r in range(14):
                 y[r] -= Rc[9 * r]                           # column 0: untouched by the QR
-            for c in range(8):
-                dotv = 0.0
-                for r in range(c, 14):
-                    dotv += Vq[14 * c + r] * y[r]
-                dotv *= tau[c]
-                for r in range(c, 14):
-                    y[r] -= dotv * Vq[14 * c + r]
-            for i in range(7, -1, -1):
-                x = y[i]
-                for k in range(i + 1, 8):
-                    x -= Rc[9 * i + 1 + k] * m8[k]
-                m8[i] = x / Rc[9 * i + 1 + i]
+            solve_block(Rc, Vq, tau, y, m8)
             # m8: (1, ce, se) x (1, cf, sf) without the constant: cf, sf, ce, ce cf, ce sf, se, se cf, se sf
             th[4] = atan2(m8[5], m8[2])
             th[5] = atan2(m8[1], m8[0])
@@ -464,51 +420,3 @@ cdef class General6RKernel(ClosedFormKernel):
             return 3
         uncertain[0] = any_real
         return 1 if any_real else 2
-
-
-cdef inline void polish_target(const double* L, const unsigned char* rev, double scale, const double* t,
-                               double* q, unsigned char* v, Py_ssize_t S) noexcept nogil:
-    """The S branches q (S, 6) of one target t (4x4) polished in place; v (S,) cleared where they fail."""
-    cdef double Rd[9]
-    cdef double pd[3]
-    cdef double w[6]
-    cdef Py_ssize_t s, i, j
-    for i in range(3):
-        pd[i] = t[4 * i + 3]
-        for j in range(3):
-            Rd[3 * i + j] = t[4 * i + j]
-    for s in range(S):
-        if v[s] and not (newton_polish(L, rev, scale, Rd, pd, q + 6 * s, w) < CANDIDATE_TOL):
-            v[s] = False
-
-
-def polish(Chain chain, Q, valid, targets, double scale, int threads=0):
-    """Newton-polish closed-form branches on a 6-joint chain's exact forward kinematics, in place.
-
-    Q (N, S, 6) float64 C-contiguous branches, valid (N, S) bool (only those are polished; a branch
-    whose residual stays above 1e-6 is marked invalid), targets (N, 4, 4). The branches of an arm within
-    calibration error of a closed-form class, solved on the ideal arm (``kinematics.near_class``). The
-    targets split over ``threads`` (0: automatic, see ``threads.pyx``), the same bits on any.
-    """
-    cdef cnp.ndarray Qa = <cnp.ndarray>Q
-    cdef cnp.ndarray Va = <cnp.ndarray>valid
-    cdef cnp.ndarray Ta = np.ascontiguousarray(targets, dtype=np.float64)
-    if chain.n != 6 or not (cnp.PyArray_TYPE(Qa) == cnp.NPY_DOUBLE and cnp.PyArray_IS_C_CONTIGUOUS(Qa)
-                            and cnp.PyArray_NDIM(Qa) == 3 and cnp.PyArray_DIM(Qa, 2) == 6
-                            and cnp.PyArray_TYPE(Va) == cnp.NPY_BOOL and cnp.PyArray_IS_C_CONTIGUOUS(Va)
-                            and cnp.PyArray_SIZE(Va) == cnp.PyArray_DIM(Qa, 0) * cnp.PyArray_DIM(Qa, 1)
-                            and cnp.PyArray_SIZE(Ta) == 16 * cnp.PyArray_DIM(Qa, 0)):
-        raise ValueError("polish: expected a 6-joint chain, Q (N, S, 6) float64, valid (N, S) bool, targets (N, 4, 4)")
-    cdef Py_ssize_t N = cnp.PyArray_DIM(Qa, 0), S = cnp.PyArray_DIM(Qa, 1), k
-    cdef double* q = <double*>cnp.PyArray_DATA(Qa)
-    cdef unsigned char* v = <unsigned char*>cnp.PyArray_DATA(Va)
-    cdef const double* t = <const double*>cnp.PyArray_DATA(Ta)
-    # a target's branches take ~10 us: threads pay from a few dozen targets each
-    cdef int nt = batch_threads(threads, N, 32)
-    if nt <= 1:     # no OpenMP region for one thread
-        with nogil:
-            for k in range(N):
-                polish_target(chain.L, chain.rev, scale, t + 16 * k, q + 6 * S * k, v + S * k, S)
-        return
-    for k in prange(N, nogil=True, num_threads=nt, schedule="dynamic", chunksize=4):
-        polish_target(chain.L, chain.rev, scale, t + 16 * k, q + 6 * S * k, v + S * k, S)

@@ -3,7 +3,7 @@
 functions: rotations about z, lines moved by transforms, Raghavan and Roth's 14 quantities of a line,
 the null vector of a singular matrix, half-angle ratios, and the 3 x 3 x 3 coefficient transform."""
 
-from libc.math cimport atan2, cos, fabs, sin
+from libc.math cimport atan2, cos, fabs, sin, sqrt
 from robkin.compiled.linalg cimport cross3, dot3
 from scipy.linalg.cython_lapack cimport dgeev, dggev
 
@@ -27,6 +27,63 @@ cdef inline int small_eigenvalues(double* A, int n, int lda, double* scratch, do
         return 0
     dgeev(&jobN, &jobN, &n, A, &lda, wr, wi, NULL, &ldv, NULL, &ldv, lw, &lwork, &info)
     return info
+
+
+cdef inline void reflect(const double* Vq, const double* tau, int c, double* col, int stride) noexcept nogil:
+    """Householder reflector c of ``eliminate_block`` (vector Vq[14 c ..], factor tau[c]) applied to the
+    14 entries col[stride * r]."""
+    cdef double dotv = 0.0
+    cdef int r
+    for r in range(c, 14):
+        dotv += Vq[14 * c + r] * col[stride * r]
+    dotv *= tau[c]
+    for r in range(c, 14):
+        col[stride * r] -= dotv * Vq[14 * c + r]
+
+
+cdef inline bint eliminate_block(double* Rc, double* Px, double* Vq, double* tau, double rank_tol) noexcept nogil:
+    """Householder QR of the 14 x 8 block C8 = Rc[:, 1:] (Rc: 14 x 9 row-major; R left in its place),
+    Q^T applied to Px (14 x 27 row-major): the 8 eliminated unknowns leave Px's rows 8..13 free of
+    them. Vq (14 x 8, by column) and tau (8) keep the reflectors. False when a column's remaining norm
+    is below rank_tol x the first column's (the block is rank-deficient: nothing is eliminated)."""
+    cdef double nrm, x, alpha, big = 0.0
+    cdef int c, r, k
+    for c in range(8):
+        nrm = 0.0
+        for r in range(c, 14):
+            x = Rc[9 * r + 1 + c]
+            nrm += x * x
+        nrm = sqrt(nrm)
+        if c == 0:
+            big = nrm
+        if nrm <= rank_tol * big or nrm == 0.0:
+            return False
+        alpha = -nrm if Rc[9 * c + 1 + c] >= 0.0 else nrm
+        for r in range(14):
+            Vq[14 * c + r] = 0.0 if r < c else Rc[9 * r + 1 + c]
+        Vq[14 * c + c] -= alpha
+        nrm = 0.0
+        for r in range(c, 14):
+            nrm += Vq[14 * c + r] * Vq[14 * c + r]
+        tau[c] = 2.0 / nrm
+        for k in range(c, 8):                  # the block's remaining columns
+            reflect(Vq, tau, c, Rc + 1 + k, 9)
+        for k in range(27):                    # Px's columns
+            reflect(Vq, tau, c, Px + k, 27)
+    return True
+
+
+cdef inline void solve_block(const double* Rc, const double* Vq, const double* tau, double* y, double* m8) noexcept nogil:
+    """The least-squares m8 (8) of C8 m8 = y (14, overwritten with Q^T y) by ``eliminate_block``'s QR."""
+    cdef int c, i, k
+    cdef double x
+    for c in range(8):
+        reflect(Vq, tau, c, y, 1)
+    for i in range(7, -1, -1):
+        x = y[i]
+        for k in range(i + 1, 8):
+            x -= Rc[9 * i + 1 + k] * m8[k]
+        m8[i] = x / Rc[9 * i + 1 + i]
 
 
 cdef inline void rz_mul(double t, const double* A, double* out) noexcept nogil:
