@@ -33,16 +33,20 @@ cdef extern from *:
         return (acc >> 63) == 0;
     }
 
+    /* Part `part` of `parts` of the `bytes` at p asked into the cache for writing (a hint: no effect on
+       any value; nothing where the compiler has no prefetch). */
+    static inline void rk_prefetch_part(const void* p, Py_ssize_t bytes, int part, int parts)
+    {
+    #if defined(__GNUC__) || defined(__clang__)
+        const char* c = (const char*)p;
+        Py_ssize_t o, hi = bytes * (part + 1) / parts;
+        for (o = (bytes * part / parts) & ~(Py_ssize_t)63; o < hi; o += 64)
+            __builtin_prefetch(c + o, 1, 3);
+    #endif
+    }
     """
     bint rk_all_finite(const double* d, Py_ssize_t n) noexcept nogil
-
-cdef extern from "fk_walk.h":
-    # the block walk's C part (its lane groups in registers) and the prefetch hint it uses
-    void rk_fk_walk(const double* L, const unsigned char* rev, int n, const double* Q, int m, double* P,
-                    double* F, double* Z, Py_ssize_t ld, double* T, const double* ahead,
-                    Py_ssize_t ahead_bytes) noexcept nogil
     void rk_prefetch_part(const void* p, Py_ssize_t bytes, int part, int parts) noexcept nogil
-    void rk_prefetch_read(const void* p, Py_ssize_t bytes) noexcept nogil
 
 
 cdef class Chain:
@@ -60,7 +64,7 @@ cdef enum:
 
 
 cdef inline void walk_block(const double* L, const unsigned char* rev, int n, const double* Q, int m,
-                            double* P, double* F, double* Z, int ld, double* T, const double* ahead,
+                            double* P, double* F, double* Z, int ld, const double* ahead,
                             Py_ssize_t ahead_bytes) noexcept nogil:
     """Walk m <= BLOCK configurations Q (m x n, row-major) along the chain together.
 
@@ -79,7 +83,88 @@ cdef inline void walk_block(const double* L, const unsigned char* rev, int n, co
     result), asked into the cache a part at each joint, so that the stores that follow do not wait on
     memory one burst at a time (a hint: it changes no value).
     """
-    rk_fk_walk(L, rev, n, Q, m, P, F, Z, ld, T, ahead, ahead_bytes)
+    cdef double qb[BLOCK]
+    cdef double sb[BLOCK]
+    cdef double cb[BLOCK]
+    cdef double x, y, c, s, l
+    cdef double A[12]     # L_{i+1}'s top rows in locals: the compiler cannot know P's stores leave L alone
+    cdef int i, b, e, r, w = 16 * (n + 1)
+    cdef bint turn
+    for e in range(12):
+        l = L[e]
+        for b in range(m):
+            P[BLOCK * e + b] = l
+    for i in range(n):
+        if ahead != NULL:
+            rk_prefetch_part(ahead, ahead_bytes, i, n)
+        for b in range(m):
+            qb[b] = Q[n * b + i]
+        turn = rev[i]
+        if turn:
+            if m == 1:
+                rk_sincos_one(qb[0], sb, cb)       # inline: no call, no loop set-up for one angle
+            else:
+                rk_sincos_array(qb, sb, cb, m)
+        for e in range(12):
+            A[e] = L[16 * (i + 1) + e]
+        if turn and F == NULL:
+            # the rotation and L_{i+1} in one pass over P (half the loads and stores of two); a rotation
+            # about z leaves columns z and p as they were, so they are parked for the Jacobians first
+            if Z != NULL:
+                for r in range(3):
+                    copy_row(P + BLOCK * (4 * r + 3), Z + ld * (n * r + i), m)
+                    copy_row(P + BLOCK * (4 * r + 2), Z + ld * (n * (r + 3) + i), m)
+            for b in range(m):
+                c = cb[b]
+                s = sb[b]
+                for r in range(3):
+                    x = P[BLOCK * (4 * r) + b]
+                    y = P[BLOCK * (4 * r + 1) + b]
+                    times_link(P + BLOCK * 4 * r + b, A, c * x + s * y, c * y - s * x,
+                               P[BLOCK * (4 * r + 2) + b], P[BLOCK * (4 * r + 3) + b])
+            continue
+        if turn:
+            for b in range(m):
+                c = cb[b]
+                s = sb[b]
+                for r in range(3):
+                    x = P[BLOCK * (4 * r) + b]
+                    P[BLOCK * (4 * r) + b] = c * x + s * P[BLOCK * (4 * r + 1) + b]
+                    P[BLOCK * (4 * r + 1) + b] = c * P[BLOCK * (4 * r + 1) + b] - s * x
+        else:
+            for b in range(m):
+                for r in range(3):
+                    P[BLOCK * (4 * r + 3) + b] += qb[b] * P[BLOCK * (4 * r + 2) + b]
+        if F != NULL:
+            store_poses(P, m, F + 16 * i, w)
+        if Z != NULL:
+            for r in range(3):
+                copy_row(P + BLOCK * (4 * r + 3), Z + ld * (n * r + i), m)
+                copy_row(P + BLOCK * (4 * r + 2), Z + ld * (n * (r + 3) + i), m)
+        for b in range(m):
+            for r in range(3):
+                times_link(P + BLOCK * 4 * r + b, A, P[BLOCK * (4 * r) + b], P[BLOCK * (4 * r + 1) + b],
+                           P[BLOCK * (4 * r + 2) + b], P[BLOCK * (4 * r + 3) + b])
+    if F != NULL:
+        store_poses(P, m, F + 16 * n, w)
+
+
+cdef inline void times_link(double* row, const double* A, double a0, double a1, double a2,
+                            double a3) noexcept nogil:
+    """One row (a0 a1 a2 a3) of a block's running poses times L_{i+1} (its top rows A, row-major), into
+    row[0], row[BLOCK], row[2 BLOCK], row[3 BLOCK] (the row's entries in the SoA block): the operations and
+    order of ``linalg.tf_mul``."""
+    row[0] = a0 * A[0] + a1 * A[4] + a2 * A[8]
+    row[BLOCK] = a0 * A[1] + a1 * A[5] + a2 * A[9]
+    row[2 * BLOCK] = a0 * A[2] + a1 * A[6] + a2 * A[10]
+    row[3 * BLOCK] = a0 * A[3] + a1 * A[7] + a2 * A[11] + a3
+
+
+cdef inline void copy_row(const double* src, double* dst, int m) noexcept nogil:
+    """dst[:m] = src[:m] (one loop per row: the compiler vectorises it after one overlap check)."""
+    cdef int b
+    for b in range(m):
+        dst[b] = src[b]
 
 
 cdef inline void store_poses(const double* P, int m, double* T, int stride) noexcept nogil:
@@ -103,12 +188,14 @@ cdef inline void tool_poses(const double* L, const unsigned char* rev, int n, co
     cdef Py_ssize_t j, k
     cdef int size
     if m == 1:      # a literal block size of one lets the compiler drop the loops' set-up
-        walk_block(L, rev, n, Q, 1, P, NULL, NULL, 0, T, NULL, 0)
+        walk_block(L, rev, n, Q, 1, P, NULL, NULL, 0, NULL, 0)
+        store_poses(P, 1, T, 16)
         return
     for j in range((m + BLOCK - 1) // BLOCK):
         k = BLOCK * j
         size = <int>(m - k if m - k < BLOCK else BLOCK)
-        walk_block(L, rev, n, Q + n * k, size, P, NULL, NULL, 0, T + 16 * k, NULL, 0)
+        walk_block(L, rev, n, Q + n * k, size, P, NULL, NULL, 0, NULL, 0)
+        store_poses(P, size, T + 16 * k, 16)
 
 
 cdef inline void frame_poses(const double* L, const unsigned char* rev, int n, const double* Q,
@@ -119,7 +206,7 @@ cdef inline void frame_poses(const double* L, const unsigned char* rev, int n, c
     for j in range((m + BLOCK - 1) // BLOCK):
         k = BLOCK * j
         walk_block(L, rev, n, Q + n * k, <int>(m - k if m - k < BLOCK else BLOCK), P, F + 16 * (n + 1) * k,
-                   NULL, 0, NULL, NULL, 0)
+                   NULL, 0, NULL, 0)
 
 
 cdef inline void walk_tool(const double* L, const unsigned char* rev, int n, const double* q,

@@ -62,7 +62,7 @@ cdef Py_ssize_t jacobians(const double* L, const unsigned char* rev, int n, cons
     cdef Py_ssize_t j
     cdef jacobian_block_t jacobian_block
     if m == 1:      # one configuration: (p; z) parked in J itself; literal sizes drop the loops' set-up
-        walk_block(L, rev, n, Q, 1, P, NULL, J, 1, NULL, NULL, 0)
+        walk_block(L, rev, n, Q, 1, P, NULL, J, 1, NULL, 0)
         finish_block(rev, n, kind, P, J, 1, 1, J)
         store_poses(P, 1, T, 16)
         return 0

@@ -4,20 +4,12 @@
 # they give the same bits; only the width of the SIMD code the compiler makes of the loops over a
 # block's configurations differs (2 doubles a vector with SSE2, 4 with AVX2).
 
-from robkin.compiled.fk cimport BLOCK as POSE_BLOCK, rk_prefetch_read, store_poses, walk_block
+from robkin.compiled.fk cimport BLOCK as POSE_BLOCK, store_poses, walk_block
 from robkin.compiled.jacobian_columns cimport finish_block
 from robkin.compiled.kernel_table cimport BlockKernels
 from robkin.compiled.sincos cimport rk_sincos_array, rk_sincos_one
 
 include "dynamics_blocks.pxi"
-
-
-cdef inline void next_block(const double* Q, int n, Py_ssize_t m, Py_ssize_t k) noexcept nogil:
-    """The joint values of the block that starts at configuration k (if any) asked into the cache for
-    reading while this block is walked: its values are checked (``fk.finite_block``) right after this
-    block, and a cold block's lines would arrive one miss at a time (a hint: no value changes)."""
-    if k < m:
-        rk_prefetch_read(Q + n * k, 8 * n * (m - k if m - k < POSE_BLOCK else POSE_BLOCK))
 
 
 cdef void pose_block(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t m,
@@ -28,10 +20,10 @@ cdef void pose_block(const double* L, const unsigned char* rev, int n, const dou
     cdef Py_ssize_t k = POSE_BLOCK * j
     cdef int size = <int>(m - k if m - k < POSE_BLOCK else POSE_BLOCK)
     if F != NULL:
-        walk_block(L, rev, n, Q + n * k, size, P, F + 16 * (n + 1) * k, NULL, 0, NULL, NULL, 0)
+        walk_block(L, rev, n, Q + n * k, size, P, F + 16 * (n + 1) * k, NULL, 0, NULL, 0)
     else:
-        next_block(Q, n, m, k + size)
-        walk_block(L, rev, n, Q + n * k, size, P, NULL, NULL, 0, T + 16 * k, T + 16 * k, 128 * size)
+        walk_block(L, rev, n, Q + n * k, size, P, NULL, NULL, 0, T + 16 * k, 128 * size)
+        store_poses(P, size, T + 16 * k, 16)
 
 
 cdef void jacobian_block(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t m,
@@ -40,8 +32,7 @@ cdef void jacobian_block(const double* L, const unsigned char* rev, int n, const
     thread's scratch); T gets the tool pose of the batch's last configuration when block j holds it."""
     cdef Py_ssize_t k = POSE_BLOCK * j
     cdef int size = <int>(m - k if m - k < POSE_BLOCK else POSE_BLOCK)
-    next_block(Q, n, m, k + size)
-    walk_block(L, rev, n, Q + n * k, size, P, NULL, Z, POSE_BLOCK, NULL, J + 6 * n * k, 48 * n * size)
+    walk_block(L, rev, n, Q + n * k, size, P, NULL, Z, POSE_BLOCK, J + 6 * n * k, 48 * n * size)
     finish_block(rev, n, kind, P, Z, POSE_BLOCK, size, J + 6 * n * k)
     if k + size == m:
         store_poses(P + size - 1, 1, T, 16)

@@ -40,7 +40,7 @@ cdef inline double newton_polish(const double* L, const unsigned char* rev, doub
     cdef double r, best = INFINITY
     cdef int it, i, j, k
     for it in range(NEWTON_STEPS + 1):
-        walk_block(L, rev, 6, q, 1, P, NULL, Z, 1, NULL, NULL, 0)
+        walk_block(L, rev, 6, q, 1, P, NULL, Z, 1, NULL, 0)
         for i in range(3):
             p[i] = P[BLOCK * (4 * i + 3)]
             e[i] = pd[i] - p[i]
