@@ -61,6 +61,27 @@ def test_sincos_symmetry_special_values_and_libm_beyond_the_bound():
     assert np.isnan(s).all() and np.isnan(c).all()
 
 
+def test_sincos_patches_one_far_argument_in_any_lane():
+    """The libm patch runs only when the vectorised loop flagged an argument beyond the bound: one such
+    argument (or a non-finite one) in any lane of a call, vector body or remainder, is still patched,
+    and its neighbours keep their values."""
+    rng = np.random.default_rng(9)
+    for size in (1, 2, 3, 4, 5, 7, 8, 9, 31, 32, 33):       # sincos calls the kernel on 32 at a time
+        x = rng.uniform(-4, 4, size)
+        s0, c0 = sincos(x)
+        for lane in range(size):
+            for far in (3e5, -1e22, np.inf, np.nan):
+                y = x.copy()
+                y[lane] = far
+                s, c = sincos(y)
+                others = np.arange(size) != lane
+                assert np.array_equal(s[others], s0[others]) and np.array_equal(c[others], c0[others])
+                if np.isfinite(far):
+                    assert s[lane] == math.sin(far) and c[lane] == math.cos(far)
+                else:
+                    assert np.isnan(s[lane]) and np.isnan(c[lane])
+
+
 @pytest.fixture(scope="module", params=[(3, 7), (11, 5), (23, 9)], ids=["7 joints", "5 joints", "9 joints"])
 def chain(request):
     """A random URDF chain (revolute and prismatic joints, tilted axes) in robkin and in pinocchio."""

@@ -105,18 +105,23 @@ static inline void rk_sincos_one(double x, double *s, double *c)
 #define RK_SIMD_CLONES
 #endif
 
-/* s[b], c[b] = sin(x[b]), cos(x[b]) for b < m; the first loop vectorises, the second patches the rare
- * arguments outside the reduction's range (and non-finite ones) with libm. */
+/* s[b], c[b] = sin(x[b]), cos(x[b]) for b < m; the first loop vectorises and also notes, branch-free,
+ * whether any argument lies outside the reduction's range (or is not finite); only then does the second
+ * loop patch those with libm. That loop, a compare and a branch per argument, had run on every call:
+ * ~10 ns of a 7-joint configuration's batch FK (59 -> 49 ns with AVX2 in a C harness, N = 1e5). */
 RK_SIMD_CLONES static void rk_sincos_array(const double *x, double *s, double *c, int m)
 {
-    int b;
-    for (b = 0; b < m; b++)
+    int b, far = 0;
+    for (b = 0; b < m; b++) {
         rk_sincos_core(x[b], s + b, c + b);
-    for (b = 0; b < m; b++)
-        if (!(fabs(x[b]) <= RK_SINCOS_BOUND)) {
-            s[b] = sin(x[b]);
-            c[b] = cos(x[b]);
-        }
+        far |= !(fabs(x[b]) <= RK_SINCOS_BOUND);
+    }
+    if (far)
+        for (b = 0; b < m; b++)
+            if (!(fabs(x[b]) <= RK_SINCOS_BOUND)) {
+                s[b] = sin(x[b]);
+                c[b] = cos(x[b]);
+            }
 }
 
 #endif
