@@ -3,8 +3,9 @@
 The solver of last resort among the closed forms (``closed_form.closed_form_solver`` tries the faster
 special classes first): Raghavan and Roth's 14 equations, eliminated as Manocha and Canny do to a
 quadratic 12 x 12 matrix polynomial whose eigenvalues are the roots of the degree-16 polynomial (the 8
-spurious roots x = +-i deflated once per arm: ``spurious_complement``), then every root back-substituted and polished by Newton steps on the exact forward kinematics (see
-``robkin.compiled.closed_form_general6r`` for the steps).
+spurious roots x = +-i deflated once per arm: ``spurious_complement``), then every root back-substituted
+and polished by Newton steps on the exact forward kinematics (see ``robkin.compiled.closed_form_general6r``
+for the steps).
 
 The elimination is written for a *formulation*: which joint is eliminated first and in which direction
 the kinematic loop is read (6 cyclic shifts x 2 directions). The generic formulation degenerates on
@@ -17,6 +18,8 @@ numeric solver.
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 import numpy as np
 
@@ -48,7 +51,7 @@ _SAME_SPACE_TOL = 1e-9
 _HINTS: dict[tuple, tuple[int, bool]] = {}
 
 
-def spurious_complement(kernel, scale: float) -> np.ndarray | None:
+def spurious_complement(kernel: Any, scale: float) -> np.ndarray | None:
     """The orthonormal complement (24, 16) of the spurious roots' invariant subspace, or None.
 
     Of M(x)'s 24 eigenvalues, 8 are x = +-i for every target (four each, from the half-angle
@@ -56,7 +59,8 @@ def spurious_complement(kernel, scale: float) -> np.ndarray | None:
     target's: v spans the null space of M(i), the same 4-dimensional space at any target (it is found
     here at two unrelated poses and must agree). The real and imaginary parts of the four [v; i v] span
     an 8-dimensional invariant subspace; on its complement the eigenvalue problem is 16 x 16, the
-    degree of the problem, and costs (16 / 24)^3 ~ 0.3 of the full one in LAPACK. None when M(i)'s
+    degree of the problem, with (16 / 24)^3 ~ 0.3 of the full one's arithmetic. ``kernel``: a
+    ``compiled.closed_form_general6r.General6RKernel``; ``scale``: the robot's size. None when M(i)'s
     null space is not exactly four-dimensional or depends on the target (a special formulation): the
     kernel then solves the full 24 x 24 problem.
     """
