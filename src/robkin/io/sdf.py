@@ -58,6 +58,7 @@ CHAIN_JOINTS = "revolute, continuous, prismatic and fixed"
 #: rigid to 1e-12). A bound keeps each lookup O(1).
 NEAR_STEPS = 8
 IDENTITY = pose_rows.IDENTITY
+INVERSE_IDENTITY = pose_rows.inverse(IDENTITY)  # the same floats inverse() gives each time, made once
 Z_AXIS = (0.0, 0.0, 1.0)
 
 
@@ -165,10 +166,11 @@ class _Model:
     def scoped(name: str, prefix: str) -> str:
         return name if name == "world" else prefix + name
 
-    def pose(self, name: str, where: str) -> Pose:
-        """Pose of frame ``name`` in the outermost model frame (q = 0), as twelve floats."""
+    def _depth(self, name: str, where: str) -> int:
+        """Steps of relative_to from frame ``name`` to the model frame, filling ``up`` and ``depth`` along
+        the way (InputError for a frame the file does not have, or a loop)."""
         chain, seen = [], set()
-        while name != "__model__" and name not in self.resolved:
+        while name != "__model__" and name not in self.depth:
             if name not in self.raw and name + "::__model__" in self.raw:
                 name += "::__model__"  # a nested model's name stands for its model frame
             if name not in self.raw:
@@ -178,30 +180,51 @@ class _Model:
             seen.add(name)
             chain.append(name)
             name = self.raw[name][1]
-        T = IDENTITY if name == "__model__" else self.resolved[name]
         depth = 0 if name == "__model__" else self.depth[name]
         for n in reversed(chain):
-            T = pose_rows.compose(T, self.raw[n][0])
             depth += 1
-            self.resolved[n], self.depth[n], self.up[n], name = T, depth, name, n
+            self.depth[n], self.up[n], name = depth, name, n
+        return depth
+
+    def pose(self, name: str, where: str) -> Pose:
+        """Pose of frame ``name`` in the outermost model frame (q = 0), as twelve floats: the poses
+        along its relative_to path composed from the model frame down, each made once."""
+        T = self.resolved.get(name)
+        if T is not None:
+            return T
+        self._depth(name, where)
+        chain = []
+        while name != "__model__" and name not in self.resolved:
+            name = name if name in self.raw else name + "::__model__"  # _depth has checked the names
+            chain.append(name)
+            name = self.up[name]
+        T = IDENTITY if name == "__model__" else self.resolved[name]
+        for n in reversed(chain):
+            T = self.resolved[n] = pose_rows.compose(T, self.raw[n][0])
         return T
 
     def relative(self, a: str, b: str, where: str) -> Pose:
         """Pose of frame ``b`` in frame ``a`` (q = 0): through their nearest common frame when that is
         at most ``NEAR_STEPS`` away (see there), else through the model frame."""
-        Xa, Xb = self.pose(a, where), self.pose(b, where)
-        a = a if a == "__model__" or a in self.raw else a + "::__model__"  # pose() has checked the names
-        b = b if b == "__model__" or b in self.raw else b + "::__model__"
+        depth, up, raw = self.depth, self.up, self.raw
+        da = depth.get(a)
+        if da is None:
+            da = self._depth(a, where)
+        db = depth.get(b)
+        if db is None:
+            db = self._depth(b, where)
+        a0, b0 = a, b
+        a = a if a == "__model__" or a in raw else a + "::__model__"  # _depth has checked the names
+        b = b if b == "__model__" or b in raw else b + "::__model__"
         A = B = IDENTITY  # poses of the given a and b in the frames a and b have walked up to
-        da, db = self.depth.get(a, 0), self.depth.get(b, 0)
         for _ in range(NEAR_STEPS):
             if a == b:
-                return pose_rows.compose(pose_rows.inverse(A), B)
+                return pose_rows.compose(INVERSE_IDENTITY if A is IDENTITY else pose_rows.inverse(A), B)
             if da >= db:
-                A, a, da = pose_rows.compose(self.raw[a][0], A), self.up[a], da - 1
+                A, a, da = pose_rows.compose(raw[a][0], A), up[a], da - 1
             else:
-                B, b, db = pose_rows.compose(self.raw[b][0], B), self.up[b], db - 1
-        return pose_rows.compose(pose_rows.inverse(Xa), Xb)
+                B, b, db = pose_rows.compose(raw[b][0], B), up[b], db - 1
+        return pose_rows.compose(pose_rows.inverse(self.pose(a0, where)), self.pose(b0, where))
 
 
 def _rotate(T: Pose, v: tuple[float, ...]) -> tuple[float, float, float]:
