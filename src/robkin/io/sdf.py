@@ -60,6 +60,7 @@ NEAR_STEPS = 8
 IDENTITY = pose_rows.IDENTITY
 INVERSE_IDENTITY = pose_rows.inverse(IDENTITY)  # the same floats inverse() gives each time, made once
 Z_AXIS = (0.0, 0.0, 1.0)
+ZEROS6 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 def _version(root: Any, source: str) -> tuple[int, int]:
@@ -81,19 +82,22 @@ def _pose(el: Any, where: str) -> tuple[Pose, str | None]:
     pose = el.find("pose")
     if pose is None:
         return IDENTITY, None
-    text = (pose.text or "").strip() or None
-    at = f"{where}: <pose>"
+    text = pose.text
+    text = (text.strip() or None) if text else None
     form = pose.get("rotation_format", "euler_rpy")
+    if form == "euler_rpy":
+        if text is None:  # from_xyz_rpy of six zeros: exactly these floats (its exact branch)
+            return IDENTITY, pose.get("relative_to") or None
+        v = numbers(text, 6, where, "<pose>", ZEROS6)
+        rpy = tuple(math.radians(a) for a in v[3:]) if pose.get("degrees") == "true" else v[3:]
+        return pose_rows.from_xyz_rpy(v[:3], rpy), pose.get("relative_to") or None
+    at = f"{where}: <pose>"
     if form == "quat_xyzw":
         v = numbers(text, 7, at, None, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0))
         if math.hypot(*v[3:]) < 1e-10:  # a quaternion this short is a typo; unit quaternions have length 1
             raise InputError(f"{at}: quaternion is zero")
         return pose_rows.from_quat(v[:3], (v[6], v[3], v[4], v[5])), pose.get("relative_to") or None
-    if form != "euler_rpy":
-        raise InputError(f"{at}: rotation_format {quote(pose.get('rotation_format'))} is not euler_rpy or quat_xyzw")
-    v = numbers(text, 6, at, None, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
-    rpy = tuple(math.radians(a) for a in v[3:]) if pose.get("degrees") == "true" else v[3:]
-    return pose_rows.from_xyz_rpy(v[:3], rpy), pose.get("relative_to") or None
+    raise InputError(f"{at}: rotation_format {quote(pose.get('rotation_format'))} is not euler_rpy or quat_xyzw")
 
 
 class _Model:
@@ -233,54 +237,59 @@ def _rotate(T: Pose, v: tuple[float, ...]) -> tuple[float, float, float]:
     return (T[0] * x + T[1] * y + T[2] * z, T[4] * x + T[5] * y + T[6] * z, T[8] * x + T[9] * y + T[10] * z)
 
 
-def _axis(j: _Model, el: Any, name: str) -> tuple[tuple[float, float, float], float | None, float | None]:
-    """(unit axis in the joint frame, lower, upper) of a joint's ``<axis>``."""
-    where = f"{j.source}: joint '{name}'"
-    axis_el = el.find("axis")
+def _axis(j: _Model, axis_el: Any, name: str, where: str
+          ) -> tuple[tuple[float, float, float], float | None, float | None]:
+    """(unit axis in the joint frame, lower, upper) of a joint's ``<axis>`` element (None: absent);
+    ``where`` is the joint as messages name it."""
     if axis_el is None:
         raise InputError(f"{where}: no <axis>; a moving joint needs <axis><xyz>0 0 1</xyz></axis>")
     xyz_el = axis_el.find("xyz")
-    axis = numbers((xyz_el.text or "").strip() or None if xyz_el is not None else None, 3, f"{where}: axis xyz",
-                   None, Z_AXIS)
+    text = xyz_el.text if xyz_el is not None else None
+    axis = numbers((text.strip() or None) if text else None, 3, where, "axis xyz", Z_AXIS)
     n = math.sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2])
     if n < 1e-9:  # SDF axes are unit vectors typed with a few decimals; this short is a zero or a typo
         raise InputError(f"{where}: axis xyz is zero; a moving joint needs a direction such as '0 0 1'")
     axis = (axis[0] / n, axis[1] / n, axis[2] / n)
     expressed = xyz_el.get("expressed_in") if xyz_el is not None else None
-    use_parent = (axis_el.findtext("use_parent_model_frame") or "").strip() in ("true", "1")
     prefix = name[: name.rfind("::") + 2] if "::" in name else ""
-    frame = j.scoped(expressed, prefix) if expressed else prefix + "__model__" if use_parent or j.version < (1, 5) \
-        else None
+    if expressed:
+        frame: str | None = j.scoped(expressed, prefix)
+    elif j.version < (1, 5) or (axis_el.findtext("use_parent_model_frame") or "").strip() in ("true", "1"):
+        frame = prefix + "__model__"
+    else:
+        frame = None
     if frame is not None:  # into the joint frame
         axis = _rotate(j.relative(name, frame, where), axis)
     lower = upper = None
     lim = axis_el.find("limit")
     if lim is not None:
-        lower = _limit(lim.findtext("lower"), f"{where}: limit lower")
-        upper = _limit(lim.findtext("upper"), f"{where}: limit upper")
+        lower = _limit(lim.findtext("lower"), where, "limit lower")
+        upper = _limit(lim.findtext("upper"), where, "limit upper")
         if lower is not None and upper is not None and lower > upper:
             raise InputError(f"{where}: limit lower {lower} > upper {upper}")
     return axis, lower, upper
 
 
-def _axis_dynamics(el: Any, where: str) -> tuple[float | None, float | None, float | None, float | None]:
-    """(effort, velocity, damping, friction) of a joint's ``<axis>``: ``<limit><effort><velocity>`` (SDF's
-    default -1, no limit, read as None) and ``<dynamics><damping><friction>``; None where absent."""
+def _axis_dynamics(axis: Any, where: str) -> tuple[float | None, float | None, float | None, float | None]:
+    """(effort, velocity, damping, friction) of a joint's ``<axis>`` element (None: absent):
+    ``<limit><effort><velocity>`` (SDF's default -1, no limit, read as None) and
+    ``<dynamics><damping><friction>``; None where absent."""
     out: list[float | None] = []
-    axis = el.find("axis")
-    for group, tag in (("limit", "effort"), ("limit", "velocity"), ("dynamics", "damping"), ("dynamics", "friction")):
-        sub = None if axis is None else axis.find(group)  # a find per step: a path would go through ElementPath
+    if axis is None:
+        return None, None, None, None
+    limit, dynamics = axis.find("limit"), axis.find("dynamics")  # a find per step: a path would go through ElementPath
+    for sub, group, tag in ((limit, "limit", "effort"), (limit, "limit", "velocity"), (dynamics, "dynamics", "damping"),
+                            (dynamics, "dynamics", "friction")):
         text = None if sub is None else sub.findtext(tag)
-        path = f"axis/{group}/{tag}"
-        v = None if text is None or not text.strip() else numbers(text.strip(), 1, f"{where}: {path}", None, ())[0]
+        v = None if text is None or not text.strip() else numbers(text.strip(), 1, where, f"axis/{group}/{tag}", ())[0]
         out.append(None if v is None or (v < 0 and group == "limit") else v)
     return out[0], out[1], out[2], out[3]
 
 
-def _limit(text: str | None, where: str) -> float | None:
+def _limit(text: str | None, where: str, what: str) -> float | None:
     if text is None or not text.strip():
         return None
-    v = numbers(text.strip(), 1, where, None, ())[0]
+    v = numbers(text.strip(), 1, where, what, ())[0]
     return v if abs(v) < NO_LIMIT else None  # SDF's default limits are +-1e16: no limit
 
 
@@ -318,9 +327,10 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
             raise InputError(f"{where}: type {quote(jtype)} is not one of {', '.join(JOINT_TYPES + OTHER_JOINTS)}")
         parent = j.scoped(j._text(el, "parent", name), prefix)
         child = j.scoped(j._text(el, "child", name), prefix)
-        for role, link in (("parent", parent), ("child", child)):
-            if link != "world" and j.kind.get(link) != "link":
-                raise InputError(f"{where}: {role} {quote(link)} is not a link of the model")
+        if parent != "world" and j.kind.get(parent) != "link":
+            raise InputError(f"{where}: parent {quote(parent)} is not a link of the model")
+        if child != "world" and j.kind.get(child) != "link":
+            raise InputError(f"{where}: child {quote(child)} is not a link of the model")
         # the joint frame in the parent link's (the world's: the model's pose in it)
         origin = pose_rows.compose(world, j.pose(name, where)) if parent == "world" else \
             j.relative(parent, name, where)
@@ -328,8 +338,9 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
         # joint frame -> child link frame; exactly the identity when the joint's pose is the default
         rest = j.relative(name, child, where)
         moving = jtype if jtype in JOINT_TYPES else "floating"
+        axis_el = el.find("axis")
         axis, lower, upper = (Z_AXIS, None, None) if jtype == "fixed" or moving == "floating" \
-            else _axis(j, el, name)
+            else _axis(j, axis_el, name, where)
         if moving == "floating":
             kinds[name] = jtype
         if moving == "revolute" and lower is None and upper is None:
@@ -339,7 +350,7 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
         mid = child if exact else f"{child}@{name}"
         if not exact:
             links.append(mid)
-        effort, velocity, damping, friction = (_axis_dynamics(el, f"{j.source}: joint '{name}'")
+        effort, velocity, damping, friction = (_axis_dynamics(axis_el, where)
                                                if moving != "floating" else (None, None, None, None))
         joints.append(UrdfJoint(name, moving, parent, mid, None, axis, lower, upper, None, effort=effort,
                                 velocity=velocity, damping=damping, friction=friction, pose=origin))
