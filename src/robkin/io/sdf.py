@@ -217,6 +217,11 @@ class _Model:
         db = depth.get(b)
         if db is None:
             db = self._depth(b, where)
+        # one frame relative_to the other (a joint and its links): the walk below in one step
+        if up.get(b) == a:
+            return pose_rows.compose(INVERSE_IDENTITY, pose_rows.compose(raw[b][0], IDENTITY))
+        if up.get(a) == b:
+            return pose_rows.compose(pose_rows.inverse(pose_rows.compose(raw[a][0], IDENTITY)), IDENTITY)
         a0, b0 = a, b
         a = a if a == "__model__" or a in raw else a + "::__model__"  # _depth has checked the names
         b = b if b == "__model__" or b in raw else b + "::__model__"
