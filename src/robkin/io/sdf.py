@@ -115,6 +115,7 @@ class _Model:
         self.up: dict[str, str] = {}     # frame -> the frame its pose is relative to (nested models: X::__model__)
         self.depth: dict[str, int] = {}  # frame -> steps of relative_to from it to the model frame
         self.joint_child: dict[str, str] = {}                # joint -> its child link
+        self.child_of: dict[Any, str] = {}                   # <joint> element read above -> its child link
         self.link_elements: list[tuple[str, Any, str]] = []  # (scoped link name, <link>, scope prefix)
 
     def _frame(self, name: str, kind: str, pose: Pose, rel: str) -> None:
@@ -155,7 +156,7 @@ class _Model:
         for name, el, p in self.joints:
             if p == prefix and name not in self.kind:
                 child = self.scoped(self._text(el, "child", name), prefix)
-                self.joint_child[name] = child
+                self.joint_child[name] = self.child_of[el] = child
                 pose, rel = _pose(el, f"{self.source}: joint '{name}'")
                 self._frame(name, "joint", pose, self.scoped(rel, prefix) if rel else child)
 
@@ -173,6 +174,13 @@ class _Model:
     def _depth(self, name: str, where: str) -> int:
         """Steps of relative_to from frame ``name`` to the model frame, filling ``up`` and ``depth`` along
         the way (InputError for a frame the file does not have, or a loop)."""
+        raw = self.raw.get(name) if name != "__model__" else None
+        if raw is not None:  # relative_to a frame already resolved (keys of depth are names of raw)
+            rel = raw[1]
+            d = 0 if rel == "__model__" else self.depth.get(rel)
+            if d is not None and rel != name:
+                self.depth[name], self.up[name] = d + 1, rel
+                return d + 1
         chain, seen = [], set()
         while name != "__model__" and name not in self.depth:
             if name not in self.raw and name + "::__model__" in self.raw:
@@ -331,7 +339,7 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
         if jtype not in JOINT_TYPES and jtype not in OTHER_JOINTS:
             raise InputError(f"{where}: type {quote(jtype)} is not one of {', '.join(JOINT_TYPES + OTHER_JOINTS)}")
         parent = j.scoped(j._text(el, "parent", name), prefix)
-        child = j.scoped(j._text(el, "child", name), prefix)
+        child = j.child_of.get(el) or j.scoped(j._text(el, "child", name), prefix)
         if parent != "world" and j.kind.get(parent) != "link":
             raise InputError(f"{where}: parent {quote(parent)} is not a link of the model")
         if child != "world" and j.kind.get(child) != "link":
