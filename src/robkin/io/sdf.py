@@ -264,15 +264,10 @@ def _axis(j: _Model, axis_el: Any, name: str, where: str
         raise InputError(f"{where}: axis xyz is zero; a moving joint needs a direction such as '0 0 1'")
     axis = (axis[0] / n, axis[1] / n, axis[2] / n)
     expressed = xyz_el.get("expressed_in") if xyz_el is not None else None
-    prefix = name[: name.rfind("::") + 2] if "::" in name else ""
-    if expressed:
-        frame: str | None = j.scoped(expressed, prefix)
-    elif j.version < (1, 5) or (axis_el.findtext("use_parent_model_frame") or "").strip() in ("true", "1"):
-        frame = prefix + "__model__"
-    else:
-        frame = None
-    if frame is not None:  # into the joint frame
-        axis = _rotate(j.relative(name, frame, where), axis)
+    if expressed or j.version < (1, 5) or (axis_el.findtext("use_parent_model_frame") or "").strip() in ("true", "1"):
+        prefix = name[: name.rfind("::") + 2] if "::" in name else ""
+        frame = j.scoped(expressed, prefix) if expressed else prefix + "__model__"
+        axis = _rotate(j.relative(name, frame, where), axis)  # into the joint frame
     lower = upper = None
     lim = axis_el.find("limit")
     if lim is not None:
