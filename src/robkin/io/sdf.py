@@ -34,7 +34,7 @@ from ..errors import InputError, quote
 from ..robot import Robot
 from .chain_path import refuse_on_chain
 from .files import read_text_file
-from .urdf import NO_LIMIT, UrdfJoint, UrdfModel, _parse_xml, robot_from_model
+from .urdf import NO_LIMIT, UrdfJoint, UrdfModel, robot_from_model
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..compiled.pose_rows import Pose  # twelve floats: the top three rows of a (4, 4) pose
@@ -61,6 +61,11 @@ IDENTITY = pose_rows.IDENTITY
 INVERSE_IDENTITY = pose_rows.inverse(IDENTITY)  # the same floats inverse() gives each time, made once
 Z_AXIS = (0.0, 0.0, 1.0)
 ZEROS6 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+def the_models(root: Any) -> list[Any]:
+    """The ``<model>`` elements of an SDF root: its own, else those of its ``<world>``s."""
+    return root.findall("model") or [m for w in root.findall("world") for m in w.findall("model")]
 
 
 def _version(root: Any, source: str) -> tuple[int, int]:
@@ -303,8 +308,10 @@ def _limit(text: str | None, where: str, what: str) -> float | None:
 
 def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str, str]]:
     """The kinematic tree of an SDF file (path) or SDF text, and the joints robkin cannot model."""
+    from ..compiled.sdf_scan import kinematic_tree
     from .sdf_shapes import sdf_content
     from .sdf_trees import check_tree
+    from .urdf_xml import _refuse_dtd
 
     folder = None
     if isinstance(source, str) and source.lstrip().startswith("<"):
@@ -313,11 +320,12 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
         text, src, folder = read_text_file(Path(source), MAX_BYTES, "an SDF model"), str(source), Path(source).parent
         if not text.strip():
             raise InputError(f"{src}: file is empty; expected an SDF <sdf> element")
-    root = _parse_xml(text, src)
+    _refuse_dtd(text, src)
+    root = kinematic_tree(text, src)  # only the elements read here; sdf_content parses the rest when asked
     if root.tag != "sdf":
         raise InputError(f"{src}: root element is <{root.tag}>; an SDF file has <sdf>")
     version = _version(root, src)
-    models = root.findall("model") or [m for w in root.findall("world") for m in w.findall("model")]
+    models = the_models(root)
     if len(models) != 1:
         raise InputError(f"{src}: holds {len(models)} <model> elements; robkin reads a file with one model")
     j = _Model(src, version)
@@ -378,7 +386,7 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
                                 pose=j.relative(base, name, src)))
     if uses_world:
         links.insert(0, "world")
-    model = UrdfModel(models[0].get("name"), tuple(links), tuple(joints), src, sdf_content(j, folder))
+    model = UrdfModel(models[0].get("name"), tuple(links), tuple(joints), src, sdf_content(j, folder, text))
     check_tree(model)
     return model, kinds
 
