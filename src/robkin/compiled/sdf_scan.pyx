@@ -89,24 +89,25 @@ cdef class Kept:
     """One element kept by ``kinematic_tree``: what the SDF reader asks of an ``xml.etree`` Element."""
     cdef readonly str tag
     cdef public object text  # None: no text (or not kept: only TEXT elements keep theirs)
-    cdef dict attrib
-    cdef list children
+    cdef dict attrib         # None: no attributes
+    cdef list children       # None: no children kept
 
     def get(self, str key, default=None):
-        return self.attrib.get(key, default)
+        return default if self.attrib is None else self.attrib.get(key, default)
 
     def find(self, str tag):
         """The first child called ``tag``, or None."""
         cdef Kept c
-        for c in self.children:
-            if c.tag == tag:
-                return c
+        if self.children is not None:
+            for c in self.children:
+                if c.tag == tag:
+                    return c
         return None
 
     def findall(self, str tag):
         """The children called ``tag``, in file order."""
         cdef Kept c
-        return [c for c in self.children if c.tag == tag]
+        return [] if self.children is None else [c for c in self.children if c.tag == tag]
 
     def findtext(self, str tag, default=None):
         """The text of the first child called ``tag`` ("" if it has none), else ``default``."""
@@ -144,7 +145,7 @@ cdef void _start(void* data, const char* tag, const char** atts) noexcept:
     cdef _Tree t = <_Tree>data
     cdef int kind
     cdef Py_ssize_t i = 0
-    cdef Kept el
+    cdef Kept el, parent
     if t.error is not None:
         return
     if t.skipped:
@@ -157,14 +158,20 @@ cdef void _start(void* data, const char* tag, const char** atts) noexcept:
             t.skipped = 1
             return
         el = Kept.__new__(Kept)
-        el.tag, el.attrib, el.children = _name(tag), {}, []
-        while atts[i] != NULL:
-            el.attrib[_name(atts[i])] = PyUnicode_DecodeUTF8(atts[i + 1], strlen(atts[i + 1]), NULL)
-            i += 2
+        el.tag = _name(tag)
+        if atts[0] != NULL:
+            el.attrib = {}
+            while atts[i] != NULL:
+                el.attrib[_name(atts[i])] = PyUnicode_DecodeUTF8(atts[i + 1], strlen(atts[i + 1]), NULL)
+                i += 2
         if t.root is None:
             t.root = el
         else:
-            (<Kept>t.open[len(t.open) - 1]).children.append(el)
+            parent = <Kept>t.open[len(t.open) - 1]
+            if parent.children is None:
+                parent.children = [el]
+            else:
+                parent.children.append(el)
         t.open.append(el)
         t.kinds.append(kind)
         t.collecting = kind == TEXT
