@@ -15,10 +15,10 @@ The attributes' numbers are read by ``attribute_numbers`` (the same functions se
 """
 
 cimport cython
-from cpython.pycapsule cimport PyCapsule_Import
 from cpython.unicode cimport PyUnicode_DecodeUTF8
 from libc.string cimport strcmp, strlen, strncmp
 from robkin.compiled.attribute_numbers cimport number, numbers
+from robkin.compiled.expat_capi cimport PyExpat_CAPI, XML_Parser, expat_capi
 
 import os.path
 
@@ -30,31 +30,7 @@ from robkin.io.urdf_joint import UrdfJoint
 cdef extern from "Python.h":
     const char* PyUnicode_AsUTF8AndSize(object text, Py_ssize_t* size) except NULL
 
-cdef extern from "expat_shim.h":
-    ctypedef void* XML_Parser
-    ctypedef void (*XML_StartElementHandler)(void*, const char*, const char**) noexcept
-    ctypedef void (*XML_EndElementHandler)(void*, const char*) noexcept
-    ctypedef void (*XML_StartDoctypeDeclHandler)(void*, const char*, const char*, const char*, int) noexcept
-    const char* PyExpat_CAPI_MAGIC
-    struct PyExpat_CAPI:
-        char* magic
-        int size
-        unsigned long (*GetErrorColumnNumber)(XML_Parser parser)
-        unsigned long (*GetErrorLineNumber)(XML_Parser parser)
-        int (*Parse)(XML_Parser parser, const char* s, int len, int isFinal)
-        XML_Parser (*ParserCreate_MM)(const char* encoding, const void* memsuite, const char* sep)
-        void (*ParserFree)(XML_Parser parser)
-        void (*SetElementHandler)(XML_Parser parser, XML_StartElementHandler start, XML_EndElementHandler end)
-        void (*SetUserData)(XML_Parser parser, void* userData)
-        void (*SetStartDoctypeDeclHandler)(XML_Parser parser, XML_StartDoctypeDeclHandler start)
-
-
-cdef PyExpat_CAPI* _capi = <PyExpat_CAPI*>PyCapsule_Import(b"pyexpat.expat_CAPI", 0)
-if strcmp(_capi.magic, PyExpat_CAPI_MAGIC) != 0 or <size_t>_capi.size < sizeof(PyExpat_CAPI):
-    raise ImportError(f"robkin.compiled.urdf_scan: this Python's pyexpat capsule is "
-                      f"'{_capi.magic.decode('ascii', 'replace')}' of {_capi.size} bytes; the module was built for "
-                      f"'{PyExpat_CAPI_MAGIC.decode('ascii')}' of {sizeof(PyExpat_CAPI)} bytes: rebuild it "
-                      f"(pip install -e . or make ext)")
+cdef PyExpat_CAPI* _capi = expat_capi(b"robkin.compiled.urdf_scan")
 
 #: Deepest element nesting accepted: libxml2's default limit (which lxml, used for the lazy content
 #: parse of big files, applies too); a URDF nests ~5 deep. Bounds expat's tag stack on hostile input.

@@ -34,7 +34,8 @@ from ..errors import InputError, quote
 from ..robot import Robot
 from .chain_path import refuse_on_chain
 from .files import read_text_file
-from .urdf import NO_LIMIT, UrdfJoint, UrdfModel, _parse_xml, robot_from_model
+from .sdf_axes import Z_AXIS, axis_dynamics, joint_axis
+from .urdf import UrdfJoint, UrdfModel, robot_from_model
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..compiled.pose_rows import Pose  # twelve floats: the top three rows of a (4, 4) pose
@@ -58,7 +59,13 @@ CHAIN_JOINTS = "revolute, continuous, prismatic and fixed"
 #: rigid to 1e-12). A bound keeps each lookup O(1).
 NEAR_STEPS = 8
 IDENTITY = pose_rows.IDENTITY
-Z_AXIS = (0.0, 0.0, 1.0)
+INVERSE_IDENTITY = pose_rows.inverse(IDENTITY)  # the same floats inverse() gives each time, made once
+ZEROS6 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+def the_models(root: Any) -> list[Any]:
+    """The ``<model>`` elements of an SDF root: its own, else those of its ``<world>``s."""
+    return root.findall("model") or [m for w in root.findall("world") for m in w.findall("model")]
 
 
 def _version(root: Any, source: str) -> tuple[int, int]:
@@ -80,19 +87,22 @@ def _pose(el: Any, where: str) -> tuple[Pose, str | None]:
     pose = el.find("pose")
     if pose is None:
         return IDENTITY, None
-    text = (pose.text or "").strip() or None
-    at = f"{where}: <pose>"
+    text = pose.text
+    text = (text.strip() or None) if text else None
     form = pose.get("rotation_format", "euler_rpy")
+    if form == "euler_rpy":
+        if text is None:  # from_xyz_rpy of six zeros: exactly these floats (its exact branch)
+            return IDENTITY, pose.get("relative_to") or None
+        v = numbers(text, 6, where, "<pose>", ZEROS6)
+        rpy = tuple(math.radians(a) for a in v[3:]) if pose.get("degrees") == "true" else v[3:]
+        return pose_rows.from_xyz_rpy(v[:3], rpy), pose.get("relative_to") or None
+    at = f"{where}: <pose>"
     if form == "quat_xyzw":
         v = numbers(text, 7, at, None, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0))
         if math.hypot(*v[3:]) < 1e-10:  # a quaternion this short is a typo; unit quaternions have length 1
             raise InputError(f"{at}: quaternion is zero")
         return pose_rows.from_quat(v[:3], (v[6], v[3], v[4], v[5])), pose.get("relative_to") or None
-    if form != "euler_rpy":
-        raise InputError(f"{at}: rotation_format {quote(pose.get('rotation_format'))} is not euler_rpy or quat_xyzw")
-    v = numbers(text, 6, at, None, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
-    rpy = tuple(math.radians(a) for a in v[3:]) if pose.get("degrees") == "true" else v[3:]
-    return pose_rows.from_xyz_rpy(v[:3], rpy), pose.get("relative_to") or None
+    raise InputError(f"{at}: rotation_format {quote(pose.get('rotation_format'))} is not euler_rpy or quat_xyzw")
 
 
 class _Model:
@@ -110,6 +120,7 @@ class _Model:
         self.up: dict[str, str] = {}     # frame -> the frame its pose is relative to (nested models: X::__model__)
         self.depth: dict[str, int] = {}  # frame -> steps of relative_to from it to the model frame
         self.joint_child: dict[str, str] = {}                # joint -> its child link
+        self.child_of: dict[Any, str] = {}                   # <joint> element read above -> its child link
         self.link_elements: list[tuple[str, Any, str]] = []  # (scoped link name, <link>, scope prefix)
 
     def _frame(self, name: str, kind: str, pose: Pose, rel: str) -> None:
@@ -150,7 +161,7 @@ class _Model:
         for name, el, p in self.joints:
             if p == prefix and name not in self.kind:
                 child = self.scoped(self._text(el, "child", name), prefix)
-                self.joint_child[name] = child
+                self.joint_child[name] = self.child_of[el] = child
                 pose, rel = _pose(el, f"{self.source}: joint '{name}'")
                 self._frame(name, "joint", pose, self.scoped(rel, prefix) if rel else child)
 
@@ -165,10 +176,18 @@ class _Model:
     def scoped(name: str, prefix: str) -> str:
         return name if name == "world" else prefix + name
 
-    def pose(self, name: str, where: str) -> Pose:
-        """Pose of frame ``name`` in the outermost model frame (q = 0), as twelve floats."""
+    def _depth(self, name: str, where: str) -> int:
+        """Steps of relative_to from frame ``name`` to the model frame, filling ``up`` and ``depth`` along
+        the way (InputError for a frame the file does not have, or a loop)."""
+        raw = self.raw.get(name) if name != "__model__" else None
+        if raw is not None:  # relative_to a frame already resolved (keys of depth are names of raw)
+            rel = raw[1]
+            d = 0 if rel == "__model__" else self.depth.get(rel)
+            if d is not None and rel != name:
+                self.depth[name], self.up[name] = d + 1, rel
+                return d + 1
         chain, seen = [], set()
-        while name != "__model__" and name not in self.resolved:
+        while name != "__model__" and name not in self.depth:
             if name not in self.raw and name + "::__model__" in self.raw:
                 name += "::__model__"  # a nested model's name stands for its model frame
             if name not in self.raw:
@@ -178,93 +197,64 @@ class _Model:
             seen.add(name)
             chain.append(name)
             name = self.raw[name][1]
-        T = IDENTITY if name == "__model__" else self.resolved[name]
         depth = 0 if name == "__model__" else self.depth[name]
         for n in reversed(chain):
-            T = pose_rows.compose(T, self.raw[n][0])
             depth += 1
-            self.resolved[n], self.depth[n], self.up[n], name = T, depth, name, n
+            self.depth[n], self.up[n], name = depth, name, n
+        return depth
+
+    def pose(self, name: str, where: str) -> Pose:
+        """Pose of frame ``name`` in the outermost model frame (q = 0), as twelve floats: the poses
+        along its relative_to path composed from the model frame down, each made once."""
+        T = self.resolved.get(name)
+        if T is not None:
+            return T
+        self._depth(name, where)
+        chain = []
+        while name != "__model__" and name not in self.resolved:
+            name = name if name in self.raw else name + "::__model__"  # _depth has checked the names
+            chain.append(name)
+            name = self.up[name]
+        T = IDENTITY if name == "__model__" else self.resolved[name]
+        for n in reversed(chain):
+            T = self.resolved[n] = pose_rows.compose(T, self.raw[n][0])
         return T
 
     def relative(self, a: str, b: str, where: str) -> Pose:
         """Pose of frame ``b`` in frame ``a`` (q = 0): through their nearest common frame when that is
         at most ``NEAR_STEPS`` away (see there), else through the model frame."""
-        Xa, Xb = self.pose(a, where), self.pose(b, where)
-        a = a if a == "__model__" or a in self.raw else a + "::__model__"  # pose() has checked the names
-        b = b if b == "__model__" or b in self.raw else b + "::__model__"
+        depth, up, raw = self.depth, self.up, self.raw
+        da = depth.get(a)
+        if da is None:
+            da = self._depth(a, where)
+        db = depth.get(b)
+        if db is None:
+            db = self._depth(b, where)
+        # one frame relative_to the other (a joint and its links): the walk below in one step
+        if up.get(b) == a:
+            return pose_rows.compose(INVERSE_IDENTITY, pose_rows.compose(raw[b][0], IDENTITY))
+        if up.get(a) == b:
+            return pose_rows.compose(pose_rows.inverse(pose_rows.compose(raw[a][0], IDENTITY)), IDENTITY)
+        a0, b0 = a, b
+        a = a if a == "__model__" or a in raw else a + "::__model__"  # _depth has checked the names
+        b = b if b == "__model__" or b in raw else b + "::__model__"
         A = B = IDENTITY  # poses of the given a and b in the frames a and b have walked up to
-        da, db = self.depth.get(a, 0), self.depth.get(b, 0)
         for _ in range(NEAR_STEPS):
             if a == b:
-                return pose_rows.compose(pose_rows.inverse(A), B)
+                return pose_rows.compose(INVERSE_IDENTITY if A is IDENTITY else pose_rows.inverse(A), B)
             if da >= db:
-                A, a, da = pose_rows.compose(self.raw[a][0], A), self.up[a], da - 1
+                A, a, da = pose_rows.compose(raw[a][0], A), up[a], da - 1
             else:
-                B, b, db = pose_rows.compose(self.raw[b][0], B), self.up[b], db - 1
-        return pose_rows.compose(pose_rows.inverse(Xa), Xb)
-
-
-def _rotate(T: Pose, v: tuple[float, ...]) -> tuple[float, float, float]:
-    """The rotation of pose T applied to the vector v (3,)."""
-    x, y, z = v
-    return (T[0] * x + T[1] * y + T[2] * z, T[4] * x + T[5] * y + T[6] * z, T[8] * x + T[9] * y + T[10] * z)
-
-
-def _axis(j: _Model, el: Any, name: str) -> tuple[tuple[float, float, float], float | None, float | None]:
-    """(unit axis in the joint frame, lower, upper) of a joint's ``<axis>``."""
-    where = f"{j.source}: joint '{name}'"
-    axis_el = el.find("axis")
-    if axis_el is None:
-        raise InputError(f"{where}: no <axis>; a moving joint needs <axis><xyz>0 0 1</xyz></axis>")
-    xyz_el = axis_el.find("xyz")
-    axis = numbers((xyz_el.text or "").strip() or None if xyz_el is not None else None, 3, f"{where}: axis xyz",
-                   None, Z_AXIS)
-    n = math.sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2])
-    if n < 1e-9:  # SDF axes are unit vectors typed with a few decimals; this short is a zero or a typo
-        raise InputError(f"{where}: axis xyz is zero; a moving joint needs a direction such as '0 0 1'")
-    axis = (axis[0] / n, axis[1] / n, axis[2] / n)
-    expressed = xyz_el.get("expressed_in") if xyz_el is not None else None
-    use_parent = (axis_el.findtext("use_parent_model_frame") or "").strip() in ("true", "1")
-    prefix = name[: name.rfind("::") + 2] if "::" in name else ""
-    frame = j.scoped(expressed, prefix) if expressed else prefix + "__model__" if use_parent or j.version < (1, 5) \
-        else None
-    if frame is not None:  # into the joint frame
-        axis = _rotate(j.relative(name, frame, where), axis)
-    lower = upper = None
-    lim = axis_el.find("limit")
-    if lim is not None:
-        lower = _limit(lim.findtext("lower"), f"{where}: limit lower")
-        upper = _limit(lim.findtext("upper"), f"{where}: limit upper")
-        if lower is not None and upper is not None and lower > upper:
-            raise InputError(f"{where}: limit lower {lower} > upper {upper}")
-    return axis, lower, upper
-
-
-def _axis_dynamics(el: Any, where: str) -> tuple[float | None, float | None, float | None, float | None]:
-    """(effort, velocity, damping, friction) of a joint's ``<axis>``: ``<limit><effort><velocity>`` (SDF's
-    default -1, no limit, read as None) and ``<dynamics><damping><friction>``; None where absent."""
-    out: list[float | None] = []
-    axis = el.find("axis")
-    for group, tag in (("limit", "effort"), ("limit", "velocity"), ("dynamics", "damping"), ("dynamics", "friction")):
-        sub = None if axis is None else axis.find(group)  # a find per step: a path would go through ElementPath
-        text = None if sub is None else sub.findtext(tag)
-        path = f"axis/{group}/{tag}"
-        v = None if text is None or not text.strip() else numbers(text.strip(), 1, f"{where}: {path}", None, ())[0]
-        out.append(None if v is None or (v < 0 and group == "limit") else v)
-    return out[0], out[1], out[2], out[3]
-
-
-def _limit(text: str | None, where: str) -> float | None:
-    if text is None or not text.strip():
-        return None
-    v = numbers(text.strip(), 1, where, None, ())[0]
-    return v if abs(v) < NO_LIMIT else None  # SDF's default limits are +-1e16: no limit
+                B, b, db = pose_rows.compose(raw[b][0], B), up[b], db - 1
+        return pose_rows.compose(pose_rows.inverse(self.pose(a0, where)), self.pose(b0, where))
 
 
 def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str, str]]:
     """The kinematic tree of an SDF file (path) or SDF text, and the joints robkin cannot model."""
+    from ..compiled.sdf_scan import kinematic_tree
     from .sdf_shapes import sdf_content
     from .sdf_trees import check_tree
+    from .urdf_xml import _refuse_dtd
 
     folder = None
     if isinstance(source, str) and source.lstrip().startswith("<"):
@@ -273,11 +263,12 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
         text, src, folder = read_text_file(Path(source), MAX_BYTES, "an SDF model"), str(source), Path(source).parent
         if not text.strip():
             raise InputError(f"{src}: file is empty; expected an SDF <sdf> element")
-    root = _parse_xml(text, src)
+    _refuse_dtd(text, src)
+    root = kinematic_tree(text, src)  # only the elements read here; sdf_content parses the rest when asked
     if root.tag != "sdf":
         raise InputError(f"{src}: root element is <{root.tag}>; an SDF file has <sdf>")
     version = _version(root, src)
-    models = root.findall("model") or [m for w in root.findall("world") for m in w.findall("model")]
+    models = the_models(root)
     if len(models) != 1:
         raise InputError(f"{src}: holds {len(models)} <model> elements; robkin reads a file with one model")
     j = _Model(src, version)
@@ -294,10 +285,11 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
         if jtype not in JOINT_TYPES and jtype not in OTHER_JOINTS:
             raise InputError(f"{where}: type {quote(jtype)} is not one of {', '.join(JOINT_TYPES + OTHER_JOINTS)}")
         parent = j.scoped(j._text(el, "parent", name), prefix)
-        child = j.scoped(j._text(el, "child", name), prefix)
-        for role, link in (("parent", parent), ("child", child)):
-            if link != "world" and j.kind.get(link) != "link":
-                raise InputError(f"{where}: {role} {quote(link)} is not a link of the model")
+        child = j.child_of.get(el) or j.scoped(j._text(el, "child", name), prefix)
+        if parent != "world" and j.kind.get(parent) != "link":
+            raise InputError(f"{where}: parent {quote(parent)} is not a link of the model")
+        if child != "world" and j.kind.get(child) != "link":
+            raise InputError(f"{where}: child {quote(child)} is not a link of the model")
         # the joint frame in the parent link's (the world's: the model's pose in it)
         origin = pose_rows.compose(world, j.pose(name, where)) if parent == "world" else \
             j.relative(parent, name, where)
@@ -305,8 +297,9 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
         # joint frame -> child link frame; exactly the identity when the joint's pose is the default
         rest = j.relative(name, child, where)
         moving = jtype if jtype in JOINT_TYPES else "floating"
+        axis_el = el.find("axis")
         axis, lower, upper = (Z_AXIS, None, None) if jtype == "fixed" or moving == "floating" \
-            else _axis(j, el, name)
+            else joint_axis(j, axis_el, name, where)
         if moving == "floating":
             kinds[name] = jtype
         if moving == "revolute" and lower is None and upper is None:
@@ -316,7 +309,7 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
         mid = child if exact else f"{child}@{name}"
         if not exact:
             links.append(mid)
-        effort, velocity, damping, friction = (_axis_dynamics(el, f"{j.source}: joint '{name}'")
+        effort, velocity, damping, friction = (axis_dynamics(axis_el, where)
                                                if moving != "floating" else (None, None, None, None))
         joints.append(UrdfJoint(name, moving, parent, mid, None, axis, lower, upper, None, effort=effort,
                                 velocity=velocity, damping=damping, friction=friction, pose=origin))
@@ -336,7 +329,7 @@ def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str,
                                 pose=j.relative(base, name, src)))
     if uses_world:
         links.insert(0, "world")
-    model = UrdfModel(models[0].get("name"), tuple(links), tuple(joints), src, sdf_content(j, folder))
+    model = UrdfModel(models[0].get("name"), tuple(links), tuple(joints), src, sdf_content(j, folder, text))
     check_tree(model)
     return model, kinds
 

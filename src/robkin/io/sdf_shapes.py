@@ -90,17 +90,29 @@ def _inertial(el: Any, link: str, X: np.ndarray, where: str) -> Inertial:
                     np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]))
 
 
-def sdf_content(model: "_Model", folder: Path | None) -> ContentOnce:
+def _links(model: Any) -> list[Any]:
+    """The ``<link>`` elements of a ``<model>`` and of the models nested in it, in the order the reader
+    lists them (``sdf._Model.read``: a model's own links, then those of each nested model)."""
+    out = model.findall("link")
+    for inner in model.findall("model"):
+        out += _links(inner)
+    return out
+
+
+def sdf_content(model: "_Model", folder: Path | None, text: str) -> ContentOnce:
     """link -> LinkContent of the model's links (poses relative to each link's frame), made on first use.
 
     ``model`` is the reader's resolved frame graph (``sdf._Model``, its ``link_elements`` filled);
-    ``folder`` the SDF file's folder (None for text input; mesh names are kept as written either way).
+    ``folder`` the SDF file's folder (None for text input; mesh names are kept as written either way);
+    ``text`` the file's text, parsed whole here (the reader's tree holds only the kinematic elements).
     """
-    from .sdf import _pose
+    from .sdf import _pose, the_models
+    from .urdf_xml import _parse_xml
 
     def make() -> dict[str, LinkContent]:
         out = {}
-        for link, el, prefix in model.link_elements:
+        elements = _links(the_models(_parse_xml(text, model.source))[0])
+        for (link, _, prefix), el in zip(model.link_elements, elements):
             def placed(sub: Any, where: str) -> np.ndarray:
                 pose, rel = _pose(sub, where)
                 if rel is None or model.scoped(rel, prefix) == link:

@@ -75,9 +75,10 @@ def pick_tree(model: UrdfModel, base_link: str | None = None, tip_link: str | No
     is given and several trees have moving joints (the message lists them and a ``tip_link`` for each).
     Links not known to the model are left for the chain selection to report.
     """
-    found = trees(model)
-    if len(found) < 2:
+    parents = model.parent_joint()
+    if sum(1 for link in model.links if link not in parents) < 2:  # trees() has one tree per root link
         return model
+    found = trees(model)
     src = model.source
     tree_of = {link: k for k, links in enumerate(found) for link in links}
     picks = {opt: tree_of[link] for opt, link in (("base_link", base_link), ("tip_link", tip_link))
