@@ -163,6 +163,20 @@ def test_random_6r_arms_find_their_generating_configuration(robot, seed):
     check_arm(robot, robot.random_q(15, rng=seed))
 
 
+def test_expand_puts_locked_values_in_place():
+    """Reduced configurations become full ones with the locked values at their indices, first and last
+    joints included, NaN rows untouched elsewhere, any leading shape."""
+    from robkin.kinematics.lock import expand
+
+    q = np.arange(12.0).reshape(2, 6)
+    q[1, 2] = np.nan
+    full = expand(q, (0, 3, 8), (10.0, 20.0, 30.0))
+    expected = np.array([[10, 0, 1, 20, 2, 3, 4, 5, 30], [10, 6, 7, 20, np.nan, 9, 10, 11, 30]])
+    np.testing.assert_array_equal(full, expected)
+    np.testing.assert_array_equal(expand(q[0], (6,), (5.0,)), [0, 1, 2, 3, 4, 5, 5])
+    assert expand(np.zeros((0, 6)), (2,), (1.0,)).shape == (0, 7)
+
+
 def test_lock_returns_full_length_for_every_method_and_any_number_of_joints():
     iiwa = arms.iiwa()
     q = np.array([0.3, 0.5, -0.2, -1.2, 0.4, 0.9, 0.1])

@@ -37,6 +37,7 @@ def check_lock(robot: Robot, lock: Mapping[str, float]) -> tuple[tuple[int, ...]
     if not isinstance(lock, Mapping):
         raise InputError(f"lock: expected a mapping of joint name to value, got {type(lock).__name__}")
     names = [j.name for j in robot.joints]
+    limits = robot.limits
     items = []
     for name, value in lock.items():
         if name not in names:
@@ -48,7 +49,7 @@ def check_lock(robot: Robot, lock: Mapping[str, float]) -> tuple[tuple[int, ...]
         if not math.isfinite(v):
             raise InputError(f"lock: joint {quote(name)}: value {v} is not finite")
         i = names.index(name)
-        lo, hi = robot.limits[i]
+        lo, hi = float(limits[i, 0]), float(limits[i, 1])
         if not lo - 1e-12 <= v <= hi + 1e-12:      # the limits' own rounding slack (LIMIT_TOL scale)
             raise InputError(f"lock: joint {quote(name)}: value {v} is outside its limits [{lo}, {hi}]")
         items.append((i, v))
@@ -96,11 +97,14 @@ def expand(q: np.ndarray, idx: tuple[int, ...], values: tuple[float, ...]) -> np
     """Configurations q (..., m) of the reduced arm as full ones (..., m + len(idx)), locked values in
     place (NaN rows stay NaN in the free joints)."""
     q = np.asarray(q, dtype=float)
-    n = q.shape[-1] + len(idx)
-    out = np.empty(q.shape[:-1] + (n,))
-    free = [i for i in range(n) if i not in idx]
-    out[..., free] = q
-    out[..., list(idx)] = values
+    out = np.empty(q.shape[:-1] + (q.shape[-1] + len(idx),))
+    src = dst = 0
+    for i, v in zip(idx, values):           # idx ascending: the run of free joints before each locked one
+        out[..., dst:i] = q[..., src:src + i - dst]
+        out[..., i] = v
+        src += i - dst
+        dst = i + 1
+    out[..., dst:] = q[..., src:]
     return out
 
 
@@ -110,9 +114,8 @@ def ik_locked(ik_function: Any, robot: Robot, T: Any, lock: Mapping[str, float],
 
     idx, values = check_lock(robot, lock)
     reduced = locked_robot(robot, idx, values)
-    free = [i for i in range(robot.n) if i not in idx]
     if q0 is not None:
-        q0 = check_q(q0, robot.n)[..., free]
+        q0 = check_q(q0, robot.n)[..., [i for i in range(robot.n) if i not in idx]]
     res = ik_function(reduced, T, q0=q0, **kwargs)
     sols = res.solutions
     if sols is not None:
