@@ -56,6 +56,15 @@ cdef enum:
     NP = 24         # the pencil's size
     LWORK = 1536    # LAPACK's workspace for it (64 n: room for its blocked algorithms)
 
+# The work array's layout (doubles): _pencil fills F .. Mq, solve_one uses Rc, Vq, Mq and what follows
+cdef enum:
+    AT_F = 0                    # 14 x 27 LHS samples -> x-power coefficients
+    AT_G = AT_F + 14 * 27       # 14 x 9 RHS samples
+    AT_RC = AT_G + 14 * 9       # 14 x 9 RHS coefficients (1, cos, sin)^2; R of the QR in columns 1..8
+    AT_PX = AT_RC + 14 * 9      # 14 x 27 LHS coefficients in x powers (after c0)
+    AT_VQ = AT_PX + 14 * 27     # 14 x 8 Householder vectors (column-major by column)
+    AT_MQ = AT_VQ + 14 * 8      # 3 x 12 x 12 M0, M1, M2 (row-major)
+
 #: An eigenvalue counts as a real root when |Im x| <= IMAG_TOL (1 + |x|): a double root (a target on
 #: a singularity) splits into a pair with |Im| ~ sqrt(eps) ~ 1e-8; 1e-4 keeps those and anything the
 #: Newton polish can still pull onto a true solution (spurious candidates then fail its check).
@@ -68,8 +77,6 @@ cdef double M2_RCOND = 1e-8
 cdef double RANK_TOL = 1e-11
 
 cdef double TWO_PI_3 = 2.0943951023931957
-#: where M0, M1, M2 start in the work array (after F, G, Rc, Px, Vq: see ``_pencil``)
-cdef Py_ssize_t MQ_OFFSET = 14 * 27 + 14 * 9 + 14 * 9 + 14 * 27 + 14 * 8
 
 
 def eigenvalues(A):
@@ -150,7 +157,7 @@ cdef class General6RKernel(ClosedFormKernel):
                 Rd[3 * i + j] = t[i, j]
         if not self._pencil(Rd, pd, K, tau, &w[0]):
             return None
-        return np.asarray(w[MQ_OFFSET:MQ_OFFSET + 432]).reshape(3, 12, 12).copy()
+        return np.asarray(w[AT_MQ:AT_MQ + 432]).reshape(3, 12, 12).copy()
 
     def set_deflation(self, complement):
         """Solve the 16 x 16 problem on ``complement`` (24, 16), the orthonormal complement of the
@@ -210,12 +217,12 @@ cdef class General6RKernel(ClosedFormKernel):
         cdef double* Kd = K + 48
         cdef double* Ke = K + 64
         cdef double* Kf = K + 80
-        cdef double* F = work                     # 14 x 27 LHS samples -> x-power coefficients
-        cdef double* G = F + 14 * 27              # 14 x 9 RHS samples
-        cdef double* Rc = G + 14 * 9              # 14 x 9 RHS coefficients (1, cos, sin)^2
-        cdef double* Px = Rc + 14 * 9             # 14 x 27 LHS coefficients in x powers (after c0)
-        cdef double* Vq = Px + 14 * 27            # 14 x 8 Householder vectors (column-major by column)
-        cdef double* Mq = Vq + 14 * 8             # 3 x 12 x 12 M0, M1, M2 (row-major)
+        cdef double* F = work + AT_F
+        cdef double* G = work + AT_G
+        cdef double* Rc = work + AT_RC
+        cdef double* Px = work + AT_PX
+        cdef double* Vq = work + AT_VQ
+        cdef double* Mq = work + AT_MQ
         # ---- 1. the loop's target link K_6 = L_7 T^-1 L_1 (scaled), and the six links in loop order
         for i in range(3):
             for j in range(3):
@@ -324,10 +331,10 @@ cdef class General6RKernel(ClosedFormKernel):
         cdef double* Kd = K + 48
         cdef double* Ke = K + 64
         cdef double* Kf = K + 80
-        # work layout (the first five: _pencil's)
-        cdef double* Rc = work + 14 * 27 + 14 * 9     # 14 x 9 RHS coefficients; R of the QR
-        cdef double* Vq = Rc + 14 * 9 + 14 * 27       # 14 x 8 Householder vectors
-        cdef double* Mq = Vq + 14 * 8                 # 3 x 12 x 12 M0, M1, M2 (row-major)
+        # work layout: _pencil's (AT_ above), then this method's own
+        cdef double* Rc = work + AT_RC
+        cdef double* Vq = work + AT_VQ
+        cdef double* Mq = work + AT_MQ
         cdef double* Ap = Mq + 3 * 144            # 24 x 24 (column-major) pencil A
         cdef double* Bp = Ap + NP * NP            # 24 x 24 pencil B / LU of M2
         cdef double* ar = Bp + NP * NP            # alphar, alphai, beta (24 each)

@@ -45,8 +45,7 @@ def _from_environment():
     """ROBKIN_NUM_THREADS when it is a whole number >= 1 (robkin's command line checks the variable and
     says when it is not usable); else OMP_NUM_THREADS when it is one (or a list of them, OpenMP's
     nested form: its first); else the available cores. Capped at 1024."""
-    for name, text in (("ROBKIN_NUM_THREADS", os.environ.get("ROBKIN_NUM_THREADS", "")),
-                       ("OMP_NUM_THREADS", os.environ.get("OMP_NUM_THREADS", "").split(",")[0])):
+    for text in (os.environ.get("ROBKIN_NUM_THREADS", ""), os.environ.get("OMP_NUM_THREADS", "").split(",")[0]):
         text = text.strip()
         if text.isdigit() and int(text) >= 1:
             return min(int(text), 1024)
