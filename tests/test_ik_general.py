@@ -117,6 +117,55 @@ def test_seven_joint_arms_with_a_locked_joint(name):
     assert res.method != "numeric" and res.q[j] == 0.4
 
 
+@pytest.mark.parametrize("name", sorted(arms.SEVEN))
+def test_locked_single_calls_are_the_batch_rows(name):
+    """One target with a lock (the compiled entry answering full length, ``nearest``'s embed) gives the
+    same bits as that row of the batch (the reduced arm's branches made full length in Python), and
+    again from the cached plan; a mapping with a bad value after a good one is still refused."""
+    make, joint = arms.SEVEN[name]
+    robot = make()
+    if robot is None:
+        pytest.skip("example-robot-data not installed")
+    j = [x.name for x in robot.joints].index(joint)
+    Q = robot.random_q(12, rng=11)
+    Q[:, j] = -0.2
+    T = robot.fk(Q)
+    lock = {joint: -0.2}
+    batch = robot.ik(T, all_solutions=True, lock=lock)
+    assert batch.success.all()
+    for k in range(len(T)):
+        for _ in range(2):
+            one = robot.ik(T[k], all_solutions=True, lock=lock)
+            assert one.method == batch.method and one.q.shape == (robot.n,)
+            np.testing.assert_array_equal(one.q, batch.q[k])
+            np.testing.assert_array_equal(one.solutions, batch.solutions[k])
+            assert one.position_error == batch.position_error[k]
+    hi = robot.limits[j, 1]
+    bad = hi + 1.0 if np.isfinite(hi) else np.nan          # (Gen3's joint 3 turns without limits)
+    with pytest.raises(InputError, match="outside its limits|not finite"):
+        robot.ik(T[0], lock={joint: bad})
+
+
+def test_near_class_single_entry_embeds_like_the_python_rows():
+    """The near-class solver's own single-target entry (Python) takes the same ``embed`` as the
+    compiled kernels: the rows of the longer arm, the template's values elsewhere."""
+    from robkin.kinematics.closed_form import embedded
+    from robkin.kinematics.ik import IKResult
+
+    ur5 = arms.ur5()
+    if ur5 is None:
+        pytest.skip("example-robot-data not installed")
+    calibrated = arms.perturbed(ur5, 1e-6, seed=0)
+    solver = closed_form_solver(calibrated)
+    T = calibrated.fk(calibrated.random_q(1, rng=3)[0])
+    embed = (np.array([7.0, 0, 0, 0, 0, 0, 0, 8.0]), np.arange(1, 7, dtype=np.intp))
+    plain = solver.nearest(T, None, 1e-9, 1e-9, True, 1e-6, IKResult, solver.name)
+    full = solver.nearest(T, None, 1e-9, 1e-9, True, 1e-6, IKResult, solver.name, embed)
+    np.testing.assert_array_equal(full.q, embedded(plain.q, embed))
+    np.testing.assert_array_equal(full.solutions, embedded(plain.solutions, embed))
+    assert full.q[0] == 7.0 and full.q[7] == 8.0
+
+
 def test_near_class_arm_takes_the_class_closed_form_polished():
     ur5 = arms.ur5()
     if ur5 is None:
@@ -163,18 +212,27 @@ def test_random_6r_arms_find_their_generating_configuration(robot, seed):
     check_arm(robot, robot.random_q(15, rng=seed))
 
 
-def test_expand_puts_locked_values_in_place():
+def test_embedded_puts_locked_values_in_place():
     """Reduced configurations become full ones with the locked values at their indices, first and last
-    joints included, NaN rows untouched elsewhere, any leading shape."""
-    from robkin.kinematics.lock import expand
+    joints included, NaN rows untouched elsewhere, any leading shape; the compiled single-target entry
+    (``nearest``'s embed) gives the same rows as the batch path."""
+    from robkin.kinematics.closed_form import embedded
+    from robkin.kinematics.lock import lock_plan
 
     q = np.arange(12.0).reshape(2, 6)
     q[1, 2] = np.nan
-    full = expand(q, (0, 3, 8), (10.0, 20.0, 30.0))
+    template = np.array([10.0, 0, 0, 20.0, 0, 0, 0, 0, 30.0])
+    where = np.array([1, 2, 4, 5, 6, 7], dtype=np.intp)
+    full = embedded(q, (template, where))
     expected = np.array([[10, 0, 1, 20, 2, 3, 4, 5, 30], [10, 6, 7, 20, np.nan, 9, 10, 11, 30]])
     np.testing.assert_array_equal(full, expected)
-    np.testing.assert_array_equal(expand(q[0], (6,), (5.0,)), [0, 1, 2, 3, 4, 5, 5])
-    assert expand(np.zeros((0, 6)), (2,), (1.0,)).shape == (0, 7)
+    np.testing.assert_array_equal(embedded(q[0], (np.full(7, 5.0), np.arange(6, dtype=np.intp))),
+                                  [0, 1, 2, 3, 4, 5, 5])
+    assert embedded(np.zeros((0, 6)), (np.zeros(7), np.arange(6, dtype=np.intp))).shape == (0, 7)
+    iiwa = arms.iiwa()
+    plan = lock_plan(iiwa, {"iiwa_joint_1": 0.2, "iiwa_joint_7": -0.3})
+    np.testing.assert_array_equal(plan.embed[1], [1, 2, 3, 4, 5])
+    assert plan.embed[0][0] == 0.2 and plan.embed[0][6] == -0.3
 
 
 def test_lock_returns_full_length_for_every_method_and_any_number_of_joints():

@@ -142,7 +142,7 @@ cdef class ClosedFormKernel:
         return c[k] != 0
 
     def nearest(self, target, q_ref, tol_position, tol_orientation, bint every, double same_tol,
-                result_type, str method):
+                result_type, str method, embed=None):
         """One target: the verified branch nearest the preference, in one call without batch arrays.
 
         Parameters
@@ -159,10 +159,14 @@ cdef class ClosedFormKernel:
         result_type, method : type, str
             The result to build (``kinematics.ik.IKResult``, a frozen dataclass: built without its
             ``__init__``, as its ``_build``) and the name of the method that solved it.
+        embed : (template, where), optional
+            The robot is a longer arm with joints held (``kinematics.lock``): q and the solutions come
+            back as rows of that arm, the template (m,) float64 with this robot's joint j at where[j]
+            ((n,) intp, distinct indices in [0, m)).
 
         Returns
         -------
-        A ``result_type`` with q (n,), success True, iterations 0, attempts 1, position_error and
+        A ``result_type`` with q (n,) (or (m,) with ``embed``), success True, iterations 0, attempts 1, position_error and
         orientation_error (floats), method, message '' and solutions ((m, n) with ``every``, else None);
         or None when an input is not of the kinds above or no branch counts: the caller then takes the
         general path, for its checks and messages, the failure's reasons and the numeric retry.
@@ -181,7 +185,23 @@ cdef class ClosedFormKernel:
         if q_ref is not None:
             R = c_doubles(q_ref, 1, self.n, "q_ref")
             ref = <const double*>cnp.PyArray_DATA(R)
-        cdef Py_ssize_t n = self.n, S = self.S, best, m, j
+        cdef Py_ssize_t n = self.n, S = self.S, best, m, j, full = n
+        cdef const double* template = NULL
+        cdef const Py_ssize_t* where = NULL
+        cdef cnp.ndarray tpl, places
+        if embed is not None:
+            tpl, places = embed
+            if not (cnp.PyArray_TYPE(tpl) == cnp.NPY_DOUBLE and cnp.PyArray_NDIM(tpl) == 1
+                    and cnp.PyArray_IS_C_CONTIGUOUS(tpl) and cnp.PyArray_TYPE(places) == cnp.NPY_INTP
+                    and cnp.PyArray_NDIM(places) == 1 and cnp.PyArray_IS_C_CONTIGUOUS(places)
+                    and cnp.PyArray_DIM(places, 0) == n):
+                raise ValueError(f"embed: expected a float64 template (m,) and {n} intp places")
+            full = cnp.PyArray_DIM(tpl, 0)
+            template = <const double*>cnp.PyArray_DATA(tpl)
+            where = <const Py_ssize_t*>cnp.PyArray_DATA(places)
+            for j in range(n):
+                if where[j] < 0 or where[j] >= full:
+                    raise ValueError(f"embed: place {where[j]} is not an index of the {full} joints")
         cdef double Rd[9]
         cdef double pd[3]
         cdef double detail, ep, eo
@@ -212,14 +232,16 @@ cdef class ClosedFormKernel:
                                   reached, dist, order, &m, &ep, &eo, check_work)
             if best < 0:
                 return None
-            q = new_array(1, n, 0, 0, cnp.NPY_DOUBLE)
+            q = new_array(1, full, 0, 0, cnp.NPY_DOUBLE)
             qo = <double*>cnp.PyArray_DATA(q)
+            for j in range(full if template != NULL else 0):
+                qo[j] = template[j]
             for j in range(n):
-                qo[j] = Q[best * n + j]
+                qo[j if where == NULL else where[j]] = Q[best * n + j]
             solutions = None
             if every:
                 m = keep_distinct(Q, n, order, m, reached, self.unit, same_tol, order + S)
-                solutions = rows_array(Q, n, order + S, m)
+                solutions = rows_array(Q, n, order + S, m, template, where, full)
         finally:
             free(buf)
         result = result_type.__new__(result_type)

@@ -158,15 +158,24 @@ cdef inline Py_ssize_t keep_distinct(const double* q, Py_ssize_t n, const Py_ssi
     return k
 
 
-cdef inline cnp.ndarray rows_array(const double* q, Py_ssize_t n, const Py_ssize_t* kept, Py_ssize_t k):
-    """A new (k, n) float64 array of the rows q[kept[a]] (n,)."""
+cdef inline cnp.ndarray rows_array(const double* q, Py_ssize_t n, const Py_ssize_t* kept, Py_ssize_t k,
+                                   const double* template=NULL, const Py_ssize_t* where=NULL, Py_ssize_t m=0):
+    """A new (k, n) float64 array of the rows q[kept[a]] (n,); with a template (m,), (k, m) rows that are
+    the template with q[kept[a]][j] at where[j] (the free joints of a longer arm, ``kinematics.lock``)."""
     cdef cnp.npy_intp dims[2]
     dims[0] = k
-    dims[1] = n
+    dims[1] = n if template == NULL else m
     cdef cnp.ndarray out = cnp.PyArray_EMPTY(2, dims, cnp.NPY_DOUBLE, 0)
     cdef double* o = <double*>cnp.PyArray_DATA(out)
     cdef Py_ssize_t a, j
+    if template == NULL:
+        for a in range(k):
+            for j in range(n):
+                o[a * n + j] = q[kept[a] * n + j]
+        return out
     for a in range(k):
+        for j in range(m):
+            o[a * m + j] = template[j]
         for j in range(n):
-            o[a * n + j] = q[kept[a] * n + j]
+            o[a * m + where[j]] = q[kept[a] * n + j]
     return out

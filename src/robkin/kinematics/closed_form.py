@@ -15,7 +15,7 @@ import numpy as np
 
 from ..robot import Robot
 
-__all__ = ["Branches", "ClosedFormSolver", "KernelSolver", "closed_form_solver", "reasons_from_codes",
+__all__ = ["Branches", "ClosedFormSolver", "KernelSolver", "closed_form_solver", "embedded", "reasons_from_codes",
            "DETECT_ANGLE_TOL", "DETECT_LENGTH_TOL"]
 
 #: Axes count as parallel when the sine of their angle is below this, and as meeting when their
@@ -57,8 +57,20 @@ class ClosedFormSolver(Protocol):
         targets split over at most ``threads`` threads (0: automatic), the same bits on any."""
 
     def nearest(self, target: Any, q_ref: np.ndarray | None, tol_position: Any, tol_orientation: Any,
-                every: bool, same_tol: float, result_type: type, method: str) -> Any:
-        """One target: the finished result, or None (see ``compiled.closed_form_kernel``)."""
+                every: bool, same_tol: float, result_type: type, method: str,
+                embed: tuple[np.ndarray, np.ndarray] | None = None) -> Any:
+        """One target: the finished result, or None (see ``compiled.closed_form_kernel``); with
+        ``embed`` (template, where) its configurations as rows of a longer arm (``embedded``)."""
+
+
+def embedded(q: np.ndarray, embed: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """Configurations q (..., n) of a reduced arm as rows of the longer one: ``embed`` = (template (m,),
+    where (n,) intp), each row the template with q[..., j] at where[j] (what ``nearest`` does in C)."""
+    template, where = embed
+    out = np.empty(q.shape[:-1] + template.shape)
+    out[...] = template
+    out[..., where] = q
+    return out
 
 
 class KernelSolver:
@@ -68,7 +80,7 @@ class KernelSolver:
 
     ``nearest`` is the kernel's own single-target entry (an attribute: no Python frame in between):
     ``nearest(target (4, 4), q_ref (n,) or None, tol_position, tol_orientation, every, same_tol,
-    result_type, method)`` -> the finished result of one target, or None when no branch counts or an
+    result_type, method, embed=None)`` -> the finished result of one target, or None when no branch counts or an
     input is not a plain float64 4x4 exact pose / float tolerance (the caller then takes the general
     path). The same solve and choice as ``solve`` followed by ``solutions.nearest_verified``.
     """

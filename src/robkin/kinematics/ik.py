@@ -41,7 +41,7 @@ from .ik_methods import SAME_SOLUTION_TOL, closed_form_batch, numeric_batch, pre
 from .lm import LMSettings
 from .pose_error import FULL_POSE, check_mask, check_targets
 
-__all__ = ["IKResult", "ik", "METHODS"]
+__all__ = ["IKResult", "ik", "single_closed_form", "METHODS"]
 
 METHODS = ("auto", "analytic", "numeric")
 
@@ -175,18 +175,11 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         return ik_locked(ik, robot, T, lock, q0, mask=mask, method=method, all_solutions=all_solutions,
                          tol_position=tol_position, tol_orientation=tol_orientation,
                          max_iterations=max_iterations, restarts=restarts, rng=rng, threads=threads)
-    if q0 is None and mask is None and (method == "auto" or method == "analytic") \
-            and max_iterations is _MAX_ITERATIONS and restarts is _RESTARTS:    # else: checked below
-        # The single-target path: one compiled call checks the target (a float64 4x4 exact pose) and
-        # the tolerances (floats), solves, verifies and picks, and one small result is built. Anything
-        # else - a batch, other input kinds, a failure (for its reasons and the numeric retry) - comes
-        # back as None and takes the general path below, which gives the same answer.
-        solver = closed_form_solver(robot)
-        if solver is not None:
-            one = solver.nearest(T, None, tol_position, tol_orientation, all_solutions, SAME_SOLUTION_TOL,
-                                 IKResult, solver.name)
-            if one is not None:
-                return one
+    if q0 is None:
+        one = single_closed_form(robot, T, mask, method, all_solutions, tol_position, tol_orientation,
+                                 max_iterations, restarts)
+        if one is not None:
+            return one
     targets, single = check_targets(T)
     N = len(targets)
     m = check_mask(mask)
@@ -253,6 +246,23 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         message=out.reasons[0] if single else out.reasons,
         solutions=None if sols is None else (sols[0] if single else sols),
     )
+
+
+def single_closed_form(robot: Robot, T: Any, mask: Any, method: str, all_solutions: bool, tol_position: Any,
+                       tol_orientation: Any, max_iterations: Any, restarts: Any,
+                       embed: tuple[np.ndarray, np.ndarray] | None = None) -> IKResult | None:
+    """The single-target path of ``ik`` without q0: one compiled call checks the target (a float64 4x4
+    exact pose) and the tolerances (floats), solves, verifies and picks, and one small result is built.
+    Anything else - a batch, other input kinds or settings, a failure (for its reasons and the numeric
+    retry) - gives None, and the general path of ``ik`` gives the same answer. ``embed``: the robot is a
+    longer arm's reduced one (``kinematics.lock``), the answer is made full length in the same call."""
+    if mask is None and (method == "auto" or method == "analytic") \
+            and max_iterations is _MAX_ITERATIONS and restarts is _RESTARTS:    # else: checked by ik
+        solver = closed_form_solver(robot)
+        if solver is not None:
+            return solver.nearest(T, None, tol_position, tol_orientation, all_solutions, SAME_SOLUTION_TOL,
+                                  IKResult, solver.name, embed)
+    return None
 
 
 @lru_cache(maxsize=64)

@@ -9,7 +9,9 @@ the numeric solver included. Returned configurations are full length, the locked
 
 The reduced arms are cached per (robot, locked joints, values), and the elimination formulation chosen
 for one value of the locked joints is tried first for the next (``general6r``), so a path that sweeps
-a locked value costs one reduced arm per value, not a fresh detection.
+a locked value costs one reduced arm per value, not a fresh detection. A call repeating a ``lock``
+mapping already seen for that robot (the same names and values) skips even the checks: its plan
+(``LockPlan``: indices, reduced arm, where the free joints go) is kept per robot and mapping.
 """
 
 from __future__ import annotations
@@ -23,12 +25,15 @@ import numpy as np
 
 from ..errors import InputError, quote
 from ..robot import Robot
+from .closed_form import embedded
 
-__all__ = ["check_lock", "locked_robot", "expand", "ik_locked"]
+__all__ = ["check_lock", "locked_robot", "ik_locked", "LockPlan", "lock_plan"]
 
-#: reduced arms kept (per robot, locked joints and values): a path's worth of locked values
+#: reduced arms kept (per robot, locked joints and values): a path's worth of locked values; the
+#: plans (per robot and ``lock`` mapping as given) likewise
 _CACHE_SIZE = 256
 _CACHE: "OrderedDict[tuple[Any, ...], tuple[weakref.ref[Robot], Robot]]" = OrderedDict()
+_PLANS: "OrderedDict[tuple[Any, ...], tuple[weakref.ref[Robot], LockPlan]]" = OrderedDict()
 
 
 def check_lock(robot: Robot, lock: Mapping[str, float]) -> tuple[tuple[int, ...], tuple[float, ...]]:
@@ -93,34 +98,61 @@ def locked_robot(robot: Robot, idx: tuple[int, ...], values: tuple[float, ...]) 
     return reduced
 
 
-def expand(q: np.ndarray, idx: tuple[int, ...], values: tuple[float, ...]) -> np.ndarray:
-    """Configurations q (..., m) of the reduced arm as full ones (..., m + len(idx)), locked values in
-    place (NaN rows stay NaN in the free joints)."""
-    q = np.asarray(q, dtype=float)
-    out = np.empty(q.shape[:-1] + (q.shape[-1] + len(idx),))
-    src = dst = 0
-    for i, v in zip(idx, values):           # idx ascending: the run of free joints before each locked one
-        out[..., dst:i] = q[..., src:src + i - dst]
-        out[..., i] = v
-        src += i - dst
-        dst = i + 1
-    out[..., dst:] = q[..., src:]
-    return out
+class LockPlan:
+    """What ``ik`` needs for one robot and one ``lock`` mapping: the checked locked indices (ascending)
+    and values, the reduced arm, and the indices of the free joints (to pick q0's free part)."""
+
+    __slots__ = ("idx", "values", "reduced", "free", "embed")
+
+    def __init__(self, robot: Robot, idx: tuple[int, ...], values: tuple[float, ...]) -> None:
+        self.idx, self.values = idx, values
+        self.reduced = locked_robot(robot, idx, values)
+        self.free = np.array([i for i in range(robot.n) if i not in idx], dtype=np.intp)
+        template = np.full(robot.n, np.nan)
+        template[list(idx)] = values
+        #: what the closed forms' single-target entry takes to answer full length (``nearest``'s embed)
+        self.embed = (template, self.free)
+
+
+def lock_plan(robot: Robot, lock: Mapping[str, float]) -> LockPlan:
+    """The plan of ``lock`` for ``robot``: checked (``check_lock``) the first time this robot sees this
+    mapping (the same names and values, in any order of insertion that gives the same items), then
+    taken from the cache. A mapping whose items cannot be hashed is checked on every call."""
+    try:
+        key: tuple[Any, ...] | None = (id(robot), tuple(lock.items()))
+        hit = _PLANS.get(key)
+    except (TypeError, AttributeError):     # unhashable values, or not a mapping: check_lock explains
+        key = hit = None
+    if hit is not None and hit[0]() is robot:
+        return hit[1]
+    plan = LockPlan(robot, *check_lock(robot, lock))
+    if key is not None:
+        _PLANS[key] = (weakref.ref(robot), plan)
+        if len(_PLANS) > _CACHE_SIZE:
+            _PLANS.popitem(last=False)
+    return plan
 
 
 def ik_locked(ik_function: Any, robot: Robot, T: Any, lock: Mapping[str, float], q0: Any, **kwargs: Any) -> Any:
     """``ik_function`` (``kinematics.ik.ik``) on the reduced arm, its result made full length."""
-    from ..robot import check_q
+    plan = lock_plan(robot, lock)
+    if q0 is None:      # one target: answered full length by the compiled entry, if it can
+        from .ik import single_closed_form
 
-    idx, values = check_lock(robot, lock)
-    reduced = locked_robot(robot, idx, values)
-    if q0 is not None:
-        q0 = check_q(q0, robot.n)[..., [i for i in range(robot.n) if i not in idx]]
-    res = ik_function(reduced, T, q0=q0, **kwargs)
+        one = single_closed_form(plan.reduced, T, kwargs["mask"], kwargs["method"], kwargs["all_solutions"],
+                                 kwargs["tol_position"], kwargs["tol_orientation"], kwargs["max_iterations"],
+                                 kwargs["restarts"], plan.embed)
+        if one is not None:
+            return one
+    else:
+        from ..robot import check_q
+
+        q0 = check_q(q0, robot.n)[..., plan.free]
+    res = ik_function(plan.reduced, T, q0=q0, **kwargs)
     sols = res.solutions
     if sols is not None:
-        sols = expand(sols, idx, values) if isinstance(sols, np.ndarray) else \
-            [expand(s, idx, values) for s in sols]
-    fields = dict(res.__dict__)
-    fields.update(q=expand(res.q, idx, values), solutions=sols)
+        sols = embedded(sols, plan.embed) if isinstance(sols, np.ndarray) else \
+            [embedded(s, plan.embed) for s in sols]
+    fields = res.__dict__.copy()
+    fields["q"], fields["solutions"] = embedded(res.q, plan.embed), sols
     return type(res)._build(**fields)

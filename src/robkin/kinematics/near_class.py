@@ -23,7 +23,7 @@ import numpy as np
 from ..compiled.solutions import nearest_verified
 from ..lines import closest_points
 from ..robot import Robot
-from .closed_form import Branches, KernelSolver
+from .closed_form import Branches, KernelSolver, embedded
 from .limits import LIMIT_TOL
 
 __all__ = ["NearClass", "NEAR_TOL"]
@@ -124,8 +124,10 @@ class NearClass(KernelSolver):
         return Branches(Q, valid, b.reason, b.uncertain)
 
     def _nearest(self, target: Any, q_ref: np.ndarray | None, tol_position: Any, tol_orientation: Any,
-                 every: bool, same_tol: float, result_type: type, method: str) -> Any:
-        """One target: the finished result, or None (the caller's general path then decides)."""
+                 every: bool, same_tol: float, result_type: type, method: str,
+                 embed: tuple[np.ndarray, np.ndarray] | None = None) -> Any:
+        """One target: the finished result, or None (the caller's general path then decides); with
+        ``embed`` full length, as the compiled kernels' ``nearest``."""
         if not (isinstance(target, np.ndarray) and target.shape == (4, 4) and isinstance(tol_position, float)
                 and isinstance(tol_orientation, float)):
             return None
@@ -141,6 +143,9 @@ class NearClass(KernelSolver):
                                                        every, same_tol)
         if failed:
             return None
-        return result_type._build(q=q[0], success=True, iterations=0, attempts=1,
+        q, sols = q[0], sols[0] if every else None
+        if embed is not None:
+            q, sols = embedded(q, embed), None if sols is None else embedded(sols, embed)
+        return result_type._build(q=q, success=True, iterations=0, attempts=1,
                                   position_error=float(ep[0]), orientation_error=float(eo[0]), method=method,
-                                  message="", solutions=sols[0] if every else None)
+                                  message="", solutions=sols)

@@ -19,14 +19,13 @@ from typing import Any
 import numpy as np
 
 from .. import se3
-from ..compiled.solutions import nearest_verified
 from ..lines import perpendicular
 from ..robot import Robot
 from .analytic6r import wrist_centre
 from .closed_form import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, Branches, KernelSolver
 from .limits import LIMIT_TOL, default_preference
 
-__all__ = ["Pieper6R", "ReversedChain", "reversed_robot", "finds_trials", "python_nearest"]
+__all__ = ["Pieper6R", "ReversedChain", "reversed_robot", "finds_trials"]
 
 _TRIAL_TARGETS = 12
 _FOUND_TOL = 1e-6
@@ -45,27 +44,6 @@ def finds_trials(robot: Robot, solver: Any, count: int = _TRIAL_TARGETS) -> int:
                for k in range(count))
 
 
-def python_nearest(solver: Any, robot: Robot, target: Any, q_ref: Any, tol_position: Any, tol_orientation: Any,
-                   every: bool, same_tol: float, result_type: type, method: str) -> Any:
-    """The single-target entry of a solver without its own compiled one: ``solver.solve`` on one
-    target, verified on the robot (``solutions.nearest_verified``); None if an input is not plain or no
-    branch counts (the caller's general path then decides)."""
-    if not (isinstance(target, np.ndarray) and target.shape == (4, 4) and isinstance(tol_position, float)
-            and isinstance(tol_orientation, float)):
-        return None
-    ref = default_preference(robot.limits)[None] if q_ref is None else \
-        np.asarray(q_ref, dtype=float).reshape(1, robot.n)
-    T = np.ascontiguousarray(target, dtype=float)[None]
-    b = solver.solve(T, ref)
-    q, ok, sols, ep, eo, failed = nearest_verified(robot._chain, b.q, b.valid, T, ref, robot.limits, robot.scale,
-                                                   tol_position, tol_orientation, LIMIT_TOL, every, same_tol)
-    if failed:
-        return None
-    return result_type._build(q=q[0], success=True, iterations=0, attempts=1, position_error=float(ep[0]),
-                              orientation_error=float(eo[0]), method=method, message="",
-                              solutions=sols[0] if every else None)
-
-
 def reversed_robot(robot: Robot) -> Robot:
     """The chain read from the tool: base and tool swapped, joints in reverse order, so that its FK at
     q[::-1] is the inverse of the robot's FK at q. Joint k's frame is the original joint n+1-k's, in
@@ -79,21 +57,17 @@ def reversed_robot(robot: Robot) -> Robot:
 
 class ReversedChain(KernelSolver):
     """A solver of the reversed chain (``reversed_robot``) answering for the robot itself: targets
-    inverted, preferences and branches reversed."""
+    inverted, preferences and branches reversed, inside the compiled kernel
+    (``compiled.closed_form_reversed``), which checks every branch on the robot's own chain."""
 
     def __init__(self, robot: Robot, inner: KernelSolver) -> None:
+        from ..compiled.closed_form_reversed import ReversedKernel
+
         self.robot, self.inner = robot, inner
         self.name = inner.name + "-reversed"
         self.messages = inner.messages
-
-    def solve(self, targets: np.ndarray, q_ref: np.ndarray, threads: int = 0) -> Branches:
-        b = self.inner.solve(se3.inv(targets), np.ascontiguousarray(q_ref[:, ::-1]), threads)
-        return Branches(np.ascontiguousarray(b.q[:, :, ::-1]), b.valid, b.reason, b.uncertain)
-
-    def nearest(self, target: Any, q_ref: Any, tol_position: Any, tol_orientation: Any, every: bool,
-                same_tol: float, result_type: type, method: str) -> Any:
-        return python_nearest(self, self.robot, target, q_ref, tol_position, tol_orientation, every, same_tol,
-                              result_type, method)
+        self._use(ReversedKernel(robot._chain, robot.limits, robot.revolute, robot.scale, LIMIT_TOL,
+                                 default_preference(robot.limits), inner._kernel))
 
 
 class Pieper6R(KernelSolver):
