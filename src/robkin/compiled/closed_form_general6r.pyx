@@ -382,7 +382,7 @@ cdef class General6RKernel(ClosedFormKernel):
             any_real = True
             for i in range(144):
                 Mx[i] = M0[i] + xr * (M1[i] + xr * M2[i])
-            null_vector(Mx, 12, vnull, rp, cp)
+            null_vector(Mx, 12, vnull, cp)
             th[0] = 2.0 * atan(xr)
             th[1] = pair_angle(vnull, 3, 3, 3, 3, 1)      # x_b: v[3 i + j] -> v[3 (i + 1) + j]
             th[2] = pair_angle(vnull, 1, 4, 2, 3, 1)      # x_c: v[3 i + j] -> v[3 i + j + 1]

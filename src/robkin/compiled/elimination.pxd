@@ -121,38 +121,50 @@ cdef inline void line_quantities(const double* p, const double* l, double* out, 
     out[stride * 7] = pl
 
 
-cdef inline void null_vector(double* A, int n, double* v, int* rp, int* cp) noexcept nogil:
+cdef inline void null_vector(double* A, int n, double* v, int* cp) noexcept nogil:
     """v (n,) spanning the (numerical) null space of the singular A (n x n row-major, overwritten):
-    LU with full pivoting, the last pivot taken as zero, back-substitution."""
+    LU with full pivoting, the last pivot taken as zero, back-substitution. Rows and columns are
+    swapped in place (cp records the columns' order), so the inner loops run over contiguous memory:
+    the same pivots and operations as index arrays would give, without their indirection."""
     cdef int i, j, k, bi, bj, t
-    cdef double big, x, f
+    cdef double big, x, f, p
+    cdef double* rk
+    cdef double* ri
     for i in range(n):
-        rp[i] = i
         cp[i] = i
     for k in range(n - 1):
         big = -1.0
         bi = k
         bj = k
         for i in range(k, n):
+            ri = A + i * n
             for j in range(k, n):
-                x = fabs(A[rp[i] * n + cp[j]])
+                x = fabs(ri[j])
                 if x > big:
                     big, bi, bj = x, i, j
-        t = rp[k]; rp[k] = rp[bi]; rp[bi] = t
-        t = cp[k]; cp[k] = cp[bj]; cp[bj] = t
+        if bi != k:
+            for j in range(n):
+                x = A[k * n + j]; A[k * n + j] = A[bi * n + j]; A[bi * n + j] = x
+        if bj != k:
+            for i in range(n):
+                x = A[i * n + k]; A[i * n + k] = A[i * n + bj]; A[i * n + bj] = x
+            t = cp[k]; cp[k] = cp[bj]; cp[bj] = t
         if big == 0.0:
             continue
+        rk = A + k * n
+        p = rk[k]
         for i in range(k + 1, n):
-            f = A[rp[i] * n + cp[k]] / A[rp[k] * n + cp[k]]
-            A[rp[i] * n + cp[k]] = f
+            ri = A + i * n
+            f = ri[k] / p
+            ri[k] = f
             for j in range(k + 1, n):
-                A[rp[i] * n + cp[j]] -= f * A[rp[k] * n + cp[j]]
+                ri[j] -= f * rk[j]
     v[cp[n - 1]] = 1.0
     for i in range(n - 2, -1, -1):
         x = 0.0
         for j in range(i + 1, n):
-            x += A[rp[i] * n + cp[j]] * v[cp[j]]
-        f = A[rp[i] * n + cp[i]]
+            x += A[i * n + j] * v[cp[j]]
+        f = A[i * n + i]
         v[cp[i]] = -x / f if f != 0.0 else 0.0
 
 
