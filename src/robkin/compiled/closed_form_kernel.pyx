@@ -166,8 +166,9 @@ cdef class ClosedFormKernel:
 
         Returns
         -------
-        A ``result_type`` with q (n,) (or (m,) with ``embed``), success True, iterations 0, attempts 1, position_error and
-        orientation_error (floats), method, message '' and solutions ((m, n) with ``every``, else None);
+        A ``result_type`` with q (n,) (or (m,) with ``embed``), success True, iterations 0, attempts 1,
+        position_error and orientation_error (floats), method, message '' and solutions ((k, n) or (k, m)
+        with ``every``, else None);
         or None when an input is not of the kinds above or no branch counts: the caller then takes the
         general path, for its checks and messages, the failure's reasons and the numeric retry.
         """
