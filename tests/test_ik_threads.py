@@ -17,6 +17,7 @@ import pytest
 import robkin
 from robkin.kinematics.closed_form import closed_form_solver
 from robkin.kinematics.limits import default_preference
+from robkin.kinematics.lock import locked_robot
 
 import ik_arms as arms
 from test_urdf import robot_file
@@ -94,7 +95,9 @@ def _closed_form_arms() -> dict:
     here = os.path.join(os.path.dirname(robkin.__file__), "examples")
     found = {"kr6 (spherical wrist)": robkin.load(os.path.join(here, "kr6_r700.yaml")),
              "scara": robkin.load(os.path.join(here, "scara.yaml")),
-             "generic 6R (general)": arms.generic_6r(1)}
+             "generic 6R (general)": arms.generic_6r(1),
+             # the first three axes meet: the compiled reversed chain (closed_form_reversed)
+             "iiwa, joint 7 locked (pieper reversed)": locked_robot(arms.iiwa(), (6,), (0.1,))}
     ur5 = arms.ur5()
     if ur5 is not None:
         found["ur5 (three parallel)"] = ur5
