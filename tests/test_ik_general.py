@@ -120,8 +120,9 @@ def test_seven_joint_arms_with_a_locked_joint(name):
 @pytest.mark.parametrize("name", sorted(arms.SEVEN))
 def test_locked_single_calls_are_the_batch_rows(name):
     """One target with a lock (the compiled entry answering full length, ``nearest``'s embed) gives the
-    same bits as that row of the batch (the reduced arm's branches made full length in Python), and
-    again from the cached plan; a mapping with a bad value after a good one is still refused."""
+    same bits as that row of the batch (the reduced arm's branches made full length in Python), again
+    from the cached plan, and with a preference q0; a mapping with a bad value after a good one is still
+    refused."""
     make, joint = arms.SEVEN[name]
     robot = make()
     if robot is None:
@@ -132,7 +133,9 @@ def test_locked_single_calls_are_the_batch_rows(name):
     T = robot.fk(Q)
     lock = {joint: -0.2}
     batch = robot.ik(T, all_solutions=True, lock=lock)
-    assert batch.success.all()
+    q0 = Q + 0.3       # a preference (clipped into the limits by ik, as for the batch)
+    preferred = robot.ik(T, q0=q0, all_solutions=True, lock=lock)
+    assert batch.success.all() and preferred.success.all()
     for k in range(len(T)):
         for _ in range(2):
             one = robot.ik(T[k], all_solutions=True, lock=lock)
@@ -140,6 +143,9 @@ def test_locked_single_calls_are_the_batch_rows(name):
             np.testing.assert_array_equal(one.q, batch.q[k])
             np.testing.assert_array_equal(one.solutions, batch.solutions[k])
             assert one.position_error == batch.position_error[k]
+        one = robot.ik(T[k], q0=q0[k], all_solutions=True, lock=lock)
+        np.testing.assert_array_equal(one.q, preferred.q[k])
+        np.testing.assert_array_equal(one.solutions, preferred.solutions[k])
     hi = robot.limits[j, 1]
     bad = hi + 1.0 if np.isfinite(hi) else np.nan          # (Gen3's joint 3 turns without limits)
     with pytest.raises(InputError, match="outside its limits|not finite"):

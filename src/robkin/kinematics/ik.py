@@ -249,18 +249,20 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
 
 
 def single_closed_form(robot: Robot, T: Any, mask: Any, method: str, all_solutions: bool, tol_position: Any,
-                       tol_orientation: Any, max_iterations: Any, restarts: Any,
+                       tol_orientation: Any, max_iterations: Any, restarts: Any, q_ref: np.ndarray | None = None,
                        embed: tuple[np.ndarray, np.ndarray] | None = None) -> IKResult | None:
-    """The single-target path of ``ik`` without q0: one compiled call checks the target (a float64 4x4
-    exact pose) and the tolerances (floats), solves, verifies and picks, and one small result is built.
-    Anything else - a batch, other input kinds or settings, a failure (for its reasons and the numeric
-    retry) - gives None, and the general path of ``ik`` gives the same answer. ``embed``: the robot is a
-    longer arm's reduced one (``kinematics.lock``), the answer is made full length in the same call."""
+    """The single-target path of ``ik``: one compiled call checks the target (a float64 4x4 exact pose)
+    and the tolerances (floats), solves, verifies and picks, and one small result is built. Anything
+    else - a batch, other input kinds or settings, a failure (for its reasons and the numeric retry) -
+    gives None, and the general path of ``ik`` gives the same answer. ``q_ref``: the preference (n,),
+    already checked and clipped into the limits (as ``ik_methods.preferred_starts`` does), else the
+    default. ``embed``: the robot is a longer arm's reduced one (``kinematics.lock``), the answer is made
+    full length in the same call."""
     if mask is None and (method == "auto" or method == "analytic") \
             and max_iterations is _MAX_ITERATIONS and restarts is _RESTARTS:    # else: checked by ik
         solver = closed_form_solver(robot)
         if solver is not None:
-            return solver.nearest(T, None, tol_position, tol_orientation, all_solutions, SAME_SOLUTION_TOL,
+            return solver.nearest(T, q_ref, tol_position, tol_orientation, all_solutions, SAME_SOLUTION_TOL,
                                   IKResult, solver.name, embed)
     return None
 

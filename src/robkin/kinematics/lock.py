@@ -135,19 +135,23 @@ def lock_plan(robot: Robot, lock: Mapping[str, float]) -> LockPlan:
 
 def ik_locked(ik_function: Any, robot: Robot, T: Any, lock: Mapping[str, float], q0: Any, **kwargs: Any) -> Any:
     """``ik_function`` (``kinematics.ik.ik``) on the reduced arm, its result made full length."""
-    plan = lock_plan(robot, lock)
-    if q0 is None:      # one target: answered full length by the compiled entry, if it can
-        from .ik import single_closed_form
+    from .ik import single_closed_form
 
-        one = single_closed_form(plan.reduced, T, kwargs["mask"], kwargs["method"], kwargs["all_solutions"],
-                                 kwargs["tol_position"], kwargs["tol_orientation"], kwargs["max_iterations"],
-                                 kwargs["restarts"], plan.embed)
-        if one is not None:
-            return one
-    else:
+    plan = lock_plan(robot, lock)
+    q_ref = None
+    if q0 is not None:
         from ..robot import check_q
 
         q0 = check_q(q0, robot.n)[..., plan.free]
+        if q0.ndim == 1:    # the preference of one target, clipped into the limits as ik's own
+            lim = plan.reduced.limits
+            q_ref = np.minimum(np.maximum(q0, lim[:, 0]), lim[:, 1])
+    if q0 is None or q_ref is not None:     # one target: answered full length by the compiled entry, if it can
+        one = single_closed_form(plan.reduced, T, kwargs["mask"], kwargs["method"], kwargs["all_solutions"],
+                                 kwargs["tol_position"], kwargs["tol_orientation"], kwargs["max_iterations"],
+                                 kwargs["restarts"], q_ref, plan.embed)
+        if one is not None:
+            return one
     res = ik_function(plan.reduced, T, q0=q0, **kwargs)
     sols = res.solutions
     if sols is not None:
