@@ -12,10 +12,13 @@ from the same rounds) separates robkin's threading from the machine's state.
 
 Each round pauses (``SETTLE``: libgomp's worker spins ~5-10 ms after a parallel region, and a
 ceiling run meanwhile would share a vCPU with it), runs the one-thread call once untimed, then times
-the one-thread call and the ceiling (which goes first alternates) and the k-thread calls. A speed-up is
-the median over the rounds of the ratio within a round (a round's calls see nearly the same machine,
-so the drift between rounds cancels). The number of rounds comes from a time budget per row, between
-a floor and a cap.
+the one-thread call and the ceiling (which goes first alternates), each k-thread call and each k-thread
+call again right after. The first k-thread call, like the ceiling, starts with its worker threads
+asleep (as a call after a pause does); the second finds libgomp's workers still spinning (as in a
+loop of calls): robkin's share of the ceiling compares the first, the plain goal takes the second.
+A speed-up is the median over the rounds of the ratio within a round (a round's calls see nearly the
+same machine, so the drift between rounds cancels). The number of rounds comes from a time budget
+per row, between a floor and a cap.
 """
 
 from __future__ import annotations
@@ -127,17 +130,19 @@ def timed_rounds(fns: dict, rounds: int, settle: float = SETTLE) -> dict:
     ``fns``: the one-thread call (key 1), the ceiling (key "ceiling") and the k-thread calls (int keys
     > 1). A round: a pause of ``settle`` seconds, the one-thread call once untimed (the caches and this
     thread's vCPU warm again after the pause), the one-thread call and the ceiling (which goes first
-    alternates), then the k-thread calls: no k-thread call comes just before the ceiling.
+    alternates), then each k-thread call twice (keys k and ("again", k)): no k-thread call comes just
+    before the ceiling.
     """
-    times: dict = {k: np.empty(rounds) for k in fns}
     many = [k for k in fns if k not in (1, "ceiling")]
+    times: dict = {k: np.empty(rounds) for k in [1, "ceiling", *many, *(("again", k) for k in many)]}
     for r in range(rounds):
         time.sleep(settle)
         fns[1]()
-        for k in ([1, "ceiling"] if r % 2 else ["ceiling", 1]) + many:
+        for key in ([1, "ceiling"] if r % 2 else ["ceiling", 1]) + [x for k in many for x in (k, ("again", k))]:
+            fn = fns[key[1] if isinstance(key, tuple) else key]
             t0 = time.perf_counter()
-            fns[k]()
-            times[k][r] = time.perf_counter() - t0
+            fn()
+            times[key][r] = time.perf_counter() - t0
     return times
 
 
@@ -157,18 +162,20 @@ class Budget:
 
 @dataclass
 class Row:
-    """One kernel at one batch size: one-thread median seconds, speed-ups of k threads and of the ceiling
-    (medians over the rounds of the ratios within a round)."""
+    """One kernel at one batch size: one-thread median seconds, speed-ups of k threads (workers asleep
+    before the call, and again right after it) and of the ceiling (medians over the rounds of the
+    ratios within a round)."""
 
     t1: float
-    speedup: dict
+    speedup: dict                   # {k: speed-up}, the k-thread call after the pause
+    again: dict                     # {k: speed-up}, the same call right after it
     ceiling: float
     rounds: int
     bits: bool                      # every k-thread result the one-thread bits
     ceiling_bits: bool              # the parts' results the one-thread bits (where comparable)
 
     def share(self) -> float:
-        """robkin's speed-up on the most threads over the ceiling's."""
+        """robkin's speed-up on the most threads (workers asleep, as the ceiling's) over the ceiling's."""
         return self.speedup[max(self.speedup)] / self.ceiling
 
 
@@ -203,17 +210,19 @@ def measure(call: Callable[[int, slice], Any], n: int, counts: list[int], pool: 
     rounds = budget.rounds(fns)
     t = timed_rounds(fns, rounds)
     return Row(float(np.median(t[1])), {k: float(np.median(t[1] / t[k])) for k in counts},
+               {k: float(np.median(t[1] / t["again", k])) for k in counts},
                float(np.median(t[1] / t["ceiling"])), rounds, bits, ceiling_bits)
 
 
 def goal_lines(rows: list, best: int, share: float = 0.95) -> list[str]:
-    """The plain goal (>= 0.9 x best cores) and the goal against the ceiling; rows are (label, Row)."""
-    missed = [label for label, r in rows if r.speedup[best] < 0.9 * best]
+    """The plain goal (>= 0.9 x best cores, calls back to back) and the goal against the ceiling; rows
+    are (label, Row)."""
+    missed = [label for label, r in rows if r.again[best] < 0.9 * best]
     below = [f"{label} ({100 * r.share():.0f} %)" for label, r in rows if r.share() < share]
-    return [f"goal >= {0.9 * best:.1f}x on {best} cores at N >= 1e4: "
-            + ("met" if not missed else "MISSED by " + ", ".join(missed)),
+    return [f"goal >= {0.9 * best:.1f}x on {best} cores at N >= 1e4 (calls back to back): "
+            + ("met" if not missed else f"MISSED by {len(missed)} of {len(rows)}: " + ", ".join(missed)),
             f"robkin's {best}-thread speed-up >= {100 * share:.0f} % of the machine's ceiling measured in the "
-            f"same rounds: " + ("met" if not below else "MISSED by " + ", ".join(below))]
+            f"same rounds: " + ("met" if not below else f"MISSED by {len(below)} of {len(rows)}: " + ", ".join(below))]
 
 
 IK_FIELDS = ("q", "success", "iterations", "attempts", "position_error", "orientation_error")
