@@ -44,7 +44,8 @@ from robkin.threads import available_cores, parallel_build  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_fk import robots_dir  # noqa: E402
 from bench_ik import iiwa_urdf  # noqa: E402
-from thread_timing import Budget, Concurrent, goal_lines, ik_parts_agree, ik_same_bits, measure  # noqa: E402
+from thread_timing import (Budget, Concurrent, goal_lines, ik_parts_agree, ik_same_bits,  # noqa: E402
+                           header_cells, legend, measure, row_cells)
 
 def rows_are_single_calls(robot: robkin.Robot, T: np.ndarray, batch: robkin.IKResult, method: str) -> bool:
     """Up to 50 rows solved by their first attempt (closed form: every row) against single calls."""
@@ -99,17 +100,12 @@ def main(argv: list[str] | None = None) -> int:
             rows.append((name, one.method, r, float(np.mean(one.success)), single and r.bits, r.ceiling_bits))
     print(f"batch IK of {N:,} targets, robkin {robkin.__version__}, {cores} cores available; wall time, medians "
           f"over interleaved rounds (~{args.seconds:g} s an arm) of the ratios within a round")
-    header = "".join(f"{f'{k} threads':>12}{'again':>8}" for k in counts)
-    print(f"{'arm':<9}{'method':<20}{'1 thread us/target':>20}{header}{'ceiling':>10}{'share':>8}{'rounds':>8}"
+    print(f"{'arm':<9}{'method':<20}{'1 thread us/target':>20}{header_cells(counts)}"
           f"{'success':>10}  bits (threads, parts)")
     for name, method, r, success, ok, parts_ok in rows:
-        print(f"{name:<9}{method:<20}{r.t1 / N * 1e6:>20.2f}" + "".join(
-            f"{r.speedup[k]:>11.2f}x{r.again[k]:>7.2f}x" for k in counts)
-              + f"{r.ceiling:>9.2f}x{100 * r.share():>7.0f}%{r.rounds:>8}{success:>10.4f}  "
-              + f"{'same' if ok else 'DIFFER'}, {'same' if parts_ok else 'DIFFER'}")
-    print(f"ceiling: {best} one-thread calls on {best} parts of the targets at the same time (the machine's "
-          f"{best} vCPUs at this moment, no robkin threading); share: the {best}-thread speed-up over it; "
-          f"again: the {best}-thread call right after the first, libgomp's workers still awake")
+        print(f"{name:<9}{method:<20}{r.t1 / N * 1e6:>20.2f}{row_cells(r)}{success:>10.4f}  "
+              f"{'same' if ok else 'DIFFER'}, {'same' if parts_ok else 'DIFFER'}")
+    print(legend(best, "the targets"))
     print(f"bits identical with every thread count and as single calls: {'yes' if bits_ok else 'NO'} (the "
           "ceiling's parts: the rows whose random restart streams do not depend on the part)")
     lines = goal_lines([(name, r) for name, _, r, _, _, _ in rows], best)

@@ -55,8 +55,8 @@ from robkin.threads import available_cores, parallel_build  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_fk import robots_dir  # noqa: E402
-from thread_timing import (Budget, Concurrent, goal_lines, ik_parts_agree, ik_same_bits, measure,  # noqa: E402
-                           others_share)
+from thread_timing import (Budget, Concurrent, goal_lines, ik_parts_agree, ik_same_bits,  # noqa: E402
+                           header_cells, legend, measure, others_share, row_cells)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -86,15 +86,10 @@ def main(argv: list[str] | None = None) -> int:
           f"interleaved rounds (~{budget.seconds:g} s a row) of the ratios within a round; other processes used "
           + ("(unknown)" if others is None else f"{100 * others:.0f} %") + " of the CPUs meanwhile")
     best = counts[-1]
-    header = "".join(f"{f'{k} threads':>12}{'again':>8}" for k in counts)
-    print(f"{'kernel':<26}{'N':>10}{'1 thread us/cfg':>17}{header}{'ceiling':>10}{'share':>8}{'rounds':>8}")
+    print(f"{'kernel':<26}{'N':>10}{'1 thread us/cfg':>17}{header_cells(counts)}")
     for (name, N), r in rows:
-        print(f"{name:<26}{N:>10,}{r.t1 / N * 1e6:>17.3f}" + "".join(
-            f"{r.speedup[k]:>11.2f}x{r.again[k]:>7.2f}x" for k in counts)
-              + f"{r.ceiling:>9.2f}x{100 * r.share():>7.0f}%{r.rounds:>8}")
-    print(f"ceiling: {best} one-thread calls on {best} parts of the batch at the same time (the machine's "
-          f"{best} vCPUs at this moment, no robkin threading); share: the {best}-thread speed-up over it; "
-          f"again: the {best}-thread call right after the first, libgomp's workers still awake")
+        print(f"{name:<26}{N:>10,}{r.t1 / N * 1e6:>17.3f}{row_cells(r)}")
+    print(legend(best, "the batch"))
     print(f"bits identical with every thread count and in the ceiling's parts: {'yes' if bits_ok else 'NO'}"
           " (numeric IK's parts: the rows whose random restart streams do not depend on the part)")
     if not args.quick:

@@ -7,7 +7,11 @@ kernels release the GIL). The ceiling is what k threads can give on this machine
 threading machinery of robkin's at all: on a shared virtual machine the vCPUs do not run at equal
 speeds (measured here: the same one-thread call pinned to cpu0 and cpu1 at the same time took 401 and
 598 us), and a speed drifts within a minute, so two threads reach (speed0 + speed1) / speed of the
-calling thread's vCPU, not 2x. robkin's share of the ceiling (its speed-up over the ceiling's, both
+calling thread's vCPU, not 2x. Equal parts reach less: the slower vCPU's part ends last, and the
+ceiling of equal parts is k x (slowest speed) / (calling thread's speed). Each part's own time is
+measured too, and the **balanced ceiling** is the same run had the parts been sized to those speeds
+(the run's start and join kept): the (speed0 + speed1) bound, which a dynamic split such as robkin's
+guided schedule can approach. robkin's share (its speed-up over the higher of the two ceilings, all
 from the same rounds) separates robkin's threading from the machine's state.
 
 Each round pauses (``SETTLE``: libgomp's worker spins ~5-10 ms after a parallel region, and a
@@ -169,14 +173,16 @@ class Row:
     t1: float
     speedup: dict                   # {k: speed-up}, the k-thread call after the pause
     again: dict                     # {k: speed-up}, the same call right after it
-    ceiling: float
+    ceiling: float                  # k one-thread calls on k equal parts at once
+    balanced: float                 # the same, were the parts sized to the threads' measured speeds
     rounds: int
     bits: bool                      # every k-thread result the one-thread bits
     ceiling_bits: bool              # the parts' results the one-thread bits (where comparable)
 
     def share(self) -> float:
-        """robkin's speed-up on the most threads (workers asleep, as the ceiling's) over the ceiling's."""
-        return self.speedup[max(self.speedup)] / self.ceiling
+        """robkin's speed-up on the most threads (workers asleep, as the ceiling's) over the balanced
+        ceiling's (the higher of the two when the vCPUs differ in speed)."""
+        return self.speedup[max(self.speedup)] / max(self.ceiling, self.balanced)
 
 
 def arrays_equal(a: Any, b: Any) -> bool:
@@ -200,18 +206,50 @@ def measure(call: Callable[[int, slice], Any], n: int, counts: list[int], pool: 
     def kept(r: Any) -> Any:
         return r.copy() if isinstance(r, np.ndarray) else r
 
+    def part(s: slice) -> float:
+        t0 = time.perf_counter()
+        call(1, s)
+        return time.perf_counter() - t0
+
     parts = parts_of(n, pool.k)
+    sizes = np.array([s.stop - s.start for s in parts], float)
     everything = slice(0, n)
     one = kept(call(1, everything))
     bits = all(same(call(k, everything), one) for k in counts)
     ceiling_bits = parts_agree(one, [kept(r) for r in pool.run([lambda s=s: call(1, s) for s in parts])], parts)
-    fns: dict = {1: lambda: call(1, everything), "ceiling": lambda: pool.run([lambda s=s: call(1, s) for s in parts])}
+    spans: list = []     # each ceiling run's parts' own seconds
+    fns: dict = {1: lambda: call(1, everything),
+                 "ceiling": lambda: spans.append(pool.run([lambda s=s: part(s) for s in parts]))}
     fns.update({k: (lambda k=k: call(k, everything)) for k in counts})
     rounds = budget.rounds(fns)
     t = timed_rounds(fns, rounds)
+    d = np.array(spans[-rounds:])                   # (rounds, k)
+    # the parts' rates shared out in proportion (each vCPU busy to the end), the start and join kept
+    balanced = t["ceiling"] - d.max(axis=1) + n / (sizes / d).sum(axis=1)
     return Row(float(np.median(t[1])), {k: float(np.median(t[1] / t[k])) for k in counts},
                {k: float(np.median(t[1] / t["again", k])) for k in counts},
-               float(np.median(t[1] / t["ceiling"])), rounds, bits, ceiling_bits)
+               float(np.median(t[1] / t["ceiling"])), float(np.median(t[1] / balanced)), rounds, bits,
+               ceiling_bits)
+
+
+def header_cells(counts: list[int]) -> str:
+    """The column titles of ``row_cells``."""
+    return "".join(f"{f'{k} threads':>12}{'again':>8}" for k in counts) + \
+        f"{'halves':>9}{'balanced':>10}{'share':>8}{'rounds':>8}"
+
+
+def row_cells(r: Row) -> str:
+    """A Row's speed-ups, ceilings, share and rounds as table cells."""
+    return "".join(f"{r.speedup[k]:>11.2f}x{r.again[k]:>7.2f}x" for k in r.speedup) + \
+        f"{r.ceiling:>8.2f}x{r.balanced:>9.2f}x{100 * r.share():>7.0f}%{r.rounds:>8}"
+
+
+def legend(best: int, what: str) -> str:
+    """What the columns of a table of Rows mean."""
+    return (f"{best} threads: after the round's pause (workers asleep); again: right after it (libgomp's workers "
+            f"still spinning); halves: {best} one-thread calls on {best} equal parts of {what} at the same time "
+            f"(the machine's {best} vCPUs at this moment, no robkin threading); balanced: the same, parts sized "
+            f"to the speeds measured; share: the {best}-thread speed-up over the higher ceiling")
 
 
 def goal_lines(rows: list, best: int, share: float = 0.95) -> list[str]:
