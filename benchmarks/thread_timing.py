@@ -9,10 +9,16 @@ speeds (measured here: the same one-thread call pinned to cpu0 and cpu1 at the s
 598 us), and a speed drifts within a minute, so two threads reach (speed0 + speed1) / speed of the
 calling thread's vCPU, not 2x. Equal parts reach less: the slower vCPU's part ends last, and the
 ceiling of equal parts is k x (slowest speed) / (calling thread's speed). Each part's own time is
-measured too, and the **balanced ceiling** is the same run had the parts been sized to those speeds
-(the run's start and join kept): the (speed0 + speed1) bound, which a dynamic split such as robkin's
-guided schedule can approach. robkin's share (its speed-up over the higher of the two ceilings, all
-from the same rounds) separates robkin's threading from the machine's state.
+measured too, and the **balanced ceiling** is the same run had the parts been sized to those speeds:
+the (speed0 + speed1) bound, which a dynamic split such as robkin's guided schedule can approach. Both
+ceilings take the parts' own times, from call to return: starting and joining the Python threads
+(tens of microseconds, the measuring tool's cost) is left out, robkin's own start and join is not.
+A fresh result larger than glibc's 32 MB reuse limit is not comparable: the parts' smaller arrays are
+served from freed memory, the whole one pays the system's page faults (docs/compiled.md), and the
+ceiling then exceeds k; such rows are named apart in the goal line. robkin's share (its speed-up over
+the higher of the two ceilings, all from the same rounds) separates robkin's threading from the
+machine's state. A share above 100 % is possible: the ceilings' parts are Python calls, each with its
+own argument checks and result, and robkin's guided schedule can beat equal parts.
 
 Each round pauses (``SETTLE``: libgomp's worker spins ~5-10 ms after a parallel region, and a
 ceiling run meanwhile would share a vCPU with it), runs the one-thread call once untimed, then times
@@ -223,12 +229,13 @@ def measure(call: Callable[[int, slice], Any], n: int, counts: list[int], pool: 
     fns.update({k: (lambda k=k: call(k, everything)) for k in counts})
     rounds = budget.rounds(fns)
     t = timed_rounds(fns, rounds)
+    # each part's own time, from its call to its return: the Python threads' start and join (the tool's
+    # cost, tens of microseconds, not the machine's) left out
     d = np.array(spans[-rounds:])                   # (rounds, k)
-    # the parts' rates shared out in proportion (each vCPU busy to the end), the start and join kept
-    balanced = t["ceiling"] - d.max(axis=1) + n / (sizes / d).sum(axis=1)
+    balanced = n / (sizes / d).sum(axis=1)          # every vCPU busy to the end at its measured speed
     return Row(float(np.median(t[1])), {k: float(np.median(t[1] / t[k])) for k in counts},
                {k: float(np.median(t[1] / t["again", k])) for k in counts},
-               float(np.median(t[1] / t["ceiling"])), float(np.median(t[1] / balanced)), rounds, bits,
+               float(np.median(t[1] / d.max(axis=1))), float(np.median(t[1] / balanced)), rounds, bits,
                ceiling_bits)
 
 
@@ -248,19 +255,24 @@ def legend(best: int, what: str) -> str:
     """What the columns of a table of Rows mean."""
     return (f"{best} threads: after the round's pause (workers asleep); again: right after it (libgomp's workers "
             f"still spinning); halves: {best} one-thread calls on {best} equal parts of {what} at the same time "
-            f"(the machine's {best} vCPUs at this moment, no robkin threading); balanced: the same, parts sized "
-            f"to the speeds measured; share: the {best}-thread speed-up over the higher ceiling")
+            f"(the machine's {best} vCPUs at this moment, no robkin threading; the parts' own times); balanced: "
+            f"the same, parts sized to the speeds measured; share: the {best}-thread speed-up over the higher "
+            f"ceiling")
 
 
 def goal_lines(rows: list, best: int, share: float = 0.95) -> list[str]:
     """The plain goal (>= 0.9 x best cores, calls back to back) and the goal against the ceiling; rows
-    are (label, Row)."""
+    are (label, Row). A row whose ceiling exceeds ``best`` (a fresh array the parts get without page
+    faults) is not compared with it, only named."""
     missed = [label for label, r in rows if r.again[best] < 0.9 * best]
-    below = [f"{label} ({100 * r.share():.0f} %)" for label, r in rows if r.share() < share]
+    apart = [label for label, r in rows if min(r.ceiling, r.balanced) > best]
+    below = [f"{label} ({100 * r.share():.0f} %)" for label, r in rows if label not in apart and r.share() < share]
+    compared = len(rows) - len(apart)
     return [f"goal >= {0.9 * best:.1f}x on {best} cores at N >= 1e4 (calls back to back): "
             + ("met" if not missed else f"MISSED by {len(missed)} of {len(rows)}: " + ", ".join(missed)),
             f"robkin's {best}-thread speed-up >= {100 * share:.0f} % of the machine's ceiling measured in the "
-            f"same rounds: " + ("met" if not below else f"MISSED by {len(below)} of {len(rows)}: " + ", ".join(below))]
+            f"same rounds: " + ("met" if not below else f"MISSED by {len(below)} of {compared}: " + ", ".join(below))
+            + ("" if not apart else f"; not compared (ceiling above {best}x, fresh arrays): " + ", ".join(apart))]
 
 
 IK_FIELDS = ("q", "success", "iterations", "attempts", "position_error", "orientation_error")
