@@ -70,8 +70,9 @@ class Concurrent:
     """Runs k jobs at the same time: the calling thread the first, k - 1 persistent worker threads the rest.
 
     The workers wait at a barrier between runs (no thread is created per run), worker i pinned to the
-    i-th CPU this process may use (where the system allows it): the other vCPU, as robkin's OpenMP
-    worker, not the caller's when another process keeps that one busy. Use as a context manager.
+    i-th CPU this process may use (where the system allows it): with k = 2 the other vCPU, where
+    robkin's OpenMP worker runs too, even when another process keeps it busy (unpinned, the scheduler
+    would put the worker next to the caller instead). Use as a context manager.
     """
 
     def __init__(self, k: int):
@@ -186,8 +187,8 @@ class Row:
     ceiling_bits: bool              # the parts' results the one-thread bits (where comparable)
 
     def share(self) -> float:
-        """robkin's speed-up on the most threads (workers asleep, as the ceiling's) over the balanced
-        ceiling's (the higher of the two when the vCPUs differ in speed)."""
+        """robkin's speed-up on the most threads (workers asleep, as the ceiling's) over the higher of
+        the two ceilings (the balanced one, unless the equal parts happened to do better)."""
         return self.speedup[max(self.speedup)] / max(self.ceiling, self.balanced)
 
 
