@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 import threading
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,6 +17,7 @@ from robkin import InputError
 from robkin.compiled import threads as compiled
 from test_urdf import robot_file
 
+ROOT = Path(__file__).resolve().parent.parent
 needs_openmp = pytest.mark.skipif(not compiled.compiled_with_openmp(), reason="built without OpenMP")
 
 
@@ -105,6 +110,38 @@ def test_omp_num_threads_is_the_fallback(monkeypatch):
     for unusable in ("0", "many", "", " ,3"):
         monkeypatch.setenv("OMP_NUM_THREADS", unusable)
         assert compiled._from_environment() == compiled.available_cores()
+
+
+@needs_openmp
+@pytest.mark.skipif(not hasattr(os, "sched_getaffinity") or len(os.sched_getaffinity(0)) < 2,
+                    reason="needs Linux and two CPUs to run on")
+def test_workers_are_kept_off_the_main_threads_cpu(panda):
+    """After a batch on two threads from the main thread, its OpenMP worker may run on every CPU of the
+    main thread but the one the main thread was on (``thread_placement.h``: a woken worker queued
+    behind the main thread made two threads 3-20x slower than one on a busy machine); the same bits."""
+    Q = panda.random_q(20_000, np.random.default_rng(3))
+    assert np.array_equal(panda.fk(Q, threads=2), panda.fk(Q, threads=1))
+    tids, off, placing = compiled.placement()
+    if not placing:
+        pytest.skip("placement is off here (OMP_PROC_BIND, OMP_PLACES, GOMP_CPU_AFFINITY or ROBKIN_PLACE_THREADS=0)")
+    mine = os.sched_getaffinity(0)
+    assert len(tids) >= 1 and off in mine
+    for tid in tids:
+        assert os.sched_getaffinity(tid) == mine - {off}
+
+
+@pytest.mark.parametrize("env", [{"ROBKIN_PLACE_THREADS": "0"}, {"OMP_PROC_BIND": "close"}])
+def test_workers_are_left_alone_when_asked_or_bound_by_openmp(env):
+    """ROBKIN_PLACE_THREADS=0, or OpenMP's own binding asked for, leaves the workers' CPUs as they are."""
+    code = ("import numpy as np, robkin\n"
+            "from robkin.compiled import threads\n"
+            "r = robkin.load('src/robkin/examples/iiwa14.yaml')\n"
+            "r.fk(r.random_q(20000), threads=2)\n"
+            "print(threads.placement())\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
+                          env={**os.environ, **env}, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "([], -1, False)"
 
 
 def test_out_arrays_are_written_and_checked(panda):

@@ -9,6 +9,12 @@ small for threads to pay (a few hundred configurations, a couple of IK targets p
 and so does a call from a thread other than the main one (a Dask worker, your own thread pool), unless
 the call's ``threads=`` asks for more. Every batch method takes ``threads=`` to bound it per call; the
 command line takes ``--threads N`` (``robkin fk``, ``robkin ik``).
+
+On Linux the main thread's OpenMP workers are kept off the CPU the main thread is on (each may run on
+every other CPU of the main thread's): woken for a batch on a machine whose other cores were busy, a
+worker queued behind the main thread made two threads 3-20x slower than one. ``ROBKIN_PLACE_THREADS=0``
+turns that off, and so does binding OpenMP's threads yourself (``OMP_PROC_BIND``, ``OMP_PLACES``,
+``GOMP_CPU_AFFINITY``).
 """
 
 from __future__ import annotations

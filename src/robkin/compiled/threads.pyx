@@ -9,6 +9,8 @@ process pools - joblib's loky, Dask's nanny, ``threadpoolctl`` users - set to sh
 their workers), else the number of cores this process may run on; ``robkin.set_threads`` changes it. A batch too small for threads to pay uses one,
 and so does a call made from a thread other than the main one (a Dask worker, a user's pool: they
 already use the cores, and more threads would only contend) unless its ``threads=`` says otherwise.
+Before a parallel region started by the main thread, its workers are kept off the main thread's CPU
+(``place_workers``, ``thread_placement.h``).
 """
 
 import _thread
@@ -29,8 +31,42 @@ cdef extern from *:
     """
     int RK_OPENMP
 
+cdef extern from "thread_placement.h":
+    int RK_PLACEMENT
+    int rk_pid() noexcept nogil
+    int rk_gettid() noexcept nogil
+    int rk_current_cpu() noexcept nogil
+    int rk_exclude_cpu(const int* tids, int count, int cpu) noexcept nogil
+
+cdef extern from *:
+    """
+    #ifdef _OPENMP
+    #include <omp.h>
+    #define rk_omp_thread_num() omp_get_thread_num()
+    #define rk_omp_num_threads() omp_get_num_threads()
+    #else
+    #define rk_omp_thread_num() 0
+    #define rk_omp_num_threads() 1
+    #endif
+    """
+    int rk_omp_thread_num() noexcept nogil
+    int rk_omp_num_threads() noexcept nogil
+
+from cython.parallel cimport parallel
+
 cdef int _default = 1
 cdef unsigned long _main_thread = 0
+
+# The main thread's OpenMP workers (``thread_placement.h``): their kernel ids, how many are known, the
+# CPU they were last kept off (-1: not yet), and whether to place them at all
+DEF MAX_WORKERS = 1023
+cdef int _worker_tids[MAX_WORKERS]
+cdef int _known_workers = 0
+cdef int _learnt_for = 0             # the team size they were learnt for, and in which process
+cdef int _learnt_in = 0
+cdef int _team_size[1]
+cdef int _placed_off = -1
+cdef bint _placing = False
 
 
 def available_cores():
@@ -71,6 +107,58 @@ def compiled_with_openmp():
 
 
 cdef int batch_threads(int requested, Py_ssize_t units, Py_ssize_t min_units) noexcept nogil:
+    """Threads for a batch of ``units`` independent pieces of work (blocks of configurations, targets):
+    ``thread_count``; called by a kernel right before its parallel region, it also keeps the main
+    thread's workers off the CPU the main thread is on (``place_workers``)."""
+    cdef int t = thread_count(requested, units, min_units)
+    if t > 1:
+        place_workers(t)
+    return t
+
+
+cdef void place_workers(int nt) noexcept nogil:
+    """Before a parallel region of ``nt`` threads started by the main thread: its OpenMP workers may run
+    on every CPU of the main thread's but the one the main thread is on (see ``thread_placement.h``
+    for why). The workers' ids are learnt by a parallel region of their own whenever the team's size
+    changes (OpenMP may start and end workers then); their CPUs are set again only when the main thread
+    has moved (a system call per worker, ~1 us). Nothing is done off Linux, from another thread, where
+    the user binds OpenMP's threads himself (OMP_PROC_BIND, OMP_PLACES, GOMP_CPU_AFFINITY) or sets
+    ROBKIN_PLACE_THREADS=0, and nothing more once a placement has failed with freshly learnt ids."""
+    global _placed_off, _placing
+    cdef int cpu
+    if not _placing or thread_ident() != _main_thread or nt - 1 > MAX_WORKERS:
+        return
+    if nt != _learnt_for or rk_pid() != _learnt_in:    # (a forked child: those ids are its parent's)
+        learn_workers(nt)
+    cpu = rk_current_cpu()
+    if cpu == _placed_off or _known_workers == 0:
+        return
+    if rk_exclude_cpu(_worker_tids, _known_workers, cpu) != 0:
+        learn_workers(nt)           # a worker may have ended since: learn them again, once
+        if rk_exclude_cpu(_worker_tids, _known_workers, cpu) != 0:
+            _placing = False
+            return
+    _placed_off = cpu
+
+
+cdef void learn_workers(int nt) noexcept nogil:
+    """The kernel ids of the workers of a team of ``nt`` threads started from this thread."""
+    global _known_workers, _placed_off, _learnt_for, _learnt_in
+    cdef int k = 0
+    _team_size[0] = 0
+    with parallel(num_threads=nt):
+        k = rk_omp_thread_num()
+        if k > 0:
+            _worker_tids[k - 1] = rk_gettid()
+        else:
+            _team_size[0] = rk_omp_num_threads()   # (an element: shared, written by one thread)
+    _known_workers = _team_size[0] - 1 if _team_size[0] > 1 else 0
+    _placed_off = -1
+    _learnt_for = nt
+    _learnt_in = rk_pid()
+
+
+cdef int thread_count(int requested, Py_ssize_t units, Py_ssize_t min_units) noexcept nogil:
     """Threads for a batch of ``units`` independent pieces of work (blocks of configurations, targets).
 
     requested >= 1: that many, but no more than there are units. requested <= 0 (automatic): the
@@ -100,7 +188,17 @@ _default = _from_environment()
 _main_thread = sys.modules["threading"].main_thread().ident if "threading" in sys.modules else _thread.get_ident()
 
 
+_placing = bool(RK_PLACEMENT and RK_OPENMP) and os.environ.get("ROBKIN_PLACE_THREADS", "").strip() != "0" and not any(
+    os.environ.get(name, "").strip() for name in ("OMP_PROC_BIND", "OMP_PLACES", "GOMP_CPU_AFFINITY"))
+
+
 def plan(int requested, Py_ssize_t units, Py_ssize_t min_units):
     """The thread count a batch kernel would use from this thread (``batch_threads``), for tests and
     for anyone tuning a pipeline."""
-    return batch_threads(requested, units, min_units)
+    return thread_count(requested, units, min_units)
+
+
+def placement():
+    """The main thread's OpenMP workers as placed so far: (their kernel thread ids, the CPU they are
+    kept off or -1, whether placing is on); for tests and diagnostics."""
+    return [_worker_tids[k] for k in range(_known_workers)], _placed_off, bool(_placing)
