@@ -59,7 +59,8 @@ cdef unsigned long _main_thread = 0
 
 # The main thread's OpenMP workers (``thread_placement.h``): their kernel ids, how many are known, the
 # CPU they were last kept off (-1: not yet), and whether to place them at all
-DEF MAX_WORKERS = 1023
+cdef enum:
+    MAX_WORKERS = 1023      # the workers placed at most (a larger team is left as OpenMP puts it)
 cdef int _worker_tids[MAX_WORKERS]
 cdef int _known_workers = 0
 cdef int _learnt_for = 0             # the team size they were learnt for, and in which process
