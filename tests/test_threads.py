@@ -144,6 +144,28 @@ def test_workers_are_left_alone_when_asked_or_bound_by_openmp(env):
     assert done.stdout.strip() == "([], -1, False)"
 
 
+@needs_openmp
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs os.fork")
+def test_a_forked_child_runs_on_one_thread_and_does_not_hang():
+    """A child forked after the parent ran threads (a multiprocessing pool with the fork start method)
+    gets one thread: GNU OpenMP's pool does not survive a fork, and a parallel region there used to wait
+    forever for the parent's threads. The same bits; the parent keeps its threads."""
+    code = ("import os, numpy as np, robkin\n"
+            "from robkin.compiled import threads\n"
+            "r = robkin.load('src/robkin/examples/iiwa14.yaml')\n"
+            "Q = r.random_q(20000, np.random.default_rng(0))\n"
+            "a = r.fk(Q, threads=2)\n"
+            "pid = os.fork()\n"
+            "if pid == 0:\n"
+            "    ok = threads.plan(2, 1000, 1) == 1 and np.array_equal(r.fk(Q, threads=2), a)\n"
+            "    os._exit(0 if ok else 3)\n"
+            "_, status = os.waitpid(pid, 0)\n"
+            "print(os.waitstatus_to_exitcode(status), threads.plan(2, 1000, 1))\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["0", "2"]
+
+
 def test_out_arrays_are_written_and_checked(panda):
     """``out=`` writes a batch into memory the caller owns: the same bits, the same array back, and a
     large batch walked in chunks through one buffer equals the whole batch at once."""

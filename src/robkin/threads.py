@@ -14,7 +14,9 @@ On Linux the main thread's OpenMP workers are kept off the CPU the main thread i
 every other CPU of the main thread's): woken for a batch on a machine whose other cores were busy, a
 worker queued behind the main thread made two threads 3-20x slower than one. ``ROBKIN_PLACE_THREADS=0``
 turns that off, and so does binding OpenMP's threads yourself (``OMP_PROC_BIND``, ``OMP_PLACES``,
-``GOMP_CPU_AFFINITY``).
+``GOMP_CPU_AFFINITY``). A child forked from a process that had started robkin's threads (a
+``multiprocessing`` pool with the fork start method) runs its batches on one thread: OpenMP's threads do
+not survive a fork, and a parallel region there would wait for them forever.
 """
 
 from __future__ import annotations

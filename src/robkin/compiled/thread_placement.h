@@ -13,15 +13,20 @@
 #ifndef RK_THREAD_PLACEMENT_H
 #define RK_THREAD_PLACEMENT_H
 
+#if defined(__unix__) || defined(__APPLE__)
+#include <unistd.h>
+/* This process's id: a forked child must not take its parent's thread ids for its own, nor start
+   OpenMP threads when its parent had (threads.pyx). */
+static inline int rk_pid(void) { return (int)getpid(); }
+#else
+static inline int rk_pid(void) { return 0; }
+#endif
+
 #if defined(__linux__)
 #include <sched.h>
-#include <unistd.h>
 #include <sys/syscall.h>
 
 #define RK_PLACEMENT 1
-
-/* This process's id (a forked child must not take its parent's thread ids for its own). */
-static inline int rk_pid(void) { return (int)getpid(); }
 
 /* The calling thread's kernel id. */
 static inline int rk_gettid(void) { return (int)syscall(SYS_gettid); }
@@ -44,7 +49,6 @@ static inline int rk_exclude_cpu(const int* tids, int count, int cpu) {
 }
 #else
 #define RK_PLACEMENT 0
-static inline int rk_pid(void) { return 0; }
 static inline int rk_gettid(void) { return -1; }
 static inline int rk_current_cpu(void) { return -1; }
 static inline int rk_exclude_cpu(const int* tids, int count, int cpu) { (void)tids; (void)count; (void)cpu; return -1; }

@@ -67,6 +67,8 @@ cdef int _learnt_for = 0             # the team size they were learnt for, and i
 cdef int _learnt_in = 0
 cdef int _team_size[1]
 cdef int _placed_off = -1
+# the process that started robkin's OpenMP threads (0: none yet); a forked child of it runs on one thread
+cdef int _threads_used_in = 0
 cdef bint _placing = False
 
 
@@ -111,8 +113,10 @@ cdef int batch_threads(int requested, Py_ssize_t units, Py_ssize_t min_units) no
     """Threads for a batch of ``units`` independent pieces of work (blocks of configurations, targets):
     ``thread_count``; called by a kernel right before its parallel region, it also keeps the main
     thread's workers off the CPU the main thread is on (``place_workers``)."""
+    global _threads_used_in
     cdef int t = thread_count(requested, units, min_units)
     if t > 1:
+        _threads_used_in = rk_pid()
         place_workers(t)
     return t
 
@@ -162,6 +166,8 @@ cdef void learn_workers(int nt) noexcept nogil:
 cdef int thread_count(int requested, Py_ssize_t units, Py_ssize_t min_units) noexcept nogil:
     """Threads for a batch of ``units`` independent pieces of work (blocks of configurations, targets).
 
+    One in a child forked from a process that had started robkin's threads (a ``multiprocessing`` pool
+    with the fork start method): OpenMP's threads do not survive a fork. Otherwise:
     requested >= 1: that many, but no more than there are units. requested <= 0 (automatic): the
     default, one in a thread other than the main one, and only as many as leave each thread at least
     ``min_units`` units (below that, starting threads costs more than it saves).
@@ -169,6 +175,10 @@ cdef int thread_count(int requested, Py_ssize_t units, Py_ssize_t min_units) noe
     cdef Py_ssize_t cap
     cdef int t = requested
     if not RK_OPENMP:
+        return 1
+    if _threads_used_in != 0 and _threads_used_in != rk_pid():
+        # a child forked from a process whose OpenMP threads had started: GNU OpenMP's thread pool is
+        # not carried over by fork, and a parallel region there waits forever for the parent's threads
         return 1
     if t <= 0:
         if thread_ident() != _main_thread:
