@@ -122,41 +122,24 @@ static inline int rk_reflector(double* u, int k, double* beta) {
 }
 
 /* Apply P (from rk_reflector, k = 2 or 3 rows starting at row r) from the left to columns c0..c1 and
-   from the right (columns r..r+k-1) to rows r0..r1. The two sizes are separate loops, so that neither
-   tests k per element and the right-hand one runs down contiguous columns; the sum keeps its order
-   ((a + u1 b) + u2 c, or + 0.0 for k = 2, as one expression would give: the same bits, signed zeros
-   included). */
+   from the right (columns r..r+k-1) to rows r0..r1. */
 static inline void rk_reflect(double* A, int lda, const double* u, double beta, int k, int r, int c0,
                               int c1, int r0, int r1) {
     int i, j;
-    double s, u1 = u[1], u2;
-    double *a = A + (long)r * lda, *b = a + lda, *c;                  /* columns r, r+1 (and r+2) */
-    if (k == 3) {
-        u2 = u[2];
-        c = b + lda;
-        for (j = c0; j <= c1; ++j) {
-            s = (RK_H(r, j) + u1 * RK_H(r + 1, j) + u2 * RK_H(r + 2, j)) * beta;
-            RK_H(r, j) -= s;
-            RK_H(r + 1, j) -= s * u1;
-            RK_H(r + 2, j) -= s * u2;
-        }
-        for (i = r0; i <= r1; ++i) {
-            s = (a[i] + u1 * b[i] + u2 * c[i]) * beta;
-            a[i] -= s;
-            b[i] -= s * u1;
-            c[i] -= s * u2;
-        }
-    } else {
-        for (j = c0; j <= c1; ++j) {
-            s = (RK_H(r, j) + u1 * RK_H(r + 1, j) + 0.0) * beta;
-            RK_H(r, j) -= s;
-            RK_H(r + 1, j) -= s * u1;
-        }
-        for (i = r0; i <= r1; ++i) {
-            s = (a[i] + u1 * b[i] + 0.0) * beta;
-            a[i] -= s;
-            b[i] -= s * u1;
-        }
+    double s;
+    for (j = c0; j <= c1; ++j) {
+        s = RK_H(r, j) + u[1] * RK_H(r + 1, j) + (k == 3 ? u[2] * RK_H(r + 2, j) : 0.0);
+        s *= beta;
+        RK_H(r, j) -= s;
+        RK_H(r + 1, j) -= s * u[1];
+        if (k == 3) RK_H(r + 2, j) -= s * u[2];
+    }
+    for (i = r0; i <= r1; ++i) {
+        s = RK_H(i, r) + u[1] * RK_H(i, r + 1) + (k == 3 ? u[2] * RK_H(i, r + 2) : 0.0);
+        s *= beta;
+        RK_H(i, r) -= s;
+        RK_H(i, r + 1) -= s * u[1];
+        if (k == 3) RK_H(i, r + 2) -= s * u[2];
     }
 }
 
