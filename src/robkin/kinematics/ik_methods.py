@@ -81,6 +81,12 @@ def preferred_starts(robot: Robot, q0: ArrayLike | None, N: int) -> np.ndarray:
     elif Q.shape[0] != N:
         raise InputError(f"q0: expected shape ({robot.n},) or ({N}, {robot.n}) for {N} targets, "
                          f"got {Q.shape}")
+    return clipped_into_limits(robot, Q)
+
+
+def clipped_into_limits(robot: Robot, Q: np.ndarray) -> np.ndarray:
+    """Checked configurations Q (..., n) clipped into the robot's limits (a new array)."""
+    lim = robot.limits
     return np.minimum(np.maximum(Q, lim[:, 0]), lim[:, 1])     # np.clip, without its wrapper cost
 
 

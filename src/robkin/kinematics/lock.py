@@ -136,6 +136,7 @@ def lock_plan(robot: Robot, lock: Mapping[str, float]) -> LockPlan:
 def ik_locked(ik_function: Any, robot: Robot, T: Any, lock: Mapping[str, float], q0: Any, **kwargs: Any) -> Any:
     """``ik_function`` (``kinematics.ik.ik``) on the reduced arm, its result made full length."""
     from .ik import single_closed_form
+    from .ik_methods import clipped_into_limits
 
     plan = lock_plan(robot, lock)
     q_ref = None
@@ -144,8 +145,7 @@ def ik_locked(ik_function: Any, robot: Robot, T: Any, lock: Mapping[str, float],
 
         q0 = check_q(q0, robot.n)[..., plan.free]
         if q0.ndim == 1:    # the preference of one target, clipped into the limits as ik's own
-            lim = plan.reduced.limits
-            q_ref = np.minimum(np.maximum(q0, lim[:, 0]), lim[:, 1])
+            q_ref = clipped_into_limits(plan.reduced, q0)
     if q0 is None or q_ref is not None:     # one target: answered full length by the compiled entry, if it can
         one = single_closed_form(plan.reduced, T, kwargs["mask"], kwargs["method"], kwargs["all_solutions"],
                                  kwargs["tol_position"], kwargs["tol_orientation"], kwargs["max_iterations"],
