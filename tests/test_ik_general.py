@@ -103,15 +103,22 @@ def test_general_6r_counts_up_to_16_real_solutions():
     assert counts.max() > 8 and counts.max() <= 16 and (counts % 2 == 0).mean() > 0.9
 
 
-@pytest.mark.parametrize("name", sorted(arms.SEVEN))
-def test_seven_joint_arms_with_a_locked_joint(name):
+def locked_arm(name: str, count: int, seed: int, value: float) -> tuple[robkin.Robot, str, int, np.ndarray]:
+    """A 7-joint arm of ``arms.SEVEN`` (skipped without example-robot-data), the joint it locks, that
+    joint's index, and ``count`` random configurations with the joint at ``value`` (the generating ones)."""
     make, joint = arms.SEVEN[name]
     robot = make()
     if robot is None:
         pytest.skip("example-robot-data not installed")
     j = [x.name for x in robot.joints].index(joint)
-    Q = robot.random_q(30, rng=7)
-    Q[:, j] = 0.4                              # the locked joint's value in every generating configuration
+    Q = robot.random_q(count, rng=seed)
+    Q[:, j] = value
+    return robot, joint, j, Q
+
+
+@pytest.mark.parametrize("name", sorted(arms.SEVEN))
+def test_seven_joint_arms_with_a_locked_joint(name):
+    robot, joint, j, Q = locked_arm(name, 30, seed=7, value=0.4)
     check_arm(robot, Q, lock={joint: 0.4}, numeric=2)
     res = robot.ik(robot.fk(Q[0]), lock={joint: 0.4})
     assert res.method != "numeric" and res.q[j] == 0.4
@@ -123,13 +130,7 @@ def test_locked_single_calls_are_the_batch_rows(name):
     same bits as that row of the batch (the reduced arm's branches made full length in Python), again
     from the cached plan, and with a preference q0; a mapping with a bad value after a good one is still
     refused."""
-    make, joint = arms.SEVEN[name]
-    robot = make()
-    if robot is None:
-        pytest.skip("example-robot-data not installed")
-    j = [x.name for x in robot.joints].index(joint)
-    Q = robot.random_q(12, rng=11)
-    Q[:, j] = -0.2
+    robot, joint, j, Q = locked_arm(name, 12, seed=11, value=-0.2)
     T = robot.fk(Q)
     lock = {joint: -0.2}
     batch = robot.ik(T, all_solutions=True, lock=lock)
