@@ -20,7 +20,7 @@ cimport numpy as cnp
 from libc.math cimport isfinite
 from libc.stdlib cimport free, malloc
 from robkin.compiled.fk cimport Chain
-from robkin.compiled.nearest cimport check_work_size, keep_distinct, nearest_branch, rows_array
+from robkin.compiled.nearest cimport check_work_size, keep_distinct, nearest_branch, put_row, rows_array
 from robkin.compiled.rigid cimport exact_pose
 from robkin.compiled.subproblems cimport c_doubles, new_array, read_pose
 from robkin.compiled.threads cimport batch_threads
@@ -224,7 +224,6 @@ cdef class ClosedFormKernel:
         cdef unsigned char* valid = <unsigned char*>(order + 2 * S)
         cdef unsigned char* reached = valid + S
         cdef cnp.ndarray q
-        cdef double* qo
         try:
             read_pose(t, Rd, pd)
             self.solve_one(Rd, pd, ref, Q, valid, &detail, &uncertain, work)
@@ -234,11 +233,7 @@ cdef class ClosedFormKernel:
             if best < 0:
                 return None
             q = new_array(1, full, 0, 0, cnp.NPY_DOUBLE)
-            qo = <double*>cnp.PyArray_DATA(q)
-            for j in range(full if template != NULL else 0):
-                qo[j] = template[j]
-            for j in range(n):
-                qo[j if where == NULL else where[j]] = Q[best * n + j]
+            put_row(Q + best * n, n, template, where, full, <double*>cnp.PyArray_DATA(q))
             solutions = None
             if every:
                 m = keep_distinct(Q, n, order, m, reached, self.unit, same_tol, order + S)

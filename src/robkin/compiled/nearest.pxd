@@ -158,24 +158,32 @@ cdef inline Py_ssize_t keep_distinct(const double* q, Py_ssize_t n, const Py_ssi
     return k
 
 
+cdef inline void put_row(const double* q, Py_ssize_t n, const double* template, const Py_ssize_t* where,
+                         Py_ssize_t m, double* o) noexcept nogil:
+    """o (n,) = q (n,); with a template (m,), o (m,) = the template with q[j] at where[j] (the free joints
+    of a longer arm, ``kinematics.lock``)."""
+    cdef Py_ssize_t j
+    if template == NULL:
+        for j in range(n):
+            o[j] = q[j]
+        return
+    for j in range(m):
+        o[j] = template[j]
+    for j in range(n):
+        o[where[j]] = q[j]
+
+
 cdef inline cnp.ndarray rows_array(const double* q, Py_ssize_t n, const Py_ssize_t* kept, Py_ssize_t k,
                                    const double* template=NULL, const Py_ssize_t* where=NULL, Py_ssize_t m=0):
-    """A new (k, n) float64 array of the rows q[kept[a]] (n,); with a template (m,), (k, m) rows that are
-    the template with q[kept[a]][j] at where[j] (the free joints of a longer arm, ``kinematics.lock``)."""
+    """A new (k, n) float64 array of the rows q[kept[a]] (n,); with a template (m,), (k, m) rows
+    (``put_row``)."""
+    cdef Py_ssize_t w = n if template == NULL else m
     cdef cnp.npy_intp dims[2]
     dims[0] = k
-    dims[1] = n if template == NULL else m
+    dims[1] = w
     cdef cnp.ndarray out = cnp.PyArray_EMPTY(2, dims, cnp.NPY_DOUBLE, 0)
     cdef double* o = <double*>cnp.PyArray_DATA(out)
-    cdef Py_ssize_t a, j
-    if template == NULL:
-        for a in range(k):
-            for j in range(n):
-                o[a * n + j] = q[kept[a] * n + j]
-        return out
+    cdef Py_ssize_t a
     for a in range(k):
-        for j in range(m):
-            o[a * m + j] = template[j]
-        for j in range(n):
-            o[a * m + where[j]] = q[kept[a] * n + j]
+        put_row(q + kept[a] * n, n, template, where, m, o + a * w)
     return out
