@@ -94,7 +94,7 @@ def pin_checker(robot):
     """A function q -> pinocchio's tool pose, from robkin's URDF of the arm."""
     import pinocchio as pin
 
-    from robkin.io.urdf_write import urdf_from_robot
+    from robkin.io.urdf.writer import urdf_from_robot
 
     model = pin.buildModelFromXML(urdf_from_robot(robot))
     data = model.createData()

@@ -1,4 +1,4 @@
-"""robkin check / robkin.equivalence.compare: same robot, same mechanism under a joint mapping, or not.
+"""robkin check / robkin.equivalence.comparison: same robot, same mechanism under a joint mapping, or not.
 
 Every diagnosis is verified independently by FK: a reported mapping q_A = sign * q_B + offset must
 make T_A(sign * q + offset) equal T_B(q) at random q, and a reported difference must make FK differ.

@@ -11,7 +11,7 @@ import pytest
 
 from robkin.cli import main
 from robkin.commands._common import EXAMPLES_DIR
-from robkin.io.document import read_document
+from robkin.io.documents.reader import read_document
 
 RRPR = str(EXAMPLES_DIR / "rrpr.yaml")
 THREE_R = str(EXAMPLES_DIR / "arbitrary_3r.yaml")

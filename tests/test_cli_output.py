@@ -15,7 +15,7 @@ import robkin
 from robkin import se3
 from robkin.cli import main
 from robkin.commands._common import EXAMPLES_DIR
-from robkin.io.jsontext import dumps
+from robkin.io.files.jsontext import dumps
 
 RRPR = str(EXAMPLES_DIR / "rrpr.yaml")
 SCARA = str(EXAMPLES_DIR / "scara.yaml")

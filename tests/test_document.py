@@ -10,7 +10,7 @@ import pytest
 
 import robkin
 from robkin.errors import InputError, ProjectionWarning
-from robkin.io.document import document_from_robot, dump, parse_document, read_document, read_sections
+from robkin.io.documents.reader import document_from_robot, dump, parse_document, read_document, read_sections
 from robkin.commands._common import EXAMPLES_DIR
 
 PI = math.pi

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import robkin
-from robkin.io.document import (AngleUnitWarning, document_from_robot, dump, parse_document)
+from robkin.io.documents.reader import AngleUnitWarning, document_from_robot, dump, parse_document
 
 #: A robot with nearly parallel axes 2 and 3 (tilt 1e-7 rad): its DH table is ill-conditioned, so 15
 #: significant digits in the written document would cost FK accuracy; repr costs none.

@@ -18,7 +18,7 @@ from robkin import InputError, Robot
 from robkin.bodies import Bodies
 from robkin.body_parts import Inertial
 from robkin.dynamics import inertials_from_frames, link_masses, merge_masses
-from robkin.dynamics.mass_properties import merge_masses_by_group
+from robkin.mass_properties import merge_masses_by_group
 from strategies import robots
 from test_properties import SCALE as PROPERTY_SCALE
 from test_urdf import robot_file

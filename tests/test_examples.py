@@ -98,7 +98,7 @@ def _make_kit(tmp_path: Path) -> Path:
     (tmp_path / "src" / "robkin").mkdir(parents=True)
     (tmp_path / "src" / "robkin" / "examples").symlink_to(EXAMPLES_DIR)
     os.chdir(tmp_path)
-    from robkin.io.document import document_from_robot, dump
+    from robkin.io.documents.reader import document_from_robot, dump
     from robkin.io.urdf import urdf_from_robot
 
     rrpr = robkin.load(EXAMPLES_DIR / "rrpr.yaml")

@@ -7,7 +7,7 @@ import os
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from robkin.io.float_text import digits_text, float_text, short_text
+from robkin.io.files.float_text import digits_text, float_text, short_text
 
 SCALE = int(os.environ.get("ROBKIN_PROPERTY_SCALE", "1"))
 
@@ -37,7 +37,7 @@ def test_examples():
 
 
 def test_round_document_shortens_table_values_and_keeps_the_rest():
-    from robkin.io.document_round import round_document
+    from robkin.io.documents.rounding import round_document
 
     doc = {"robkin": 1, "joints": [{"name": "j1", "type": "revolute", "limits": {"lower": -0.30000000000000004}}],
            "dh": {"base": [[1.0, -4.16e-18, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0, 0, 0, 1.0]],

@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 
 from robkin.commands._common import EXAMPLES_DIR
 from robkin.errors import InputError, unprintable
-from robkin.io.document import parse_document
+from robkin.io.documents.reader import parse_document
 from robkin.io.urdf import parse_urdf_text, robot_from_model
 from robkin.robot import Robot
 from test_bad_inputs import ALIAS_BOMB, BOMB

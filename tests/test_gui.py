@@ -154,7 +154,7 @@ def test_export_urdf_matches_pinocchio_and_document_round_trips():
     np.testing.assert_allclose(pinocchio_tool(urdf, q), rrpr_fk(q), atol=1e-9)  # 1e-9: URDF text round trip
     for to in ("yaml", "json", "dh", "mdh", "poe", "poe-body", "rpy-xyz", "gjd"):
         name, _, content = gui_api.export(RRPR_TEXT, "auto", to)
-        from robkin.io.document import parse_document
+        from robkin.io.documents.reader import parse_document
 
         robot = parse_document(content, "json" if to == "json" else "yaml")
         np.testing.assert_allclose(robot.fk(q), rrpr_fk(q), atol=EXACT, err_msg=to)
@@ -624,7 +624,7 @@ def test_browser_load_move_check_download(page, tmp_path):
 
     # Downloads: the URDF agrees with pinocchio, the YAML document reads back to the same robot.
     # Load a file (the RRPR robot as a JSON document): the format follows the file's extension.
-    from robkin.io.document import document_from_robot, dump
+    from robkin.io.documents.reader import document_from_robot, dump
 
     json_file = tmp_path / "rrpr_in.json"
     json_file.write_text(dump(document_from_robot(robkin.load(EXAMPLES / "rrpr.yaml"), ("poe",)), "json"))
@@ -870,7 +870,7 @@ def test_browser_panda_orbit_drag_paste_check(panda_page, tmp_path):
     first = int(pg.inner_text("#check-first").split("J")[1].split()[0])
     from robkin.equivalence import compare
     from robkin.viz.table_text import document_from_table
-    from robkin.io.document import parse_document
+    from robkin.io.documents.reader import parse_document
 
     a = parse_document(json.dumps(document_from_table(FRANKA_MDH, "mdh-rows", True)), "json")
     b = parse_document(json.dumps(document_from_table(FRANKA_MDH.replace("0.384", "0.39"), "mdh-rows", True)), "json")

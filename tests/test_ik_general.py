@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 import ik_arms as arms
 import robkin
 from robkin.errors import InputError
-from robkin.io.urdf_write import urdf_from_robot
+from robkin.io.urdf.writer import urdf_from_robot
 from robkin.kinematics.closed_form import closed_form_solver
 from robkin.kinematics.lock import check_lock, locked_robot
 from robkin.robot import Joint

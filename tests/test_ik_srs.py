@@ -226,7 +226,7 @@ def test_gui_arm_angle():
     assert np.array_equal(branch_of(robot, np.array(res["q"])), branch_of(robot, q))
     with pytest.raises(InputError, match="arm_angle"):
         gui_api.solve_ik(text, "urdf", robot.fk(q).tolist(), q.tolist(), arm_angle="x")
-    from robkin.io.document import document_from_robot, dump
+    from robkin.io.documents.reader import document_from_robot, dump
 
     six = gui_api.describe(dump(document_from_robot(arms.xarm6())), "yaml")
     assert six["srs"] is False and six["arm_angle"] is None

@@ -20,7 +20,7 @@ import pytest
 
 import robkin
 from robkin.errors import InputError
-from robkin.io.mjcf_read import robot_from_mjcf
+from robkin.io.mjcf.reader import robot_from_mjcf
 
 mujoco = pytest.importorskip("mujoco")
 pin = pytest.importorskip("pinocchio")

@@ -27,8 +27,8 @@ from robkin.body_parts import Inertial
 from robkin.cli import main
 from robkin.dynamics import link_masses
 from robkin.robot import Joint
-from robkin.io.document import document_from_robot, dump, parse_document, table_document
-from robkin.io.table_files import render_table
+from robkin.io.documents.reader import document_from_robot, dump, parse_document, table_document
+from robkin.io.tables.files import render_table
 from robkin.io.urdf import urdf_from_robot
 from robkin.representations import (dh_from_robot, hayati_from_robot, mdh_from_robot, poe_from_robot,
                                     rpy_from_robot)
@@ -375,7 +375,7 @@ def test_a_table_with_masses_writes_inertials_to_urdf():
 def test_csv_tables_read_back_with_their_masses(rep, tmp_path):
     """A CSV table robkin writes reads back as input with its mass columns: the same mass matrix and
     gravity torques as the URDF it came from (to rounding), and no warning about ignored columns."""
-    from robkin.io.table_read import read_table_file
+    from robkin.io.tables.reader import read_table_file
 
     robot = _load(*UR5)
     path = tmp_path / "t.csv"
@@ -393,7 +393,7 @@ def test_csv_tables_read_back_with_their_masses(rep, tmp_path):
 
 
 def test_csv_mass_columns_all_or_none(tmp_path):
-    from robkin.io.table_read import read_table_file
+    from robkin.io.tables.reader import read_table_file
 
     robot = _load(*UR5)
     lines = render_table(robot, "dh", "csv").splitlines()

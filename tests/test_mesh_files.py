@@ -16,8 +16,8 @@ import pytest
 
 import robkin
 from robkin.cli import main
-from robkin.io.mesh_files import (MeshFile, copy_meshes, missing_line, parse_package_path, resolve_mesh_file,
-                                  resolve_meshes)
+from robkin.io.meshes.files import (MeshFile, copy_meshes, missing_line, parse_package_path, resolve_mesh_file,
+                                    resolve_meshes)
 
 ROBOTS_DIR = (glob.glob(os.path.join(sys.prefix, "lib", "python*", "site-packages", "cmeel.prefix", "share",
                                      "example-robot-data", "robots")) or [""])[0]
@@ -318,7 +318,7 @@ def test_every_mesh_of_real_robots_is_found(rel):
     """example-robot-data as installed: every mesh found through the package folder above the file
     (Talos writes package:///example-robot-data/..., with three slashes)."""
     from robkin.io.urdf import parse_urdf
-    from robkin.io.urdf_chain import chains_of
+    from robkin.io.urdf.chain import chains_of
 
     path = Path(ROBOTS_DIR) / rel
     if not path.is_file():

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 
 from robkin import Joint, Robot, se3
-from robkin.io.mjcf import mjcf_from_robot, quat_from_matrix
+from robkin.io.mjcf.format import mjcf_from_robot, quat_from_matrix
 from robkin.bodies import Bodies
 from robkin.io.urdf import robot_from_urdf, urdf_from_robot
 from strategies import robots
@@ -122,7 +122,7 @@ def test_urdf_limit_without_bounds_is_exported_locked():
 def test_export_of_any_robot_loads_in_mujoco_and_reads_back(robot):
     """MuJoCo loads every MJCF robkin writes, with FK equal to 1e-12 of the robot's size, and
     robkin's MJCF reader gives back the same FK."""
-    from robkin.io.mjcf_read import robot_from_mjcf
+    from robkin.io.mjcf.reader import robot_from_mjcf
 
     text = mjcf_from_robot(robot)
     model = mujoco.MjModel.from_xml_string(text)

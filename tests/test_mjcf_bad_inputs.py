@@ -12,7 +12,7 @@ import os
 import pytest
 
 from robkin.cli import main
-from robkin.io import mjcf_source
+from robkin.io.mjcf import source as mjcf_source
 from robkin.io import load
 
 ARM = '<mujoco><worldbody><body name="a"><joint name="j"/>{}</body></worldbody></mujoco>'
@@ -116,7 +116,7 @@ def test_include_depth_count_and_size_limits(tmp_path, capsys, monkeypatch):
 
 def test_text_input_cannot_include():
     from robkin.errors import InputError
-    from robkin.io.mjcf_read import robot_from_mjcf
+    from robkin.io.mjcf.reader import robot_from_mjcf
 
     with pytest.raises(InputError, match="text input cannot include"):
         robot_from_mjcf(ARM.format('<include file="x.xml"/>'))

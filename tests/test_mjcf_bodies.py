@@ -19,7 +19,7 @@ import pytest
 
 from robkin.bodies import body_motions, shape_poses
 from robkin.io import load
-from robkin.io.mjcf_read import robot_from_mjcf
+from robkin.io.mjcf.reader import robot_from_mjcf
 from robkin.io.urdf import urdf_from_robot
 from test_urdf import robot_file
 
@@ -239,7 +239,7 @@ def test_mujoco_compiled_arm_meshes_match_mujoco_and_are_served(tmp_path):
 def test_mesh_files_outside_the_folder_are_kept_and_said_once(tmp_path, meshdir, file, named):
     """MuJoCo loads a mesh anywhere: the reader keeps its name (meshdir joined as MuJoCo joins it);
     finding the files says once, in one line, that files outside the model's folder are used."""
-    from robkin.io.mesh_files import resolve_meshes
+    from robkin.io.meshes.files import resolve_meshes
 
     outside = tmp_path / "outside"
     outside.mkdir()

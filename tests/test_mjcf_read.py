@@ -18,8 +18,8 @@ from hypothesis import strategies as st
 
 from robkin.errors import InputError
 from robkin.io import load
-from robkin.io.mjcf import mjcf_from_robot
-from robkin.io.mjcf_read import robot_from_mjcf
+from robkin.io.mjcf.format import mjcf_from_robot
+from robkin.io.mjcf.reader import robot_from_mjcf
 from test_urdf import CASES, robot_file
 
 mujoco = pytest.importorskip("mujoco")
@@ -298,7 +298,7 @@ def test_robosuite_arms_match_mj_kinematics(path):
     every robot without a floating base matches MuJoCo."""
     if path is None:
         pytest.skip("robosuite is not installed")
-    from robkin.io.mjcf_read import model_from_mjcf
+    from robkin.io.mjcf.reader import model_from_mjcf
 
     tree, kinds = model_from_mjcf(path)
     if "free" in kinds.values():

@@ -18,8 +18,8 @@ from robkin.bodies import Bodies
 from robkin.body_parts import Inertial
 from robkin.cli import main
 from robkin.dynamics import link_masses
-from robkin.io.mjcf import mjcf_from_robot
-from robkin.io.mjcf_read import robot_from_mjcf
+from robkin.io.mjcf.format import mjcf_from_robot
+from robkin.io.mjcf.reader import robot_from_mjcf
 from robkin.io.urdf import robot_from_urdf
 from strategies import robots
 from test_properties import SCALE as PROPERTY_SCALE
@@ -305,7 +305,7 @@ SDF = """<sdf version="1.9"><model name="s">
 
 
 def test_sdf_joint_dynamics_and_limits_reach_mjcf_and_urdf(tmp_path):
-    from robkin.io.sdf import robot_from_sdf
+    from robkin.io.sdf.reader import robot_from_sdf
     from robkin.io.urdf import urdf_from_robot
 
     robot = robot_from_sdf(SDF)
@@ -323,7 +323,7 @@ def test_stl_beyond_mujocos_triangle_limit_becomes_obj(tmp_path, monkeypatch):
     """MuJoCo refuses an STL of more than 200 000 triangles (detailed COLLADA visuals converted to STL
     have more): such a copy is rewritten as OBJ, which MuJoCo loads (the limit lowered to 10 here)."""
     trimesh = pytest.importorskip("trimesh")
-    from robkin.io import mjcf_meshes
+    from robkin.io.mjcf import meshes as mjcf_meshes
 
     monkeypatch.setattr(mjcf_meshes, "MUJOCO_STL_MAX_FACES", 10)
     (tmp_path / "meshes").mkdir()
@@ -363,9 +363,9 @@ def test_batch_keeps_each_robots_meshes_apart(tmp_path):
 
 
 def test_python_write_mjcf_takes_the_meshes_along(tmp_path):
-    """robkin.io.mjcf_files.write_mjcf: the Python form of convert --to mjcf -o (meshes copied beside)."""
+    """robkin.io.mjcf.files.write_mjcf: the Python form of convert --to mjcf -o (meshes copied beside)."""
     from robkin.io import load
-    from robkin.io.mjcf_files import write_mjcf
+    from robkin.io.mjcf.files import write_mjcf
     from test_urdf import robot_file
 
     src = robot_file("so_arm_description/urdf/so100.urdf")
@@ -382,8 +382,8 @@ def test_collada_visual_is_drawn_in_its_own_colours(tmp_path):
     """UR5's shoulder.dae holds three materials (grey, black, blue cap): three STL parts with those
     colours, together the very triangles of the single converted mesh."""
     pytest.importorskip("trimesh")
-    from robkin.io.mesh_files import copy_meshes, resolve_meshes
-    from robkin.io.mjcf_mesh_parts import visual_mesh_parts
+    from robkin.io.meshes.files import copy_meshes, resolve_meshes
+    from robkin.io.mjcf.mesh_parts import visual_mesh_parts
     from robkin.io import load
     from test_urdf import robot_file
 

@@ -1,5 +1,5 @@
 """Every module of robkin imports on its own, first, in a fresh interpreter state: no import cycle
-that only works in one order (``from robkin.io.urdf_chain import robot_from_urdf`` once failed
+that only works in one order (``from robkin.io.urdf.chain import robot_from_urdf`` once failed
 unless ``robkin.io.urdf`` had been imported before)."""
 
 from __future__ import annotations

@@ -16,7 +16,7 @@ import pytest
 from robkin.cli import main
 from robkin.commands._common import EXAMPLES_DIR
 from robkin.errors import InputError
-from robkin.io import atomic
+from robkin.io.files import atomic
 
 RRPR = str(EXAMPLES_DIR / "rrpr.yaml")
 SRC = str(Path(atomic.__file__).resolve().parents[2])
@@ -37,7 +37,7 @@ def test_a_signal_between_write_and_rename_leaves_no_temporary_file(tmp_path, si
     target.write_text("precious")
     code = f"""
 import os, signal, time
-from robkin.io.atomic import atomic_file
+from robkin.io.files.atomic import atomic_file
 # the disposition a process started from a terminal has: under nohup (SIGHUP) or as a background job
 # without job control (SIGINT) the signal arrives ignored, and atomic_file rightly leaves an ignored
 # signal ignored (the process would not die)

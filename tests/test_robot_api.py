@@ -126,8 +126,8 @@ def test_tables_print_as_the_cli_and_to_dict_reads_back(make, capsys):
     import json
 
     from robkin.cli import main
-    from robkin.io.document import parse_document
-    from robkin.io.jsontext import dumps
+    from robkin.io.documents.reader import parse_document
+    from robkin.io.files.jsontext import dumps
 
     robot = robkin.load(RRPR)
     table = make(robot)
@@ -151,7 +151,7 @@ def test_ik_result_and_comparison_are_readable():
     import json
 
     from robkin.equivalence import compare
-    from robkin.io.jsontext import dumps
+    from robkin.io.files.jsontext import dumps
 
     robot = robkin.load(RRPR)
     targets = robot.fk(robot.random_q(3, rng=2))
@@ -169,7 +169,7 @@ def test_ik_result_and_comparison_are_readable():
 
 
 def test_a_large_ik_batch_prints_a_screenful():
-    from robkin.io.table_views import MAX_ROWS
+    from robkin.io.tables.views import MAX_ROWS
 
     robot = robkin.load(RRPR)
     res = robot.ik(robot.fk(robot.random_q(MAX_ROWS + 5, rng=4)))

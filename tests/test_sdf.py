@@ -19,7 +19,7 @@ from robkin import se3
 
 from robkin.errors import InputError
 from robkin.io import load
-from robkin.io.sdf import robot_from_sdf
+from robkin.io.sdf.reader import robot_from_sdf
 
 pin = pytest.importorskip("pinocchio")
 
@@ -57,7 +57,7 @@ def test_sdf_matches_its_hand_written_urdf_twin(name, tip, joints):
                                    atol=FK_TOL, rtol=0)
     # and robkin's MJCF of it: MuJoCo's FK of the tool body (named as the tip link) is the same
     mujoco = pytest.importorskip("mujoco")
-    from robkin.io.mjcf import mjcf_from_robot
+    from robkin.io.mjcf.format import mjcf_from_robot
 
     mj = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot))
     data = mujoco.MjData(mj)
@@ -134,7 +134,7 @@ def test_bad_sdf_is_one_clear_line(text, message):
 
 
 def test_intermediate_links_only_where_a_joint_frame_is_off_its_child():
-    from robkin.io.sdf import model_from_sdf
+    from robkin.io.sdf.reader import model_from_sdf
 
     tree, _ = model_from_sdf(DATA / "arm.sdf")
     # only the wrist has a <pose> of its own; explicit frames are links too

@@ -15,7 +15,7 @@ import pytest
 
 from robkin.bodies import body_motions, shape_poses
 from robkin.io import load
-from robkin.io.sdf import robot_from_sdf
+from robkin.io.sdf.reader import robot_from_sdf
 from test_sdf import DATA
 
 pin = pytest.importorskip("pinocchio")
@@ -103,7 +103,7 @@ def test_mesh_uris_are_kept(tmp_path, uri):
 
 @pytest.mark.parametrize("uri", ["../outside/b.stl", "OUT/b.stl", "file://OUT/b.stl", "meshes/../../outside/b.stl"])
 def test_mesh_uris_outside_the_folder_are_kept_and_said_once(tmp_path, uri):
-    from robkin.io.mesh_files import resolve_meshes
+    from robkin.io.meshes.files import resolve_meshes
 
     (tmp_path / "outside").mkdir()
     (tmp_path / "outside" / "b.stl").write_bytes(b"solid b\nendsolid b\n")

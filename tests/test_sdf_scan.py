@@ -8,7 +8,7 @@ import random
 import pytest
 
 from robkin.errors import InputError
-from robkin.io.urdf_xml import _parse_xml
+from robkin.io.trees.xml_parse import _parse_xml
 
 sdf_scan = pytest.importorskip("robkin.compiled.sdf_scan")
 

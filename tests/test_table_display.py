@@ -14,7 +14,7 @@ import numpy as np
 
 from robkin import Joint
 from robkin.cli import main
-from robkin.io.table_views import DISPLAY_NOTE
+from robkin.io.tables.views import DISPLAY_NOTE
 from robkin.representations import DHTable, dh_from_robot
 
 from test_urdf import robot_file

@@ -16,8 +16,8 @@ import pytest
 from robkin import Joint, Robot
 from robkin.cli import main
 from robkin.errors import InputError
-from robkin.io.numbers import number
-from robkin.io.table_files import pi_text, render_table, table_of
+from robkin.io.files.numbers import number
+from robkin.io.tables.files import pi_text, render_table, table_of
 from robkin.io.urdf import robot_from_urdf
 from robkin.representations import DHTable, MDHTable, PoE, RPYTable, dh_from_robot
 
@@ -233,8 +233,8 @@ PANDA_NOISY = {"0.384", "0.316", "0.0825", "-0.0825", "0.088", "0.2104"}
 def test_default_numbers_are_short_and_within_the_fk_budget(fmt):
     """No machine noise (0.3839999999999999, -4.16e-18) by default, and the table as written still
     reproduces FK to the budget of exact conversions (1e-12 of the robot's size)."""
-    from robkin.io.table_read import table_document
-    from robkin.io.document import robot_from_data
+    from robkin.io.tables.reader import table_document
+    from robkin.io.documents.reader import robot_from_data
 
     robot = robot_from_urdf(robot_file(PANDA), tip_link="panda_hand_tcp")
     text = render_table(robot, "mdh", fmt)

@@ -16,9 +16,9 @@ from hypothesis import strategies as st
 import robkin
 from robkin.cli import main
 from robkin.errors import InputError
-from robkin.io.document import robot_from_data
-from robkin.io.table_files import render_table
-from robkin.io.table_read import table_document
+from robkin.io.documents.reader import robot_from_data
+from robkin.io.tables.files import render_table
+from robkin.io.tables.reader import table_document
 from strategies import robots
 from test_urdf import robot_file
 

@@ -33,11 +33,11 @@ from hypothesis import strategies as st
 import robkin
 from robkin.cli import main
 from robkin.errors import InputError
-from robkin.io.code_literals import m_float, m_str, py_float, py_str
-from robkin.io.eaik_write import eaik_json, eaik_python
-from robkin.io.matlab_write import matlab_from_robot
-from robkin.io.opw import opw_document, opw_from_robot
-from robkin.io.rtb_write import rtb_from_robot
+from robkin.io.toolboxes.code_literals import m_float, m_str, py_float, py_str
+from robkin.io.toolboxes.eaik import eaik_json, eaik_python
+from robkin.io.toolboxes.matlab import matlab_from_robot
+from robkin.io.toolboxes.opw import opw_document, opw_from_robot
+from robkin.io.toolboxes.rtb import rtb_from_robot
 from robkin.representations.dh import DHTable
 from robkin.representations.mdh import MDHTable
 from robkin.robot import Joint, Robot
@@ -277,7 +277,7 @@ def test_opw_parameters_reproduce_fk(name):
     for q in Q[:5]:
         assert np.abs(robot.fk(q) - opw_paper_fk(g, signs * q - offsets)).max() <= 1e-12
     # robkin's parameters: the same seven lengths, and offsets, signs, base and tool that reproduce FK
-    doc = yaml.safe_load(robkin.io.document.dump(opw_document(robot)))
+    doc = yaml.safe_load(robkin.io.documents.reader.dump(opw_document(robot)))
     got, o, s, base, tool = _model_of(doc)
     assert got == pytest.approx(g, abs=1e-12)
     assert np.allclose(base, np.eye(4), atol=0) and np.allclose(tool, np.eye(4), atol=1e-15)
@@ -419,7 +419,7 @@ def test_hostile_names_run_as_data(tmp_path):
     assert json.loads(eaik_json(robot))["joint_names"] == HOSTILE
     kr6 = opw_robot(*PUBLISHED["KUKA KR6 R700 sixx"]).replace(joints=tuple(Joint(n) for n in HOSTILE[:6]),
                                                               name=HOSTILE[3])
-    doc = yaml.safe_load(robkin.io.document.dump(opw_document(kr6)))
+    doc = yaml.safe_load(robkin.io.documents.reader.dump(opw_document(kr6)))
     assert doc["joint_names"] == HOSTILE[:6] and doc["name"] == HOSTILE[3]
 
 

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import robkin
-from robkin.io.rtb_write import rtb_from_robot
+from robkin.io.toolboxes.rtb import rtb_from_robot
 from test_dynamics import Pin
 from test_toolbox_code import _hostile_robot
 from test_urdf import robot_file

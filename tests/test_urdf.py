@@ -333,7 +333,7 @@ def test_exported_urdf_loads_in_yourdfpy_with_same_fk(tmp_path):
 def test_both_xml_parsers_read_the_same_contents_and_refuse_the_same(monkeypatch):
     """The kinematic tree is read by the compiled scan; link contents are parsed on first use, by the
     standard library's parser for small files and lxml for big ones (see LXML_FROM): both agree."""
-    import robkin.io.urdf_xml as urdf_module
+    import robkin.io.trees.xml_parse as urdf_module
 
     text = open(robot_file("panda_description/urdf/panda.urdf"), encoding="utf-8").read()
     seen = []

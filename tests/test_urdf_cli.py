@@ -13,8 +13,8 @@ import pytest
 
 from robkin import Joint, Robot, se3
 from robkin.cli import main
-from robkin.io.document import read_document
-from robkin.io.tables import show_blocks, use_rich
+from robkin.io.documents.reader import read_document
+from robkin.io.tables.terminal import show_blocks, use_rich
 from robkin.io.urdf import robot_from_urdf, urdf_from_robot
 from test_urdf import CASES, TILTED_SILENT, pin, pin_fk, robot_file, sample_q
 
@@ -132,7 +132,7 @@ def test_convert_startup_imports_nothing_heavy():
             "'email', 'hypothesis', 'trimesh'}; "
             "unused = {'robkin.representations.' + m for m in ('mdh', 'hayati', 'poe', 'rpy_xyz')} "
             "| {'robkin.commands.' + m for m in ('fk', 'ik', 'check', 'info', 'estimate', 'plot', 'gui', 'demo')} "
-            "| {'robkin.io.urdf_write'}; "
+            "| {'robkin.io.urdf.writer'}; "
             "print(rc, sorted({m.split('.')[0] for m in sys.modules} & heavy), 'numpy.random' in sys.modules, "
             "sorted(unused & set(sys.modules)), 'robkin.representations.dh' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,

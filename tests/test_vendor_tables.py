@@ -129,7 +129,7 @@ def test_dh_table_frames_are_kept_so_tables_round_trip():
 
 
 def test_table_output_notes_why_a_base_or_tool_is_needed():
-    from robkin.io.tables import render
+    from robkin.io.tables.terminal import render
 
     text = render(robkin.load(IIWA14_URDF), "dh")
     assert "base: identity" in text and "note: base" not in text and "note: tool" not in text

@@ -57,11 +57,11 @@ def read_measurements(path: str | os.PathLike[str], robot: Robot) -> Measurement
     ext = Path(p).suffix.lower()
     names = [j.name for j in robot.joints]
     if ext == ".csv":
-        from ..io.files import read_text_file
+        from ..io.files.input_files import read_text_file
 
         m = _from_csv(read_text_file(p, MAX_BYTES, "a measurement file"), names, p)
     elif ext in (".npz", ".npy"):
-        from ..io.files import read_bytes_file
+        from ..io.files.input_files import read_bytes_file
 
         m = _from_numpy(read_bytes_file(p, MAX_BYTES, "a measurement file"), ext, names, p)
     else:
@@ -252,7 +252,7 @@ def _numeric(a: np.ndarray, src: str, name: str, shape: tuple[int | None, ...]) 
 def write_measurements_csv(path: str | os.PathLike[str], robot: Robot, q: np.ndarray, positions: np.ndarray,
                            quaternions: np.ndarray | None = None) -> None:
     """Write poses in the CSV contract (atomically), numbers in full precision."""
-    from ..io.atomic import write_text_atomic
+    from ..io.files.atomic import write_text_atomic
 
     header = [j.name for j in robot.joints] + list(POSITION_COLUMNS) + \
         (list(QUATERNION_COLUMNS) if quaternions is not None else [])

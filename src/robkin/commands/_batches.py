@@ -112,7 +112,7 @@ def pose_rows(rows: "Rows", degrees: bool = False) -> np.ndarray:
     elif p is not None and (quat is not None or rpy is not None):
         T[:, :3, 3] = p
         if quat is not None:  # the quaternion is the rotation when both are there (no gimbal lock)
-            from ..io.mjcf import matrix_from_quat
+            from ..io.mjcf.format import matrix_from_quat
 
             _finite(quat, rows.source, "quaternion value")
             norms = np.linalg.norm(quat, axis=1)

@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import InputError
-from ..io.numbers import number_list
+from ..io.files.numbers import number_list
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
@@ -59,7 +59,7 @@ def add_package_path(p: argparse.ArgumentParser) -> None:
 
 
 def _package_path(text: str) -> tuple[str, Path]:
-    from ..io.mesh_files import parse_package_path
+    from ..io.meshes.files import parse_package_path
 
     try:
         return parse_package_path(text)

@@ -44,7 +44,7 @@ def print_gravity(robot: "Robot", extra: dict[str, Any], args: argparse.Namespac
     """The gravity torques as a table, one row per joint with its unit."""
     if "gravity" not in extra:
         return
-    from ..io.tables import fmt_num, text_table
+    from ..io.tables.terminal import fmt_num, text_table
 
     g = "0, 0, -9.81" if args.gravity_vector is None else args.gravity_vector
     rows = [[j.name, fmt_num(t), "N m" if j.revolute else "N"] for j, t in zip(robot.joints, extra["gravity"])]

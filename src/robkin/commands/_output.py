@@ -1,6 +1,6 @@
 """Output conventions shared by the commands: JSON on stdout, "wrote PATH" and warnings on stderr.
 
-- ``print_json``: every ``--json`` output, in the one style of ``robkin.io.jsontext``.
+- ``print_json``: every ``--json`` output, in the one style of ``robkin.io.files.jsontext``.
 - ``wrote``: one line ``wrote PATH`` on stderr for every file written, so that a run that writes
   says where, while stdout stays clean for the data.
 - ``warn_outside_limits``: one warning line per joint whose value lies outside its limits.
@@ -22,7 +22,7 @@ __all__ = ["print_json", "wrote", "warn_outside_limits", "joint_names"]
 
 def print_json(obj: Any) -> None:
     """Print ``obj`` as JSON in robkin's style (indented, full precision) to stdout."""
-    from ..io.jsontext import dumps
+    from ..io.files.jsontext import dumps
 
     print(dumps(obj))
 
@@ -42,7 +42,7 @@ def warn_outside_limits(robot: "Robot", q: "np.ndarray", option: str = "--q") ->
 
     The comparison is exact: a value typed with the limits' own digits is at the limit, not outside.
     """
-    from ..io.tables import fmt_num
+    from ..io.tables.terminal import fmt_num
 
     for joint, value in zip(robot.joints, q):
         unit = "rad" if joint.revolute else "m"

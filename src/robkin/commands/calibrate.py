@@ -74,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
     from ..calibration.measurements import read_measurements
     from ..calibration.solve import calibrate
     from ..errors import InputError
-    from ..io.atomic import write_text_atomic
+    from ..io.files.atomic import write_text_atomic
     from ._common import load_input
     from ._output import print_json, wrote
 
@@ -115,10 +115,10 @@ def render_robot(robot, ext: str, section: str | None = None) -> str:
 
         return urdf_from_robot(robot)
     if ext in (".xml", ".mjcf"):
-        from ..io.mjcf import mjcf_from_robot
+        from ..io.mjcf.format import mjcf_from_robot
 
         return mjcf_from_robot(robot)
-    from ..io.document import document_from_robot, dump
+    from ..io.documents.reader import document_from_robot, dump
 
     sections = short_sections(robot) if section is None else (SECTIONS[section],)
     return dump(document_from_robot(robot, sections), "json" if ext == ".json" else "yaml")
@@ -140,7 +140,7 @@ def short_sections(robot) -> tuple[str, ...]:
 
     import numpy as np
 
-    from ..io.document_write import SECTIONS as ALL
+    from ..io.documents.writer import SECTIONS as ALL
     from ..representations import dh_from_robot, mdh_from_robot
 
     keep = []

@@ -67,7 +67,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..equivalence import compare
+    from ..equivalence.comparison import compare
     from ..errors import InputError
 
     if args.b.lower().endswith((".csv", ".npz", ".npy")):   # a model against measured samples
@@ -101,8 +101,8 @@ def run(args: argparse.Namespace) -> int:
 
         print_json(d)
     else:
-        from ..io.table_views import comparison_blocks
-        from ..io.tables import show_blocks
+        from ..io.tables.views import comparison_blocks
+        from ..io.tables.terminal import show_blocks
 
         kinds = lambda r: "".join("R" if j.revolute else "P" for j in r.joints)  # noqa: E731
         title = f"A: {args.a} ({a.n} joints {kinds(a)})   B: {args.b} ({b.n} joints {kinds(b)})"

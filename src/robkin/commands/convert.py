@@ -13,15 +13,15 @@ from pathlib import Path
 from ..errors import InputError
 from ._chains import add_chain_options, chain_ends
 from ._common import add_allow_xacro, add_from, add_package_path
-from ._convert_help import EPILOG
-from ._convert_render import (DOC_EXTENSIONS, EXTENSIONS, SECTION_OF, TABLE_EXTENSIONS, TABLE_REPRESENTATIONS,
-                              check_link_geometry, render_file, render_in)
+from .convert_parts.help import EPILOG
+from .convert_parts.render import (DOC_EXTENSIONS, EXTENSIONS, SECTION_OF, TABLE_EXTENSIONS, TABLE_REPRESENTATIONS,
+                                   check_link_geometry, render_file, render_in)
 from ._output import wrote
-from ._toolbox import CODE_FORMATS, add_toolbox_options, check_toolbox_options
+from .convert_parts.toolbox import CODE_FORMATS, add_toolbox_options, check_toolbox_options
 
 
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
-    from ._mjcf_output import MJCF_HELP, add_mjcf_options
+    from .convert_parts.mjcf_output import MJCF_HELP, add_mjcf_options
 
     p = sub.add_parser("convert", help="convert a robot into another representation",
                        description="Convert a robot description into another representation, exactly: "
@@ -145,14 +145,14 @@ def _check_table_options(args: argparse.Namespace) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..io.atomic import check_writable_dir, write_text_atomic, write_texts_atomic
+    from ..io.files.atomic import check_writable_dir, write_text_atomic, write_texts_atomic
 
     inputs: list[str] = args.input
     fmt: str = args.to
     _check_table_options(args)
     check_toolbox_options(args)
     check_link_geometry(args)
-    from ._mjcf_output import check_mjcf_options
+    from .convert_parts.mjcf_output import check_mjcf_options
 
     check_mjcf_options(args)
     if args.json and (args.output or fmt in ("urdf", "mjcf", "yaml")):
@@ -186,7 +186,7 @@ def run(args: argparse.Namespace) -> int:
         for target in targets:
             wrote(target)
         if fmt in ("urdf", "mjcf") and not args.format:
-            from ._output_check import check_written
+            from .convert_parts.output_check import check_written
 
             for robot, target in zip(robots, targets):
                 check_written(robot, target, fmt)
@@ -211,7 +211,7 @@ def run(args: argparse.Namespace) -> int:
         write_text_atomic(out, text)
         wrote(out)
         if fmt in ("urdf", "mjcf"):
-            from ._output_check import check_written
+            from .convert_parts.output_check import check_written
 
             check_written(robot, out, fmt)
         if note:
@@ -228,7 +228,7 @@ def run(args: argparse.Namespace) -> int:
         sys.stdout.write(render_file(robot, fmt, ".json" if fmt == "json" else EXTENSIONS.get(fmt, (".yaml",))[0],
                                       args, inputs[0]))
         return 0
-    from ..io.tables import blocks, show_blocks
+    from ..io.tables.terminal import blocks, show_blocks
 
     show_blocks(blocks(robot, fmt, layout=args.layout, degrees=args.degrees) + ([f"note: {note}"] if note else []))
     return 0

@@ -33,8 +33,8 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..io.document import read_document
-    from ..io.tables import FORMATS, render
+    from ..io.documents.reader import read_document
+    from ..io.tables.terminal import FORMATS, render
     from ..representations import dh_from_robot, mdh_from_robot, poe_from_robot, rpy_from_robot
 
     rule = "=" * 78

@@ -113,7 +113,7 @@ def _dh_json(rows: Any) -> dict[str, Any]:
 
 def _output_paths(args: argparse.Namespace, kinds: tuple[str, ...]) -> dict[str, Path]:
     """Where each result goes; checked before any work so that bad paths fail fast (nothing written)."""
-    from ..io.atomic import check_writable_dir
+    from ..io.files.atomic import check_writable_dir
 
     if not args.output:
         return {}
@@ -138,7 +138,7 @@ def _output_paths(args: argparse.Namespace, kinds: tuple[str, ...]) -> dict[str,
 
 
 def _check_plot_path(path: str) -> None:
-    from ..io.atomic import check_writable_dir
+    from ..io.files.atomic import check_writable_dir
 
     if Path(path).suffix.lower() not in (".png", ".svg", ".pdf"):
         raise InputError(f"--plot {path}: picture must end in .png, .svg or .pdf")
@@ -178,7 +178,7 @@ def _optimise(args, poses, base, estimates):
 
 
 def _print_text(results, estimates, opt_summary) -> None:
-    from ..io.tables import fmt_num, text_table
+    from ..io.tables.terminal import fmt_num, text_table
 
     headers = ["type", "reaches", "length", "manip. transl.", "manip. rot."]
     rows = []
@@ -206,8 +206,8 @@ def _print_text(results, estimates, opt_summary) -> None:
 
 def _write_all(outputs: dict[Path, tuple]) -> None:
     """Write each (robot, metrics) as a document, all or nothing; a folder made for them goes on failure."""
-    from ..io.atomic import write_texts_atomic
-    from ..io.document import document_from_robot, dump
+    from ..io.files.atomic import write_texts_atomic
+    from ..io.documents.reader import document_from_robot, dump
 
     items = []
     for path, (robot, metrics) in outputs.items():

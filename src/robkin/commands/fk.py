@@ -71,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from .. import se3
-    from ..io.tables import fmt_num, matrix_text
+    from ..io.tables.terminal import fmt_num, matrix_text
     from ._output import joint_names, print_json, warn_outside_limits
 
     robot = load_input(args.input, args)
@@ -107,7 +107,7 @@ def run(args: argparse.Namespace) -> int:
     print("rpy:        " + ", ".join(fmt_num(v) for v in rpy) + f"  (roll, pitch, yaw in {unit}; R = Rz Ry Rx)")
     print("quaternion: " + ", ".join(fmt_num(v) for v in quat) + "  (w, x, y, z)")
     if "J" in extra:
-        from ..io.tables import text_table
+        from ..io.tables.terminal import text_table
 
         rows = [[name] + [fmt_num(v) for v in row] for name, row in zip(("vx", "vy", "vz", "wx", "wy", "wz"),
                                                                           extra["J"])]

@@ -70,7 +70,7 @@ def _read(path: str, base_link: str | None, tip_link: str | None) -> tuple[str, 
     """(text, format) of a robot file for the page, checked here so that bad input fails before serving."""
     from pathlib import Path
 
-    from ..io.files import read_text_file
+    from ..io.files.input_files import read_text_file
     from ..viz.gui_api import MAX_TEXT, parse_robot
 
     p = Path(path)

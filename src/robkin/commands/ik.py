@@ -109,7 +109,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from ..io.numbers import number_list
+    from ..io.files.numbers import number_list
     from ..errors import InputError
 
     robot = load_input(args.input, args)
@@ -130,7 +130,7 @@ def run(args: argparse.Namespace) -> int:
     if args.arm_angle is not None:
         import math
 
-        from ..io.numbers import number
+        from ..io.files.numbers import number
 
         psi = number(args.arm_angle, "--arm-angle")
         solve["arm_angle"] = math.radians(psi) if args.degrees else psi
@@ -164,8 +164,8 @@ def run(args: argparse.Namespace) -> int:
                         robot, closest["q"], to_radians=False) if args.degrees else closest["q"]}})})
         return 0
     if len(solutions):
-        from ..io.table_views import solutions_block
-        from ..io.tables import show_blocks
+        from ..io.tables.views import solutions_block
+        from ..io.tables.terminal import show_blocks
 
         show_blocks([solutions_block(solutions, result.method, [j.name for j in robot.joints])])
     return 0
@@ -176,7 +176,7 @@ def _parse_lock(robot: "Robot", items: list[str], degrees: bool) -> dict[str, fl
     import math
 
     from ..errors import InputError, quote
-    from ..io.numbers import number
+    from ..io.files.numbers import number
 
     lock: dict[str, float] = {}
     for item in items:

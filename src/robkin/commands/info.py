@@ -83,12 +83,12 @@ def _clean(v) -> list[float]:
 def _tree_chains(args: argparse.Namespace):
     """(tree, chains): the input's tree (see ``io.chain_path.tree_of_file``; None for a document or a
     .xacro) and, when no --tip-link picks one of several chains it offers, those chains (else None)."""
-    from ..io.chain_path import tree_of_file
+    from ..io.trees.chain_path import tree_of_file
 
     tree = tree_of_file(args.input)
     if tree is None or args.tip_link:
         return tree, None
-    from ..io.urdf_chain import chains_of
+    from ..io.urdf.chain import chains_of
 
     chains = chains_of(tree[0], args.base_link)
     return tree, (chains if len(chains) > 1 else None)
@@ -106,7 +106,7 @@ def _show_chains(path: str, chains, kinds: dict[str, str], as_json: bool) -> int
 
         print_json({"file": path, "tree": True, "chains": items})
         return 0
-    from ..io.tables import show_blocks
+    from ..io.tables.terminal import show_blocks
 
     def note(c) -> str:
         if c["unsupported"]:
@@ -125,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
     if chains is not None:
         return _show_chains(args.input, chains, tree[1], args.json)
     if tree is not None:
-        from ..io.chain_path import refuse_on_chain
+        from ..io.trees.chain_path import refuse_on_chain
         from ..io.urdf import robot_from_model
 
         model, kinds, supported = tree
@@ -141,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
     import numpy as np
 
-    from ..io.tables import fmt_num, matrix_text, show_blocks
+    from ..io.tables.terminal import fmt_num, matrix_text, show_blocks
 
     def lim(x):
         return "-" if x is None else fmt_num(x)

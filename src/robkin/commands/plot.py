@@ -62,7 +62,7 @@ def register(subparsers) -> argparse.ArgumentParser:
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from ..io.numbers import number_list
+    from ..io.files.numbers import number_list
 
     out = Path(args.output) if args.output else Path(Path(args.input[0]).stem + ".png")
     from ..viz.plot import PICTURE_FORMATS
@@ -123,7 +123,7 @@ def _exaggeration(args: argparse.Namespace) -> float | None:
     """--exaggerate K as a number (None when not given)."""
     if args.exaggerate is None:
         return None
-    from ..io.numbers import number
+    from ..io.files.numbers import number
 
     k = number(args.exaggerate, "--exaggerate")
     if not 1 <= k <= 1e6:
@@ -143,7 +143,7 @@ def _viewer_page(args: argparse.Namespace, out, view: list[float]) -> int:
 
     import numpy as np
 
-    from ..io.atomic import write_text_atomic
+    from ..io.files.atomic import write_text_atomic
     from ..viz.assets import require_assets
     from ..viz.viewer_page import viewer_data, viewer_page
 

@@ -1,6 +1,6 @@
 """Type stub of the compiled module ``robkin.compiled.urdf_scan`` (see urdf_scan.pyx)."""
 
-from robkin.io.urdf_joint import UrdfJoint
+from robkin.io.trees.tree_joint import UrdfJoint
 
 MAX_DEPTH: int
 

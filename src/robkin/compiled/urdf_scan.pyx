@@ -24,8 +24,8 @@ import os.path
 
 from robkin import bodies  # bodies.Mimic, imported only for a file with a <mimic>
 from robkin.errors import InputError, quote
-from robkin.io.urdf import NO_LIMIT, SUPPORTED_TYPES, UNSUPPORTED_TYPES  # urdf.py imports this module lazily
-from robkin.io.urdf_joint import UrdfJoint
+from robkin.io.urdf.model import NO_LIMIT, SUPPORTED_TYPES, UNSUPPORTED_TYPES  # urdf.py imports this module lazily
+from robkin.io.trees.tree_joint import UrdfJoint
 
 cdef extern from "Python.h":
     const char* PyUnicode_AsUTF8AndSize(object text, Py_ssize_t* size) except NULL

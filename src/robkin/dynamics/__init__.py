@@ -12,6 +12,6 @@ Units: kg, metres, seconds, radians; torques in N m (revolute) or forces in N (p
 
 from __future__ import annotations
 
-from .mass_properties import LinkMasses, check_inertia, inertials_from_frames, link_masses, merge_masses
+from ..mass_properties import LinkMasses, check_inertia, inertials_from_frames, link_masses, merge_masses
 
 __all__ = ["LinkMasses", "link_masses", "merge_masses", "inertials_from_frames", "check_inertia"]

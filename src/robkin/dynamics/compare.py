@@ -1,6 +1,6 @@
 """Do two descriptions of the same mechanism carry the same mass properties?
 
-``robkin check A B`` first decides whether A and B are the same mechanism (``robkin.equivalence``: the
+``robkin check A B`` first decides whether A and B are the same mechanism (``robkin.equivalence.comparison``: the
 same robot, or the same under a joint mapping q_A = s q_B + delta). Then, where both give inertials,
 this module compares what moves: body by body (mass, centre of mass, inertia about it, in the base
 frame at B's home configuration, A's bodies moved to q_A = delta), and the joint-space mass matrix M(q)
@@ -22,10 +22,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..samples import unit_sample
-from .mass_properties import LinkMasses, link_masses
+from ..mass_properties import LinkMasses, link_masses
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..equivalence import Comparison
+    from ..equivalence.comparison import Comparison
     from ..robot import Robot
 
 __all__ = ["BodyMatch", "MassComparison", "compare_masses"]

@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike
 
 from ..checks import check_q, check_threads
 from ..errors import InputError
-from .mass_properties import link_masses
+from ..mass_properties import link_masses
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..compiled.dynamics import ChainDynamics

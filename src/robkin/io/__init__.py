@@ -25,7 +25,7 @@ def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: s
          allow_xacro: bool = False, representation: str | None = None) -> Robot:
     """Load a Robot from a robot document (.yaml/.yml/.json), a URDF (.urdf, .xacro), an MJCF model
     (.xml, .mjcf), an SDF model (.sdf) or a table (.csv, .tsv, .txt: what ``robkin convert --format
-    csv`` writes, or bare rows such as ``a d alpha theta``; see ``robkin.io.table_read``).
+    csv`` writes, or bare rows such as ``a d alpha theta``; see ``robkin.io.tables.reader``).
 
     ``representation`` ('dh', 'mdh', 'hayati', 'poe', 'poe-body', 'rpy-xyz', 'gjd') says which table
     a table file holds where the file does not say (bare rows, a PoE's frame); tables only.
@@ -48,7 +48,7 @@ def _load(p: str, base_link: str | None, tip_link: str | None, allow_xacro: bool
     if ext in TABLE_EXTENSIONS:
         if base_link or tip_link:
             raise InputError(f"{p}: base_link=/tip_link= apply to robot files (URDF, MJCF, SDF) only")
-        from .table_read import read_table_file
+        from .tables.reader import read_table_file
 
         return read_table_file(p, representation)
     if representation is not None:
@@ -57,21 +57,21 @@ def _load(p: str, base_link: str | None, tip_link: str | None, allow_xacro: bool
     if ext in DOCUMENT_EXTENSIONS:
         if base_link or tip_link:
             raise InputError(f"{p}: base_link=/tip_link= apply to robot files (URDF, MJCF, SDF) only")
-        from .document import read_document
+        from .documents.reader import read_document
 
         return read_document(p)
     if ext in URDF_EXTENSIONS:
-        from .urdf import robot_from_urdf
+        from .urdf.chain import robot_from_urdf
 
         # the robot-file readers read a str starting with '<' as XML text: such a name goes as a Path
         source = Path(p) if p.lstrip().startswith("<") else p
         return robot_from_urdf(source, base_link=base_link, tip_link=tip_link, allow_xacro=allow_xacro)
     if ext in MJCF_EXTENSIONS:
-        from .mjcf_read import robot_from_mjcf
+        from .mjcf.reader import robot_from_mjcf
 
         return robot_from_mjcf(Path(p), base_link=base_link, tip_link=tip_link)
     if ext in SDF_EXTENSIONS:
-        from .sdf import robot_from_sdf
+        from .sdf.reader import robot_from_sdf
 
         return robot_from_sdf(Path(p), base_link=base_link, tip_link=tip_link)
     raise InputError(f"{p}: unknown extension '{ext}'; expected one of "

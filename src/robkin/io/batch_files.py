@@ -6,7 +6,7 @@ apart by NumPy's magic string). Arrays are read without pickles and only after t
 they are numbers of a bounded size, so no file can run code or exhaust memory.
 
 Output (``write_rows``): ``.csv`` (a header, one row per input row), ``.npy`` (one numeric array),
-``.npz`` (every column) or ``.json``; written atomically (``robkin.io.atomic``).
+``.npz`` (every column) or ``.json``; written atomically (``robkin.io.files.atomic``).
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from ..errors import InputError
-from .numbers import number
+from .files.numbers import number
 
 __all__ = ["MAX_BYTES", "MAX_VALUES", "Rows", "read_rows", "write_rows", "csv_text"]
 
@@ -64,7 +64,7 @@ def _read_bytes(path: str) -> bytes:
         if len(data) > MAX_BYTES:
             raise InputError(f"-: standard input is more than {MAX_BYTES} bytes; a batch is at most that")
         return data
-    from .files import read_bytes_file
+    from .files.input_files import read_bytes_file
 
     return read_bytes_file(path, MAX_BYTES, "a batch file")
 
@@ -195,7 +195,7 @@ def _cell(cell: str, name: str, line: int, column: str) -> float:
 
 def csv_text(columns: Sequence[str], table: Sequence[Sequence[Any]]) -> str:
     """CSV text with a header: floats so that they read back bit for bit, booleans true/false."""
-    from .float_text import float_text
+    from .files.float_text import float_text
 
     def cell(v: Any) -> str:
         if isinstance(v, (bool, np.bool_)):
@@ -219,13 +219,13 @@ def write_rows(path: str, columns: Sequence[str], table: Sequence[Sequence[Any]]
     ``.csv``: ``columns`` and ``table``; ``.npy``: ``arrays[main_array]``; ``.npz``: every array of
     ``arrays``; ``.json``: ``document`` (robkin's JSON style).
     """
-    from .atomic import atomic_file, write_text_atomic
+    from .files.atomic import atomic_file, write_text_atomic
 
     ext = os.path.splitext(path)[1].lower()
     if ext == ".csv":
         write_text_atomic(path, csv_text(columns, table))
     elif ext == ".json":
-        from .jsontext import dumps
+        from .files.jsontext import dumps
 
         write_text_atomic(path, dumps(document) + "\n")
     elif ext in (".npy", ".npz"):

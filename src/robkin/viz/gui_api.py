@@ -84,8 +84,8 @@ def parse_robot(text: str, fmt: str = "auto", base_link: str | None = None, tip_
             if not text.lstrip("\ufeff \t\r\n").startswith("<"):
                 root = {"urdf": "robot", "mjcf": "mujoco", "sdf": "sdf"}[kind]
                 raise InputError(f"{kind}: expected XML starting with '<' (a <{root}> element)")
-            from ..io.mjcf_read import robot_from_mjcf
-            from ..io.sdf import robot_from_sdf
+            from ..io.mjcf.reader import robot_from_mjcf
+            from ..io.sdf.reader import robot_from_sdf
             from ..io.urdf import robot_from_urdf
             from ..messages import render_options
 
@@ -100,7 +100,7 @@ def parse_robot(text: str, fmt: str = "auto", base_link: str | None = None, tip_
         else:
             if base_link or tip_link:
                 raise InputError("base/tip link: apply to URDF, MJCF and SDF input only")
-            from ..io.document import parse_document
+            from ..io.documents.reader import parse_document
 
             if kind.endswith("-rows"):
                 import json
@@ -144,8 +144,8 @@ def _robot(text: Any, fmt: Any, base_link: Any = None, tip_link: Any = None, too
 
 
 def _q_of(robot: Robot, q: Any, strict: bool = True, field: str = "q") -> np.ndarray:
-    """Joint values from a request field: n finite numbers (as ``robkin.io.numbers.number`` reads them)."""
-    from ..io.numbers import number
+    """Joint values from a request field: n finite numbers (as ``robkin.io.files.numbers.number`` reads them)."""
+    from ..io.files.numbers import number
 
     if q is None or (not strict and isinstance(q, (list, tuple)) and len(q) != robot.n):
         return np.zeros(robot.n)  # no q, or q of a robot the user has just edited into another one
@@ -158,7 +158,7 @@ def _q_of(robot: Robot, q: Any, strict: bool = True, field: str = "q") -> np.nda
 
 def _matrix_of(value: Any, field: str) -> np.ndarray:
     """A 4x4 matrix of finite numbers from a request field (lists of 4 rows of 4 numbers)."""
-    from ..io.numbers import number
+    from ..io.files.numbers import number
 
     rows = value if isinstance(value, (list, tuple)) and len(value) == 4 else None
     if rows is None or not all(isinstance(r, (list, tuple)) and len(r) == 4 for r in rows) or not all(
@@ -192,7 +192,7 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
     (true distances), ``robkin check``'s diagnosis, and the first joint that differs.
     """
     from .. import se3
-    from ..io.document import document_from_robot
+    from ..io.documents.reader import document_from_robot
     from .scene import build_scene
 
     robot, notes, links = _robot(text, fmt, base_link, tip_link, tool_row)
@@ -240,7 +240,7 @@ def _motions(robot: Robot, Q: np.ndarray) -> list | None:
 
 def _check(robot: Robot, Q: np.ndarray, other: Any) -> dict[str, Any]:
     """Robot B (``other``) against the robot shown: B's scene at the same q and ``compare``'s diagnosis."""
-    from ..equivalence import compare
+    from ..equivalence.comparison import compare
     from .scene import build_scene
 
     if not isinstance(other, dict):
@@ -272,7 +272,7 @@ def _check(robot: Robot, Q: np.ndarray, other: Any) -> dict[str, Any]:
 
 def _exaggeration(value: Any) -> float:
     """other.exaggerate: the factor differences are drawn with (1 when absent)."""
-    from ..io.numbers import number
+    from ..io.files.numbers import number
 
     if value is None:
         return 1.0
@@ -373,7 +373,7 @@ def export(text: str, fmt: str, to: str, base_link: str | None = None, tip_link:
     ``to`` is one of EXPORTS: the full document as 'yaml' or 'json', 'urdf', or one representation
     as a YAML document holding ``joints`` and that section only.
     """
-    from ..io.document import document_from_robot, dump
+    from ..io.documents.reader import document_from_robot, dump
 
     if to not in EXPORTS:
         raise InputError(f"download: {quote(to)} is not one of {', '.join(EXPORTS)}")

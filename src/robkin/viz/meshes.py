@@ -1,6 +1,6 @@
 """The visuals (meshes and primitive shapes) the GUI and ``plot -o page.html`` draw for a robot file.
 
-A URDF (or MJCF, SDF) names its meshes by file name; :func:`robkin.io.mesh_files.resolve_meshes`
+A URDF (or MJCF, SDF) names its meshes by file name; :func:`robkin.io.meshes.files.resolve_meshes`
 finds them (``package://``, ``model://``, ``file://``, relative paths, ``--package-path``) and says
 why one cannot be used.
 
@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
-from ..io.mesh_files import MAX_MESH_BYTES, MAX_MESHES, MeshFile, missing_line, resolve_meshes
+from ..io.meshes.files import MAX_MESH_BYTES, MAX_MESHES, MeshFile, missing_line, resolve_meshes
 from ..robot import Robot
 
 __all__ = ["MESH_TYPES", "MAX_MESH_BYTES", "MAX_MESHES", "MAX_PAGE_MESH_BYTES", "MeshRegistry"]
@@ -53,7 +53,7 @@ class MeshRegistry:
     @classmethod
     def of(cls, robot: Robot, robot_file: Path, package_paths: Mapping[str, Path] | None = None) -> "MeshRegistry":
         """The visuals of ``robot`` (read from ``robot_file``), their mesh files found as
-        :func:`robkin.io.mesh_files.resolve_meshes` finds them."""
+        :func:`robkin.io.meshes.files.resolve_meshes` finds them."""
         reg = cls()
         bodies = getattr(robot, "bodies", None)
         shapes = bodies.visuals() if bodies else ()

@@ -60,7 +60,7 @@ def metrics_of_robot(robot: "Robot") -> dict[str, float]:
 
 def read_metrics(path: str | Path) -> MetricEntry:
     """Metrics of one result document: its ``metrics`` object, or computed from its robot."""
-    from ..io.document import parse_text, read_text, parse_document
+    from ..io.documents.reader import parse_text, read_text, parse_document
 
     text, fmt = read_text(path)
     data: Any = parse_text(text, fmt, str(path))

@@ -182,7 +182,7 @@ def save_figure(fig: "Figure", path: str | os.PathLike, *, caption: str = "") ->
     """
     import io
 
-    from ..io.atomic import atomic_file, write_text_atomic
+    from ..io.files.atomic import atomic_file, write_text_atomic
 
     p = Path(path)
     ext = p.suffix.lower()

@@ -1,7 +1,7 @@
-"""The GUI's bare-table formats: they live in ``robkin.io.pasted_tables`` (the CLI reads them too)."""
+"""The GUI's bare-table formats: they live in ``robkin.io.tables.pasted`` (the CLI reads them too)."""
 
 from __future__ import annotations
 
-from ..io.pasted_tables import TABLE_FORMATS, document_from_table
+from ..io.tables.pasted import TABLE_FORMATS, document_from_table
 
 __all__ = ["TABLE_FORMATS", "document_from_table"]

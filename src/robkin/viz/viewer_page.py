@@ -67,7 +67,7 @@ def viewer_data(robots: Sequence[Robot], q: np.ndarray | None, overlay: Sequence
     ``arrows`` (``robkin.viz.difference``) from the first robot's axes to theirs.
 
     ``source``: the file the first robot was read from; its visuals are drawn with the mesh files they
-    name (found as :func:`robkin.io.mesh_files.resolve_meshes` finds them, with ``package_paths``), and
+    name (found as :func:`robkin.io.meshes.files.resolve_meshes` finds them, with ``package_paths``), and
     ``missing_line`` says which were not found. Warns (one line) when some were not.
     """
     from .scene import build_scene, overlay_scenes

@@ -264,7 +264,7 @@ function buildSliders(res) {
     const s = el("input", { type: "range", min: String(lo), max: String(hi), step: "any",
                             "data-joint": String(i), id: "q" + i, "aria-label": j.name });
     s.value = String(Math.min(Math.max(res.q[i], lo), hi));
-    if (lo === hi) {  // equal limits: locked at that value (robkin.io.joint_limits), as IK and sampling hold it
+    if (lo === hi) {  // equal limits: locked at that value (robkin.io.trees.joint_limits), as IK and sampling hold it
       s.disabled = true;
       s.title = "locked: its lower limit equals its upper limit";
     }

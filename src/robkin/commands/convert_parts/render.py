@@ -1,0 +1,99 @@
+"""``robkin convert``: the output text for one robot in the chosen format (a document, a table file,
+a URDF or MJCF with its meshes, code for another toolbox), and the formats' sections and file names."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ...errors import InputError
+from .toolbox import CODE_EXTENSIONS, CODE_FORMATS, render_code
+
+__all__ = ["SECTION_OF", "EXTENSIONS", "DOC_EXTENSIONS", "TABLE_EXTENSIONS", "TABLE_REPRESENTATIONS",
+           "render_file", "render_in", "check_link_geometry"]
+
+#: --to FORMAT -> document section written for it (None: a whole document or another file type)
+SECTION_OF = {"dh": "dh", "mdh": "mdh", "hayati": "hayati", "poe": "poe", "poe-body": "poe_body", "rpy-xyz": "rpy_xyz",
+              "gjd": "gjd", "json": None, "yaml": None, "urdf": None, "mjcf": None,
+              **{code: None for code in CODE_FORMATS}}
+#: Output file extensions accepted for each format (the first is used for batch output names).
+EXTENSIONS = {"urdf": (".urdf",), "mjcf": (".xml", ".mjcf"), "json": (".json",), "yaml": (".yaml", ".yml"),
+              **CODE_EXTENSIONS}
+DOC_EXTENSIONS = (".yaml", ".yml", ".json")
+#: --format -> output file extension (kept here, not imported, for the start-up time of every convert)
+TABLE_EXTENSIONS = {"csv": ".csv", "markdown": ".md", "latex": ".tex"}
+#: --to values that have a table form for --format
+TABLE_REPRESENTATIONS = ("dh", "mdh", "hayati", "poe", "poe-body", "rpy-xyz", "gjd")
+
+
+def check_link_geometry(args: argparse.Namespace) -> float | None:
+    """The capsule radius (None: the default), after checking the --link-* options fit --to."""
+    from ...io.files.numbers import number
+
+    style, radius = getattr(args, "link_geometry", "none"), getattr(args, "link_radius", None)
+    if style != "none" and args.to not in ("urdf", "mjcf"):
+        raise InputError(f"--link-geometry {style}: shapes are written by --to urdf or --to mjcf only, "
+                         f"not --to {args.to}")
+    if radius is None:
+        return None
+    if style == "none":
+        raise InputError("--link-radius: applies with --link-geometry capsules")
+    r = number(radius, "--link-radius")
+    if not r > 0:
+        raise InputError(f"--link-radius: must be a positive length, got {radius}")
+    return r
+
+
+def _with_link_geometry(robot, args: argparse.Namespace | None):
+    """The robot with stand-in link shapes when --link-geometry asks for them (robkin.link_geometry)."""
+    if args is None or getattr(args, "link_geometry", "none") == "none":
+        return robot
+    from ...link_geometry import with_link_capsules
+
+    return with_link_capsules(robot, check_link_geometry(args))
+
+
+def render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None = None,
+                 source: str | None = None, out_dir: Path | None = None, mesh_dir: str = "meshes") -> str:
+    """Text of the output file for one robot (``source``: its input file; ``out_dir``: where the
+    output goes, for the meshes an MJCF or a URDF takes along)."""
+    from ...io.documents.reader import document_from_robot, dump
+
+    degrees = bool(args is not None and args.degrees)
+
+    if args is not None and args.format:
+        from ...io.tables.files import render_table
+
+        return render_table(robot, fmt, args.format, pi=args.pi, digits="exact" if args.exact else args.digits)
+    if fmt in CODE_FORMATS:
+        return render_code(robot, fmt, out_ext, args)
+    if fmt == "urdf":
+        from .urdf_output import render_urdf
+
+        return render_urdf(_with_link_geometry(robot, args), args or argparse.Namespace(), source, out_dir, mesh_dir)
+    if fmt == "mjcf":
+        if args is None:
+            from ...io.mjcf.format import mjcf_from_robot
+
+            return mjcf_from_robot(robot)
+        from .mjcf_output import render_mjcf
+
+        return render_mjcf(_with_link_geometry(robot, args), args, source, out_dir, mesh_dir)
+    section = SECTION_OF[fmt]
+    doc = document_from_robot(robot, degrees=degrees) if section is None else \
+        document_from_robot(robot, (section,), degrees=degrees)
+    doc_fmt = "json" if (fmt == "json" or out_ext == ".json") and fmt != "yaml" else "yaml"
+    if doc_fmt == "yaml" and not (args is not None and args.exact):
+        from ...io.documents.rounding import round_document
+
+        doc = round_document(doc, robot.scale, None if args is None else args.digits)
+    return dump(doc, doc_fmt)
+
+
+def render_in(path: str, robot, fmt: str, out_ext: str, args: argparse.Namespace, out_dir: Path | None = None,
+               mesh_dir: str = "meshes") -> str:
+    """``render_file`` for one input of a batch: an error names the input it is about."""
+    try:
+        return render_file(robot, fmt, out_ext, args, path, out_dir, mesh_dir)
+    except InputError as exc:
+        raise exc.in_source(path) from None

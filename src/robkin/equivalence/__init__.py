@@ -1,0 +1,12 @@
+"""Are two descriptions the same robot (``robkin check A B``)? If not, which joint differs first, and how.
+
+- ``comparison``: ``compare(a, b)`` and its result ``Comparison``, the joint mapping ``JointMatch``;
+- ``walk``: the joint-by-joint search for a joint mapping q_A = s q_B + delta;
+- ``params``: past the first difference, the parameters that differ, as the same kind of table.
+"""
+
+from __future__ import annotations
+
+from .comparison import DEFAULT_TOL, Comparison, JointMatch, compare
+
+__all__ = ["JointMatch", "Comparison", "compare", "DEFAULT_TOL"]

@@ -1,0 +1,1 @@
+"""The mesh files a robot file names: found on disk, checked, and copied beside an output (``files``)."""

@@ -1,0 +1,92 @@
+"""An MJCF model with its meshes: the writer (``mjcf_write``) and the mesh files (``mesh_files``) together.
+
+``write_mjcf(robot, "out/robot.xml", source="robot.urdf")`` is what ``robkin convert --to mjcf -o``
+does, for Python: the robot file's meshes found (``package://``, ``model://``, relative paths, the
+``package_paths`` given), copied into ``out/meshes`` (COLLADA and PLY converted to STL, an STL beyond
+MuJoCo's triangle limit to OBJ; a COLLADA visual of several colours also split into one STL per colour,
+``mjcf_mesh_parts``), and the model written atomically beside them, naming them relative to
+itself so that the folder loads from anywhere.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Mapping
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ...robot import Robot
+
+__all__ = ["mjcf_with_meshes", "write_mjcf"]
+
+
+def mjcf_with_meshes(robot: Robot, source: str | os.PathLike[str] | None, out_dir: Path | None, *,
+                     mesh_dir: str = "meshes", package_paths: Mapping[str, Path] | None = None,
+                     **options: Any) -> str:
+    """The MJCF text of ``robot`` (read from the robot file ``source``; None: no meshes to find).
+
+    With ``out_dir``, the meshes are copied into ``out_dir/mesh_dir`` first and named relative to
+    ``out_dir``; without it, the found meshes MuJoCo reads are named by their absolute paths. Meshes
+    not found are left out with one warning line. ``options``: those of ``mjcf_write.mjcf_text``
+    (``actuators``, ``kp``, ``kv``, ``fuse_fixed``).
+    """
+    from .writer import mjcf_text
+
+    mesh_files: dict[str, str] = {}
+    mesh_parts: dict[str, list[tuple[str, tuple[float, ...]]]] = {}
+    if source is not None and any(s.geometry.kind == "mesh" for s in robot.bodies.shapes):
+        from ..meshes.files import MUJOCO_MESH_SUFFIXES, copy_meshes, missing_line, resolve_meshes
+
+        resolved = resolve_meshes(robot, source, package_paths)
+        missing = missing_line(resolved, source)
+        if missing:
+            warnings.warn(missing.replace("drawn without them", "left out of the MJCF"), UserWarning, stacklevel=2)
+        if out_dir is not None:
+            from .meshes import fit_for_mujoco
+
+            from .mesh_parts import visual_mesh_parts
+
+            sources = {m.path.resolve() for m in resolved.values() if m.path is not None}
+            mesh_files = fit_for_mujoco(copy_meshes(resolved, out_dir, mesh_dir), out_dir, sources)
+            # COLLADA visuals in their own colours, where the source gives the shape none
+            uncoloured = {s.geometry.filename for s in robot.bodies.shapes if s.role == "visual"
+                          and s.geometry.kind == "mesh" and (s.material is None or s.material.rgba is None)}
+            visual = {k: m.path for k, m in resolved.items() if k in uncoloured and m.path is not None}
+            parts = visual_mesh_parts(visual, out_dir, mesh_dir)
+            for name, items in parts.items():
+                fitted = fit_for_mujoco({f"{name}#{k}": f for k, (f, _) in enumerate(items)}, out_dir, sources)
+                if len(fitted) == len(items):
+                    mesh_parts[name] = [(fitted[f"{name}#{k}"], rgba) for k, (_, rgba) in enumerate(items)]
+            _drop_unused(robot, mesh_files, mesh_parts, out_dir, sources)
+        else:  # a model without a folder: the files where they are, in the formats MuJoCo reads
+            mesh_files = {k: str(v.path) for k, v in resolved.items()
+                          if v.path is not None and v.path.suffix.lower() in MUJOCO_MESH_SUFFIXES}
+    return mjcf_text(robot, mesh_files=mesh_files, mesh_parts=mesh_parts, **options)
+
+
+def _drop_unused(robot: Robot, mesh_files: dict[str, str], mesh_parts: Mapping[str, object], out_dir: Path,
+                 sources: set[Path]) -> None:
+    """Remove the single-colour copy of a mesh that is drawn only in parts (no other shape uses it)."""
+    used = {mesh_files[s.geometry.filename] for s in robot.bodies.shapes
+            if s.geometry.kind == "mesh" and s.geometry.filename in mesh_files
+            and not (s.role == "visual" and s.geometry.filename in mesh_parts
+                     and (s.material is None or s.material.rgba is None))}
+    for name in mesh_parts:
+        written = mesh_files[name]
+        path = out_dir / written
+        if written not in used and path.exists() and path.resolve() not in sources:
+            path.unlink()
+
+
+def write_mjcf(robot: Robot, path: str | os.PathLike[str], *, source: str | os.PathLike[str] | None = None,
+               package_paths: Mapping[str, Path] | None = None, **options: Any) -> Path:
+    """Write ``robot`` as an MJCF model at ``path`` with its meshes in a ``meshes`` folder beside it
+    (see the module doc); returns the path. ``source``: the robot file it was read from (its meshes);
+    ``options``: those of ``mjcf_write.mjcf_text``."""
+    from ..files.atomic import write_text_atomic
+
+    out = Path(path)
+    text = mjcf_with_meshes(robot, source, out.parent, package_paths=package_paths, **options)
+    write_text_atomic(out, text)
+    return out

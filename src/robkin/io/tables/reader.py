@@ -1,0 +1,245 @@
+"""Tables as input: the CSV files ``robkin convert --format csv`` writes, and bare rows of numbers.
+
+Two kinds of file are read (``.csv``, ``.tsv``, ``.txt``):
+
+* a table with a header row, as robkin writes it: label columns (``i``, ``joint``, ``type``; for
+  RPY-XYZ ``row``, ``frame``, ``type``) then one representation's columns, whose names say which
+  representation it is (``a, d, alpha, theta`` standard DH; ``a(i-1), d, alpha(i-1), theta`` modified
+  DH; ``+ beta`` Hayati; ``wx .. vz`` PoE; ``roll .. z`` RPY-XYZ; ``m11 .. m34`` GJD); after an empty
+  line, the fixed transforms as rows ``name, m11, ..., m34`` (``base``/``tool``, or ``M``). Only the
+  representation columns are needed (a header ``a,d,alpha,theta`` alone will do); the label columns
+  give the joint names and types (``revolute``, ``prismatic``, ``revolute (flip)``). Values may be
+  expressions such as ``-pi/2`` (what ``--pi`` writes). The ten mass columns robkin writes after the
+  representation's (``m (kg)``, ``rx (m)``, ..., ``Ixz (kg m^2)``) are read as each link's mass
+  properties in the table's link frame (RPY-XYZ's world row: the base's; see ``document_masses``);
+* bare rows (no header), as pasted from a paper and as the GUI takes them
+  (``robkin.io.tables.pasted``): ``a d alpha theta [R|P]`` per line, and so on.
+
+Where the file does not say (bare rows; plain ``a, d, alpha, theta`` could be either DH; a PoE's
+screws are space or body frame), ``representation`` (the CLI's ``--from``) says; where the file
+says, ``representation`` must agree with it.
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+import re
+import warnings
+from typing import Any, Sequence
+
+from ...errors import InputError
+from ...robot import Robot
+from ..documents.masses import LIST_WIDTH, add_mass_columns, mass_cells, mass_columns_at
+from ..files.numbers import number
+
+__all__ = ["TABLE_INPUT_EXTENSIONS", "TABLE_INPUTS", "read_table_file", "table_document"]
+
+TABLE_INPUT_EXTENSIONS = (".csv", ".tsv", ".txt")
+#: ``--from`` choices: representations a table file can hold
+TABLE_INPUTS = ("dh", "mdh", "hayati", "poe", "poe-body", "rpy-xyz", "gjd")
+#: Largest table file read: a table of a few hundred joints is tens of kB; this bounds memory.
+MAX_BYTES = 16 * 1024 * 1024
+
+_BLOCK = tuple(f"m{r}{c}" for r in (1, 2, 3) for c in (1, 2, 3, 4))
+#: header columns of each representation (names as robkin writes them), longest first where one
+#: set begins another (Hayati's five columns start with DH's four)
+_COLUMNS: dict[str, tuple[str, ...]] = {
+    "hayati": ("a", "d", "alpha", "theta", "beta"),
+    "mdh": ("a(i-1)", "d", "alpha(i-1)", "theta"),
+    "dh": ("a", "d", "alpha", "theta"),
+    "poe": ("wx", "wy", "wz", "vx", "vy", "vz"),
+    "rpy-xyz": ("roll", "pitch", "yaw", "x", "y", "z"),
+    "gjd": _BLOCK,
+}
+#: what a header's columns leave open, and the --from values that settle it
+_OPEN = {"dh": ("dh", "mdh"), "poe": ("poe", "poe-body")}
+_SECTION = {"dh": "dh", "mdh": "mdh", "hayati": "hayati", "poe": "poe", "poe-body": "poe_body",
+            "rpy-xyz": "rpy_xyz", "gjd": "gjd"}
+
+
+def read_table_file(path: str | os.PathLike[str], representation: str | None = None) -> Robot:
+    """The robot in a table file (see the module); InputError naming the file, line and column."""
+    from ..documents.reader import robot_from_data
+    from ..files.input_files import read_text_file
+
+    p = os.fspath(path)
+    text = read_text_file(p, MAX_BYTES, "a table")
+    try:
+        data = table_document(text, representation, tab=p.lower().endswith(".tsv"))
+    except InputError as exc:
+        raise exc.in_source(p) from None
+    data["name"] = os.path.splitext(os.path.basename(p))[0]
+    return robot_from_data(data, source=p)
+
+
+def table_document(text: str, representation: str | None = None, tab: bool = False) -> dict[str, Any]:
+    """A robot document (dict) from a table's text: a header table or bare rows (see the module)."""
+    if representation is not None and representation not in TABLE_INPUTS:
+        raise InputError(f"representation='{representation}' is not one of {', '.join(TABLE_INPUTS)}")
+    lines = text.splitlines()
+    first = next((line for line in lines if line.strip() and not line.lstrip().startswith("#")), None)
+    if first is None:
+        raise InputError("no rows; a table file holds a header row and one row per joint, or bare rows")
+    # bare rows may be separated by spaces, tabs, commas or semicolons; a header starts with a name
+    cells = [c for c in re.split(r"[\s,;]+", first.strip()) if c]
+    if cells and not _is_number(cells[0]):
+        return _header_document(lines, representation, tab)
+    return _bare_document(text, representation)
+
+
+def _split(line: str, tab: bool) -> list[str]:
+    return [c.strip() for c in next(csv.reader([line], delimiter="\t" if tab else ","))]
+
+
+def _is_number(cell: str) -> bool:
+    try:
+        number(cell, "")
+    except InputError:
+        return False
+    return True
+
+
+def _bare_document(text: str, representation: str | None) -> dict[str, Any]:
+    from .pasted import document_from_table
+
+    fmt = {"dh": "dh-rows", "mdh": "mdh-rows", "poe": "poe-rows", "rpy-xyz": "rpy-rows"}.get(representation or "")
+    if fmt is None:
+        if representation is None:
+            raise InputError("bare rows of numbers do not say which table they are: give representation= "
+                             "dh, mdh, poe or rpy-xyz (rows 'a d alpha theta [R|P]', 'wx wy wz vx vy vz "
+                             "[R|P]' then 'M ...', or n + 2 rows 'roll pitch yaw x y z')")
+        raise InputError(f"representation='{representation}': bare rows are read as dh, mdh, poe or rpy-xyz; "
+                         f"a {representation} table needs a header row (as robkin convert --format csv writes)")
+    return document_from_table(text, fmt)
+
+
+def _find_columns(header: Sequence[str]) -> tuple[str, int]:
+    """The representation whose column names appear in the header (in order) and where they start."""
+    lowered = [h.lower() for h in header]
+    for rep, cols in _COLUMNS.items():
+        for start in range(len(lowered) - len(cols) + 1):
+            if tuple(lowered[start:start + len(cols)]) == cols:
+                return rep, start
+    known = "; ".join(", ".join(c) for c in _COLUMNS.values() if c is not _BLOCK) + "; m11, ..., m34"
+    raise InputError(f"line 1: the header names no table's columns ({', '.join(header)[:80]}); expected one of: "
+                     f"{known}")
+
+
+def _settle(rep: str, representation: str | None) -> str:
+    """The representation, from the header (``rep``) and the caller's ``representation``."""
+    open_choices = _OPEN.get(rep)
+    if representation is None:
+        if rep == "poe":
+            raise InputError("the header's screw columns do not say which frame: give representation= poe "
+                             "(space frame) or poe-body")
+        return rep
+    if representation == rep or (open_choices and representation in open_choices):
+        return representation
+    raise InputError(f"representation='{representation}' does not fit the header, which has {rep} columns "
+                     f"({', '.join(_COLUMNS[rep])})")
+
+
+def _joint(labels: dict[str, str], k: int) -> dict[str, Any]:
+    """A document joint from a row's label cells (joint name, 'revolute (flip)')."""
+    kind = labels.get("type", "").lower().strip() or "revolute"
+    flip = kind.endswith("(flip)")
+    kind = kind.removesuffix("(flip)").strip()
+    kind = {"r": "revolute", "p": "prismatic"}.get(kind, kind)
+    name = labels.get("joint") or labels.get("frame") or labels.get("name") or f"joint{k + 1}"
+    return {"name": name, "type": kind, "flip": flip}
+
+
+def _header_document(lines: list[str], representation: str | None, tab: bool) -> dict[str, Any]:
+    numbered = [(k, line) for k, line in enumerate(lines, start=1) if not line.lstrip().startswith("#")]
+    # the table: the header and the rows up to the first empty line; then the transforms
+    while numbered and not numbered[0][1].strip():
+        numbered.pop(0)
+    head_no, head_line = numbered[0]
+    header = _split(head_line, tab)
+    found, start = _find_columns(header)
+    rep = _settle(found, representation)
+    cols = _COLUMNS[found]
+    labels_at = {h.lower(): i for i, h in enumerate(header[:start])}
+    mass_at = mass_columns_at(header, start + len(cols))  # m (kg), rx (m), ... as robkin writes them
+    extra = [h for i, h in enumerate(header[start + len(cols):], start + len(cols))
+             if h and (mass_at is None or not mass_at <= i < mass_at + LIST_WIDTH)]
+    if extra:
+        warnings.warn(f"columns {', '.join(extra)[:80]} are not part of the {rep} table and are ignored")
+    rows: list[list[float]] = []
+    masses: list[list[float] | None] = []
+    joints: list[dict[str, Any]] = []
+    rest = numbered[1:]
+    body: list[tuple[int, list[str]]] = []
+    for idx, (k, line) in enumerate(rest):
+        if not line.strip() or not any(c for c in _split(line, tab)):
+            rest = rest[idx + 1:]
+            break
+        body.append((k, _split(line, tab)))
+    else:
+        rest = []
+    for k, cells in body:
+        if len(cells) < start + len(cols):
+            raise InputError(f"line {k}: expected {start + len(cols)} columns ({', '.join(header[:start + len(cols)])}), "
+                             f"got {len(cells)}")
+        rows.append([number(c, f"line {k}, column {header[start + j]}") for j, c in enumerate(cells[start:start + len(cols)])])
+        joints.append(_joint({name: cells[i] for name, i in labels_at.items()}, len(joints)))
+        masses.append(mass_cells(cells, mass_at, k, header))
+    transforms = _transforms(rest, tab)
+    doc = _document(rep, rows, joints, transforms)
+    add_mass_columns(doc[_SECTION[rep]], masses)
+    return doc
+
+
+def _transforms(numbered: list[tuple[int, str]], tab: bool) -> dict[str, list[list[float]]]:
+    """The fixed transforms after the table: rows 'name, m11, ..., m34' (a 'transform' header first)."""
+    out: dict[str, list[list[float]]] = {}
+    for k, line in numbered:
+        cells = _split(line, tab)
+        if not any(cells) or cells[0].lower() == "transform":
+            continue
+        name = cells[0]
+        if len(cells) != 13:
+            raise InputError(f"line {k}: transform '{name[:40]}': expected its name and 12 numbers "
+                             f"(m11 .. m34, the 3 x 4 block [R | p] row by row), got {len(cells) - 1}")
+        v = [number(c, f"line {k}, transform '{name[:40]}'") for c in cells[1:]]
+        out[name] = [v[0:4], v[4:8], v[8:12], [0.0, 0.0, 0.0, 1.0]]
+    return out
+
+
+def _document(rep: str, rows: list[list[float]], joints: list[dict[str, Any]],
+              transforms: dict[str, list[list[float]]]) -> dict[str, Any]:
+    """The robot document of the table's rows, joints and fixed transforms."""
+    if not rows:
+        raise InputError("no rows after the header; one row per joint")
+    section: dict[str, Any]
+    wanted: tuple[str, ...]
+    if rep in ("dh", "mdh", "hayati"):
+        wanted = ("base", "tool")
+        section = {"rows": rows, **{k: v for k, v in transforms.items() if k in wanted}}
+    elif rep in ("poe", "poe-body"):
+        wanted = ("M",)
+        if "M" not in transforms:
+            raise InputError("a PoE table needs its home tool pose: a row 'M, m11, ..., m34' after an empty line")
+        section = {"frame": "space" if rep == "poe" else "body", "M": transforms["M"], "screws": rows}
+    elif rep == "rpy-xyz":
+        wanted = ()
+        if len(rows) < 3:
+            raise InputError(f"{len(rows)} rows; an RPY-XYZ table has n + 2 rows (world->base, one per joint, "
+                             f"joint n->tool)")
+        joints = joints[1:-1]
+        section = {"rows": rows}
+    else:  # gjd: n joint frames then the tool frame
+        wanted = ()
+        if len(rows) < 2:
+            raise InputError("a GJD table has n + 1 rows (the joint frames, then the tool frame)")
+        joints = joints[:-1]
+        section = {"frames": [[r[0:4], r[4:8], r[8:12], [0.0, 0.0, 0.0, 1.0]] for r in rows]}
+    unknown = [k for k in transforms if k not in wanted]
+    if unknown:
+        raise InputError(f"transform '{unknown[0][:40]}' does not belong to a {rep} table"
+                         + (f" (it has {', '.join(wanted)})" if wanted else " (it has none)"))
+    for j in joints:  # the first and last rows of an RPY-XYZ or GJD table are frames, not joints
+        if j["type"] not in ("revolute", "prismatic"):
+            raise InputError(f"joint '{j['name'][:40]}': type '{j['type'][:40]}' is not revolute or prismatic")
+    return {"robkin": 1, "joints": joints, _SECTION[rep]: section}
