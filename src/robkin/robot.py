@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from functools import cache, cached_property
-from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
+from functools import cached_property
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -20,12 +20,13 @@ from .checks import EXACT_TOL, PROJECTION_TOL, check_out, check_pose, check_pose
 from .errors import InputError, quote
 from .names import check_name, duplicates
 from .bodies import EMPTY_BODIES, Bodies
+from .capabilities import CapabilityMethod, ik_function
+from .capabilities import jacobian as _jacobian_module, rigid_body as _rigid_body
 from .joints import JOINT_TYPES, Joint, JointType, default_joints
 from .frame_stacks import frame_scales, local_transforms
 
 if TYPE_CHECKING:  # pragma: no cover
     from .compiled.fk import Chain
-    from .kinematics.ik import IKResult
 
 __all__ = ["Joint", "JointType", "Robot", "JOINT_TYPES", "default_joints", "EXACT_TOL", "PROJECTION_TOL", "check_pose", "check_poses", "check_q",
            "identity_pose"]
@@ -218,52 +219,13 @@ class Robot:
         assert F is not None  # a checked, contiguous float64 array is always usable
         return F
 
-    def ik(self, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
-           method: str = "auto", all_solutions: bool = False, tol_position: float = 1e-9,
-           tol_orientation: float = 1e-9, max_iterations: int = 40, restarts: int = 200,
-           rng: np.random.Generator | int | None = 0, threads: int | None = None,
-           lock: "Mapping[str, float] | None" = None, arm_angle: "ArrayLike | None" = None) -> "IKResult":
-        """Inverse kinematics: joint values that put the tool at T (``robkin.kinematics.ik.ik``).
-
-        Parameters
-        ----------
-        T : (4, 4) or (N, 4, 4) array
-            Target tool poses in the robot base frame.
-        q0 : (n,) or (N, n) array, optional
-            Preferred configuration: the numeric start and the tie-break among closed-form solutions.
-            Default zero, clipped into the limits.
-        mask : 'pose' (default), 'position', or 6 values 0/1 for (x, y, z, rx, ry, rz)
-            Residual components that must match (base frame). Anything but the full pose is numeric.
-        method : 'auto' (default), 'analytic' or 'numeric'
-            'auto' uses a closed form when one fits the robot, else Levenberg-Marquardt.
-        all_solutions : bool
-            Also return every distinct solution found (``.solutions``).
-        tol_position, tol_orientation : float
-            Success tolerances: length units and radians, over the masked components.
-        max_iterations : int
-            Numeric: iterations per attempt before a random restart.
-        restarts : int
-            Numeric: random restarts per target after the first attempt.
-        rng : Generator, int seed or None
-            Source of the random restarts; the default seed 0 makes results reproducible.
-        threads : int, optional
-            Batches (numeric and closed form): at most that many threads (see ``fk``); the same bits.
-        lock : mapping of joint name to value, optional
-            Joints held at these values; the rest is solved as a shorter arm (a 7-joint arm with one
-            joint locked gets a 6R closed form). q and the solutions stay full length.
-        arm_angle : float or (N,) array, optional
-            SRS arms: the elbow's swivel (radians) about the shoulder-wrist line (``kinematics.srs``).
-
-        Returns
-        -------
-        IKResult
-            ``.q``, ``.success``, the errors reached, iterations, attempts, method and messages.
-            Joint limits are always respected.
-        """
-        return _ik_function()(self, T, q0=q0, mask=mask, method=method, all_solutions=all_solutions,
-                  tol_position=tol_position, tol_orientation=tol_orientation,
-                  max_iterations=max_iterations, restarts=restarts, rng=rng, threads=threads, lock=lock,
-                  arm_angle=arm_angle)
+    #: Inverse kinematics: joint values that put the tool at T. This method is ``robkin.kinematics.ik.ik``
+    #: with the robot as its first argument (``robkin.capabilities``: imported on first use, then a plain
+    #: bound method), so ``help(Robot.ik)`` shows that function's parameters: T (4, 4) or (N, 4, 4), q0,
+    #: mask, method, all_solutions, tol_position, tol_orientation, max_iterations, restarts, rng, threads,
+    #: lock, arm_angle; it returns an ``IKResult`` with ``.q`` and ``.success``.
+    #: (not annotated: a dataclass would take an annotated class attribute for a field)
+    ik = CapabilityMethod(ik_function)
 
     def jacobian(self, q: ArrayLike, frame: str = "base", *, threads: int | None = None,
                  out: np.ndarray | None = None) -> np.ndarray:
@@ -291,8 +253,7 @@ class Robot:
         (6, n) or (N, 6, n) array
             Columns per joint; v rows in length units per joint unit, w rows in radians per joint unit.
         """
-        from .kinematics import jacobian as jac
-
+        jac = _jacobian_module()
         if frame == "base":
             return jac.jacobian_geometric(self, q, threads, out)
         if frame == "space":
@@ -322,9 +283,7 @@ class Robot:
             The product of the singular values of the selected rows (0 at a singularity); see
             ``robkin.kinematics.jacobian.manipulability``.
         """
-        from .kinematics.jacobian import manipulability
-
-        return manipulability(self, q, kind, threads)
+        return _jacobian_module().manipulability(self, q, kind, threads)
 
     # ------------------------------------------------------------------ dynamics (robkin.dynamics)
     def inverse_dynamics(self, q: ArrayLike, qd: ArrayLike | None = None, qdd: ArrayLike | None = None, *,
@@ -335,15 +294,15 @@ class Robot:
         the world frame (``world`` maps it to the base), default (0, 0, -9.81) m/s^2. Needs the links'
         mass properties (``bodies.inertials``); see ``robkin.dynamics.rigid_body``. ``threads`` as ``fk``.
         """
-        return _dynamics().inverse_dynamics(self, q, qd, qdd, gravity, threads)
+        return _rigid_body().inverse_dynamics(self, q, qd, qdd, gravity, threads)
 
     def gravity(self, q: ArrayLike, *, gravity: ArrayLike | None = None, threads: int | None = None) -> np.ndarray:
         """Torques/forces (n,) or (N, n) that hold the robot still at q (``inverse_dynamics`` at rest)."""
-        return _dynamics().gravity_torques(self, q, gravity, threads)
+        return _rigid_body().gravity_torques(self, q, gravity, threads)
 
     def mass_matrix(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:
         """Joint-space mass matrix at q: (n,) -> (n, n), (N, n) -> (N, n, n); composite rigid bodies."""
-        return _dynamics().mass_matrix(self, q, threads)
+        return _rigid_body().mass_matrix(self, q, threads)
 
     # ------------------------------------------------------------------ conveniences
     def random_q(self, size: int | None = None, rng: np.random.Generator | int | None = None,
@@ -363,23 +322,6 @@ class Robot:
 
 #: row order that turns a (w, v) twist into [v; w]
 _V_THEN_W = [3, 4, 5, 0, 1, 2]
-
-
-@cache
-def _ik_function() -> Callable[..., "IKResult"]:
-    """``kinematics.ik.ik``, imported on first use (``import robkin`` stays light) and then kept: an
-    import statement in ``Robot.ik`` would cost about a fifth of a closed-form solve per call."""
-    from .kinematics.ik import ik
-
-    return ik
-
-
-@cache
-def _dynamics() -> Any:
-    """``robkin.dynamics.rigid_body``, imported on first use and then kept (as ``_ik_function``)."""
-    from .dynamics import rigid_body
-
-    return rigid_body
 
 
 def robot_from_frames(frames: Sequence[ArrayLike], types: Sequence[str] | None = None,

@@ -103,15 +103,15 @@ class IKResult:
 
     def __str__(self) -> str:
         """One row per target (success, errors, q), or per solution for one target with solutions."""
-        from ..io.table_views import blocks_text, ik_result_blocks
+        from ..io.tables.views import blocks_text, ik_result_blocks
 
         return blocks_text(ik_result_blocks(self))
 
     def to_dict(self) -> dict[str, Any]:
-        """Every field as plain lists and numbers (JSON-ready; see ``robkin.io.jsontext``)."""
+        """Every field as plain lists and numbers (JSON-ready; see ``robkin.io.files.jsontext``)."""
         from dataclasses import fields
 
-        from ..io.jsontext import plain
+        from ..io.files.jsontext import plain
 
         return {f.name: plain(getattr(self, f.name)) for f in fields(self)}
 
@@ -285,13 +285,3 @@ def _settings(tol_position: float, tol_orientation: float, max_iterations: int, 
 
 
 _DEFAULT_SETTINGS = _settings(_TOL, _TOL, _MAX_ITERATIONS, _RESTARTS)
-
-
-
-
-# ``Robot.ik`` (robot.py) imports this module on its first call and forwards its arguments to ``ik``; from
-# then on the method is ``ik`` itself (the same parameters, ``self`` as ``robot``), so a call no longer
-# passes 13 keywords through a second frame (~0.3 us: 6 % of a closed-form single call, what separates
-# it from EAIK's per-target call; benchmarks/bench_closed_form.py). The documentation still reads the
-# method's own docstring from the source.
-setattr(Robot, "ik", ik)
