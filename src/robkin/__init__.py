@@ -28,8 +28,8 @@ from typing import TYPE_CHECKING
 from .errors import ConditioningWarning, InputError, ProjectionWarning, RobkinError
 from .lazy_exports import lazy_exports
 from .robot import Joint, Robot
+from .version import __version__
 
-__version__ = "0.3.0"
 
 #: the representations' classes and converters, imported on first use (robkin.DHTable, robkin.dh_from_robot,
 #: ...; see robkin.lazy_exports): ``import robkin`` itself costs only the hub (Robot) and the errors

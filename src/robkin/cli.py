@@ -38,7 +38,7 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     command line naming its command needs only that one; ``robkin --help``, a bad command name and
     ``robkin`` alone get them all.
     """
-    from . import __version__
+    from .version import __version__
 
     parser = _Parser(
         prog="robkin",

@@ -15,9 +15,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
 
 __all__ = ["add_input", "add_allow_xacro", "add_from", "add_package_path", "package_paths", "load_input", "seed",
-           "parse_q", "parse_pose", "number_option_fix", "EXAMPLES_DIR"]
+           "parse_q", "parse_pose", "number_option_fix"]
 
-EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "examples"
 #: = io.table_read.TABLE_INPUTS, not imported: robkin.io imports numpy, and this module loads with every command
 TABLE_INPUTS = ("dh", "mdh", "hayati", "poe", "poe-body", "rpy-xyz", "gjd")
 

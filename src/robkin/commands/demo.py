@@ -6,7 +6,7 @@ import argparse
 
 import numpy as np
 
-from ._common import EXAMPLES_DIR
+from ..examples import EXAMPLES_DIR
 
 EXAMPLES = ("rrpr.yaml", "arbitrary_3r.yaml")
 DEMO_Q = {"rrpr": [3 * np.pi / 4, -np.pi / 4, 0.3, -3 * np.pi / 4]}

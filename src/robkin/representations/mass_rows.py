@@ -156,7 +156,7 @@ def masses_of_robot(robot: "Robot", frames: ArrayLike) -> MassRows | None:
     """
     if not robot.bodies.inertials:
         return None
-    from ..dynamics import link_masses
+    from ..mass_properties import link_masses
 
     masses = link_masses(robot)
     if masses is None:
@@ -173,7 +173,7 @@ def bodies_from_masses(masses: MassRows, frames: np.ndarray, names: Sequence[str
     link names to file them under (default base, link1..linkN, the names ``robkin convert --to urdf``
     gives such links)."""
     from ..bodies import Bodies
-    from ..dynamics import inertials_from_frames
+    from ..mass_properties import inertials_from_frames
 
     n = masses.n
     names = list(names) if names is not None else ["base"] + [f"link{i}" for i in range(1, n + 1)]

@@ -125,7 +125,7 @@ def make_server(host: str = "127.0.0.1", port: int = 8765, text: str = "", fmt: 
     (``package_paths``: NAME -> folder of packages they name, as ``--package-path``).
     Raises InputError when the three.js modules are not installed (see ``robkin.viz.assets``).
     """
-    from ..commands._common import EXAMPLES_DIR
+    from ..examples import EXAMPLES_DIR
     from .assets import require_assets
     from .gui_api import parse_robot
 

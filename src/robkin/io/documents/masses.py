@@ -164,7 +164,7 @@ def same_masses(a: "Robot", b: "Robot", tol: float) -> str | None:
     """None if two descriptions of one robot give the same mass properties per link (mass relative to
     the total, centre of mass relative to the robot's size, inertia relative to the largest entry, all
     within ``tol``), else which link differs and how."""
-    from ...dynamics import link_masses
+    from ...mass_properties import link_masses
 
     ma, mb = link_masses(a), link_masses(b)
     if ma is None or mb is None:

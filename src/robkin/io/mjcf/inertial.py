@@ -62,7 +62,7 @@ def body_mass(inertials: Sequence[Inertial]) -> BodyMass | None:
         diag = np.diag(I).copy() if not np.any(I - np.diag(np.diag(I))) else None
         return BodyMass(float(m.mass), m.pose[:3, 3].copy(), R @ I @ R.T, m.pose if diag is not None else None, diag,
                         m.origin)
-    from ...dynamics import merge_masses
+    from ...mass_properties import merge_masses
 
     mass = np.array([m.mass for m in inertials], dtype=float)
     com = np.stack([m.pose[:3, 3] for m in inertials])

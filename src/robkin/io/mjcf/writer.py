@@ -83,7 +83,7 @@ def _joint_xml(j: JointPlan, frame: np.ndarray, scale: float) -> str:
 def _masses(plan: list[BodyPlan]) -> tuple[list[BodyMass | None], list[str]]:
     """Each body's mass properties, with placeholders where MuJoCo needs them: (masses, the bodies given
     placeholders)."""
-    from ...dynamics import merge_masses
+    from ...mass_properties import merge_masses
     from .inertial import valid_moments
 
     masses = [body_mass(bp.inertials) for bp in plan]
@@ -201,7 +201,7 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
         Mesh file name as the source wrote it -> [(file to write, rgba)]: a visual mesh split by colour
         (``mjcf_mesh_parts``), drawn as one geom per part where the source gives the shape no colour.
     """
-    from ... import __version__
+    from ...version import __version__
 
     plan, named = body_tree(robot, fuse=fuse_fixed)
     scale = max(robot.scale, 1.0)

@@ -334,7 +334,7 @@ def urdf_from_robot(robot: Robot) -> str:
         inertials are written under their own names; otherwise a plain chain world, base,
         link1..linkN, tool.
     """
-    from ... import __version__
+    from ...version import __version__
 
     frames = _faithful_frames(robot) if robot.bodies.links else None
     body = _plain(robot) if frames is None else _faithful(robot, frames)
