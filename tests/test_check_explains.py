@@ -89,7 +89,7 @@ def test_same_robot_has_no_hint(vendor, capsys):
 
 
 def test_different_joint_counts_give_the_verdict_first(vendor, capsys):
-    from robkin.commands._common import EXAMPLES_DIR
+    from robkin.examples import EXAMPLES_DIR
 
     assert main(["check", str(EXAMPLES_DIR / "rrpr.yaml"), vendor, "--from", "dh"]) == 1
     out = capsys.readouterr().out
@@ -97,7 +97,7 @@ def test_different_joint_counts_give_the_verdict_first(vendor, capsys):
 
 
 def test_info_says_what_its_size_is(capsys):
-    from robkin.commands._common import EXAMPLES_DIR
+    from robkin.examples import EXAMPLES_DIR
 
     assert main(["info", str(EXAMPLES_DIR / "rrpr.yaml")]) == 0
     out = capsys.readouterr().out

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from robkin.cli import main
-from robkin.commands._common import EXAMPLES_DIR
+from robkin.examples import EXAMPLES_DIR
 from robkin.io.documents.reader import read_document
 
 RRPR = str(EXAMPLES_DIR / "rrpr.yaml")

@@ -14,7 +14,7 @@ from scipy.spatial.transform import Rotation
 import robkin
 from robkin import se3
 from robkin.cli import main
-from robkin.commands._common import EXAMPLES_DIR
+from robkin.examples import EXAMPLES_DIR
 from robkin.io.files.jsontext import dumps
 
 RRPR = str(EXAMPLES_DIR / "rrpr.yaml")

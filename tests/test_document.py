@@ -11,7 +11,7 @@ import pytest
 import robkin
 from robkin.errors import InputError, ProjectionWarning
 from robkin.io.documents.reader import document_from_robot, dump, parse_document, read_document, read_sections
-from robkin.commands._common import EXAMPLES_DIR
+from robkin.examples import EXAMPLES_DIR
 
 PI = math.pi
 RRPR_Q = np.array([3 * PI / 4, -PI / 4, 0.3, -3 * PI / 4])

@@ -26,7 +26,7 @@ import pytest
 
 import robkin
 from robkin.cli import build_parser, main
-from robkin.commands._common import EXAMPLES_DIR
+from robkin.examples import EXAMPLES_DIR
 
 ROOT = Path(__file__).resolve().parent.parent
 ROBOTS_DIR = (glob.glob(os.path.join(sys.prefix, "lib", "python*", "site-packages", "cmeel.prefix", "share",

@@ -19,7 +19,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from robkin.commands._common import EXAMPLES_DIR
+from robkin.examples import EXAMPLES_DIR
 from robkin.errors import InputError, unprintable
 from robkin.io.documents.reader import parse_document
 from robkin.io.urdf import parse_urdf_text, robot_from_model

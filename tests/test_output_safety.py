@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from robkin.cli import main
-from robkin.commands._common import EXAMPLES_DIR
+from robkin.examples import EXAMPLES_DIR
 from robkin.errors import InputError
 from robkin.io.files import atomic
 
