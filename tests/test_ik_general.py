@@ -156,7 +156,7 @@ def test_locked_single_calls_are_the_batch_rows(name):
 def test_near_class_single_entry_embeds_like_the_python_rows():
     """The near-class solver's own single-target entry (Python) takes the same ``embed`` as the
     compiled kernels: the rows of the longer arm, the template's values elsewhere."""
-    from robkin.kinematics.closed_form import embedded
+    from robkin.kinematics.kernel_solver import embedded
     from robkin.kinematics.ik import IKResult
 
     ur5 = arms.ur5()
@@ -223,7 +223,7 @@ def test_embedded_puts_locked_values_in_place():
     """Reduced configurations become full ones with the locked values at their indices, first and last
     joints included, NaN rows untouched elsewhere, any leading shape; the compiled single-target entry
     (``nearest``'s embed) gives the same rows as the batch path."""
-    from robkin.kinematics.closed_form import embedded
+    from robkin.kinematics.kernel_solver import embedded
     from robkin.kinematics.lock import lock_plan
 
     q = np.arange(12.0).reshape(2, 6)

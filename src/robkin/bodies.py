@@ -29,7 +29,7 @@ Links
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable, Iterable, Iterator, Sequence, TypeVar, overload
+from typing import TYPE_CHECKING, Callable, Iterable, Iterator, Protocol, Sequence, TypeVar, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -38,7 +38,6 @@ from .lazy_exports import lazy_exports
 
 if TYPE_CHECKING:  # pragma: no cover
     from .body_parts import Geometry, GeometryKind, Inertial, Link, LinkJoint, Material, Mimic, Shape
-    from .robot import Robot
 
 __all__ = ["Geometry", "Material", "Shape", "Inertial", "Mimic", "LinkJoint", "Link", "Bodies",
            "EMPTY_BODIES", "LazyTuple", "body_motions", "shape_poses"]
@@ -123,7 +122,23 @@ class Bodies:
 EMPTY_BODIES = Bodies()
 
 
-def body_motions(robot: "Robot", q: ArrayLike) -> np.ndarray:
+class MovingChain(Protocol):
+    """What ``body_motions`` and ``shape_poses`` use of a robot (a ``robkin.Robot``; this module lies below
+    ``robkin.robot``, which imports it, so it names the robot by what it offers)."""
+
+    @property
+    def n(self) -> int: ...
+
+    @property
+    def frames(self) -> np.ndarray: ...
+
+    @property
+    def bodies(self) -> "Bodies": ...
+
+    def frames_at(self, q: ArrayLike) -> np.ndarray: ...
+
+
+def body_motions(robot: MovingChain, q: ArrayLike) -> np.ndarray:
     """Rigid motion of every body from q = 0 to q: (n,) -> (n+1, 4, 4), (N, n) -> (N, n+1, 4, 4).
 
     Motion 0 (the base) is the identity; motion i is J_i(q) @ J_i(0)^-1, so a pose P given in the
@@ -139,7 +154,7 @@ def body_motions(robot: "Robot", q: ArrayLike) -> np.ndarray:
     return out
 
 
-def shape_poses(robot: "Robot", q: ArrayLike, shapes: Sequence[Shape] | None = None) -> np.ndarray:
+def shape_poses(robot: MovingChain, q: ArrayLike, shapes: Sequence[Shape] | None = None) -> np.ndarray:
     """Poses of shapes at q in the robot base frame: (n,) -> (S, 4, 4), (N, n) -> (N, S, 4, 4).
 
     ``shapes`` defaults to all of ``robot.bodies.shapes`` (in their order). Prefix ``robot.world``

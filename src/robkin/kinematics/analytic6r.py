@@ -34,7 +34,7 @@ import numpy as np
 from .. import se3
 from ..lines import closest_points, perpendicular
 from ..robot import Robot
-from .closed_form import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, KernelSolver
+from .kernel_solver import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, KernelSolver
 from .limits import LIMIT_TOL, default_preference
 
 __all__ = ["SphericalWrist6R", "ThreeParallel6R", "wrist_centre"]

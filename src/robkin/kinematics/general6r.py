@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from ..robot import Robot
-from .closed_form import KernelSolver
+from .kernel_solver import KernelSolver
 from .limits import LIMIT_TOL, default_preference
 
 __all__ = ["General6R"]

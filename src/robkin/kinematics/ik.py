@@ -25,10 +25,8 @@ Methods:
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, replace
-from functools import lru_cache
-from typing import Any, Mapping
+from dataclasses import replace
+from typing import Mapping
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -37,88 +35,16 @@ from ..checks import check_threads
 from ..errors import InputError
 from ..robot import Robot
 from .closed_form import closed_form_solver
-from .ik_methods import SAME_SOLUTION_TOL, closed_form_batch, numeric_batch, preferred_starts
-from .lm import LMSettings
+from .ik_methods import SAME_SOLUTION_TOL, closed_form_batch, numeric_batch, preferred_starts, single_closed_form
+from .ik_result import (DEFAULT_MAX_ITERATIONS, DEFAULT_RESTARTS, DEFAULT_SETTINGS, DEFAULT_TOL, METHODS, IKResult,
+                        settings as checked_settings)
 from .pose_error import FULL_POSE, check_mask, check_targets
 
 __all__ = ["IKResult", "ik", "single_closed_form", "METHODS"]
 
-METHODS = ("auto", "analytic", "numeric")
-
-#: Defaults of ``ik``: 1e-9 (length units, radians) is ~1e6 times the rounding of a closed-form solve
-#: and what the numeric method reliably reaches; 40 iterations per attempt and 200 restarts (see
-#: ``LMSettings.restarts``).
-_TOL = 1e-9
-_MAX_ITERATIONS = 40
-_RESTARTS = 200
-
-
-@dataclass(frozen=True)
-class IKResult:
-    """Outcome of :func:`ik`. Scalars for one target, arrays over targets (leading N) for a batch.
-
-    Attributes
-    ----------
-    q : (n,) or (N, n) array
-        The solution nearest to ``q0`` where ``success``. Where not: for the numeric method the best
-        configuration found (smallest residual), for the closed form NaN (no configuration exists).
-    success : bool or (N,) bool array
-        Reached to the tolerances over the masked components, with every joint within limits.
-    iterations : int or (N,) int array
-        Levenberg-Marquardt iterations over all attempts (0 for the closed form).
-    attempts : int or (N,) int array
-        Starts used: 1 + random restarts, including those run side by side (1 for the closed form).
-    position_error : float or (N,) array
-        |p_d - p| over the masked x, y, z components (length units; inf where q is NaN).
-    orientation_error : float or (N,) array
-        |log(R_d R^T)| over the masked components (radians; inf where q is NaN).
-    method : str
-        'scara', 'spherical-wrist-6r', 'three-parallel-6r', 'near-spherical-wrist-6r',
-        'near-three-parallel-6r', 'pieper-6r', 'pieper-6r-reversed', 'general-6r', 'srs-arm-angle' (closed forms; targets the closed form could not settle
-        are retried numerically in 'auto') or 'numeric'.
-    message : str or list of str
-        Why a target failed ('' where it succeeded).
-    solutions : (S, n) array, list of (S_i, n) arrays, or None
-        With ``all_solutions=True``: every distinct solution found, nearest to q0 first.
-    """
-
-    q: np.ndarray
-    success: np.ndarray | bool
-    iterations: np.ndarray | int
-    attempts: np.ndarray | int
-    position_error: np.ndarray | float
-    orientation_error: np.ndarray | float
-    method: str
-    message: list[str] | str
-    solutions: list[np.ndarray] | np.ndarray | None = None
-
-    @classmethod
-    def _build(cls, **fields: Any) -> "IKResult":
-        """The result from every field, without the frozen dataclass's ``__init__`` (one guarded
-        ``object.__setattr__`` per field: ~2.5 us, as much as the closed-form kernel of one target).
-        Frozen all the same: attribute assignment still raises."""
-        result = object.__new__(cls)
-        result.__dict__.update(fields)
-        return result
-
-    def __str__(self) -> str:
-        """One row per target (success, errors, q), or per solution for one target with solutions."""
-        from ..io.tables.views import blocks_text, ik_result_blocks
-
-        return blocks_text(ik_result_blocks(self))
-
-    def to_dict(self) -> dict[str, Any]:
-        """Every field as plain lists and numbers (JSON-ready; see ``robkin.io.files.jsontext``)."""
-        from dataclasses import fields
-
-        from ..io.files.jsontext import plain
-
-        return {f.name: plain(getattr(self, f.name)) for f in fields(self)}
-
-
 def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
-       method: str = "auto", all_solutions: bool = False, tol_position: float = _TOL,
-       tol_orientation: float = _TOL, max_iterations: int = _MAX_ITERATIONS, restarts: int = _RESTARTS,
+       method: str = "auto", all_solutions: bool = False, tol_position: float = DEFAULT_TOL,
+       tol_orientation: float = DEFAULT_TOL, max_iterations: int = DEFAULT_MAX_ITERATIONS, restarts: int = DEFAULT_RESTARTS,
        rng: np.random.Generator | int | None = 0, threads: int | None = None,
        lock: Mapping[str, float] | None = None, arm_angle: ArrayLike | None = None) -> IKResult:
     """Joint values that put the tool at T.
@@ -188,9 +114,9 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
     q_ref = preferred_starts(robot, q0, N)
     try:
         # the defaults themselves (identity: cheap, and safe for arrays) skip even the cache's hashing
-        settings = _DEFAULT_SETTINGS if tol_position is _TOL and tol_orientation is _TOL and \
-            max_iterations is _MAX_ITERATIONS and restarts is _RESTARTS else \
-            _settings(tol_position, tol_orientation, max_iterations, restarts)
+        settings = DEFAULT_SETTINGS if tol_position is DEFAULT_TOL and tol_orientation is DEFAULT_TOL and \
+            max_iterations is DEFAULT_MAX_ITERATIONS and restarts is DEFAULT_RESTARTS else \
+            checked_settings(tol_position, tol_orientation, max_iterations, restarts)
     except TypeError:   # unhashable (a list, an array): not a number
         raise InputError(f"tol_position, tol_orientation, max_iterations, restarts: expected numbers, got "
                          f"{tol_position!r}, {tol_orientation!r}, {max_iterations!r}, {restarts!r}") from None
@@ -246,42 +172,3 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         message=out.reasons[0] if single else out.reasons,
         solutions=None if sols is None else (sols[0] if single else sols),
     )
-
-
-def single_closed_form(robot: Robot, T: Any, mask: Any, method: str, all_solutions: bool, tol_position: Any,
-                       tol_orientation: Any, max_iterations: Any, restarts: Any, q_ref: np.ndarray | None = None,
-                       embed: tuple[np.ndarray, np.ndarray] | None = None) -> IKResult | None:
-    """The single-target path of ``ik``: one compiled call checks the target (a float64 4x4 exact pose)
-    and the tolerances (floats), solves, verifies and picks, and one small result is built. Anything
-    else - a batch, other input kinds or settings, a failure (for its reasons and the numeric retry) -
-    gives None, and the general path of ``ik`` gives the same answer. ``q_ref``: the preference (n,),
-    already checked and clipped into the limits (as ``ik_methods.preferred_starts`` does), else the
-    default. ``embed``: the robot is a longer arm's reduced one (``kinematics.lock``), the answer is made
-    full length in the same call."""
-    if mask is None and (method == "auto" or method == "analytic") \
-            and max_iterations is _MAX_ITERATIONS and restarts is _RESTARTS:    # else: checked by ik
-        solver = closed_form_solver(robot)
-        if solver is not None:
-            return solver.nearest(T, q_ref, tol_position, tol_orientation, all_solutions, SAME_SOLUTION_TOL,
-                                  IKResult, solver.name, embed)
-    return None
-
-
-@lru_cache(maxsize=64)
-def _settings(tol_position: float, tol_orientation: float, max_iterations: int, restarts: int) -> LMSettings:
-    """Checked solver settings, cached: building the frozen dataclass costs as much as a closed-form
-    solve, and callers repeat the same few values."""
-    for name, v in (("tol_position", tol_position), ("tol_orientation", tol_orientation)):
-        try:
-            usable = math.isfinite(v) and v > 0
-        except TypeError:
-            usable = False
-        if not usable:
-            raise InputError(f"{name}: must be a positive number, got {v}")
-    if int(max_iterations) < 1 or int(restarts) < 0:
-        raise InputError(f"max_iterations must be >= 1 and restarts >= 0, got {max_iterations}, {restarts}")
-    return LMSettings(tol_position=float(tol_position), tol_orientation=float(tol_orientation),
-                      max_iterations=int(max_iterations), restarts=int(restarts))
-
-
-_DEFAULT_SETTINGS = _settings(_TOL, _TOL, _MAX_ITERATIONS, _RESTARTS)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import weakref
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -19,11 +20,13 @@ from ..compiled.lm import pose_errors
 from ..compiled.solutions import distinct_sorted, nearest_verified
 from ..errors import InputError
 from ..robot import Robot, check_q
-from .closed_form import ClosedFormSolver
+from .closed_form import closed_form_solver
+from .ik_result import DEFAULT_MAX_ITERATIONS, DEFAULT_RESTARTS, IKResult
+from .kernel_solver import ClosedFormSolver
 from .limits import LIMIT_TOL, default_preference
 from .lm import LMSettings, solve_lm
 
-__all__ = ["SAME_SOLUTION_TOL", "closed_form_batch", "numeric_batch", "preferred_starts"]
+__all__ = ["SAME_SOLUTION_TOL", "closed_form_batch", "numeric_batch", "preferred_starts", "single_closed_form"]
 
 #: Two solutions of one target are the same when no joint differs by more than this (radians, or
 #: lengths relative to the robot's size): far above the ~1e-12 spread of one solution reached
@@ -167,3 +170,22 @@ def numeric_batch(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np
     if errors is None:      # all_solutions: the errors of the chosen q
         errors = pose_errors(robot._chain, q, targets, mask)
     return _Found(q, success, reasons, iters, attempts, sols, None, errors)
+
+
+def single_closed_form(robot: Robot, T: Any, mask: Any, method: str, all_solutions: bool, tol_position: Any,
+                       tol_orientation: Any, max_iterations: Any, restarts: Any, q_ref: np.ndarray | None = None,
+                       embed: tuple[np.ndarray, np.ndarray] | None = None) -> IKResult | None:
+    """The single-target path of ``ik``: one compiled call checks the target (a float64 4x4 exact pose)
+    and the tolerances (floats), solves, verifies and picks, and one small result is built. Anything
+    else - a batch, other input kinds or settings, a failure (for its reasons and the numeric retry) -
+    gives None, and the general path of ``ik`` gives the same answer. ``q_ref``: the preference (n,),
+    already checked and clipped into the limits (as ``ik_methods.preferred_starts`` does), else the
+    default. ``embed``: the robot is a longer arm's reduced one (``kinematics.lock``), the answer is made
+    full length in the same call."""
+    if mask is None and (method == "auto" or method == "analytic") \
+            and max_iterations is DEFAULT_MAX_ITERATIONS and restarts is DEFAULT_RESTARTS:    # else: checked by ik
+        solver = closed_form_solver(robot)
+        if solver is not None:
+            return solver.nearest(T, q_ref, tol_position, tol_orientation, all_solutions, SAME_SOLUTION_TOL,
+                                  IKResult, solver.name, embed)
+    return None

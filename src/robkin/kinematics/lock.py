@@ -25,7 +25,7 @@ import numpy as np
 
 from ..errors import InputError, quote
 from ..robot import Robot
-from .closed_form import embedded
+from .kernel_solver import embedded
 
 __all__ = ["check_lock", "locked_robot", "ik_locked", "LockPlan", "lock_plan"]
 
@@ -135,8 +135,7 @@ def lock_plan(robot: Robot, lock: Mapping[str, float]) -> LockPlan:
 
 def ik_locked(ik_function: Any, robot: Robot, T: Any, lock: Mapping[str, float], q0: Any, **kwargs: Any) -> Any:
     """``ik_function`` (``kinematics.ik.ik``) on the reduced arm, its result made full length."""
-    from .ik import single_closed_form
-    from .ik_methods import clipped_into_limits
+    from .ik_methods import clipped_into_limits, single_closed_form
 
     plan = lock_plan(robot, lock)
     q_ref = None

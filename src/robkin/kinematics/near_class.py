@@ -23,7 +23,7 @@ import numpy as np
 from ..compiled.solutions import nearest_verified
 from ..lines import closest_points
 from ..robot import Robot
-from .closed_form import Branches, KernelSolver, embedded
+from .kernel_solver import Branches, KernelSolver, embedded
 from .limits import LIMIT_TOL
 
 __all__ = ["NearClass", "NEAR_TOL"]

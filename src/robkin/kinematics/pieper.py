@@ -22,7 +22,7 @@ from .. import se3
 from ..lines import perpendicular
 from ..robot import Robot
 from .analytic6r import wrist_centre
-from .closed_form import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, KernelSolver
+from .kernel_solver import DETECT_ANGLE_TOL, DETECT_LENGTH_TOL, KernelSolver
 from .limits import LIMIT_TOL, default_preference
 
 __all__ = ["Pieper6R", "ReversedChain", "reversed_robot", "finds_trials"]

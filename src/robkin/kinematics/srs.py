@@ -122,14 +122,15 @@ def ik_arm_angle(robot: Robot, T: Any, psi: Any, q0: Any, all_solutions: bool, t
         raise InputError("arm_angle: works on full poses only; leave mask out (or 'pose')")
     if method not in ("auto", "analytic"):
         raise InputError(f"arm_angle: is solved in closed form; method must be 'auto' or 'analytic', got {method!r}")
-    from .ik import SAME_SOLUTION_TOL, IKResult, _settings
+    from .ik_methods import SAME_SOLUTION_TOL
+    from .ik_result import IKResult, settings as checked_settings
     from .ik_methods import preferred_starts
 
     srs_geometry(robot)                 # the SRS check (InputError naming what fails)
     targets, single = check_targets(T)
     N = len(targets)
     psi_v = _check_psi(psi, N)
-    settings = _settings(tol_position, tol_orientation, 1, 0)
+    settings = checked_settings(tol_position, tol_orientation, 1, 0)
     q_ref = np.ascontiguousarray(preferred_starts(robot, q0, N))
     Qw, exists, checked, code = solve_arm_angle(robot, targets, psi_v, q_ref)
     valid: np.ndarray = checked if checked is not None else exists    # (never None: q_ref is given)

@@ -32,7 +32,7 @@ __all__ = ["SRSGeometry", "srs_geometry", "srs_condition", "arm_angle_of", "bran
 
 #: Axes meet when their distances to the common point are below this times the robot size, and are
 #: not parallel when the sine of their angle is above it: the same 1e-9 as the other closed forms'
-#: detection (``closed_form.DETECT_LENGTH_TOL``): far above rounding, far below a real offset.
+#: detection (``kernel_solver.DETECT_LENGTH_TOL``): far above rounding, far below a real offset.
 _TOL = 1e-9
 
 
