@@ -4,7 +4,7 @@ For each chain (example-robot-data's URDFs): pinocchio's joint-space mass matrix
 gravity torques g(q) of the source URDF, the joints off the chain locked at 0 (``buildReducedModel``),
 are the reference. Two MuJoCo models of the same file are compared with it at the same q:
 
-- robkin: ``robkin.io.mjcf.format.mjcf_from_robot`` of the chain (``mj_fullM`` after ``mj_forward``, and
+- robkin: ``robkin.io.mjcf.mjcf_from_robot`` of the chain (``mj_fullM`` after ``mj_forward``, and
   ``qfrc_bias`` at zero velocity), qpos[:n] = q;
 - MuJoCo: ``mujoco.MjModel.from_xml_string`` of the URDF itself, with MuJoCo's default compiler options
   (as a user would load it), qpos of the chain's joints by name, every other joint at 0. The URDF's
@@ -130,7 +130,7 @@ def main() -> int:
     import mujoco
 
     import robkin
-    from robkin.io.mjcf.format import mjcf_from_robot
+    from robkin.io.mjcf import mjcf_from_robot
 
     root = _robots_dir()
     rows = []

@@ -11,7 +11,8 @@ import pytest
 from hypothesis import given, settings
 
 from robkin import Joint, Robot, se3
-from robkin.io.mjcf.format import mjcf_from_robot, quat_from_matrix
+from robkin.io.mjcf import mjcf_from_robot
+from robkin.io.mjcf.format import quat_from_matrix
 from robkin.bodies import Bodies
 from robkin.io.urdf import robot_from_urdf, urdf_from_robot
 from strategies import robots

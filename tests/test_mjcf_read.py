@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 
 from robkin.errors import InputError
 from robkin.io import load
-from robkin.io.mjcf.format import mjcf_from_robot
+from robkin.io.mjcf import mjcf_from_robot
 from robkin.io.mjcf.reader import robot_from_mjcf
 from test_urdf import CASES, robot_file
 

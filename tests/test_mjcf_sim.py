@@ -137,7 +137,7 @@ def test_urdf_export_mjcf_to_urdf_and_mjcf_to_mjcf_keep_the_dynamics(converted, 
     """robkin's URDF of the source, and the URDF of robkin's MJCF read back by robkin: pinocchio's M(q),
     g(q) equal those of the source; and that MJCF read back and written again as MJCF: MuJoCo's equal
     those of the first."""
-    from robkin.io.mjcf.format import mjcf_from_robot
+    from robkin.io.mjcf import mjcf_from_robot
     from robkin.io.urdf import urdf_from_robot
 
     robot, ref, _, mjcf, _ = converted

@@ -18,7 +18,7 @@ from robkin.bodies import Bodies
 from robkin.body_parts import Inertial
 from robkin.cli import main
 from robkin.dynamics import link_masses
-from robkin.io.mjcf.format import mjcf_from_robot
+from robkin.io.mjcf import mjcf_from_robot
 from robkin.io.mjcf.reader import robot_from_mjcf
 from robkin.io.urdf import robot_from_urdf
 from strategies import robots

@@ -201,7 +201,7 @@ def test_equal_limits_mean_locked_as_urdfdom_and_pinocchio_read_them(zero):
     assert again.lowerPositionLimit.tolist() == [0.0, 0.0, -1.0]
     # the MJCF holds them with joint equalities (MuJoCo refuses an empty range)
     mujoco = pytest.importorskip("mujoco")
-    from robkin.io.mjcf.format import mjcf_from_robot
+    from robkin.io.mjcf import mjcf_from_robot
 
     with pytest.warns(UserWarning, match="move without mass"):  # the file has no inertials
         mj = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot))
@@ -274,7 +274,7 @@ def _mj_bodies(model, names):
 def test_mjcf_in_mjcf_and_urdf_out_keep_masses_dynamics_and_colours(tmp_path):
     mujoco = pytest.importorskip("mujoco")
     pin = pytest.importorskip("pinocchio")
-    from robkin.io.mjcf.format import mjcf_from_robot
+    from robkin.io.mjcf import mjcf_from_robot
     from robkin.io.urdf import urdf_from_robot
 
     path = tmp_path / "keeps.xml"
@@ -351,7 +351,7 @@ def _sdf_expected():
 def test_sdf_in_mjcf_and_urdf_out_keep_masses_dynamics_and_colours(tmp_path):
     mujoco = pytest.importorskip("mujoco")
     pin = pytest.importorskip("pinocchio")
-    from robkin.io.mjcf.format import mjcf_from_robot
+    from robkin.io.mjcf import mjcf_from_robot
     from robkin.io.urdf import urdf_from_robot
 
     path = tmp_path / "keeps.sdf"
@@ -414,7 +414,7 @@ def test_a_joint_held_by_an_mjcf_equality_reads_back_locked(zero, tmp_path):
     """URDF (equal limits) -> MJCF (joint equality) -> robkin: the same locked joints, and the URDF
     written from that MJCF has pinocchio's same limits."""
     pin = pytest.importorskip("pinocchio")
-    from robkin.io.mjcf.format import mjcf_from_robot
+    from robkin.io.mjcf import mjcf_from_robot
     from robkin.io.urdf import urdf_from_robot
 
     with warnings.catch_warnings():

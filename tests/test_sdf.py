@@ -57,7 +57,7 @@ def test_sdf_matches_its_hand_written_urdf_twin(name, tip, joints):
                                    atol=FK_TOL, rtol=0)
     # and robkin's MJCF of it: MuJoCo's FK of the tool body (named as the tip link) is the same
     mujoco = pytest.importorskip("mujoco")
-    from robkin.io.mjcf.format import mjcf_from_robot
+    from robkin.io.mjcf import mjcf_from_robot
 
     mj = mujoco.MjModel.from_xml_string(mjcf_from_robot(robot))
     data = mujoco.MjData(mj)

@@ -79,7 +79,7 @@ def test_deep_nesting_is_refused_beyond_the_limit_and_read_within_it():
 
 
 def test_a_dtd_is_refused_even_when_the_text_test_is_bypassed(monkeypatch):
-    import robkin.io.urdf.model as urdf
+    import robkin.io.urdf.parser as urdf
 
     monkeypatch.setattr(urdf, "_refuse_dtd", lambda text, src: None)
     with pytest.raises(InputError, match="refused XML construct"):
@@ -104,7 +104,7 @@ def test_namespaces_are_as_xml_etree_sees_them():
 
 
 def test_a_load_for_kinematics_builds_no_tree(monkeypatch):
-    import robkin.io.urdf.model as urdf
+    import robkin.io.urdf.parser as urdf
 
     calls = []
     real = urdf._parse_urdf_xml

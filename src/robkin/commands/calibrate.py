@@ -115,7 +115,7 @@ def render_robot(robot, ext: str, section: str | None = None) -> str:
 
         return urdf_from_robot(robot)
     if ext in (".xml", ".mjcf"):
-        from ..io.mjcf.format import mjcf_from_robot
+        from ..io.mjcf import mjcf_from_robot
 
         return mjcf_from_robot(robot)
     from ..io.documents.reader import document_from_robot, dump

@@ -83,7 +83,7 @@ def _clean(v) -> list[float]:
 def _tree_chains(args: argparse.Namespace):
     """(tree, chains): the input's tree (see ``io.chain_path.tree_of_file``; None for a document or a
     .xacro) and, when no --tip-link picks one of several chains it offers, those chains (else None)."""
-    from ..io.trees.chain_path import tree_of_file
+    from ..io import tree_of_file
 
     tree = tree_of_file(args.input)
     if tree is None or args.tip_link:

@@ -24,7 +24,7 @@ import os.path
 
 from robkin import bodies  # bodies.Mimic, imported only for a file with a <mimic>
 from robkin.errors import InputError, quote
-from robkin.io.urdf.model import NO_LIMIT, SUPPORTED_TYPES, UNSUPPORTED_TYPES  # urdf.py imports this module lazily
+from robkin.io.trees.model import NO_LIMIT, SUPPORTED_TYPES, UNSUPPORTED_TYPES  # urdf.py imports this module lazily
 from robkin.io.trees.tree_joint import UrdfJoint
 
 cdef extern from "Python.h":

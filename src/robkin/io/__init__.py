@@ -4,12 +4,16 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..errors import InputError
 from ..robot import Robot
 
+if TYPE_CHECKING:  # pragma: no cover
+    from .trees.model import UrdfModel
+
 __all__ = ["load", "DOCUMENT_EXTENSIONS", "URDF_EXTENSIONS", "MJCF_EXTENSIONS", "SDF_EXTENSIONS",
-           "ROBOT_FILE_EXTENSIONS", "TABLE_EXTENSIONS"]
+           "ROBOT_FILE_EXTENSIONS", "TABLE_EXTENSIONS", "tree_of_file"]
 
 DOCUMENT_EXTENSIONS = (".yaml", ".yml", ".json")
 URDF_EXTENSIONS = (".urdf", ".xacro")
@@ -76,3 +80,25 @@ def _load(p: str, base_link: str | None, tip_link: str | None, allow_xacro: bool
         return robot_from_sdf(Path(p), base_link=base_link, tip_link=tip_link)
     raise InputError(f"{p}: unknown extension '{ext}'; expected one of "
                      f"{', '.join(DOCUMENT_EXTENSIONS + ROBOT_FILE_EXTENSIONS + TABLE_EXTENSIONS)}")
+
+
+def tree_of_file(path: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str, str], str] | None:
+    """The tree of a .urdf, MJCF (.xml, .mjcf) or SDF (.sdf) file, for commands that list its chains.
+
+    Returns (tree, joints on it that make no chain (name -> kind), wording of the joint kinds that do),
+    or None for any other file (a document, a .xacro, which goes through the loader and its opt-in).
+    """
+    ext = Path(path).suffix.lower()
+    if ext == ".urdf":
+        from .urdf.parser import parse_urdf
+
+        return parse_urdf(path), {}, ""
+    if ext in MJCF_EXTENSIONS:
+        from .mjcf.reader import CHAIN_JOINTS, model_from_mjcf
+
+        return (*model_from_mjcf(path), CHAIN_JOINTS)
+    if ext in SDF_EXTENSIONS:
+        from .sdf.reader import CHAIN_JOINTS as SDF_CHAIN_JOINTS, model_from_sdf
+
+        return (*model_from_sdf(path), SDF_CHAIN_JOINTS)
+    return None

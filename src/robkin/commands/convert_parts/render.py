@@ -73,7 +73,7 @@ def render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None =
         return render_urdf(_with_link_geometry(robot, args), args or argparse.Namespace(), source, out_dir, mesh_dir)
     if fmt == "mjcf":
         if args is None:
-            from ...io.mjcf.format import mjcf_from_robot
+            from ...io.mjcf import mjcf_from_robot
 
             return mjcf_from_robot(robot)
         from .mjcf_output import render_mjcf

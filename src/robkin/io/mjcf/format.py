@@ -1,21 +1,12 @@
-"""MJCF (MuJoCo's XML format): quaternions in MuJoCo's order, and the writer's entry point.
-
-``mjcf_from_robot`` writes a model MuJoCo simulates; the parts live in their own modules:
-``mjcf_write`` (the document), ``mjcf_tree`` (which link becomes which body, joint or site),
-``mjcf_inertial``, ``mjcf_geoms_write`` and ``mjcf_actuators``. The readers import the quaternion
-helpers from here.
+"""MJCF format details shared by its reader and its writer: quaternions in MuJoCo's order (w, x, y, z),
+placements as ``pos``/``quat`` attributes, and the noise below which a value is written as zero.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
-
 import numpy as np
 
-if TYPE_CHECKING:  # pragma: no cover
-    from ...robot import Robot
-
-__all__ = ["mjcf_from_robot", "quat_from_matrix", "matrix_from_quat", "place_attrs", "NOISE"]
+__all__ = ["quat_from_matrix", "matrix_from_quat", "place_attrs", "NOISE"]
 
 #: Quaternion components, and positions relative to the robot size, below this are rounding noise of
 #: unit-size products (~1e-16 each): written as 0, so that a frame that did not turn reads as such.
@@ -69,7 +60,7 @@ def place_attrs(rel: np.ndarray, scale: float = 1.0, origin: tuple[float, ...] |
 
     p = np.array(rel[:3, 3], dtype=float)
     if origin is not None:
-        from ..urdf.model import origin_matrix
+        from ..trees.model import origin_matrix
 
         if np.abs(origin_matrix(origin[:3], origin[3:]) - rel).max() <= SAME_ORIGIN_TOL * scale:
             p = np.array(origin[:3], dtype=float)
@@ -79,15 +70,3 @@ def place_attrs(rel: np.ndarray, scale: float = 1.0, origin: tuple[float, ...] |
     pos = f' pos="{" ".join(float_text(v) for v in p)}"' if p.any() else ""
     quat = "" if (q[1:] == 0).all() else f' quat="{" ".join(float_text(v) for v in q)}"'
     return pos + quat
-
-
-def mjcf_from_robot(robot: Robot, **options: Any) -> str:
-    """MJCF text of the robot: a model MuJoCo simulates (``robkin.io.mjcf.writer.mjcf_text``, whose
-    keyword options ``mesh_files``, ``actuators``, ``kp``, ``kv``, ``fuse_fixed`` it takes).
-
-    MuJoCo's qpos[:n] is q, and the site named as the tip link (``tool`` for a robot without link
-    names) is at ``world @ robot.fk(q)``.
-    """
-    from .writer import mjcf_text
-
-    return mjcf_text(robot, **options)

@@ -44,7 +44,7 @@ from ...compiled import pose_rows
 from ...errors import InputError, quote
 from .poses import Pose, geom_placement
 from .source import MjcfSource
-from ..urdf.model import LinkContent, _floats
+from ..trees.model import LinkContent, attribute_floats as _floats
 from ..urdf.content import ContentOnce
 
 __all__ = ["MjcfContent", "VISIBLE_GROUPS", "DEFAULT_RGBA"]

@@ -38,7 +38,7 @@ from ..trees.chain_path import refuse_on_chain
 from .poses import Pose, geom_pose, placement, rotation_from_mjcf, unit
 from .source import MjcfSource, read_mjcf_source
 from ..urdf.chain import robot_from_model
-from ..urdf.model import UrdfJoint, UrdfModel
+from ..trees.model import UrdfJoint, UrdfModel
 
 __all__ = ["robot_from_mjcf", "model_from_mjcf", "rotation_from_mjcf", "geom_pose"]
 

@@ -21,7 +21,7 @@ unit quaternion ``quat`` (w, x, y, z), axis components below 1e-15 as 0 (roundin
 from __future__ import annotations
 
 import warnings
-from typing import TYPE_CHECKING, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import numpy as np
 
@@ -37,7 +37,7 @@ from ..files.xmltext import quoteattr
 if TYPE_CHECKING:  # pragma: no cover
     from ...robot import Robot
 
-__all__ = ["mjcf_text", "CHANGED_MARK"]
+__all__ = ["mjcf_from_robot", "mjcf_text", "CHANGED_MARK"]
 
 #: Axis components and joint offsets below this (relative to 1 and to the robot size) are rounding
 #: noise of unit-size products: written as 0.
@@ -60,7 +60,7 @@ def _clean(v: np.ndarray, scale: float = 1.0) -> np.ndarray:
 
 
 def _joint_xml(j: JointPlan, frame: np.ndarray, scale: float) -> str:
-    from ..urdf.model import NO_LIMIT
+    from ..trees.model import NO_LIMIT
 
     axis = _clean(frame[:3, :3].T @ j.axis)
     pos = _clean(se3.inv(frame)[:3, :3] @ j.point + se3.inv(frame)[:3, 3], scale)
@@ -244,3 +244,13 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
     nq = len(joints)
     out += ["  <keyframe>", f'    <key name="home" qpos="{" ".join(["0"] * nq)}"/>', "  </keyframe>", "</mujoco>", ""]
     return "\n".join(out)
+
+
+def mjcf_from_robot(robot: Robot, **options: Any) -> str:
+    """MJCF text of the robot: a model MuJoCo simulates (``robkin.io.mjcf.writer.mjcf_text``, whose
+    keyword options ``mesh_files``, ``actuators``, ``kp``, ``kv``, ``fuse_fixed`` it takes).
+
+    MuJoCo's qpos[:n] is q, and the site named as the tip link (``tool`` for a robot without link
+    names) is at ``world @ robot.fk(q)``.
+    """
+    return mjcf_text(robot, **options)

@@ -2,7 +2,7 @@
 
 The axis ``<xyz>`` is in the joint frame from SDFormat 1.5 on, in the model frame in 1.4 or with
 ``use_parent_model_frame``, or in the frame named by ``expressed_in``; it is turned into the joint frame
-through the reader's frame graph (``sdf._Model``). SDF's default limits (+-1e16) and its -1 effort and
+through the reader's frame graph (``frame_graph.FrameGraph``). SDF's default limits (+-1e16) and its -1 effort and
 velocity mean none.
 """
 
@@ -13,11 +13,11 @@ from typing import TYPE_CHECKING, Any
 
 from ...compiled.attribute_numbers import numbers
 from ...errors import InputError
-from ..urdf.model import NO_LIMIT
+from ..trees.model import NO_LIMIT
 
 if TYPE_CHECKING:  # pragma: no cover
     from ...compiled.pose_rows import Pose
-    from .reader import _Model
+    from .frame_graph import FrameGraph
 
 __all__ = ["joint_axis", "axis_dynamics"]
 
@@ -30,7 +30,7 @@ def _rotate(T: Pose, v: tuple[float, ...]) -> tuple[float, float, float]:
     return (T[0] * x + T[1] * y + T[2] * z, T[4] * x + T[5] * y + T[6] * z, T[8] * x + T[9] * y + T[10] * z)
 
 
-def joint_axis(j: _Model, axis_el: Any, name: str, where: str
+def joint_axis(j: FrameGraph, axis_el: Any, name: str, where: str
                ) -> tuple[tuple[float, float, float], float | None, float | None]:
     """(unit axis in the joint frame, lower, upper) of a joint's ``<axis>`` element (None: absent);
     ``where`` is the joint as messages name it."""

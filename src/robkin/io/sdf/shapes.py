@@ -23,11 +23,11 @@ import numpy as np
 from ...bodies import Geometry, Inertial, Material, Shape
 from ...compiled import pose_rows
 from ...errors import InputError
-from ..urdf.model import LinkContent, _floats
+from ..trees.model import LinkContent, attribute_floats as _floats
 from ..urdf.content import ContentOnce
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .reader import _Model
+    from .frame_graph import FrameGraph
 
 __all__ = ["sdf_content"]
 
@@ -92,21 +92,21 @@ def _inertial(el: Any, link: str, X: np.ndarray, where: str) -> Inertial:
 
 def _links(model: Any) -> list[Any]:
     """The ``<link>`` elements of a ``<model>`` and of the models nested in it, in the order the reader
-    lists them (``sdf._Model.read``: a model's own links, then those of each nested model)."""
+    lists them (``frame_graph.FrameGraph.read``: a model's own links, then those of each nested model)."""
     out = model.findall("link")
     for inner in model.findall("model"):
         out += _links(inner)
     return out
 
 
-def sdf_content(model: "_Model", folder: Path | None, text: str) -> ContentOnce:
+def sdf_content(model: "FrameGraph", folder: Path | None, text: str) -> ContentOnce:
     """link -> LinkContent of the model's links (poses relative to each link's frame), made on first use.
 
-    ``model`` is the reader's resolved frame graph (``sdf._Model``, its ``link_elements`` filled);
+    ``model`` is the reader's resolved frame graph (``frame_graph.FrameGraph``, its ``link_elements`` filled);
     ``folder`` the SDF file's folder (None for text input; mesh names are kept as written either way);
     ``text`` the file's text, parsed whole here (the reader's tree holds only the kinematic elements).
     """
-    from .reader import _pose, the_models
+    from .frame_graph import element_pose, the_models
     from ..trees.xml_parse import _parse_xml
 
     def make() -> dict[str, LinkContent]:
@@ -114,7 +114,7 @@ def sdf_content(model: "_Model", folder: Path | None, text: str) -> ContentOnce:
         elements = _links(the_models(_parse_xml(text, model.source))[0])
         for (link, _, prefix), el in zip(model.link_elements, elements):
             def placed(sub: Any, where: str) -> np.ndarray:
-                pose, rel = _pose(sub, where)
+                pose, rel = element_pose(sub, where)
                 if rel is None or model.scoped(rel, prefix) == link:
                     return pose_rows.matrix(pose)
                 return pose_rows.matrix(pose_rows.compose(model.relative(link, model.scoped(rel, prefix), where), pose))

@@ -17,7 +17,7 @@ import warnings
 from dataclasses import replace
 
 from ...errors import InputError
-from ..urdf.model import UrdfModel
+from ..trees.model import UrdfModel
 
 __all__ = ["trees", "pick_tree", "check_tree"]
 

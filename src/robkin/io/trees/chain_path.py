@@ -2,16 +2,14 @@
 
 from __future__ import annotations
 
-import os
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ...errors import InputError
 
 if TYPE_CHECKING:  # the tree types only: a robot document's info does not load the URDF reader
-    from ..urdf.model import UrdfJoint, UrdfModel
+    from .model import UrdfJoint, UrdfModel
 
-__all__ = ["joints_between", "refuse_on_chain", "tree_of_file"]
+__all__ = ["joints_between", "refuse_on_chain"]
 
 
 def joints_between(model: UrdfModel, a: str, b: str) -> list[UrdfJoint]:
@@ -55,27 +53,3 @@ def refuse_on_chain(model: UrdfModel, kinds: dict[str, str], base: str | None, t
         if j.name in kinds:
             raise InputError(f"{model.source}: joint '{j.name}' is a {kinds[j.name]} joint; only {supported} "
                              f"joints make a serial chain (pick a chain without it with base_link=/tip_link=)")
-
-
-def tree_of_file(path: str | os.PathLike) -> tuple[UrdfModel, dict[str, str], str] | None:
-    """The tree of a .urdf, MJCF (.xml, .mjcf) or SDF (.sdf) file, for commands that list its chains.
-
-    Returns (tree, joints on it that make no chain (name -> kind), wording of the joint kinds that do),
-    or None for any other file (a document, a .xacro, which goes through the loader and its opt-in).
-    """
-    from .. import MJCF_EXTENSIONS, SDF_EXTENSIONS
-
-    ext = Path(path).suffix.lower()
-    if ext == ".urdf":
-        from ..urdf.model import parse_urdf
-
-        return parse_urdf(path), {}, ""
-    if ext in MJCF_EXTENSIONS:
-        from ..mjcf.reader import CHAIN_JOINTS, model_from_mjcf
-
-        return (*model_from_mjcf(path), CHAIN_JOINTS)
-    if ext in SDF_EXTENSIONS:
-        from ..sdf.reader import CHAIN_JOINTS as SDF_CHAIN_JOINTS, model_from_sdf
-
-        return (*model_from_sdf(path), SDF_CHAIN_JOINTS)
-    return None

@@ -22,7 +22,8 @@ from ...robot import Joint, Robot
 from ...compiled import pose_rows
 if TYPE_CHECKING:
     from ...body_parts import Inertial, Link, LinkJoint, Shape
-from .model import AXIS_UNIT_TOL, AXIS_ZERO_TOL, UNSUPPORTED_TYPES, UrdfJoint, UrdfModel, parse_urdf
+from ..trees.model import UNSUPPORTED_TYPES, UrdfJoint, UrdfModel
+from .parser import AXIS_UNIT_TOL, AXIS_ZERO_TOL, parse_urdf
 from ..trees.joint_limits import warn_locked
 
 Rows3 = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]

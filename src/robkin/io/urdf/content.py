@@ -18,7 +18,7 @@ if TYPE_CHECKING:
 from ...errors import InputError
 from ...compiled.attribute_numbers import number as _number
 from ...compiled.attribute_numbers import numbers
-from .model import LinkContent, origin_matrix
+from ..trees.model import LinkContent, origin_matrix
 
 __all__ = ["LazyLinkContent", "ContentOnce", "GEOMETRY_TAGS"]
 

@@ -43,7 +43,7 @@ import numpy as np
 from ... import se3
 from ...bodies import Inertial, Link, Mimic, Shape
 from ...robot import Robot
-from .model import NO_LIMIT, origin_matrix
+from ..trees.model import NO_LIMIT, origin_matrix
 from ..files.float_text import float_text as _num
 from ..files.xmltext import quoteattr
 
