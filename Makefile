@@ -11,12 +11,13 @@ PIP    := $(PY) -m pip --disable-pip-version-check -q
 
 .PHONY: demo test bench ext assets docs dist clean
 
-# The compiled core (src/robkin/compiled/*.pyx) is built once, by pip with the machine's C compiler;
-# the extras (test, docs, bench) then install only their own dependencies (EXTRA below), never
-# rebuilding the core.
-CORE_SOURCES := pyproject.toml setup.py $(wildcard src/robkin/compiled/*.pyx src/robkin/compiled/*.pxd \
-                                                   src/robkin/compiled/*.pxi src/robkin/compiled/*.h)
-N_CORE := $(words $(wildcard src/robkin/compiled/*.pyx))
+# The compiled core (the .pyx files in src/robkin/compiled/'s sub-packages) is built once, by pip with
+# the machine's C compiler; the extras (test, docs, bench) then install only their own dependencies
+# (EXTRA below), never rebuilding the core.
+COMPILED     := src/robkin/compiled
+CORE_SOURCES := pyproject.toml setup.py $(shell find $(COMPILED) -type f \( -name '*.pyx' -o -name '*.pxd' \
+                                                  -o -name '*.pxi' -o -name '*.h' \))
+N_CORE := $(words $(shell find $(COMPILED) -type f -name '*.pyx'))
 
 $(VENV)/.core: $(CORE_SOURCES)
 	$(PYTHON) -m venv $(VENV)
@@ -89,5 +90,5 @@ dist: $(VENV)/.core $(ASSETS)
 	$(PY) .ci/check_dist.py dist
 
 clean:
-	rm -rf $(VENV) build dist site src/*.egg-info .pytest_cache .hypothesis src/robkin/compiled/*.c src/robkin/compiled/*.so \
-	       node_modules src/robkin/viz/static/vendor
+	rm -rf $(VENV) build dist site src/*.egg-info .pytest_cache .hypothesis node_modules src/robkin/viz/static/vendor
+	find $(COMPILED) -type f \( -name '*.c' -o -name '*.so' \) -delete

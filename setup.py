@@ -1,8 +1,14 @@
 """Build the compiled kinematics core (``robkin.compiled``) from its Cython sources.
 
-Everything else about the package lives in ``pyproject.toml``. Each ``src/robkin/compiled/*.pyx``
-becomes one extension module; ``pip install -e .`` (``make demo`` / ``make test``) builds them with the
-machine's C compiler, and ``make ext`` rebuilds them in place after editing a ``.pyx``.
+Everything else about the package lives in ``pyproject.toml``. Each ``.pyx`` under ``src/robkin/compiled/``
+(in its topic's sub-package: ``chain/``, ``ik/``, ``conversions/``, ``scanners/``, ``runtime/``) becomes
+one extension module named by its path (``chain/fk.pyx``: ``robkin.compiled.chain.fk``); ``pip install
+-e .`` (``make demo`` / ``make test``) builds them with the machine's C compiler, and ``make ext``
+rebuilds them in place after editing a ``.pyx``.
+
+C headers are named by their path under ``src/robkin/compiled/`` (``cdef extern from
+"runtime/sincos.h"``), which every extension has on its include path: ``sincos.h`` is included by
+modules of several sub-packages (through ``runtime/sincos.pxd``).
 """
 
 import os
@@ -15,14 +21,20 @@ from Cython.Build import cythonize
 from setuptools import Extension, setup
 
 HERE = Path(__file__).parent
-SOURCES = sorted((HERE / "src" / "robkin" / "compiled").glob("*.pyx"))
+COMPILED = HERE / "src" / "robkin" / "compiled"
+SOURCES = sorted(COMPILED.rglob("*.pyx"))
+
+
+def module_name(path: Path) -> str:
+    """The dotted name of the extension built from one .pyx: ``robkin.compiled.chain.fk``."""
+    return ".".join(("robkin", "compiled", *path.relative_to(COMPILED).with_suffix("").parts))
 
 
 
 def openmp_flags() -> list[str]:
     """``-fopenmp`` when the C compiler takes it (GCC, Clang with libomp): the batch kernels then split
-    large batches over threads (``robkin.compiled.threads``). Without it they run on one thread, with
-    the same results. ROBKIN_NO_OPENMP=1 builds without."""
+    large batches over threads (``robkin.compiled.runtime.threads``). Without it they run on one thread,
+    with the same results. ROBKIN_NO_OPENMP=1 builds without."""
     if os.environ.get("ROBKIN_NO_OPENMP") == "1" or sys.platform == "win32":
         return []
     from setuptools._distutils.ccompiler import new_compiler
@@ -45,11 +57,11 @@ OPENMP = openmp_flags()
 
 
 def avx2_flags() -> list[str] | None:
-    """``-mavx2`` for the one module built for AVX2 (``robkin.compiled.kernels_avx2``, chosen at import
-    by the CPU, see ``kernels.pyx``) when the target is x86-64 and the C compiler takes the flag; else
-    None and that module is not built (the portable kernels run, with the same results). Only -mavx2:
-    no -mfma (with -ffp-contract=off there would be no fused multiply-add anyway) and no -march, so the
-    module's code is the portable one's at twice the vector width. ROBKIN_NO_AVX2=1 builds without."""
+    """``-mavx2`` for the one module built for AVX2 (``robkin.compiled.chain.kernels_avx2``, chosen at
+    import by the CPU, see ``chain/kernels.pyx``) when the target is x86-64 and the C compiler takes the
+    flag; else None and that module is not built (the portable kernels run, with the same results). Only
+    -mavx2: no -mfma (with -ffp-contract=off there would be no fused multiply-add anyway) and no -march, so
+    the module's code is the portable one's at twice the vector width. ROBKIN_NO_AVX2=1 builds without."""
     import platform
 
     if os.environ.get("ROBKIN_NO_AVX2") == "1" or platform.machine().lower() not in ("x86_64", "amd64"):
@@ -82,9 +94,10 @@ def instruction_flags(path: Path) -> list[str] | None:
 
 extensions = [
     Extension(
-        f"robkin.compiled.{path.stem}",
+        module_name(path),
         [str(path.relative_to(HERE))],
-        include_dirs=[numpy.get_include()],
+        # compiled/ itself: the headers, named by their path under it ("chain/crba_walk.h")
+        include_dirs=[numpy.get_include(), str(COMPILED.relative_to(HERE))],
         define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")],
         # -O3 for the small fixed-size loops and the block loops over configurations (auto-vectorised);
         # no -ffast-math: results must stay IEEE-exact so the compiled core agrees with the independent

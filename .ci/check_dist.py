@@ -28,7 +28,7 @@ def main(folder: str) -> int:
         names = set(zipfile.ZipFile(wheel).namelist())
         problems += [f"{wheel.name}: {n} missing" for n in wanted if n not in names]
         if not any(n.startswith("robkin/compiled/") and n.endswith((".so", ".pyd")) for n in names):
-            problems.append(f"{wheel.name}: no compiled core (robkin/compiled/*.so)")
+            problems.append(f"{wheel.name}: no compiled core (robkin/compiled/*/*.so)")
     for sdist in sdists:
         names = {n.split("/", 1)[1] for n in tarfile.open(sdist).getnames() if "/" in n}
         problems += [f"{sdist.name}: src/{n} missing" for n in wanted if f"src/{n}" not in names]

@@ -24,7 +24,7 @@ def run(*args: str) -> str:
 
 def main(source_tree: str) -> int:
     import robkin
-    from robkin.compiled import dh_chain  # noqa: F401  (the compiled core, from the wheel)
+    from robkin.compiled.chain import dh_chain  # noqa: F401  (the compiled core, from the wheel)
 
     where = Path(robkin.__file__).resolve()
     if Path(source_tree).resolve() in where.parents:
