@@ -3,7 +3,7 @@
 The Franka Panda of example-robot-data (7 revolute joints, tool ``panda_hand_tcp``), N random
 configurations (N = 1e3, 1e4, 1e5), one thread. Three contenders per kernel (FK, geometric Jacobian), each writing into a
 buffer allocated beforehand (robkin: ``out=``):
-- robkin with ``robkin.compiled.kernels.use("portable")`` (x86-64 baseline, SSE2: 2 doubles a vector),
+- robkin with ``robkin.compiled.chain.kernels.use("portable")`` (x86-64 baseline, SSE2: 2 doubles a vector),
 - robkin with ``use("avx2")`` (the same source built with -mavx2, chosen at import on an AVX2 CPU),
 - the floor: ``avx2_floor.c`` next to this file, FK and the geometric Jacobian written by hand with AVX2
   intrinsics (4 configurations a vector, a group's poses in registers), compiled here with the machine's
@@ -43,7 +43,7 @@ import warnings  # noqa: E402
 import numpy as np  # noqa: E402
 
 import robkin  # noqa: E402
-from robkin.compiled import kernels  # noqa: E402
+from robkin.compiled.chain import kernels  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DOUBLE_P = ctypes.POINTER(ctypes.c_double)

@@ -5,7 +5,7 @@
   that path;
 - ``robkin ik panda.urdf --pose ... --method numeric``: one numeric IK from a fresh process (load
   the URDF, import the compiled core, solve), goal within 3x;
-- the first-call cost of the compiled core: importing its modules (``robkin.compiled.fk``,
+- the first-call cost of the compiled core: importing its modules (``robkin.compiled.chain.fk``,
   ``.jacobian``, ``.lm``, ``.limits``) in a process that has imported robkin, median of fresh processes.
 
 All are measured in the same run, alternating, and the ratios of medians are reported (absolute
@@ -49,7 +49,7 @@ def _robot_file(*parts: str) -> str:
 
 
 FIRST_CALL = ("import time, robkin; t0 = time.perf_counter(); "
-              "import robkin.compiled.fk, robkin.compiled.jacobian, robkin.compiled.lm, robkin.compiled.limits; "
+              "import robkin.compiled.chain.fk, robkin.compiled.chain.jacobian, robkin.compiled.ik.lm, robkin.compiled.ik.limits; "
               "print(time.perf_counter() - t0)")
 
 

@@ -139,7 +139,7 @@ def compare_sets(robot, solver, targets) -> tuple[int, int, int]:
 # ------------------------------------------------------------------------------------------ timing
 def import_ms() -> float:
     """Wall milliseconds to import the compiled 6R kernels in a fresh process (robkin already loaded)."""
-    code = ("import time, robkin, numpy; t = time.perf_counter(); import robkin.compiled.closed_form_6r; "
+    code = ("import time, robkin, numpy; t = time.perf_counter(); import robkin.compiled.ik.closed_form_6r; "
             "print((time.perf_counter() - t) * 1e3)")
     return float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout)
 

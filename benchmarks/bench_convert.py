@@ -62,7 +62,7 @@ def per_robot_ms(fn, robots, rounds: int) -> float:
 def batch_parts(robots: list[robkin.Robot], threads: int) -> dict:
     """Seconds of each part of ``dh_from_robots`` on fresh-robot inputs (as ``placement._convert_group``
     runs them): the compiled stages, which threads split, and the Python around them, which they do not."""
-    from robkin.compiled.frames import check_tables, convert_tables
+    from robkin.compiled.conversions.frames import check_tables, convert_tables
 
     out = {}
     t = time.perf_counter()

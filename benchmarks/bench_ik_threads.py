@@ -10,7 +10,7 @@ rounds, **wall** time, rounds from a time budget, medians over the rounds of the
 round; the k-thread call is timed after the round's pause and again right after it (see
 ``thread_timing``). Every multi-thread result (q, success, iterations, attempts, errors) is checked
 bit for bit against the one-thread result, and a sample of rows against single calls (rows the first
-attempt solved: a restart's random stream depends on the row, see ``compiled.lm``). The ceiling's parts are
+attempt solved: a restart's random stream depends on the row, see ``compiled.ik.lm``). The ceiling's parts are
 checked on the rows that must agree: all of the first part, and elsewhere the rows solved by their
 first attempt (a later part's restarted rows draw other random streams, and may also cost a different
 number of iterations: the ceiling's work is the same only up to those rows).

@@ -15,7 +15,7 @@ Goal (a ratio, never an absolute time, since the machine varies): robkin no slow
 on each file (ratio <= 1); the last line says for which it is met.
 
 The kinematic tree is read by one pass of the standard library's expat with C callbacks
-(``robkin.compiled.urdf_scan``); no XML tree is built (link shapes, which would need one, are parsed on
+(``robkin.compiled.scanners.urdf_scan``); no XML tree is built (link shapes, which would need one, are parsed on
 first use).
 
 Run: ``python benchmarks/bench_urdf_load.py`` (``--rounds N``, default 60).

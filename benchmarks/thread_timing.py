@@ -287,7 +287,7 @@ def ik_same_bits(a: Any, b: Any) -> bool:
 def ik_parts_agree(one: Any, results: list, parts: list[slice]) -> bool:
     """The parts' batch IK results against the whole batch's, on the rows where they must agree.
 
-    A numeric restart's random stream depends on the row's index in its batch (``compiled.lm``): the
+    A numeric restart's random stream depends on the row's index in its batch (``compiled.ik.lm``): the
     first part's rows have the same indices, every row solved by its first attempt (no random numbers)
     is the same anywhere; a later part's restarted rows may differ, and are not compared.
     """

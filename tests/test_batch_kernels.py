@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from robkin.compiled.fk import sincos
+from robkin.compiled.chain.fk import sincos
 from robkin.kinematics.jacobian import jacobian_body, jacobian_geometric, jacobian_space
 from test_pinocchio_fk import FK_TOL, chain_urdf, random_chain, robot_by_hand
 

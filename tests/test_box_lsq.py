@@ -1,4 +1,4 @@
-"""The compiled bounded least-squares solver (``robkin.compiled.box_lsq``) against scipy's
+"""The compiled bounded least-squares solver (``robkin.compiled.runtime.box_lsq``) against scipy's
 ``least_squares`` (an independent implementation: trust-region reflective) on problems with known optima."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.optimize import least_squares
 
-from robkin.compiled.box_lsq import MESSAGES, solve
+from robkin.compiled.runtime.box_lsq import MESSAGES, solve
 
 
 def rosenbrock(x):

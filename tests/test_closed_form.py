@@ -284,7 +284,7 @@ def test_random_arms_with_offsets_and_tools_find_the_generating_configuration(ki
 @settings(max_examples=60, deadline=None)
 @given(seed=st.integers(0, 2**16), k=st.integers(0, 12), n=st.integers(1, 7))
 def test_distinct_sorted_matches_its_definition(seed, k, n):
-    from robkin.compiled.solutions import distinct_sorted
+    from robkin.compiled.ik.solutions import distinct_sorted
 
     rng = np.random.default_rng(seed)
     base = rng.uniform(-3, 3, size=(max(k // 2, 1), n))

@@ -97,7 +97,7 @@ def test_batch_tables_reproduce_each_robots_fk(batch, specs, seed):
 def test_robots_fk_is_each_robots_own_fk_bit_for_bit(spec, m, seed):
     """The conversions' FK self-check walks each robot's m configurations as blocks (m across the block
     size of the kernels): the same bits as ``Robot.fk``, batch and one configuration at a time."""
-    from robkin.compiled.frames import robots_fk
+    from robkin.compiled.conversions.frames import robots_fk
     from robkin.frame_stacks import local_transforms
 
     moved = se3.homogeneous(se3.matrix_from_rpy([0.1, -0.2, 0.3]), [0.5, 0.0, -0.1]) @ spec.robot.frames

@@ -1,4 +1,4 @@
-"""The compiled stages of the DH / MDH conversions (``robkin.compiled.frames.convert_tables`` and
+"""The compiled stages of the DH / MDH conversions (``robkin.compiled.conversions.frames.convert_tables`` and
 ``check_tables``) against the NumPy functions they replaced (``rounding.snap_many``,
 ``link_table.residual_tool``, ``sample_configurations``, ``pose_difference``), bit for bit, and the
 batch conversions on several threads against one thread, bit for bit."""
@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 
 import robkin
 from robkin import se3
-from robkin.compiled.frames import check_tables, convert_tables, placement, robots_fk, tables_fk
+from robkin.compiled.conversions.frames import check_tables, convert_tables, placement, robots_fk, tables_fk
 from robkin.frame_stacks import frame_scales, local_transforms
 from robkin.representations.frames import relative_pose
 from robkin.representations.link_table import (_CHECK_SAMPLES, FLIP_X, pose_difference, residual_tool,

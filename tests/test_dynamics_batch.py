@@ -11,8 +11,8 @@ import pytest
 
 import robkin
 from robkin import Joint, Robot, se3
-from robkin.compiled import kernels
-from robkin.compiled import threads as compiled_threads
+from robkin.compiled.chain import kernels
+from robkin.compiled.runtime import threads as compiled_threads
 from test_dynamics import random_inertials
 from test_urdf import robot_file
 

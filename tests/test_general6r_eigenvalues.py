@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import ik_arms as arms
-from robkin.compiled.closed_form_general6r import eigenvalues
+from robkin.compiled.ik.closed_form_general6r import eigenvalues
 from robkin.kinematics.closed_form import closed_form_solver
 from robkin.kinematics.general6r import General6R, spurious_complement
 

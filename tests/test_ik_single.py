@@ -204,7 +204,7 @@ def test_batch_solutions_are_the_distinct_verified_branches():
     """nearest_verified's per-target solutions (all distinct verified branches, nearest first) equal
     distinct_sorted's definition applied to the branches that reach the target, including the
     duplicates of singular targets (wrist axes aligned: several branches coincide)."""
-    from robkin.compiled.solutions import distinct_sorted
+    from robkin.compiled.ik.solutions import distinct_sorted
     from robkin.kinematics.closed_form import closed_form_solver
     from robkin.kinematics.ik import SAME_SOLUTION_TOL
     from robkin.kinematics.limits import within_limits

@@ -1,4 +1,4 @@
-"""The two builds of the batch block kernels (portable and AVX2, ``robkin.compiled.kernels``): the same
+"""The two builds of the batch block kernels (portable and AVX2, ``robkin.compiled.chain.kernels``): the same
 bits on random batches for every batch kernel, and the choice made at import from the CPU."""
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import robkin
-from robkin.compiled import kernels
+from robkin.compiled.chain import kernels
 from test_urdf import robot_file
 
 RUNS_AVX2 = kernels.cpu_has_avx2() and kernels.avx2_built()
@@ -117,7 +117,7 @@ def test_use_checks_its_argument(restore_kernels):
 
 
 def run_with(value: str) -> subprocess.CompletedProcess:
-    code = "from robkin.compiled import kernels; print(kernels.active())"
+    code = "from robkin.compiled.chain import kernels; print(kernels.active())"
     env = {**os.environ, "ROBKIN_KERNELS": value}
     return subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
 

@@ -1,4 +1,4 @@
-"""The readers' twelve-float poses (``robkin.compiled.pose_rows``) against independent computations.
+"""The readers' twelve-float poses (``robkin.compiled.conversions.pose_rows``) against independent computations.
 
 Oracles: scipy's ``Rotation.from_euler`` for URDF's roll-pitch-yaw (extrinsic x, y, z), numpy's matrix
 products and ``np.linalg.inv`` for composition and inversion; and the lazily made arrays of a parsed
@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
 from robkin.errors import InputError
-from robkin.compiled import pose_rows
+from robkin.compiled.conversions import pose_rows
 from robkin.io.urdf import UrdfJoint, parse_urdf_text
 
 from strategies import poses

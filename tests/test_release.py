@@ -36,7 +36,7 @@ def test_dir_shows_the_public_api_only():
 
 def _fake_release(folder: Path, version: str, vendor: list[str]) -> None:
     with zipfile.ZipFile(folder / f"robkin-{version}-cp311-cp311-linux_x86_64.whl", "w") as z:
-        z.writestr("robkin/compiled/fk.cpython-311-x86_64-linux-gnu.so", b"")
+        z.writestr("robkin/compiled/chain/fk.cpython-311-x86_64-linux-gnu.so", b"")
         for name in vendor:
             z.writestr(f"robkin/viz/static/vendor/{name}", b"x")
     with tarfile.open(folder / f"robkin-{version}.tar.gz", "w:gz") as t:

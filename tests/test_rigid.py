@@ -1,4 +1,4 @@
-"""``robkin.compiled.rigid.exact_poses``, the one test of "exact rigid transform" behind Robot
+"""``robkin.compiled.runtime.rigid.exact_poses``, the one test of "exact rigid transform" behind Robot
 construction and IK targets, against the definition in numpy (finite, last row exactly [0, 0, 0, 1],
 max |R^T R - I| <= 1e-12, det R > 0), and what a Robot does with the poses it rejects."""
 
@@ -11,7 +11,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import robkin
-from robkin.compiled.rigid import exact_poses
+from robkin.compiled.runtime.rigid import exact_poses
 from robkin.errors import InputError, ProjectionWarning
 
 

@@ -1,4 +1,4 @@
-"""The compiled SDF scan (robkin.compiled.sdf_scan): the elements it keeps are xml.etree's, the ones the
+"""The compiled SDF scan (robkin.compiled.scanners.sdf_scan): the elements it keeps are xml.etree's, the ones the
 reader does not read are skipped, and XML that is not well-formed is refused as ``_parse_xml`` refuses it."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import pytest
 from robkin.errors import InputError
 from robkin.io.trees.xml_parse import _parse_xml
 
-sdf_scan = pytest.importorskip("robkin.compiled.sdf_scan")
+sdf_scan = pytest.importorskip("robkin.compiled.scanners.sdf_scan")
 
 TEXT = ('<?xml version="1.0"?>\n<sdf version="1.9" xmlns:g="http://g"><world name="w"><model name="m" canonical_link="a">'
         '<pose>1 2 3 0 0 0</pose><plugin name="p"><pose>9 9 9 0 0 0</pose></plugin>'

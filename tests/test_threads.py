@@ -14,7 +14,7 @@ import pytest
 
 import robkin
 from robkin import InputError
-from robkin.compiled import threads as compiled
+from robkin.compiled.runtime import threads as compiled
 from test_urdf import robot_file
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -134,7 +134,7 @@ def test_workers_are_kept_off_the_main_threads_cpu(panda):
 def test_workers_are_left_alone_when_asked_or_bound_by_openmp(env):
     """ROBKIN_PLACE_THREADS=0, or OpenMP's own binding asked for, leaves the workers' CPUs as they are."""
     code = ("import numpy as np, robkin\n"
-            "from robkin.compiled import threads\n"
+            "from robkin.compiled.runtime import threads\n"
             "r = robkin.load('src/robkin/examples/iiwa14.yaml')\n"
             "r.fk(r.random_q(20000), threads=2)\n"
             "print(threads.placement())\n")
@@ -151,7 +151,7 @@ def test_a_forked_child_runs_on_one_thread_and_does_not_hang():
     gets one thread: GNU OpenMP's pool does not survive a fork, and a parallel region there used to wait
     forever for the parent's threads. The same bits; the parent keeps its threads."""
     code = ("import os, numpy as np, robkin\n"
-            "from robkin.compiled import threads\n"
+            "from robkin.compiled.runtime import threads\n"
             "r = robkin.load('src/robkin/examples/iiwa14.yaml')\n"
             "Q = r.random_q(20000, np.random.default_rng(0))\n"
             "a = r.fk(Q, threads=2)\n"
@@ -197,7 +197,7 @@ def test_block_edges_and_manipulability_batches_give_the_same_bits(panda, N):
     uneven stretches of blocks): the same bits as one thread and as the single calls, and a batch's
     manipulability (measured block by block in per-thread scratch) the same bits as the measure taken
     on the whole batch's Jacobians."""
-    from robkin.compiled.jacobian import volumes
+    from robkin.compiled.chain.jacobian import volumes
 
     Q = panda.random_q(N, rng=N)
     J = panda.jacobian(Q, threads=1)

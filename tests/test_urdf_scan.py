@@ -1,4 +1,4 @@
-"""The compiled URDF scan (robkin.compiled.urdf_scan): XML edge cases, the numbers it reads, and random
+"""The compiled URDF scan (robkin.compiled.scanners.urdf_scan): XML edge cases, the numbers it reads, and random
 URDF trees read as an independent reader (yourdfpy, on lxml) reads them."""
 
 from __future__ import annotations
@@ -16,8 +16,8 @@ from hypothesis import strategies as st
 from robkin.errors import InputError
 from robkin.io.urdf import parse_urdf_text, robot_from_urdf
 
-urdf_scan = pytest.importorskip("robkin.compiled.urdf_scan")
-attribute_numbers = pytest.importorskip("robkin.compiled.attribute_numbers")
+urdf_scan = pytest.importorskip("robkin.compiled.scanners.urdf_scan")
+attribute_numbers = pytest.importorskip("robkin.compiled.scanners.attribute_numbers")
 
 CHAIN = ('<robot name="r"><link name="a"/><link name="b"/>'
          '<joint name="j" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0 0 0.5" rpy="0 0 1"/>'

@@ -81,12 +81,12 @@ def check_poses(A: np.ndarray, field_name: Callable[[int], str]) -> np.ndarray:
     """``check_pose`` for a stack (m, 4, 4) of float poses, in one compiled pass for the usual valid case.
 
     Poses that are exact rigid transforms to rounding (finite, last row exactly [0, 0, 0, 1], rotation
-    orthonormal to 1e-12 with det > 0: ``robkin.compiled.rigid``, the test IK targets pass too) are
+    orthonormal to 1e-12 with det > 0: ``robkin.compiled.runtime.rigid``, the test IK targets pass too) are
     taken as they are; a rotation that close is within ~1e-12 of SO(3), far inside EXACT_TOL, and frames
     computed by robkin itself are orthonormal to ~1e-15. Any other pose goes through ``check_pose``
     (named ``field_name(i)``) for its projection, warning or error. Returns a new array.
     """
-    from .compiled.rigid import exact_poses  # ~0.1 ms once; `import robkin` itself loads no compiled code
+    from .compiled.runtime.rigid import exact_poses  # ~0.1 ms once; `import robkin` itself loads no compiled code
 
     out = np.array(A, dtype=float)
     ok = exact_poses(out)

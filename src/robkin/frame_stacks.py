@@ -2,7 +2,7 @@
 
 ``Robot`` uses them for its own frames (``Robot.scale``, the compiled FK's fixed transforms); the batch
 conversions (``representations.placement``) apply them to B robots in one call. Both are compiled
-(``robkin.compiled.rigid.frame_stacks``: a few microseconds per robot, where NumPy's small-array calls
+(``robkin.compiled.runtime.rigid.frame_stacks``: a few microseconds per robot, where NumPy's small-array calls
 cost tens), with NumPy's arithmetic, so the values are those the NumPy expressions below give.
 """
 
@@ -28,7 +28,7 @@ def frame_scales(frames: np.ndarray) -> np.ndarray:
     being any bigger, and tolerances that large would be too loose for it. 1 when everything is at
     the origin.
     """
-    from .compiled.rigid import frame_stacks
+    from .compiled.runtime.rigid import frame_stacks
 
     return frame_stacks(frames, True, False)[0]
 
@@ -36,7 +36,7 @@ def frame_scales(frames: np.ndarray) -> np.ndarray:
 def local_transforms(frames: np.ndarray) -> np.ndarray:
     """Fixed transforms L (..., n+1, 4, 4) of GJD frames (..., n+1, 4, 4), as ``Robot._local`` (the
     compiled FK's input): L_1 = J_1 and L_i = J_{i-1}^-1 J_i (``se3.inv(J_{i-1}) @ J_i``)."""
-    from .compiled.rigid import frame_stacks
+    from .compiled.runtime.rigid import frame_stacks
 
     F = np.asarray(frames, dtype=float)
     return frame_stacks(F.reshape((-1,) + F.shape[-3:]), False, True)[1].reshape(F.shape)

@@ -26,7 +26,7 @@ from .joints import JOINT_TYPES, Joint, JointType, default_joints
 from .frame_stacks import frame_scales, local_transforms
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .compiled.fk import Chain
+    from .compiled.chain.fk import Chain
 
 __all__ = ["Joint", "JointType", "Robot", "JOINT_TYPES", "default_joints", "EXACT_TOL", "PROJECTION_TOL", "check_pose", "check_poses", "check_q",
            "identity_pose"]
@@ -180,15 +180,15 @@ class Robot:
 
     @cached_property
     def _chain(self) -> "Chain":
-        """The compiled chain (``robkin.compiled.fk.Chain``), built on the first kinematics call."""
-        from .compiled.fk import Chain
+        """The compiled chain (``robkin.compiled.chain.fk.Chain``), built on the first kinematics call."""
+        from .compiled.chain.fk import Chain
 
         return Chain(self._local, self.revolute)
 
     def fk(self, q: ArrayLike, *, threads: int | None = None, out: np.ndarray | None = None) -> np.ndarray:
         """Tool pose in the base frame: q (n,) -> (4, 4), or a batch (N, n) -> (N, 4, 4).
 
-        Compiled (``robkin.compiled.fk``); a float64 array is used as it is, anything else is
+        Compiled (``robkin.compiled.chain.fk``); a float64 array is used as it is, anything else is
         validated and converted first. Joint values in radians (revolute) or length units (prismatic).
         ``threads``: at most that many threads for a large batch (default: ``robkin.set_threads``,
         ROBKIN_NUM_THREADS, OMP_NUM_THREADS or the cores; see ``robkin.threads``); the results are the same bits.

@@ -34,27 +34,27 @@ def set_threads(threads: int | None) -> None:
         cores available).
     """
     from .checks import check_threads
-    from .compiled import threads as compiled
+    from .compiled.runtime import threads as compiled
 
     compiled.set_default_threads(compiled._from_environment() if threads is None else check_threads(threads))
 
 
 def get_threads() -> int:
     """The default number of threads of the batch kernels (see ``set_threads``)."""
-    from .compiled import threads as compiled
+    from .compiled.runtime import threads as compiled
 
     return int(compiled.default_threads())
 
 
 def available_cores() -> int:
     """The number of cores this process may run on (its CPU affinity where the system has one)."""
-    from .compiled import threads as compiled
+    from .compiled.runtime import threads as compiled
 
     return int(compiled.available_cores())
 
 
 def parallel_build() -> bool:
     """True when the compiled core was built with OpenMP (else every batch runs on one thread)."""
-    from .compiled import threads as compiled
+    from .compiled.runtime import threads as compiled
 
     return bool(compiled.compiled_with_openmp())

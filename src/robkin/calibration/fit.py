@@ -116,8 +116,8 @@ def fit_rounds(data: FitData, p: np.ndarray, free: np.ndarray, loss: str, auto_w
 
 
 def _fit(data: FitData, p: np.ndarray, free: np.ndarray) -> np.ndarray:
-    """Bounded Levenberg-Marquardt (``robkin.compiled.box_lsq``) over the free parameters, scaled."""
-    from ..compiled.box_lsq import solve
+    """Bounded Levenberg-Marquardt (``robkin.compiled.runtime.box_lsq``) over the free parameters, scaled."""
+    from ..compiled.runtime.box_lsq import solve
 
     sw = np.sqrt(data.weights)[:, None]
     _, J0 = data.residuals(p, jacobian=True)

@@ -4,7 +4,7 @@
    the tool) from the nominal model (``start.initial_frame``: Kabsch registration alternated with the
    linear least-squares marker and base position).
 2. The nominal model with its best base and marker (``fit.fit_rounds`` over those parameters alone, a
-   bounded Levenberg-Marquardt fit, ``robkin.compiled.box_lsq``): the "before" of the report.
+   bounded Levenberg-Marquardt fit, ``robkin.compiled.runtime.box_lsq``): the "before" of the report.
 3. The identifiable parameters (``identifiability.identify``: QR with column pivoting of the scaled
    identification Jacobian) fitted together by ``fit.fit_rounds``: scaled variables, each kinematic
    parameter within a box around its nominal value, iteratively reweighted (Huber weights per pose,

@@ -4,7 +4,7 @@
   links off the chain held at 0) exactly; ``LinkMasses.in_frames`` re-expresses them in a table's link
   frames and ``inertials_from_frames`` goes back.
 - ``rigid_body``: recursive Newton-Euler and the composite-rigid-body mass matrix on the compiled chain
-  (``robkin.compiled.dynamics``), behind ``Robot.inverse_dynamics``, ``Robot.gravity`` and
+  (``robkin.compiled.chain.dynamics``), behind ``Robot.inverse_dynamics``, ``Robot.gravity`` and
   ``Robot.mass_matrix``.
 
 Units: kg, metres, seconds, radians; torques in N m (revolute) or forces in N (prismatic).

@@ -3,7 +3,7 @@
 The chain's bodies are those of ``robkin.bodies``: body i moves with joint i and carries everything
 rigidly attached to it at q = 0 (fixed links, the tool, links off the chain, whose joints are held at
 0). Their mass properties are merged by ``link_masses`` and expressed in the GJD frames J_i, which
-move with the bodies, for ``robkin.compiled.dynamics``. Body 0 (the base) never moves and takes no part.
+move with the bodies, for ``robkin.compiled.chain.dynamics``. Body 0 (the base) never moves and takes no part.
 
 Gravity is given in the world frame (``Robot.world`` maps world -> robot base); the default is
 (0, 0, -9.81) m/s^2, pinocchio's and the Robotics Toolbox's.
@@ -21,7 +21,7 @@ from ..errors import InputError
 from ..mass_properties import link_masses
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..compiled.dynamics import ChainDynamics
+    from ..compiled.chain.dynamics import ChainDynamics
     from ..robot import Robot
 
 __all__ = ["inverse_dynamics", "gravity_torques", "mass_matrix", "STANDARD_GRAVITY"]
@@ -38,7 +38,7 @@ _CACHE = "_dynamics_kernel"
 def _kernel(robot: "Robot") -> "tuple[ChainDynamics, np.ndarray]":
     entry = robot.__dict__.get(_CACHE)
     if entry is None:
-        from ..compiled.dynamics import ChainDynamics
+        from ..compiled.chain.dynamics import ChainDynamics
 
         masses = link_masses(robot)
         if masses is None:

@@ -173,7 +173,7 @@ def _nonlinear_solve(screws: list[np.ndarray], revolute: list[bool], residual: R
     synthesis optimiser's solver; unbounded here) on a forward-difference Jacobian."""
     import itertools
 
-    from ..compiled.box_lsq import solve
+    from ..compiled.runtime.box_lsq import solve
 
     k = len(revolute)
     free = np.full(k, np.inf)

@@ -6,7 +6,7 @@
   vectorised Levenberg-Marquardt solver of ``lm``; every answer checked by forward kinematics.
 - ``scara``, ``analytic6r``: the closed forms (SCARA-type arms; 6R arms with a spherical wrist or
   of the Universal Robots type), found by ``closed_form.closed_form_solver`` from the joint axes and
-  solved by the compiled kernels ``robkin.compiled.closed_form_6r`` / ``closed_form_scara``.
+  solved by the compiled kernels ``robkin.compiled.ik.closed_form_6r`` / ``closed_form_scara``.
 - ``lm``, ``pose_error``, ``limits``: the pieces they are built from.
 
 Submodules are imported on use, so ``import robkin`` stays light.

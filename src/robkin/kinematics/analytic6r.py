@@ -22,7 +22,7 @@ Singular targets (wrist centre on axis 1, wrist axes 4 and 6 aligned) have infin
 solutions: the free joint takes its preferred value (q0) and the others follow.
 
 Detection runs here, once per robot; the solving runs in the compiled kernels of
-``robkin.compiled.closed_form_6r``, one target at a time in C.
+``robkin.compiled.ik.closed_form_6r``, one target at a time in C.
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ def wrist_centre(points: np.ndarray, axes: np.ndarray) -> tuple[np.ndarray, floa
 class _Closed6R(KernelSolver):
     """What both 6R families share: the plane of the parallel axes as complex numbers and the first
     detection steps (six revolute joints, axis angles, the length tolerance). The compiled kernel
-    (``robkin.compiled.closed_form_6r``) is built per robot; ``messages`` explain its outcome codes."""
+    (``robkin.compiled.ik.closed_form_6r``) is built per robot; ``messages`` explain its outcome codes."""
 
     e1: np.ndarray
     e2: np.ndarray
@@ -101,7 +101,7 @@ class SphericalWrist6R(_Closed6R):
     name = "spherical-wrist-6r"
 
     def __init__(self, robot: Robot, w0: np.ndarray) -> None:
-        from ..compiled.closed_form_6r import SphericalWristKernel
+        from ..compiled.ik.closed_form_6r import SphericalWristKernel
 
         z, c = robot.axes, robot.points
         self.w0 = w0
@@ -166,7 +166,7 @@ class ThreeParallel6R(_Closed6R):
     name = "three-parallel-6r"
 
     def __init__(self, robot: Robot, w: np.ndarray) -> None:
-        from ..compiled.closed_form_6r import ThreeParallelKernel
+        from ..compiled.ik.closed_form_6r import ThreeParallelKernel
 
         z, c = robot.axes, robot.points
         u = z[1]

@@ -4,7 +4,7 @@ The solver of last resort among the closed forms (``closed_form.closed_form_solv
 special classes first): Raghavan and Roth's 14 equations, eliminated as Manocha and Canny do to a
 quadratic 12 x 12 matrix polynomial whose eigenvalues are the roots of the degree-16 polynomial (the 8
 spurious roots x = +-i deflated once per arm: ``spurious_complement``), then every root back-substituted
-and polished by Newton steps on the exact forward kinematics (see ``robkin.compiled.closed_form_general6r``
+and polished by Newton steps on the exact forward kinematics (see ``robkin.compiled.ik.closed_form_general6r``
 for the steps).
 
 The elimination is written for a *formulation*: which joint is eliminated first and in which direction
@@ -60,7 +60,7 @@ def spurious_complement(kernel: Any, scale: float) -> np.ndarray | None:
     here at two unrelated poses and must agree). The real and imaginary parts of the four [v; i v] span
     an 8-dimensional invariant subspace; on its complement the eigenvalue problem is 16 x 16, the
     degree of the problem, with (16 / 24)^3 ~ 0.3 of the full one's arithmetic. ``kernel``: a
-    ``compiled.closed_form_general6r.General6RKernel``; ``scale``: the robot's size. None when M(i)'s
+    ``compiled.ik.closed_form_general6r.General6RKernel``; ``scale``: the robot's size. None when M(i)'s
     null space is not exactly four-dimensional or depends on the target (a special formulation): the
     kernel then solves the full 24 x 24 problem.
     """
@@ -98,7 +98,7 @@ class General6R(KernelSolver):
     name = "general-6r"
 
     def __init__(self, robot: Robot, shift: int, reverse: bool, delta: np.ndarray) -> None:
-        from ..compiled.closed_form_general6r import General6RKernel
+        from ..compiled.ik.closed_form_general6r import General6RKernel
 
         self.shift, self.reverse = shift, reverse
         kernel = General6RKernel(robot._chain, robot.limits, default_preference(robot.limits), robot.scale,

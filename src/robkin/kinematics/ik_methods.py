@@ -2,8 +2,8 @@
 solutions, each one compiled pass over the targets (split over threads), and the preferred starts.
 
 Both leave no per-target Python work on a success: the closed form's branch check and choice are
-``compiled.solutions.nearest_verified``; the numeric solve, the turn of each answer into the limits and
-its forward-kinematics check are one compiled loop (``compiled.lm.solve``). What stays in Python is per
+``compiled.ik.solutions.nearest_verified``; the numeric solve, the turn of each answer into the limits and
+its forward-kinematics check are one compiled loop (``compiled.ik.lm.solve``). What stays in Python is per
 batch (the arrays' checks, the result's assembly) or per failure (its message).
 """
 
@@ -16,8 +16,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..compiled.lm import pose_errors
-from ..compiled.solutions import distinct_sorted, nearest_verified
+from ..compiled.ik.lm import pose_errors
+from ..compiled.ik.solutions import distinct_sorted, nearest_verified
 from ..errors import InputError
 from ..robot import Robot, check_q
 from .closed_form import closed_form_solver
@@ -104,7 +104,7 @@ def closed_form_batch(robot: Robot, solver: ClosedFormSolver, targets: np.ndarra
 
     The branches (``solver.solve``), their forward-kinematics check, the choice of the nearest and (for
     all_solutions) the distinct verified branches per target are compiled passes split over
-    ``settings.threads`` (``compiled.solutions.nearest_verified``); the answers do not depend on it.
+    ``settings.threads`` (``compiled.ik.solutions.nearest_verified``); the answers do not depend on it.
     """
     N = len(q_ref)
     branches = solver.solve(targets, q_ref, settings.threads)

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..checks import check_out, check_threads
-from ..compiled.jacobian import jacobian, manipulability as _manipulability
+from ..compiled.chain.jacobian import jacobian, manipulability as _manipulability
 from ..errors import InputError
 from ..robot import Robot, check_q
 
@@ -24,7 +24,7 @@ __all__ = ["jacobian_space", "jacobian_body", "jacobian_geometric", "manipulabil
 
 
 def _compiled(robot: Robot, q: ArrayLike, kind: int, threads: int | None, out: np.ndarray | None) -> np.ndarray:
-    """The compiled Jacobian (``robkin.compiled.jacobian``) of the given kind at q (n,) or (N, n), on
+    """The compiled Jacobian (``robkin.compiled.chain.jacobian``) of the given kind at q (n,) or (N, n), on
     at most ``threads`` threads (None: automatic, see ``robkin.threads``), into ``out`` if given."""
     t = 0 if threads is None else check_threads(threads)
     J = jacobian(robot._chain, q, kind, t, out)

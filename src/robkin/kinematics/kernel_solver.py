@@ -56,7 +56,7 @@ class ClosedFormSolver(Protocol):
     def nearest(self, target: Any, q_ref: np.ndarray | None, tol_position: Any, tol_orientation: Any,
                 every: bool, same_tol: float, result_type: type, method: str,
                 embed: tuple[np.ndarray, np.ndarray] | None = None) -> Any:
-        """One target: the finished result, or None (see ``compiled.closed_form_kernel``); with
+        """One target: the finished result, or None (see ``compiled.ik.closed_form_kernel``); with
         ``embed`` (template, where) its configurations as rows of a longer arm (``embedded``)."""
 
 
@@ -71,7 +71,7 @@ def embedded(q: np.ndarray, embed: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
 
 
 class KernelSolver:
-    """What every closed-form solver shares: a compiled kernel (a ``compiled.closed_form_kernel
+    """What every closed-form solver shares: a compiled kernel (a ``compiled.ik.closed_form_kernel
     .ClosedFormKernel`` built per robot by the subclass, which then calls ``_use``) and the messages for
     its outcome codes.
 

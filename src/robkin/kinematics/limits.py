@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..compiled.limits import wrap
+from ..compiled.ik.limits import wrap
 
 __all__ = ["wrap_into_limits", "within_limits", "default_preference", "LIMIT_TOL"]
 

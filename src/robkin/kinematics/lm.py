@@ -1,4 +1,4 @@
-"""Levenberg-Marquardt inverse kinematics: the Python side of the compiled solver (``compiled.lm``).
+"""Levenberg-Marquardt inverse kinematics: the Python side of the compiled solver (``compiled.ik.lm``).
 
 Each target is solved by one compiled loop (residual, Jacobian, damped step, limits, restarts) with no
 Python per iteration; a batch loops over its targets in C. This module holds the tuning
@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..compiled.lm import solve
+from ..compiled.ik.lm import solve
 from ..robot import Robot
 
 __all__ = ["LMSettings", "LMOutcome", "solve_lm"]

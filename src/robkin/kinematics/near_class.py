@@ -6,7 +6,7 @@ it. ``NearClass.detect`` snaps such an arm onto its *ideal* arm - nearly paralle
 nearly meeting axes made to meet, each joint frame moved as little as possible, the tool frame kept -
 and takes that arm's closed form when the snap moved nothing by more than ``NEAR_TOL`` (relative to
 the robot's size for lengths, radians for angles). Every branch of the ideal arm is then polished by
-Newton steps on the real arm's exact forward kinematics (``compiled.polish_branches.polish``)
+Newton steps on the real arm's exact forward kinematics (``compiled.ik.polish_branches.polish``)
 and verified on the real arm like every closed-form answer.
 
 The solutions are the class's branches carried over to the real arm (up to 8). A perturbed arm is a
@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from ..compiled.solutions import nearest_verified
+from ..compiled.ik.solutions import nearest_verified
 from ..lines import closest_points
 from ..robot import Robot
 from .kernel_solver import Branches, KernelSolver, embedded
@@ -112,7 +112,7 @@ class NearClass(KernelSolver):
     def solve(self, targets: np.ndarray, q_ref: np.ndarray, threads: int = 0) -> Branches:
         """The ideal arm's branches (N, 8, 6), polished on the real arm (invalid where they do not
         converge; limits and the FK check are the caller's, on the real arm)."""
-        from ..compiled.polish_branches import polish
+        from ..compiled.ik.polish_branches import polish
 
         b = self.ideal.solve(targets, q_ref, threads)
         Q = np.ascontiguousarray(b.q)

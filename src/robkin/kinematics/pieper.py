@@ -3,7 +3,7 @@
 ``Pieper6R``: axes 4, 5, 6 meet (a spherical wrist) and joints 1-3 are anything - the case the general
 elimination (``general6r``) degenerates on, and the shape of a 7-joint SRS arm (KUKA iiwa, Kinova Gen3)
 with one joint locked. Up to 16 solutions (4 positions of the wrist centre x 2 wrists, the position
-problem a degree-4 resultant); the steps are in ``robkin.compiled.closed_form_pieper``. An arm whose
+problem a degree-4 resultant); the steps are in ``robkin.compiled.ik.closed_form_pieper``. An arm whose
 *first* three axes meet is solved as its reversed chain (base and tool swapped, joints in reverse
 order: ``ReversedChain``), whose last three axes meet.
 
@@ -58,10 +58,10 @@ def reversed_robot(robot: Robot) -> Robot:
 class ReversedChain(KernelSolver):
     """A solver of the reversed chain (``reversed_robot``) answering for the robot itself: targets
     inverted, preferences and branches reversed, inside the compiled kernel
-    (``compiled.closed_form_reversed``), which checks every branch on the robot's own chain."""
+    (``compiled.ik.closed_form_reversed``), which checks every branch on the robot's own chain."""
 
     def __init__(self, robot: Robot, inner: KernelSolver) -> None:
-        from ..compiled.closed_form_reversed import ReversedKernel
+        from ..compiled.ik.closed_form_reversed import ReversedKernel
 
         self.robot, self.inner = robot, inner
         self.name = inner.name + "-reversed"
@@ -76,7 +76,7 @@ class Pieper6R(KernelSolver):
     name = "pieper-6r"
 
     def __init__(self, robot: Robot, w0: np.ndarray) -> None:
-        from ..compiled.closed_form_pieper import PieperKernel
+        from ..compiled.ik.closed_form_pieper import PieperKernel
 
         z = robot.axes
         rng = np.random.default_rng(7)

@@ -2,7 +2,7 @@
 
 The residual of a current pose T towards a target T_d is the 6-vector (e_p, e_o) in the robot base
 frame: e_p = p_d - p (length units) and e_o = log(R_d R^T) (a rotation vector, radians), computed by
-the compiled core (``compiled.lm``: the solver and ``pose_errors``). A *mask*
+the compiled core (``compiled.ik.lm``: the solver and ``pose_errors``). A *mask*
 selects which of the six components (x, y, z, rx, ry, rz) count, as in the estimation paper's
 position-only structures: 'pose' is all six, 'position' the first three.
 """
@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..compiled.rigid import exact_poses
+from ..compiled.runtime.rigid import exact_poses
 from ..errors import InputError
 from ..robot import check_pose
 

@@ -23,7 +23,7 @@ solver's ``q0``, zero by default) within the joint limits. With no limits and q_
 equal split; to pin one joint, give it as q0 and a narrow limit.
 
 Detection runs here, once per robot; the solving runs in the compiled kernel of
-``robkin.compiled.closed_form_scara``, one target at a time in C.
+``robkin.compiled.ik.closed_form_scara``, one target at a time in C.
 """
 
 from __future__ import annotations
@@ -46,9 +46,9 @@ def split_travel(h: np.ndarray, s: np.ndarray, ref: np.ndarray, lo: np.ndarray, 
     """The q (N, m) nearest to ref (N, m) with s . q = h (N,) and lo <= q <= hi (m,); s is (m,) or (N, m).
 
     The policy that splits a SCARA's travel along u among its prismatic joints (compiled; see
-    ``robkin.compiled.closed_form_scara``).
+    ``robkin.compiled.ik.closed_form_scara``).
     """
-    from ..compiled.closed_form_scara import split_travel as kernel
+    from ..compiled.ik.closed_form_scara import split_travel as kernel
 
     return kernel(h, s, ref, lo, hi)
 
@@ -59,7 +59,7 @@ class ScaraSolver(KernelSolver):
     name = "scara"
 
     def __init__(self, robot: Robot, u: np.ndarray) -> None:
-        from ..compiled.closed_form_scara import ScaraKernel
+        from ..compiled.ik.closed_form_scara import ScaraKernel
 
         self.u = u
         z, c = robot.axes, robot.points
@@ -84,7 +84,7 @@ class ScaraSolver(KernelSolver):
                               M[:3, 3], point_in_tool, self.a, self.b, C[0], robot.scale, ridx, pidx, sigma, s,
                               robot.limits, robot.revolute, LIMIT_TOL))
         la, lb = abs(self.a), abs(self.b)
-        #: per kernel outcome code (see ``robkin.compiled.closed_form_scara``), the message for a failure
+        #: per kernel outcome code (see ``robkin.compiled.ik.closed_form_scara``), the message for a failure
         self.messages: tuple[str | Callable[[float], str], ...] = (
             "",
             lambda tilt: (f"the target orientation is tilted {tilt:.3g} rad away from a rotation about the "

@@ -10,11 +10,11 @@ Kinova Gen3) and a tool pose T, every configuration with arm angle psi comes fro
    pairs of vectors, then split into three turns about axes 1, 2, 3 (two ways: the shoulder branches);
 3. the wrist's rotation R4^T R_T R_home^T split into turns about axes 5, 6, 7 (two ways: the wrist branches).
 
-The steps run compiled (``compiled.closed_form_srs.SRSKernel``, built once per robot); this module checks
+The steps run compiled (``compiled.ik.closed_form_srs.SRSKernel``, built once per robot); this module checks
 inputs, keeps the branch and explains failures.
 
 Up to 8 configurations per target and arm angle; each is wrapped into the joint limits and verified by
-forward kinematics (``compiled.solutions.nearest_verified``), sorted by distance to q0. With an explicit
+forward kinematics (``compiled.ik.solutions.nearest_verified``), sorted by distance to q0. With an explicit
 q0, ``q`` is the nearest solution on q0's branch (shoulder, elbow, wrist: ``srs_geometry.branch_of``), so a
 path of targets solved from the previous answer never changes branch silently; where that branch has
 no solution the target fails with a message saying so (``solutions`` still lists the others).
@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from ..compiled.solutions import nearest_verified
+from ..compiled.ik.solutions import nearest_verified
 from ..errors import InputError
 from ..robot import Robot
 from .limits import LIMIT_TOL
@@ -50,10 +50,10 @@ _KERNELS: dict[int, tuple[Any, Any]] = {}
 
 
 def srs_kernel(robot: Robot) -> Any:
-    """The compiled kernel (``compiled.closed_form_srs.SRSKernel``) of an SRS arm, built once per robot."""
+    """The compiled kernel (``compiled.ik.closed_form_srs.SRSKernel``) of an SRS arm, built once per robot."""
     import weakref
 
-    from ..compiled.closed_form_srs import SRSKernel
+    from ..compiled.ik.closed_form_srs import SRSKernel
     from .limits import default_preference
 
     hit = _KERNELS.get(id(robot))

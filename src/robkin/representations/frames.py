@@ -30,7 +30,7 @@ __all__ = ["common_normal_frame", "frame_from_zx", "satisfies_normal", "dh_param
            "mdh_params_between", "approx_dh_params", "is_identity", "identity_mask", "x_line_on",
            "relative_pose"]
 
-#: The compiled kernel (compiled/frames.pyx) reads the tolerances below and those of ``robkin.lines``
+#: The compiled kernel (compiled/conversions/frames.pyx) reads the tolerances below and those of ``robkin.lines``
 #: when it is imported.
 #: A given frame is kept only if it satisfies the convention to rounding noise: the DH parameters read
 #: back from it then reproduce it to ~1e-12 relative, well inside the 1e-9 FK agreement we promise.
@@ -55,7 +55,7 @@ def frame_from_zx(origin: np.ndarray, z: np.ndarray, x: np.ndarray) -> np.ndarra
     """Pose (4, 4) with the given origin (3,), unit z (3,), and x (3,) made exactly orthogonal to z
     and unit (Gram-Schmidt twice: a given x nearly along z, e.g. a common-normal direction that is
     rounding noise, leaves x . z ~ 1e-10 after one pass; "twice is enough", Parlett)."""
-    from ..compiled.frames import frame_from_zx as compiled
+    from ..compiled.conversions.frames import frame_from_zx as compiled
 
     return compiled(origin, z, x)
 
@@ -64,7 +64,7 @@ def satisfies_normal(frame: np.ndarray, p_other: np.ndarray, u_other: np.ndarray
                      tol: float = KEEP_TOL) -> bool:
     """Does the frame's (4, 4) x axis cross the other line (point, unit direction) at a right angle
     (the DH requirement), to ``tol`` (cosine) and ``tol * scale`` (distance)?"""
-    from ..compiled.frames import satisfies_normal as compiled
+    from ..compiled.conversions.frames import satisfies_normal as compiled
 
     return compiled(frame, p_other, u_other, scale, tol)
 
@@ -74,7 +74,7 @@ def common_normal_frame(p_a: np.ndarray, u_a: np.ndarray, p_b: np.ndarray, u_b: 
                         keep: np.ndarray | None = None) -> np.ndarray:
     """Frame on line A or B (``on`` = 'a' | 'b') whose x axis is the common normal from A to B.
 
-    The rules (module docstring) run compiled (``robkin.compiled.frames``), the one implementation
+    The rules (module docstring) run compiled (``robkin.compiled.conversions.frames``), the one implementation
     that the whole-chain placements of ``dh_from_robot(s)`` and ``mdh_from_robot(s)`` use as well.
     The axes are classified with the tolerances of ``robkin.lines``; x signs use TIE_TOL.
 
@@ -93,7 +93,7 @@ def common_normal_frame(p_a: np.ndarray, u_a: np.ndarray, p_b: np.ndarray, u_b: 
     """
     if on not in ("a", "b"):
         raise ValueError(f"on must be 'a' or 'b', not {on!r}")
-    from ..compiled.frames import common_normal_frame as compiled
+    from ..compiled.conversions.frames import common_normal_frame as compiled
 
     return compiled(p_a, u_a, p_b, u_b, on == "b", prev, scale, keep)
 
@@ -101,7 +101,7 @@ def common_normal_frame(p_a: np.ndarray, u_a: np.ndarray, p_b: np.ndarray, u_b: 
 def x_line_on(prev: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:
     """Where the x axis of ``prev`` (4, 4) meets the line (p, u); the foot of prev's origin if they
     miss (x within ANGLE_TOL of parallel to the line). Returns (3,)."""
-    from ..compiled.frames import x_line_on as compiled
+    from ..compiled.conversions.frames import x_line_on as compiled
 
     return compiled(prev, p, u)
 
@@ -128,14 +128,14 @@ def relative_pose(prev: np.ndarray, frame: np.ndarray) -> np.ndarray:
 def dh_params_between(prev: np.ndarray, frame: np.ndarray) -> tuple[float, float, float, float]:
     """(a, d, alpha, theta) with prev^-1 frame = Rz(theta) Tz(d) Tx(a) Rx(alpha) (exact if it is DH);
     angles in (-pi, pi] as ``tidy_angle`` writes them."""
-    from ..compiled.frames import dh_params_between as compiled
+    from ..compiled.conversions.frames import dh_params_between as compiled
 
     return compiled(prev, frame)
 
 
 def mdh_params_between(prev: np.ndarray, frame: np.ndarray) -> tuple[float, float, float, float]:
     """(a, d, alpha, theta) with prev^-1 frame = Rx(alpha) Tx(a) Rz(theta) Tz(d) (exact if it is MDH)."""
-    from ..compiled.frames import mdh_params_between as compiled
+    from ..compiled.conversions.frames import mdh_params_between as compiled
 
     return compiled(prev, frame)
 
@@ -155,6 +155,6 @@ def approx_dh_params(prev: np.ndarray, target: np.ndarray) -> tuple[float, float
     noise of o1 - o0 is eps times the coordinates), so rounding noise of a round trip through the GJD
     cannot flip a sign and a written table reads back as the same table.
     """
-    from ..compiled.frames import approx_dh_params as compiled
+    from ..compiled.conversions.frames import approx_dh_params as compiled
 
     return compiled(prev, target)

@@ -203,7 +203,7 @@ def _hayati_tables(robots: list[Robot], label: bool, stacklevel: int, threads: i
     """``hayati_from_robots``: robots grouped by joint count, every stage after the frame placement
     on whole arrays (as ``placement.tables_from_robots`` does for DH tables)."""
     from ..checks import check_poses, check_threads
-    from ..compiled.frames import robots_fk
+    from ..compiled.conversions.frames import robots_fk
     from ..errors import InputError
     from ..frame_stacks import local_transforms
     from .link_table import pose_difference, report_fk_error, sample_configurations

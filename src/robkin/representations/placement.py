@@ -7,7 +7,7 @@ Robots are grouped by joint count; each group goes through every stage as whole 
    ``frames.common_normal_frame`` along the whole chain), values within rounding of 0 or a multiple
    of pi/2 written exactly (``rounding.snap_many``, for robots whose frames are not already those of
    a table of the same kind) and the residual tool: compiled, one robot after another in C
-   (``robkin.compiled.frames.convert_tables``, on several threads for a large batch);
+   (``robkin.compiled.conversions.frames.convert_tables``, on several threads for a large batch);
 3. validation of every base and tool pose (``robot.check_poses``);
 4. the mass properties of robots that have them (``Robot.bodies.inertials``), merged per link and
    expressed in the table's own link frames (``mass_rows.masses_of_robot``);
@@ -57,7 +57,7 @@ def place_frames(section: str, robots: Sequence[Robot]) -> tuple[np.ndarray, np.
 
 def _place(section: str, robots: Sequence[Robot], frames: np.ndarray, flip: np.ndarray,
            scale: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    from ..compiled.frames import placement
+    from ..compiled.conversions.frames import placement
 
     cand = joint_frames(frames, flip)
     keep = np.array([r.frames_from == section for r in robots])
@@ -106,7 +106,7 @@ def tables_from_robots(cls: type[Table], robots: Sequence[Robot], *, label: bool
 def _convert_group(cls: type[Table], robots: list[Robot], idx: list[int], label: bool,
                    stacklevel: int, threads: int) -> list[Table]:
     """``tables_from_robots`` for robots that all have the same joint count."""
-    from ..compiled.frames import check_tables, convert_tables
+    from ..compiled.conversions.frames import check_tables, convert_tables
     from ..samples import unit_sample
 
     section = cls.SECTION

@@ -1,5 +1,5 @@
 """Dimensional synthesis: DH parameters of n revolute joints that reach every pose of a task, at the
-least cost, found by a local optimiser (a bounded Levenberg-Marquardt, ``compiled.box_lsq``) from a
+least cost, found by a local optimiser (a bounded Levenberg-Marquardt, ``compiled.runtime.box_lsq``) from a
 chosen start.
 
 The estimation paper proposed its four estimates as starting points for exactly this kind of local
@@ -157,7 +157,7 @@ def synthesize(task: Task, n: int, start: str | np.ndarray = "D", cost: str = "l
                rng: np.random.Generator | int | None = None, max_iter: int = 1000) -> SynthesisResult:
     """Optimise the DH parameters of n revolute joints for ``task`` from one start.
 
-    Three bounded least-squares phases (``compiled.box_lsq``: Levenberg-Marquardt, analytic Jacobians):
+    Three bounded least-squares phases (``compiled.runtime.box_lsq``: Levenberg-Marquardt, analytic Jacobians):
 
     1. reach: the reach residual alone, from the start (skipped when the start already reaches);
     2. optimise: the cost residuals plus the reach residuals weighted by REACH_WEIGHT (penalty form);
@@ -181,7 +181,7 @@ def synthesize(task: Task, n: int, start: str | np.ndarray = "D", cost: str = "l
     -------
     SynthesisResult
     """
-    from ..compiled.box_lsq import MESSAGES, solve
+    from ..compiled.runtime.box_lsq import MESSAGES, solve
 
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < MIN_JOINTS:
         raise InputError(f"joints: need an integer number of joints >= {MIN_JOINTS}, got {n!r}")

@@ -104,8 +104,8 @@ class Model:
     def chain(self, z: np.ndarray):
         """Frames for every pose of a design z (3n + K n), or of designs z (B, 3n + K n): origins o
         ([B,] K, n+1, 3) and z axes ([B,] K, n+1, 3) of frames {0}..{n}, x axes xs ([B,] K, n, 3) of
-        each row's x_i, and the tool rotation ([B,] K, 3, 3). Compiled (``compiled.dh_chain``)."""
-        from ..compiled.dh_chain import dh_frames
+        each row's x_i, and the tool rotation ([B,] K, 3, 3). Compiled (``compiled.chain.dh_chain``)."""
+        from ..compiled.chain.dh_chain import dh_frames
 
         a, d, alpha, Q = self.split(np.atleast_2d(z))
         frames = dh_frames(a, d, alpha, Q)
@@ -190,7 +190,7 @@ def dexterity(model: Model, z: np.ndarray) -> np.ndarray:
     pose tasks, the three linear ones for position tasks. It is 0 when the product of the singular values
     is 1 and grows without bound towards a singular arm (floored at MANIP_FLOOR).
     """
-    from ..compiled.dh_chain import dh_volumes
+    from ..compiled.chain.dh_chain import dh_volumes
 
     n = model.n
     Z = np.atleast_2d(z)

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Mapping
 
-from ...compiled.attribute_numbers import numbers
+from ...compiled.scanners.attribute_numbers import numbers
 
 if TYPE_CHECKING:  # pragma: no cover
     from ...body_parts import Mimic

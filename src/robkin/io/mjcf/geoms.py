@@ -40,7 +40,7 @@ from typing import Any, Callable, Mapping
 import numpy as np
 
 from ...bodies import Geometry, Inertial, Material, Shape
-from ...compiled import pose_rows
+from ...compiled.conversions import pose_rows
 from ...errors import InputError, quote
 from .poses import Pose, geom_placement
 from .source import MjcfSource

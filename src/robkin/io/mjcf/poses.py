@@ -4,7 +4,7 @@ Orientation forms: ``quat`` (w x y z, any length but zero), ``axisangle``, ``xya
 ``euler`` (``<compiler eulerseq>`` and ``angle``), and a site's or geom's ``fromto`` (centre of the
 segment, z from 'to' towards 'from'). One at most may be given.
 
-Poses are twelve plain floats (``robkin.compiled.pose_rows``): a reader walks thousands of bodies,
+Poses are twelve plain floats (``robkin.compiled.conversions.pose_rows``): a reader walks thousands of bodies,
 and a (4, 4) array per body and per product cost more than the rest of the walk together.
 """
 
@@ -15,12 +15,12 @@ from typing import TYPE_CHECKING, Mapping
 
 import numpy as np
 
-from ...compiled import pose_rows
-from ...compiled.attribute_numbers import numbers
+from ...compiled.conversions import pose_rows
+from ...compiled.scanners.attribute_numbers import numbers
 from ...errors import InputError
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ...compiled.pose_rows import Pose  # twelve floats: the top three rows of a (4, 4) pose
+    from ...compiled.conversions.pose_rows import Pose  # twelve floats: the top three rows of a (4, 4) pose
     from .source import MjcfSource
 else:
     Pose = tuple

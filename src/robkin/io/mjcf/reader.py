@@ -30,8 +30,8 @@ import math
 import os
 from typing import Any, Callable, Mapping
 
-from ...compiled import pose_rows
-from ...compiled.attribute_numbers import numbers
+from ...compiled.conversions import pose_rows
+from ...compiled.scanners.attribute_numbers import numbers
 from ...errors import InputError, quote
 from ...robot import Robot
 from ..trees.chain_path import refuse_on_chain

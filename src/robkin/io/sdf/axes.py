@@ -11,12 +11,12 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any
 
-from ...compiled.attribute_numbers import numbers
+from ...compiled.scanners.attribute_numbers import numbers
 from ...errors import InputError
 from ..trees.model import NO_LIMIT
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ...compiled.pose_rows import Pose
+    from ...compiled.conversions.pose_rows import Pose
     from .frame_graph import FrameGraph
 
 __all__ = ["joint_axis", "axis_dynamics"]

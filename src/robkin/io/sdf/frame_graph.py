@@ -10,12 +10,12 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any
 
-from ...compiled import pose_rows
-from ...compiled.attribute_numbers import numbers
+from ...compiled.conversions import pose_rows
+from ...compiled.scanners.attribute_numbers import numbers
 from ...errors import InputError, quote
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ...compiled.pose_rows import Pose  # twelve floats: the top three rows of a (4, 4) pose
+    from ...compiled.conversions.pose_rows import Pose  # twelve floats: the top three rows of a (4, 4) pose
 else:
     Pose = tuple
 

@@ -27,7 +27,7 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ...compiled import pose_rows
+from ...compiled.conversions import pose_rows
 from ...errors import InputError, quote
 from ...robot import Robot
 from ..trees.chain_path import refuse_on_chain
@@ -38,7 +38,7 @@ from ..urdf.chain import robot_from_model
 from ..trees.model import UrdfJoint, UrdfModel
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ...compiled.pose_rows import Pose  # twelve floats: the top three rows of a (4, 4) pose
+    from ...compiled.conversions.pose_rows import Pose  # twelve floats: the top three rows of a (4, 4) pose
 else:
     Pose = tuple
 
@@ -54,7 +54,7 @@ CHAIN_JOINTS = "revolute, continuous, prismatic and fixed"
 
 def model_from_sdf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str, str]]:
     """The kinematic tree of an SDF file (path) or SDF text, and the joints robkin cannot model."""
-    from ...compiled.sdf_scan import kinematic_tree
+    from ...compiled.scanners.sdf_scan import kinematic_tree
     from .shapes import sdf_content
     from .trees import check_tree
     from ..trees.xml_parse import _refuse_dtd

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ...bodies import Geometry, Inertial, Material, Shape
-from ...compiled import pose_rows
+from ...compiled.conversions import pose_rows
 from ...errors import InputError
 from ..trees.model import LinkContent, attribute_floats as _floats
 from ..urdf.content import ContentOnce

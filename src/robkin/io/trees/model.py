@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from ...compiled import pose_rows
+from ...compiled.conversions import pose_rows
 from .tree_joint import UrdfJoint
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -96,7 +96,7 @@ class UrdfModel:
 
 def attribute_floats(text: str | None, count: int, where: str, default: Iterable[float]) -> np.ndarray:
     """``numbers`` as an array (the form the MJCF and SDF readers use)."""
-    from ...compiled.attribute_numbers import numbers  # compiled: loaded by a reader, not by an import
+    from ...compiled.scanners.attribute_numbers import numbers  # compiled: loaded by a reader, not by an import
 
     return np.array(numbers(text, count, where, None, tuple(default)), dtype=float)
 

@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ...compiled import pose_rows
+from ...compiled.conversions import pose_rows
 
 if TYPE_CHECKING:
     from ...body_parts import Mimic

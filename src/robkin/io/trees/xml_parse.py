@@ -1,7 +1,7 @@
 """XML for the URDF reader (and the MJCF and SDF readers, which share ``_parse_xml``).
 
 Parsing with DTDs refused (so no entities of any kind), lxml for big files, and the top-level elements
-robkin keeps as text. The kinematic tree of a URDF is read without a tree (``compiled.urdf_scan``); these
+robkin keeps as text. The kinematic tree of a URDF is read without a tree (``compiled.scanners.urdf_scan``); these
 trees are built only for the link contents and the extras, when first asked for.
 """
 

@@ -1,7 +1,7 @@
 """URDF in and out: a serial chain of a URDF file as a Robot, and a Robot as a URDF.
 
 - ``parser``: the file parsed into a ``UrdfModel`` (``io.trees.model``: the tree of links and joints, read
-  by one compiled pass of expat, ``compiled.urdf_scan``, that builds no XML tree; the contents of links,
+  by one compiled pass of expat, ``compiled.scanners.urdf_scan``, that builds no XML tree; the contents of links,
   visuals, collisions and inertials, parsed from the text only when asked for, by ``content`` on
   ``io.trees.xml_parse``'s tree; a joint is an ``io.trees.tree_joint.UrdfJoint`` whose numbers stay plain
   floats, composed as ``pose_rows``);

@@ -19,7 +19,7 @@ import numpy as np
 from ...bodies import Bodies, LazyTuple
 from ...errors import InputError, ProjectionWarning
 from ...robot import Joint, Robot
-from ...compiled import pose_rows
+from ...compiled.conversions import pose_rows
 if TYPE_CHECKING:
     from ...body_parts import Inertial, Link, LinkJoint, Shape
 from ..trees.model import UNSUPPORTED_TYPES, UrdfJoint, UrdfModel

@@ -16,8 +16,8 @@ import numpy as np
 if TYPE_CHECKING:
     from ...body_parts import Geometry, Inertial, Material, Shape
 from ...errors import InputError
-from ...compiled.attribute_numbers import number as _number
-from ...compiled.attribute_numbers import numbers
+from ...compiled.scanners.attribute_numbers import number as _number
+from ...compiled.scanners.attribute_numbers import numbers
 from ..trees.model import LinkContent, origin_matrix
 
 __all__ = ["LazyLinkContent", "ContentOnce", "GEOMETRY_TAGS"]

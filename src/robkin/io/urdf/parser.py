@@ -1,5 +1,5 @@
 """Parsing a URDF file into its tree (``trees.model.UrdfModel``): one compiled pass of expat
-(``compiled.urdf_scan``) reads links and joints without building an XML tree; the contents of links
+(``compiled.scanners.urdf_scan``) reads links and joints without building an XML tree; the contents of links
 (visuals, collisions, inertials) are parsed from the text only when asked for (``content``). A .xacro
 file is expanded only on request (``allow_xacro=True``).
 """
@@ -81,7 +81,7 @@ def parse_urdf(source: str | os.PathLike[str], *, allow_xacro: bool = False) -> 
 
 def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
     """``parse_urdf`` of URDF text; ``src`` names it in messages."""
-    from ...compiled.urdf_scan import scan_urdf  # compiled: loaded by a read, not by an import
+    from ...compiled.scanners.urdf_scan import scan_urdf  # compiled: loaded by a read, not by an import
     from .content import LazyLinkContent
 
     _refuse_dtd(text, src)
