@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Iterator, Mapping, Sequence
 
 __all__ = ["Column", "Representation", "register", "unregister", "representations", "names", "sections",
-           "by_name", "by_section", "of_table", "LAYOUTS", "FILE_FORMATS", "LiveNames"]
+           "overlays", "by_name", "by_section", "of_table", "LAYOUTS", "FILE_FORMATS", "LiveNames"]
 
 LAYOUTS = ("link-table", "screws", "rpy", "frames")
 #: Every file format a representation may be written in: table files and robot documents.
@@ -212,6 +212,13 @@ def sections() -> tuple[str, ...]:
     return tuple(r.section for r in sorted(_REGISTRY.values(), key=lambda r: r.document_rank))
 
 
+def overlays() -> tuple[Representation, ...]:
+    """Representations offered as plot/GUI overlays (an ``overlay_label``): the GJD (the robot as
+    given) first, then the others in registration order."""
+    offered = [r for r in _REGISTRY.values() if r.overlay_label is not None]
+    return tuple(sorted(offered, key=lambda r: r.layout != "frames"))
+
+
 def by_name(name: str) -> Representation:
     """The representation of a CLI name; KeyError if none."""
     return _REGISTRY[name]
@@ -294,20 +301,21 @@ _DH = _columns(("a", "a", "$a_i$", "length"), ("d", "d", "$d_i$", "length"),
                ("alpha", "alpha", r"$\alpha_i$", "angle"), ("theta", "theta", r"$\theta_i$", "angle"))
 _SCREWS = _columns(*((c, c, fr"$\omega_{c[1]}$", "unit") for c in ("wx", "wy", "wz")),
                    *((c, c, f"$v_{c[1]}$", "length") for c in ("vx", "vy", "vz")))
-_LINK = {"layout": "link-table", "frame_based": True}
 _MODULE = "robkin.representations."
 
 #: Today's representations, in today's CLI order; ``document_rank`` gives the document order
 #: (gjd, dh, mdh, hayati, rpy_xyz, poe, poe_body).
 BUILTIN = (
     Representation(
-        "dh", "dh", "standard Denavit-Hartenberg table (+ base and residual tool)", "standard DH", **_LINK,
+        "dh", "dh", "standard Denavit-Hartenberg table (+ base and residual tool)", "standard DH", "link-table",
+        frame_based=True,
         module=_MODULE + "dh", from_robot="dh_from_robot", to_robot="robot_from_dh", table_class="DHTable",
         columns=_DH, paper_layout=True, tool_label="tool (residual T_t)",
         help="standard DH table (+ base, + residual tool)", overlay_label="DH",
         gui_title="Standard DH  A = Rz(θ) Tz(d) Tx(a) Rx(α)", document_rank=1),
     Representation(
-        "mdh", "mdh", "modified (Craig) Denavit-Hartenberg table (+ base and tool)", "modified (Craig) DH", **_LINK,
+        "mdh", "mdh", "modified (Craig) Denavit-Hartenberg table (+ base and tool)", "modified (Craig) DH",
+        "link-table", frame_based=True,
         module=_MODULE + "mdh", from_robot="mdh_from_robot", to_robot="robot_from_mdh", table_class="MDHTable",
         columns=_columns(("a", "a(i-1)", "$a_{i-1}$", "length"), ("d", "d", "$d_i$", "length"),
                          ("alpha", "alpha(i-1)", r"$\alpha_{i-1}$", "angle"),
@@ -317,7 +325,7 @@ BUILTIN = (
         gui_title="Modified DH  A = Rx(α) Tx(a) Rz(θ) Tz(d)", document_rank=2),
     Representation(
         "hayati", "hayati", "Hayati's parameters: DH with beta about y between nearly parallel axes (+ base and "
-        "tool)", "Hayati", **_LINK,
+        "tool)", "Hayati", "link-table", frame_based=True,
         module=_MODULE + "hayati", from_robot="hayati_from_robot", to_robot="robot_from_hayati",
         table_class="HayatiTable", columns=_DH + _columns(("beta", "beta", r"$\beta_i$", "angle")),
         help="Hayati's parameters: DH with a tilt beta about y instead of d between nearly parallel\n"

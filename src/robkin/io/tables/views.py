@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
-from ...representations.registry import Representation, of_table
+from ...representations.registry import Column, Representation, of_table
 from .text import Block, blocks_text, fmt_num, matrix_text
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -85,14 +85,14 @@ def _joint_cols(joints: Sequence["Joint"]) -> list[list[object]]:
     return [[str(i + 1), j.name, j.type + (" (flip)" if j.flip else "")] for i, j in enumerate(joints)]
 
 
-def _columns(rep: Representation | None, table: Any) -> list:
+def _columns(rep: Representation | None, table: Any) -> list[Column]:
     """The table's columns: its representation's, or (a bare LinkTable) its class's, as DH's."""
     if rep is not None:
         return list(rep.columns)
     from ...representations.registry import by_name
 
     mdh = by_name("mdh").columns  # the old layout of a bare LinkTable: modified DH's headers
-    return [*mdh, *(type(mdh[0])(c, c, c, "angle") for c in table.COLUMNS[len(mdh):])]
+    return [*mdh, *(Column(c, c, c, "angle") for c in table.COLUMNS[len(mdh):])]
 
 
 def table_blocks(table: Any, title: str | None = None,
