@@ -169,7 +169,7 @@ def test_ik_result_and_comparison_are_readable():
 
 
 def test_a_large_ik_batch_prints_a_screenful():
-    from robkin.io.tables.views import MAX_ROWS
+    from robkin.kinematics.ik_text import MAX_ROWS
 
     robot = robkin.load(RRPR)
     res = robot.ik(robot.fk(robot.random_q(MAX_ROWS + 5, rng=4)))

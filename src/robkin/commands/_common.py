@@ -17,10 +17,6 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["add_input", "add_allow_xacro", "add_from", "add_package_path", "package_paths", "load_input", "seed",
            "parse_q", "parse_pose", "number_option_fix"]
 
-#: = io.table_read.TABLE_INPUTS, not imported: robkin.io imports numpy, and this module loads with every command
-TABLE_INPUTS = ("dh", "mdh", "hayati", "poe", "poe-body", "rpy-xyz", "gjd")
-
-
 def add_input(p: argparse.ArgumentParser, many: bool = False) -> None:
     """INPUT argument(s) plus the URDF chain selectors."""
     p.add_argument("input", nargs="+" if many else None, metavar="INPUT",
@@ -34,10 +30,14 @@ def add_input(p: argparse.ArgumentParser, many: bool = False) -> None:
 
 
 def add_from(p: argparse.ArgumentParser) -> None:
-    """--from: which table a table file (.csv/.tsv/.txt) holds, where the file does not say."""
-    p.add_argument("--from", dest="representation", choices=TABLE_INPUTS, metavar="TABLE",
+    """--from: which table a table file (.csv/.tsv/.txt) holds, where the file does not say (any
+    registered representation with a table form; the registry imports nothing heavy)."""
+    from ..representations.registry import names
+
+    table_inputs = names("csv")
+    p.add_argument("--from", dest="representation", choices=table_inputs, metavar="TABLE",
                    help="for a table file (.csv/.tsv/.txt) that does not say what it holds: "
-                        + ", ".join(TABLE_INPUTS) + ". A CSV written by 'robkin convert --format csv' says it "
+                        + ", ".join(table_inputs) + ". A CSV written by 'robkin convert --format csv' says it "
                         "(except a PoE's frame); bare rows 'a d alpha theta [R|P]' need --from dh or mdh")
 
 

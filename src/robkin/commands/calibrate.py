@@ -36,8 +36,6 @@ examples:
   robkin calibrate robot.yaml probe.csv -o robot_cal.yaml --base-known --marker 0,0,0.05
 """
 
-#: --to -> document section (a robot document holding only that section, with the joints)
-SECTIONS = {"hayati": "hayati", "dh": "dh", "mdh": "mdh", "poe": "poe", "rpy-xyz": "rpy_xyz", "gjd": "gjd"}
 OUT_EXTENSIONS = (".urdf", ".xml", ".mjcf", ".yaml", ".yml", ".json")
 
 
@@ -50,7 +48,9 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("measurements", metavar="MEASUREMENTS", help="measured poses: .csv, .npz or .npy")
     p.add_argument("-o", "--output", metavar="OUT", required=True,
                    help="the calibrated robot: .urdf, .xml/.mjcf, .yaml/.yml/.json")
-    p.add_argument("--to", choices=sorted(SECTIONS), help="write only this table section in a robot document")
+    from ..representations.registry import names
+
+    p.add_argument("--to", choices=sorted(names()), help="write only this table section in a robot document")
     p.add_argument("--model", choices=["hayati", "mdh", "poe"], default="hayati",
                    help="error model (default hayati: Hayati rows between nearly parallel axes, DH elsewhere)")
     p.add_argument("--holdout", type=float, metavar="F", default=0.0,
@@ -120,7 +120,9 @@ def render_robot(robot, ext: str, section: str | None = None) -> str:
         return mjcf_from_robot(robot)
     from ..io.documents.reader import document_from_robot, dump
 
-    sections = short_sections(robot) if section is None else (SECTIONS[section],)
+    from ..representations.registry import by_name
+
+    sections = short_sections(robot) if section is None else (by_name(section).section,)
     return dump(document_from_robot(robot, sections), "json" if ext == ".json" else "yaml")
 
 
@@ -129,7 +131,7 @@ RUNAWAY = 10.0
 
 
 def short_sections(robot) -> tuple[str, ...]:
-    """Every document section except a DH or modified DH table whose common normals run off.
+    """Every document section except a link table (DH, modified DH) whose common normals run off.
 
     A calibrated robot's nearly parallel axes (a UR's shoulder, elbow and wrist 1) are no longer exactly
     parallel: their DH rows are exact but put the common normal hundreds of metres away, useless to
@@ -140,19 +142,20 @@ def short_sections(robot) -> tuple[str, ...]:
 
     import numpy as np
 
-    from ..io.documents.writer import SECTIONS as ALL
-    from ..representations import dh_from_robot, mdh_from_robot
+    from ..representations.registry import by_section, sections
 
     keep = []
-    for key in ALL:
-        if key in ("dh", "mdh"):
+    for key in sections():
+        rep = by_section(key)
+        if rep.layout == "link-table":
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")   # the conditioning warning is what this check reports
-                rows = (dh_from_robot if key == "dh" else mdh_from_robot)(robot).rows
-            longest = float(np.abs(rows[:, :2]).max())
+                table = rep.table_of(robot)
+            lengths = [k for k, c in enumerate(rep.columns) if c.kind == "length"]
+            longest = float(np.abs(table.rows[:, lengths]).max())
             if longest > RUNAWAY * robot.scale:
                 print(f"robkin: note: section {key} left out: between nearly parallel axes its common normal "
-                      f"runs {longest:.3g} m away (--to {key} writes it anyway; the hayati section is exact "
+                      f"runs {longest:.3g} m away (--to {rep.name} writes it anyway; the hayati section is exact "
                       f"and short)", file=sys.stderr)
                 continue
         keep.append(key)

@@ -101,8 +101,8 @@ def run(args: argparse.Namespace) -> int:
 
         print_json(d)
     else:
-        from ..io.tables.views import comparison_blocks
-        from ..io.tables.terminal import show_blocks
+        from ..equivalence.report import comparison_blocks
+        from ..io.tables.text import show_blocks
 
         kinds = lambda r: "".join("R" if j.revolute else "P" for j in r.joints)  # noqa: E731
         title = f"A: {args.a} ({a.n} joints {kinds(a)})   B: {args.b} ({b.n} joints {kinds(b)})"

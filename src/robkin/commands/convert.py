@@ -13,9 +13,9 @@ from pathlib import Path
 from ..errors import InputError
 from ._chains import add_chain_options, chain_ends
 from ._common import add_allow_xacro, add_from, add_package_path
-from .convert_parts.help import EPILOG
-from .convert_parts.render import (DOC_EXTENSIONS, EXTENSIONS, SECTION_OF, TABLE_EXTENSIONS, TABLE_REPRESENTATIONS,
-                                   check_link_geometry, render_file, render_in)
+from .convert_parts.help import epilog
+from .convert_parts.render import (DOC_EXTENSIONS, EXTENSIONS, TABLE_EXTENSIONS, check_link_geometry, render_file,
+                                   render_in, section_of, table_representations)
 from ._output import wrote
 from .convert_parts.toolbox import CODE_FORMATS, add_toolbox_options, check_toolbox_options
 
@@ -26,17 +26,18 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p = sub.add_parser("convert", help="convert a robot into another representation",
                        description="Convert a robot description into another representation, exactly: "
                                    "forward kinematics of the output equals that of the input at every q.",
-                       epilog=EPILOG.replace("{mjcf}", MJCF_HELP), formatter_class=argparse.RawDescriptionHelpFormatter)
+                       epilog=epilog().replace("{mjcf}", MJCF_HELP), formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("input", nargs="+", metavar="INPUT",
                    help="robot document (.yaml/.yml/.json) or robot file: URDF (.urdf; .xacro with --allow-xacro), "
                         "MJCF (.xml/.mjcf) or SDF (.sdf) (one or more)")
     add_chain_options(p)
     add_allow_xacro(p)
     add_from(p)
-    p.add_argument("--to", required=True, choices=list(SECTION_OF), metavar="FORMAT",
-                   help="output representation: " + ", ".join(SECTION_OF))
+    formats = section_of()
+    p.add_argument("--to", required=True, choices=list(formats), metavar="FORMAT",
+                   help="output representation: " + ", ".join(formats))
     p.add_argument("--format", choices=["csv", "markdown", "latex"],
-                   help="write a table representation (--to dh, mdh, hayati, poe, poe-body, rpy-xyz, gjd) as CSV, "
+                   help=f"write a table representation (--to {', '.join(table_representations())}) as CSV, "
                         "Markdown or LaTeX, full precision")
     p.add_argument("--pi", action="store_true",
                    help="with --format: angles that are exactly k*pi/m written as such (-pi/2, 3*pi/4)")
@@ -117,10 +118,18 @@ def _mapping_note(path: str, robot, fmt: str) -> str | None:
     note = (f"joint variables: q_i in this {fmt} output is the {what} of joint i ({names}), "
             f"with the same sign and the same zero")
     flipped = [j.name for j in robot.joints if j.flip]
-    if flipped and fmt in ("dh", "mdh", "hayati", "rpy-xyz"):
+    if flipped and _subtracts_flipped(fmt):
         note += (f"; joint(s) {', '.join(flipped)} point against their frame's z (flip: true), so the table "
                  f"subtracts q there")
     return note
+
+
+def _subtracts_flipped(fmt: str) -> bool:
+    """Whether a table of ``fmt`` subtracts q at a flipped joint (its rows are frames whose z a flipped
+    joint moves against: the frame-based tables, and RPY-XYZ's joint frames)."""
+    from ..representations.registry import representations
+
+    return any(r.name == fmt and (r.frame_based or r.layout == "rpy") for r in representations())
 
 
 def _load_all(inputs: list[str], args: argparse.Namespace) -> list:
@@ -135,9 +144,10 @@ def _load_all(inputs: list[str], args: argparse.Namespace) -> list:
 
 
 def _check_table_options(args: argparse.Namespace) -> None:
-    if args.format and args.to not in TABLE_REPRESENTATIONS:
+    tables = table_representations()
+    if args.format and args.to not in tables:
         raise InputError(f"--format {args.format}: --to {args.to} is not a table; --format works with --to "
-                         f"{', '.join(t for t in TABLE_REPRESENTATIONS if t in SECTION_OF)}")
+                         f"{', '.join(tables)}")
     if args.pi and not args.format:
         raise InputError("--pi: applies to --format csv|markdown|latex tables")
     if args.format and args.json:
@@ -221,10 +231,10 @@ def run(args: argparse.Namespace) -> int:
         sys.stdout.write(render_file(robot, fmt, ext, args))
         return 0
     if args.json:
-        sys.stdout.write(render_file(robot, fmt if SECTION_OF[fmt] or fmt in CODE_FORMATS else "json", ".json",
+        sys.stdout.write(render_file(robot, fmt if section_of()[fmt] or fmt in CODE_FORMATS else "json", ".json",
                                       args))
         return 0
-    if SECTION_OF[fmt] is None:
+    if section_of()[fmt] is None:
         sys.stdout.write(render_file(robot, fmt, ".json" if fmt == "json" else EXTENSIONS.get(fmt, (".yaml",))[0],
                                       args, inputs[0]))
         return 0

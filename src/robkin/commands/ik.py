@@ -164,7 +164,7 @@ def run(args: argparse.Namespace) -> int:
                         robot, closest["q"], to_radians=False) if args.degrees else closest["q"]}})})
         return 0
     if len(solutions):
-        from ..io.tables.views import solutions_block
+        from ..kinematics.ik_text import solutions_block
         from ..io.tables.terminal import show_blocks
 
         show_blocks([solutions_block(solutions, result.method, [j.name for j in robot.joints])])

@@ -45,8 +45,10 @@ def register(subparsers) -> argparse.ArgumentParser:
     add_package_path(p)
     p.add_argument("--q", metavar="Q1,Q2,...",
                    help="joint values (rad / length units; expressions like 3*pi/4 allowed); default home")
+    from ..representations.registry import overlays
+
     p.add_argument("--overlay", metavar="REPS", default="",
-                   help="comma-separated representations to overlay: gjd, dh, mdh, poe, poe-body, rpy-xyz")
+                   help="comma-separated representations to overlay: " + ", ".join(r.name for r in overlays()))
     p.add_argument("--frames", action="store_true", help="also draw every joint frame (RGB triads)")
     p.add_argument("--exaggerate", metavar="K",
                    help="several INPUTs: multiply their differences from the first by K (1 to 1e6) and draw "

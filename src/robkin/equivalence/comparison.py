@@ -106,7 +106,8 @@ class Comparison:
 
     def __str__(self) -> str:
         """The joint-by-joint diagnosis as ``robkin check`` prints it."""
-        from ..io.tables.views import blocks_text, comparison_blocks
+        from ..io.tables.text import blocks_text
+        from .report import comparison_blocks
 
         return blocks_text(comparison_blocks(self))
 

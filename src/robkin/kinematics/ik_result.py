@@ -79,7 +79,8 @@ class IKResult:
 
     def __str__(self) -> str:
         """One row per target (success, errors, q), or per solution for one target with solutions."""
-        from ..io.tables.views import blocks_text, ik_result_blocks
+        from ..io.tables.text import blocks_text
+        from .ik_text import ik_result_blocks
 
         return blocks_text(ik_result_blocks(self))
 

@@ -2,6 +2,10 @@
 
 Each name is imported from its module on first use (see ``robkin.lazy_exports``): a command that
 writes a DH table does not pay for importing the PoE, Hayati or RPY-XYZ modules.
+
+``registry`` declares each representation once (CLI name, document section, columns, layout,
+converters by name); documents, table files, the CLI, the GUI and the plots iterate it.
+``presentation`` is this layer's facade to io (a table's ``str()`` and ``to_dict()``).
 """
 
 from typing import TYPE_CHECKING

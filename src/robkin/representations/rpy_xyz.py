@@ -80,13 +80,13 @@ class RPYTable:
 
     def __str__(self) -> str:
         """The table as the CLI prints it (``robkin convert --to rpy-xyz``)."""
-        from ..io.tables.views import table_text
+        from .presentation import table_text
 
         return table_text(self)
 
     def to_dict(self) -> dict[str, Any]:
         """A robot document (dict): ``joints`` and this table's section, as ``robkin.load`` reads it."""
-        from ..io.documents.reader import table_document
+        from .presentation import table_document
 
         return table_document(self)
 

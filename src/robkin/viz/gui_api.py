@@ -12,11 +12,12 @@ from __future__ import annotations
 import functools
 import math
 import warnings
-from typing import Any
+from typing import Any, Mapping
 
 import numpy as np
 
 from ..errors import InputError, quote
+from ..representations.registry import LiveMapping
 from ..robot import Robot
 
 __all__ = ["INPUT_FORMATS", "EXPORTS", "parse_robot", "describe", "solve_ik", "export", "MAX_TEXT"]
@@ -24,19 +25,20 @@ __all__ = ["INPUT_FORMATS", "EXPORTS", "parse_robot", "describe", "solve_ik", "e
 INPUT_FORMATS = ("auto", "yaml", "json", "urdf", "mjcf", "sdf", "dh-rows", "mdh-rows", "poe-rows", "rpy-rows")
 #: XML robot formats: root element -> format (anything else starting with '<' is taken as URDF).
 _XML_ROOTS = {"mujoco": "mjcf", "sdf": "sdf"}
-#: Download name -> (document sections or None for URDF / the full document, file suffix, MIME type).
-EXPORTS: dict[str, tuple[tuple[str, ...] | None, str, str]] = {
-    "yaml": (None, ".yaml", "application/yaml"),
-    "json": (None, ".json", "application/json"),
-    "urdf": (None, ".urdf", "application/xml"),
-    "dh": (("dh",), "_dh.yaml", "application/yaml"),
-    "mdh": (("mdh",), "_mdh.yaml", "application/yaml"),
-    "hayati": (("hayati",), "_hayati.yaml", "application/yaml"),
-    "poe": (("poe",), "_poe.yaml", "application/yaml"),
-    "poe-body": (("poe_body",), "_poe_body.yaml", "application/yaml"),
-    "rpy-xyz": (("rpy_xyz",), "_rpy_xyz.yaml", "application/yaml"),
-    "gjd": (("gjd",), "_gjd.yaml", "application/yaml"),
-}
+def _exports() -> dict[str, tuple[tuple[str, ...] | None, str, str]]:
+    """Download name -> (document sections or None for URDF / the full document, file suffix, MIME
+    type): the whole document, the URDF, and each registered representation's section alone
+    (``robkin.representations.registry``)."""
+    from ..representations.registry import representations
+
+    return {"yaml": (None, ".yaml", "application/yaml"), "json": (None, ".json", "application/json"),
+            "urdf": (None, ".urdf", "application/xml"),
+            **{r.name: ((r.section,), f"_{r.section}.yaml", "application/yaml") for r in representations()
+               if "yaml" in r.file_formats}}
+
+
+#: The downloads (``_exports``), a live view of the registry.
+EXPORTS: Mapping[str, tuple[tuple[str, ...] | None, str, str]] = LiveMapping(_exports)
 #: Largest robot text accepted (a URDF of a humanoid is a few hundred kB; this bounds memory per request).
 MAX_TEXT = 4 * 1024 * 1024
 

@@ -15,52 +15,29 @@ the tool pose must coincide; :func:`overlay_scenes` measures by how much they do
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Callable, Sequence
+from typing import Callable, Mapping, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
+from ..representations.registry import LiveMapping
 from ..robot import Robot, check_q
 
 __all__ = ["Scene", "REPRESENTATIONS", "build_scene", "rebuild", "overlay_scenes", "disagreement"]
 
 
-def _dh(robot: Robot):
-    from ..representations import dh_from_robot
-    return dh_from_robot(robot)
+def _overlays() -> dict[str, tuple[str, Callable[[Robot], object] | None]]:
+    """Registered representations offered as overlays (``robkin.representations.registry.overlays``):
+    the GJD (the robot itself, no converter) first, then the others in registration order."""
+    from ..representations.registry import overlays
+
+    return {r.name: (r.overlay_label, None if r.layout == "frames" else r.table_of) for r in overlays()}
 
 
-def _mdh(robot: Robot):
-    from ..representations import mdh_from_robot
-    return mdh_from_robot(robot)
-
-
-def _poe(robot: Robot):
-    from ..representations import poe_from_robot
-    return poe_from_robot(robot, "space")
-
-
-def _poe_body(robot: Robot):
-    from ..representations import poe_from_robot
-    return poe_from_robot(robot, "body")
-
-
-def _rpy(robot: Robot):
-    from ..representations import rpy_from_robot
-    return rpy_from_robot(robot)
-
-
-#: Representation name (as on the command line) -> (label, converter robot -> representation object).
-#: "gjd" is the robot itself (for a URDF, its joint frames).
-REPRESENTATIONS: dict[str, tuple[str, Callable[[Robot], object] | None]] = {
-    "gjd": ("as given (GJD frames)", None),
-    "dh": ("DH", _dh),
-    "mdh": ("modified DH", _mdh),
-    "poe": ("DH rebuilt from PoE (space)", _poe),
-    "poe-body": ("DH rebuilt from PoE (body)", _poe_body),
-    "rpy-xyz": ("RPY-XYZ", _rpy),
-}
+#: Representation name (as on the command line) -> (label, converter robot -> representation object):
+#: a live view of the registry. "gjd" is the robot itself (for a URDF, its joint frames).
+REPRESENTATIONS: Mapping[str, tuple[str, Callable[[Robot], object] | None]] = LiveMapping(_overlays)
 
 
 @dataclass(frozen=True)

@@ -1,18 +1,14 @@
 """The help text of ``robkin convert``: its formats, options explained, and examples (run as printed
-by ``tests/test_examples.py``)."""
+by ``tests/test_examples.py``). The representations' lines come from the registry
+(``robkin.representations.registry``: each one's ``help``)."""
 
 from __future__ import annotations
 
-__all__ = ["EPILOG"]
+__all__ = ["epilog", "formats_text"]
 
-EPILOG = """\
+_TEMPLATE = """\
 formats:
-  dh        standard DH table (+ base, + residual tool)     mdh       modified (Craig) DH table
-  hayati    Hayati's parameters: DH with a tilt beta about y instead of d between nearly parallel
-            axes (exact and short there, the calibration standard)
-  poe       Product of Exponentials, space frame            poe-body  PoE, body frame
-  rpy-xyz   RPY-XYZ table, n+2 rows (URDF convention)       gjd       Global Joint Description frames
-  json/yaml a robot document with every section             urdf      a URDF file (a URDF input's whole file)
+{representations}  json/yaml a robot document with every section             urdf      a URDF file (a URDF input's whole file)
   mjcf      a MuJoCo model (MJCF) that simulates: bodies, geoms, meshes, inertials, actuators
 code for other toolboxes (need no robkin; names and numbers from the input are data in them, never code):
   rtb       a Python file defining `robot`, a Robotics Toolbox DHRobot (--convention mdh: modified DH)
@@ -99,3 +95,31 @@ examples:
   robkin convert ur5_rows.txt --from dh --to urdf -o ur5_from_rows.urdf
   robkin convert ur5.urdf panda.urdf a.yaml --tip-link tool0 --tip-link panda_hand_tcp --tip-link - --to mdh -o out/
 """
+
+
+def formats_text() -> str:
+    """The registered representations as the help lists them: two short entries a line, a long one
+    (several lines, or too wide to share one) on its own."""
+    from ...representations.registry import representations
+
+    lines: list[str] = []
+    pending: tuple[str, str] | None = None
+    for rep in representations():
+        if "\n" in rep.help or len(rep.help) > 46:
+            if pending:
+                lines.append(f"  {pending[0]:<10}{pending[1]}")
+                pending = None
+            lines.append(f"  {rep.name:<10}{rep.help}")
+        elif pending:
+            lines.append(f"  {pending[0]:<10}{pending[1]:<48}{rep.name:<10}{rep.help}")
+            pending = None
+        else:
+            pending = (rep.name, rep.help)
+    if pending:
+        lines.append(f"  {pending[0]:<10}{pending[1]}")
+    return "\n".join(lines) + "\n"
+
+
+def epilog() -> str:
+    """The help's epilog with the registered representations in it ({mjcf} left for the MJCF options)."""
+    return _TEMPLATE.replace("{representations}", formats_text())

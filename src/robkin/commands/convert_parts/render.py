@@ -9,21 +9,34 @@ from pathlib import Path
 from ...errors import InputError
 from .toolbox import CODE_EXTENSIONS, CODE_FORMATS, render_code
 
-__all__ = ["SECTION_OF", "EXTENSIONS", "DOC_EXTENSIONS", "TABLE_EXTENSIONS", "TABLE_REPRESENTATIONS",
+__all__ = ["section_of", "EXTENSIONS", "DOC_EXTENSIONS", "TABLE_EXTENSIONS", "table_representations",
            "render_file", "render_in", "check_link_geometry"]
 
-#: --to FORMAT -> document section written for it (None: a whole document or another file type)
-SECTION_OF = {"dh": "dh", "mdh": "mdh", "hayati": "hayati", "poe": "poe", "poe-body": "poe_body", "rpy-xyz": "rpy_xyz",
-              "gjd": "gjd", "json": None, "yaml": None, "urdf": None, "mjcf": None,
-              **{code: None for code in CODE_FORMATS}}
+#: --to formats that are not a representation: a whole document or another file type
+OTHER_FORMATS = ("json", "yaml", "urdf", "mjcf", *CODE_FORMATS)
+
+
+def section_of() -> dict[str, str | None]:
+    """--to FORMAT -> document section written for it (None: a whole document or another file type):
+    every registered representation (``robkin.representations.registry``), then OTHER_FORMATS."""
+    from ...representations.registry import representations
+
+    return {**{r.name: r.section for r in representations()}, **dict.fromkeys(OTHER_FORMATS)}
+
+
+def table_representations() -> tuple[str, ...]:
+    """--to values that have a table form for --format."""
+    from ...representations.registry import names
+
+    return names("csv")
+
+
 #: Output file extensions accepted for each format (the first is used for batch output names).
 EXTENSIONS = {"urdf": (".urdf",), "mjcf": (".xml", ".mjcf"), "json": (".json",), "yaml": (".yaml", ".yml"),
               **CODE_EXTENSIONS}
 DOC_EXTENSIONS = (".yaml", ".yml", ".json")
 #: --format -> output file extension (kept here, not imported, for the start-up time of every convert)
 TABLE_EXTENSIONS = {"csv": ".csv", "markdown": ".md", "latex": ".tex"}
-#: --to values that have a table form for --format
-TABLE_REPRESENTATIONS = ("dh", "mdh", "hayati", "poe", "poe-body", "rpy-xyz", "gjd")
 
 
 def check_link_geometry(args: argparse.Namespace) -> float | None:
@@ -79,7 +92,7 @@ def render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None =
         from .mjcf_output import render_mjcf
 
         return render_mjcf(_with_link_geometry(robot, args), args, source, out_dir, mesh_dir)
-    section = SECTION_OF[fmt]
+    section = section_of()[fmt]
     doc = document_from_robot(robot, degrees=degrees) if section is None else \
         document_from_robot(robot, (section,), degrees=degrees)
     doc_fmt = "json" if (fmt == "json" or out_ext == ".json") and fmt != "yaml" else "yaml"

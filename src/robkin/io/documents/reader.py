@@ -23,42 +23,32 @@ written and read again gives bit-identical numbers.
 from __future__ import annotations
 
 import json
-import math
 import os
 from pathlib import Path
 from typing import Any, Mapping
 
 import numpy as np
 
-from ... import se3
 from ...errors import InputError, quote
-from ...representations import DHTable, HayatiTable, MDHTable, PoE, RPYTable
-from ...representations.gjd import robot_from_gjd
+from ...representations.registry import by_section
 from ...robot import JOINT_TYPES, Joint, Robot, check_pose
 from ...samples import unit_sample
-from .masses import read_masses, same_masses, split_masses
-from .vocabulary import ANGLE_COLUMNS, ANGLE_UNITS, DH_KEYS, DOC_VERSION, HAYATI_KEYS, RPY_KEYS, SECTIONS
+from .masses import same_masses
+from .sections import AngleUnitWarning, angle, robot_of_section
+from .vocabulary import ANGLE_UNITS, DOC_VERSION, SECTIONS
 from .writer import document_from_robot, dump, section_key, table_document
 from ..files.input_files import read_text_file
-from ..files.numbers import MAX_INT_DIGITS, matrix, number, number_list
+from ..files.numbers import MAX_INT_DIGITS, matrix, number
 
 __all__ = ["SECTIONS", "ANGLE_UNITS", "AngleUnitWarning", "read_document", "parse_document", "read_sections",
            "document_from_robot", "dump", "same_robot", "read_text", "parse_text", "table_document", "section_key"]
 
-#: An angle in radians larger than this in magnitude draws a warning: a full turn is the most any
-#: table parameter or joint limit needs in practice (UR's limits are exactly +-2 pi, hence the
-#: margin of rounding), and 90 or 180 in radians is almost surely a value typed in degrees.
-ANGLE_WARN = 2 * math.pi * (1 + 1e-9)
 #: Largest input file read (a robot document is a few kB; this stops accidental huge inputs early).
 MAX_BYTES = 16 * 1024 * 1024
 #: Sections agree if their tool poses agree to this (rotation entries; positions relative to the
 #: robot's size) at home and at a few fixed configurations: loose enough for documents written by
 #: other tools with 6-7 significant digits, tight enough to catch any real difference of a joint.
 AGREE_TOL = 1e-6
-
-
-class AngleUnitWarning(UserWarning):
-    """An angle read in radians is larger than a full turn: it was probably typed in degrees."""
 
 
 # ---------------------------------------------------------------------------------------- reading
@@ -132,7 +122,7 @@ def read_sections(path: str | os.PathLike[str]) -> dict[str, Robot]:
         sections, joints, name = _sections(data)
         sections.pop("world", None)
         unit = _angle_unit(data)
-        return {key: _robot_of(key, value, joints, name, unit) for key, value in sections.items()}
+        return {key: robot_of_section(key, value, joints, name, unit) for key, value in sections.items()}
     except InputError as exc:
         raise exc.in_source(str(path)) from None
 
@@ -169,18 +159,6 @@ def _angle_unit(data: Mapping[str, Any]) -> str:
     if unit not in ANGLE_UNITS:
         raise InputError(f"angles: {unit!r} is not one of {', '.join(ANGLE_UNITS)}")
     return str(unit)
-
-
-def _angle(value: float, field: str, unit: str) -> float:
-    """An angle read in ``unit``, in radians; a warning naming the field for radians beyond 2 pi."""
-    if unit == "degrees":
-        return math.radians(value)
-    if abs(value) > ANGLE_WARN:
-        import warnings
-
-        warnings.warn(f"{field}: {value:g} rad is more than a full turn; if it is meant in degrees, add "
-                      f"'angles: degrees' to the document", AngleUnitWarning, stacklevel=2)
-    return value
 
 
 def _joints(value: Any, unit: str = "radians") -> tuple[Joint, ...]:
@@ -224,7 +202,7 @@ def _joints(value: Any, unit: str = "radians") -> tuple[Joint, ...]:
                 field = f"{where} ('{name}').limits.{bound}"
                 v = number(limits[bound], field)
                 if jtype == "revolute":
-                    v = _angle(v, field, unit)
+                    v = angle(v, field, unit)
                 if bound == "lower":
                     lower = v
                 else:
@@ -233,101 +211,10 @@ def _joints(value: Any, unit: str = "radians") -> tuple[Joint, ...]:
     return tuple(out)
 
 
-def _mapping(value: Any, key: str, allowed: tuple[str, ...]) -> Mapping[str, Any]:
-    if not isinstance(value, Mapping):
-        raise InputError(f"{key}: expected a mapping with {', '.join(allowed)}")
-    extra = sorted(str(k) for k in value if k not in allowed)
-    if extra:
-        raise InputError(f"{key}: unknown key(s) {', '.join(extra)}; known: {', '.join(allowed)}")
-    return value
-
-
-def _rows(value: Any, key: str, columns: tuple[str, ...], unit: str = "radians") -> list[list[float]]:
-    if not isinstance(value, list) or not value:
-        raise InputError(f"{key}: expected a list of rows ({', '.join(columns)})")
-    rows = []
-    for i, row in enumerate(value):
-        where = f"{key}[{i}]"
-        if isinstance(row, Mapping):
-            missing = [c for c in columns if c not in row]
-            extra = sorted(str(k) for k in row if k not in columns)
-            if missing or extra:
-                raise InputError(f"{where}: expected keys {', '.join(columns)}"
-                                 + (f"; missing {', '.join(missing)}" if missing else "")
-                                 + (f"; unknown {', '.join(extra)}" if extra else ""))
-            rows.append([number(row[c], f"{where}.{c}") for c in columns])
-        else:
-            rows.append(number_list(row, where, len(columns)))
-    section = key.split(".")[0]
-    for j, c in enumerate(columns):
-        if c in ANGLE_COLUMNS.get(section, ()):
-            for i, row in enumerate(rows):
-                row[j] = _angle(row[j], f"{key}[{i}].{c}", unit)
-    return rows
-
-
-def _pose(section: Mapping[str, Any], key: str, prefix: str) -> np.ndarray:
-    if section.get(key) is None:
-        return np.eye(4)
-    return np.array(matrix(section[key], f"{prefix}.{key}"))
-
-
-def _robot_of(key: str, value: Any, joints: tuple[Joint, ...], name: str | None,
-              unit: str = "radians") -> Robot:
-    n = len(joints)
-    if key == "hayati":
-        sec = _mapping(value, key, ("base", "rows", "tool", "base_mass"))
-        raw, masses = split_masses(sec.get("rows"), "hayati.rows", len(HAYATI_KEYS), base_mass=sec.get("base_mass"))
-        rows = _rows(raw, "hayati.rows", HAYATI_KEYS, unit)
-        return HayatiTable(np.array(rows), joints, base=_pose(sec, "base", key),
-                           tool=_pose(sec, "tool", key), masses=masses).to_robot(name)
-    if key in ("dh", "mdh"):
-        sec = _mapping(value, key, ("base", "rows", "tool", "base_mass"))
-        paper = key == "dh" and isinstance(sec.get("rows"), list) and len(sec["rows"]) == n + 1 \
-            and sec.get("base") is None  # the paper's layout: row 0 is a fixed base row (the base body's)
-        raw, masses = split_masses(sec.get("rows"), f"{key}.rows", len(DH_KEYS), base_row=0 if paper else None,
-                                   base_mass=sec.get("base_mass"))
-        rows = _rows(raw, f"{key}.rows", DH_KEYS, unit)
-        base = _pose(sec, "base", key)
-        if paper:
-            base = se3.dh_matrix(*rows[0])
-            rows = rows[1:]
-        cls = DHTable if key == "dh" else MDHTable
-        return cls(np.array(rows), joints, base=base, tool=_pose(sec, "tool", key),
-                   masses=masses).to_robot(name)
-    if key in ("poe", "poe_body"):
-        sec = _mapping(value, key, ("frame", "M", "screws", "masses", "base_mass"))
-        frame = sec.get("frame", "space" if key == "poe" else "body")
-        if frame not in ("space", "body"):
-            raise InputError(f"{key}.frame: {quote(frame)} is not one of space, body")
-        if sec.get("M") is None:
-            raise InputError(f"{key}.M: missing; the 4x4 home pose of the tool")
-        screws = sec.get("screws")
-        if not isinstance(screws, list):
-            raise InputError(f"{key}.screws: expected a list of [wx, wy, wz, vx, vy, vz], one per joint")
-        S = [number_list(s, f"{key}.screws[{i}]", 6) for i, s in enumerate(screws)]
-        return PoE(np.array(matrix(sec["M"], f"{key}.M")), np.array(S).reshape(-1, 6), joints,
-                   frame, read_masses(sec.get("masses"), f"{key}.masses", n, sec.get("base_mass"))).to_robot(name)
-    if key == "rpy_xyz":
-        sec = _mapping(value, key, ("rows",))
-        rows_in = sec.get("rows")
-        tool = (len(rows_in) - 1,) if isinstance(rows_in, list) else ()  # the tool row: no body
-        raw, masses = split_masses(rows_in, "rpy_xyz.rows", len(RPY_KEYS), tool, base_row=0)  # row 0: the base's
-        return RPYTable(np.array(_rows(raw, "rpy_xyz.rows", RPY_KEYS, unit)), joints,
-                        masses).to_robot(name)
-    if key == "gjd":
-        sec = _mapping(value, key, ("frames",))
-        frames = sec.get("frames")
-        if not isinstance(frames, list):
-            raise InputError(f"gjd.frames: expected a list of n + 1 = {n + 1} 4x4 matrices")
-        return robot_from_gjd([matrix(F, f"gjd.frames[{i}]") for i, F in enumerate(frames)], joints, name)
-    raise InputError(f"unknown section '{key}'")  # pragma: no cover - keys come from SECTIONS
-
-
 def _robot_from_sections(sections: dict[str, Any], joints: tuple[Joint, ...], name: str | None,
                          unit: str = "radians") -> Robot:
     world = sections.pop("world", None)
-    robots = {key: _robot_of(key, value, joints, name, unit) for key, value in sections.items()}
+    robots = {key: robot_of_section(key, value, joints, name, unit) for key, value in sections.items()}
     keys = list(robots)
     primary = robots[keys[0]]
     for other in keys[1:]:
@@ -336,12 +223,14 @@ def _robot_from_sections(sections: dict[str, Any], joints: tuple[Joint, ...], na
             raise InputError(f"sections {keys[0]} and {other} describe different robots ({diff}); "
                              f"remove one or make them agree")
     primary = _with_masses(primary, robots)
-    if "rpy_xyz" in robots and keys[0] != "rpy_xyz":
-        primary = primary.replace(world=robots["rpy_xyz"].world)
+    # a section whose first row is world -> base (RPY-XYZ) gives the world transform too
+    worlds = [k for k in keys if by_section(k).layout == "rpy"]
+    if worlds and keys[0] != worlds[0]:
+        primary = primary.replace(world=robots[worlds[0]].world)
     if world is not None:
         W = check_pose(matrix(world, "world"), "world")
-        if "rpy_xyz" in robots and not np.allclose(W, robots["rpy_xyz"].world, atol=AGREE_TOL * primary.scale):
-            raise InputError("world and rpy_xyz.rows[0] give different world->base transforms; "
+        if worlds and not np.allclose(W, robots[worlds[0]].world, atol=AGREE_TOL * primary.scale):
+            raise InputError(f"world and {worlds[0]}.rows[0] give different world->base transforms; "
                              "remove one or make them agree")
         primary = primary.replace(world=W)
     return primary

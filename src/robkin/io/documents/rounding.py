@@ -14,15 +14,21 @@ from typing import Any
 
 import numpy as np
 
-from .vocabulary import ANGLE_COLUMNS
+from ...representations.registry import by_section
 from ..files.float_text import decimal_tolerances, digits_text, short_text
 
 __all__ = ["round_document"]
 
-#: row keys that are lengths, and those that are angles; any other key of a row (a link's mass
-#: properties m, r, I) is not a table parameter and is written as it is
-_LENGTH_KEYS = ("a", "d", "x", "y", "z")
-_ANGLE_KEYS = ("alpha", "theta", "beta", "roll", "pitch", "yaw")
+
+def _kinds(key: str) -> dict[str, str]:
+    """Row key -> 'length' or 'angle' (radians, or a unitless direction) of a section's columns (its
+    representation's, ``robkin.representations.registry``); any other key of a row (a link's mass
+    properties m, r, I) is not a table parameter and is written as it is."""
+    try:
+        columns = by_section(key).columns
+    except KeyError:
+        return {}
+    return {c.key: "length" if c.kind == "length" else "angle" for c in columns}
 
 
 def round_document(doc: dict[str, Any], scale: float, digits: int | None = None) -> dict[str, Any]:
@@ -43,7 +49,7 @@ def round_document(doc: dict[str, Any], scale: float, digits: int | None = None)
     for key, section in doc.items():
         if not isinstance(section, dict) or key == "metrics":
             continue
-        values = _values(section)
+        values = _values(section, _kinds(key))
         if not values:
             continue
         lengths = [abs(v) for kind, v in values if kind == "length"]
@@ -57,7 +63,7 @@ def round_document(doc: dict[str, Any], scale: float, digits: int | None = None)
                 return 0.0 if abs(x) <= tol else float(digits_text(x, digits))
             return float(short_text(x, tol))
 
-        _apply(section, key, text)
+        _apply(section, _kinds(key), text)
     return doc
 
 
@@ -65,16 +71,15 @@ def _matrix_kinds(M: Any) -> list[tuple[str, float]]:
     return [("length" if c == 3 else "angle", float(v)) for r, row in enumerate(M[:3]) for c, v in enumerate(row)]
 
 
-def _values(section: dict[str, Any]) -> list[tuple[str, float]]:
+def _values(section: dict[str, Any], kinds: dict[str, str]) -> list[tuple[str, float]]:
     """Every value of a section with its kind ('length' or 'angle'-like: radians, unit directions)."""
     out: list[tuple[str, float]] = []
     for name in ("base", "tool", "M"):
         if name in section:
             out += _matrix_kinds(section[name])
     for row in section.get("rows", []):
-        items = row.items() if isinstance(row, dict) else zip(("roll", "pitch", "yaw", "x", "y", "z"), row)
-        out += [("length" if k in _LENGTH_KEYS else "angle", float(v)) for k, v in items
-                if k in _LENGTH_KEYS or k in _ANGLE_KEYS]
+        items = row.items() if isinstance(row, dict) else zip(kinds, row)
+        out += [(kinds[k], float(v)) for k, v in items if k in kinds]
     for screw in section.get("screws", []):
         out += [("angle" if i < 3 else "length", float(v)) for i, v in enumerate(screw)]
     for frame in section.get("frames", []):
@@ -87,19 +92,17 @@ def _round_matrix(M: list[list[float]], text: Any) -> list[list[float]]:
             for r, row in enumerate(M)]
 
 
-def _apply(section: dict[str, Any], key: str, text: Any) -> None:
+def _apply(section: dict[str, Any], kinds: dict[str, str], text: Any) -> None:
     for name in ("base", "tool", "M"):
         if name in section:
             section[name] = _round_matrix(section[name], text)
     if "rows" in section:
-        angles = ANGLE_COLUMNS.get(key, ())
         rows = []
         for row in section["rows"]:
             if isinstance(row, dict):
-                rows.append({k: text("angle" if k in angles else "length", v)
-                             if k in _LENGTH_KEYS or k in _ANGLE_KEYS else v for k, v in row.items()})
+                rows.append({k: text(kinds[k], v) if k in kinds else v for k, v in row.items()})
             else:
-                rows.append([text("angle" if i < 3 else "length", v) for i, v in enumerate(row)])
+                rows.append([text(kind, v) for kind, v in zip(kinds.values(), row)] + list(row[len(kinds):]))
         section["rows"] = rows
     if "screws" in section:
         section["screws"] = [[text("angle" if i < 3 else "length", v) for i, v in enumerate(s)]

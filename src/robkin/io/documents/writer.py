@@ -7,13 +7,14 @@ written and read again gives bit-identical numbers. ``robkin.io.documents.reader
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import numpy as np
 
 from ...errors import InputError
 from ...robot import Joint, Robot
-from .vocabulary import ANGLE_COLUMNS, DH_KEYS, DOC_VERSION, HAYATI_KEYS, RPY_KEYS, SECTIONS
+from ...representations.registry import Representation, by_section, of_table
+from .vocabulary import ANGLE_COLUMNS, DOC_VERSION, SECTIONS
 from .masses import mass_fields
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -43,15 +44,14 @@ def _joint_entry(j: Joint, degrees: bool) -> dict[str, Any]:
     return entry
 
 
-def document_from_robot(robot: Robot, sections: tuple[str, ...] = SECTIONS, *,
+def document_from_robot(robot: Robot, sections: Sequence[str] = SECTIONS, *,
                         degrees: bool = False) -> dict[str, Any]:
-    """A robot document (dict) with ``joints`` and the requested sections (default: all).
+    """A robot document (dict) with ``joints`` and the requested sections (default: every registered
+    one, in document order).
 
     With ``degrees`` every angle (table angle columns, revolute joint limits) is written in degrees
     and the document says ``angles: degrees``.
     """
-    from ...representations import dh_from_robot, hayati_from_robot, mdh_from_robot, poe_from_robot, rpy_from_robot
-
     doc: dict[str, Any] = {"robkin": DOC_VERSION}
     if robot.name:
         doc["name"] = robot.name
@@ -60,46 +60,43 @@ def document_from_robot(robot: Robot, sections: tuple[str, ...] = SECTIONS, *,
     doc["joints"] = [_joint_entry(j, degrees) for j in robot.joints]
     if not np.allclose(robot.world, np.eye(4), rtol=0, atol=1e-15):
         doc["world"] = _mat(robot.world)  # world -> robot base: kept, but not part of FK
-    tables = {"dh": dh_from_robot, "mdh": mdh_from_robot, "hayati": hayati_from_robot}
     for key in sections:
-        if key in tables:
-            doc[key] = _section(tables[key](robot), degrees)
-        elif key in ("poe", "poe_body"):
-            doc[key] = _section(poe_from_robot(robot, "space" if key == "poe" else "body"))
-        elif key == "rpy_xyz":
-            doc["rpy_xyz"] = _section(rpy_from_robot(robot), degrees)
-        elif key == "gjd":
-            doc["gjd"] = {"frames": [_mat(F) for F in robot.frames]}
+        try:
+            rep = by_section(key)
+        except KeyError:
+            raise InputError(f"unknown section '{key}'; one of {', '.join(SECTIONS)}") from None
+        if rep.layout == "frames":
+            doc[key] = {"frames": [_mat(F) for F in rep.table_of(robot)]}
         else:
-            raise InputError(f"unknown section '{key}'; one of {', '.join(SECTIONS)}")
+            doc[key] = _section(rep.table_of(robot), degrees, rep)
     return doc
 
 
 def section_key(table: Any) -> str:
-    """The document section a DHTable, MDHTable, HayatiTable, PoE or RPYTable is written to."""
-    from ...representations import PoE, RPYTable
+    """The document section a table (DHTable, MDHTable, HayatiTable, PoE, RPYTable or any registered
+    one) is written to."""
+    try:
+        return of_table(table).section
+    except TypeError:
+        return table.SECTION  # a bare LinkTable
 
-    if isinstance(table, PoE):
-        return "poe" if table.frame == "space" else "poe_body"
-    return "rpy_xyz" if isinstance(table, RPYTable) else table.SECTION
 
-
-def _section(table: Any, degrees: bool = False) -> dict[str, Any]:
-    """The section of a DHTable, MDHTable, HayatiTable, PoE or RPYTable as a document holds it (angle
-    columns in degrees if asked)."""
+def _section(table: Any, degrees: bool = False, rep: Representation | None = None) -> dict[str, Any]:
+    """The section of a table as a document holds it (angle columns in degrees if asked), laid out
+    by its representation's layout (``robkin.representations.registry``)."""
     key = section_key(table)
+    rep = rep or by_section(key)
     masses = table.masses
     out: dict[str, Any]
-    if key in ("dh", "mdh", "hayati"):
-        keys = HAYATI_KEYS if key == "hayati" else DH_KEYS
-        out = {"base": _mat(table.base), "rows": _named_rows(table.rows, keys, key, degrees, masses),
+    if rep.layout == "link-table":
+        out = {"base": _mat(table.base), "rows": _named_rows(table.rows, rep.keys, key, degrees, masses),
                "tool": _mat(table.tool)}
-    elif key in ("poe", "poe_body"):
+    elif rep.layout == "screws":
         out = {"frame": table.frame, "M": _mat(table.M), "screws": _mat(table.screws)}
         if masses is not None:  # mass properties at q = 0 in the PoE's frame, one entry per joint
             out["masses"] = [mass_fields(masses, i, _clean) for i in range(masses.n)]
     else:  # RPY-XYZ: row 0 (world -> base) carries the base body's mass properties
-        out = {"rows": _named_rows(table.rows, RPY_KEYS, key, degrees, masses, first=1)}
+        out = {"rows": _named_rows(table.rows, rep.keys, key, degrees, masses, first=1)}
         if masses is not None and masses.base is not None:
             out["rows"][0].update(mass_fields(masses.base, 0, _clean))
         return out
@@ -109,8 +106,8 @@ def _section(table: Any, degrees: bool = False) -> dict[str, Any]:
 
 
 def table_document(table: Any, degrees: bool = False) -> dict[str, Any]:
-    """A robot document (dict) holding one table (DHTable, MDHTable, HayatiTable, PoE or RPYTable) and
-    its joints (angles in degrees if asked)."""
+    """A robot document (dict) holding one table (DHTable, MDHTable, HayatiTable, PoE, RPYTable or any
+    registered one) and its joints (angles in degrees if asked)."""
     doc: dict[str, Any] = {"robkin": DOC_VERSION}
     if degrees:
         doc["angles"] = "degrees"

@@ -34,12 +34,12 @@ from typing import TYPE_CHECKING, Sequence
 import numpy as np
 
 from ...errors import InputError
+from ...representations.registry import LiveNames, by_name, names, representations
 from ...robot import Robot
 from ..files.float_text import decimal_tolerances, digits_text, short_text
 from ..files.float_text import float_text as _num
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ...representations.link_table import LinkTable
     from ...representations.mass_rows import MassRows
 
 __all__ = ["TABLE_FORMATS", "TABLE_EXTENSIONS", "TABLE_REPRESENTATIONS", "Table", "table_of", "render_table",
@@ -47,7 +47,8 @@ __all__ = ["TABLE_FORMATS", "TABLE_EXTENSIONS", "TABLE_REPRESENTATIONS", "Table"
 
 TABLE_FORMATS = ("csv", "markdown", "latex")
 TABLE_EXTENSIONS = {"csv": ".csv", "markdown": ".md", "latex": ".tex"}
-TABLE_REPRESENTATIONS = ("dh", "mdh", "hayati", "poe", "poe-body", "rpy-xyz", "gjd")
+#: Representations with a table form (registered as writable in CSV; a live view of the registry).
+TABLE_REPRESENTATIONS = LiveNames(lambda: names("csv"))
 #: Denominators tried for multiples of pi: every angle a table of a real robot has in closed form
 #: (pi/2, pi/3, pi/4, pi/6, pi/12, ...). Numerators up to 2 * denominator (one full turn).
 PI_DENOMINATORS = (1, 2, 3, 4, 6, 8, 12)
@@ -76,7 +77,7 @@ class Table:
 
     def text(self, x: float, column: str) -> str:
         """A value of column ``column`` (a name of ``columns``, or m11..m34 of a transform) as text."""
-        kind = _KIND.get(column)
+        kind = _kind(column)
         if kind is None and (column not in self.mass_tolerances or self.tolerances == (0.0, 0.0)):
             return _num(x)  # a column of another kind, or every digit asked for
         tol = self.mass_tolerances[column] if kind is None else self.tolerances[0 if kind == "length" else 1]
@@ -85,11 +86,15 @@ class Table:
         return short_text(x, tol)
 
 
-#: The kind of each column robkin writes: a length (robot units) or an angle-like value (radians, or a
-#: unit direction / rotation entry, whose error turns the chain like an angle).
-_KIND = {**dict.fromkeys(("a", "d", "a(i-1)", "vx", "vy", "vz", "x", "y", "z", "m14", "m24", "m34"), "length"),
-         **dict.fromkeys(("alpha", "theta", "beta", "alpha(i-1)", "roll", "pitch", "yaw", "wx", "wy", "wz",
-                          "m11", "m12", "m13", "m21", "m22", "m23", "m31", "m32", "m33"), "angle")}
+def _kind(column: str) -> str | None:
+    """The kind of a column robkin writes (by its header): a 'length' (robot units) or an 'angle'-like
+    value (radians, or a unit direction / rotation entry, whose error turns the chain like an angle),
+    as its representation declares it (``robkin.representations.registry``); None for other columns."""
+    for rep in representations():
+        for c in rep.columns:
+            if c.header == column:
+                return "length" if c.kind == "length" else "angle"
+    return None
 
 
 def pi_text(x: float) -> str | None:
@@ -135,7 +140,7 @@ def with_precision(t: Table, robot: Robot, digits: int | str | None = None) -> T
     if digits == "exact":
         return t
     t.digits = None if digits is None else int(digits)
-    lengths = [abs(v) for _, values in t.rows for v, c in zip(values, t.columns) if _KIND.get(c[0]) == "length"]
+    lengths = [abs(v) for _, values in t.rows for v, c in zip(values, t.columns) if _kind(c[0]) == "length"]
     lengths += [float(np.linalg.norm(np.asarray(T)[:3, 3])) for _, T in t.transforms]
     count = len(t.rows) * len(t.columns) + 12 * len(t.transforms)
     t.tolerances = decimal_tolerances(robot.scale, robot.scale + float(sum(lengths)), count, SNAP_BUDGET)
@@ -146,52 +151,32 @@ def _joint_labels(robot: Robot) -> list[list[str]]:
     return [[str(i + 1), j.name, j.type + (" (flip)" if j.flip else "")] for i, j in enumerate(robot.joints)]
 
 
-def _link_table(robot: Robot, rep: str) -> "LinkTable":
-    from ...representations import dh_from_robot, hayati_from_robot, mdh_from_robot
-
-    return {"dh": dh_from_robot, "mdh": mdh_from_robot, "hayati": hayati_from_robot}[rep](robot)
-
-
 def table_of(robot: Robot, rep: str) -> Table:
-    """The robot in representation ``rep`` (one of TABLE_REPRESENTATIONS) as a ``Table``."""
-    from ...representations import poe_from_robot, rpy_from_robot
-
-    name = robot.name or "robot"
+    """The robot in representation ``rep`` (one of TABLE_REPRESENTATIONS) as a ``Table``, laid out by its
+    layout (``robkin.representations.registry``)."""
+    if rep not in TABLE_REPRESENTATIONS:
+        raise InputError(f"'{rep}' has no table form; tables exist for {', '.join(TABLE_REPRESENTATIONS)}")
+    r = by_name(rep)
+    title = f"{robot.name or 'robot'}: {r.title}"
     jl = _joint_labels(robot)
-    if rep in ("dh", "mdh", "hayati"):
-        t = _link_table(robot, rep)
-        prev = rep == "mdh"  # Craig's a and alpha belong to the previous link
-        cols = [("a(i-1)" if prev else "a", "$a_{i-1}$" if prev else "$a_i$", False), ("d", "$d_i$", False),
-                ("alpha(i-1)" if prev else "alpha", r"$\alpha_{i-1}$" if prev else r"$\alpha_i$", True),
-                ("theta", r"$\theta_i$", True)]
-        if rep == "hayati":
-            cols.append(("beta", r"$\beta_i$", True))
-        title = {"dh": "standard DH", "mdh": "modified (Craig) DH", "hayati": "Hayati"}[rep]
-        return with_mass_columns(Table(f"{name}: {title}", ["i", "joint", "type"], cols,
-                                       [(lab, list(map(float, r))) for lab, r in zip(jl, np.asarray(t.rows))],
-                                       [("base", t.base), ("tool", t.tool)]), t.masses)
-    if rep in ("poe", "poe-body"):
-        p = poe_from_robot(robot, "space" if rep == "poe" else "body")
-        cols = [(c, f"${c[0]}_{c[1]}$" if c[0] == "v" else fr"$\omega_{c[1]}$", False)
-                for c in ("wx", "wy", "wz", "vx", "vy", "vz")]
-        return with_mass_columns(Table(f"{name}: PoE ({'space' if rep == 'poe' else 'body'} frame)",
-                                       ["i", "joint", "type"], cols,
-                                       [(lab, list(map(float, s))) for lab, s in zip(jl, p.screws)], [("M", p.M)]),
-                                 p.masses)
-    if rep == "rpy-xyz":
-        rpy = rpy_from_robot(robot)
-        labels = [["0", "world->base", ""]] + jl + [[str(robot.n + 1), "tool", ""]]
-        cols = [("roll", "roll", True), ("pitch", "pitch", True), ("yaw", "yaw", True),
-                ("x", "$x$", False), ("y", "$y$", False), ("z", "$z$", False)]
-        return with_mass_columns(Table(f"{name}: RPY-XYZ", ["row", "frame", "type"], cols,
-                                       [(lab, list(map(float, r))) for lab, r in zip(labels, rpy.rows)]),
-                                 rpy.masses, first=1)
-    if rep == "gjd":
+    cols = [(c.header, c.latex, c.angle) for c in r.columns]
+    if r.layout == "frames":  # n joint frames then the tool frame, each as its 3 x 4 block
         labels = jl + [[str(robot.n + 1), "tool", ""]]
-        cols = [(m, f"${m[0]}_{{{m[1:]}}}$", False) for m in _BLOCK]
-        return Table(f"{name}: Global Joint Description (frames at q = 0)", ["i", "frame", "type"], cols,
-                     [(lab, list(map(float, F[:3].ravel()))) for lab, F in zip(labels, robot.frames)])
-    raise InputError(f"'{rep}' has no table form; tables exist for {', '.join(TABLE_REPRESENTATIONS)}")
+        return Table(title, ["i", "frame", "type"], cols,
+                     [(lab, list(map(float, F[:3].ravel()))) for lab, F in zip(labels, r.table_of(robot))])
+    t = r.table_of(robot)
+    if r.layout == "link-table":
+        return with_mass_columns(Table(title, ["i", "joint", "type"], cols,
+                                       [(lab, list(map(float, row))) for lab, row in zip(jl, np.asarray(t.rows))],
+                                       [("base", t.base), ("tool", t.tool)]), t.masses)
+    if r.layout == "screws":
+        return with_mass_columns(Table(title, ["i", "joint", "type"], cols,
+                                       [(lab, list(map(float, s))) for lab, s in zip(jl, t.screws)], [("M", t.M)]),
+                                 t.masses)
+    labels = [["0", "world->base", ""]] + jl + [[str(robot.n + 1), "tool", ""]]  # rpy: n + 2 rows
+    return with_mass_columns(Table(title, ["row", "frame", "type"], cols,
+                                   [(lab, list(map(float, row))) for lab, row in zip(labels, t.rows)]),
+                             t.masses, first=1)
 
 
 #: The mass-property columns a table gains when its robot has mass properties: (CSV/Markdown header,
@@ -222,7 +207,7 @@ def with_mass_columns(t: Table, masses: "MassRows | None", first: int = 0) -> Ta
     # own numbers: the mass matrix and gravity torques move by ~1e-11 of their largest entry at most,
     # far inside the 1e-9 the round trips promise, while the noise of the frame changes goes (UR5's
     # -0.0929999999998: its URDF's 4.9e-12 rad tilt times the link's length)
-    size = max([abs(v) for _, vals in t.rows for v, c in zip(vals, t.columns) if _KIND.get(c[0]) == "length"]
+    size = max([abs(v) for _, vals in t.rows for v, c in zip(vals, t.columns) if _kind(c[0]) == "length"]
                + [float(np.linalg.norm(np.asarray(T)[:3, 3])) for _, T in t.transforms] + [1e-300])
     scales = [float(np.abs(mass).max()), size, size, size, *[float(np.abs(inertia).max())] * 6]
     tolerances = {c: 1e-12 * ref for (c, _), ref in zip(MASS_COLUMNS, scales)}

@@ -29,6 +29,7 @@ import warnings
 from typing import Any, Sequence
 
 from ...errors import InputError
+from ...representations.registry import LiveNames, by_name, names, representations
 from ...robot import Robot
 from ..documents.masses import LIST_WIDTH, add_mass_columns, mass_cells, mass_columns_at
 from ..files.numbers import number
@@ -36,26 +37,33 @@ from ..files.numbers import number
 __all__ = ["TABLE_INPUT_EXTENSIONS", "TABLE_INPUTS", "read_table_file", "table_document"]
 
 TABLE_INPUT_EXTENSIONS = (".csv", ".tsv", ".txt")
-#: ``--from`` choices: representations a table file can hold
-TABLE_INPUTS = ("dh", "mdh", "hayati", "poe", "poe-body", "rpy-xyz", "gjd")
+#: ``--from`` choices: representations a table file can hold (a live view of the registry)
+TABLE_INPUTS = LiveNames(lambda: names("csv"))
 #: Largest table file read: a table of a few hundred joints is tens of kB; this bounds memory.
 MAX_BYTES = 16 * 1024 * 1024
 
-_BLOCK = tuple(f"m{r}{c}" for r in (1, 2, 3) for c in (1, 2, 3, 4))
-#: header columns of each representation (names as robkin writes them), longest first where one
-#: set begins another (Hayati's five columns start with DH's four)
-_COLUMNS: dict[str, tuple[str, ...]] = {
-    "hayati": ("a", "d", "alpha", "theta", "beta"),
-    "mdh": ("a(i-1)", "d", "alpha(i-1)", "theta"),
-    "dh": ("a", "d", "alpha", "theta"),
-    "poe": ("wx", "wy", "wz", "vx", "vy", "vz"),
-    "rpy-xyz": ("roll", "pitch", "yaw", "x", "y", "z"),
-    "gjd": _BLOCK,
-}
-#: what a header's columns leave open, and the --from values that settle it
-_OPEN = {"dh": ("dh", "mdh"), "poe": ("poe", "poe-body")}
-_SECTION = {"dh": "dh", "mdh": "mdh", "hayati": "hayati", "poe": "poe", "poe-body": "poe_body",
-            "rpy-xyz": "rpy_xyz", "gjd": "gjd"}
+
+def _columns() -> dict[str, tuple[str, ...]]:
+    """Header columns of each representation (names as robkin writes them), longest first where one
+    set begins another (Hayati's five columns start with DH's four); of representations with the
+    same columns (PoE's two frames), the first registered."""
+    out: list[tuple[str, tuple[str, ...]]] = []
+    for rep in representations():
+        if "csv" not in rep.file_formats or any(h == rep.headers for _, h in out):
+            continue
+        # before the first one whose columns begin its own (else that one would match first)
+        at = next((k for k, (_, h) in enumerate(out) if rep.headers[:len(h)] == h), len(out))
+        out.insert(at, (rep.name, rep.headers))
+    return dict(out)
+
+
+def _fits(found: str) -> tuple[str, ...]:
+    """The representations a header of ``found``'s columns may hold: those with the same headers
+    (PoE in either frame), or whose document keys are those headers (plain a, d, alpha, theta: DH or
+    modified DH)."""
+    headers = by_name(found).headers
+    return tuple(r.name for r in representations() if "csv" in r.file_formats
+                 and (r.headers == headers or r.keys == headers))
 
 
 def read_table_file(path: str | os.PathLike[str], representation: str | None = None) -> Robot:
@@ -117,27 +125,34 @@ def _bare_document(text: str, representation: str | None) -> dict[str, Any]:
 def _find_columns(header: Sequence[str]) -> tuple[str, int]:
     """The representation whose column names appear in the header (in order) and where they start."""
     lowered = [h.lower() for h in header]
-    for rep, cols in _COLUMNS.items():
+    columns = _columns()
+    for rep, cols in columns.items():
         for start in range(len(lowered) - len(cols) + 1):
             if tuple(lowered[start:start + len(cols)]) == cols:
                 return rep, start
-    known = "; ".join(", ".join(c) for c in _COLUMNS.values() if c is not _BLOCK) + "; m11, ..., m34"
+    known = "; ".join(", ".join(c) for rep, c in columns.items() if by_name(rep).layout != "frames") \
+        + "; m11, ..., m34"
     raise InputError(f"line 1: the header names no table's columns ({', '.join(header)[:80]}); expected one of: "
                      f"{known}")
 
 
 def _settle(rep: str, representation: str | None) -> str:
     """The representation, from the header (``rep``) and the caller's ``representation``."""
-    open_choices = _OPEN.get(rep)
+    fits = _fits(rep)
     if representation is None:
-        if rep == "poe":
-            raise InputError("the header's screw columns do not say which frame: give representation= poe "
-                             "(space frame) or poe-body")
+        same = [r for r in fits if by_name(r).headers == by_name(rep).headers]
+        if len(same) > 1 and by_name(rep).layout == "screws":
+            raise InputError("the header's screw columns do not say which frame: give representation= "
+                             + " or ".join(f"{r} (space frame)" if by_name(r).from_robot_args == ("space",) else r
+                                           for r in same))
+        if len(same) > 1:
+            raise InputError(f"the header's columns do not say which table: give representation= "
+                             f"{' or '.join(same)}")
         return rep
-    if representation == rep or (open_choices and representation in open_choices):
+    if representation == rep or representation in fits:
         return representation
     raise InputError(f"representation='{representation}' does not fit the header, which has {rep} columns "
-                     f"({', '.join(_COLUMNS[rep])})")
+                     f"({', '.join(by_name(rep).headers)})")
 
 
 def _joint(labels: dict[str, str], k: int) -> dict[str, Any]:
@@ -159,7 +174,7 @@ def _header_document(lines: list[str], representation: str | None, tab: bool) ->
     header = _split(head_line, tab)
     found, start = _find_columns(header)
     rep = _settle(found, representation)
-    cols = _COLUMNS[found]
+    cols = by_name(found).headers
     labels_at = {h.lower(): i for i, h in enumerate(header[:start])}
     mass_at = mass_columns_at(header, start + len(cols))  # m (kg), rx (m), ... as robkin writes them
     extra = [h for i, h in enumerate(header[start + len(cols):], start + len(cols))
@@ -187,7 +202,7 @@ def _header_document(lines: list[str], representation: str | None, tab: bool) ->
         masses.append(mass_cells(cells, mass_at, k, header))
     transforms = _transforms(rest, tab)
     doc = _document(rep, rows, joints, transforms)
-    add_mass_columns(doc[_SECTION[rep]], masses)
+    add_mass_columns(doc[by_name(rep).section], masses)
     return doc
 
 
@@ -214,15 +229,17 @@ def _document(rep: str, rows: list[list[float]], joints: list[dict[str, Any]],
         raise InputError("no rows after the header; one row per joint")
     section: dict[str, Any]
     wanted: tuple[str, ...]
-    if rep in ("dh", "mdh", "hayati"):
+    spec = by_name(rep)
+    if spec.layout == "link-table":
         wanted = ("base", "tool")
         section = {"rows": rows, **{k: v for k, v in transforms.items() if k in wanted}}
-    elif rep in ("poe", "poe-body"):
+    elif spec.layout == "screws":
         wanted = ("M",)
         if "M" not in transforms:
             raise InputError("a PoE table needs its home tool pose: a row 'M, m11, ..., m34' after an empty line")
-        section = {"frame": "space" if rep == "poe" else "body", "M": transforms["M"], "screws": rows}
-    elif rep == "rpy-xyz":
+        section = {"frame": spec.from_robot_args[0] if spec.from_robot_args else "space", "M": transforms["M"],
+                   "screws": rows}
+    elif spec.layout == "rpy":
         wanted = ()
         if len(rows) < 3:
             raise InputError(f"{len(rows)} rows; an RPY-XYZ table has n + 2 rows (world->base, one per joint, "
@@ -242,4 +259,4 @@ def _document(rep: str, rows: list[list[float]], joints: list[dict[str, Any]],
     for j in joints:  # the first and last rows of an RPY-XYZ or GJD table are frames, not joints
         if j["type"] not in ("revolute", "prismatic"):
             raise InputError(f"joint '{j['name'][:40]}': type '{j['type'][:40]}' is not revolute or prismatic")
-    return {"robkin": 1, "joints": joints, _SECTION[rep]: section}
+    return {"robkin": 1, "joints": joints, spec.section: section}

@@ -1,14 +1,15 @@
-"""Readable text of the table and result types: what ``str()`` of each shows, and what the CLI prints.
+"""Readable text of the representation tables: what ``str()`` of a table shows, and what the CLI prints.
 
-One layout per type, shared by ``str(table)``, ``robkin convert`` (through ``io.tables.blocks``),
-``str(ik_result)`` and ``str(comparison)`` / ``robkin check``:
+One layout per registered layout family (``robkin.representations.registry``), shared by
+``str(table)`` (through the representations' facade ``robkin.representations.presentation``) and
+``robkin convert`` (through ``io.tables.terminal.blocks``):
 
-- ``table_blocks(table)``: a DHTable, MDHTable, HayatiTable, PoE or RPYTable as a table with one row per joint,
-  plus its base / tool / M matrices;
-- ``ik_result_blocks(result)``: one row per target (success, errors, q) or per solution;
-- ``comparison_blocks(comparison)``: the joint-by-joint diagnosis of ``equivalence.compare``.
+- ``table_blocks(table)``: a table (DHTable, MDHTable, HayatiTable, PoE, RPYTable, or any registered
+  one) with one row per joint, plus its base / tool / M matrices and its mass properties;
+- ``frames_blocks``: the GJD's frames.
 
-Blocks are printed by ``io.tables.show_blocks`` (rich on a terminal) or joined by ``blocks_text``.
+The IK result and the equivalence comparison are laid out by their own layers (``kinematics.ik_text``,
+``equivalence.report``) with the generic blocks of ``io.tables.text``.
 
 Display rule of the representation tables (``table_blocks``, ``io.tables.blocks``): they are for reading,
 so a value closer to 0 than ``DISPLAY_ZERO`` (an angle or a unitless entry, such as a rotation-matrix or
@@ -20,30 +21,19 @@ Markdown, LaTeX, URDF, MJCF), ``to_dict()`` and JSON output are not display: the
 
 from __future__ import annotations
 
-import math
-import sys
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Sequence, Union, cast
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
+from ...representations.registry import Column, Representation, of_table
+from .text import Block, blocks_text, fmt_num, matrix_text
+
 if TYPE_CHECKING:  # pragma: no cover
-    from ...equivalence.comparison import Comparison
-    from ...kinematics.ik import IKResult
-    from ...representations import DHTable, PoE, RPYTable
-    from ...representations.link_table import LinkTable
     from ...robot import Joint
 
 __all__ = ["Block", "DISPLAY_ZERO", "DISPLAY_NOTE", "MASS_HEADERS", "table_text", "table_blocks", "mass_blocks",
-           "mass_frame", "frames_blocks", "solutions_block",
-           "ik_result_blocks", "comparison_blocks", "blocks_text"]
-
-#: Rows of a batch IK result shown by str(); a batch of 1e5 targets stays a screenful.
-MAX_ROWS = 20
-
-#: One piece of output: a table (title, headers, rows) or a line of text / a matrix block.
-Block = Union[tuple[Union[str, None], Sequence[str], Sequence[Sequence[object]]], str]
-
+           "mass_frame", "frames_blocks", "blocks_text"]
 
 #: Values closer to 0 than this (radians, unitless, or times the robot's size for lengths) are shown as
 #: 0 in the text tables. 1e-9: far above the noise of decimals such as 1.57079632679 for pi/2 (5e-12)
@@ -64,8 +54,6 @@ class _Display:
 
     def values(self, values: np.ndarray, length_cols: Sequence[int]) -> np.ndarray:
         """``values`` (..., k) with the entries below the threshold of their column set to 0."""
-        from .terminal import fmt_num
-
         v = np.array(values, dtype=float)
         limit = np.full(v.shape[-1], DISPLAY_ZERO)
         limit[list(length_cols)] = DISPLAY_ZERO * self.scale
@@ -83,27 +71,31 @@ class _Display:
         return [DISPLAY_NOTE] if self.hid else []
 
 
-def _is_a(table: object, module: str, cls: str) -> bool:
-    """``isinstance(table, robkin.representations.<module>.<cls>)`` without importing that module: a
-    table of a class whose module is not loaded cannot exist (the representations are imported on
-    first use, and printing a DH table should not import the four others)."""
-    mod = sys.modules.get(f"robkin.representations.{module}")
-    return mod is not None and isinstance(table, getattr(mod, cls))
-
-
-def _robot_scale(table: "LinkTable | PoE | RPYTable") -> float:
-    """``Robot.scale`` of the robot a table describes (1 for a bare LinkTable, which has no robot)."""
-    if any(_is_a(table, m, c) for m, c in (("dh", "DHTable"), ("mdh", "MDHTable"), ("hayati", "HayatiTable"),
-                                           ("poe", "PoE"), ("rpy_xyz", "RPYTable"))):
-        return table.to_robot().scale  # type: ignore[union-attr]
-    return 1.0
+def _robot_scale(table: Any) -> float:
+    """``Robot.scale`` of the robot a table describes (1 for a table of no registered representation,
+    such as a bare LinkTable, which has no robot)."""
+    try:
+        of_table(table)
+    except TypeError:
+        return 1.0
+    return table.to_robot().scale
 
 
 def _joint_cols(joints: Sequence["Joint"]) -> list[list[object]]:
     return [[str(i + 1), j.name, j.type + (" (flip)" if j.flip else "")] for i, j in enumerate(joints)]
 
 
-def table_blocks(table: "LinkTable | PoE | RPYTable", title: str | None = None,
+def _columns(rep: Representation | None, table: Any) -> list[Column]:
+    """The table's columns: its representation's, or (a bare LinkTable) its class's, as DH's."""
+    if rep is not None:
+        return list(rep.columns)
+    from ...representations.registry import by_name
+
+    mdh = by_name("mdh").columns  # the old layout of a bare LinkTable: modified DH's headers
+    return [*mdh, *(Column(c, c, c, "angle") for c in table.COLUMNS[len(mdh):])]
+
+
+def table_blocks(table: Any, title: str | None = None,
                  layout: str = "robkin", degrees: bool = False, scale: float | None = None) -> list[Block]:
     """A representation as tables and text lines (see the module docstring).
 
@@ -113,51 +105,50 @@ def table_blocks(table: "LinkTable | PoE | RPYTable", title: str | None = None,
     of lengths; by default the table's own robot's.
     """
     from ...representations.link_table import LinkTable, placement_notes
-    from .terminal import matrix_text
 
+    try:
+        rep: Representation | None = of_table(table)
+    except TypeError:
+        rep = None
+    if rep is None and not isinstance(table, LinkTable):
+        raise TypeError(f"no table layout for {type(table).__name__}")
     jc = _joint_cols(table.joints)
     unit = " (deg)" if degrees else ""
     shown = _Display(_robot_scale(table) if scale is None else scale)
-    if isinstance(table, LinkTable):
-        dh, hayati = _is_a(table, "dh", "DHTable"), _is_a(table, "hayati", "HayatiTable")
-        standard = dh or hayati
-        heads = ["i", "joint", "type", "a", "d", f"alpha{unit}", f"theta{unit}"] if standard else \
-            ["i", "joint", "type", "a(i-1)", "d", f"alpha(i-1){unit}", f"theta{unit}"]
-        if hayati:
-            heads.append(f"beta{unit}")
+    cols = _columns(rep, table)
+    heads = [c.header + (unit if c.angle else "") for c in cols]
+    lengths = [k for k, c in enumerate(cols) if c.kind == "length"]
+    angles = [k for k, c in enumerate(cols) if c.angle]
+    if rep is None or rep.layout == "link-table":
         values = np.array(table.rows)
-        base_row = cast("DHTable", table).base_row() if dh and layout == "paper" else None
+        base_row = table.base_row() if rep is not None and rep.paper_layout and layout == "paper" else None
         labels: list[list[object]] = jc
         if base_row is not None:
             values = np.vstack([base_row, values])
             labels = [["0", "(base)", "fixed"], *jc]
-        values = shown.values(values, [0, 1])  # a, d are lengths; alpha, theta, beta angles
+        values = shown.values(values, lengths)
         if degrees:
-            values[:, 2:] = np.degrees(values[:, 2:])
-        out: list[Block] = [(title, heads, [c + list(r) for c, r in zip(labels, values)])]
+            values[:, angles] = np.degrees(values[:, angles])
+        out: list[Block] = [(title, ["i", "joint", "type", *heads], [c + list(r) for c, r in zip(labels, values)])]
         out.append("theta (revolute) and d (prismatic) are the values at q = 0; joint i adds q_i"
                    + (" (subtracts, if flipped)" if any(j.flip for j in table.joints) else "") + ".")
         if base_row is None:
             out.append(matrix_text(shown.matrix(table.base), "base"))
-        out.append(matrix_text(shown.matrix(table.tool),
-                               "tool (residual T_t)" if dh else "tool"))
+        out.append(matrix_text(shown.matrix(table.tool), rep.tool_label if rep is not None else "tool"))
         out.extend(f"note: {line}" for line in placement_notes(table))
         return out + mass_blocks(table, shown) + shown.note()
-    if _is_a(table, "poe", "PoE"):
-        poe = cast("PoE", table)
-        heads = ["i", "joint", "type", "wx", "wy", "wz", "vx", "vy", "vz"]
-        screws = shown.values(poe.screws, [3, 4, 5])  # omega is unitless, v a length
-        return [(title, heads, [c + list(s) for c, s in zip(jc, screws)]),
-                matrix_text(shown.matrix(poe.M), "M"), *mass_blocks(poe, shown), *shown.note()]
-    if _is_a(table, "rpy_xyz", "RPYTable"):
-        values = shown.values(cast("RPYTable", table).rows, [3, 4, 5])  # roll, pitch, yaw; x, y, z
+    if rep.layout == "screws":
+        screws = shown.values(table.screws, lengths)  # omega is unitless, v a length
+        return [(title, ["i", "joint", "type", *heads], [c + list(s) for c, s in zip(jc, screws)]),
+                matrix_text(shown.matrix(table.M), "M"), *mass_blocks(table, shown), *shown.note()]
+    if rep.layout == "rpy":
+        values = shown.values(table.rows, lengths)
         if degrees:
-            values[:, :3] = np.degrees(values[:, :3])
+            values[:, angles] = np.degrees(values[:, angles])
         rpy_labels: list[list[object]] = [["0", "world->base", ""], *jc, [str(table.n + 1), "tool", ""]]
-        return [(title, ["row", "frame", "type", f"roll{unit}", f"pitch{unit}", f"yaw{unit}", "x", "y", "z"],
-                 [lab + list(r) for lab, r in zip(rpy_labels, values)]), *mass_blocks(table, shown),
-                *shown.note()]
-    raise TypeError(f"no table layout for {type(table).__name__}")
+        return [(title, ["row", "frame", "type", *heads], [lab + list(r) for lab, r in zip(rpy_labels, values)]),
+                *mass_blocks(table, shown), *shown.note()]
+    raise TypeError(f"no table layout for {type(table).__name__}")  # pragma: no cover - layouts are checked
 
 
 #: Headers of the mass-property columns (units: kg, the robot's length unit (normally m), kg m^2).
@@ -167,17 +158,13 @@ MASS_HEADERS = ("m (kg)", "rx (m)", "ry (m)", "rz (m)", "Ixx (kg m^2)", "Iyy (kg
 
 def mass_frame(table: object) -> str:
     """The frame a table's mass properties are in, as the line under them says it."""
-    if _is_a(table, "mdh", "MDHTable"):
-        return "link frame {i} (on joint i's axis, where link i starts; Craig)"
-    if _is_a(table, "rpy_xyz", "RPYTable"):
-        return "joint i's frame (the frame row i leads to, which joint i moves)"
-    if _is_a(table, "poe", "PoE"):
-        return ("the robot base frame at q = 0" if cast("PoE", table).frame == "space"
-                else "the home tool frame M")
-    return "link frame {i} (after joint i, on axis i+1)"
+    try:
+        return of_table(table).mass_frame
+    except TypeError:
+        return "link frame {i} (after joint i, on axis i+1)"
 
 
-def mass_blocks(table: "LinkTable | PoE | RPYTable", shown: _Display) -> list[Block]:
+def mass_blocks(table: Any, shown: _Display) -> list[Block]:
     """The table's mass properties (``masses``), one row per link, with the frame they are in; none
     when the table has none. The display rule hides centres of mass below DISPLAY_ZERO times the
     robot's size and inertia entries below DISPLAY_ZERO times the largest one."""
@@ -201,70 +188,16 @@ def mass_blocks(table: "LinkTable | PoE | RPYTable", shown: _Display) -> list[Bl
 
 def frames_blocks(frames: np.ndarray, labels: Sequence[str], scale: float) -> list[Block]:
     """GJD frames (k, 4, 4) as labelled matrix blocks, with the display rule of the tables."""
-    from .terminal import matrix_text
-
     shown = _Display(scale)
     return [*(matrix_text(shown.matrix(F), label) for F, label in zip(frames, labels)), *shown.note()]
 
 
-def table_text(table: "LinkTable | PoE | RPYTable") -> str:
-    """``str()`` of a table: its blocks as plain text, titled with the representation's name."""
-    from ..documents.reader import section_key
-    from .terminal import FORMATS
+def table_text(table: Any) -> str:
+    """``str()`` of a table: its blocks as plain text, titled with the representation's description."""
+    from ...representations.registry import by_section
 
-    return blocks_text(table_blocks(table, FORMATS[section_key(table).replace("_", "-")]))
-
-
-def solutions_block(solutions: np.ndarray, method: str, names: Sequence[str]) -> Block:
-    """IK solutions (S, n) of one target as a table, one row per solution (as ``robkin ik`` prints)."""
-    rows = [[str(i + 1), *s] for i, s in enumerate(solutions)]
-    return (f"IK solutions ({method}, nearest to q0 first)", ["#", *names], rows)
-
-
-def ik_result_blocks(result: "IKResult", names: Sequence[str] | None = None) -> list[Block]:
-    """An IK result: with ``solutions`` of one target, one row per solution; otherwise one row per
-    target with its success, errors and q (the best configuration found where it failed)."""
-    q = np.asarray(result.q, dtype=float)
-    n = q.shape[-1]
-    names = list(names) if names is not None else [f"q{i + 1}" for i in range(n)]
-    if q.ndim == 1 and isinstance(result.solutions, np.ndarray) and len(result.solutions):
-        return [solutions_block(result.solutions, result.method, names)]
-    Q = q.reshape(-1, n)
-    success = np.broadcast_to(result.success, Q.shape[:1])
-    pos = np.broadcast_to(result.position_error, Q.shape[:1])
-    rot = np.broadcast_to(result.orientation_error, Q.shape[:1])
-    messages = [result.message] * len(Q) if isinstance(result.message, str) else list(result.message)
-    shown = range(min(len(Q), MAX_ROWS))
-    rows = [[str(i + 1), "yes" if success[i] else "no", float(pos[i]), float(rot[i]), *Q[i]] for i in shown]
-    out: list[Block] = [(f"IK ({result.method}): {int(np.sum(success))} of {len(Q)} reached",
-                         ["#", "success", "position error", "orientation error", *names], rows)]
-    if len(Q) > MAX_ROWS:
-        out.append(f"... {len(Q) - MAX_ROWS} more targets (the arrays of the result hold them all)")
-    out += [f"target {i + 1}: {messages[i]}" for i in shown if messages[i]]
-    return out
-
-
-def comparison_blocks(c: "Comparison", title: str | None = None) -> list[Block]:
-    """The diagnosis of ``equivalence.compare``: per-joint table, tool, world, FK difference, verdict."""
-    rows = [[str(j.index + 1), j.name_a, j.name_b, j.type_a if j.type_a == j.type_b else f"{j.type_a}/{j.type_b}",
-             j.status, "-" if j.sign < 0 else "+", j.offset, j.detail] for j in c.joints]
-    title = title or f"A ({c.n_a} joints) vs B ({c.n_b} joints)"
-    out: list[Block] = []
-    if c.n_a != c.n_b:  # the answer first: no joint-by-joint detail changes it
-        out.append(f"verdict: {c.verdict()}")
-    out += [(title, ["joint", "A", "B", "type", "status", "sign", "offset", "how"], rows),
-            f"tool:  {c.tool}", f"world: {c.world}"]
-    if math.isfinite(c.max_fk_error):
-        what = "under the joint mapping" if c.equivalent and not c.same else "at the same q"
-        out.append(f"largest FK difference at 64 random q {what}: {c.max_fk_error:.3g} (relative to robot size)")
-    out += [f"note: {note}" for note in c.notes]
-    if c.n_a == c.n_b:
-        out.append(f"verdict: {c.verdict()}")
-    return out
-
-
-def blocks_text(items: Sequence[Block]) -> str:
-    """Blocks as plain text, one after the other."""
-    from .terminal import text_table
-
-    return "\n".join(b if isinstance(b, str) else text_table(b[1], b[2], b[0]) for b in items)
+    try:
+        rep = of_table(table)
+    except TypeError:  # a bare LinkTable: titled by its SECTION
+        rep = by_section(table.SECTION)
+    return blocks_text(table_blocks(table, rep.description))
