@@ -253,7 +253,7 @@ def test_folders_and_modules_stay_small():
 
 @pytest.mark.parametrize("source, expected", [
     ("from .io.urdf import parse_urdf", {"robkin.io.urdf"}),
-    ("from .io.urdf.model import UrdfModel as M", {"robkin.io.urdf.model"}),
+    ("from .io.urdf.parser import parse_urdf as p", {"robkin.io.urdf.parser"}),
     ("from . import se3", {"robkin.se3"}),
     ("def f():\n    import robkin.viz.gui\n", {"robkin.viz.gui"}),
     ("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from .robot import Robot\n", {"robkin.robot"}),

@@ -18,9 +18,11 @@ EXAMPLE = Path(__file__).resolve().parents[1] / "src" / "robkin" / "examples" / 
 
 
 def _loaded_after(statements: str) -> list[str]:
+    # the extension modules only: not the sub-packages, nor the plain-Python constants beside the
+    # kernels (compiled/scanners/vocabulary.py, compiled/conversions/tolerances.py), which load no code
     code = ("import sys, io, contextlib\n" + statements +
             "\nprint(sorted(m for m in sys.modules if m.startswith('robkin.compiled.')"
-            " and not hasattr(sys.modules[m], '__path__')))")
+            " and not (getattr(sys.modules[m], '__file__', None) or '.py').endswith('.py')))")
     env = dict(os.environ, ROBKIN_PLAIN="1")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
     loaded = eval(out.stdout.strip().splitlines()[-1])  # noqa: S307 - our own printed list

@@ -26,18 +26,14 @@ import math
 
 import numpy as np
 
+from ..compiled.conversions.tolerances import KEEP_TOL
 __all__ = ["common_normal_frame", "frame_from_zx", "satisfies_normal", "dh_params_between",
            "mdh_params_between", "approx_dh_params", "is_identity", "identity_mask", "x_line_on",
            "relative_pose"]
 
-#: The compiled kernel (compiled/conversions/frames.pyx) reads the tolerances below and those of ``robkin.lines``
-#: when it is imported.
-#: A given frame is kept only if it satisfies the convention to rounding noise: the DH parameters read
-#: back from it then reproduce it to ~1e-12 relative, well inside the 1e-9 FK agreement we promise.
-KEEP_TOL = 1e-12
-#: |cos theta| below which theta is taken as +-pi/2 and the tie-break (theta = +pi/2) applies; wider
-#: than rounding noise (~1e-16) so exact right angles computed through products resolve consistently.
-TIE_TOL = 1e-9
+# KEEP_TOL (a given frame is kept only if it satisfies the convention to rounding noise, 1e-12) and
+# TIE_TOL (|cos theta| below which theta is taken as +-pi/2, 1e-9) are defined, with why they are what
+# they are, beside the compiled kernel that shares them (compiled/conversions/tolerances.py).
 
 
 def is_identity(T: np.ndarray, scale: float, tol: float = KEEP_TOL) -> bool:

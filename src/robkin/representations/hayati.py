@@ -27,7 +27,8 @@ from .. import se3
 from ..lines import cross, norm
 from ..robot import Robot
 from .dh import robot_from_links
-from .frames import (TIE_TOL, approx_dh_params, common_normal_frame, dh_params_between, is_identity,
+from ..compiled.conversions.tolerances import TIE_TOL
+from .frames import (approx_dh_params, common_normal_frame, dh_params_between, is_identity,
                      relative_pose, satisfies_normal, tidy_angle)
 from .link_table import WARN_TOL, LinkTable, chain_poses, flip_frame, joint_links, residual_tool
 from .mass_rows import masses_of_robot

@@ -16,18 +16,13 @@ from typing import Sequence
 
 import numpy as np
 
+from ..compiled.conversions.tolerances import SNAP_BUDGET, SNAP_WINDOW
 from ..robot import Joint
-
 __all__ = ["SNAP_WINDOW", "SNAP_BUDGET", "snap_rows", "snap_many", "joint_travel", "travel"]
 
-#: Only values this close (radians, or relative to the robot's size for lengths) to a round one are
-#: candidates: far above the rounding noise of the frame algebra (~1e-15 relative) and of inputs
-#: written with 11 decimals (URDF files commonly write pi/2 as 1.57079632679, 4.9e-12 off), far below
-#: any parameter a designer means (the budget below decides in the end).
-SNAP_WINDOW = 1e-9
-#: The FK change that snapping may cause in total, relative to the robot's size: 1e-12 is the
-#: agreement promised for exact conversions, three orders above float64 rounding of a chain.
-SNAP_BUDGET = 1e-12
+# SNAP_WINDOW (only values within 1e-9 of a round one are candidates) and SNAP_BUDGET (the FK change
+# snapping may cause in total, 1e-12 of the robot's size) are defined, with why, beside the compiled
+# table pipeline that shares them (compiled/conversions/tolerances.py).
 
 _QUARTER = math.pi / 2
 

@@ -32,8 +32,8 @@ import numpy as np
 cnp.import_array()
 
 from robkin.lines import ANGLE_TOL as _ANGLE_TOL, LENGTH_TOL as _LENGTH_TOL
-from robkin.representations.frames import KEEP_TOL as _KEEP_TOL, TIE_TOL as _TIE_TOL
-from robkin.representations.rounding import SNAP_BUDGET as _SNAP_BUDGET, SNAP_WINDOW as _SNAP_WINDOW
+from robkin.compiled.conversions.tolerances import (KEEP_TOL as _KEEP_TOL, TIE_TOL as _TIE_TOL,
+                                                    SNAP_BUDGET as _SNAP_BUDGET, SNAP_WINDOW as _SNAP_WINDOW)
 
 # the tolerances of robkin.lines and robkin.representations.frames, read from there (reasons stated there)
 cdef double ANGLE_TOL = _ANGLE_TOL

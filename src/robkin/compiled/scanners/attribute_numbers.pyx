@@ -18,7 +18,7 @@ cdef extern from "Python.h":
     const char* PyUnicode_AsUTF8AndSize(object text, Py_ssize_t* size) except NULL
     double PyOS_string_to_double(const char* s, char** endptr, PyObject* overflow_exception) except? -1.0
 
-from robkin.io.files.numbers import MAX_ABS  # the one bound on any number of a robot description (see there)
+from robkin.compiled.scanners.vocabulary import MAX_ABS  # the one bound on any number of a robot description (see there)
 
 cdef double _MAX_ABS = MAX_ABS
 cdef enum:

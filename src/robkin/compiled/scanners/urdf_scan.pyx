@@ -22,10 +22,8 @@ from robkin.compiled.scanners.expat_capi cimport PyExpat_CAPI, XML_Parser, expat
 
 import os.path
 
-from robkin import bodies  # bodies.Mimic, imported only for a file with a <mimic>
 from robkin.errors import InputError, quote
-from robkin.io.trees.model import NO_LIMIT, SUPPORTED_TYPES, UNSUPPORTED_TYPES  # urdf.py imports this module lazily
-from robkin.io.trees.tree_joint import UrdfJoint
+from robkin.compiled.scanners.vocabulary import NO_LIMIT, SUPPORTED_TYPES, UNSUPPORTED_TYPES
 
 cdef extern from "Python.h":
     const char* PyUnicode_AsUTF8AndSize(object text, Py_ssize_t* size) except NULL
@@ -199,8 +197,9 @@ cdef _Scan _run(str text, str src):
     return s
 
 
-cdef object _joint(_Joint raw, str src, Py_ssize_t index):
-    """One joint, every attribute checked (the numbers stay plain floats: see UrdfJoint)."""
+cdef object _joint(_Joint raw, str src, Py_ssize_t index, object joint_type, object mimic_type):
+    """One joint, every attribute checked (the numbers stay plain floats: see UrdfJoint), as a
+    ``joint_type`` (with a ``mimic_type`` for its <mimic>)."""
     name = raw.name
     if not name:
         raise InputError(f"{src}: joint #{index + 1} has no name attribute")
@@ -237,13 +236,18 @@ cdef object _joint(_Joint raw, str src, Py_ssize_t index):
             raise InputError(f"{where}: <mimic> has no joint attribute")
         mult = number(raw.multiplier, where, "mimic multiplier")
         off = number(raw.offset, where, "mimic offset")
-        mimic = bodies.Mimic(raw.mimic, 1.0 if mult is None else mult, 0.0 if off is None else off)
-    return UrdfJoint(name, jtype, raw.parent, raw.child, None, axis, lower, upper, mimic,
+        mimic = mimic_type(raw.mimic, 1.0 if mult is None else mult, 0.0 if off is None else off)
+    return joint_type(name, jtype, raw.parent, raw.child, None, axis, lower, upper, mimic,
                      effort, velocity, damping, friction, xyz_rpy)
 
 
-def scan_urdf(str text, str src):
+def scan_urdf(str text, str src, object joint_type, object mimic_type):
     """(robot name or None, link names, joints) of URDF text, read in file order and checked one by one.
+
+    The joints are made as ``joint_type(name, type, parent, child, None, axis, lower, upper, mimic, effort,
+    velocity, damping, friction, xyz_rpy)`` and their mimics as ``mimic_type(joint, multiplier, offset)``:
+    the reader passes its classes (``io.trees.tree_joint.UrdfJoint``, ``body_parts.Mimic``), which live
+    in layers above the compiled core.
 
     Refuses, with an InputError naming ``src``: XML that is not well-formed (line and column), a DTD,
     nesting deeper than MAX_DEPTH, xacro elements, a root other than <robot>, a link without a name or
@@ -267,7 +271,7 @@ def scan_urdf(str text, str src):
         known.add(name)
     if not s.links:
         raise InputError(f"{src}: no <link> elements; a URDF robot needs links joined by joints")
-    joints = [_joint(raw, src, i) for i, raw in enumerate(s.joints)]
+    joints = [_joint(raw, src, i, joint_type, mimic_type) for i, raw in enumerate(s.joints)]
     _check_tree(s.links, joints, known, src)
     return s.robot_name, tuple(s.links), tuple(joints)
 

@@ -11,18 +11,14 @@ import math
 import operator
 from typing import Any
 
+from ...compiled.scanners.vocabulary import MAX_ABS  # the one bound on any number of a robot description
 from ...errors import InputError, quote
-
 __all__ = ["number", "number_list", "matrix", "MAX_INT_DIGITS", "MAX_ABS"]
 
 #: The YAML and JSON readers turn integers longer than this (in characters) into +-inf, which
 #: ``number`` refuses naming the field: 400 digits are beyond the float range (1.8e308), and Python
 #: refuses to convert integers of more than 4300 digits at all.
 MAX_INT_DIGITS = 400
-#: Largest magnitude of any number in a robot description. Norms and products of a few such numbers
-#: must stay finite in float64 (1e100 squared is 1e200), so an absurd value is refused here, naming
-#: its field, instead of overflowing later in a computed frame that the user never typed.
-MAX_ABS = 1e100
 
 _NAMES = {"pi": math.pi, "tau": math.tau, "e": math.e}
 _BINOPS = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul,

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Iterable, Mapping, Sequence
 import numpy as np
 
 from ...compiled.conversions import pose_rows
+from ...compiled.scanners.vocabulary import NO_LIMIT, SUPPORTED_TYPES, UNSUPPORTED_TYPES
 from .tree_joint import UrdfJoint
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -22,12 +23,6 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["UrdfModel", "LinkContent", "UrdfJoint", "origin_matrix", "attribute_floats", "NO_LIMIT",
            "SUPPORTED_TYPES", "UNSUPPORTED_TYPES"]
 
-#: URDF has no way to say "no limit" on a prismatic joint (urdfdom, and so pinocchio, refuse ``inf``),
-#: so a missing limit is written as +-NO_LIMIT and a limit at least this large is read as none. No real
-#: joint travels 1e10 m or rad; the value is finite in float32 too (MuJoCo's limits).
-NO_LIMIT = 1e10
-SUPPORTED_TYPES = ("revolute", "continuous", "prismatic", "fixed")
-UNSUPPORTED_TYPES = ("floating", "planar")
 
 @dataclass(frozen=True)
 class LinkContent:

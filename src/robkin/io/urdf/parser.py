@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from ..files.input_files import read_text_file
-from ..trees.model import UrdfModel
+from ..trees.model import UrdfJoint, UrdfModel
 from ..trees.xml_parse import _extras, _parse_urdf_xml, _refuse_dtd
 from ...bodies import LazyTuple
 from ...errors import InputError
@@ -66,6 +66,14 @@ def _expand_xacro(path: Path) -> str:
         raise InputError(f"{path}: xacro expansion failed: {msg}") from None
 
 
+def _mimic(joint: str, multiplier: float, offset: float) -> Any:
+    """A ``body_parts.Mimic``, its module imported only for a file with a <mimic> (each frozen dataclass
+    costs start-up to define; most URDFs have none)."""
+    from ...body_parts import Mimic
+
+    return Mimic(joint, multiplier, offset)
+
+
 def parse_urdf(source: str | os.PathLike[str], *, allow_xacro: bool = False) -> UrdfModel:
     """Parse and validate the kinematic tree of a URDF (path, .xacro path, or XML string).
 
@@ -85,7 +93,7 @@ def parse_urdf_text(text: str, src: str = "<urdf string>") -> UrdfModel:
     from .content import LazyLinkContent
 
     _refuse_dtd(text, src)
-    name, links, joints = scan_urdf(text, src)
+    name, links, joints = scan_urdf(text, src, UrdfJoint, _mimic)
     # the tree is built only if link contents or the extras are asked for, once for both
     tree: list[Any] = []
 
