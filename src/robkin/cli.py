@@ -34,7 +34,7 @@ class _Parser(argparse.ArgumentParser):
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     """The ``robkin`` parser; with ``command`` (one of COMMANDS) only that command's subparser.
 
-    Building all nine subparsers (~90 options) is a good part of a one-shot command's start-up, and a
+    Building all the subparsers (~90 options) is a good part of a one-shot command's start-up, and a
     command line naming its command needs only that one; ``robkin --help``, a bad command name and
     ``robkin`` alone get them all.
     """
