@@ -36,7 +36,8 @@ from robkin.errors import InputError
 from robkin.io.toolboxes.code_literals import m_float, m_str, py_float, py_str
 from robkin.io.toolboxes.eaik import eaik_json, eaik_python
 from robkin.io.toolboxes.matlab import matlab_from_robot
-from robkin.io.toolboxes.opw import opw_document, opw_from_robot
+from robkin.io.toolboxes.opw import opw_document
+from robkin.representations.opw import opw_from_robot
 from robkin.io.toolboxes.rtb import rtb_from_robot
 from robkin.representations.dh import DHTable
 from robkin.representations.mdh import MDHTable
