@@ -7,56 +7,21 @@ on it. Its convenience methods (``ik``, ``jacobian``, ``manipulability``, ``inve
 use (``import robkin`` stays light), and it is declared as the hub's facade (CONTRIBUTING.md, "Layers";
 ``tests/test_architecture.py``).
 
-- ``CapabilityMethod``: a method of ``Robot`` that *is* a function of a higher layer: ``Robot.ik`` is
-  ``robkin.kinematics.ik.ik`` (``ik_function()``) with the robot as its first argument. ``help(Robot.ik)``
-  and ``inspect.signature`` show that function, before and after the first call alike.
+- ``ik_function()``: ``robkin.kinematics.ik.ik``, which *is* ``Robot.ik`` (the robot its first argument;
+  ``robot.CapabilityMethod`` puts it in the class on first use);
 - ``rigid_body()``, ``jacobian()``: the modules behind the dynamics and Jacobian methods.
 """
 
 from __future__ import annotations
 
 from functools import cache
-from types import MethodType, ModuleType
-from typing import TYPE_CHECKING, Any, Callable, Generic, TypeVar, overload
+from types import ModuleType
+from typing import TYPE_CHECKING, Callable
 
 if TYPE_CHECKING:  # what static type checkers see: the result types of the methods
     from .kinematics.ik import IKResult
 
-__all__ = ["CapabilityMethod", "ik_function", "jacobian", "rigid_body"]
-
-F = TypeVar("F", bound=Callable[..., Any])
-
-
-class CapabilityMethod(Generic[F]):
-    """A method of a hub class defined as a function ``f(instance, ...)`` in a higher layer.
-
-    Parameters
-    ----------
-    load : callable
-        Returns the function (importing its module on first use, then kept: ``functools.cache``); its
-        first parameter receives the instance.
-
-    Each access through an instance binds the function to it (``types.MethodType``): one descriptor call
-    (~0.13 us, measured against a method that is the function itself; ~2-3 % of a closed-form single IK
-    call) and no second frame forwarding the keywords. The bound method is not kept on the instance: it
-    would refer back to it, and a robot dropped by its last user would then wait for the cyclic garbage
-    collector instead of going at once (``tests/test_ik_single.py``, the solver cache).
-    """
-
-    def __init__(self, load: Callable[[], F]) -> None:
-        self.load = load
-
-    @overload
-    def __get__(self, instance: None, owner: type | None = None) -> F: ...
-
-    @overload
-    def __get__(self, instance: object, owner: type | None = None) -> F: ...
-
-    def __get__(self, instance: object | None, owner: type | None = None) -> Any:
-        function = self.load()
-        if instance is None:
-            return function
-        return MethodType(function, instance)
+__all__ = ["ik_function", "jacobian", "rigid_body"]
 
 
 @cache

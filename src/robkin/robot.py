@@ -11,7 +11,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from functools import cached_property
-from typing import TYPE_CHECKING, Any, Sequence
+from types import MethodType
+from typing import TYPE_CHECKING, Any, Callable, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -20,7 +21,7 @@ from .checks import EXACT_TOL, PROJECTION_TOL, check_out, check_pose, check_pose
 from .errors import InputError, quote
 from .names import check_name, duplicates
 from .bodies import EMPTY_BODIES, Bodies
-from .capabilities import CapabilityMethod, ik_function
+from .capabilities import ik_function
 from .capabilities import jacobian as _jacobian_module, rigid_body as _rigid_body
 from .joints import JOINT_TYPES, Joint, JointType, default_joints
 from .frame_stacks import frame_scales, local_transforms
@@ -36,6 +37,40 @@ __all__ = ["Joint", "JointType", "Robot", "JOINT_TYPES", "default_joints", "EXAC
 def identity_pose() -> np.ndarray:
     """A new (4, 4) identity: the default of every pose field (``Robot.world``, a table's base and tool)."""
     return np.eye(4)
+
+class CapabilityMethod:
+    """A method of ``Robot`` that *is* a function of a higher layer, imported on first use.
+
+    ``Robot.ik`` is ``robkin.kinematics.ik.ik`` with the robot as its first argument; the hub reaches it
+    only through its facade (``capabilities.ik_function``). The first access, through the class or an
+    instance, puts that function itself in the class in place of this placeholder: Robot's own
+    attribute, set by Robot's own module. So ``help(Robot.ik)`` and ``inspect.signature`` show the
+    function's full signature before and after the first call alike, and every later call is a plain
+    method call: a descriptor answering each access would cost ~0.16 us per call (~6 % of a
+    closed-form single IK call, the margin to EAIK's per-target call in ``bench_closed_form.py``), and
+    a bound method kept on each robot would refer back to it (a dropped robot would then wait for the
+    cyclic garbage collector).
+
+    Parameters
+    ----------
+    load : callable
+        Returns the function (imported on first use, then kept); its first parameter is the robot.
+    """
+
+    def __init__(self, load: Callable[[], Callable[..., Any]]) -> None:
+        self.load = load
+        self.owner: type | None = None
+        self.name = ""
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.owner, self.name = owner, name
+
+    def __get__(self, instance: object | None, owner: type | None = None) -> Any:
+        function = self.load()
+        if self.owner is not None:
+            setattr(self.owner, self.name, function)  # this class's own attribute, once
+        return function if instance is None else MethodType(function, instance)
+
 
 @dataclass(frozen=True, eq=False)
 class Robot:
@@ -220,10 +255,10 @@ class Robot:
         return F
 
     #: Inverse kinematics: joint values that put the tool at T. This method is ``robkin.kinematics.ik.ik``
-    #: with the robot as its first argument (``robkin.capabilities``: imported on first use, then a plain
-    #: bound method), so ``help(Robot.ik)`` shows that function's parameters: T (4, 4) or (N, 4, 4), q0,
-    #: mask, method, all_solutions, tol_position, tol_orientation, max_iterations, restarts, rng, threads,
-    #: lock, arm_angle; it returns an ``IKResult`` with ``.q`` and ``.success``.
+    #: with the robot as its first argument (``CapabilityMethod``: imported on first use, then the function
+    #: itself), so ``help(Robot.ik)`` shows that function's parameters: T (4, 4) or (N, 4, 4), q0, mask,
+    #: method, all_solutions, tol_position, tol_orientation, max_iterations, restarts, rng, threads, lock,
+    #: arm_angle; it returns an ``IKResult`` with ``.q`` and ``.success``.
     #: (not annotated: a dataclass would take an annotated class attribute for a field)
     ik = CapabilityMethod(ik_function)
 

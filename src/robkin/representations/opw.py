@@ -214,14 +214,15 @@ def opw_from_robot(robot: "Robot") -> OPWParameters:
     signs = tuple(1 if float(dirs[i] @ z[i]) > 0 else -1 for i in range(6))
     theta = (th1, th2, th23 - th2, th4, th5, th6)
     size = robot.scale
-    lengths = [0.0 if abs(x) <= SNAP * size else float(x) for x in (a1, a2, b, c1, c2, c3, c4)]
-    params = OPWParameters(*lengths, offsets=tuple(_angle(-t) for t in theta), sign_corrections=signs,
+    lengths = dict(zip(GEOMETRY, (0.0 if abs(x) <= SNAP * size else float(x)
+                                  for x in (a1, a2, b, c1, c2, c3, c4))))
+    params = OPWParameters(**lengths, offsets=tuple(_angle(-t) for t in theta), sign_corrections=signs,
                            base=B, tool=np.eye(4))
     end = B @ opw_fk(params, np.array([-o for o in params.offsets]))
     E = se3.inv(end) @ robot.tool
     near = np.abs(E - np.eye(4)) <= SNAP * np.array([[1, 1, 1, size]] * 3 + [[1, 1, 1, 1]])
     E[near] = np.eye(4)[near]                             # rounding noise of an identity tool
-    params = OPWParameters(*lengths, offsets=params.offsets, sign_corrections=signs, base=B, tool=E)
+    params = OPWParameters(**lengths, offsets=params.offsets, sign_corrections=signs, base=B, tool=E)
     _check_fk(params, robot)
     return params
 
