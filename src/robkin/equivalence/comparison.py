@@ -26,7 +26,7 @@ the base frame), and is reported as the latter; a half turn there gets a note na
 (a ROS URDF's ``base_link`` against a vendor table's ``base``) and ``base_link=``.
 
 Past the first joint that cannot be matched the comparison goes on parameter by parameter
-(``equivalence_params``): both robots written as the same kind of table by the same frame rules, each
+(``equivalence.params``): both robots written as the same kind of table by the same frame rules, each
 row that differs names its parameters with both values ('a2 -0.6127 vs -0.612 m'); a later joint whose
 row matches is 'aligned'.
 """
@@ -92,7 +92,7 @@ class Comparison:
     tol: float
     notes: tuple[str, ...] = field(default_factory=tuple)
     #: the table values that differ (both robots written as ``table`` by the same rules); see
-    #: ``equivalence_params``. Empty when the robots are the same or their joint counts differ.
+    #: ``equivalence.params``. Empty when the robots are the same or their joint counts differ.
     parameters: tuple[ParameterDifference, ...] = field(default_factory=tuple)
     table: str = ""
 

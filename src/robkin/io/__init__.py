@@ -19,7 +19,7 @@ DOCUMENT_EXTENSIONS = (".yaml", ".yml", ".json")
 URDF_EXTENSIONS = (".urdf", ".xacro")
 MJCF_EXTENSIONS = (".xml", ".mjcf")
 SDF_EXTENSIONS = (".sdf",)
-#: Table files (``robkin convert --format csv`` output, bare rows): ``io.table_read``
+#: Table files (``robkin convert --format csv`` output, bare rows): ``io.tables.reader``
 TABLE_EXTENSIONS = (".csv", ".tsv", ".txt")
 #: Robot files holding a tree from which --base-link/--tip-link pick a serial chain.
 ROBOT_FILE_EXTENSIONS = URDF_EXTENSIONS + MJCF_EXTENSIONS + SDF_EXTENSIONS

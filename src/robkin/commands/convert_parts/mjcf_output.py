@@ -13,7 +13,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["add_mjcf_options", "check_mjcf_options", "render_mjcf", "MJCF_HELP"]
 
-#: = io.mjcf_actuators.ACTUATOR_KINDS (not imported: the module loads with every command)
+#: = io.mjcf.actuators.ACTUATOR_KINDS (not imported: the module loads with every command)
 _KINDS = ("motor", "position", "velocity", "none")
 
 MJCF_HELP = """\

@@ -11,7 +11,7 @@ and attributes in a namespace as "{uri}local"), as ``Kept`` elements: the part o
 Element API the reader calls (``tag``, ``text``, ``get``, ``find``, ``findall``, ``findtext`` with a
 plain tag), each one C struct. Everything else (visuals, collisions, inertials, sensors, plugins: most
 of a file) is skipped without an element or a string made for it. The link contents are parsed from
-the text later, only when asked for (``robkin.io.sdf_shapes``).
+the text later, only when asked for (``robkin.io.sdf.shapes``).
 
 The standard library's own expat is reached through the ``pyexpat.expat_CAPI`` capsule (see
 ``urdf_scan``) and driven as ``xml.etree.ElementTree.XMLParser.feed`` drives it for a string (UTF-8,
@@ -206,7 +206,7 @@ cdef void _data(void* data, const char* s, int n) noexcept:
 def kinematic_tree(str text, str src):
     """Root element of SDF text with only the elements the SDF reader reads (see the module's
     docstring); InputError "not well-formed XML (line, column)" or "not valid XML (...)" as
-    ``robkin.io.urdf_xml._parse_xml`` words them (the caller refuses DTDs first, as that does)."""
+    ``robkin.io.trees.xml_parse._parse_xml`` words them (the caller refuses DTDs first, as that does)."""
     cdef Py_ssize_t n
     cdef const char* b
     try:

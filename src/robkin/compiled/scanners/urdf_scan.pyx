@@ -6,7 +6,7 @@ The standard library's own expat (reached through the ``pyexpat.expat_CAPI`` cap
 of the root, of each top-level ``<link>`` (its name) and of each top-level ``<joint>`` and its first
 ``<parent>``, ``<child>``, ``<origin>``, ``<axis>``, ``<limit>``, ``<dynamics>`` and ``<mimic>``
 children, and nothing else: no tree is built. Everything else (link contents, materials, extensions) is
-parsed from the text later, only when asked for (``robkin.io.urdf_content``).
+parsed from the text later, only when asked for (``robkin.io.urdf.content``).
 
 Tags are namespace-aware exactly as in ``xml.etree`` ("{uri}local"), so the scan and the lazy content
 parse agree on what a tag is: an element in a namespace (a default ``xmlns`` included) is not a URDF

@@ -186,7 +186,7 @@ def same_masses(a: "Robot", b: "Robot", tol: float) -> str | None:
 
 
 def mass_columns_at(header: list[str], after: int) -> int | None:
-    """Where the ten mass columns (``table_files.MASS_COLUMNS``: ``m (kg)``, ``rx (m)``, ...,
+    """Where the ten mass columns (``io.tables.files.MASS_COLUMNS``: ``m (kg)``, ``rx (m)``, ...,
     ``Ixz (kg m^2)``) start in a table file's header, looking from column ``after`` on; None without them."""
     from ..tables.files import MASS_COLUMNS
 

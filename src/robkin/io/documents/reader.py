@@ -1,4 +1,4 @@
-"""The robot document (YAML or JSON): reading, validating and cross-checking (writing: ``document_write``).
+"""The robot document (YAML or JSON): reading, validating and cross-checking (writing: ``writer``).
 
 Schema (docs/conventions.md): ``robkin: 1``, optional ``name``, ``joints`` (one entry per joint: name, type
 revolute|prismatic, optional limits {lower, upper} and flip), and at least one representation section:

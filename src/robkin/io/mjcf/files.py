@@ -1,10 +1,10 @@
-"""An MJCF model with its meshes: the writer (``mjcf_write``) and the mesh files (``mesh_files``) together.
+"""An MJCF model with its meshes: the writer (``writer``) and the mesh files (``io.meshes.files``) together.
 
 ``write_mjcf(robot, "out/robot.xml", source="robot.urdf")`` is what ``robkin convert --to mjcf -o``
 does, for Python: the robot file's meshes found (``package://``, ``model://``, relative paths, the
 ``package_paths`` given), copied into ``out/meshes`` (COLLADA and PLY converted to STL, an STL beyond
 MuJoCo's triangle limit to OBJ; a COLLADA visual of several colours also split into one STL per colour,
-``mjcf_mesh_parts``), and the model written atomically beside them, naming them relative to
+``mesh_parts``), and the model written atomically beside them, naming them relative to
 itself so that the folder loads from anywhere.
 """
 
@@ -28,7 +28,7 @@ def mjcf_with_meshes(robot: Robot, source: str | os.PathLike[str] | None, out_di
 
     With ``out_dir``, the meshes are copied into ``out_dir/mesh_dir`` first and named relative to
     ``out_dir``; without it, the found meshes MuJoCo reads are named by their absolute paths. Meshes
-    not found are left out with one warning line. ``options``: those of ``mjcf_write.mjcf_text``
+    not found are left out with one warning line. ``options``: those of ``writer.mjcf_text``
     (``actuators``, ``kp``, ``kv``, ``fuse_fixed``).
     """
     from .writer import mjcf_text
@@ -83,7 +83,7 @@ def write_mjcf(robot: Robot, path: str | os.PathLike[str], *, source: str | os.P
                package_paths: Mapping[str, Path] | None = None, **options: Any) -> Path:
     """Write ``robot`` as an MJCF model at ``path`` with its meshes in a ``meshes`` folder beside it
     (see the module doc); returns the path. ``source``: the robot file it was read from (its meshes);
-    ``options``: those of ``mjcf_write.mjcf_text``."""
+    ``options``: those of ``writer.mjcf_text``."""
     from ..files.atomic import write_text_atomic
 
     out = Path(path)

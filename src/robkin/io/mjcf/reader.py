@@ -6,8 +6,8 @@ What is read, with MuJoCo's own semantics
     site's ``fromto``); ``hinge`` and ``slide`` joints with ``pos`` (a hinge axis need not pass through
     the body origin), ``axis``, ``ref``, ``range``/``limited`` (and ``autolimits``), several joints in
     one body; ``<default>`` classes with inheritance, ``class`` and ``childclass``; ``<include>``
-    (see ``mjcf_source``); geoms (visual and collision shapes) and ``<inertial>``s as ``Robot.bodies``
-    (see ``mjcf_geoms``). Actuators and everything dynamic are ignored.
+    (see ``source``); geoms (visual and collision shapes) and ``<inertial>``s as ``Robot.bodies``
+    (see ``geoms``). Actuators and everything dynamic are ignored.
 
 The tree becomes a ``UrdfModel`` (links = bodies and sites) and the chain is picked by the URDF
 reader's ``robot_from_model``, so ``base_link``/``tip_link`` name bodies or sites. A body whose

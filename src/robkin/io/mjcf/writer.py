@@ -2,12 +2,12 @@
 
 What is written (``mjcf_text``)
     ``<compiler angle="radian" autolimits="true" inertiafromgeom="false">``: radians, and no mass
-    invented from the shapes; the default classes ``visual`` and ``collision`` (``mjcf_geoms_write``);
-    mesh and material assets; the body tree of ``mjcf_tree`` (body names = the source's link names);
+    invented from the shapes; the default classes ``visual`` and ``collision`` (``geoms_write``);
+    mesh and material assets; the body tree of ``tree`` (body names = the source's link names);
     each joint with its axis, ``range`` (``limited="false"`` when unlimited, or when lower = upper:
     MuJoCo refuses an empty range), ``damping``, ``frictionloss`` and ``armature`` where the source
-    gave them; inertials exact (``mjcf_inertial``); mimic joints as ``<equality><joint>`` with
-    ``polycoef="offset multiplier 0 0 0"``; actuators (``mjcf_actuators``); a keyframe ``home`` at q = 0.
+    gave them; inertials exact (``inertial``); mimic joints as ``<equality><joint>`` with
+    ``polycoef="offset multiplier 0 0 0"``; actuators (``actuators``); a keyframe ``home`` at q = 0.
 
 What q means
     MuJoCo's qpos[:n] is q: the chain's joints come first in the tree (each chain child is its
@@ -199,7 +199,7 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
         Merge bodies fixed to their parent into it (mass merged exactly; their names become sites).
     mesh_parts : mapping, optional
         Mesh file name as the source wrote it -> [(file to write, rgba)]: a visual mesh split by colour
-        (``mjcf_mesh_parts``), drawn as one geom per part where the source gives the shape no colour.
+        (``mesh_parts``), drawn as one geom per part where the source gives the shape no colour.
     """
     from ...version import __version__
 

@@ -5,7 +5,7 @@ What is read
     nested ``<model>``s (their names scoped as ``inner::link``), each ``<pose>`` with ``relative_to``
     (SDFormat 1.8; also ``degrees`` and ``rotation_format="quat_xyzw"`` of 1.9), joint axes
     ``<axis><xyz expressed_in>`` with ``<limit><lower><upper>``; visuals, collisions and inertials as
-    ``Robot.bodies`` (see ``sdf_shapes``). Sensors and plugins are ignored; ``<include>`` (a model from
+    ``Robot.bodies`` (see ``shapes``). Sensors and plugins are ignored; ``<include>`` (a model from
     a URI) is refused.
 
 Default frames (every version)
@@ -149,7 +149,7 @@ def robot_from_sdf(source: str | os.PathLike[str], base_link: str | None = None,
         Links or explicit frames at the chain's ends (nested models' as ``inner::link``). Default base:
         the root link (the link fixed to ``world`` when a joint does that); default tip: the only leaf.
         A model whose links form several unconnected trees: the tree holding these links, or the
-        only one with moving joints (see ``sdf_trees``).
+        only one with moving joints (see ``trees``).
     name : str, optional
         Robot name; default the model's name.
 

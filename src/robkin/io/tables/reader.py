@@ -11,7 +11,7 @@ Two kinds of file are read (``.csv``, ``.tsv``, ``.txt``):
   give the joint names and types (``revolute``, ``prismatic``, ``revolute (flip)``). Values may be
   expressions such as ``-pi/2`` (what ``--pi`` writes). The ten mass columns robkin writes after the
   representation's (``m (kg)``, ``rx (m)``, ..., ``Ixz (kg m^2)``) are read as each link's mass
-  properties in the table's link frame (RPY-XYZ's world row: the base's; see ``document_masses``);
+  properties in the table's link frame (RPY-XYZ's world row: the base's; see ``io.documents.masses``);
 * bare rows (no header), as pasted from a paper and as the GUI takes them
   (``robkin.io.tables.pasted``): ``a d alpha theta [R|P]`` per line, and so on.
 

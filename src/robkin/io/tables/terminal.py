@@ -25,7 +25,7 @@ def blocks(robot: Robot, fmt: str, layout: str = "robkin", degrees: bool = False
 
     ``layout='paper'`` puts a DH table in the conversion paper's n+1-row layout (row 0 is the fixed
     base row) when the base is one DH row. ``degrees`` shows the angle columns of DH, modified DH,
-    Hayati and RPY-XYZ tables in degrees. Values within ``table_views.DISPLAY_ZERO`` of 0 are shown
+    Hayati and RPY-XYZ tables in degrees. Values within ``views.DISPLAY_ZERO`` of 0 are shown
     as 0, with a note (the display rule; files keep full precision).
     """
     from .views import frames_blocks, table_blocks

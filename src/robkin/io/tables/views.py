@@ -11,7 +11,7 @@ One layout per registered layout family (``robkin.representations.registry``), s
 The IK result and the equivalence comparison are laid out by their own layers (``kinematics.ik_text``,
 ``equivalence.report``) with the generic blocks of ``io.tables.text``.
 
-Display rule of the representation tables (``table_blocks``, ``io.tables.blocks``): they are for reading,
+Display rule of the representation tables (``table_blocks``, ``io.tables.terminal.blocks``): they are for reading,
 so a value closer to 0 than ``DISPLAY_ZERO`` (an angle or a unitless entry, such as a rotation-matrix or
 axis component, in radians / as is; a length relative to the robot's size) is shown as 0, and one note
 line under the table says so. A URDF that writes pi/2 as 1.57079632679 describes a real 4.9e-12 rad

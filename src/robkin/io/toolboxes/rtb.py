@@ -9,7 +9,7 @@ FK and ``robot.rne`` / ``robot.gravload`` are its inverse dynamics and gravity t
 No joint is written with the toolbox's ``flip``: its ``rne`` ignores ``flip`` (the torque of a flipped
 joint comes out for the unflipped one; measured with roboticstoolbox-python 1.5), so a joint that moves
 against its table frame's z is written instead from the table whose frames put z along every joint's
-positive direction (``toolbox_tables.unflipped``): the same FK and the same joint variables.
+positive direction (``tables.unflipped``): the same FK and the same joint variables.
 
 Every name and number from the input reaches the file only as a literal (``code_literals``).
 """

@@ -73,7 +73,7 @@ class UrdfModel:
 
     def roots(self) -> list[str]:
         """Links without a parent joint, in file order: one for a URDF; an SDF model may hold several
-        unconnected trees (see ``sdf_trees``)."""
+        unconnected trees (see ``io.sdf.trees``)."""
         parents = self.parent_joint()
         return [name for name in self.links if name not in parents]
 
