@@ -418,6 +418,54 @@ def test_server_refuses_foreign_hosts_and_paths(server):
     assert start["text"] == RRPR_TEXT and "rrpr" in start["examples"]
 
 
+def _get(url):
+    with urllib.request.urlopen(url, timeout=10) as r:
+        return json.loads(r.read())
+
+
+@pytest.fixture()
+def toy():
+    """The toy representation of test_registry (a standard DH table in millimetres), registered for one test."""
+    from robkin.representations import registry
+    from test_registry import TOY
+
+    registry.register(TOY)
+    try:
+        yield TOY
+    finally:
+        registry.unregister(TOY.name)
+
+
+def test_the_page_is_told_the_registry(server, toy):
+    """GET /api/representations: each table as the page shows it, the overlay checkboxes and the download
+    buttons, with today's labels and order; a registered representation follows, read on each request."""
+    reps = _get(server.url + "api/representations")
+    by = {r["name"]: r for r in reps["representations"]}
+    assert list(by) == ["dh", "mdh", "hayati", "poe", "poe-body", "rpy-xyz", "gjd", "dh-mm"]
+    assert [(r["section"], r["layout"]) for r in reps["representations"]][3:6] == [
+        ("poe", "screws"), ("poe_body", "screws"), ("rpy_xyz", "rpy")]
+    assert [c["label"] for c in by["mdh"]["columns"]] == ["a(i-1)", "d", "α(i-1)", "θ"]
+    assert [c["label"] for c in by["hayati"]["columns"]] == ["a", "d", "α", "θ", "β"]
+    assert [c["label"] for c in by["poe"]["columns"]] == ["ωx", "ωy", "ωz", "vx", "vy", "vz"]
+    assert [c["angle"] for c in by["rpy-xyz"]["columns"]] == [True] * 3 + [False] * 3
+    assert by["dh"]["title"] == "Standard DH  A = Rz(θ) Tz(d) Tx(a) Rx(α)"
+    assert by["poe-body"]["mass_frame"] == "the tool frame M at home"
+    # the toy declares no GUI wording: its title, the registry's mass frame, its name as button text
+    assert by["dh-mm"]["title"] == "standard DH (mm)" and by["dh-mm"]["mass_frame"].startswith("link frame {i}")
+    assert [(o["name"], o["label"]) for o in reps["overlays"]] == [
+        ("dh", "DH"), ("mdh", "modified DH"), ("poe", "DH from PoE"), ("rpy-xyz", "RPY-XYZ"), ("dh-mm", "DH (mm)")]
+    assert [(d["name"], d["label"]) for d in reps["downloads"]] == [
+        ("dh", "DH"), ("mdh", "MDH"), ("poe", "PoE"), ("poe-body", "PoE body"), ("rpy-xyz", "RPY-XYZ"),
+        ("hayati", "Hayati"), ("gjd", "GJD"), ("dh-mm", "dh-mm")]
+    from robkin.representations import registry
+
+    registry.unregister(toy.name)
+    try:
+        assert "dh-mm" not in [r["name"] for r in _get(server.url + "api/representations")["representations"]]
+    finally:
+        registry.register(toy)
+
+
 def test_cli_gui_serves_then_stops():
     """`robkin gui --port 0` in a subprocess: prints its address, serves the page, stops on SIGINT."""
     import signal
@@ -673,6 +721,52 @@ def test_browser_load_move_check_download(page, tmp_path):
     pg.wait_for_selector("body[data-state=ready]", timeout=15000)
     assert int(pg.get_attribute("#view", "data-frames")) >= 1 and "DH rebuilt from PoE" in pg.inner_text(".legend")
     _shot(pg, tmp_path, "plot_html.png")
+
+
+@pytest.fixture()
+def toy_page(toy, browser, server):
+    """The page, opened after the toy representation was registered (the server runs in this process)."""
+    yield from _open(browser, server.url)
+
+
+def test_browser_shows_a_registered_representation(toy_page, tmp_path):
+    """A representation registered in the library (a DH table in mm), with no change to the page's code:
+    its section (after the GJD's, before the URDF), its download and its overlay checkbox."""
+    pg = toy_page
+    sections = [e.get_attribute("id") for e in pg.query_selector_all("#tables > details")]
+    assert sections == ["section-" + s for s in ("dh", "mdh", "hayati", "poe", "poe_body", "rpy_xyz", "gjd", "dh_mm",
+                                                 "urdf")]
+    assert pg.inner_text("#section-dh_mm summary") == "standard DH (mm)"
+    head = [c.inner_text() for c in pg.query_selector_all("#table-dh_mm tr:first-child th")]
+    assert head == ["joint", "a_mm", "d_mm", "alpha", "theta"]
+    rows = pg.query_selector_all("#table-dh_mm tr")[1:]
+    want = [[a * 1000, d * 1000, alpha, theta] for a, d, alpha, theta in TABLE_I]
+    got = [[float(c.get_attribute("title")) for c in r.query_selector_all("td")[1:]] for r in rows]
+    np.testing.assert_allclose(got, want, atol=1e-9)  # mm: 1e-9 of a 300 mm length is rounding
+    assert "base" in pg.inner_text("#section-dh_mm") and "tool" in pg.inner_text("#section-dh_mm")
+    pg.select_option("#units", "deg")  # its angle columns follow the unit
+    pg.wait_for_function("() => document.querySelector('#table-dh_mm tr:nth-child(2) td:nth-child(4)').textContent == '-90'")
+    assert "alpha (°)" in pg.inner_text("#table-dh_mm")
+
+    assert pg.inner_text("#dl-dh-mm") == "dh-mm"
+    with pg.expect_download() as dl:
+        pg.click("#dl-dh-mm")
+    path = tmp_path / dl.value.suggested_filename
+    dl.value.save_as(path)
+    assert path.name == "rrpr_dh_mm.yaml"
+    qt = [0.3, -0.7, 0.15, 1.2]
+    np.testing.assert_allclose(robkin.load(path).fk(qt), rrpr_fk(qt), atol=1e-9)
+
+    assert pg.inner_text("label:has(#ov-dh-mm)").strip() == "DH (mm)"
+    before = _updates(pg)
+    pg.check("#ov-dh-mm")
+    _wait_update(pg, before)
+    _settled(pg)
+    text = pg.inner_text("#agreement")
+    assert "DH (mm) vs. the robot as given" in text  # after the legend's dashes in the overlay's colour
+    diffs = [float(x) for x in re.findall(r"by (\S+?) \(position\), (\S+?) \(rotation\); joint axes by (\S+?)\.$",
+                                            text)[0]]
+    assert max(diffs) < 1e-9
 
 
 # ------------------------------------------------------------------------------ a real arm, in Chromium

@@ -51,16 +51,24 @@ class Column(NamedTuple):
     kind : {'length', 'angle', 'unit'}
         A length (robot units); an angle (radians: degrees with ``--degrees``, ``k*pi/m`` with
         ``--pi``); or a unitless direction component (rounded like an angle, never converted).
+    symbol : str
+        Its header in the GUI's tables, in Unicode (``α(i-1)``); empty: ``header``.
     """
 
     key: str
     header: str
     latex: str
     kind: str = "length"
+    symbol: str = ""
 
     @property
     def angle(self) -> bool:
         return self.kind == "angle"
+
+    @property
+    def label(self) -> str:
+        """Its header in the GUI (``symbol``, else ``header``)."""
+        return self.symbol or self.header
 
 
 class Representation(NamedTuple):
@@ -106,9 +114,19 @@ class Representation(NamedTuple):
     overlay_label : str or None
         Legend of its rebuilt robot in ``robkin plot --overlay`` and the GUI (None: not offered).
     gui_title : str
-        Heading of its section in the GUI.
+        Heading of its section in the GUI (empty: ``title``).
     document_rank : int
         Documents hold sections in increasing rank (which section defines the GJD when several do).
+    gui_mass_frame : str
+        The frame of its mass properties as the GUI's caption says it (empty: ``mass_frame``).
+    gui_overlay : str or None
+        Text of its overlay checkbox in the GUI: empty for ``overlay_label``, None for no checkbox
+        (the GJD: the GUI always draws the robot as given). Without ``overlay_label``, no checkbox.
+    download_label : str
+        Text of its download button in the GUI (empty: ``name``); only representations written as
+        YAML have one.
+    download_rank : int
+        The GUI's download buttons are in increasing rank (then registration order).
     """
 
     name: str
@@ -131,6 +149,10 @@ class Representation(NamedTuple):
     overlay_label: str | None = None
     gui_title: str = ""
     document_rank: int = 1000
+    gui_mass_frame: str = ""
+    gui_overlay: str | None = ""
+    download_label: str = ""
+    download_rank: int = 1000
 
     def _attr(self, name: str) -> Any:
         key = (self.module, name)
@@ -296,13 +318,13 @@ class LiveMapping(Mapping[str, Any]):
         return repr(self._read())
 
 
-def _columns(*spec: tuple[str, str, str, str]) -> tuple[Column, ...]:
+def _columns(*spec: tuple[str, ...]) -> tuple[Column, ...]:
     return tuple(Column(*c) for c in spec)
 
 
 _DH = _columns(("a", "a", "$a_i$", "length"), ("d", "d", "$d_i$", "length"),
-               ("alpha", "alpha", r"$\alpha_i$", "angle"), ("theta", "theta", r"$\theta_i$", "angle"))
-_SCREWS = _columns(*((c, c, fr"$\omega_{c[1]}$", "unit") for c in ("wx", "wy", "wz")),
+               ("alpha", "alpha", r"$\alpha_i$", "angle", "α"), ("theta", "theta", r"$\theta_i$", "angle", "θ"))
+_SCREWS = _columns(*((c, c, fr"$\omega_{c[1]}$", "unit", "ω" + c[1]) for c in ("wx", "wy", "wz")),
                    *((c, c, f"$v_{c[1]}$", "length") for c in ("vx", "vy", "vz")))
 _MODULE = "robkin.representations."
 
@@ -315,37 +337,45 @@ BUILTIN = (
         module=_MODULE + "dh", from_robot="dh_from_robot", to_robot="robot_from_dh", table_class="DHTable",
         columns=_DH, paper_layout=True, tool_label="tool (residual T_t)",
         help="standard DH table (+ base, + residual tool)", overlay_label="DH",
-        gui_title="Standard DH  A = Rz(θ) Tz(d) Tx(a) Rx(α)", document_rank=1),
+        gui_title="Standard DH  A = Rz(θ) Tz(d) Tx(a) Rx(α)", document_rank=1,
+        gui_mass_frame="frame {i} (after joint i)", download_label="DH", download_rank=1),
     Representation(
         "mdh", "mdh", "modified (Craig) Denavit-Hartenberg table (+ base and tool)", "modified (Craig) DH",
         "link-table", frame_based=True,
         module=_MODULE + "mdh", from_robot="mdh_from_robot", to_robot="robot_from_mdh", table_class="MDHTable",
         columns=_columns(("a", "a(i-1)", "$a_{i-1}$", "length"), ("d", "d", "$d_i$", "length"),
-                         ("alpha", "alpha(i-1)", r"$\alpha_{i-1}$", "angle"),
-                         ("theta", "theta", r"$\theta_i$", "angle")),
+                         ("alpha", "alpha(i-1)", r"$\alpha_{i-1}$", "angle", "α(i-1)"),
+                         ("theta", "theta", r"$\theta_i$", "angle", "θ")),
         mass_frame="link frame {i} (on joint i's axis, where link i starts; Craig)",
         help="modified (Craig) DH table", overlay_label="modified DH",
-        gui_title="Modified DH  A = Rx(α) Tx(a) Rz(θ) Tz(d)", document_rank=2),
+        gui_title="Modified DH  A = Rx(α) Tx(a) Rz(θ) Tz(d)", document_rank=2,
+        gui_mass_frame="frame {i} (on joint i's axis, where link i starts)", download_label="MDH",
+        download_rank=2),
     Representation(
         "hayati", "hayati", "Hayati's parameters: DH with beta about y between nearly parallel axes (+ base and "
         "tool)", "Hayati", "link-table", frame_based=True,
         module=_MODULE + "hayati", from_robot="hayati_from_robot", to_robot="robot_from_hayati",
-        table_class="HayatiTable", columns=_DH + _columns(("beta", "beta", r"$\beta_i$", "angle")),
+        table_class="HayatiTable", columns=_DH + _columns(("beta", "beta", r"$\beta_i$", "angle", "β")),
         help="Hayati's parameters: DH with a tilt beta about y instead of d between nearly parallel\n"
              "            axes (exact and short there, the calibration standard)",
-        gui_title="Hayati  A = Rz(θ) Tz(d) Tx(a) Rx(α) Ry(β)", document_rank=3),
+        gui_title="Hayati  A = Rz(θ) Tz(d) Tx(a) Rx(α) Ry(β)", document_rank=3,
+        gui_mass_frame="frame {i} (after joint i)", download_label="Hayati", download_rank=6),
     Representation(
         "poe", "poe", "Product of Exponentials, space frame (M and screws)", "PoE (space frame)", "screws",
         module=_MODULE + "poe", from_robot="poe_from_robot", to_robot="robot_from_poe", table_class="PoE",
         columns=_SCREWS, from_robot_args=("space",), mass_frame="the robot base frame at q = 0",
         help="Product of Exponentials, space frame", overlay_label="DH rebuilt from PoE (space)",
-        gui_title="PoE, space frame  T = exp(S1 q1)…exp(Sn qn) M", document_rank=5),
+        gui_title="PoE, space frame  T = exp(S1 q1)…exp(Sn qn) M", document_rank=5,
+        gui_mass_frame="the base frame at home", gui_overlay="DH from PoE", download_label="PoE",
+        download_rank=3),
     Representation(
         "poe-body", "poe_body", "Product of Exponentials, body frame (M and screws)", "PoE (body frame)", "screws",
         module=_MODULE + "poe", from_robot="poe_from_robot", to_robot="robot_from_poe", table_class="PoE",
         columns=_SCREWS, from_robot_args=("body",), mass_frame="the home tool frame M",
         help="PoE, body frame", overlay_label="DH rebuilt from PoE (body)",
-        gui_title="PoE, body frame  T = M exp(B1 q1)…exp(Bn qn)", document_rank=6),
+        gui_title="PoE, body frame  T = M exp(B1 q1)…exp(Bn qn)", document_rank=6,
+        gui_mass_frame="the tool frame M at home", gui_overlay=None, download_label="PoE body",
+        download_rank=4),
     Representation(
         "rpy-xyz", "rpy_xyz", "RPY-XYZ table, n+2 rows (world->base, joints, tool)", "RPY-XYZ", "rpy",
         module=_MODULE + "rpy_xyz", from_robot="rpy_from_robot", to_robot="robot_from_rpy", table_class="RPYTable",
@@ -353,7 +383,8 @@ BUILTIN = (
                          *((c, c, f"${c}$", "length") for c in ("x", "y", "z"))),
         mass_frame="joint i's frame (the frame row i leads to, which joint i moves)",
         help="RPY-XYZ table, n+2 rows (URDF convention)", overlay_label="RPY-XYZ",
-        gui_title="RPY-XYZ (URDF joint origins)", document_rank=4),
+        gui_title="RPY-XYZ (URDF joint origins)", document_rank=4,
+        gui_mass_frame="joint i's frame", download_label="RPY-XYZ", download_rank=5),
     Representation(
         "gjd", "gjd", "Global Joint Description: n+1 frames in the base frame at q = 0",
         "Global Joint Description (frames at q = 0)", "frames",
@@ -361,7 +392,8 @@ BUILTIN = (
         columns=_columns(*((f"m{r}{c}", f"m{r}{c}", f"$m_{{{r}{c}}}$", "length" if c == 4 else "unit")
                            for r in (1, 2, 3) for c in (1, 2, 3, 4))),
         help="Global Joint Description frames", overlay_label="as given (GJD frames)",
-        gui_title="GJD: joint frames at home, in the base frame", document_rank=0),
+        gui_title="GJD: joint frames at home, in the base frame", document_rank=0,
+        gui_overlay=None, download_label="GJD", download_rank=7),
 )
 
 for _rep in BUILTIN:

@@ -7,6 +7,9 @@ tool frame, joint sliders, tables of every representation, downloads), the three
 
 ``GET /api/start``
     The robots given on the command line (if any), their visuals, and the bundled examples.
+``GET /api/representations``
+    The registered representations as the page shows them: its tables, overlay checkboxes and
+    download buttons (see ``representations_api.py``).
 ``GET /api/mesh/<id>``
     A mesh file of the command-line robot, by the id ``/api/start`` gave it (see ``meshes.py``).
 ``POST /api/describe`` ``{text, fmt, q, strict_q, overlay, base_link, tip_link, tool_row, other}``
@@ -66,7 +69,7 @@ def _inline_script_hashes() -> str:
 
 
 def _answered_inline(request: bytes) -> bool:
-    """GET/HEAD of the page, its static files and /api/start: answered by the connection loop itself
+    """GET/HEAD of the page, its static files, /api/start and /api/representations: answered by the connection loop itself
     (a file read or a prepared answer, well under a millisecond); meshes (up to 64 MB) and the API's
     POSTs, which compute, go to the worker threads."""
     line = request[:request.find(b"\n")]
@@ -220,6 +223,10 @@ class _Handler(BaseHTTPRequestHandler):
         path = self.path.split("?", 1)[0].split("#", 1)[0]
         if path == "/api/start":
             return self._json(self.server.start_payload)
+        if path == "/api/representations":
+            from .representations_api import gui_representations
+
+            return self._json(gui_representations())
         if path.startswith("/api/mesh/"):
             found = self.server.meshes.read(path.removeprefix("/api/mesh/"))  # an id, never a path
             if found is None:

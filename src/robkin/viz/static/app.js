@@ -15,6 +15,7 @@ const state = {
   inflight: false, pending: null,
   ik: { inflight: false, pending: null, count: 0, since: 0 },
   start: null,          // /api/start: the command-line robot and its visuals
+  reps: null,           // /api/representations: the tables, overlays and downloads to offer
   meshKey: null,        // whether the visuals are shown (only for the command-line robot, unedited)
 };
 let viewer = null;
@@ -331,46 +332,53 @@ function section(title, key, ...kids) {
   return el("details", { id: "section-" + key, open: "" }, el("summary", { text: title }), ...kids);
 }
 
+// One section per registered representation (GET /api/representations, robkin.representations.registry),
+// in the registry's order, laid out by its layout; a section the document does not hold (Hayati, only
+// where consecutive axes are nearly parallel) is left out. LAYOUTS: layout -> the section's contents.
+const LAYOUTS = {
+  "link-table": (rep, sec, names) => [
+    rowsTable("table-" + rep.section, ["joint", ...rep.columns.map((c) => c.label)], names,
+              sec.rows.map((r) => rep.columns.map((c) => r[c.key])), angleColumns(rep)),
+    ...massTable("mass-" + rep.section, sec.rows, names, rep.mass_frame, sec.base_mass),
+    el("div", { class: "matrices" }, matrixTable(sec.base, "base"), matrixTable(sec.tool, "tool"))],
+  screws: (rep, sec, names) => [
+    rowsTable("table-" + rep.section, ["joint", ...rep.columns.map((c) => c.label)], names, sec.screws,
+              angleColumns(rep)),
+    ...massTable("mass-" + rep.section, sec.masses, names, rep.mass_frame, sec.base_mass),
+    el("div", { class: "matrices" }, matrixTable(sec.M, "M (tool at home)"))],
+  rpy: (rep, sec, names) => [
+    rowsTable("table-" + rep.section, ["", ...rep.columns.map((c) => c.label)], ["world → base", ...names, "→ tool"],
+              sec.rows.map((r) => rep.columns.map((c) => r[c.key])), angleColumns(rep)),
+    ...massTable("mass-" + rep.section, sec.rows.slice(1, -1), names, rep.mass_frame, sec.rows[0])],
+  frames: (rep, sec, names, res) => {
+    const box = el("div", { class: "matrices", id: "table-" + rep.section });
+    sec.frames.forEach((F, i) => box.append(matrixTable(F, i < res.n ? "J" + (i + 1) + " " + res.joints[i].name : "tool")));
+    return [box];
+  },
+};
+
+function angleColumns(rep) { return rep.columns.flatMap((c, k) => (c.angle ? [k] : [])); }
+
 function showTables(res) {
   const doc = res.document, names = res.joints.map((j) => j.name + (j.type === "prismatic" ? " (P)" : " (R)"));
-  const dhRows = (sec) => sec.rows.map((r) => [r.a, r.d, r.alpha, r.theta]);
-  const parts = [];
-  parts.push(section("Standard DH  A = Rz(θ) Tz(d) Tx(a) Rx(α)", "dh",
-    rowsTable("table-dh", ["joint", "a", "d", "α", "θ"], names, dhRows(doc.dh), [2, 3]),
-    ...massTable("mass-dh", doc.dh.rows, names, "frame {i} (after joint i)", doc.dh.base_mass),
-    el("div", { class: "matrices" }, matrixTable(doc.dh.base, "base"), matrixTable(doc.dh.tool, "tool"))));
-  parts.push(section("Modified DH  A = Rx(α) Tx(a) Rz(θ) Tz(d)", "mdh",
-    rowsTable("table-mdh", ["joint", "a(i-1)", "d", "α(i-1)", "θ"], names, dhRows(doc.mdh), [2, 3]),
-    ...massTable("mass-mdh", doc.mdh.rows, names, "frame {i} (on joint i's axis, where link i starts)",
-                doc.mdh.base_mass),
-    el("div", { class: "matrices" }, matrixTable(doc.mdh.base, "base"), matrixTable(doc.mdh.tool, "tool"))));
-  if (doc.hayati) {  // Hayati: DH with a tilt beta about y (d = 0) where consecutive axes are nearly parallel
-    parts.push(section("Hayati  A = Rz(θ) Tz(d) Tx(a) Rx(α) Ry(β)", "hayati",
-      rowsTable("table-hayati", ["joint", "a", "d", "α", "θ", "β"], names,
-                doc.hayati.rows.map((r) => [r.a, r.d, r.alpha, r.theta, r.beta]), [2, 3, 4]),
-      ...massTable("mass-hayati", doc.hayati.rows, names, "frame {i} (after joint i)", doc.hayati.base_mass),
-      el("div", { class: "matrices" }, matrixTable(doc.hayati.base, "base"), matrixTable(doc.hayati.tool, "tool"))));
-  }
-  for (const [key, title] of [["poe", "PoE, space frame  T = exp(S1 q1)…exp(Sn qn) M"],
-                              ["poe_body", "PoE, body frame  T = M exp(B1 q1)…exp(Bn qn)"]]) {
-    parts.push(section(title, key,
-      rowsTable("table-" + key, ["joint", "ωx", "ωy", "ωz", "vx", "vy", "vz"], names, doc[key].screws, []),
-      ...massTable("mass-" + key, doc[key].masses, names,
-                   key === "poe" ? "the base frame at home" : "the tool frame M at home", doc[key].base_mass),
-      el("div", { class: "matrices" }, matrixTable(doc[key].M, "M (tool at home)"))));
-  }
-  const rpyLabels = ["world → base", ...names, "→ tool"];
-  parts.push(section("RPY-XYZ (URDF joint origins)", "rpy_xyz",
-    rowsTable("table-rpy_xyz", ["", "roll", "pitch", "yaw", "x", "y", "z"], rpyLabels,
-              doc.rpy_xyz.rows.map((r) => [r.roll, r.pitch, r.yaw, r.x, r.y, r.z]), [0, 1, 2]),
-    ...massTable("mass-rpy_xyz", doc.rpy_xyz.rows.slice(1, -1), names, "joint i's frame", doc.rpy_xyz.rows[0])));
-  const gjd = el("div", { class: "matrices", id: "table-gjd" });
-  doc.gjd.frames.forEach((F, i) => gjd.append(matrixTable(F, i < res.n ? "J" + (i + 1) + " " + res.joints[i].name : "tool")));
-  parts.push(section("GJD: joint frames at home, in the base frame", "gjd", gjd));
+  const parts = state.reps.representations.filter((rep) => doc[rep.section] && LAYOUTS[rep.layout])
+    .map((rep) => section(rep.title, rep.section, ...LAYOUTS[rep.layout](rep, doc[rep.section], names, res)));
   const urdf = res.urdf !== null ? el("pre", { class: "urdf", id: "urdf-text", text: res.urdf })
                                  : el("p", { id: "urdf-text", text: "URDF: " + res.urdf_error });
   parts.push(section("URDF", "urdf", urdf));
   $("tables").replaceChildren(...parts);
+}
+
+// The overlay checkboxes and the representations' download buttons (after YAML, JSON and URDF), as
+// GET /api/representations lists them.
+function buildControls(reps) {
+  for (const o of reps.overlays) {
+    const box = el("input", { type: "checkbox", value: o.name, id: "ov-" + o.name });
+    $("overlay").append(" ", el("label", {}, box, " " + o.label));
+  }
+  for (const d of reps.downloads) {
+    $("downloads").append(" ", el("button", { type: "button", "data-download": d.name, id: "dl-" + d.name, text: d.label }));
+  }
 }
 
 function showAgreement(res) {
@@ -516,10 +524,13 @@ async function start() {
   $("home").addEventListener("click", () => { setQ(currentQ().map(() => 0)); refresh(); });
   document.querySelectorAll("[data-view]").forEach((b) => b.addEventListener("click", () => viewer.view(b.dataset.view)));
   $("gizmo-mode").addEventListener("change", () => viewer.setGizmoMode($("gizmo-mode").value));
+  const [init, reps] = await Promise.all([fetch("/api/start").then((r) => r.json()),
+                                          fetch("/api/representations").then((r) => r.json())]);
+  state.start = init;
+  state.reps = reps;
+  buildControls(reps);
   document.querySelectorAll("#overlay input").forEach((c) => c.addEventListener("change", () => refresh()));
   document.querySelectorAll("[data-download]").forEach((b) => b.addEventListener("click", () => download(b.dataset.download)));
-  const init = await fetch("/api/start").then((r) => r.json());
-  state.start = init;
   const ex = $("example");
   for (const name of Object.keys(init.examples)) ex.append(el("option", { value: name, text: name }));
   ex.addEventListener("change", () => {
