@@ -20,7 +20,8 @@ from typing import IO, Iterator, Sequence
 
 from ...errors import InputError
 
-__all__ = ["write_text_atomic", "write_texts_atomic", "atomic_file", "check_writable_dir", "signals_as_exit"]
+__all__ = ["write_text_atomic", "write_texts_atomic", "atomic_file", "check_writable_dir", "check_inside",
+           "signals_as_exit"]
 
 #: Names of the signals that would otherwise end the process without running ``finally`` blocks.
 _FATAL_SIGNALS = ("SIGTERM", "SIGHUP")
@@ -40,6 +41,32 @@ def check_writable_dir(path: str | os.PathLike) -> Path:
     if not os.access(folder, os.W_OK):
         raise InputError(f"{p}: folder {folder} is not writable")
     return folder
+
+
+def check_inside(root: str | os.PathLike, folder: str | os.PathLike) -> Path:
+    """``folder`` (``root`` joined with a relative name, e.g. ``OUT/meshes``) if files written into it
+    stay inside ``root``; InputError naming the path if a part of it below ``root`` is a symbolic link
+    leading outside ``root`` (writing, or creating the folder, would follow it), or it climbs out with '..'.
+
+    Only the folders on the way are looked at: a link as the final file name is replaced by the rename,
+    never followed.
+    """
+    root_path, target = Path(root), Path(folder)
+    try:
+        rel = target.relative_to(root_path)
+    except ValueError:
+        raise InputError(f"{target}: not inside the output folder {root_path}; nothing written") from None
+    try:
+        base = root_path.resolve()
+        current = root_path
+        for part in rel.parts:
+            current = current / part
+            if part == ".." or (current.is_symlink() and not current.resolve().is_relative_to(base)):
+                raise InputError(f"{current}: a symbolic link (or '..') leading outside the output folder "
+                                 f"{root_path}; nothing written")
+    except (OSError, RuntimeError) as exc:  # a loop of links, a name too long
+        raise InputError(f"{target}: cannot write there ({getattr(exc, 'strerror', None) or exc})") from None
+    return target
 
 
 def _current_umask() -> int:

@@ -289,14 +289,20 @@ def copy_meshes(resolved: Mapping[str, MeshFile], out_dir: str | os.PathLike, su
 
     Each file is copied once (names made unique on collisions: ``base.stl``, ``base_2.stl``); a file
     already in place (the output folder is the model's) is not copied again, and a file of the model
-    is never overwritten. Formats not in ``readable`` (default: what MuJoCo reads; None keeps every
-    format) are converted to binary .stl with trimesh; without trimesh, or when a file cannot be
-    converted, those meshes are left out of the result with one warning line naming them.
+    is never overwritten. InputError (one line naming the path, nothing written) when ``out_dir/subdir``
+    is, or lies under, a symbolic link leading outside ``out_dir``. Formats not in ``readable``
+    (default: what MuJoCo reads; None keeps every format) are converted to binary .stl with trimesh;
+    without trimesh, or when a file cannot be converted, those meshes are left out of the result with
+    one warning line naming them.
     Meshes not found (``path`` None) are left out as well.
     """
+    from ..files.atomic import check_inside
+
     out = Path(out_dir)
     folder = out / subdir
     sources = {m.path for m in resolved.values() if m.path is not None}
+    if sources:  # before anything is written: never through a link leading out of the output folder
+        check_inside(out, folder)
     taken: set[str] = set()
     done: dict[Path, str | None] = {}
     result: dict[str, str] = {}
