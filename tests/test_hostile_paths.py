@@ -89,3 +89,71 @@ def test_a_link_inside_the_output_folder_leading_inside_it_is_fine(tmp_path, cap
     (out / "meshes").symlink_to(out / "real_meshes")
     assert _exit(["convert", str(src / "r.urdf"), "--to", "mjcf", "-o", str(out / "robot.xml")]) == 0
     assert (out / "real_meshes" / "link.stl").read_bytes() == STL
+
+
+# ---- 11, 12: names in CSV and Markdown tables -----------------------------------------------------------
+
+FORMULAS = ["=HYPERLINK(\"http://evil.example\",\"x\")", "+1+1", "-2+3", "@SUM(A1)", "=cmd|' /C calc'!A0",
+            "'=quoted", "''+twice", "-1.5", "'plain", "ok_name"]
+
+
+def _chain_urdf(names: list[str], robot: str = "r") -> str:
+    from xml.sax.saxutils import quoteattr
+
+    links = ['<link name="base"/>'] + [f'<link name="l{k}"/>' for k in range(len(names))]
+    joints = [f'<joint name={quoteattr(n)} type="revolute"><parent link="{"base" if k == 0 else f"l{k - 1}"}"/>'
+              f'<child link="l{k}"/><origin xyz="0 0 0.1" rpy="-0.3 0 0"/><axis xyz="0 0 1"/>'
+              f'<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>' for k, n in enumerate(names)]
+    return f'<robot name={quoteattr(robot)}>{"".join(links)}{"".join(joints)}</robot>'
+
+
+def test_csv_text_cells_never_start_a_formula_and_read_back(tmp_path):
+    import csv
+
+    from robkin.io.tables.reader import read_table_file
+
+    (tmp_path / "r.urdf").write_text(_chain_urdf(FORMULAS))
+    out = tmp_path / "r.csv"
+    assert _exit(["convert", str(tmp_path / "r.urdf"), "--to", "dh", "--format", "csv", "-o", str(out)]) == 0
+    rows = list(csv.reader(out.read_text().splitlines()))
+    names = [r[1] for r in rows[1:len(FORMULAS) + 1]]
+    for cell in (c for r in rows for c in r[:3]):  # the text cells: no formula start
+        assert not cell.startswith(("=", "+", "-", "@", "\t", "\r")), cell
+    assert names[0] == "'" + FORMULAS[0] and names[5] == "''=quoted" and names[7] == "'-1.5"
+    assert names[8] == "'plain" and names[9] == "ok_name"  # nothing to neutralise: as it was
+    numbers = [c for r in rows[1:len(FORMULAS) + 1] for c in r[3:]]
+    assert any(c.startswith("-") for c in numbers)  # negative numbers stay numbers (no quote)
+    assert not any(c.startswith("'") for c in numbers)
+    back = read_table_file(out, "dh")
+    assert [j.name for j in back.joints] == FORMULAS  # the round trip gives the names themselves
+
+
+def test_csv_cells_escape_and_unescape_are_inverse():
+    from robkin.io.tables.cells import csv_read_cell, csv_text_cell
+
+    for s in FORMULAS + ["", "'", "''", "\tx", "\rx", "'\t", "a=b", "=", "@"]:
+        assert csv_read_cell(csv_text_cell(s)) == s, s
+        assert not csv_text_cell(s).startswith(("=", "+", "-", "@", "\t", "\r"))
+
+
+MARKUP = ["<img src=x onerror=alert(1)>", "<script>alert(1)</script>", "[x](javascript:alert(1))",
+          "![i](http://evil.example/t.png)", "*em* _u_ `code` ~~s~~ a|b", "<!--c-->", "&lt;amp", "shoulder_pan"]
+
+
+def test_markdown_text_cells_hold_no_html_or_link_markup(tmp_path):
+    (tmp_path / "r.urdf").write_text(_chain_urdf(MARKUP, robot="<b>bot</b>"))
+    out = tmp_path / "r.md"
+    assert _exit(["convert", str(tmp_path / "r.urdf"), "--to", "dh", "--format", "markdown", "-o", str(out)]) == 0
+    text = out.read_text()
+    assert "<" not in text and ">" not in text.replace("->", "")  # no tag, no comment
+    assert "](" not in text.replace("\\](", "") and "[x]" not in text  # no link, no image
+    assert "&lt;img src=x onerror=alert(1)&gt;" in text and "&lt;script&gt;" in text
+    assert "\\[x\\](javascript:alert(1))" in text and "!\\[i\\]" in text
+    assert "\\*em\\* \\_u\\_ \\`code\\` \\~\\~s\\~\\~ a\\|b" in text
+    assert "&amp;lt;amp" in text and "| shoulder_pan |" in text  # an entity stays text; a word stays a word
+    assert text.startswith("**&lt;b&gt;bot&lt;/b&gt;: ")
+    # rendered, each cell is its own text (markdown-it, when installed, renders CommonMark + tables)
+    mdit = pytest.importorskip("markdown_it")
+    html = mdit.MarkdownIt("commonmark").enable("table").render(text)
+    assert "<img" not in html and "<script" not in html and "<a " not in html and "<em>" not in html
+    assert "&lt;script&gt;alert(1)&lt;/script&gt;" in html and "[x](javascript:alert(1))" in html

@@ -16,6 +16,10 @@ Layout (the same content in each format)
     complete the table (DH/MDH/Hayati: base and tool; PoE: M), each as its 3 x 4 block [R | p]
     row-major. CSV puts those after an empty line, in rows ``name,m11,m12,m13,m14,m21,...,m34``.
 
+Text cells (names from the robot file) are made inert (``io.tables.cells``): in CSV a cell starting
+with ``= + - @``, tab or CR gets a leading ``'`` (no spreadsheet formula; the reader drops it again),
+in Markdown HTML and link/emphasis markup are escaped.
+
 Mass properties
     When the robot has them, each joint row ends with ten more columns: ``m (kg)``, ``rx (m)``,
     ``ry (m)``, ``rz (m)``, ``Ixx (kg m^2)``, ``Iyy``, ``Izz``, ``Ixy``, ``Iyz``, ``Ixz`` (the same
@@ -38,6 +42,7 @@ from ...representations.registry import LiveNames, by_name, names, representatio
 from ...robot import Robot
 from ..files.float_text import decimal_tolerances, digits_text, short_text
 from ..files.float_text import float_text as _num
+from .cells import csv_text_cell, md_text_cell
 
 if TYPE_CHECKING:  # pragma: no cover
     from ...representations.mass_rows import MassRows
@@ -218,19 +223,21 @@ def with_mass_columns(t: Table, masses: "MassRows | None", first: int = 0) -> Ta
 def to_csv(t: Table, pi: bool = False) -> str:
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(list(t.labels) + [c[0] for c in t.columns])
+    # text cells (names from the robot file) never start a spreadsheet formula; numbers stay numbers
+    w.writerow([csv_text_cell(s) for s in t.labels] + [c[0] for c in t.columns])
     for lab, values in t.rows:
-        w.writerow(lab + [_cell(t, v, c, pi) for v, c in zip(values, t.columns)])
+        w.writerow([csv_text_cell(s) for s in lab] + [_cell(t, v, c, pi) for v, c in zip(values, t.columns)])
     if t.transforms:
         w.writerow([])
         w.writerow(["transform"] + _BLOCK)
         for name, T in t.transforms:
-            w.writerow([name] + _block_text(t, T))
+            w.writerow([csv_text_cell(name)] + _block_text(t, T))
     return buf.getvalue()
 
 
 def _md_escape(s: str) -> str:
-    return s.replace("\\", "\\\\").replace("|", "\\|")
+    """A text cell (a name from the robot file): no HTML, link, image or emphasis markup gets through."""
+    return md_text_cell(s)
 
 
 def to_markdown(t: Table, pi: bool = False) -> str:

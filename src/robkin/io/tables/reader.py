@@ -11,7 +11,9 @@ Two kinds of file are read (``.csv``, ``.tsv``, ``.txt``):
   give the joint names and types (``revolute``, ``prismatic``, ``revolute (flip)``). Values may be
   expressions such as ``-pi/2`` (what ``--pi`` writes). The ten mass columns robkin writes after the
   representation's (``m (kg)``, ``rx (m)``, ..., ``Ixz (kg m^2)``) are read as each link's mass
-  properties in the table's link frame (RPY-XYZ's world row: the base's; see ``io.documents.masses``);
+  properties in the table's link frame (RPY-XYZ's world row: the base's; see ``io.documents.masses``).
+  A text cell robkin wrote with a leading ``'`` against spreadsheet formulas (``'=x``) is read as the
+  name itself (``=x``; ``io.tables.cells``);
 * bare rows (no header), as pasted from a paper and as the GUI takes them
   (``robkin.io.tables.pasted``): ``a d alpha theta [R|P]`` per line, and so on.
 
@@ -33,6 +35,7 @@ from ...representations.registry import LiveNames, by_name, names, representatio
 from ...robot import Robot
 from ..documents.masses import LIST_WIDTH, add_mass_columns, mass_cells, mass_columns_at
 from ..files.numbers import number
+from .cells import csv_read_cell
 
 __all__ = ["TABLE_INPUT_EXTENSIONS", "TABLE_INPUTS", "read_table_file", "table_document"]
 
@@ -97,7 +100,9 @@ def table_document(text: str, representation: str | None = None, tab: bool = Fal
 
 
 def _split(line: str, tab: bool) -> list[str]:
-    return [c.strip() for c in next(csv.reader([line], delimiter="\t" if tab else ","))]
+    """A line's cells; a text cell robkin wrote with a ``'`` against spreadsheet formulas (``'=x``)
+    back to its name (``io.tables.cells``)."""
+    return [csv_read_cell(c.strip()) for c in next(csv.reader([line], delimiter="\t" if tab else ","))]
 
 
 def _is_number(cell: str) -> bool:
