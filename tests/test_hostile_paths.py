@@ -157,3 +157,82 @@ def test_markdown_text_cells_hold_no_html_or_link_markup(tmp_path):
     html = mdit.MarkdownIt("commonmark").enable("table").render(text)
     assert "<img" not in html and "<script" not in html and "<a " not in html and "<em>" not in html
     assert "&lt;script&gt;alert(1)&lt;/script&gt;" in html and "[x](javascript:alert(1))" in html
+
+
+# ---- 13: names in the JSON a page embeds ----------------------------------------------------------------
+
+def _script_end(page: str, start: int) -> int:
+    """Where a <script> element's text starting at ``start`` ends, as the HTML tokenizer finds it
+    (script data, escaped and double-escaped states: after "<!--", a "<script" hides the next "</script>")."""
+    low, i, state = page.lower(), start, "data"
+
+    def tag(at: int, name: str) -> bool:
+        j = at + len(name)
+        return low.startswith(name, at) and j < len(low) and low[j] in " \t\n\f/>"
+
+    while i < len(low):
+        if state != "double" and tag(i, "</script"):
+            return i
+        if state == "data" and low.startswith("<!--", i):
+            state, i = "escaped", i + 4
+            continue
+        if state != "data" and low.startswith("-->", i):
+            state, i = "data", i + 3
+            continue
+        if state == "escaped" and tag(i, "<script"):
+            state, i = "double", i + 7
+            continue
+        if state == "double" and tag(i, "</script"):
+            state, i = "escaped", i + 8
+            continue
+        i += 1
+    return -1
+
+
+def _strings(x):
+    if isinstance(x, str):
+        yield x
+    elif isinstance(x, dict):
+        for k, v in x.items():
+            yield k
+            yield from _strings(v)
+    elif isinstance(x, list):
+        for v in x:
+            yield from _strings(v)
+
+
+@pytest.mark.parametrize("name", ["<!--<script>", "x</script><script>alert(1)</script>", "<!--<script>-->&amp;"])
+def test_a_name_cannot_break_the_pages_embedded_json(tmp_path, name):
+    (tmp_path / "r.urdf").write_text(_chain_urdf([name + "j", "j2"], robot=name))
+    out = tmp_path / "page.html"
+    assert _exit(["plot", str(tmp_path / "r.urdf"), "-o", str(out)]) == 0
+    page = out.read_text()
+    opening = '<script type="application/json" id="robkin-data">'
+    start = page.index(opening) + len(opening)
+    end = _script_end(page, start)
+    assert page.startswith("</script>", end)
+    data = json.loads(page[start:end])  # the page loads: the whole JSON, and nothing after it, is the data
+    found = set(_strings(data))
+    assert name + "j" in found and name in " ".join(found)
+    # every module script after it is still its own element
+    rest = page[end + len("</script>"):]
+    assert rest.count('<script type="text/x-robkin-module"') == page.count('<script type="text/x-robkin-module"')
+
+    class Scripts(HTMLParser):
+        def __init__(self):
+            super().__init__()
+            self.inside, self.texts = False, []
+
+        def handle_starttag(self, tag, attrs):
+            self.inside = dict(attrs).get("id") == "robkin-data"
+
+        def handle_data(self, text):
+            if self.inside:
+                self.texts.append(text)
+
+        def handle_endtag(self, tag):
+            self.inside = False
+
+    parser = Scripts()
+    parser.feed(page)
+    assert json.loads("".join(parser.texts)) == data

@@ -122,6 +122,17 @@ def _embed(text: str) -> str:
     return text.replace("</", "<\\/")
 
 
+#: JSON text inside a <script> element: '<' (so neither "</script" nor "<!--", which starts the HTML
+#: parser's "script data escaped" state, where a following "<script" hides the element's end), and
+#: '>' and '&' as well, written as JSON escapes; json.loads / JSON.parse give back the same strings.
+_JSON_IN_HTML = {ord("<"): "\\u003c", ord(">"): "\\u003e", ord("&"): "\\u0026"}
+
+
+def _embed_json(data: Any) -> str:
+    """``data`` as JSON text safe inside a ``<script>`` element (names come from untrusted files)."""
+    return json.dumps(data, allow_nan=False).translate(_JSON_IN_HTML)
+
+
 def viewer_page(data: dict[str, Any], title: str, caption: str = "") -> str:
     """The HTML text of the self-contained viewer page for ``data`` (see :func:`viewer_data`)."""
     from .assets import module_sources
@@ -147,7 +158,7 @@ def viewer_page(data: dict[str, Any], title: str, caption: str = "") -> str:
 <span id="grid-unit"></span></div>
 {f'<p id="missing-meshes">{html.escape(data["missing_line"])}</p>' if data.get("missing_line") else ""}
 <pre>{html.escape(caption)}</pre>
-<script type="application/json" id="robkin-data">{_embed(json.dumps(data, allow_nan=False))}</script>
+<script type="application/json" id="robkin-data">{_embed_json(data)}</script>
 {modules}
 <script>
 {_LOADER}</script>
