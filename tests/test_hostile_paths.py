@@ -11,7 +11,6 @@ and exit status 2 (or neutralised in the output), and nothing written outside th
 from __future__ import annotations
 
 import json
-import os
 import warnings
 from html.parser import HTMLParser
 from pathlib import Path
@@ -89,6 +88,56 @@ def test_a_link_inside_the_output_folder_leading_inside_it_is_fine(tmp_path, cap
     (out / "meshes").symlink_to(out / "real_meshes")
     assert _exit(["convert", str(src / "r.urdf"), "--to", "mjcf", "-o", str(out / "robot.xml")]) == 0
     assert (out / "real_meshes" / "link.stl").read_bytes() == STL
+
+
+# ---- 10: a symbolic link inside a package leading out of it -----------------------------------------------
+
+def test_a_link_out_of_a_package_is_said_in_the_warning_line(tmp_path, monkeypatch, capsys):
+    """package://pkg/meshes/x.stl that is a link to a file outside pkg: used (as a file outside the
+    model's folder is, and as colcon --symlink-install needs), and named in the one warning line."""
+    from robkin.io.meshes.files import resolve_mesh_file, resolve_meshes
+
+    for var in ("ROS_PACKAGE_PATH", "AMENT_PREFIX_PATH"):
+        monkeypatch.delenv(var, raising=False)
+    pkg = tmp_path / "ws" / "pkg"
+    (pkg / "meshes").mkdir(parents=True)
+    (pkg / "urdf").mkdir()
+    (pkg / "meshes" / "in.stl").write_bytes(STL)
+    secret = tmp_path / "home" / "secret.stl"
+    secret.parent.mkdir()
+    secret.write_bytes(STL)
+    (pkg / "meshes" / "out.stl").symlink_to(secret)
+    (pkg / "meshes" / "passwd.stl").symlink_to("/etc/passwd")
+    robot_file = pkg / "urdf" / "r.urdf"
+    inside = resolve_mesh_file("package://pkg/meshes/in.stl", robot_file)
+    out = resolve_mesh_file("package://pkg/meshes/out.stl", robot_file)
+    assert inside.path is not None and not inside.leaves_package
+    assert out.path == secret.resolve() and out.leaves_package
+    assert "not a mesh file" in resolve_mesh_file("package://pkg/meshes/passwd.stl", robot_file).reason
+    robot_file.write_text(_urdf("package://pkg/meshes/out.stl"))
+    robot = robkin.load(robot_file)
+    with pytest.warns(UserWarning) as caught:
+        resolve_meshes(robot, robot_file)
+    lines = [str(w.message) for w in caught]
+    assert len(lines) == 1 and "1 mesh file(s) outside the model's folder or their package are used: " \
+        "package://pkg/meshes/out.stl" in lines[0]
+    # a linked package folder (colcon --symlink-install links share/pkg) is the folder it leads to: no warning
+    (tmp_path / "share").mkdir()
+    (tmp_path / "share" / "pkg").symlink_to(pkg)
+    linked = resolve_mesh_file("package://pkg/meshes/in.stl", tmp_path / "r.urdf", {"pkg": tmp_path / "share" / "pkg"})
+    assert linked.path == (pkg / "meshes" / "in.stl").resolve() and not linked.leaves_package
+    robot_file.write_text(_urdf("package://pkg/meshes/in.stl"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        resolve_meshes(robkin.load(robot_file), robot_file)
+    # the command line: the one line on stderr, and the copy made inside the output folder
+    robot_file.write_text(_urdf("package://pkg/meshes/out.stl"))
+    dest = tmp_path / "dest"
+    dest.mkdir()
+    assert _exit(["convert", str(robot_file), "--to", "mjcf", "-o", str(dest / "r.xml")]) == 0
+    err = [line for line in capsys.readouterr().err.splitlines() if "mesh file" in line]
+    assert len(err) == 1 and "outside the model's folder or their package" in err[0]
+    assert (dest / "meshes" / "secret.stl").read_bytes() == STL
 
 
 # ---- 11, 12: names in CSV and Markdown tables -----------------------------------------------------------

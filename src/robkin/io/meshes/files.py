@@ -14,7 +14,9 @@ A robot file is untrusted. Resolving only looks at file names (it opens nothing)
 a mesh suffix (:data:`MESH_SUFFIXES`, also after following symbolic links), ``package://`` and
 ``model://`` names may not climb out of their package with ``..``, nothing is fetched from the
 network, and a file larger than :data:`MAX_MESH_BYTES` is refused. A file outside the robot file's
-folder (``../meshes``, an absolute path) is used, and said once, in one warning line for all of them.
+folder (``../meshes``, an absolute path, a symbolic link leading out), or a ``package://`` or
+``model://`` file reached through a symbolic link leading out of its package, is used, and said once,
+in one warning line for all of them.
 
 :func:`copy_meshes` copies the resolved files into a folder beside an output file (an MJCF or URDF
 that then loads from anywhere), converting formats the target cannot read (MuJoCo: .stl, .obj, .msh;
@@ -23,7 +25,6 @@ COLLADA .dae and .ply become binary .stl) with trimesh (``pip install 'robkin[me
 
 from __future__ import annotations
 
-import io
 import os
 import re
 import shutil
@@ -32,6 +33,8 @@ from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 from typing import TYPE_CHECKING, Collection, Iterable, Mapping
 from urllib.parse import unquote, urlparse
+
+from .convert import _collada_unit, to_stl  # noqa: F401 - _collada_unit: io.mjcf.mesh_parts imports it here
 
 if TYPE_CHECKING:  # pragma: no cover
     from ...robot import Robot
@@ -65,11 +68,14 @@ class MeshFile:
     source : the file name exactly as the robot file wrote it
     path : the file found (absolute, symbolic links resolved), or None
     reason : why it was not found or cannot be used (None when ``path`` is set)
+    leaves_package : a ``package://`` or ``model://`` name whose file, after symbolic links, lies
+        outside the package folder it was found in (used, and named in the warning line)
     """
 
     source: str
     path: Path | None
     reason: str | None
+    leaves_package: bool = False
 
 
 def _short(text: str, limit: int = 100) -> str:
@@ -157,6 +163,15 @@ def _inside_parts(rel: str) -> tuple[str, ...] | None:
     return tuple(parts)
 
 
+def _within(path: Path, root: Path) -> bool:
+    """Whether the resolved ``path`` lies inside ``root`` (itself resolved: a linked package folder,
+    colcon's ``--symlink-install``, is the folder it leads to)."""
+    try:
+        return path.is_relative_to(root.resolve())
+    except (OSError, RuntimeError):  # pragma: no cover - a loop of links in the root
+        return False
+
+
 def _check_file(candidate: Path) -> tuple[Path | None, str | None]:
     """(real path, None) for a usable mesh file, else (None, why not). Looks at names and sizes only."""
     try:
@@ -208,8 +223,8 @@ def resolve_mesh_file(filename: str, robot_file: str | os.PathLike,
         reason = None
         for root in roots:
             path, why = _check_file(root.joinpath(*parts))
-            if path is not None:
-                return MeshFile(filename, path, None)
+            if path is not None:  # a link inside the package may lead out of it: used, said (_warn_outside)
+                return MeshFile(filename, path, None, not _within(path, root))
             reason = reason or why
         return MeshFile(filename, None, f"not in {scheme} '{package}' ({reason})")
     if scheme == "file":
@@ -259,11 +274,16 @@ def _warn_outside(found: Iterable[MeshFile], source_file: Path) -> None:
         folder = source_file.resolve().parent
     except OSError:  # pragma: no cover - a folder that vanished
         return
-    outside = [m.source for m in found if m.path is not None and
-               urlparse(m.source).scheme.lower() not in SEARCH_PATHS and not m.path.is_relative_to(folder)]
+    found = list(found)
+    # package:// and model:// files are outside the robot file's folder by design: said only when a
+    # symbolic link inside the package leads out of it
+    left = [m.source for m in found if m.path is not None and m.leaves_package]
+    outside = [m.source for m in found if m.path is not None and (m.leaves_package or (
+               urlparse(m.source).scheme.lower() not in SEARCH_PATHS and not m.path.is_relative_to(folder)))]
     if outside:
         more = f" and {len(outside) - 2} more" if len(outside) > 2 else ""
-        warnings.warn(f"{_short(str(source_file), 80)}: {len(outside)} mesh file(s) outside the model's folder "
+        where = "the model's folder or their package" if left else "the model's folder"
+        warnings.warn(f"{_short(str(source_file), 80)}: {len(outside)} mesh file(s) outside {where} "
                       f"are used: {', '.join(_short(s, 60) for s in outside[:2])}{more}", UserWarning, stacklevel=3)
 
 
@@ -327,7 +347,7 @@ def _copy_one(path: Path, folder: Path, subdir: str, sources: set[Path], taken: 
     convert = readable is not None and path.suffix.lower() not in readable
     data: bytes | None = None
     if convert:
-        data = _to_stl(path, skipped)
+        data = to_stl(path, skipped)
         if data is None:
             return None
     suffix = ".stl" if convert else path.suffix
@@ -360,37 +380,3 @@ def _copy_one(path: Path, folder: Path, subdir: str, sources: set[Path], taken: 
             with open(path, "rb") as src:
                 shutil.copyfileobj(src, f)
     return f"{subdir}/{target.name}"
-
-
-def _to_stl(path: Path, skipped: list[str]) -> bytes | None:
-    """Binary STL of a mesh file (COLLADA's unit applied; nothing but ``path`` is read), or None."""
-    try:
-        import trimesh
-    except ImportError:
-        skipped.append(f"{path.name} (converting {path.suffix} needs trimesh: pip install 'robkin[meshes]')")
-        return None
-    kind = path.suffix.lower().lstrip(".")
-    try:
-        # from bytes, without a resolver: textures or other files the mesh names are never read
-        scene = trimesh.load(io.BytesIO(path.read_bytes()), file_type=kind, force="scene")
-        mesh = scene.to_geometry() if hasattr(scene, "to_geometry") else scene.dump(concatenate=True)
-        unit = _collada_unit(getattr(scene, "units", None)) if kind == "dae" else 1.0
-        if unit != 1.0:
-            mesh.apply_scale(unit)
-        if len(mesh.faces) == 0:
-            raise ValueError("no triangles")
-        return bytes(trimesh.exchange.stl.export_stl(mesh))
-    except Exception as exc:  # noqa: BLE001 - any failure of a third-party parser on an untrusted file
-        skipped.append(f"{path.name} (cannot be converted: {_short(str(exc) or type(exc).__name__, 80)})")
-        return None
-
-
-def _collada_unit(units: object) -> float:
-    """Metres per unit of a COLLADA file from trimesh's ``units`` metadata ('meters', '0.001 * meters')."""
-    if not isinstance(units, str):
-        return 1.0
-    m = re.fullmatch(r"\s*([0-9.eE+\-]+)\s*\*\s*meters\s*", units)
-    try:
-        return float(m.group(1)) if m else 1.0
-    except ValueError:
-        return 1.0
