@@ -191,7 +191,7 @@ MARKUP = ["<img src=x onerror=alert(1)>", "<script>alert(1)</script>", "[x](java
 
 def test_markdown_text_cells_hold_no_html_or_link_markup(tmp_path):
     (tmp_path / "r.urdf").write_text(_chain_urdf(MARKUP, robot="<b>bot</b>"))
-    out = tmp_path / "r.md"
+    out = (tmp_path / "r").with_suffix(".md")
     assert _exit(["convert", str(tmp_path / "r.urdf"), "--to", "dh", "--format", "markdown", "-o", str(out)]) == 0
     text = out.read_text()
     assert "<" not in text and ">" not in text.replace("->", "")  # no tag, no comment
