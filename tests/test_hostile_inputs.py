@@ -1,0 +1,96 @@
+"""Hostile inputs: numbers beyond the documents' bound, huge files, malformed data. Each gets exit
+status 2 and one line on stderr naming the file and field (no traceback), leaves no output file behind,
+and stays within a generous bound of time and memory (the test machine may have 2 shared cores)."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+TIMEOUT = 120  # seconds: a generous bound; the defects took minutes or ran out of memory
+
+
+def robkin(*args: str, cwd: Path | None = None, timeout: float = TIMEOUT) -> subprocess.CompletedProcess:
+    """Run the command line in a subprocess (its exit status, stderr, and its own memory)."""
+    return subprocess.run([sys.executable, "-m", "robkin.cli", *map(str, args)], capture_output=True, text=True,
+                          timeout=timeout, cwd=cwd, env={**os.environ, "PYTHONWARNINGS": "default"})
+
+
+def one_error_line(r: subprocess.CompletedProcess, *needles: str) -> str:
+    """The run failed with exit 2 and one error line (no traceback, no warnings) naming every needle."""
+    assert r.returncode == 2, (r.returncode, r.stderr)
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1, r.stderr
+    assert "Traceback" not in r.stderr
+    for n in needles:
+        assert n in lines[0], (n, lines[0])
+    return lines[0]
+
+
+# --- 19b: URDF/MJCF/SDF numbers beyond 1e100 -------------------------------------------------------------
+
+def _urdf(mass: str = "1", ixx: str = "1", mass2: str = "1") -> str:
+    inertial = ('<inertial><mass value="{m}"/><inertia ixx="{i}" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>'
+                '</inertial>')
+    return (f'<robot name="r"><link name="base">{inertial.format(m=mass, i="1")}</link>'
+            f'<link name="l1">{inertial.format(m=mass2, i=ixx)}</link>'
+            '<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/>'
+            '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>')
+
+
+@pytest.mark.parametrize("to,ext", [("mjcf", ".xml"), ("yaml", ".yaml"), ("urdf", ".urdf"), ("rtb", ".py")])
+@pytest.mark.parametrize("field,kw", [("mass value", {"mass": "1e308", "mass2": "1e308"}),
+                                      ("inertia ixx", {"ixx": "1e308"})])
+def test_urdf_inertial_beyond_bound(tmp_path: Path, to: str, ext: str, field: str, kw: dict) -> None:
+    src = tmp_path / "big.urdf"
+    src.write_text(_urdf(**kw))
+    out = tmp_path / ("out" + ext)
+    r = robkin("convert", src, "--to", to, "-o", out)
+    line = one_error_line(r, str(src), "link '", field, "1e308", "1e+100")
+    assert "inf" not in line.replace("inertial", "").replace("inertia", "")
+    assert not out.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["big.urdf"]
+
+
+def test_urdf_limit_beyond_bound(tmp_path: Path) -> None:
+    src = tmp_path / "lim.urdf"
+    src.write_text(_urdf().replace('effort="1"', 'effort="1e308"'))
+    one_error_line(robkin("fk", src, "--q", "0"), str(src), "j1", "limit effort", "1e+100")
+
+
+@pytest.mark.parametrize("name,text,needles", [
+    ("big.xml", '<mujoco model="r"><worldbody><body name="b1"><joint name="j1" type="hinge"/>'
+                '<inertial pos="0 0 0" mass="1e308" diaginertia="1 1 1"/></body></worldbody></mujoco>',
+     ("body 'b1'", "mass")),
+    ("big.sdf", '<sdf version="1.7"><model name="r"><link name="a"/><link name="b"><inertial><mass>1</mass>'
+                '<inertia><ixx>1e308</ixx></inertia></inertial></link><joint name="j" type="revolute">'
+                '<parent>a</parent><child>b</child><axis><xyz>0 0 1</xyz></axis></joint></model></sdf>',
+     ("link 'b'", "ixx")),
+])
+def test_mjcf_sdf_inertial_beyond_bound(tmp_path: Path, name: str, text: str, needles: tuple) -> None:
+    src = tmp_path / name
+    src.write_text(text)
+    out = tmp_path / "out.xml"
+    one_error_line(robkin("convert", src, "--to", "mjcf", "-o", out), str(src), *needles)
+    assert not out.exists()
+
+
+def test_convert_removes_output_when_check_fails(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Whatever fails in the check after writing (here: made to fail), exit 2 leaves no output file."""
+    from robkin.cli import main
+    from robkin.commands.convert_parts import output_check
+    from robkin.errors import InputError
+
+    def failing(*a: object, **k: object) -> str:
+        raise InputError("the check failed")
+
+    monkeypatch.setattr(output_check, "check_written", failing)
+    src = tmp_path / "ok.urdf"
+    src.write_text(_urdf())
+    out = tmp_path / "out.xml"
+    assert main(["convert", str(src), "--to", "mjcf", "-o", str(out)]) == 2
+    assert not out.exists()
