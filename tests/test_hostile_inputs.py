@@ -94,3 +94,32 @@ def test_convert_removes_output_when_check_fails(tmp_path: Path, monkeypatch: py
     out = tmp_path / "out.xml"
     assert main(["convert", str(src), "--to", "mjcf", "-o", str(out)]) == 2
     assert not out.exists()
+
+
+# --- 18: measurement values beyond 1e100 -----------------------------------------------------------------
+
+@pytest.mark.parametrize("command", ["check", "calibrate"])
+def test_measurement_value_beyond_bound_is_named(tmp_path: Path, command: str) -> None:
+    model = tmp_path / "r.urdf"
+    model.write_text(_urdf())
+    rows = [f"{0.02 * k},{0.1 + 0.001 * k},0,0" for k in range(60)]
+    rows[37] = "0.5,1e308,0,0"  # line 39 of the file (after the header)
+    meas = tmp_path / "meas.csv"
+    meas.write_text("j1,x,y,z\n" + "\n".join(rows) + "\n")
+    out = tmp_path / "cal.urdf"
+    extra = ["-o", out] if command == "calibrate" else []
+    one_error_line(robkin(command, model, meas, *extra), str(meas), "line 39", "column 'x'", "1e308", "1e+100")
+    assert not out.exists()
+
+
+def test_measurement_array_beyond_bound_is_named(tmp_path: Path) -> None:
+    import numpy as np
+
+    model = tmp_path / "r.urdf"
+    model.write_text(_urdf())
+    a = np.zeros((60, 4))
+    a[:, 0] = np.linspace(-1, 1, 60)
+    a[12, 2] = -1e308
+    meas = tmp_path / "meas.npy"
+    np.save(meas, a)
+    one_error_line(robkin("check", model, meas), str(meas), "pose 13", "column 3", "1e+100")
