@@ -123,3 +123,25 @@ def test_measurement_array_beyond_bound_is_named(tmp_path: Path) -> None:
     meas = tmp_path / "meas.npy"
     np.save(meas, a)
     one_error_line(robkin("check", model, meas), str(meas), "pose 13", "column 3", "1e+100")
+
+
+# --- 19: --kp / --kv beyond 1e100 -------------------------------------------------------------------------
+
+@pytest.mark.parametrize("flag,value", [("--kp", "1e308"), ("--kv", "1e308"), ("--kv", "1e101"), ("--kp", "nan"),
+                                        ("--kp", "-1")])
+def test_gain_beyond_bound_is_refused(tmp_path: Path, flag: str, value: str) -> None:
+    src = tmp_path / "r.urdf"
+    src.write_text(_urdf())
+    out = tmp_path / "out.xml"
+    one_error_line(robkin("convert", src, "--to", "mjcf", "--actuators", "position", flag, value, "-o", out),
+                   flag, "1e+100")
+    assert not out.exists()
+
+
+def test_gain_at_bound_is_accepted(tmp_path: Path) -> None:
+    src = tmp_path / "r.urdf"
+    src.write_text(_urdf())
+    out = tmp_path / "out.xml"
+    r = robkin("convert", src, "--to", "mjcf", "--actuators", "position", "--kp", "1e100", "-o", out)
+    assert r.returncode == 0, r.stderr
+    assert out.exists()
