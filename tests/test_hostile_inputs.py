@@ -145,3 +145,47 @@ def test_gain_at_bound_is_accepted(tmp_path: Path) -> None:
     r = robkin("convert", src, "--to", "mjcf", "--actuators", "position", "--kp", "1e100", "-o", out)
     assert r.returncode == 0, r.stderr
     assert out.exists()
+
+
+# --- 20: messages name the field: recursive YAML alias, GUI request types, alias bomb beside flip ------------
+
+@pytest.mark.parametrize("dh,field", [("&d {rows: [[0, 0, 0, 0]], x: *d}", "dh.x"),
+                                      ("{rows: &r [[0, 0, 0, *r]]}", "dh.rows[0][3]")])
+def test_recursive_alias_names_the_field(tmp_path: Path, dh: str, field: str) -> None:
+    src = tmp_path / "rec.yaml"
+    src.write_text(f"robkin: 1\njoints: [revolute]\ndh: {dh}\n")
+    one_error_line(robkin("fk", src, "--q", "0"), str(src), field, "recursive alias")
+
+
+def _flip_bomb(levels: int) -> str:
+    """A joint whose flip holds nested aliases: 10**levels values once expanded, in ~50 bytes a level."""
+    inner = "&a [x, x, x, x, x, x, x, x, x, x], " + ", ".join(
+        f"&{k} [{', '.join(['*' + p] * 10)}]" for p, k in zip("abcdefgh", "bcdefghi"[:levels - 1]))
+    return f"robkin: 1\njoints: [{{name: j, type: revolute, flip: [{inner}]}}]\ndh: {{rows: [[0, 0, 0, 0]]}}\n"
+
+
+@pytest.mark.parametrize("text,fmt,field", [
+    (5, "auto", "text"),
+    ("robkin: 1\njoints: [revolute]\ndh: {rows: [[0, 0, 0, 0]]}\n", ["yaml"], "format"),
+    (_flip_bomb(5), "auto", "joints[0] ('j').flip"),   # 10^5 values: refused as no boolean, quoted briefly
+    (_flip_bomb(7), "auto", "joints[0].flip"),          # 10^7 values: refused while composing
+])
+def test_gui_api_messages_name_the_field(text: object, fmt: object, field: str) -> None:
+    import time
+
+    from robkin.errors import InputError
+    from robkin.viz import gui_api
+
+    t0 = time.perf_counter()
+    with pytest.raises(InputError) as info:
+        gui_api.describe(text, fmt)  # type: ignore[arg-type]
+    message = str(info.value)
+    assert field in message, message
+    assert "\n" not in message and len(message) < 600, message
+    assert time.perf_counter() - t0 < 30
+
+
+def test_flip_bomb_through_the_command_line(tmp_path: Path) -> None:
+    src = tmp_path / "bomb.yaml"
+    src.write_text(_flip_bomb(7))
+    one_error_line(robkin("fk", src, "--q", "0"), str(src), "joints[0].flip", "aliases")

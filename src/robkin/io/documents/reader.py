@@ -187,7 +187,7 @@ def _joints(value: Any, unit: str = "radians") -> tuple[Joint, ...]:
             raise InputError(f"{where} ('{name}').type: {quote(entry.get('type'))} is not one of {', '.join(JOINT_TYPES)}")
         flip = entry.get("flip", False)
         if not isinstance(flip, bool):
-            raise InputError(f"{where} ('{name}').flip: expected true or false, got {flip!r}")
+            raise InputError(f"{where} ('{name}').flip: expected true or false, got {quote(flip)}")
         lower = upper = None
         limits = entry.get("limits")
         if limits is not None:
