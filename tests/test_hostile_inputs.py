@@ -189,3 +189,71 @@ def test_flip_bomb_through_the_command_line(tmp_path: Path) -> None:
     src = tmp_path / "bomb.yaml"
     src.write_text(_flip_bomb(7))
     one_error_line(robkin("fk", src, "--q", "0"), str(src), "joints[0].flip", "aliases")
+
+
+# --- 15: one joint cap (MAX_JOINTS) wherever a robot is read ------------------------------------------------
+
+def _max_joints() -> int:
+    from robkin.compiled.scanners.vocabulary import MAX_JOINTS
+
+    return MAX_JOINTS
+
+
+def test_pasted_rows_beyond_the_joint_cap_gui() -> None:
+    import resource
+    import time
+
+    from robkin.errors import InputError
+    from robkin.viz import gui_api
+
+    text = "0.1 0.2 1.5707963 0 R\n" * 200_000  # 4.4 MB... cut below the GUI's text cap
+    text = text[: 3_400_000 - 3_400_000 % len("0.1 0.2 1.5707963 0 R\n")]
+    t0 = time.perf_counter()
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    with pytest.raises(InputError) as info:
+        gui_api.describe(text, "dh-rows")
+    assert f"at most {_max_joints()} joints" in str(info.value) and "line " in str(info.value)
+    assert time.perf_counter() - t0 < 30
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 400_000  # kB: was > 1.2 GB
+
+
+def _rows(n: int) -> str:
+    return "".join(f"0.{k % 7 + 1} 0.1 1.5707963 0\n" for k in range(n))
+
+
+@pytest.mark.parametrize("name,text,needle", [
+    ("rows.txt", _rows(200_000), "line 10003"),                                   # bare rows, --from dh
+    ("table.csv", "a,d,alpha,theta\n" + _rows(10_100).replace(" ", ","), "line "),  # a header table
+])
+def test_table_files_beyond_the_joint_cap(tmp_path: Path, name: str, text: str, needle: str) -> None:
+    src = tmp_path / name
+    src.write_text(text)
+    out = tmp_path / "out.yaml"
+    r = robkin("convert", src, "--from", "dh", "--to", "mdh", "-o", out)
+    one_error_line(r, str(src), needle, f"at most {_max_joints()}")
+    assert not out.exists()
+
+
+def test_document_beyond_the_joint_cap(tmp_path: Path) -> None:
+    import json
+
+    n = _max_joints() + 1
+    src = tmp_path / "many.json"
+    src.write_text(json.dumps({"robkin": 1, "joints": ["revolute"] * n, "dh": {"rows": [[0.1, 0, 0, 0]] * n}}))
+    one_error_line(robkin("info", src), str(src), "joints:", f"at most {_max_joints()}")
+
+
+def test_urdf_chain_beyond_the_joint_cap(tmp_path: Path) -> None:
+    n = _max_joints() + 1
+    links = "".join(f'<link name="l{i}"/>' for i in range(n + 1))
+    joints = "".join(f'<joint name="j{i}" type="continuous"><parent link="l{i}"/><child link="l{i + 1}"/>'
+                     f'<origin xyz="0 0 0.01"/></joint>' for i in range(n))
+    src = tmp_path / "long.urdf"
+    src.write_text(f'<robot name="r">{links}{joints}</robot>')
+    one_error_line(robkin("info", src), str(src), f"{n} joints", f"at most {_max_joints()}")
+
+
+def test_a_chain_at_the_joint_cap_is_read() -> None:
+    from robkin.viz import gui_api
+
+    assert gui_api.describe(_rows(2000), "dh-rows")["n"] == 2000
