@@ -257,3 +257,72 @@ def test_a_chain_at_the_joint_cap_is_read() -> None:
     from robkin.viz import gui_api
 
     assert gui_api.describe(_rows(2000), "dh-rows")["n"] == 2000
+
+
+# --- 14: fk --q-file: rows capped (MAX_ROWS) and no Python row objects for array output -----------------------
+
+SIX_DH = ("robkin: 1\njoints: [revolute, revolute, revolute, revolute, revolute, revolute]\n"
+          "dh: {rows: [[0, 0.089, 1.5708, 0], [-0.425, 0, 0, 0], [-0.392, 0, 0, 0], [0, 0.109, 1.5708, 0],"
+          " [0, 0.095, -1.5708, 0], [0, 0.082, 0, 0]]}\n")
+#: Peak resident memory allowed to one batch run (kB): MAX_ROWS rows of a 6-joint arm peak at ~340 MB;
+#: 2.7 * 10^6 rows took 1.9 GB before the cap.
+PEAK_KB = 600_000
+
+
+def _peak_of(*args: str) -> tuple[int, str, int]:
+    """(exit status, stderr, peak RSS in kB) of one robkin run, measured in a fresh process so that no
+    earlier child's peak counts (RUSAGE_CHILDREN is the largest of all waited-for children)."""
+    code = ("import resource, subprocess, sys\n"
+            "r = subprocess.run([sys.executable, '-m', 'robkin.cli', *sys.argv[1:]], capture_output=True, text=True)\n"
+            "sys.stderr.write(r.stderr)\n"
+            "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)\n"
+            "sys.exit(r.returncode)\n")
+    r = subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True, timeout=TIMEOUT)
+    return r.returncode, r.stderr, int(r.stdout.strip().splitlines()[-1])
+
+
+def _q_file(path: Path, rows: int) -> Path:
+    with open(path, "w") as f:
+        f.write("q1,q2,q3,q4,q5,q6\n")
+        f.write("0.1,0,0,0,0,0\n" * rows)
+    return path
+
+
+def test_fk_q_file_beyond_the_row_cap(tmp_path: Path) -> None:
+    from robkin.io.batch_files import MAX_ROWS
+
+    model = tmp_path / "six.yaml"
+    model.write_text(SIX_DH)
+    q = _q_file(tmp_path / "q.csv", 2_700_000)  # 38 MB: under MAX_BYTES and MAX_VALUES
+    out = tmp_path / "poses.npy"
+    rc, err, peak = _peak_of("fk", str(model), "--q-file", str(q), "-o", str(out))
+    one_error_line(subprocess.CompletedProcess([], rc, "", err), str(q), f"more than {MAX_ROWS} rows", "split")
+    assert peak < 300_000, peak  # kB: the file's bytes and text, no row objects
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("ext", [".npy", ".csv"])
+def test_fk_q_file_at_the_row_cap_stays_in_memory_bound(tmp_path: Path, ext: str) -> None:
+    from robkin.io.batch_files import MAX_ROWS
+
+    model = tmp_path / "six.yaml"
+    model.write_text(SIX_DH)
+    rows = MAX_ROWS if ext == ".npy" else MAX_ROWS // 5  # CSV output costs ~50 us a row: keep the test short
+    q = _q_file(tmp_path / "q.csv", rows)
+    out = tmp_path / ("poses" + ext)
+    rc, err, peak = _peak_of("fk", str(model), "--q-file", str(q), "-o", str(out))
+    assert rc == 0, err
+    assert peak < PEAK_KB, peak
+    if ext == ".npy":
+        import numpy as np
+
+        assert np.load(out).shape == (rows, 4, 4)
+
+
+def test_fk_json_beyond_its_row_cap(tmp_path: Path) -> None:
+    from robkin.io.batch_files import MAX_JSON_ROWS
+
+    model = tmp_path / "six.yaml"
+    model.write_text(SIX_DH)
+    q = _q_file(tmp_path / "q.csv", MAX_JSON_ROWS + 1)
+    one_error_line(robkin("fk", model, "--q-file", q, "--json"), str(q), f"at most {MAX_JSON_ROWS}", ".npy")
