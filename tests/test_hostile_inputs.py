@@ -326,3 +326,53 @@ def test_fk_json_beyond_its_row_cap(tmp_path: Path) -> None:
     model.write_text(SIX_DH)
     q = _q_file(tmp_path / "q.csv", MAX_JSON_ROWS + 1)
     one_error_line(robkin("fk", model, "--q-file", q, "--json"), str(q), f"at most {MAX_JSON_ROWS}", ".npy")
+
+
+# --- 17: malformed meshes are left out of the MJCF with one warning line, the rest loads in MuJoCo -----------
+
+def _binary_stl(triangles: list, claimed: int | None = None) -> bytes:
+    import struct
+
+    body = b"".join(struct.pack("<12fH", 0, 0, 1, *[c for v in t for c in v], 0) for t in triangles)
+    return b"\0" * 80 + struct.pack("<I", len(triangles) if claimed is None else claimed) + body
+
+
+TRI = [(0, 0, 0), (0.1, 0, 0), (0, 0.1, 0)]
+_P = [(0, 0, 0), (0.1, 0, 0), (0, 0.1, 0), (0, 0, 0.1)]
+TETRA = [[_P[a], _P[b], _P[c]] for a, b, c in ((0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3))]
+
+
+def test_malformed_meshes_left_out_of_the_mjcf(tmp_path: Path) -> None:
+    mujoco = pytest.importorskip("mujoco")
+    src_dir = tmp_path / "robot"
+    (src_dir / "meshes").mkdir(parents=True)
+    files = {
+        "good.stl": _binary_stl(TETRA),
+        "flat.stl": _binary_stl([TRI]),
+        "empty.stl": b"",
+        "truncated.stl": _binary_stl([TRI, TRI, TRI])[:-70],
+        "huge.stl": _binary_stl([TRI], claimed=4_000_000_000),
+        "nan.stl": _binary_stl([[(float("nan"), 0, 0), (0.1, 0, 0), (0, 0.1, 0)]]),
+        "nan.obj": b"v 0 0 0\nv nan 0 0\nv 0 1 inf\nf 1 2 3\n",
+        "good.obj": b"v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+    }
+    for name, data in files.items():
+        (src_dir / "meshes" / name).write_bytes(data)
+    visuals = "".join(f'<visual><geometry><mesh filename="meshes/{name}"/></geometry></visual>' for name in files)
+    (src_dir / "r.urdf").write_text(
+        f'<robot name="r"><link name="base"/><link name="l1">{visuals}'
+        '<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>'
+        '</link><joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>')
+    out = tmp_path / "out" / "r.xml"
+    r = robkin("convert", src_dir / "r.urdf", "--to", "mjcf", "-o", out, timeout=TIMEOUT)
+    assert r.returncode == 0, r.stderr
+    warning = [line for line in r.stderr.splitlines() if "MuJoCo would refuse" in line]
+    assert len(warning) == 1, r.stderr
+    assert warning[0].count("(") >= 3 and "6 mesh file(s)" in warning[0], warning
+    assert "good.stl" not in warning[0] and "good.obj" not in warning[0]
+    model = mujoco.MjModel.from_xml_path(str(out))  # what robkin writes loads
+    assert model.nmesh == 2
+    text = out.read_text()
+    assert "good.stl" in text and "good.obj" in text and "huge" not in text and "nan." not in text
+    assert sorted(p.name for p in (out.parent / "meshes").rglob("*") if p.is_file()) == ["good.obj", "good.stl"]
