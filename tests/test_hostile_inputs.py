@@ -376,3 +376,26 @@ def test_malformed_meshes_left_out_of_the_mjcf(tmp_path: Path) -> None:
     text = out.read_text()
     assert "good.stl" in text and "good.obj" in text and "huge" not in text and "nan." not in text
     assert sorted(p.name for p in (out.parent / "meshes").rglob("*") if p.is_file()) == ["good.obj", "good.stl"]
+
+
+# --- 16: check MODEL MEASUREMENTS on measurements not of the model: bounded, and said ----------------------
+
+def test_check_on_random_measurements_is_bounded(tmp_path: Path) -> None:
+    import time
+
+    import numpy as np
+
+    from robkin import load
+    from robkin.calibration import write_measurements_csv
+
+    model = tmp_path / "six.yaml"
+    model.write_text(SIX_DH)
+    robot = load(model)
+    rng = np.random.default_rng(0)
+    meas = tmp_path / "random.csv"
+    write_measurements_csv(meas, robot, rng.uniform(-3, 3, (1000, 6)), rng.uniform(-1, 1, (1000, 3)))
+    t0 = time.perf_counter()
+    r = robkin("check", model, meas)
+    assert time.perf_counter() - t0 < 60  # generous: 12 full fits took 15-60 s, the base fit alone ~2 s
+    assert r.returncode == 1, r.stderr   # a valid answer: the model is not the measured robot
+    assert "not of this model" in r.stdout and "share of the error" not in r.stdout, r.stdout
