@@ -5,6 +5,11 @@ is the model's own error. Then each joint's parameters (its zero offset and its 
 fitted alone, with the base and marker; the share of the squared residual each one removes ranks the
 joints. Within the best joint, each parameter is tried alone the same way. This is ``robkin check``'s
 joint-by-joint diagnosis, against measured samples instead of a second model.
+
+Measurements that are not of this model at all (random poses, another robot, wrong units) leave a
+residual of the robot's own size after the base fit; fitting each joint alone then explains nothing and
+every fit runs to its evaluation limit (1000 random poses of a UR5: 12 fits, > 60 s). When the RMS left
+exceeds ``INCONSISTENT`` times the robot's size, the diagnosis says so and stops after the base fit.
 """
 
 from __future__ import annotations
@@ -18,12 +23,16 @@ from numpy.typing import ArrayLike
 from ..robot import Robot
 from .solve import calibrate
 
-__all__ = ["Diagnosis", "diagnose", "DEFAULT_TOL"]
+__all__ = ["Diagnosis", "diagnose", "DEFAULT_TOL", "INCONSISTENT"]
 
 #: Default RMS position residual (m) a model may leave, with its best base and marker, and still count
 #: as the measured robot: between a calibrated robot's accuracy (0.05-0.3 mm) and an uncalibrated
 #: one's (1-5 mm).
 DEFAULT_TOL = 5e-4
+#: Position RMS left by the base fit, as a fraction of the robot's size (``Robot.scale``), beyond which
+#: the measurements are taken as not of this model: no joint-by-joint diagnosis (it would explain nothing
+#: and take 1 + n + 6 full fits that each run to their evaluation limit).
+INCONSISTENT = 0.25
 
 
 @dataclass
@@ -52,6 +61,7 @@ class Diagnosis:
     tol: float
     world: np.ndarray | None = None
     outliers: list[tuple[int, float]] = field(default_factory=list)
+    note: str | None = None
 
     @property
     def same(self) -> bool:
@@ -62,7 +72,7 @@ class Diagnosis:
                 "joints": [{"joint": j, "share": s, "position_rms_after": r} for j, s, r in self.joints],
                 "parameters": [{"parameter": n, "share": s, "change": c, "unit": u} for n, s, c, u in self.parameters],
                 "outliers": [{"row": r, "residual": e} for r, e in self.outliers],
-                "world": None if self.world is None else self.world.tolist()}
+                "world": None if self.world is None else self.world.tolist(), "note": self.note}
 
     def text(self) -> str:
         r = self.residuals
@@ -73,6 +83,9 @@ class Diagnosis:
             out.append(f"the model is the measured robot (RMS <= {self.tol * 1e3:g} mm)")
         else:
             out.append(f"the model is NOT the measured robot (RMS > {self.tol * 1e3:g} mm)")
+        if self.note:
+            out.append(self.note)
+        elif not self.same:
             out.append("share of the error each joint's parameters explain (fitted alone, with base and marker):")
             for name, share, rms in self.joints:
                 out.append(f"  {name:<28} {share * 100:6.1f} %   (RMS left {rms * 1e3:.4f} mm)")
@@ -99,7 +112,12 @@ def diagnose(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Arr
     joints: list[tuple[str, float, float]] = []
     params: list[tuple[str, float, float, str]] = []
     total = res["position_rms"] ** 2
-    if res["position_rms"] > tol and total > 0:
+    note = None
+    if res["position_rms"] > max(tol, INCONSISTENT * robot.scale):
+        note = (f"the measurements are not of this model: the RMS left ({res['position_rms'] * 1e3:.4g} mm) is more "
+                f"than {INCONSISTENT:g} of the robot's size ({robot.scale * 1e3:.4g} mm); no joint-by-joint "
+                f"diagnosis (check the model, the joint order and units of the file, the base and tip links)")
+    elif res["position_rms"] > tol and total > 0:
         for j in robot.joints:
             fit = calibrate(robot, q, positions, orientations, only=[j.name], **kw)
             left = fit.after_fit["position_rms"]
@@ -115,4 +133,4 @@ def diagnose(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Arr
             params.append((prm.name, 1.0 - fit.after_fit["position_rms"] ** 2 / total, one.estimate - one.nominal,
                            prm.unit))
         params.sort(key=lambda t: -t[1])
-    return Diagnosis(res, joints, params, tol, base.robot.world, base.outliers)
+    return Diagnosis(res, joints, params, tol, base.robot.world, base.outliers, note)

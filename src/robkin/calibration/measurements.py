@@ -24,6 +24,7 @@ from typing import Iterator
 
 import numpy as np
 
+from ..compiled.scanners.vocabulary import MAX_ABS  # the documents' bound on any number
 from ..errors import InputError, quote
 from ..robot import Robot
 
@@ -127,8 +128,9 @@ def _from_csv(text: str, names: list[str], src: str) -> Measurements:
             except ValueError:
                 raise InputError(f"{src}: line {line_no}, column {quote(col)}: {quote(cell.strip())} is not a "
                                  f"number") from None
-            if not np.isfinite(v):
-                raise InputError(f"{src}: line {line_no}, column {quote(col)}: {cell.strip()} is not a finite number")
+            if not abs(v) <= MAX_ABS:  # also NaN: a pose of 1e308 is no measurement (the fit would blame the spread)
+                raise InputError(f"{src}: line {line_no}, column {quote(col)}: {quote(cell.strip())} is not a finite "
+                                 f"number of magnitude at most {MAX_ABS:g}")
             row.append(v)
         values.append(row)
         rows.append(line_no)
@@ -243,9 +245,11 @@ def _numeric(a: np.ndarray, src: str, name: str, shape: tuple[int | None, ...]) 
     if len(a) > MAX_POSES:
         raise InputError(f"{src}: more than {MAX_POSES} poses")
     a = a.astype(float)
-    bad = np.argwhere(~np.isfinite(a))
+    bad = np.argwhere(~(np.abs(a) <= MAX_ABS))  # also NaN
     if bad.size:
-        raise InputError(f"{src}: array {quote(name)}, pose {bad[0][0] + 1}: not a finite number")
+        at = f", column {bad[0][1] + 1}" if a.ndim == 2 else ""
+        raise InputError(f"{src}: array {quote(name)}, pose {bad[0][0] + 1}{at}: not a finite number of magnitude "
+                         f"at most {MAX_ABS:g}")
     return a
 
 

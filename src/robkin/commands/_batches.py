@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any, Callable, Iterator
 
 import numpy as np
 
@@ -159,19 +159,29 @@ def _is_terminal(stream: Any) -> bool:
         return False
 
 
-def _emit(args: argparse.Namespace, columns: list[str], table: list[list[Any]], arrays: dict[str, np.ndarray],
-          main_array: str, document: dict[str, Any]) -> None:
-    """Results to -o (by extension) or stdout (CSV, or JSON with --json)."""
-    from ..io.batch_files import csv_text, write_rows
+def _emit(args: argparse.Namespace, columns: list[str], table: Any, arrays: dict[str, np.ndarray],
+          main_array: str, document: Any) -> None:
+    """Results to -o (by extension) or stdout (CSV, or JSON with --json). ``table`` (rows) and
+    ``document`` may be functions giving them: only the one the output needs is made."""
+    from ..io.batch_files import write_csv, write_rows
     from ._output import print_json, wrote
 
     if args.output:
         write_rows(args.output, columns, table, arrays, main_array, document)
         wrote(args.output)
     elif args.json:
-        print_json(document)
+        print_json(document() if callable(document) else document)
     else:
-        sys.stdout.write(csv_text(columns, table))
+        write_csv(sys.stdout, columns, table() if callable(table) else table)
+
+
+def _json_rows(args: argparse.Namespace, N: int, source: str) -> None:
+    """Refuse JSON output of more than MAX_JSON_ROWS rows before any work (its rows are Python dicts)."""
+    from ..io.batch_files import MAX_JSON_ROWS
+
+    if N > MAX_JSON_ROWS and (args.json or (args.output or "").lower().endswith(".json")):
+        raise InputError(f"{source}: {N} rows; JSON output (--json, -o .json) holds at most {MAX_JSON_ROWS} rows: "
+                         f"write .npy, .npz or .csv")
 
 
 def fk_batch(robot: "Robot", args: argparse.Namespace) -> int:
@@ -182,6 +192,7 @@ def fk_batch(robot: "Robot", args: argparse.Namespace) -> int:
 
     _check_output(args)
     Q = q_rows(read_rows(args.q_file, key="q"), robot)
+    _json_rows(args, len(Q), "standard input" if args.q_file == "-" else args.q_file)
     if args.degrees:
         Q = revolute_degrees(robot, Q, to_radians=True)
     N = len(Q)
@@ -196,18 +207,25 @@ def fk_batch(robot: "Robot", args: argparse.Namespace) -> int:
     lim = robot.limits
     outside = (Q < lim[:, 0]) | (Q > lim[:, 1])
     names = [j.name for j in robot.joints]
-    notes = [", ".join(f"{names[i]} outside its limits" for i in np.flatnonzero(o)) for o in outside]
-    if np.any(outside):
+    rows_out = np.flatnonzero(outside.any(axis=1))  # notes only for these: no Python string per row
+    notes = {int(k): ", ".join(f"{names[i]} outside its limits" for i in np.flatnonzero(outside[k])) for k in rows_out}
+    if len(rows_out):
         print(f"robkin: warning: {int(outside.any(axis=1).sum())} of {N} rows have joint values outside the limits "
               f"(see the 'error' column)", file=sys.stderr)
     if args.degrees:
         rpy = np.degrees(rpy)
     q_out = revolute_degrees(robot, Q, to_radians=False) if args.degrees else Q
     columns = ["row", *names, "x", "y", "z", "roll", "pitch", "yaw", "qw", "qx", "qy", "qz", "success", "error"]
-    table = [[k + 1, *q_out[k], *T[k, :3, 3], *rpy[k], *quat[k], True, notes[k]] for k in range(N)]
-    document = {"joints": names, "results": [{"q": q_out[k], "T": T[k], "position": T[k, :3, 3], "rpy": rpy[k],
-                                               "quaternion": dict(zip("wxyz", quat[k])), "success": True,
-                                               "error": notes[k] or None} for k in range(N)]}
+
+    def table() -> Iterator[list[Any]]:  # CSV only, one row at a time
+        for k in range(N):
+            yield [k + 1, *q_out[k], *T[k, :3, 3], *rpy[k], *quat[k], True, notes.get(k, "")]
+
+    def document() -> dict[str, Any]:  # JSON only (at most MAX_JSON_ROWS rows)
+        return {"joints": names, "results": [{"q": q_out[k], "T": T[k], "position": T[k, :3, 3], "rpy": rpy[k],
+                                              "quaternion": dict(zip("wxyz", quat[k])), "success": True,
+                                              "error": notes.get(k) or None} for k in range(N)]}
+
     _emit(args, columns, table, {"T": T, "q": q_out, "position": T[:, :3, 3], "rpy": rpy, "quaternion": quat},
           "T", document)
     return 0
@@ -224,6 +242,7 @@ def ik_batch(robot: "Robot", args: argparse.Namespace, solve: dict[str, Any]) ->
 
     _check_output(args)
     targets = pose_rows(read_rows(args.poses, key="poses"), degrees=args.degrees)
+    _json_rows(args, len(targets), "standard input" if args.poses == "-" else args.poses)
     N, n = len(targets), robot.n
     Q = np.full((N, n), np.nan)
     ok = np.zeros(N, dtype=bool)

@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import argparse
 import sys
+from contextlib import contextmanager
 from pathlib import Path
+from typing import Iterator
 
 from ..errors import InputError
 from ._chains import add_chain_options, chain_ends
@@ -154,6 +156,18 @@ def _check_table_options(args: argparse.Namespace) -> None:
         raise InputError(f"--json prints a robot document; it does not combine with --format {args.format}")
 
 
+@contextmanager
+def _removed_on_error(paths: list[Path]) -> Iterator[None]:
+    """Remove the files just written when the check after writing fails (exit 2 leaves no output
+    behind: the source held something only the check read, such as a link's inertial)."""
+    try:
+        yield
+    except BaseException:
+        for p in paths:
+            p.unlink(missing_ok=True)
+        raise
+
+
 def run(args: argparse.Namespace) -> int:
     from ..io.files.atomic import check_writable_dir, write_text_atomic, write_texts_atomic
 
@@ -198,8 +212,9 @@ def run(args: argparse.Namespace) -> int:
         if fmt in ("urdf", "mjcf") and not args.format:
             from .convert_parts.output_check import check_written
 
-            for robot, target in zip(robots, targets):
-                check_written(robot, target, fmt)
+            with _removed_on_error(targets):
+                for robot, target in zip(robots, targets):
+                    check_written(robot, target, fmt)
         return 0
     if len(inputs) > 1:
         raise InputError("several inputs need -o DIR (a folder for the converted files)")
@@ -223,7 +238,8 @@ def run(args: argparse.Namespace) -> int:
         if fmt in ("urdf", "mjcf"):
             from .convert_parts.output_check import check_written
 
-            check_written(robot, out, fmt)
+            with _removed_on_error([out]):
+                check_written(robot, out, fmt)
         if note:
             print(f"robkin: note: {note}", file=sys.stderr)
         return 0

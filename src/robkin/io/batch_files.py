@@ -16,14 +16,15 @@ import io
 import os
 import sys
 import zipfile
-from typing import Any, Mapping, Sequence
+from typing import IO, Any, Callable, Iterable, Iterator, Mapping, Sequence
 
 import numpy as np
 
 from ..errors import InputError
 from .files.numbers import number
 
-__all__ = ["MAX_BYTES", "MAX_VALUES", "Rows", "read_rows", "write_rows", "csv_text"]
+__all__ = ["MAX_BYTES", "MAX_VALUES", "MAX_ROWS", "MAX_JSON_ROWS", "Rows", "read_rows", "write_rows", "csv_text",
+           "write_csv"]
 
 #: Largest batch file read (text or array): 10^6 joint vectors of 6 values as CSV are ~100 MB with
 #: every digit, so 256 MB holds any batch that belongs on a command line (larger ones: robkin's Python
@@ -31,6 +32,13 @@ __all__ = ["MAX_BYTES", "MAX_VALUES", "Rows", "read_rows", "write_rows", "csv_te
 MAX_BYTES = 256 * 1024 * 1024
 #: Largest number of values in one array (128 MB of float64): bounds memory whatever the header says.
 MAX_VALUES = 16 * 1024 * 1024
+#: Most rows of one batch: FK's results and their temporaries peak at ~600 bytes per row (6 joints: q, T,
+#: rpy, quaternion, the output file's copies), so 5 * 10^5 rows stay under ~0.4 GB whatever the output
+#: (2.7 * 10^6 rows of a 6-joint arm, 33 MB of CSV, fit MAX_VALUES but took 1.9 GB and failed with a
+#: MemoryError). Larger batches: split the file, or robkin's Python API.
+MAX_ROWS = 500_000
+#: Most rows written as JSON (--json, -o .json): a row there is a dict of Python numbers, ~2 kB.
+MAX_JSON_ROWS = 100_000
 _MAGIC = b"\x93NUMPY"
 
 
@@ -136,29 +144,67 @@ def _as_rows(arr: np.ndarray, name: str) -> Rows:
         arr = arr[None]
     if arr.ndim < 2 or arr.shape[0] == 0:
         raise InputError(f"{name}: array of shape {arr.shape}; expected one row per item, (N, ...)")
+    if arr.shape[0] > MAX_ROWS:
+        raise InputError(f"{name}: {arr.shape[0]} rows; a batch is at most {MAX_ROWS} rows (split the file)")
     return Rows(arr.reshape(arr.shape[0], -1), None, arr.shape, name)
 
 
+def _data_lines(text: str) -> Iterator[tuple[int, str]]:
+    """(line number, line) of the lines holding data (not blank, not a # comment), one at a time: a
+    batch of 10^6 lines is never held as a list of strings."""
+    start, k, size = 0, 0, len(text)
+    while start < size:  # str.find, not io.StringIO (a copy 4 bytes a character) nor splitlines (a list)
+        end = text.find("\n", start)
+        end = size if end < 0 else end
+        line, start, k = text[start:end].rstrip("\r"), end + 1, k + 1
+        if line.strip() and not line.lstrip().startswith("#"):
+            yield k, line
+
+
+def _at_line(text: str, n: int) -> int:
+    """The end of the n-th line of ``text`` (its length if it has fewer)."""
+    at = -1
+    for _ in range(n):
+        at = text.find("\n", at + 1)
+        if at < 0:
+            return len(text)
+    return at
+
+
 def _csv(text: str, name: str) -> Rows:
-    lines = [(k, line) for k, line in enumerate(text.splitlines(), start=1)
-             if line.strip() and not line.lstrip().startswith("#")]
-    if not lines:
+    first_line = next(_data_lines(text), None)
+    if first_line is None:
         raise InputError(f"{name}: no rows")
-    tab = "\t" in lines[0][1] and "," not in lines[0][1]
+    tab = "\t" in first_line[1] and "," not in first_line[1]
     delimiter = "\t" if tab else ","
-    first = [c.strip() for c in next(csv.reader([lines[0][1]], delimiter=delimiter))]
+    first = [c.strip() for c in next(csv.reader([first_line[1]], delimiter=delimiter))]
     header: list[str] | None = None
     if first and not _is_number(first[0]):
-        header, lines = first, lines[1:]
-    if not lines:
+        header = first
+    n_rows = min(text.count("\n") + 1, MAX_ROWS + 2)  # an upper bound first: no count of a huge file
+    n_rows = sum(1 for _ in _data_lines(text[:_at_line(text, n_rows)])) - (header is not None)
+    if not n_rows:
         raise InputError(f"{name}: no rows after the header")
     width = len(header) if header else len(first)
-    if len(lines) * width > MAX_VALUES:
-        raise InputError(f"{name}: {len(lines)} rows of {width} values; a batch is at most {MAX_VALUES} values")
-    out = np.empty((len(lines), width))
+    if n_rows > MAX_ROWS:  # counted up to the cap only
+        raise InputError(f"{name}: more than {MAX_ROWS} rows; a batch is at most {MAX_ROWS} rows (split the file)")
+    if n_rows * width > MAX_VALUES:
+        raise InputError(f"{name}: {n_rows} rows of {width} values; a batch is at most {MAX_VALUES} values")
+    out = np.empty((n_rows, width))
     errors: dict[int, str] = {}
-    reader = csv.reader((line for _, line in lines), delimiter=delimiter)
-    for i, ((k, _), raw) in enumerate(zip(lines, reader)):
+    lines = _data_lines(text)
+    if header is not None:
+        next(lines)
+    numbered = [0]
+
+    def unnumbered() -> Iterator[str]:
+        for k, line in lines:
+            numbered[0] = k
+            yield line
+
+    reader = csv.reader(unnumbered(), delimiter=delimiter)
+    for i, raw in enumerate(reader):
+        k = numbered[0]
         row = [c.strip() for c in raw]
         if len(row) != width:
             raise InputError(f"{name}: line {k}: expected {width} values, got {len(row)}")
@@ -170,6 +216,9 @@ def _csv(text: str, name: str) -> Rows:
                     raise
                 out[i, j] = np.nan
                 errors.setdefault(j, str(exc))
+    read = i + 1 if n_rows else 0
+    if read != n_rows:  # a quoted field spanning lines joined some of them
+        out = out[:read]
     return Rows(out, header, out.shape, name, errors)
 
 
@@ -193,8 +242,15 @@ def _cell(cell: str, name: str, line: int, column: str) -> float:
     return number(cell, f"{name}: line {line}, column {column[:40]}")
 
 
-def csv_text(columns: Sequence[str], table: Sequence[Sequence[Any]]) -> str:
+def csv_text(columns: Sequence[str], table: Iterable[Sequence[Any]]) -> str:
     """CSV text with a header: floats so that they read back bit for bit, booleans true/false."""
+    buf = io.StringIO()
+    write_csv(buf, columns, table)
+    return buf.getvalue()
+
+
+def write_csv(stream: IO[str], columns: Sequence[str], table: Iterable[Sequence[Any]]) -> None:
+    """``csv_text`` written to ``stream`` row by row (``table`` may be a generator: no list of rows)."""
     from .files.float_text import float_text
 
     def cell(v: Any) -> str:
@@ -204,30 +260,31 @@ def csv_text(columns: Sequence[str], table: Sequence[Sequence[Any]]) -> str:
             return "nan" if not np.isfinite(v) else float_text(float(v))
         return str(v)
 
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
+    w = csv.writer(stream, lineterminator="\n")
     w.writerow(columns)
     for row in table:
         w.writerow([cell(v) for v in row])
-    return buf.getvalue()
 
 
-def write_rows(path: str, columns: Sequence[str], table: Sequence[Sequence[Any]], arrays: Mapping[str, np.ndarray],
-               main_array: str, document: Any) -> None:
+def write_rows(path: str, columns: Sequence[str], table: Iterable[Sequence[Any]] | Callable[[], Iterable[Sequence[Any]]],
+               arrays: Mapping[str, np.ndarray], main_array: str, document: Any) -> None:
     """Write a batch's results to ``path`` by its extension (atomically).
 
-    ``.csv``: ``columns`` and ``table``; ``.npy``: ``arrays[main_array]``; ``.npz``: every array of
-    ``arrays``; ``.json``: ``document`` (robkin's JSON style).
+    ``.csv``: ``columns`` and ``table`` (rows, or a function giving them: called only here, so the
+    rows are made, one at a time if it is a generator, only for CSV); ``.npy``: ``arrays[main_array]``;
+    ``.npz``: every array of ``arrays``; ``.json``: ``document`` (or a function giving it; robkin's
+    JSON style).
     """
     from .files.atomic import atomic_file, write_text_atomic
 
     ext = os.path.splitext(path)[1].lower()
     if ext == ".csv":
-        write_text_atomic(path, csv_text(columns, table))
+        with atomic_file(path) as f:
+            write_csv(f, columns, table() if callable(table) else table)
     elif ext == ".json":
         from .files.jsontext import dumps
 
-        write_text_atomic(path, dumps(document) + "\n")
+        write_text_atomic(path, dumps(document() if callable(document) else document) + "\n")
     elif ext in (".npy", ".npz"):
         with atomic_file(path, binary=True) as f:
             if ext == ".npy":

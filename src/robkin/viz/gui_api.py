@@ -133,12 +133,10 @@ def _parsed(text: str, fmt: str, base_link: str | None, tip_link: str | None, to
 def _robot(text: Any, fmt: Any, base_link: Any = None, tip_link: Any = None, tool_row: Any = False
            ) -> tuple[Robot, list[str], tuple[str, ...]]:
     """(robot, warnings, URDF link names) of request fields, memoised; wrong JSON types are input errors."""
-    fmt = fmt or "auto"
-    if not isinstance(text, str) or not isinstance(fmt, str):
-        raise InputError("request: text and fmt must be strings")
-    base_link, tip_link = base_link or None, tip_link or None
-    if not all(v is None or isinstance(v, str) for v in (base_link, tip_link)):
-        raise InputError("request: base_link and tip_link must be strings")
+    fmt, base_link, tip_link = fmt or "auto", base_link or None, tip_link or None
+    for field, value in (("text", text), ("format (fmt)", fmt), ("base link", base_link), ("tip link", tip_link)):
+        if not (isinstance(value, str) or (value is None and field.endswith("link"))):  # each field named
+            raise InputError(f"{field}: expected a string, got {type(value).__name__}")
     if len(text) > MAX_TEXT:  # before the cache hashes it
         raise InputError(f"input: {len(text)} characters; at most {MAX_TEXT} accepted")
     robot, notes, names = _parsed(text, fmt, base_link, tip_link, tool_row is True)

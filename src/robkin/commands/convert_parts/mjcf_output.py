@@ -51,9 +51,11 @@ def check_mjcf_options(args: argparse.Namespace) -> None:
                                 ("--actuators", None if args.actuators == "motor" else args.actuators)) if v]
     if args.to != "mjcf" and given:
         raise InputError(f"{given[0]}: applies to --to mjcf only")
+    from ...compiled.scanners.vocabulary import MAX_ABS  # the documents' bound (pure Python, no extension)
+
     for opt, v in (("--kp", args.kp), ("--kv", args.kv)):
-        if v is not None and not (v >= 0 and v < float("inf")):
-            raise InputError(f"{opt} {v}: a gain is a number >= 0")
+        if v is not None and not (0 <= v <= MAX_ABS):  # also NaN
+            raise InputError(f"{opt} {v}: a gain is a number >= 0 and at most {MAX_ABS:g}")
     if args.kp is not None and args.actuators != "position":
         raise InputError(f"--kp: applies to --actuators position (not {args.actuators})")
     if args.kv is not None and args.actuators not in ("position", "velocity"):

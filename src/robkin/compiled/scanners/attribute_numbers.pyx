@@ -177,7 +177,8 @@ cpdef tuple numbers(text, Py_ssize_t count, where, what, tuple default):
 
 
 cpdef object number(text, where, what, bint infinite_ok=False):
-    """One number from an attribute's text (finite unless ``infinite_ok``), None if absent."""
+    """One number from an attribute's text (finite unless ``infinite_ok``, and within +-MAX_ABS unless
+    infinite), None if absent."""
     cdef double out[1]
     if text is None:
         return None
@@ -189,4 +190,7 @@ cpdef object number(text, where, what, bint infinite_ok=False):
         raise InputError(f"{where}: {what}: {quote(text)} is not a number") from None
     if math.isnan(v) or not (infinite_ok or math.isfinite(v)):
         raise InputError(f"{where}: {what}: {quote(text)} is NaN or infinite; expected a finite number")
+    if math.isfinite(v) and not -MAX_ABS <= v <= MAX_ABS:  # as ``numbers``: 1e308 is no mass, no limit
+        raise InputError(f"{where}: {what}: {quote(text)} is beyond +-{MAX_ABS:g}; expected a finite number "
+                         f"of a robot's size")
     return v

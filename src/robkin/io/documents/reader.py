@@ -39,6 +39,7 @@ from .vocabulary import ANGLE_UNITS, DOC_VERSION, SECTIONS
 from .writer import document_from_robot, dump, section_key, table_document
 from ..files.input_files import read_text_file
 from ..files.numbers import MAX_INT_DIGITS, matrix, number
+from ...compiled.scanners.vocabulary import MAX_JOINTS
 
 __all__ = ["SECTIONS", "ANGLE_UNITS", "AngleUnitWarning", "read_document", "parse_document", "read_sections",
            "document_from_robot", "dump", "same_robot", "read_text", "parse_text", "table_document", "section_key"]
@@ -166,6 +167,8 @@ def _joints(value: Any, unit: str = "radians") -> tuple[Joint, ...]:
         raise InputError("joints: missing; list one entry per joint, e.g. {name: joint1, type: revolute}")
     if not isinstance(value, list) or not value:
         raise InputError("joints: expected a non-empty list of {name, type, limits, flip} entries")
+    if len(value) > MAX_JOINTS:
+        raise InputError(f"joints: {len(value)} entries; at most {MAX_JOINTS} joints are read")
     out = []
     for i, entry in enumerate(value):
         where = f"joints[{i}]"
@@ -187,7 +190,7 @@ def _joints(value: Any, unit: str = "radians") -> tuple[Joint, ...]:
             raise InputError(f"{where} ('{name}').type: {quote(entry.get('type'))} is not one of {', '.join(JOINT_TYPES)}")
         flip = entry.get("flip", False)
         if not isinstance(flip, bool):
-            raise InputError(f"{where} ('{name}').flip: expected true or false, got {flip!r}")
+            raise InputError(f"{where} ('{name}').flip: expected true or false, got {quote(flip)}")
         lower = upper = None
         limits = entry.get("limits")
         if limits is not None:

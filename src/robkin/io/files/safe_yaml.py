@@ -9,7 +9,8 @@ against a reader:
   *expanded* size (aliases counted as often as they are used) is computed while composing, in time
   linear in the text, and a document larger than ``MAX_NODES`` is refused. Ordinary uses of aliases
   (one identity matrix reused for ``base`` and ``tool``) stay well inside the limit. A recursive alias
-  (a list containing itself) is refused outright.
+  (a list containing itself) is refused outright. Both messages name the field (``dh.rows[0]``) where
+  the alias or the oversized node is.
 * **Huge integers**: an integer with more digits than Python converts (4300) raised ValueError; one
   beyond the float range overflowed later. Integers longer than ``MAX_INT_DIGITS`` characters are read
   as +-inf, which the number reader then refuses with the field's name.
@@ -25,7 +26,7 @@ from typing import Any
 import yaml
 from yaml.constructor import SafeConstructor
 from yaml.events import AliasEvent
-from yaml.nodes import MappingNode, Node, SequenceNode
+from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
 from .numbers import MAX_INT_DIGITS
 
@@ -43,14 +44,33 @@ class _BoundedLoader(yaml.SafeLoader):
     def __init__(self, stream: str) -> None:
         super().__init__(stream)
         self._sizes: dict[int, int] = {}  # id(node) -> expanded size; the nodes live as long as the loader
+        self._path: list[str] = []  # the field being composed, as parts ("dh", ".rows", "[0]")
+
+    def _field(self) -> str:
+        return "".join(self._path).lstrip(".") or "the document"
 
     def compose_node(self, parent: Node | None, index: Any) -> Node:
+        if parent is None:
+            part = ""
+        elif isinstance(index, int):
+            part = f"[{index}]"
+        elif isinstance(index, ScalarNode):
+            part = "." + str(index.value)[:40]
+        else:
+            part = ".(a key)" if index is None else ".(a complex key)"
+        self._path.append(part)
+        try:
+            return self._compose(parent, index)
+        finally:
+            self._path.pop()
+
+    def _compose(self, parent: Node | None, index: Any) -> Node:
         if self.check_event(AliasEvent):
             mark = self.peek_event().start_mark
             node = super().compose_node(parent, index)  # the anchored node (or an undefined-alias error)
             if id(node) not in self._sizes:  # its anchor is still open: the node would contain itself
-                raise yaml.composer.ComposerError(None, None, "found a recursive alias (a node that "
-                                                  "contains itself)", mark)
+                raise yaml.composer.ComposerError(None, None, f"{self._field()}: found a recursive alias (a "
+                                                  "node that contains itself)", mark)
             return node
         node = super().compose_node(parent, index)
         if isinstance(node, SequenceNode):
@@ -61,8 +81,9 @@ class _BoundedLoader(yaml.SafeLoader):
             children = []
         size = 1 + sum(self._sizes[id(child)] for child in children)
         if size > MAX_NODES:
-            raise yaml.composer.ComposerError(None, None, f"more than {MAX_NODES} values after expanding "
-                                              f"'*' aliases; a robot document needs far fewer", node.start_mark)
+            raise yaml.composer.ComposerError(None, None, f"{self._field()}: more than {MAX_NODES} values after "
+                                              f"expanding '*' aliases; a robot document needs far fewer",
+                                              node.start_mark)
         self._sizes[id(node)] = size
         return node
 

@@ -27,6 +27,7 @@ from typing import Any
 
 from ...errors import InputError, quote
 from ..files.numbers import number
+from ...compiled.scanners.vocabulary import MAX_JOINTS
 
 __all__ = ["TABLE_FORMATS", "document_from_table"]
 
@@ -41,6 +42,9 @@ def _lines(text: str) -> list[tuple[int, list[str]]]:
     for k, line in enumerate(text.splitlines(), start=1):
         fields = [f for f in _SPLIT.split(line.split("#", 1)[0].strip()) if f]
         if fields:
+            if len(out) == MAX_JOINTS + 2:  # + 2: an RPY-XYZ table's base and tool rows (a PoE's M: + 1)
+                raise InputError(f"line {k}: more than {MAX_JOINTS + 2} rows; at most {MAX_JOINTS} joints (one row "
+                                 f"each) are read")
             out.append((k, fields))
     return out
 

@@ -36,6 +36,7 @@ from ...robot import Robot
 from ..documents.masses import LIST_WIDTH, add_mass_columns, mass_cells, mass_columns_at
 from ..files.numbers import number
 from .cells import csv_read_cell
+from ...compiled.scanners.vocabulary import MAX_JOINTS
 
 __all__ = ["TABLE_INPUT_EXTENSIONS", "TABLE_INPUTS", "read_table_file", "table_document"]
 
@@ -195,6 +196,8 @@ def _header_document(lines: list[str], representation: str | None, tab: bool) ->
         if not line.strip() or not any(c for c in _split(line, tab)):
             rest = rest[idx + 1:]
             break
+        if len(body) > MAX_JOINTS + 2:  # + 2: the frames of an RPY-XYZ table (checked before any parse)
+            raise InputError(f"line {k}: more than {MAX_JOINTS} joints (one row each); at most {MAX_JOINTS} are read")
         body.append((k, _split(line, tab)))
     else:
         rest = []

@@ -20,6 +20,7 @@ from ...bodies import Bodies, LazyTuple
 from ...errors import InputError, ProjectionWarning
 from ...robot import Joint, Robot
 from ...compiled.conversions import pose_rows
+from ...compiled.scanners.vocabulary import MAX_JOINTS
 if TYPE_CHECKING:
     from ...body_parts import Inertial, Link, LinkJoint, Shape
 from ..trees.model import UNSUPPORTED_TYPES, UrdfJoint, UrdfModel
@@ -233,6 +234,9 @@ def robot_from_model(model: UrdfModel, base_link: str | None = None, tip_link: s
         if j.mimic:
             raise InputError(f"{src}: joint '{j.name}' mimics another joint; robkin needs independent joints "
                              f"(end the chain before it with tip_link=)")
+    if len(chain) > MAX_JOINTS:
+        raise InputError(f"{src}: {len(chain)} joints between '{base}' and '{tip}'; at most {MAX_JOINTS} are read "
+                         f"(pick a shorter chain with base_link=/tip_link=)")
     if not chain:
         raise InputError(f"{src}: no revolute, continuous or prismatic joint between '{base}' and "
                          f"'{tip}'; a robot needs at least one")
