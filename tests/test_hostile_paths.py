@@ -11,6 +11,7 @@ and exit status 2 (or neutralised in the output), and nothing written outside th
 from __future__ import annotations
 
 import json
+import struct
 import warnings
 from html.parser import HTMLParser
 from pathlib import Path
@@ -20,7 +21,12 @@ import pytest
 import robkin
 from robkin.cli import main
 
-STL = b"solid x\nendsolid x\n"
+#: a small binary STL (a tetrahedron: the four vertices MuJoCo needs; it reads binary STL only, and the
+#: MJCF writer leaves out a mesh MuJoCo would refuse)
+_TETRA = ((0, 0, 0), (0.1, 0, 0), (0, 0.1, 0), (0, 0, 0.1))
+STL = b"\0" * 80 + struct.pack("<I", 4) + b"".join(
+    struct.pack("<12fH", 0, 0, 1, *_TETRA[a], *_TETRA[b], *_TETRA[c], 0)
+    for a, b, c in ((0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3)))
 
 
 def _urdf(mesh: str, name: str = "r", joint: str = "j0") -> str:
