@@ -41,6 +41,10 @@ CASES = [
 #: Agreement with pinocchio, relative to the largest entry. Observed ~1e-15 (the same sums in another
 #: order); 1e-9 is the issue's promise and still catches any modelling error (a wrong frame or sign).
 REL_TOL = 1e-9
+#: what is observed (this machine, 2026-11-28, the 7 chains and the draws below): inverse dynamics
+#: 3.0e-15, g(q) 2.4e-15, M(q) 2.2e-15 of the largest entry; 1e-14 is 3-4.5x that (the data are fixed;
+#: another CPU or BLAS sums in another order), so that a regression far below the promise still fails.
+ROUNDING_REL = 1e-14
 
 
 class Pin:
@@ -83,7 +87,11 @@ class Pin:
 
 
 def close(a: np.ndarray, b: np.ndarray) -> bool:
-    return bool(np.max(np.abs(a - b)) <= REL_TOL * max(np.max(np.abs(b)), 1e-300))
+    """a == b relative to b's largest entry: to the promise (REL_TOL, asserted here) and to the rounding
+    level observed (ROUNDING_REL, returned)."""
+    rel = np.max(np.abs(a - b)) / max(np.max(np.abs(b)), 1e-300)
+    assert rel <= REL_TOL, f"the promise: {rel:.3g}"
+    return bool(rel <= ROUNDING_REL)
 
 
 @pytest.fixture(scope="module", params=CASES, ids=lambda c: f"{c[0].split('/')[-1]}:{c[2]}")
