@@ -134,19 +134,20 @@ def joint_lists(draw, n: int) -> tuple[Joint, ...]:
 
 @st.composite
 def robot_specs(draw, min_joints: int = 1, max_joints: int = 8, units: tuple[float, ...] = UNITS,
-                world: bool = True, tiny: bool = True) -> RobotSpec:
+                world: bool = True, tiny: bool = True, relations: tuple[str, ...] = RELATIONS) -> RobotSpec:
     """A random robot built axis by axis with deliberately chosen axis relations (see module doc).
 
     ``tiny=False``: offsets and angles are exactly 0 or at least 1e-6 (see ``_CLEAN``).
+    ``relations``: the axis relations to draw from (default: all of them).
     """
     v = _TINY if tiny else _CLEAN
     n = draw(st.integers(min_joints, max_joints))
     unit = draw(st.sampled_from(units))
     joints = draw(joint_lists(n))
-    relations = tuple(draw(st.sampled_from(RELATIONS)) for _ in range(n))
+    drawn = tuple(draw(st.sampled_from(relations)) for _ in range(n))
     p, u = np.zeros(3), np.array([0.0, 0.0, 1.0])  # the robot base z axis
     frames = np.empty((n + 1, 4, 4))
-    for i, rel in enumerate(relations):
+    for i, rel in enumerate(drawn):
         p, u = draw(_next_axis(p, u, rel, unit, tiny))
         e1, e2 = _basis(u)
         gamma = draw(v["angle"])
@@ -165,7 +166,7 @@ def robot_specs(draw, min_joints: int = 1, max_joints: int = 8, units: tuple[flo
                                          draw(v["angle"]))
     world_pose = draw(poses(unit, tiny)) if world and draw(st.booleans()) else np.eye(4)
     robot = Robot(frames, joints, world=world_pose, name="drawn")
-    return RobotSpec(robot, relations, tool_kind, unit)
+    return RobotSpec(robot, drawn, tool_kind, unit)
 
 
 def robots(min_joints: int = 1, max_joints: int = 8, units: tuple[float, ...] = UNITS,

@@ -41,6 +41,10 @@ CASES = [
 #: Agreement with pinocchio, relative to the largest entry. Observed ~1e-15 (the same sums in another
 #: order); 1e-9 is the issue's promise and still catches any modelling error (a wrong frame or sign).
 REL_TOL = 1e-9
+#: what is observed (this machine, 2026-11-28, the 7 chains and the draws below): inverse dynamics
+#: 3.0e-15, g(q) 2.4e-15, M(q) 2.2e-15 of the largest entry; 1e-14 is 3-4.5x that (the data are fixed;
+#: another CPU or BLAS sums in another order), so that a regression far below the promise still fails.
+ROUNDING_REL = 1e-14
 
 
 class Pin:
@@ -82,8 +86,12 @@ class Pin:
         return M[np.ix_(self.order, self.order)]
 
 
-def close(a: np.ndarray, b: np.ndarray) -> bool:
-    return bool(np.max(np.abs(a - b)) <= REL_TOL * max(np.max(np.abs(b)), 1e-300))
+def close(a: np.ndarray, b: np.ndarray, observed: float = REL_TOL) -> bool:
+    """a == b relative to b's largest entry: to the promise (REL_TOL, asserted here) and to ``observed``
+    (returned; the promise unless a test passes the rounding level it observed)."""
+    rel = np.max(np.abs(a - b)) / max(np.max(np.abs(b)), 1e-300)
+    assert rel <= REL_TOL, f"the promise: {rel:.3g}"
+    return bool(rel <= observed)
 
 
 @pytest.fixture(scope="module", params=CASES, ids=lambda c: f"{c[0].split('/')[-1]}:{c[2]}")
@@ -100,14 +108,14 @@ def test_inverse_dynamics_matches_pinocchio(case):
     robot, ref = case
     rng = np.random.default_rng(1)
     for q, qd, qdd in rng.uniform(-2, 2, size=(4, 3, robot.n)):
-        assert close(robot.inverse_dynamics(q, qd, qdd), ref.rnea(q, qd, qdd))
+        assert close(robot.inverse_dynamics(q, qd, qdd), ref.rnea(q, qd, qdd), ROUNDING_REL)
 
 
 def test_gravity_and_mass_matrix_match_pinocchio(case):
     robot, ref = case
     for q in np.random.default_rng(2).uniform(-2, 2, size=(4, robot.n)):
-        assert close(robot.gravity(q), ref.gravity(q))
-        assert close(robot.mass_matrix(q), ref.mass_matrix(q))
+        assert close(robot.gravity(q), ref.gravity(q), ROUNDING_REL)
+        assert close(robot.mass_matrix(q), ref.mass_matrix(q), ROUNDING_REL)
 
 
 def test_total_mass_and_centre_match_pinocchio(case):

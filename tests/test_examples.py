@@ -226,7 +226,23 @@ def test_readme_python_runs(workdir, capsys):
     np.testing.assert_allclose(robkin.dh_from_robot(namespace["planar"]).rows, [[1, 0, 0, 0], [1, 0, 0, 0]],
                                atol=1e-15)
     assert "standard Denavit-Hartenberg table" in out and "verdict: different robots" in out
-    np.testing.assert_allclose(namespace["J"], namespace["robot"].jacobian(namespace["q"]))
+    # J's promised layout, (6, n) rows [v; w] at the tool origin in base axes, against central differences
+    # of FK (J used to be compared with robot.jacobian(q) itself: a comparison that could not fail)
+    robot, q, J = namespace["robot"], namespace["q"], namespace["J"]
+    assert J.shape == (6, robot.n)
+    h, R = 1e-6, robot.fk(q)[:3, :3]
+    for i in range(robot.n):
+        step = np.zeros(robot.n)
+        step[i] = h
+        dT = (robot.fk(q + step) - robot.fk(q - step)) / (2 * h)
+        W = dT[:3, :3] @ R.T                               # skew(w)
+        # truncation ~h^2 and rounding ~1e-16 / h ~ 1e-10 of a ~1 m robot
+        np.testing.assert_allclose(J[:3, i], dT[:3, 3], atol=1e-8 * robot.scale)
+        np.testing.assert_allclose(J[3:, i], [W[2, 1], W[0, 2], W[1, 0]], atol=1e-8)
+    # the tool-frame Jacobian is the same twist in the tool's axes
+    J_tool = namespace["J_tool"]
+    np.testing.assert_allclose(J_tool[:3], R.T @ J[:3], atol=1e-12 * robot.scale)
+    np.testing.assert_allclose(J_tool[3:], R.T @ J[3:], atol=1e-12)
     ur5, q6 = namespace["ur5"], namespace["q6"]
     # gravity torques are inverse dynamics at rest; a batch of mass matrices is symmetric
     np.testing.assert_allclose(namespace["g"], ur5.inverse_dynamics(q6, np.zeros(6), np.zeros(6)), rtol=1e-12)

@@ -11,7 +11,7 @@ import os
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import ik_arms as arms
@@ -287,16 +287,29 @@ def test_cli_lock(tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)["solutions"][0]["q"][2] == pytest.approx(-11.4591559)
 
 
-@settings(max_examples=25 * SCALE, deadline=None, suppress_health_check=list(HealthCheck))
-@given(spec=robot_specs(6, 6, tiny=False), seed=st.integers(0, 2**16))
+#: the shared strategy's relations without coincident / anti-coincident axes: such an arm has no finite
+#: solution set (numeric IK's case), and drawn with them 45 of 60 arms had no closed form, so the test
+#: returned early and checked ~6 of its 25 examples. Without them about 6 in 10 drawn arms have a closed
+#: form (profile ci: 32 of 57 draws rejected at scale 1, 89 of 214 at scale 5), so ``assume`` below
+#: passes the health check and every counted example asserts.
+SOLVABLE_RELATIONS = ("skew", "intersecting", "parallel", "anti-parallel")
+#: mm and m only: on some km arms the general-6r elimination misses configurations (a bug in src, see
+#: test_general_6r_km_arm_known_bug; the same arms scaled to metres are solved completely). Once fixed,
+#: draw every unit again.
+SOLVED_UNITS = (1e-3, 1.0)
+
+
+@settings(max_examples=25 * SCALE, deadline=None,
+          suppress_health_check=[h for h in HealthCheck if h != HealthCheck.filter_too_much])
+@given(spec=robot_specs(6, 6, tiny=False, units=SOLVED_UNITS, relations=SOLVABLE_RELATIONS),
+       seed=st.integers(0, 2**16))
 def test_random_arms_of_the_shared_strategy(spec, seed):
-    # the shared robot strategy (every axis relation: parallel, coincident, intersecting, skew, ...)
-    # made revolute: when a closed form takes the arm, it finds every generating configuration and every
-    # solution reaches its target (arms with coincident axes have no finite solution set: numeric)
+    # the shared robot strategy (every axis relation but coincident: parallel, anti-parallel,
+    # intersecting, skew) made revolute: when a closed form takes the arm, it finds every generating
+    # configuration and every solution reaches its target
     robot = spec.robot.replace(joints=tuple(Joint(j.name, "revolute") for j in spec.robot.joints))
     solver = closed_form_solver(robot)
-    if solver is None:
-        return
+    assume(solver is not None)           # rejects ~4 in 10 draws (see SOLVABLE_RELATIONS)
     Q = robot.random_q(12, rng=seed)
     T = robot.fk(Q)
     res = robot.ik(T, q0=Q, all_solutions=True, method="analytic")
@@ -304,3 +317,48 @@ def test_random_arms_of_the_shared_strategy(spec, seed):
         assert wrapped(sols, q).max(axis=1).min() < SAME
         F = robot.fk(sols)
         assert np.abs(F - Tk).max() <= 1e-9 * max(1.0, spec.unit)
+
+
+#: the frames (3x4 rows, world to tool) of an arm the shared strategy drew at unit 1000 (km) that the
+#: general-6r elimination does not solve completely: 3 of 12 generating configurations (rng 410) are
+#: missing from its solutions; the same arm with every length divided by 1000 is solved completely.
+KM_ARM = [
+    [0.5997102285579916, 0.8002172466042715, 0.0, 0.0, 0.02876702213454603, -0.021558992251728998,
+     0.9993536252451384, 246.5228499120268, 0.7997000063776616, -0.5993225910060195, -0.035949015416274925,
+     -8.86798577408232],
+    [0.9463000876874145, 0.3232895668635034, 0.0, 1000.0, 0.32308060064897265, -0.94568842320021,
+     -0.03594901541627486, 253.64107522284576, -0.011621941623096904, 0.034018556440697116, -0.9993536252451384,
+     189.0129349494971],
+    [-0.5143974602097943, -0.857551895181693, 0.0, 935.348572470076, -0.8569975952856637, 0.5140649666775498,
+     -0.03594901541627486, 258.51775281002097, 0.0308281463001424, -0.01849208222717453, -0.9993536252451384,
+     982.6496269363251],
+    [-0.0, -1.0, 0.0, 935.348572470076, 0.0359490154162748, -0.0, -0.9993536252451384, 1144.374737731063,
+     0.9993536252451384, 0.0, 0.0359490154162748, 1308.249402115265],
+    [0.01203397180327107, 0.9999275891396529, 0.0, 935.348572470076, -0.035946412317139874,
+     0.00043260943787480795, -0.9993536252451384, 1164.464608033975, -0.9992812611893432, 0.01202619334769672,
+     0.0359490154162748, 1866.7315882179357],
+    [0.11835746976609698, 0.9929710516176025, 0.0, 1224.6328556771527, -0.03569633164251579,
+     0.004254834505252699, -0.9993536252451384, 1933.4348316850235, -0.9923292201975284, 0.11828096648559089,
+     0.0359490154162748, 2526.740300468213],
+    [-0.24425608827321219, -0.9697107627233332, 0.0, 1228.1885488053717, 0.0348601471584687,
+     -0.008780765882852683, -0.9993536252451384, 1932.3624430865282, 0.9690839661667912, -0.24409820730403115,
+     0.0359490154162748, 2496.9287626230707],
+]
+
+
+@pytest.mark.xfail(strict=True, reason="known bug: general-6r loses solutions on this km-size arm")
+def test_general_6r_km_arm_known_bug():
+    frames = np.array([np.vstack([np.reshape(f, (3, 4)), [0.0, 0.0, 0.0, 1.0]]) for f in KM_ARM])
+    joints = tuple(Joint(f"joint{i + 1}", "revolute") for i in range(6))
+    for scale, must_fail in ((1e-3, False), (1.0, True)):
+        shaped = frames.copy()
+        shaped[:, :3, 3] *= scale
+        robot = robkin.Robot(shaped, joints, name="km-arm")
+        assert type(closed_form_solver(robot)).__name__ == "General6R"
+        Q = robot.random_q(12, rng=410)
+        res = robot.ik(robot.fk(Q), q0=Q, all_solutions=True, method="analytic")
+        found = [len(S) > 0 and wrapped(S, q).max(axis=1).min() < SAME for q, S in zip(Q, res.solutions)]
+        if not must_fail:
+            assert all(found)             # in metres: solved (so an xpass below means the km bug is fixed)
+        else:
+            assert all(found), f"{found.count(False)} of 12 configurations missed at km size"

@@ -238,6 +238,7 @@ def test_the_solver_cache_neither_keeps_robots_alive_nor_mixes_them_up():
     solver = closed_form.closed_form_solver(robot)
     assert closed_form.closed_form_solver(robot) is solver
     gone = weakref.ref(robot)
+    gc.collect()          # robots of earlier tests awaiting collection go first: only this one is counted
     before = len(closed_form._SOLVERS)
     del robot
     gc.collect()

@@ -75,10 +75,19 @@ def case(request):
     return robot, Pin(robot_file(rel), robot)
 
 
-def _same_dynamics(ref: Pin, other: Pin, n: int, seed: int) -> None:
+#: the rounding level observed (2026-11-28, these 10 chains) of M(q) and g(q) after URDF -> table -> URDF,
+#: relative to the largest entry, so that a regression far below the 1e-9 promise still fails: DH, MDH
+#: and Hayati 3.4e-12 (their nearly parallel axes, e.g. the SO-100's, are themselves only that exact),
+#: bound 1e-11 (3x); PoE, PoE-body, RPY-XYZ and the document round trip 1.9e-15, bound 1e-14 (5x:
+#: another CPU or BLAS sums in another order)
+OBSERVED = {"dh": 1e-11, "mdh": 1e-11, "hayati": 1e-11, "rpy_xyz": 1e-14, "poe": 1e-14, "poe_body": 1e-14,
+            "document": 1e-14}
+
+
+def _same_dynamics(ref: Pin, other: Pin, n: int, seed: int, observed: float) -> None:
     for q in np.random.default_rng(seed).uniform(-2, 2, size=(3, n)):
-        assert close(other.mass_matrix(q), ref.mass_matrix(q))
-        assert close(other.gravity(q), ref.gravity(q))
+        assert close(other.mass_matrix(q), ref.mass_matrix(q), observed)      # (close asserts the promise)
+        assert close(other.gravity(q), ref.gravity(q), observed)
 
 
 # ------------------------------------------------------------------------------- real arms, pinocchio
@@ -92,7 +101,7 @@ def test_every_table_to_urdf_keeps_mass_matrix_and_gravity(case):
             table = convert(robot)
         assert table.masses is not None and table.masses.n == robot.n, key
         again = table.to_robot().replace(world=robot.world)  # a table has no world; the document keeps it
-        _same_dynamics(ref, Written(urdf_from_robot(again), again), robot.n, seed=len(key))
+        _same_dynamics(ref, Written(urdf_from_robot(again), again), robot.n, seed=len(key), observed=OBSERVED[key])
 
 
 @pytest.mark.parametrize("degrees", [False, True])
@@ -103,7 +112,7 @@ def test_document_round_trip_keeps_mass_matrix_and_gravity(case, degrees):
         warnings.simplefilter("ignore")
         doc = document_from_robot(robot, degrees=degrees)
         back = parse_document(dump(doc), "yaml")
-    _same_dynamics(ref, Written(urdf_from_robot(back), back), robot.n, seed=7)
+    _same_dynamics(ref, Written(urdf_from_robot(back), back), robot.n, seed=7, observed=OBSERVED["document"])
 
 
 def test_degrees_leave_the_mass_fields_alone(case):

@@ -59,12 +59,21 @@ UNRESOLVED: set[str] = set()
 #: Agreement with pinocchio, relative to the largest entry (the issue's promise). Observed ~1e-15: the
 #: same sums in another order, and MuJoCo's principal-axis inertia (an eigen-decomposition) read back.
 REL_TOL = 1e-9
-#: FK agreement in metres (robots ~1 m): observed ~1e-15.
+#: FK agreement, rotation entries and lengths relative to the robot's size (the promise).
 FK_TOL = 1e-9
+#: what is observed on these chains (this machine, 2026-11-28): M(q) 2.6e-15, g(q) 2.2e-15, MuJoCo's bias
+#: forces of the MJCF written again 3.7e-15, the URDF exports' M(q) and g(q) 2.3e-15 of the largest
+#: entry, FK 1.8e-15; 1e-14 is 2.7-5.5x that (fixed data; another CPU, BLAS or MuJoCo build rounds
+#: differently), so that a regression far below the promise still fails.
+ROUNDING_REL = 1e-14
 
 
 def _rel(a: np.ndarray, b: np.ndarray) -> float:
-    return float(np.abs(a - b).max() / max(np.abs(b).max(), 1e-300))
+    """|a - b| relative to b's largest entry; the promise (REL_TOL) asserted here, the caller checks
+    the rounding level observed (ROUNDING_REL)."""
+    rel = float(np.abs(a - b).max() / max(np.abs(b).max(), 1e-300))
+    assert rel <= REL_TOL, f"the promise: {rel:.3g}"
+    return rel
 
 
 def _sample(robot, count: int = 3) -> np.ndarray:
@@ -105,14 +114,17 @@ def test_fk_mass_matrix_and_gravity_equal_pinocchios(converted):
         mujoco.mj_forward(model, data)
         M = np.zeros((model.nv, model.nv))
         mujoco.mj_fullM(model, data, M)
-        assert _rel(M[:n, :n], ref.mass_matrix(q)) <= REL_TOL
-        assert _rel(data.qfrc_bias[:n], ref.gravity(q)) <= REL_TOL   # zero velocity: gravity only
+        assert _rel(M[:n, :n], ref.mass_matrix(q)) <= ROUNDING_REL
+        assert _rel(data.qfrc_bias[:n], ref.gravity(q)) <= ROUNDING_REL   # zero velocity: gravity only
         T = np.eye(4)
         T[:3, :3], T[:3, 3] = data.site_xmat[site].reshape(3, 3), data.site_xpos[site]
         pq = ref.q(q)
         pin.framesForwardKinematics(ref.model, ref.data, pq)
         P = ref.data.oMf[ref.model.getFrameId(robot.bodies.tip)].homogeneous
-        np.testing.assert_allclose(T, P, atol=FK_TOL, rtol=0)
+        size = max(robot.scale, float(np.abs(P[:3, 3]).max()))
+        for tol in (FK_TOL, ROUNDING_REL):          # the promise, and the rounding level observed
+            np.testing.assert_allclose(T[:3, :3], P[:3, :3], atol=tol, rtol=0)
+            np.testing.assert_allclose(T[:3, 3], P[:3, 3], atol=tol * size, rtol=0)
 
 
 def test_total_mass_actuators_and_collision_geoms(converted):
@@ -149,8 +161,8 @@ def test_urdf_export_mjcf_to_urdf_and_mjcf_to_mjcf_keep_the_dynamics(converted, 
         file.write_text(urdf_from_robot(r))
         other = Pin(str(file), robot)
         for q in _sample(robot, 2):
-            assert _rel(other.mass_matrix(q), ref.mass_matrix(q)) <= REL_TOL, label
-            assert _rel(other.gravity(q), ref.gravity(q)) <= REL_TOL, label
+            assert _rel(other.mass_matrix(q), ref.mass_matrix(q)) <= ROUNDING_REL, label
+            assert _rel(other.gravity(q), ref.gravity(q)) <= ROUNDING_REL, label
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         again = mujoco.MjModel.from_xml_string(mjcf_from_robot(back, mesh_files={}))
@@ -165,4 +177,4 @@ def test_urdf_export_mjcf_to_urdf_and_mjcf_to_mjcf_keep_the_dynamics(converted, 
             d.qpos[:] = 0
             d.qpos[:robot.n] = q
             mujoco.mj_forward(m, d)
-        assert _rel(d2.qfrc_bias, d1.qfrc_bias) <= REL_TOL
+        assert _rel(d2.qfrc_bias, d1.qfrc_bias) <= ROUNDING_REL

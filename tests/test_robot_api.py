@@ -83,11 +83,14 @@ def test_jacobian_frames_match_pinocchio_on_the_panda():
         pin.updateFramePlacements(model, data)
         pj = {ref: pin.getFrameJacobian(model, data, fid, ref)[:, cols]
               for ref in (pin.LOCAL_WORLD_ALIGNED, pin.LOCAL, pin.WORLD)}
-        # 1e-12: both are exact formulas in double precision on the same ~1 m geometry
-        np.testing.assert_allclose(robot.jacobian(q), pj[pin.LOCAL_WORLD_ALIGNED], atol=1e-12)
-        np.testing.assert_allclose(robot.jacobian(q, "tool"), pj[pin.LOCAL], atol=1e-12)
-        np.testing.assert_allclose(robot.jacobian(q, "space"), pj[pin.WORLD][swap], atol=1e-12)
-        np.testing.assert_allclose(robot.jacobian(q, "body"), pj[pin.LOCAL][swap], atol=1e-12)
+        # 1e-12, the figure docs/benchmarks.md states (absolute; assert_allclose's default rtol=1e-7 used to
+        # loosen it): both are exact formulas in double precision on the same ~1 m geometry; observed
+        # 5.0e-16 (2026-11-28), so 5e-15 (10x: another CPU or BLAS rounds differently) guards it too
+        for atol in (1e-12, 5e-15):
+            np.testing.assert_allclose(robot.jacobian(q), pj[pin.LOCAL_WORLD_ALIGNED], atol=atol, rtol=0)
+            np.testing.assert_allclose(robot.jacobian(q, "tool"), pj[pin.LOCAL], atol=atol, rtol=0)
+            np.testing.assert_allclose(robot.jacobian(q, "space"), pj[pin.WORLD][swap], atol=atol, rtol=0)
+            np.testing.assert_allclose(robot.jacobian(q, "body"), pj[pin.LOCAL][swap], atol=atol, rtol=0)
         Jv = pj[pin.LOCAL_WORLD_ALIGNED][:3]
         assert robot.manipulability(q) == pytest.approx(np.sqrt(np.linalg.det(Jv @ Jv.T)), rel=1e-9)
 
