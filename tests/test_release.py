@@ -40,12 +40,17 @@ CORE_SOURCES = sorted(str(p.relative_to(ROOT / "src")) for p in (ROOT / "src/rob
                       if p.suffix in (".pyx", ".pxd", ".pxi", ".h", ".pyi") and p.is_file())
 
 
+GUI_FILES = sorted(p.name for p in (ROOT / "src/robkin/viz/static").iterdir() if p.is_file())
+
+
 def _fake_release(folder: Path, version: str, vendor: list[str], wheel_extra: dict[str, bytes] | None = None,
-                  sources: list[str] = CORE_SOURCES) -> None:
+                  sources: list[str] = CORE_SOURCES, gui: list[str] = GUI_FILES) -> None:
     with zipfile.ZipFile(folder / f"robkin-{version}-cp311-cp311-linux_x86_64.whl", "w") as z:
         z.writestr("robkin/compiled/chain/fk.cpython-311-x86_64-linux-gnu.so", b"")
         for name in vendor:
             z.writestr(f"robkin/viz/static/vendor/{name}", b"x")
+        for name in gui:
+            z.writestr(f"robkin/viz/static/{name}", b"x")
         for name, data in (wheel_extra or {}).items():
             z.writestr(name, data)
     with tarfile.open(folder / f"robkin-{version}.tar.gz", "w:gz") as t:
@@ -53,6 +58,8 @@ def _fake_release(folder: Path, version: str, vendor: list[str], wheel_extra: di
         path.write_bytes(b"x")
         for name in vendor:
             t.add(path, arcname=f"robkin-{version}/src/robkin/viz/static/vendor/{name}")
+        for name in gui:
+            t.add(path, arcname=f"robkin-{version}/src/robkin/viz/static/{name}")
         for name in sources:
             t.add(path, arcname=f"robkin-{version}/src/{name}")
 
@@ -70,6 +77,13 @@ def test_check_dist_refuses_a_release_without_three_js(tmp_path, drop):
         assert done.returncode == 0, done.stderr
     else:
         assert done.returncode == 1 and f"vendor/{drop} missing" in done.stderr
+
+
+def test_check_dist_refuses_a_wheel_without_the_gui_page(tmp_path):
+    assert "index.html" in GUI_FILES
+    _fake_release(tmp_path, robkin.__version__, VENDOR, gui=[n for n in GUI_FILES if n != "index.html"])
+    done = _check_dist(tmp_path)
+    assert done.returncode == 1 and "robkin/viz/static/index.html missing" in done.stderr
 
 
 @pytest.mark.parametrize("byproduct", ["robkin/compiled/chain/fk.c", "robkin/compiled/ik/closed_form.html"])
