@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy
 from Cython.Build import cythonize
+from Cython.Compiler import Options as CythonOptions
 from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 
@@ -154,6 +155,14 @@ class StrippedBuildExt(build_ext):
             print(f"setup.py: not stripped ({e})", file=sys.stderr)
 
 
+# Cython's bounds checks: off in the release build; ROBKIN_SANITIZE=1 turns boundscheck on (an index outside a
+# memoryview raises IndexError). wraparound stays off in both: with it on, a negative index would quietly
+# read from the array's end where the release build reads before its start; off, the bounds check refuses
+# it. (The sanitized build's "use boundscheck(False)" performance hints are silenced where Cython has them.)
+DIRECTIVES = {"boundscheck": SANITIZE, "wraparound": False}
+if SANITIZE and "show_performance_hints" in CythonOptions.directive_defaults:
+    DIRECTIVES["show_performance_hints"] = False
+
 # Every core of the machine compiles (cythonize translates, build_ext compiles the C in parallel).
 JOBS = os.cpu_count() or 1
 
@@ -164,8 +173,6 @@ setup(
         extensions,
         nthreads=JOBS,
         language_level=3,
-        # ROBKIN_SANITIZE=1: Cython's bounds checks on (an index outside a memoryview raises IndexError)
-        compiler_directives={"boundscheck": SANITIZE, "wraparound": SANITIZE, "cdivision": True,
-                             "initializedcheck": False},
+        compiler_directives={**DIRECTIVES, "cdivision": True, "initializedcheck": False},
     )
 )
