@@ -106,8 +106,8 @@ dist: $(VENV)/.core $(ASSETS)
 # sizes (the core is C; EAIK's pybind11 binding, a test oracle, deletes EAIK::Robot with the wrong size).
 # pytest --capture=sys: a sanitizer's report goes to the terminal (fd 2), not into a capture lost at abort;
 # -k "not browser": Chromium, started by the GUI tests, does not start with the sanitizers preloaded.
-# Cost on a loaded 2-core machine: about 5 min to build (278 s, beside another build) and 4 min of tests
-# (376 tests in 225 s); .ci/run runs it after make test.
+# Cost on a loaded 2-core machine: about 5 min to build (278-281 s) and 1.5-4 min of tests (376 tests in
+# 88 s; 225 s beside another build), 6-9 min in all; .ci/run runs it after make test.
 SANITIZE_DIR   := build/sanitize
 SANITIZE_TESTS := tests/test_compiled.py tests/test_kernels.py tests/test_batch_kernels.py \
                   tests/test_pinocchio_fk.py tests/test_jacobian.py tests/test_dynamics.py \
@@ -130,7 +130,7 @@ sanitize: $(VENV)/.test
 	cp -r src $(SANITIZE_DIR)/src
 	find $(SANITIZE_DIR)/src/robkin/compiled \( -name '*.c' -o -name '*.so' -o -name '*.html' \) -delete
 	rm -rf $(SANITIZE_DIR)/src/*.egg-info
-	@echo "robkin: building the sanitized compiled core in $(SANITIZE_DIR) (about 4 min on 2 cores)..."
+	@echo "robkin: building the sanitized compiled core in $(SANITIZE_DIR) (about 5 min on 2 cores)..."
 	@start=$$(date +%s); cd $(SANITIZE_DIR) && ROBKIN_SANITIZE=1 ../../$(PY) setup.py -q build_ext --inplace \
 	  && echo "robkin: sanitized core built in $$(( $$(date +%s) - start )) s"
 	@# the tests must import the sanitized core, not the in-place one the editable install points at

@@ -160,7 +160,7 @@ class StrippedBuildExt(build_ext):
 # read from the array's end where the release build reads before its start; off, the bounds check refuses
 # it. (The sanitized build's "use boundscheck(False)" performance hints are silenced where Cython has them.)
 DIRECTIVES = {"boundscheck": SANITIZE, "wraparound": False}
-if SANITIZE and "show_performance_hints" in CythonOptions.directive_defaults:
+if SANITIZE and "show_performance_hints" in CythonOptions.get_directive_defaults():
     DIRECTIVES["show_performance_hints"] = False
 
 # Every core of the machine compiles (cythonize translates, build_ext compiles the C in parallel).
