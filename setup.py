@@ -12,13 +12,17 @@ modules of several sub-packages (through ``runtime/sincos.pxd``).
 """
 
 import os
+import shutil
+import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
 import numpy
 from Cython.Build import cythonize
+from Cython.Compiler import Options as CythonOptions
 from setuptools import Extension, setup
+from setuptools.command.build_ext import build_ext
 
 HERE = Path(__file__).parent
 COMPILED = HERE / "src" / "robkin" / "compiled"
@@ -31,26 +35,47 @@ def module_name(path: Path) -> str:
 
 
 
+def new_c_compiler():
+    """The C compiler setuptools will build with (CC, CFLAGS, ... of the environment applied)."""
+    from setuptools._distutils.ccompiler import new_compiler
+    from setuptools._distutils.sysconfig import customize_compiler
+
+    compiler = new_compiler()
+    customize_compiler(compiler)
+    return compiler
+
+
+COMPILER_TYPE = new_c_compiler().compiler_type  # "unix" (GCC, Clang), "msvc", "mingw32", ...
+
+
+def compiler_takes(flags: list[str], source: str = "int probe(void) { return 0; }\n", link: bool = False) -> bool:
+    """Whether the C compiler compiles (and, with ``link``, links into an executable) a probe with ``flags``.
+    Never for MSVC, which takes none of the GCC/Clang flags used here (it ignores an unknown option with a
+    warning, so compiling would not tell). ``-Werror``: Clang accepts a GCC-only optimisation flag such as
+    -fno-tree-loop-distribute-patterns with only a warning; the probe then refuses it."""
+    if COMPILER_TYPE == "msvc":
+        return False
+    compiler = new_c_compiler()
+    with tempfile.TemporaryDirectory() as tmp:
+        src = Path(tmp) / "probe.c"
+        src.write_text(source)
+        try:
+            objects = compiler.compile([str(src)], output_dir=tmp, extra_postargs=["-Werror", *flags])
+            if link:
+                compiler.link_executable(objects, str(Path(tmp) / "probe"), extra_postargs=flags)
+        except Exception:  # any compiler or linker failure: the flag is not for this compiler
+            return False
+    return True
+
+
 def openmp_flags() -> list[str]:
     """``-fopenmp`` when the C compiler takes it (GCC, Clang with libomp): the batch kernels then split
     large batches over threads (``robkin.compiled.runtime.threads``). Without it they run on one thread,
     with the same results. ROBKIN_NO_OPENMP=1 builds without."""
     if os.environ.get("ROBKIN_NO_OPENMP") == "1" or sys.platform == "win32":
         return []
-    from setuptools._distutils.ccompiler import new_compiler
-    from setuptools._distutils.sysconfig import customize_compiler
-
-    compiler = new_compiler()
-    customize_compiler(compiler)
-    with tempfile.TemporaryDirectory() as tmp:
-        src = Path(tmp) / "probe.c"
-        src.write_text("#include <omp.h>\nint main(void) { return omp_get_max_threads() > 0 ? 0 : 1; }\n")
-        try:
-            objects = compiler.compile([str(src)], output_dir=tmp, extra_postargs=["-fopenmp"])
-            compiler.link_executable(objects, str(Path(tmp) / "probe"), extra_postargs=["-fopenmp"])
-        except Exception:  # any compiler or linker failure: build without threads
-            return []
-    return ["-fopenmp"]
+    probe = "#include <omp.h>\nint main(void) { return omp_get_max_threads() > 0 ? 0 : 1; }\n"
+    return ["-fopenmp"] if compiler_takes(["-fopenmp"], probe, link=True) else []
 
 
 OPENMP = openmp_flags()
@@ -66,20 +91,9 @@ def avx2_flags() -> list[str] | None:
 
     if os.environ.get("ROBKIN_NO_AVX2") == "1" or platform.machine().lower() not in ("x86_64", "amd64"):
         return None
-    from setuptools._distutils.ccompiler import new_compiler
-    from setuptools._distutils.sysconfig import customize_compiler
-
-    compiler = new_compiler()
-    customize_compiler(compiler)
-    with tempfile.TemporaryDirectory() as tmp:
-        src = Path(tmp) / "probe.c"
-        src.write_text("#include <immintrin.h>\nint probe(void) { __m256i a = _mm256_set1_epi64x(1); "
-                       "return _mm256_extract_epi32(_mm256_add_epi64(a, a), 0); }\n")
-        try:
-            compiler.compile([str(src)], output_dir=tmp, extra_postargs=["-mavx2"])
-        except Exception:  # a compiler without the flag (or not for x86): the portable kernels only
-            return None
-    return ["-mavx2"]
+    probe = ("#include <immintrin.h>\nint probe(void) { __m256i a = _mm256_set1_epi64x(1); "
+             "return _mm256_extract_epi32(_mm256_add_epi64(a, a), 0); }\n")
+    return ["-mavx2"] if compiler_takes(["-mavx2"], probe) else None
 
 
 AVX2 = avx2_flags()
@@ -92,6 +106,20 @@ def instruction_flags(path: Path) -> list[str] | None:
     return []
 
 
+# The optimisation and floating-point flags of every module (GCC and Clang; MSVC takes none of them, and
+# builds with its defaults). Each is probed on its own: a compiler without one still builds the others.
+# ROBKIN_SANITIZE=1 (make sanitize) replaces -O3 by -O1 -g and adds AddressSanitizer and
+# UndefinedBehaviorSanitizer, for a separate checking build (see sanitize_flags).
+SANITIZE = os.environ.get("ROBKIN_SANITIZE") == "1"
+SANITIZE_FLAGS = ["-fsanitize=address,undefined", "-fno-omit-frame-pointer", "-fno-sanitize-recover=undefined"]
+OPTIMISE = ["-O1", "-g"] if SANITIZE else ["-O3"]
+CORE_FLAGS = [flag for flag in (*OPTIMISE, "-ffp-contract=off", "-fno-tree-loop-distribute-patterns")
+              if compiler_takes([flag])]
+if SANITIZE:
+    if not compiler_takes(SANITIZE_FLAGS, "int main(void) { return 0; }\n", link=True):
+        sys.exit("setup.py: ROBKIN_SANITIZE=1 needs a C compiler with -fsanitize=address,undefined (GCC, Clang)")
+    CORE_FLAGS += SANITIZE_FLAGS
+
 extensions = [
     Extension(
         module_name(path),
@@ -103,24 +131,48 @@ extensions = [
         # no -ffast-math: results must stay IEEE-exact so the compiled core agrees with the independent
         # oracles to rounding. -ffp-contract=off: no fused multiply-adds, which a compiler may use in a
         # vectorised loop and not in its scalar remainder; single and batch results stay bit-for-bit equal.
-        extra_compile_args=["-O3", "-ffp-contract=off", "-fno-tree-loop-distribute-patterns", *OPENMP,
-                            *instruction_flags(path)],
-        extra_link_args=OPENMP,
+        extra_compile_args=[*CORE_FLAGS, *OPENMP, *instruction_flags(path)],
+        extra_link_args=[*OPENMP, *(SANITIZE_FLAGS if SANITIZE else [])],
     )
     for path in SOURCES
     if instruction_flags(path) is not None
 ]
 
+class StrippedBuildExt(build_ext):
+    """build_ext, then the debug symbols stripped from each extension module (``strip -S -x``, GNU and
+    macOS binutils alike: about 19 MB of modules become about 4 MB; the exported PyInit_ symbols stay).
+    A no-op on Windows (MSVC keeps debug information in separate .pdb files) and where there is no
+    ``strip``; ROBKIN_KEEP_SYMBOLS=1 (and ROBKIN_SANITIZE=1) keep the symbols, for a debugger."""
+
+    def build_extension(self, ext):
+        super().build_extension(ext)
+        strip = shutil.which("strip")
+        if SANITIZE or os.environ.get("ROBKIN_KEEP_SYMBOLS") == "1" or sys.platform == "win32" or not strip:
+            return
+        try:
+            subprocess.run([strip, "-S", "-x", self.get_ext_fullpath(ext.name)], check=True, capture_output=True)
+        except (OSError, subprocess.CalledProcessError) as e:  # a strip for another format: keep the symbols
+            print(f"setup.py: not stripped ({e})", file=sys.stderr)
+
+
+# Cython's bounds checks: off in the release build; ROBKIN_SANITIZE=1 turns boundscheck on (an index outside a
+# memoryview raises IndexError). wraparound stays off in both: with it on, a negative index would quietly
+# read from the array's end where the release build reads before its start; off, the bounds check refuses
+# it. (The sanitized build's "use boundscheck(False)" performance hints are silenced where Cython has them.)
+DIRECTIVES = {"boundscheck": SANITIZE, "wraparound": False}
+if SANITIZE and "show_performance_hints" in CythonOptions.get_directive_defaults():
+    DIRECTIVES["show_performance_hints"] = False
+
 # Every core of the machine compiles (cythonize translates, build_ext compiles the C in parallel).
 JOBS = os.cpu_count() or 1
 
 setup(
+    cmdclass={"build_ext": StrippedBuildExt},
     options={"build_ext": {"parallel": JOBS}},
     ext_modules=cythonize(
         extensions,
         nthreads=JOBS,
         language_level=3,
-        compiler_directives={"boundscheck": False, "wraparound": False, "cdivision": True,
-                             "initializedcheck": False},
+        compiler_directives={**DIRECTIVES, "cdivision": True, "initializedcheck": False},
     )
 )
