@@ -10,6 +10,7 @@ and exit status 2 (or neutralised in the output), and nothing written outside th
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import struct
 import warnings
@@ -20,6 +21,7 @@ import pytest
 
 import robkin
 from robkin.cli import main
+from robkin.examples import EXAMPLES_DIR
 
 #: a small binary STL (a tetrahedron: the four vertices MuJoCo needs; it reads binary STL only, and the
 #: MJCF writer leaves out a mesh MuJoCo would refuse)
@@ -193,6 +195,33 @@ def test_csv_cells_escape_and_unescape_are_inverse():
 
 MARKUP = ["<img src=x onerror=alert(1)>", "<script>alert(1)</script>", "[x](javascript:alert(1))",
           "![i](http://evil.example/t.png)", "*em* _u_ `code` ~~s~~ a|b", "<!--c-->", "&lt;amp", "shoulder_pan"]
+
+
+def test_batch_and_measurement_csv_files_hold_no_formula_and_read_back(tmp_path):
+    """The other two CSV writers (batch results of fk/ik, calibration measurements) quote a joint name or
+    a text cell that would start a formula, leave numbers alone, and their readers get the names back."""
+    import numpy as np
+
+    from robkin.calibration.measurements import read_measurements, write_measurements_csv
+    from robkin.io.batch_files import csv_text, read_rows
+
+    text = csv_text(["=j1", "+j2", "error"], [[-1.5, 2.0, "-cmd|' /C calc'!A0"], [0.25, -0.0, "ok"]])
+    lines = text.splitlines()
+    assert lines[0] == "'=j1,'+j2,error"
+    assert lines[1].startswith("-1.5,2,") and "'-cmd" in lines[1]  # the number stays a number
+    path = tmp_path / "q.csv"
+    path.write_text(text)
+    rows = read_rows(str(path))
+    assert rows.columns == ["=j1", "+j2", "error"] and rows.values[0, 0] == -1.5
+
+    robot = robkin.load(str(EXAMPLES_DIR / "rrpr.yaml"))
+    named = robot.replace(joints=tuple(dataclasses.replace(j, name=name)
+                                       for name, j in zip(("=a", "@b", "-c", "d"), robot.joints)))
+    q = np.zeros((3, named.n))
+    out = tmp_path / "meas.csv"
+    write_measurements_csv(out, named, q, np.ones((3, 3)))
+    assert out.read_text().splitlines()[0].startswith("'=a,'@b,'-c,d,x,y,z")
+    assert np.array_equal(read_measurements(out, named).q, q)
 
 
 def test_markdown_text_cells_hold_no_html_or_link_markup(tmp_path):

@@ -84,7 +84,9 @@ def _columns_expected(names: list[str]) -> str:
 
 
 def _check_header(header: list[str], names: list[str], src: str) -> list[str]:
-    header = [h.strip() for h in header]
+    from ..io.tables.cells import csv_read_cell
+
+    header = [csv_read_cell(h.strip()) for h in header]  # names as written (csv_text_cell undone)
     known = set(names) | set(POSITION_COLUMNS) | set(QUATERNION_COLUMNS)
     for h in header:
         if h not in known:
@@ -257,6 +259,7 @@ def write_measurements_csv(path: str | os.PathLike[str], robot: Robot, q: np.nda
                            quaternions: np.ndarray | None = None) -> None:
     """Write poses in the CSV contract (atomically), numbers in full precision."""
     from ..io.files.atomic import write_text_atomic
+    from ..io.tables.cells import csv_text_cell
 
     header = [j.name for j in robot.joints] + list(POSITION_COLUMNS) + \
         (list(QUATERNION_COLUMNS) if quaternions is not None else [])
@@ -264,7 +267,7 @@ def write_measurements_csv(path: str | os.PathLike[str], robot: Robot, q: np.nda
     A = np.concatenate(parts, axis=1)
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(header)
+    w.writerow([csv_text_cell(h) for h in header])  # a joint name starting a formula gets its quote
     for row in A:
         w.writerow([repr(float(v)) for v in row])
     write_text_atomic(path, buf.getvalue())

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..errors import InputError
 from .files.numbers import number
+from .tables.cells import csv_read_cell, csv_text_cell
 
 __all__ = ["MAX_BYTES", "MAX_VALUES", "MAX_ROWS", "MAX_JSON_ROWS", "Rows", "read_rows", "write_rows", "csv_text",
            "write_csv"]
@@ -180,7 +181,7 @@ def _csv(text: str, name: str) -> Rows:
     first = [c.strip() for c in next(csv.reader([first_line[1]], delimiter=delimiter))]
     header: list[str] | None = None
     if first and not _is_number(first[0]):
-        header = first
+        header = [csv_read_cell(c) for c in first]  # names as written (csv_text_cell undone)
     n_rows = min(text.count("\n") + 1, MAX_ROWS + 2)  # an upper bound first: no count of a huge file
     n_rows = sum(1 for _ in _data_lines(text[:_at_line(text, n_rows)])) - (header is not None)
     if not n_rows:
@@ -258,10 +259,11 @@ def write_csv(stream: IO[str], columns: Sequence[str], table: Iterable[Sequence[
             return "true" if v else "false"
         if isinstance(v, (float, np.floating)):
             return "nan" if not np.isfinite(v) else float_text(float(v))
-        return str(v)
+        text = str(v)
+        return text if _is_number(text) else csv_text_cell(text)  # no spreadsheet formula from a name
 
     w = csv.writer(stream, lineterminator="\n")
-    w.writerow(columns)
+    w.writerow([csv_text_cell(str(c)) for c in columns])
     for row in table:
         w.writerow([cell(v) for v in row])
 
