@@ -184,3 +184,20 @@ def test_threads_option_bounds_the_batch_and_keeps_the_bits(tmp_path, ur5, monke
         main(["fk", path, "--tip-link", "tool0", "--q", "0,0,0,0,0,0", "--threads", "0"])
     assert exc.value.code == 2
     assert "--threads: 0: expected a whole number >= 1" in capsys.readouterr().err
+
+
+def test_batch_rows_are_counted_as_data_lines_not_file_lines(tmp_path, monkeypatch):
+    """Blank and # comment lines do not count towards the row cap, nor hide rows from it: the rows
+    are counted as data lines (a count over the file's first lines sized the array too small when
+    comments came first)."""
+    import robkin.io.batch_files as batch_files
+    from robkin.errors import InputError
+
+    monkeypatch.setattr(batch_files, "MAX_ROWS", 10)
+    path = tmp_path / "q.csv"
+    path.write_text("# comments first\n" * 20 + "a,b\n" + "".join(f"{k},{-k}\n\n# note\n" for k in range(8)))
+    rows = batch_files.read_rows(str(path))
+    assert rows.columns == ["a", "b"] and rows.values.shape == (8, 2) and rows.values[7, 1] == -7
+    path.write_text("# comments first\n" * 20 + "".join(f"{k},{-k}\n\n" for k in range(11)))
+    with pytest.raises(InputError, match="more than 10 rows"):
+        batch_files.read_rows(str(path))

@@ -16,6 +16,7 @@ import io
 import os
 import sys
 import zipfile
+from itertools import islice
 from typing import IO, Any, Callable, Iterable, Iterator, Mapping, Sequence
 
 import numpy as np
@@ -162,16 +163,6 @@ def _data_lines(text: str) -> Iterator[tuple[int, str]]:
             yield k, line
 
 
-def _at_line(text: str, n: int) -> int:
-    """The end of the n-th line of ``text`` (its length if it has fewer)."""
-    at = -1
-    for _ in range(n):
-        at = text.find("\n", at + 1)
-        if at < 0:
-            return len(text)
-    return at
-
-
 def _csv(text: str, name: str) -> Rows:
     first_line = next(_data_lines(text), None)
     if first_line is None:
@@ -182,8 +173,8 @@ def _csv(text: str, name: str) -> Rows:
     header: list[str] | None = None
     if first and not _is_number(first[0]):
         header = [csv_read_cell(c) for c in first]  # names as written (csv_text_cell undone)
-    n_rows = min(text.count("\n") + 1, MAX_ROWS + 2)  # an upper bound first: no count of a huge file
-    n_rows = sum(1 for _ in _data_lines(text[:_at_line(text, n_rows)])) - (header is not None)
+    # the data lines, counted only up to the cap: a huge file is refused without reading it all
+    n_rows = sum(1 for _ in islice(_data_lines(text), MAX_ROWS + 2)) - (header is not None)
     if not n_rows:
         raise InputError(f"{name}: no rows after the header")
     width = len(header) if header else len(first)
