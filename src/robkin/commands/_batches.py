@@ -210,7 +210,7 @@ def fk_batch(robot: "Robot", args: argparse.Namespace) -> int:
     rows_out = np.flatnonzero(outside.any(axis=1))  # notes only for these: no Python string per row
     notes = {int(k): ", ".join(f"{names[i]} outside its limits" for i in np.flatnonzero(outside[k])) for k in rows_out}
     if len(rows_out):
-        print(f"robkin: warning: {int(outside.any(axis=1).sum())} of {N} rows have joint values outside the limits "
+        print(f"robkin: warning: {len(rows_out)} of {N} rows have joint values outside the limits "
               f"(see the 'error' column)", file=sys.stderr)
     if args.degrees:
         rpy = np.degrees(rpy)
