@@ -34,7 +34,7 @@ from pathlib import Path, PurePosixPath
 from typing import TYPE_CHECKING, Collection, Iterable, Mapping
 from urllib.parse import unquote, urlparse
 
-from .convert import _collada_unit, to_stl  # noqa: F401 - _collada_unit: io.mjcf.mesh_parts imports it here
+from .convert import to_stl
 
 if TYPE_CHECKING:  # pragma: no cover
     from ...robot import Robot

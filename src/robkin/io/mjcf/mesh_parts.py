@@ -26,7 +26,7 @@ def _parts(path: Path) -> list[tuple[bytes, tuple[float, ...]]]:
         import numpy as np
         import trimesh
 
-        from ..meshes.files import _collada_unit
+        from ..meshes.convert import _collada_unit
     except ImportError:
         return []
     try:
