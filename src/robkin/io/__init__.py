@@ -1,4 +1,4 @@
-"""Reading and writing robots: robot documents (YAML/JSON), URDF, MJCF and SDF, by file extension."""
+"""Reading and writing robots: robot documents (YAML/JSON), URDF, MJCF, SDF and USD, by file extension."""
 
 from __future__ import annotations
 
@@ -13,22 +13,24 @@ if TYPE_CHECKING:  # pragma: no cover
     from .trees.model import UrdfModel
 
 __all__ = ["load", "DOCUMENT_EXTENSIONS", "URDF_EXTENSIONS", "MJCF_EXTENSIONS", "SDF_EXTENSIONS",
-           "ROBOT_FILE_EXTENSIONS", "TABLE_EXTENSIONS", "tree_of_file"]
+           "USD_EXTENSIONS", "ROBOT_FILE_EXTENSIONS", "TABLE_EXTENSIONS", "tree_of_file"]
 
 DOCUMENT_EXTENSIONS = (".yaml", ".yml", ".json")
 URDF_EXTENSIONS = (".urdf", ".xacro")
 MJCF_EXTENSIONS = (".xml", ".mjcf")
 SDF_EXTENSIONS = (".sdf",)
+#: USD (UsdPhysics articulations; needs usd-core: ``pip install 'robkin[usd]'``): ``io.usd``
+USD_EXTENSIONS = (".usda", ".usd", ".usdc")
 #: Table files (``robkin convert --format csv`` output, bare rows): ``io.tables.reader``
 TABLE_EXTENSIONS = (".csv", ".tsv", ".txt")
 #: Robot files holding a tree from which --base-link/--tip-link pick a serial chain.
-ROBOT_FILE_EXTENSIONS = URDF_EXTENSIONS + MJCF_EXTENSIONS + SDF_EXTENSIONS
+ROBOT_FILE_EXTENSIONS = URDF_EXTENSIONS + MJCF_EXTENSIONS + SDF_EXTENSIONS + USD_EXTENSIONS
 
 
 def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None, *,
          allow_xacro: bool = False, representation: str | None = None) -> Robot:
     """Load a Robot from a robot document (.yaml/.yml/.json), a URDF (.urdf, .xacro), an MJCF model
-    (.xml, .mjcf), an SDF model (.sdf) or a table (.csv, .tsv, .txt: what ``robkin convert --format
+    (.xml, .mjcf), an SDF model (.sdf), a USD articulation (.usda, .usd, .usdc; with usd-core) or a table (.csv, .tsv, .txt: what ``robkin convert --format
     csv`` writes, or bare rows such as ``a d alpha theta``; see ``robkin.io.tables.reader``).
 
     ``representation`` ('dh', 'mdh', 'hayati', 'poe', 'poe-body', 'rpy-xyz', 'gjd') says which table
@@ -78,12 +80,16 @@ def _load(p: str, base_link: str | None, tip_link: str | None, allow_xacro: bool
         from .sdf.reader import robot_from_sdf
 
         return robot_from_sdf(Path(p), base_link=base_link, tip_link=tip_link)
+    if ext in USD_EXTENSIONS:
+        from .usd.reader import robot_from_usd
+
+        return robot_from_usd(p, base_link=base_link, tip_link=tip_link)
     raise InputError(f"{p}: unknown extension '{ext}'; expected one of "
                      f"{', '.join(DOCUMENT_EXTENSIONS + ROBOT_FILE_EXTENSIONS + TABLE_EXTENSIONS)}")
 
 
 def tree_of_file(path: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str, str], str] | None:
-    """The tree of a .urdf, MJCF (.xml, .mjcf) or SDF (.sdf) file, for commands that list its chains.
+    """The tree of a .urdf, MJCF (.xml, .mjcf), SDF (.sdf) or USD (.usda, .usd, .usdc) file, for commands that list its chains.
 
     Returns (tree, joints on it that make no chain (name -> kind), wording of the joint kinds that do),
     or None for any other file (a document, a .xacro, which goes through the loader and its opt-in).
@@ -101,4 +107,8 @@ def tree_of_file(path: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str, str
         from .sdf.reader import CHAIN_JOINTS as SDF_CHAIN_JOINTS, model_from_sdf
 
         return (*model_from_sdf(path), SDF_CHAIN_JOINTS)
+    if ext in USD_EXTENSIONS:
+        from .usd.reader import model_from_usd
+
+        return model_from_usd(path), {}, ""
     return None

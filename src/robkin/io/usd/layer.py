@@ -1,0 +1,116 @@
+"""One USD file opened as one layer, with nothing it names followed.
+
+A USD file is untrusted input, and USD composes: a layer may pull in other layers (``subLayers``),
+other files' prims (``references``, ``payloads``) and animation clips (``clips``), by any asset path
+(``@/etc/passwd@``, a URL a resolver would fetch). robkin reads **one self-contained layer**:
+
+* the bytes are read as every input file is (``io.files.input_files``: a regular file, at most
+  ``MAX_BYTES``); then ``usd-core`` parses those bytes, never the file by its name again: text
+  (``#usda``) with ``Sdf.Layer.ImportFromString``, a binary crate (``PXR-USDC``) from a private
+  temporary copy, moved into memory (``TransferContent``) before the copy is removed. Other files
+  (``.usdz`` archives, anything else) are refused;
+* before any composition, the layer's specs are searched for arcs to other files: a sublayer, a
+  reference or payload with an asset path, value clips. Any of them refuses the file with one line
+  naming the prim and the asset (``usdcat --flatten`` makes a self-contained copy). References and
+  payloads inside the layer (``</Other/Prim>``), inherits, specializes and variants are allowed:
+  they compose the layer with itself;
+* the stage is then composed from that layer alone (``Usd.Stage.Open`` of the in-memory layer).
+
+A crate file is bounded by ``MAX_BYTES`` too; what the crate reader unpacks from those bytes (it
+compresses integer arrays, by at most LZ4's ratio of ~255) is not bounded further.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+from ...errors import InputError, quote
+from .format import pxr as _pxr
+
+__all__ = ["open_stage", "MAX_BYTES"]
+
+#: Largest USD file read (bytes): a robot with inline visual meshes is ~5-20 MB of text (Panda: 18 MB .usda).
+MAX_BYTES = 256 * 1024 * 1024
+
+
+def _layer_from_bytes(pxr: Any, data: bytes, path: str) -> Any:
+    Sdf = pxr.Sdf
+    if data.startswith(b"PXR-USDC"):
+        import tempfile
+
+        with tempfile.TemporaryDirectory(prefix="robkin-usd-") as folder:
+            tmp = os.path.join(folder, "input.usdc")
+            with open(tmp, "wb") as fh:
+                fh.write(data)
+            crate = Sdf.Layer.OpenAsAnonymous(tmp)
+            if crate is None:
+                raise InputError(f"{path}: not a valid USD crate file")
+            layer = Sdf.Layer.CreateAnonymous(".usda")
+            layer.TransferContent(crate)
+            del crate
+        return layer
+    text_start = data.lstrip(b"\xef\xbb\xbf")[:5]
+    if text_start != b"#usda":
+        what = "a .usdz archive" if data.startswith(b"PK") else "neither USD text ('#usda') nor a USD crate"
+        raise InputError(f"{path}: {what}; robkin reads .usda text and .usdc crate files")
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{path}: not UTF-8 text (byte {exc.start})") from None
+    layer = Sdf.Layer.CreateAnonymous(".usda")
+    if not layer.ImportFromString(text):
+        raise InputError(f"{path}: not valid USD text")
+    return layer
+
+
+def _check_self_contained(pxr: Any, layer: Any, path: str) -> None:
+    """InputError if the layer names another file (see the module doc)."""
+    Sdf = pxr.Sdf
+    if layer.subLayerPaths:
+        raise InputError(f"{path}: has sublayers ({quote(layer.subLayerPaths[0])}); robkin reads one self-contained "
+                         f"USD file and follows nothing it names (flatten it: usdcat --flatten {path} -o flat.usda)")
+    found: list[tuple[str, str, str]] = []
+
+    def visit(spec_path: Any) -> None:
+        if found or not spec_path.IsPrimPath() and not spec_path.IsPrimVariantSelectionPath():
+            return
+        spec = layer.GetPrimAtPath(spec_path)
+        if spec is None:
+            return
+        for kind, items in (("reference", spec.referenceList), ("payload", spec.payloadList)):
+            for item in (*items.explicitItems, *items.prependedItems, *items.appendedItems, *items.addedItems):
+                if item.assetPath:
+                    found.append((str(spec_path), kind, item.assetPath))
+                    return
+        for key in ("clips", "clipSets"):
+            if spec.HasInfo(key):
+                found.append((str(spec_path), "value clips", key))
+                return
+
+    layer.Traverse(Sdf.Path.absoluteRootPath, visit)
+    if found:
+        prim, kind, asset = found[0]
+        raise InputError(f"{path}: prim {quote(prim)} has a {kind} to {quote(asset)}; robkin reads one "
+                         f"self-contained USD file and follows nothing it names (flatten it: usdcat --flatten)")
+
+
+def open_stage(path: str | os.PathLike[str]) -> Any:
+    """The stage of the USD file ``path`` composed from that file alone (see the module doc)."""
+    from ..files.input_files import read_bytes_file
+
+    pxr = _pxr()
+    p = os.fspath(path)
+    data = read_bytes_file(p, MAX_BYTES, "a USD file")
+    try:
+        layer = _layer_from_bytes(pxr, data, p)
+        _check_self_contained(pxr, layer, p)
+        stage = pxr.Usd.Stage.Open(layer, pxr.Usd.Stage.LoadAll)
+    except InputError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - usd-core's parse errors (Tf.ErrorException) as one line
+        first = (str(exc) or type(exc).__name__).strip().splitlines()
+        raise InputError(f"{p}: not valid USD ({quote(first[-1] if first else '', 160)})") from None
+    if stage is None:
+        raise InputError(f"{p}: not valid USD")
+    return stage
