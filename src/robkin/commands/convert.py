@@ -16,8 +16,8 @@ from ..errors import InputError
 from ._chains import add_chain_options, chain_ends
 from ._common import add_allow_xacro, add_from, add_package_path
 from .convert_parts.help import epilog
-from .convert_parts.render import (DOC_EXTENSIONS, EXTENSIONS, TABLE_EXTENSIONS, check_link_geometry, render_file,
-                                   render_in, section_of, table_representations)
+from .convert_parts.render import (CHECKED_FORMATS, DOC_EXTENSIONS, EXTENSIONS, TABLE_EXTENSIONS, check_link_geometry,
+                                   render_file, render_in, render_usd, section_of, table_representations)
 from ._output import wrote
 from .convert_parts.toolbox import CODE_FORMATS, add_toolbox_options, check_toolbox_options
 
@@ -31,7 +31,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                        epilog=epilog().replace("{mjcf}", MJCF_HELP), formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("input", nargs="+", metavar="INPUT",
                    help="robot document (.yaml/.yml/.json) or robot file: URDF (.urdf; .xacro with --allow-xacro), "
-                        "MJCF (.xml/.mjcf) or SDF (.sdf) (one or more)")
+                        "MJCF (.xml/.mjcf), SDF (.sdf) or USD (.usda/.usd/.usdc) (one or more)")
     add_chain_options(p)
     add_allow_xacro(p)
     add_from(p)
@@ -62,7 +62,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     add_package_path(p)
     add_mjcf_options(p)
     p.add_argument("--link-geometry", choices=["none", "capsules"], default="none",
-                   help="--to urdf|mjcf: give the links shapes a simulator shows: 'capsules' draws a capsule "
+                   help="--to urdf|mjcf|usd: give the links shapes a simulator shows: 'capsules' draws a capsule "
                         "from each joint frame origin to the next and a cylinder along each joint axis "
                         "(visual and collision; URDF writes a capsule as a cylinder and two spheres), as the "
                         "Robotics Toolbox draws a DH robot; added to the shapes the input has (default: none)")
@@ -113,7 +113,7 @@ def _mapping_note(path: str, robot, fmt: str) -> str | None:
     from ..io import MJCF_EXTENSIONS, ROBOT_FILE_EXTENSIONS, SDF_EXTENSIONS
 
     ext = Path(path).suffix.lower()
-    if ext not in ROBOT_FILE_EXTENSIONS or fmt in ("urdf", "mjcf", "json", "yaml"):
+    if ext not in ROBOT_FILE_EXTENSIONS or fmt in ("urdf", "mjcf", "usd", "json", "yaml"):
         return None
     names = ", ".join(j.name for j in robot.joints[:3]) + (", ..." if robot.n > 3 else "")
     what = "MuJoCo qpos" if ext in MJCF_EXTENSIONS else "SDF position" if ext in SDF_EXTENSIONS else "URDF position"
@@ -179,7 +179,7 @@ def run(args: argparse.Namespace) -> int:
     from .convert_parts.mjcf_output import check_mjcf_options
 
     check_mjcf_options(args)
-    if args.json and (args.output or fmt in ("urdf", "mjcf", "yaml")):
+    if args.json and (args.output or fmt in ("urdf", "mjcf", "usd", "yaml")):
         raise InputError(f"--json prints a table format as JSON to stdout; it does not combine with "
                          f"{'-o' if args.output else '--to ' + fmt}")
     ext = _out_ext(fmt, args.format)
@@ -209,7 +209,7 @@ def run(args: argparse.Namespace) -> int:
         write_texts_atomic(list(zip(targets, texts)))  # all or nothing
         for target in targets:
             wrote(target)
-        if fmt in ("urdf", "mjcf") and not args.format:
+        if fmt in CHECKED_FORMATS and not args.format:
             from .convert_parts.output_check import check_written
 
             with _removed_on_error(targets):
@@ -232,10 +232,16 @@ def run(args: argparse.Namespace) -> int:
             if not parent.exists() and (parent.parent if str(parent.parent) else Path(".")).is_dir():
                 parent.mkdir()
             check_writable_dir(out)
-        text = render_file(robot, fmt, out.suffix.lower(), args, inputs[0], out.parent)
-        write_text_atomic(out, text)
+        if fmt == "usd":  # .usd/.usdc are binary
+            from ..io.files.atomic import atomic_file
+
+            data = render_usd(robot, out.suffix.lower(), args, inputs[0])
+            with atomic_file(out, binary=True) as fh:
+                fh.write(data)
+        else:
+            write_text_atomic(out, render_file(robot, fmt, out.suffix.lower(), args, inputs[0], out.parent))
         wrote(out)
-        if fmt in ("urdf", "mjcf"):
+        if fmt in CHECKED_FORMATS:
             from .convert_parts.output_check import check_written
 
             with _removed_on_error([out]):

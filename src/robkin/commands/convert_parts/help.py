@@ -10,6 +10,11 @@ _TEMPLATE = """\
 formats:
 {representations}  json/yaml a robot document with every section             urdf      a URDF file (a URDF input's whole file)
   mjcf      a MuJoCo model (MJCF) that simulates: bodies, geoms, meshes, inertials, actuators
+  usd       a UsdPhysics articulation for Isaac Sim, Isaac Lab and Newton (.usda text, .usd/.usdc
+            binary; needs usd-core: pip install 'robkin[usd]'): rigid bodies with mass, centre of mass
+            and principal inertia, revolute/prismatic joints with limits and drives (effort as
+            maxForce), fixed joints, colliders and visual meshes inline; read back and checked (USD
+            holds joint frames and masses as float32: FK and masses agree to ~1e-7 of the robot's size)
 code for other toolboxes (need no robkin; names and numbers from the input are data in them, never code):
   rtb       a Python file defining `robot`, a Robotics Toolbox DHRobot (--convention mdh: modified DH)
             with base, tool, offsets, limits and each link's mass, centre of mass and inertia in its
@@ -82,6 +87,7 @@ examples:
   robkin convert robot.yaml --to mjcf -o robot.xml
   robkin convert panda.urdf --tip-link panda_hand_tcp --to mjcf -o panda_mjcf/panda.xml
   robkin convert ur5.urdf --tip-link tool0 --to mjcf --actuators position --kp 500 --kv 50 -o ur5/ur5.xml
+  robkin convert panda.urdf --tip-link panda_hand_tcp --to usd -o panda.usda
   robkin convert panda.urdf --tip-link panda_hand_tcp --to rtb -o panda_rtb.py
   robkin convert ur5.urdf --tip-link tool0 --to rtb --convention mdh -o ur5_mdh.py
   robkin convert ur5.urdf --tip-link tool0 --to matlab -o ur5.m

@@ -1,5 +1,6 @@
 """``robkin convert``: the output text for one robot in the chosen format (a document, a table file,
-a URDF or MJCF with its meshes, code for another toolbox), and the formats' sections and file names."""
+a URDF or MJCF with its meshes, a USD file, code for another toolbox), and the formats' sections and
+file names."""
 
 from __future__ import annotations
 
@@ -10,10 +11,10 @@ from ...errors import InputError
 from .toolbox import CODE_EXTENSIONS, CODE_FORMATS, render_code
 
 __all__ = ["section_of", "EXTENSIONS", "DOC_EXTENSIONS", "TABLE_EXTENSIONS", "table_representations",
-           "render_file", "render_in", "check_link_geometry"]
+           "render_file", "render_in", "render_usd", "check_link_geometry"]
 
 #: --to formats that are not a representation: a whole document or another file type
-OTHER_FORMATS = ("json", "yaml", "urdf", "mjcf", *CODE_FORMATS)
+OTHER_FORMATS = ("json", "yaml", "urdf", "mjcf", "usd", *CODE_FORMATS)
 
 
 def section_of() -> dict[str, str | None]:
@@ -33,7 +34,9 @@ def table_representations() -> tuple[str, ...]:
 
 #: Output file extensions accepted for each format (the first is used for batch output names).
 EXTENSIONS = {"urdf": (".urdf",), "mjcf": (".xml", ".mjcf"), "json": (".json",), "yaml": (".yaml", ".yml"),
-              **CODE_EXTENSIONS}
+              "usd": (".usda", ".usd", ".usdc"), **CODE_EXTENSIONS}
+#: Formats whose files robkin reads back after writing them, to check them (``output_check``)
+CHECKED_FORMATS = ("urdf", "mjcf", "usd")
 DOC_EXTENSIONS = (".yaml", ".yml", ".json")
 #: --format -> output file extension (kept here, not imported, for the start-up time of every convert)
 TABLE_EXTENSIONS = {"csv": ".csv", "markdown": ".md", "latex": ".tex"}
@@ -44,8 +47,8 @@ def check_link_geometry(args: argparse.Namespace) -> float | None:
     from ...io.files.numbers import number
 
     style, radius = getattr(args, "link_geometry", "none"), getattr(args, "link_radius", None)
-    if style != "none" and args.to not in ("urdf", "mjcf"):
-        raise InputError(f"--link-geometry {style}: shapes are written by --to urdf or --to mjcf only, "
+    if style != "none" and args.to not in ("urdf", "mjcf", "usd"):
+        raise InputError(f"--link-geometry {style}: shapes are written by --to urdf, mjcf or usd only, "
                          f"not --to {args.to}")
     if radius is None:
         return None
@@ -92,6 +95,8 @@ def render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None =
         from .mjcf_output import render_mjcf
 
         return render_mjcf(_with_link_geometry(robot, args), args, source, out_dir, mesh_dir)
+    if fmt == "usd":
+        return render_usd(robot, ".usda", args, source).decode("utf-8")
     section = section_of()[fmt]
     doc = document_from_robot(robot, degrees=degrees) if section is None else \
         document_from_robot(robot, (section,), degrees=degrees)
@@ -101,6 +106,17 @@ def render_file(robot, fmt: str, out_ext: str, args: argparse.Namespace | None =
 
         doc = round_document(doc, robot.scale, None if args is None else args.digits)
     return dump(doc, doc_fmt)
+
+
+def render_usd(robot, suffix: str, args: argparse.Namespace | None, source: str | None) -> bytes:
+    """The bytes of a USD file (``.usda`` text, ``.usd``/``.usdc`` crate) for one robot, the meshes of
+    its robot file ``source`` inline (``robkin.io.usd.writer``)."""
+    from ...io.usd.writer import usd_bytes
+    from .._common import package_paths
+
+    # TODO(sim): drives=servo_plan(robot) once robkin.simulation is on main; until then effort-only drives
+    return usd_bytes(_with_link_geometry(robot, args), suffix, source=source,
+                     package_paths=package_paths(args) if args is not None else None)
 
 
 def render_in(path: str, robot, fmt: str, out_ext: str, args: argparse.Namespace, out_dir: Path | None = None,

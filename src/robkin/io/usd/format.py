@@ -32,7 +32,7 @@ import numpy as np
 from ...errors import InputError
 
 __all__ = ["pxr", "identifier", "unique_identifier", "NAME_ATTR", "DEG", "quat_wxyz", "matrix_of_quat",
-           "USD_EXTENSIONS", "INSTALL_HINT"]
+           "matrix_of_gf", "without_scale", "authored", "USD_EXTENSIONS", "INSTALL_HINT"]
 
 USD_EXTENSIONS = (".usda", ".usd", ".usdc")
 INSTALL_HINT = "pip install 'robkin[usd]'"
@@ -89,3 +89,22 @@ def matrix_of_quat(w: float, x: float, y: float, z: float) -> np.ndarray:
     return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
                      [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
                      [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def matrix_of_gf(m: Any) -> np.ndarray:
+    """A Gf.Matrix4d (row vectors, translation in the last row) as a column-vector pose (4, 4)."""
+    return np.array(m, dtype=float).T
+
+
+def without_scale(T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(the transform (4, 4) with the scale of its columns removed, that scale (3,))."""
+    s = np.linalg.norm(T[:3, :3], axis=0)
+    out = T.copy()
+    out[:3, :3] = T[:3, :3] / np.where(s > 0, s, 1.0)
+    return out, s
+
+
+def authored(prim: Any, name: str) -> Any:
+    """The value of a prim's attribute where the file gives one (None: absent or not authored)."""
+    attr = prim.GetAttribute(name)
+    return attr.Get() if attr and attr.HasAuthoredValue() else None

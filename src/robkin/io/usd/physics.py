@@ -19,6 +19,8 @@ Mass properties
     ``MassAPI``: mass, ``centerOfMass`` in the body frame, and the inertia as principal moments
     (``diagonalInertia``) about principal axes (``principalAxes``, a rotation of the body frame):
     the source's own inertial frame where the inertia is diagonal in it, else its eigenvectors.
+    Moments no simulator accepts (a negative one, or one above the sum of the other two) are repaired
+    as the MJCF export repairs them, and the writer says which links.
 """
 
 from __future__ import annotations
@@ -127,15 +129,21 @@ def quatf(pxr: Any, R: np.ndarray) -> Any:
     return pxr.Gf.Quatf(w, x, y, z)
 
 
-def write_mass(pxr: Any, prim: Any, bm: BodyMass, body: np.ndarray) -> None:
-    """``MassAPI`` on ``prim`` (a body at ``body``, base frame) with the mass properties ``bm``."""
+def write_mass(pxr: Any, prim: Any, bm: BodyMass, body: np.ndarray) -> bool:
+    """``MassAPI`` on ``prim`` (a body at ``body``, base frame) with the mass properties ``bm``;
+    returns whether the principal moments had to be repaired (a negative one, or one above the sum of
+    the other two, as the MJCF export repairs them: ``io.mjcf.inertial.valid_moments``)."""
+    from ..mjcf.inertial import valid_moments
+
     Gf = pxr.Gf
     com, w, R = principal_inertia(bm, body)
+    w, changed = valid_moments(w)
     api = pxr.UsdPhysics.MassAPI.Apply(prim)
     api.CreateMassAttr(float(bm.mass))
     api.CreateCenterOfMassAttr(Gf.Vec3f(*map(float, com)))
     api.CreateDiagonalInertiaAttr(Gf.Vec3f(*map(float, w)))
     api.CreatePrincipalAxesAttr(quatf(pxr, R))
+    return changed
 
 
 def write_limits_and_drive(pxr: Any, joint: Any, j: JointPlan, gains: Mapping[str, Any] | None) -> None:

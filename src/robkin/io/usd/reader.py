@@ -40,7 +40,8 @@ import numpy as np
 from ... import se3
 from ...errors import InputError, quote
 from ...names import check_name
-from .format import DEG, NAME_ATTR, matrix_of_quat, pxr as _pxr
+from .format import DEG, NAME_ATTR, authored as _get, matrix_of_quat, matrix_of_gf as _matrix, pxr as _pxr,\
+    without_scale as _rigid
 
 if TYPE_CHECKING:  # pragma: no cover
     from ...robot import Robot
@@ -54,24 +55,6 @@ OFF_AXIS = 1e-6
 #: robkin's double-precision record of a value agrees with the float32 UsdPhysics one within this.
 FLOAT32_AGREE = 1e-6
 _UNIT_AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np.array([0.0, 0.0, 1.0])}
-
-
-def _matrix(m: Any) -> np.ndarray:
-    """A Gf.Matrix4d (row vectors) as a column-vector pose (4, 4)."""
-    return np.array(m, dtype=float).T
-
-
-def _rigid(T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(the pose with its scale removed, the scale (3,))."""
-    s = np.linalg.norm(T[:3, :3], axis=0)
-    out = T.copy()
-    out[:3, :3] = T[:3, :3] / np.where(s > 0, s, 1.0)
-    return out, s
-
-
-def _get(prim: Any, name: str) -> Any:
-    attr = prim.GetAttribute(name)
-    return attr.Get() if attr and attr.HasAuthoredValue() else None
 
 
 class _Reader:
@@ -325,8 +308,6 @@ class _Reader:
                                                                                                  "physics:centerOfMass")
         diag = _get(prim, "physics:diagonalInertia")
         diag = np.zeros(3) if diag is None else self.finite(list(diag), prim, "physics:diagonalInertia")
-        if np.any(diag < 0):
-            raise InputError(f"{self.where(prim)}: physics:diagonalInertia has a negative moment")
         axes = _get(prim, "physics:principalAxes")
         T = np.eye(4)
         T[:3, 3] = com

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any, Iterator
 import numpy as np
 
 from ... import se3
-from .format import NAME_ATTR
+from .format import NAME_ATTR, authored as _get, matrix_of_gf as _matrix, without_scale as _rigid
 
 if TYPE_CHECKING:  # pragma: no cover
     from ...body_parts import Shape
@@ -28,7 +28,6 @@ def _value(prim: Any, name: str, default: Any) -> Any:
 def link_shapes(reader: Any, link: str, prim: Any) -> Iterator[Shape]:
     """The shapes below ``prim`` (not those of links inside it), poses relative to the link."""
     from ...body_parts import Geometry, Material, Shape
-    from .reader import _get, _matrix, _rigid
 
     pxr = reader.pxr
     UsdGeom, UsdPhysics, Usd = pxr.UsdGeom, pxr.UsdPhysics, pxr.Usd
@@ -43,7 +42,6 @@ def link_shapes(reader: Any, link: str, prim: Any) -> Iterator[Shape]:
         if kind not in ("Cube", "Sphere", "Cylinder", "Capsule", "Mesh"):
             continue
         T, s = _rigid(inv @ reader.finite(_matrix(reader.cache.GetLocalToWorldTransform(p)), p, "transform"))
-        where = f"{reader.where(p)}"
         if kind == "Cube":
             size = float(_value(p, "size", 2.0))
             geometry = Geometry("box", tuple(float(size * v) for v in s))
@@ -70,5 +68,4 @@ def link_shapes(reader: Any, link: str, prim: Any) -> Iterator[Shape]:
             a = float(opacity[0]) if opacity is not None and len(opacity) > 0 else 1.0
             material = Material(None, (float(colour[0][0]), float(colour[0][1]), float(colour[0][2]), a))
         name = _get(p, NAME_ATTR)
-        del where
         yield Shape(link, 0, role, T, geometry, material, name if isinstance(name, str) else None)

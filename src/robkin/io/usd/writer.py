@@ -82,6 +82,7 @@ class _Writer:
         self.rigid: list[int] = []       # plan index -> plan index of the rigid body it is part of (-1: none)
         self.massless: list[str] = []
         self.mimic_left: list[str] = []
+        self.repaired: list[str] = []
 
     def source_joint_name(self, link: str, default: str) -> str:
         lk = self.links.get(link)
@@ -127,7 +128,8 @@ class _Writer:
                 UsdPhysics.RigidBodyAPI.Apply(prim.GetPrim())
                 bm = body_mass(bp.inertials)
                 if bm is not None and bm.mass > 0:
-                    write_mass(pxr, prim.GetPrim(), bm, bp.frame)
+                    if write_mass(pxr, prim.GetPrim(), bm, bp.frame):
+                        self.repaired.append(bp.name)
                 elif bp.joint is not None:
                     self.massless.append(bp.name)
             write_shapes(pxr, stage, path, bp.frame, bp.shapes, self.meshes)
@@ -225,6 +227,10 @@ class _Writer:
             warnings.warn(f"link(s) {', '.join(self.massless[:6])}{', ...' if len(self.massless) > 6 else ''} move "
                           f"without mass: written without MassAPI values (a simulator derives them from the "
                           f"colliders or its defaults)", UserWarning, stacklevel=4)
+        if self.repaired:
+            warnings.warn(f"link(s) {', '.join(self.repaired[:6])}{', ...' if len(self.repaired) > 6 else ''}: inertia "
+                          f"not physical (a negative principal moment, or one above the sum of the other two): "
+                          f"clipped to the nearest valid moments", UserWarning, stacklevel=4)
         if self.mimic_left:
             warnings.warn(f"joint(s) {', '.join(self.mimic_left[:6])} mimic a joint that is not in the model: "
                           f"written as free joints", UserWarning, stacklevel=4)
