@@ -1,0 +1,206 @@
+"""USD out and in: ``robkin convert --to usd`` writes a UsdPhysics articulation, proved with usd-core (pxr)
+as the independent reader, and ``robkin check`` / ``robkin.load`` read it back.
+
+The oracle is pxr itself: FK computed here from the joint prims' own frames (``physics:localPos0/1``,
+``localRot0/1``, ``physics:axis``, ``body0``/``body1``) with Gf matrices, and every link's mass properties
+from ``UsdPhysics.MassAPI``, against the source URDF (robkin's reading of it, world in front). USD stores
+those numbers as float32; the figures observed are in ``FLOAT32_FK`` and ``FLOAT32_MASS``.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import robkin
+from robkin.cli import main
+from test_urdf import robot_file
+
+pxr = pytest.importorskip("pxr")
+from pxr import Gf, Usd, UsdGeom, UsdPhysics  # noqa: E402
+
+#: (file under example-robot-data/robots, base link, tip link, suffix): the arms of the issue (the
+#: CASES of test_mjcf_sim), written as text or crate.
+CASES = [
+    ("panda_description/urdf/panda.urdf", None, "panda_hand_tcp", ".usda"),
+    ("ur_description/urdf/ur5_robot.urdf", None, "tool0", ".usdc"),
+    ("ur_description/urdf/ur10_robot.urdf", None, "ee_link", ".usd"),
+    ("kinova_description/robots/kinova.urdf", None, "j2s6s200_end_effector", ".usdc"),
+    ("xarm_description/urdf/xarm7.urdf", None, None, ".usdc"),
+    ("z1_description/urdf/z1.urdf", None, "gripperMover", ".usdc"),
+    ("so_arm_description/urdf/so100.urdf", None, None, ".usda"),
+    ("baxter_description/urdf/baxter.urdf", None, "right_gripper", ".usdc"),
+    ("tiago_description/robots/tiago.urdf", None, "hand_tool_link", ".usdc"),
+    ("talos_data/robots/talos_full_v2.urdf", "torso_2_link", "gripper_left_base_link", ".usdc"),
+]
+#: FK from the USD joint frames against the source, relative to the robot's size: float32 joint frames
+#: (~6e-8 relative rounding per number) composed along the chain. Observed on these arms (2026-11-28):
+#: at most 4.2e-8; 1e-6 is robkin's check tolerance (7 significant digits), which they must pass.
+FLOAT32_FK = 1e-6
+#: mass (relative), centre of mass (relative to the robot's size) and inertia (relative to the link's
+#: largest moment) from MassAPI against the source. Observed at most 1.2e-7 (float32 rounding, and
+#: the inertia's principal axes as a float32 quaternion).
+FLOAT32_MASS = 1e-6
+
+
+def _ends(base, tip):
+    return ["--base-link", base] * bool(base) + ["--tip-link", tip] * bool(tip)
+
+
+@pytest.fixture(scope="module", params=CASES, ids=lambda c: f"{c[0].split('/')[-1]}:{c[2]}{c[3]}")
+def written(request, tmp_path_factory):
+    """(source path, robot read from it, USD path written by the CLI, base, tip)."""
+    rel, base, tip, suffix = request.param
+    path = robot_file(rel)
+    out = tmp_path_factory.mktemp("usd") / f"robot{suffix}"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["convert", path, "--to", "usd", "-o", str(out), *_ends(base, tip)]) == 0
+        robot = robkin.load(path, base_link=base, tip_link=tip)
+    return path, robot, out, base, tip
+
+
+def _gf(pos, rot) -> np.ndarray:
+    """A pose (4, 4, column vectors) from a float3 and a quatf, through Gf (double)."""
+    # SetRotate from the quaternion: Gf.Rotation(quat) goes through axis and angle and loses ~1.5e-6
+    m = Gf.Matrix4d().SetRotate(Gf.Quatd(rot).GetNormalized()).SetTranslateOnly(Gf.Vec3d(pos))
+    return np.array(m).T
+
+
+def _motion(joint, q: float) -> np.ndarray:
+    axis = {"X": Gf.Vec3d(1, 0, 0), "Y": Gf.Vec3d(0, 1, 0), "Z": Gf.Vec3d(0, 0, 1)}[joint.GetAxisAttr().Get()]
+    if joint.GetPrim().IsA(UsdPhysics.RevoluteJoint):
+        return np.array(Gf.Matrix4d().SetRotate(Gf.Quatd(math.cos(q / 2), axis * math.sin(q / 2)))).T
+    return np.array(Gf.Matrix4d().SetTranslate(axis * q)).T
+
+
+def _name(prim) -> str:
+    attr = prim.GetAttribute("robkin:name")
+    return attr.Get() if attr and attr.HasAuthoredValue() else prim.GetName()
+
+
+class Oracle:
+    """FK of a USD articulation computed from its joint prims with pxr (robkin takes no part)."""
+
+    def __init__(self, path) -> None:
+        self.stage = Usd.Stage.Open(str(path))
+        self.cache = UsdGeom.XformCache()
+        self.joints = [p for p in self.stage.Traverse() if p.IsA(UsdPhysics.Joint)]
+        self.bodies = {p.GetPath(): p for p in self.stage.Traverse() if p.HasAPI(UsdPhysics.RigidBodyAPI)}
+        self.by_child = {}
+        for p in self.joints:
+            j = UsdPhysics.Joint(p)
+            self.by_child[j.GetBody1Rel().GetTargets()[0]] = p
+
+    def body_pose(self, path, q: dict[str, float]) -> np.ndarray:
+        """World pose of a rigid body at q (joints not in q at 0)."""
+        p = self.by_child[path]
+        j = UsdPhysics.Joint(p)
+        J0 = _gf(j.GetLocalPos0Attr().Get(), j.GetLocalRot0Attr().Get())
+        J1 = _gf(j.GetLocalPos1Attr().Get(), j.GetLocalRot1Attr().Get())
+        targets = j.GetBody0Rel().GetTargets()
+        parent = np.eye(4) if not targets else self.body_pose(targets[0], q)
+        move = np.eye(4)
+        if p.IsA(UsdPhysics.RevoluteJoint):
+            move = _motion(UsdPhysics.RevoluteJoint(p), q.get(_name(p), 0.0))
+        elif p.IsA(UsdPhysics.PrismaticJoint):
+            move = _motion(UsdPhysics.PrismaticJoint(p), q.get(_name(p), 0.0))
+        return parent @ J0 @ move @ np.linalg.inv(J1)
+
+    def link_pose(self, name: str, q: dict[str, float]) -> np.ndarray:
+        """World pose at q of the link called ``name`` (a rigid body, or a frame prim inside one)."""
+        prim = next(p for p in self.stage.Traverse() if _name(p) == name and p.GetTypeName() == "Xform")
+        body = prim
+        while body.GetPath() not in self.bodies:
+            body = body.GetParent()
+        # Gf composes row vectors: prim-to-world * world-to-body is the prim's pose in the body's frame
+        rel = self.cache.GetLocalToWorldTransform(prim) * self.cache.GetLocalToWorldTransform(body).GetInverse()
+        return self.body_pose(body.GetPath(), q) @ np.array(rel).T
+
+
+def test_stage_is_an_articulation(written):
+    _, robot, out, _, _ = written
+    stage = Usd.Stage.Open(str(out))
+    assert UsdGeom.GetStageUpAxis(stage) == UsdGeom.Tokens.z
+    assert UsdGeom.GetStageMetersPerUnit(stage) == 1.0
+    assert UsdPhysics.GetStageKilogramsPerUnit(stage) == 1.0
+    root = stage.GetDefaultPrim()
+    assert root and root.HasAPI(UsdPhysics.ArticulationRootAPI)
+    joints = {_name(p): p for p in stage.Traverse() if p.IsA(UsdPhysics.Joint)}
+    for j in robot.joints:  # every chain joint, its type, limits in degrees or metres, a drive with its effort
+        p = joints[j.name]
+        revolute = p.IsA(UsdPhysics.RevoluteJoint)
+        assert revolute == (j.type == "revolute") and (revolute or p.IsA(UsdPhysics.PrismaticJoint))
+        unit = 180 / math.pi if revolute else 1.0
+        if j.lower is not None:
+            assert p.GetAttribute("physics:lowerLimit").Get() == pytest.approx(j.lower * unit, rel=1e-6, abs=1e-6)
+        drive = UsdPhysics.DriveAPI(p, "angular" if revolute else "linear")
+        if j.effort:
+            assert drive.GetMaxForceAttr().Get() == pytest.approx(j.effort, rel=1e-7)
+    # no rigid body nested in another (PhysX refuses that)
+    bodies = [p for p in stage.Traverse() if p.HasAPI(UsdPhysics.RigidBodyAPI)]
+    for b in bodies:
+        parent = b.GetParent()
+        while parent:
+            assert not parent.HasAPI(UsdPhysics.RigidBodyAPI), f"{b.GetPath()} is inside a rigid body"
+            parent = parent.GetParent()
+
+
+def test_fk_from_the_joint_prims(written):
+    """FK at 10 configurations from pxr's own reading of the joints equals the source's."""
+    _, robot, out, _, _ = written
+    oracle = Oracle(out)
+    tip = robot.bodies.tip
+    rng = np.random.default_rng(5)
+    lim = np.nan_to_num(robot.limits, nan=0.0, posinf=math.pi, neginf=-math.pi)
+    worst = 0.0
+    for q in rng.uniform(lim[:, 0], lim[:, 1], size=(10, robot.n)):
+        want = robot.world @ robot.fk(q)
+        got = oracle.link_pose(tip, {j.name: float(v) for j, v in zip(robot.joints, q)})
+        err = max(np.abs(got[:3, :3] - want[:3, :3]).max(), np.abs(got[:3, 3] - want[:3, 3]).max() / robot.scale)
+        worst = max(worst, err)
+    assert worst <= FLOAT32_FK, worst
+    assert worst > 0 or robot.n == 0  # float32 frames: exact equality would mean the test compares robkin to itself
+
+
+def test_mass_properties_from_massapi(written):
+    """Every link's mass, centre of mass and inertia (MassAPI, in its prim's frame) equal the source's."""
+    _, robot, out, _, _ = written
+    stage = Usd.Stage.Open(str(out))
+    cache = UsdGeom.XformCache()
+    links = {link.name: link for link in robot.bodies.links}
+    prims = {_name(p): p for p in stage.Traverse() if p.HasAPI(UsdPhysics.MassAPI)}
+    checked = 0
+    for m in robot.bodies.inertials:
+        if m.mass <= 0:
+            continue
+        prim = prims[m.link]
+        api = UsdPhysics.MassAPI(prim)
+        world_prim = np.array(cache.GetLocalToWorldTransform(prim)).T
+        link_pose = robot.world @ links[m.link].pose
+        # the body's frame, in double precision: the writer's plan (the MJCF export's) places links from the
+        # chain's frames, 1e-11 from the reader's link poses on Talos' mid-tree chain
+        assert np.abs(world_prim - link_pose).max() <= 1e-9 * robot.scale
+        L = np.linalg.inv(links[m.link].pose) @ m.pose  # the source's inertial frame in the link's
+        com_want, I_want = L[:3, 3], L[:3, :3] @ m.inertia @ L[:3, :3].T
+        R = np.array(Gf.Matrix3d().SetRotate(Gf.Quatd(api.GetPrincipalAxesAttr().Get()).GetNormalized())).T
+        I_got = R @ np.diag(list(api.GetDiagonalInertiaAttr().Get())) @ R.T
+        assert abs(api.GetMassAttr().Get() - m.mass) <= FLOAT32_MASS * m.mass
+        assert np.abs(np.array(api.GetCenterOfMassAttr().Get()) - com_want).max() <= FLOAT32_MASS * robot.scale
+        moments = np.linalg.eigvalsh(I_want)
+        if moments.min() >= 0 and moments.max() <= moments.sum() - moments.max():  # physical (else repaired)
+            assert np.abs(I_got - I_want).max() <= FLOAT32_MASS * max(np.abs(I_want).max(), 1e-12), m.link
+        checked += 1
+    assert checked > 0
+
+
+def test_check_reads_it_back(written, capsys):
+    path, robot, out, base, tip = written
+    assert main(["check", path, str(out), *_ends(base, tip)]) == 0
+    back = robkin.load(out, base_link=base, tip_link=tip)
+    assert [j.name for j in back.joints] == [j.name for j in robot.joints]
+    assert [(j.lower, j.upper) for j in back.joints] == [(j.lower, j.upper) for j in robot.joints]  # robkin:lower/upper
+    assert len(back.bodies.collisions()) == len(robot.bodies.collisions())
