@@ -59,7 +59,11 @@ def _layer_from_bytes(pxr: Any, data: bytes, path: str) -> Any:
     except UnicodeDecodeError as exc:
         raise InputError(f"{path}: not UTF-8 text (byte {exc.start})") from None
     layer = Sdf.Layer.CreateAnonymous(".usda")
-    if not layer.ImportFromString(text):
+    try:
+        ok = layer.ImportFromString(text)
+    except Exception as exc:  # noqa: BLE001 - the text parser's error (Tf.ErrorException)
+        raise InputError(f"{path}: not valid USD text ({_usd_message(exc)})") from None
+    if not ok:
         raise InputError(f"{path}: not valid USD text")
     return layer
 
@@ -95,6 +99,14 @@ def _check_self_contained(pxr: Any, layer: Any, path: str) -> None:
                          f"self-contained USD file and follows nothing it names (flatten it: usdcat --flatten)")
 
 
+def _usd_message(exc: Exception) -> str:
+    """The useful part of a usd-core error ("':18:36: Expected } at ...'" after its C++ location)."""
+    text = " ".join((str(exc) or type(exc).__name__).split())
+    if " : " in text:
+        text = text.split(" : ", 1)[1]
+    return text.strip("'\" ")[:200]
+
+
 def open_stage(path: str | os.PathLike[str]) -> Any:
     """The stage of the USD file ``path`` composed from that file alone (see the module doc)."""
     from ..files.input_files import read_bytes_file
@@ -109,8 +121,7 @@ def open_stage(path: str | os.PathLike[str]) -> Any:
     except InputError:
         raise
     except Exception as exc:  # noqa: BLE001 - usd-core's parse errors (Tf.ErrorException) as one line
-        first = (str(exc) or type(exc).__name__).strip().splitlines()
-        raise InputError(f"{p}: not valid USD ({quote(first[-1] if first else '', 160)})") from None
+        raise InputError(f"{p}: not valid USD ({_usd_message(exc)})") from None
     if stage is None:
         raise InputError(f"{p}: not valid USD")
     return stage
