@@ -205,3 +205,182 @@ def test_check_reads_it_back(written, capsys):
     assert [j.name for j in back.joints] == [j.name for j in robot.joints]
     assert [(j.lower, j.upper) for j in back.joints] == [(j.lower, j.upper) for j in robot.joints]  # robkin:lower/upper
     assert len(back.bodies.collisions()) == len(robot.bodies.collisions())
+
+
+# ---------------------------------------------------------------- what the writer does, one thing at a time
+from hypothesis import given, settings  # noqa: E402
+
+from robkin.io.usd.writer import usd_from_robot, usd_stage  # noqa: E402
+from strategies import robots  # noqa: E402
+
+
+def _stage_of(text: str):
+    layer = pxr.Sdf.Layer.CreateAnonymous(".usda")
+    layer.ImportFromString(text)
+    return Usd.Stage.Open(layer), layer
+
+
+def _read(tmp_path, text: str, name: str = "r.usda", **chain):
+    path = tmp_path / name
+    path.write_text(text)
+    return robkin.load(path, **chain)
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+@pytest.mark.filterwarnings("ignore::robkin.ConditioningWarning")
+@settings(max_examples=25, deadline=None)
+@given(robot=robots(max_joints=7))
+def test_any_robot_goes_through_usd(robot, tmp_path_factory):
+    """Random robots (every axis relation, prismatic joints, a world transform) come back with FK
+    within float32 rounding, the same joint names, types and limits (robkin's own double record)."""
+    back = _read(tmp_path_factory.mktemp("any"), usd_from_robot(robot), tip_link="tool")
+    tol = FLOAT32_FK * max(1.0, robot.scale)
+    for q in np.random.default_rng(0).uniform(-1, 1, (4, robot.n)):
+        np.testing.assert_allclose(back.fk(q), robot.fk(q), atol=tol, rtol=0)
+    assert [(j.name, j.type) for j in back.joints] == [(j.name, j.type) for j in robot.joints]
+    np.testing.assert_array_equal(back.limits, robot.limits)
+
+
+URDF = """<robot name="r">
+  <link name="base"/><link name="l 1"><inertial><mass value="1"/><inertia ixx="1e-3" iyy="2e-3" izz="3e-3" ixy="0"
+  ixz="0" iyz="0"/></inertial></link><link name="2nd-link"><inertial><mass value="1"/><inertia ixx="1e-3"
+  iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial>
+  <visual><origin xyz="0.1 0 0" rpy="0.3 0 0"/><geometry><box size="0.1 0.2 0.3"/></geometry></visual>
+  <collision><origin xyz="0 0.1 0" rpy="0 0.2 0"/><geometry><cylinder radius="0.05" length="0.4"/></geometry></collision>
+  <collision><geometry><sphere radius="0.07"/></geometry></collision></link>
+  <link name="ünï"/><link name="finger"><inertial><mass value="0.1"/><inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0"
+  ixz="0" iyz="0"/></inertial></link><link name="finger2"><inertial><mass value="0.1"/><inertia ixx="1e-5"
+  iyy="1e-5" izz="1e-5" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="joint 1" type="revolute"><parent link="base"/><child link="l 1"/><origin xyz="0 0 0.3"/>
+    <axis xyz="0.6 0 0.8"/><limit lower="0.5" upper="2" effort="40" velocity="1"/></joint>
+  <joint name="2" type="prismatic"><parent link="l 1"/><child link="2nd-link"/><origin xyz="0.2 0 0" rpy="0.1 0.2 0.3"/>
+    <axis xyz="0 0 -1"/><limit lower="-0.1" upper="0.2" effort="100" velocity="1"/></joint>
+  <joint name="tip" type="fixed"><parent link="2nd-link"/><child link="ünï"/><origin xyz="0 0 0.1"/></joint>
+  <joint name="f1" type="revolute"><parent link="2nd-link"/><child link="finger"/><origin xyz="0 0.05 0"/>
+    <axis xyz="1 0 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="f2" type="revolute"><parent link="2nd-link"/><child link="finger2"/><origin xyz="0 -0.05 0"/>
+    <axis xyz="1 0 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/><mimic joint="f1" multiplier="-1"
+    offset="0.1"/></joint>
+</robot>"""
+
+
+@pytest.fixture(scope="module")
+def small(tmp_path_factory):
+    """(robot from URDF, its USD text, the stage) of a robot with odd names, an arbitrary and a negative
+    axis, primitives and a mimic joint."""
+    folder = tmp_path_factory.mktemp("small")
+    (folder / "r.urdf").write_text(URDF)
+    robot = robkin.load(folder / "r.urdf", tip_link="ünï")
+    text = usd_from_robot(robot, drives={"joint 1": (100.0, 10.0, 50.0), "2": (1000.0, 20.0, None)})
+    stage, layer = _stage_of(text)
+    return robot, text, stage, layer
+
+
+def _joint(stage, name):
+    return next(p for p in stage.Traverse() if p.IsA(UsdPhysics.Joint) and _name(p) == name)
+
+
+def test_names_become_identifiers_and_come_back(small, tmp_path):
+    robot, text, stage, _ = small
+    for p in stage.Traverse():
+        assert pxr.Sdf.Path.IsValidIdentifier(p.GetName())
+    back = _read(tmp_path, text, tip_link="ünï")
+    assert [j.name for j in back.joints] == ["joint 1", "2"]
+    assert {link.name for link in back.bodies.links} >= {"base", "l 1", "2nd-link", "ünï", "finger", "finger2"}
+
+
+def test_drive_gains_are_per_degree(small):
+    """SI gains in, USD's units out: N m/deg for an angular drive, N/m for a linear one; home in limits."""
+    _, _, stage, _ = small
+    angular = UsdPhysics.DriveAPI(_joint(stage, "joint 1"), "angular")
+    assert angular.GetStiffnessAttr().Get() == pytest.approx(100.0 * math.pi / 180, rel=1e-7)
+    assert angular.GetDampingAttr().Get() == pytest.approx(10.0 * math.pi / 180, rel=1e-7)
+    assert angular.GetMaxForceAttr().Get() == 50.0
+    assert angular.GetTargetPositionAttr().Get() == pytest.approx(math.degrees(0.5), rel=1e-7)  # 0 clipped to lower
+    linear = UsdPhysics.DriveAPI(_joint(stage, "2"), "linear")
+    assert (linear.GetStiffnessAttr().Get(), linear.GetDampingAttr().Get(), linear.GetMaxForceAttr().Get()) == \
+        (1000.0, 20.0, 100.0)  # the effort where no force is given
+    finger = UsdPhysics.DriveAPI(_joint(stage, "f1"), "angular")
+    assert finger.GetStiffnessAttr().Get() == 0.0 and finger.GetMaxForceAttr().Get() == 1.0  # effort only
+
+
+def test_axes_map_onto_x_y_z(small):
+    """An arbitrary axis is X of a turned joint frame; -z is Z of a frame turned by a half turn."""
+    robot, _, stage, _ = small
+    j1 = UsdPhysics.RevoluteJoint(_joint(stage, "joint 1"))
+    assert j1.GetAxisAttr().Get() == "X"
+    R1 = np.array(Gf.Matrix3d().SetRotate(Gf.Quatd(j1.GetLocalRot1Attr().Get()))).T
+    np.testing.assert_allclose(R1[:, 0], [0.6, 0, 0.8], atol=1e-7)
+    j2 = UsdPhysics.PrismaticJoint(_joint(stage, "2"))
+    assert j2.GetAxisAttr().Get() == "Z"
+    R2 = np.array(Gf.Matrix3d().SetRotate(Gf.Quatd(j2.GetLocalRot1Attr().Get()))).T
+    np.testing.assert_array_equal(R2[:, 2], [0, 0, -1])
+
+
+def test_mimic_is_physx_coupling_and_robkin_record(small, tmp_path):
+    robot, text, stage, _ = small
+    f2 = _joint(stage, "f2")
+    assert "PhysxMimicJointAPI:rotX" in f2.GetMetadata("apiSchemas").ApplyOperations([])  # not a usd-core schema
+    assert f2.GetRelationship("physxMimicJoint:rotX:referenceJoint").GetTargets() == [_joint(stage, "f1").GetPath()]
+    assert f2.GetAttribute("physxMimicJoint:rotX:gearing").Get() == 1.0  # q + gearing q_ref + offset = 0
+    assert f2.GetAttribute("physxMimicJoint:rotX:offset").Get() == pytest.approx(-0.1)
+    assert not f2.HasAPI(UsdPhysics.DriveAPI, "angular")
+    back = _read(tmp_path, text, tip_link="ünï")
+    mimic = next(link.joint.mimic for link in back.bodies.links if link.name == "finger2")
+    assert (mimic.joint, mimic.multiplier, mimic.offset) == ("f1", -1.0, 0.1)
+
+
+def test_primitives_and_welded_frames(small, tmp_path):
+    """Box, cylinder and sphere come back with their sizes and poses (double precision); the massless
+    fixed tip link is a frame inside its parent, not a rigid body."""
+    robot, text, stage, _ = small
+    tip = next(p for p in stage.Traverse() if _name(p) == "ünï")
+    assert not tip.HasAPI(UsdPhysics.RigidBodyAPI) and tip.GetAttribute("robkin:frame").Get() is True
+    colliders = [p for p in stage.Traverse() if p.HasAPI(UsdPhysics.CollisionAPI)]
+    assert sorted(p.GetTypeName() for p in colliders) == ["Cylinder", "Sphere"]
+    assert all(UsdGeom.Imageable(p).GetPurposeAttr().Get() == "guide" for p in colliders)
+    back = _read(tmp_path, text, tip_link="ünï")
+    links_a = {link.name: link.pose for link in robot.bodies.links}
+    links_b = {link.name: link.pose for link in back.bodies.links}
+    for want, got in zip(robot.bodies.shapes, back.bodies.shapes):
+        assert (want.role, want.geometry.kind, want.link) == (got.role, got.geometry.kind, got.link)
+        np.testing.assert_allclose(got.geometry.size, want.geometry.size, rtol=1e-15)
+        # on its link, in double precision (the link itself is where the float32 joint frames put it)
+        np.testing.assert_allclose(np.linalg.solve(links_b[got.link], got.pose),
+                                   np.linalg.solve(links_a[want.link], want.pose), atol=1e-15)
+    assert len(back.bodies.shapes) == len(robot.bodies.shapes) == 3
+
+
+def test_revolute_axis_off_the_child_origin_gets_a_link(tmp_path):
+    """A foreign file whose joint frame is off the child's origin: FK as pxr composes it."""
+    text = """#usda 1.0
+def Xform "m" (prepend apiSchemas = ["PhysicsArticulationRootAPI"])
+{
+    def Xform "a" (prepend apiSchemas = ["PhysicsRigidBodyAPI"])
+    {
+    }
+    def Xform "b" (prepend apiSchemas = ["PhysicsRigidBodyAPI"])
+    {
+    }
+    def PhysicsRevoluteJoint "j"
+    {
+        uniform token physics:axis = "Y"
+        rel physics:body0 = </m/a>
+        rel physics:body1 = </m/b>
+        point3f physics:localPos0 = (0.1, 0.2, 0.3)
+        quatf physics:localRot0 = (0.8, 0.6, 0, 0)
+        point3f physics:localPos1 = (0.05, 0, -0.2)
+        quatf physics:localRot1 = (0.6, 0, 0, 0.8)
+    }
+}
+"""
+    path = tmp_path / "off.usda"
+    path.write_text(text)
+    robot = robkin.load(path, base_link="a", tip_link="b")
+    assert robot.n == 1 and "b/j" in {link.name for link in robot.bodies.links}
+    stage = Usd.Stage.Open(str(path))
+    j = UsdPhysics.RevoluteJoint(stage.GetPrimAtPath("/m/j"))
+    J0 = _gf(j.GetLocalPos0Attr().Get(), j.GetLocalRot0Attr().Get())
+    J1 = _gf(j.GetLocalPos1Attr().Get(), j.GetLocalRot1Attr().Get())
+    for q in (-1.0, 0.3, 2.0):
+        np.testing.assert_allclose(robot.fk([q]), J0 @ _motion(j, q) @ np.linalg.inv(J1), atol=1e-15)

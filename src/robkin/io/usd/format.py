@@ -32,7 +32,7 @@ import numpy as np
 from ...errors import InputError
 
 __all__ = ["pxr", "identifier", "unique_identifier", "NAME_ATTR", "DEG", "quat_wxyz", "matrix_of_quat",
-           "matrix_of_gf", "without_scale", "authored", "USD_EXTENSIONS", "INSTALL_HINT"]
+           "matrix_of_gf", "without_scale", "authored", "api_schemas", "USD_EXTENSIONS", "INSTALL_HINT"]
 
 USD_EXTENSIONS = (".usda", ".usd", ".usdc")
 INSTALL_HINT = "pip install 'robkin[usd]'"
@@ -108,3 +108,10 @@ def authored(prim: Any, name: str) -> Any:
     """The value of a prim's attribute where the file gives one (None: absent or not authored)."""
     attr = prim.GetAttribute(name)
     return attr.Get() if attr and attr.HasAuthoredValue() else None
+
+
+def api_schemas(prim: Any) -> list[str]:
+    """The API schemas applied to a prim as the file names them, those usd-core does not know too
+    (``GetAppliedSchemas`` leaves out PhysX's, which are not in usd-core)."""
+    ops = prim.GetMetadata("apiSchemas")
+    return list(ops.ApplyOperations([])) if ops is not None else []

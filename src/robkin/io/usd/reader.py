@@ -40,7 +40,7 @@ import numpy as np
 from ... import se3
 from ...errors import InputError, quote
 from ...names import check_name
-from .format import DEG, NAME_ATTR, authored as _get, matrix_of_quat, matrix_of_gf as _matrix, pxr as _pxr,\
+from .format import DEG, NAME_ATTR, api_schemas, authored as _get, matrix_of_quat, matrix_of_gf as _matrix, pxr as _pxr,\
     without_scale as _rigid
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -273,7 +273,7 @@ class _Reader:
             out["mimic"] = Mimic(ref, float(_get(prim, "robkin:mimic:multiplier") or 1.0),
                                  float(_get(prim, "robkin:mimic:offset") or 0.0))
         else:
-            for api in prim.GetAppliedSchemas():
+            for api in api_schemas(prim):
                 if api.startswith("PhysxMimicJointAPI:"):
                     axis = api.split(":", 1)[1]
                     rel = prim.GetRelationship(f"physxMimicJoint:{axis}:referenceJoint")

@@ -263,7 +263,8 @@ def usd_stage(robot: Robot, *, meshes: Mapping[str, MeshData] | None = None,
 
 def usd_from_robot(robot: Robot, **options: Any) -> str:
     """The ``.usda`` text of the robot (``usd_stage``'s options)."""
-    return usd_stage(robot, **options).GetRootLayer().ExportToString()
+    stage = usd_stage(robot, **options)  # held while its layer is used: the stage owns the layer
+    return stage.GetRootLayer().ExportToString()
 
 
 def _source_meshes(robot: Robot, source: str | os.PathLike[str] | None,
