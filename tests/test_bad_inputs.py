@@ -229,6 +229,11 @@ CASES = [
          "e.urdf: file is empty", writes=False),
     Case("SDF joints closing a loop", {"loop.sdf": LOOP_SDF}, _leg("loop.sdf"),
          "loop.sdf: link 'c' is the child of two joints, 'jc' and 'loop'"),
+    Case("USD reference to another file", {"ref.usda": '#usda 1.0\ndef Xform "r" (\n    references = @/etc/passwd@\n)\n'
+                                                       '{\n}\n'}, _leg("ref.usda"),
+         "ref.usda: prim '/r' has a reference to '/etc/passwd'; robkin reads one self-contained USD file"),
+    Case("USD sublayer", {"sub.usda": '#usda 1.0\n(\n    subLayers = [@other.usda@]\n)\n'}, _leg("sub.usda"),
+         "sub.usda: has sublayers ('other.usda')"),
 ]
 
 
