@@ -384,3 +384,32 @@ def Xform "m" (prepend apiSchemas = ["PhysicsArticulationRootAPI"])
     J1 = _gf(j.GetLocalPos1Attr().Get(), j.GetLocalRot1Attr().Get())
     for q in (-1.0, 0.3, 2.0):
         np.testing.assert_allclose(robot.fk([q]), J0 @ _motion(j, q) @ np.linalg.inv(J1), atol=1e-15)
+
+
+def test_usd_physics_parser_sees_one_articulation(written):
+    """usd-core's own UsdPhysics parser (what Newton's importer builds on): one articulation rooted at the
+    chain's base by one fixed joint to the world, every joint valid between rigid bodies, every collider
+    on a rigid body, drives and limits as written."""
+    _, robot, out, _, _ = written
+    stage = Usd.Stage.Open(str(out))
+    load = getattr(UsdPhysics, "LoadUsdPhysicsFromRange")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        parsed = load(stage, [pxr.Sdf.Path("/")])
+    T = UsdPhysics.ObjectType
+    (art,) = parsed[T.Articulation][1]
+    assert art.isValid and len(art.rootPrims) == 1
+    bodies = {str(p) for p in parsed[T.RigidBody][0]}
+    joints = [d for kind in (T.RevoluteJoint, T.PrismaticJoint, T.FixedJoint) if kind in parsed for d in parsed[kind][1]]
+    assert all(d.isValid and str(d.body1) in bodies and (not d.body0 or str(d.body0) in bodies) for d in joints)
+    assert sum(1 for d in joints if not d.body0) == 1
+    shapes = [d for kind in (T.MeshShape, T.CubeShape, T.SphereShape, T.CylinderShape, T.CapsuleShape)
+              if kind in parsed for d in parsed[kind][1]]
+    assert shapes and all(str(d.rigidBody) in bodies for d in shapes)
+    by_name = {_name(stage.GetPrimAtPath(d.primPath)): d for d in joints}
+    for j in robot.joints:
+        d = by_name[j.name]
+        if j.effort:
+            assert d.drive.forceLimit == pytest.approx(j.effort, rel=1e-7)
+        if j.type == "revolute" and j.upper is not None:
+            assert d.limit.upper == pytest.approx(math.degrees(j.upper), rel=1e-6)

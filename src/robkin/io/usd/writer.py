@@ -9,8 +9,10 @@ What is written (``usd_stage``)
     ``flange``) is an ``Xform`` inside its parent's prim, marked ``robkin:frame``, so that no simulator
     gives it a default mass. The links' shapes are under them (``shapes``). The joints are prims under
     ``<robot>/joints``: ``RevoluteJoint``/``PrismaticJoint`` with limits and a drive, ``FixedJoint`` for
-    the welded links, and a ``FixedJoint`` from the world (no ``body0``) to each link at the top (the
-    chain's base; also the links above a base chosen mid-tree), which makes the articulation fixed-base.
+    the welded links, and a ``FixedJoint`` from the world (no ``body0``) to the chain's base, which makes
+    the articulation fixed-base. Links above a base chosen mid-tree (a humanoid's pelvis when the chain
+    starts at its torso) hang from the base through fixed joints (their source joints held at 0, as
+    robkin reads them), so that the articulation is one tree rooted at the base.
     Mimic joints: a revolute one gets PhysX's ``PhysxMimicJointAPI:<axis>`` (``referenceJoint``,
     ``gearing`` = -multiplier, ``offset`` = -offset in radians: PhysX's q + gearing q_ref + offset = 0)
     and no drive; every mimic also ``robkin:mimic:*`` attributes (robkin's reader uses those).
@@ -77,6 +79,14 @@ class _Writer:
         self.world = np.asarray(robot.world, dtype=float)
         self.scale = max(robot.scale, 1.0)
         self.links = {link.name: link for link in robot.bodies.links}
+        # a link above a base chosen mid-tree -> the link below it on the way down to the base: welded to
+        # that one (its source joint held at 0, as the reader held it), so the articulation is one tree
+        self.above: dict[str, str] = {}
+        if robot.bodies.chain and robot.bodies.chain[0] in self.links:
+            lk = self.links[robot.bodies.chain[0]]
+            while lk.parent is not None and lk.parent in self.links:
+                self.above[lk.parent] = lk.name
+                lk = self.links[lk.parent]
         self.stage = self.pxr.Usd.Stage.CreateInMemory("robot.usda")
         self.paths: list[Any] = []       # plan index -> prim path
         self.rigid: list[int] = []       # plan index -> plan index of the rigid body it is part of (-1: none)
@@ -156,10 +166,22 @@ class _Writer:
         taken: set[str] = set()
         prims: dict[str, Any] = {}
         mimics = []
+        top = {bp.name: i for i, bp in enumerate(self.plan) if bp.parent is None and self.rigid[i] == i}
         for i, bp in enumerate(self.plan):
             if self.rigid[i] != i:
                 continue  # a frame: inside its parent's prim
             j = bp.joint
+            below = top.get(self.above.get(bp.name, ""))
+            if bp.parent is None and below is not None:  # above the base: welded to the link below it
+                name = self.source_joint_name(self.plan[below].name, f"{bp.name}_fixed")
+                path = scope.AppendChild(unique_identifier(name, taken))
+                joint = UsdPhysics.FixedJoint.Define(stage, path)
+                joint.CreateBody0Rel().SetTargets([self.paths[below]])
+                joint.CreateBody1Rel().SetTargets([self.paths[i]])
+                _local_pose(pxr, joint, 0, se3.inv(self.plan[below].frame) @ bp.frame)
+                _local_pose(pxr, joint, 1, np.eye(4))
+                _set_name(pxr, joint.GetPrim(), name, path.name)
+                continue
             if bp.parent is None:
                 name = self.source_joint_name(bp.name, f"{bp.name}_world")
                 J = self.world @ bp.frame
