@@ -84,11 +84,17 @@ def test_arcs_to_other_files_are_refused(tmp_path, capsys, text, words):
 
 
 def test_a_reference_inside_the_file_composes(tmp_path):
-    text = usda().replace('def Xform "base" (', 'def Xform "base" (references = </proto>\n') + \
-        'def Xform "proto"\n{\n    custom string note = "kept"\n}\n'
+    """An internal reference composes, and an instanced collider (as Isaac Sim's importer instances its
+    meshes) is read through its instance proxy."""
+    shape = ('def Xform "collisions" (\n    instanceable = true\n    references = </proto>\n)\n{\n}\n')
+    text = usda(extra=shape) + ('def Xform "proto"\n{\n    def Cube "box" (prepend apiSchemas = ["PhysicsCollisionAPI"])'
+                                '\n    {\n        double size = 0.5\n    }\n}\n')
     path = tmp_path / "inner.usda"
     path.write_text(text)
-    assert robkin.load(path).n == 1
+    robot = robkin.load(path)
+    assert robot.n == 1
+    (box,) = robot.bodies.collisions()
+    assert box.geometry.kind == "box" and box.geometry.size == (0.5, 0.5, 0.5) and box.link == "upper"
 
 
 @pytest.mark.parametrize("text, name, words", [

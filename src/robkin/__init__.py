@@ -62,8 +62,8 @@ if TYPE_CHECKING:  # what static type checkers and IDEs see
 
 def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: str | None = None, *,
          allow_xacro: bool = False, representation: str | None = None) -> Robot:
-    """Load a robot from a robot document (.yaml/.yml/.json), a URDF (.urdf), MJCF (.xml/.mjcf) or SDF (.sdf) file,
-    or a table file (.csv/.tsv/.txt: what ``robkin convert --format csv`` writes, or bare rows).
+    """Load a robot from a robot document (.yaml/.yml/.json), a URDF (.urdf), MJCF (.xml/.mjcf), SDF (.sdf) or USD
+    (.usda/.usd/.usdc, with usd-core) file, or a table file (.csv/.tsv/.txt: what ``robkin convert --format csv`` writes, or bare rows).
 
     ``representation`` ('dh', 'mdh', 'hayati', 'poe', 'poe-body', 'rpy-xyz', 'gjd') says which table a
     table file holds where the file does not say (bare rows ``a d alpha theta``; a PoE's frame).

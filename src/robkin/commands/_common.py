@@ -21,7 +21,7 @@ def add_input(p: argparse.ArgumentParser, many: bool = False) -> None:
     """INPUT argument(s) plus the URDF chain selectors."""
     p.add_argument("input", nargs="+" if many else None, metavar="INPUT",
                    help="robot document (.yaml/.yml/.json), URDF (.urdf; .xacro with --allow-xacro), "
-                        "MJCF (.xml/.mjcf), SDF (.sdf) or table (.csv/.tsv/.txt, see --from)"
+                        "MJCF (.xml/.mjcf), SDF (.sdf), USD (.usda/.usd/.usdc) or table (.csv/.tsv/.txt, see --from)"
                         + (" (one or more)" if many else ""))
     p.add_argument("--base-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: first of the serial chain")
     p.add_argument("--tip-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: last of the chain (the tool)")

@@ -54,7 +54,8 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                        description="Compare two robot descriptions joint by joint: are they the same robot, "
                                    "and if not, which joint differs first and how.",
                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("a", metavar="A", help="first robot (document .yaml/.yml/.json, .urdf/.xacro, .xml/.mjcf or .sdf)")
+    p.add_argument("a", metavar="A", help="first robot (document .yaml/.yml/.json, .urdf/.xacro, .xml/.mjcf, .sdf or "
+                                            ".usda/.usd/.usdc)")
     p.add_argument("b", metavar="B", help="second robot, or measurements (.csv, .npz, .npy) to compare A with")
     add_chain_options(p)
     add_allow_xacro(p)

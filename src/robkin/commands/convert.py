@@ -110,13 +110,14 @@ def _check_path(path: Path) -> None:
 
 def _mapping_note(path: str, robot, fmt: str) -> str | None:
     """For robot-file input: the joint variables of the output are the file's joint positions."""
-    from ..io import MJCF_EXTENSIONS, ROBOT_FILE_EXTENSIONS, SDF_EXTENSIONS
+    from ..io import MJCF_EXTENSIONS, ROBOT_FILE_EXTENSIONS, SDF_EXTENSIONS, USD_EXTENSIONS
 
     ext = Path(path).suffix.lower()
     if ext not in ROBOT_FILE_EXTENSIONS or fmt in ("urdf", "mjcf", "usd", "json", "yaml"):
         return None
     names = ", ".join(j.name for j in robot.joints[:3]) + (", ..." if robot.n > 3 else "")
-    what = "MuJoCo qpos" if ext in MJCF_EXTENSIONS else "SDF position" if ext in SDF_EXTENSIONS else "URDF position"
+    what = ("MuJoCo qpos" if ext in MJCF_EXTENSIONS else "SDF position" if ext in SDF_EXTENSIONS else
+            "USD joint position" if ext in USD_EXTENSIONS else "URDF position")
     note = (f"joint variables: q_i in this {fmt} output is the {what} of joint i ({names}), "
             f"with the same sign and the same zero")
     flipped = [j.name for j in robot.joints if j.flip]

@@ -212,7 +212,9 @@ class _Reader:
     def limit(self, prim: Any, attr: str, own: str, unit: float) -> float | None:
         v = _get(prim, attr)
         mine = _get(prim, own)
-        if v is None or not math.isfinite(v) or abs(v) >= 1e30:
+        if v is not None and math.isnan(v):
+            raise InputError(f"{self.where(prim)}: {attr} is NaN")
+        if v is None or not math.isfinite(v) or abs(v) >= 1e30:  # UsdPhysics' -inf/inf: no limit
             return None
         value = float(self.finite(v, prim, attr)) / unit
         if isinstance(mine, float) and math.isfinite(mine) and abs(mine - value) <= FLOAT32_AGREE * max(1.0, abs(mine)):

@@ -32,7 +32,7 @@ def link_shapes(reader: Any, link: str, prim: Any) -> Iterator[Shape]:
     pxr = reader.pxr
     UsdGeom, UsdPhysics, Usd = pxr.UsdGeom, pxr.UsdPhysics, pxr.Usd
     inv = se3.inv(reader.poses[link])
-    it = iter(Usd.PrimRange(prim))
+    it = iter(Usd.PrimRange(prim, Usd.TraverseInstanceProxies()))  # instanced shapes too (Isaac's importer)
     next(it)  # the link itself
     for p in it:
         if p.GetPath() in reader.links:
