@@ -413,3 +413,28 @@ def test_usd_physics_parser_sees_one_articulation(written):
             assert d.drive.forceLimit == pytest.approx(j.effort, rel=1e-7)
         if j.type == "revolute" and j.upper is not None:
             assert d.limit.upper == pytest.approx(math.degrees(j.upper), rel=1e-6)
+
+
+MJCF_OFF_AXIS = """<mujoco model="off"><worldbody><body name="a"><inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>
+  <body name="b" pos="0.3 0 0.2" quat="0.9 0.1 0.3 0.2">
+    <joint name="j1" type="hinge" pos="0.05 0.1 0" axis="0.3 0.4 0.866" range="-60 60"/>
+    <inertial pos="0.1 0 0" mass="2" diaginertia="0.02 0.03 0.04"/>
+    <body name="c" pos="0.2 0 0"><joint name="j2" type="slide" pos="0 0.1 0" axis="1 0 0" range="-0.1 0.3"/>
+      <inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/><site name="tip" pos="0.1 0 0"/></body>
+  </body></body></worldbody></mujoco>"""
+
+
+def test_joint_off_its_body_origin_is_no_extra_body(tmp_path, capsys):
+    """An MJCF hinge off its body's origin (robkin's link b/j1 carries it): no massless rigid body in the
+    USD, the joint frame off b's origin; read back, the same robot and the link b/j1 again."""
+    (tmp_path / "off.xml").write_text(MJCF_OFF_AXIS)
+    out = tmp_path / "off.usda"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no 'moves without mass' warning
+        assert main(["convert", str(tmp_path / "off.xml"), "--tip-link", "tip", "--to", "usd", "-o", str(out)]) == 0
+    stage = Usd.Stage.Open(str(out))
+    assert sorted(_name(p) for p in stage.Traverse() if p.HasAPI(UsdPhysics.RigidBodyAPI)) == ["a", "b", "c"]
+    j1 = UsdPhysics.RevoluteJoint(_joint(stage, "j1"))
+    assert tuple(j1.GetLocalPos1Attr().Get()) == pytest.approx((0.05, 0.1, 0.0), abs=1e-8)
+    assert main(["check", str(tmp_path / "off.xml"), str(out), "--tip-link", "tip"]) == 0
+    assert "b/j1" in {link.name for link in robkin.load(out, tip_link="tip").bodies.links}

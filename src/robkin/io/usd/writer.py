@@ -15,7 +15,10 @@ What is written (``usd_stage``)
     robkin reads them), so that the articulation is one tree rooted at the base.
     Mimic joints: a revolute one gets PhysX's ``PhysxMimicJointAPI:<axis>`` (``referenceJoint``,
     ``gearing`` = -multiplier, ``offset`` = -offset in radians: PhysX's q + gearing q_ref + offset = 0)
-    and no drive; every mimic also ``robkin:mimic:*`` attributes (robkin's reader uses those).
+    and no drive; every mimic also ``robkin:mimic:*`` attributes (robkin's reader uses those). A massless
+    link that only carries a joint for the body below it (the MJCF reader's ``BODY/JOINT`` link of a
+    joint off its body's origin) gets no rigid body: its joint attaches that body, its frame off the
+    body's origin, and robkin's reader makes the link again.
 
 Which link becomes which prim is the MJCF writer's plan (``io.mjcf.tree.body_tree``): the same links,
 joints and home pose; q = 0 is the pose every body is drawn at.
@@ -91,8 +94,22 @@ class _Writer:
         self.paths: list[Any] = []       # plan index -> prim path
         self.rigid: list[int] = []       # plan index -> plan index of the rigid body it is part of (-1: none)
         self.massless: list[str] = []
+        # body -> the massless moving link that carries its joint (MJCF's BODY/JOINT link for a joint off
+        # the body's origin): no prim of its own, its joint written to the body (frames off its origin)
+        self.carrier = self.carriers()
         self.mimic_left: list[str] = []
         self.repaired: list[str] = []
+
+    def carriers(self) -> dict[int, int]:
+        out: dict[int, int] = {}
+        for x, bp in enumerate(self.plan):
+            if (bp.joint is None or bp.parent is None or bp.shapes or bp.sites or len(bp.children) != 1
+                    or any(m.mass > 0 for m in bp.inertials) or bp.name == self.robot.bodies.tip):
+                continue
+            c = bp.children[0]
+            if self.plan[c].joint is None and not _is_frame(self.plan[c]):
+                out[c] = x
+        return out
 
     def source_joint_name(self, link: str, default: str) -> str:
         lk = self.links.get(link)
@@ -117,7 +134,12 @@ class _Writer:
         stage.GetRootLayer().documentation = f"written by robkin {__version__}"
         UsdPhysics.ArticulationRootAPI.Apply(root.GetPrim())
         taken: dict[Any, set[str]] = {root.GetPath(): {"joints"}}
+        carriers = set(self.carrier.values())
         for i, bp in enumerate(self.plan):
+            if i in carriers:  # its joint goes to the body it carries
+                self.paths.append(None)
+                self.rigid.append(-2)
+                continue
             frame = _is_frame(bp)
             parent_path = root.GetPath() if bp.parent is None or not frame else self.paths[bp.parent]
             name = unique_identifier(bp.name, taken.setdefault(parent_path, set()))
@@ -169,8 +191,9 @@ class _Writer:
         top = {bp.name: i for i, bp in enumerate(self.plan) if bp.parent is None and self.rigid[i] == i}
         for i, bp in enumerate(self.plan):
             if self.rigid[i] != i:
-                continue  # a frame: inside its parent's prim
-            j = bp.joint
+                continue  # a frame (inside its parent's prim), or a link carrying its child's joint
+            jp = self.plan[self.carrier.get(i, i)]  # the plan entry whose joint attaches this body
+            j = jp.joint
             below = top.get(self.above.get(bp.name, ""))
             if bp.parent is None and below is not None:  # above the base: welded to the link below it
                 name = self.source_joint_name(self.plan[below].name, f"{bp.name}_fixed")
@@ -192,7 +215,7 @@ class _Writer:
                 _local_pose(pxr, joint, 1, np.eye(4))
                 _set_name(pxr, joint.GetPrim(), name, path.name)
                 continue
-            owner = self.rigid[bp.parent]
+            owner = self.rigid[jp.parent]  # type: ignore[index]  # not at the top: see above
             parent_frame = self.plan[owner].frame if owner >= 0 else se3.inv(self.world)
             name = j.name if j is not None else self.source_joint_name(bp.name, f"{bp.name}_fixed")
             path = scope.AppendChild(unique_identifier(name, taken))
@@ -202,7 +225,8 @@ class _Writer:
             else:
                 kind = UsdPhysics.PrismaticJoint if j.slide else UsdPhysics.RevoluteJoint
                 joint = kind.Define(stage, path)
-                token, J0, J1 = joint_frames(j, parent_frame, bp.frame, self.scale)
+                token, J0, J1 = joint_frames(j, parent_frame, jp.frame, self.scale)
+                J1 = se3.inv(bp.frame) @ jp.frame @ J1  # in the body's frame (the carrier's is gone)
                 joint.CreateAxisAttr(token)
                 write_limits_and_drive(pxr, joint, j, self.drives)
                 prims[j.name] = (joint, token)
@@ -214,8 +238,8 @@ class _Writer:
             _local_pose(pxr, joint, 0, J0)
             _local_pose(pxr, joint, 1, J1)
             _set_name(pxr, joint.GetPrim(), name, path.name)
-            if owner != bp.parent:  # hangs from a frame: say which, for the reader
-                _set_string(pxr, joint.GetPrim(), "robkin:parent", self.plan[bp.parent].name)
+            if owner != jp.parent:  # hangs from a frame: say which, for the reader
+                _set_string(pxr, joint.GetPrim(), "robkin:parent", self.plan[jp.parent].name)  # type: ignore[index]
         for j in mimics:
             self.mimic(j, prims)
 
