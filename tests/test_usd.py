@@ -141,6 +141,8 @@ def test_stage_is_an_articulation(written):
         drive = UsdPhysics.DriveAPI(p, "angular" if revolute else "linear")
         if j.effort:
             assert drive.GetMaxForceAttr().Get() == pytest.approx(j.effort, rel=1e-7)
+        if j.velocity:  # PhysX's velocity limit, deg/s (its schema is not usd-core's: read by name)
+            assert p.GetAttribute("physxJoint:maxJointVelocity").Get() == pytest.approx(j.velocity * unit, rel=1e-7)
     # no rigid body nested in another (PhysX refuses that)
     bodies = [p for p in stage.Traverse() if p.HasAPI(UsdPhysics.RigidBodyAPI)]
     for b in bodies:
@@ -438,3 +440,16 @@ def test_joint_off_its_body_origin_is_no_extra_body(tmp_path, capsys):
     assert tuple(j1.GetLocalPos1Attr().Get()) == pytest.approx((0.05, 0.1, 0.0), abs=1e-8)
     assert main(["check", str(tmp_path / "off.xml"), str(out), "--tip-link", "tip"]) == 0
     assert "b/j1" in {link.name for link in robkin.load(out, tip_link="tip").bodies.links}
+
+
+def test_a_batch_writes_usda_files_and_checks_them(tmp_path, capsys):
+    (tmp_path / "r.urdf").write_text(URDF)
+    (tmp_path / "d.yaml").write_text("robkin: 1\njoints: [revolute, prismatic]\ndh: {rows: [[0.1, 0.2, 0.3, 0], [0, 0.1, 0, 0]]}\n")
+    out = tmp_path / "out"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["convert", str(tmp_path / "r.urdf"), str(tmp_path / "d.yaml"), "--tip-link", "ünï",
+                     "--tip-link", "-", "--to", "usd", "-o", f"{out}/"]) == 0
+    err = capsys.readouterr().err
+    assert (out / "r.usda").is_file() and (out / "d.usda").is_file()
+    assert err.count("read back: FK") == 1 and err.count("FK checked; mass properties not checked") == 1

@@ -15,6 +15,12 @@ Drives
     (stiffness and damping 0, ``maxForce`` = the joint's effort where known), a place for the gains of
     the simulation that uses the asset. The target is the home position: q = 0 moved into the limits.
 
+PhysX
+    ``PhysxJointAPI`` (applied by name: PhysX's schemas are not in usd-core) with the joint's velocity
+    limit (``physxJoint:maxJointVelocity``, deg/s or m/s) and rotor inertia (``physxJoint:armature``)
+    where the source gives them. Every joint also keeps robkin's exact record (``robkin:lower``,
+    ``upper``, ``effort``, ``velocity``, ``damping``, ``friction``, ``armature``: doubles, SI units).
+
 Mass properties
     ``MassAPI``: mass, ``centerOfMass`` in the body frame, and the inertia as principal moments
     (``diagonalInertia``) about principal axes (``principalAxes``, a rotation of the body frame):
@@ -163,6 +169,15 @@ def write_limits_and_drive(pxr: Any, joint: Any, j: JointPlan, gains: Mapping[st
         for attr, value in drive_gains(revolute, None if gains is None else gains.get(j.name), j.effort).items():
             getattr(drive, f"Create{attr[0].upper()}{attr[1:]}Attr")(value)
         drive.CreateTargetPositionAttr(float(home_position(j.lower, j.upper) * unit))
+    # PhysX's joint attributes (its schema is not in usd-core: applied by name): the velocity limit
+    # (deg/s or m/s) and the rotor inertia; a URDF's friction is a torque, PhysX's jointFriction a
+    # coefficient: not written there
+    physx = [(name, value) for name, value in (("maxJointVelocity", None if j.velocity is None else j.velocity * unit),
+                                               ("armature", j.armature)) if value is not None]
+    if physx:
+        prim.AddAppliedSchema("PhysxJointAPI")
+        for name, value in physx:
+            prim.CreateAttribute(f"physxJoint:{name}", Sdf.ValueTypeNames.Float, custom=False).Set(float(value))
     # robkin's own record, in double precision and SI units (radians, metres): what UsdPhysics has no
     # place for, and the limits exactly
     for name, value in (("lower", j.lower), ("upper", j.upper), ("effort", j.effort), ("velocity", j.velocity),
