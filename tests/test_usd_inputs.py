@@ -142,3 +142,20 @@ def test_output_named_for_another_format_is_refused(tmp_path, capsys):
     doc.write_text("robkin: 1\njoints: [revolute]\ndh: {rows: [[0.1, 0.2, 0, 0]]}\n")
     assert main(["convert", str(doc), "--to", "usd", "-o", str(tmp_path / "r.usdz")]) == 2
     assert ".usda or .usd or .usdc" in capsys.readouterr().err and not (tmp_path / "r.usdz").exists()
+
+
+def test_joints_closing_a_loop_are_left_out_with_one_warning(tmp_path):
+    """upper -> base after base -> upper: that joint would close a loop (no root left)."""
+    text = usda()
+    loop = text[:text.rindex("}")] + '''    def PhysicsFixedJoint "back"
+    {
+        rel physics:body0 = </arm/upper>
+        rel physics:body1 = </arm/base>
+    }
+}
+'''
+    path = tmp_path / "loop.usda"
+    path.write_text(loop)
+    with pytest.warns(UserWarning, match="close a loop"):
+        robot = robkin.load(path)
+    assert robot.n == 1

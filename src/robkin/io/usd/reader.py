@@ -57,6 +57,19 @@ FLOAT32_AGREE = 1e-6
 _UNIT_AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np.array([0.0, 0.0, 1.0])}
 
 
+def _attach(parent_of: dict[str, str], child: str, parent: str) -> bool:
+    """Record ``parent`` as ``child``'s parent, unless the child has one already or it would close a loop."""
+    if child in parent_of:
+        return False
+    link: str | None = parent
+    while link is not None:  # up from the parent: every step is a recorded link, so this ends
+        if link == child:
+            return False
+        link = parent_of.get(link)
+    parent_of[child] = parent
+    return True
+
+
 class _Reader:
     def __init__(self, path: str) -> None:
         from .layer import open_stage
@@ -159,12 +172,11 @@ class _Reader:
             if _get(prim, "robkin:frame") is not True or name in parent_of:
                 continue
             parent = self.owner(prim.GetParent())
-            if parent is None:
+            if parent is None or not _attach(parent_of, name, parent):
                 continue
             jname = _get(prim, "robkin:joint")
             joints.append(self.joint(str(jname) if isinstance(jname, str) else f"{name}_fixed", "fixed", parent, name,
                                      se3.inv(self.poses[parent]) @ self.poses[name]))
-            parent_of[name] = parent
         links = order if world is not None or not any(j.parent == world_name for j in joints) else [world_name] + order
         content = {name: self.content(name) for name in order}
         name = _get(self.stage.GetDefaultPrim(), NAME_ATTR) if self.stage.GetDefaultPrim() else None
@@ -199,10 +211,9 @@ class _Reader:
                 J0 = se3.inv(self.poses[named_parent]) @ self.poses[link0] @ J0
                 link0 = named_parent
             parent = world if link0 is None else link0
-            if link1 in parent_of or link1 == parent:
+            if not _attach(parent_of, link1, parent):
                 loops.append(name)
                 continue
-            parent_of[link1] = parent
             out += self.moving(prim, name, parent, link1, J0, J1)
         if loops:
             warnings.warn(f"{self.path}: joint(s) {', '.join(loops[:6])} close a loop or attach a link twice: "
