@@ -159,3 +159,15 @@ def test_joints_closing_a_loop_are_left_out_with_one_warning(tmp_path):
     with pytest.warns(UserWarning, match="close a loop"):
         robot = robkin.load(path)
     assert robot.n == 1
+
+
+def test_deep_nesting_is_refused_before_usd_core_parses_it(tmp_path, capsys):
+    """usd-core's text parser recurses: ~30 000 nested prims crash the process. Refused first, quickly."""
+    import time
+
+    n = 40_000
+    path = tmp_path / "deep.usda"
+    path.write_text("#usda 1.0\n" + 'def Xform "a" {\n' * n + "}\n" * n)
+    start = time.perf_counter()
+    assert main(["info", str(path)]) == 2
+    assert "nested more than 1000 deep" in capsys.readouterr().err and time.perf_counter() - start < 5

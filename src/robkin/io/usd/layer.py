@@ -16,8 +16,11 @@ other files' prims (``references``, ``payloads``) and animation clips (``clips``
   they compose the layer with itself;
 * the stage is then composed from that layer alone (``Usd.Stage.Open`` of the in-memory layer).
 
-A crate file is bounded by ``MAX_BYTES`` too; what the crate reader unpacks from those bytes (it
-compresses integer arrays, by at most LZ4's ratio of ~255) is not bounded further.
+USD text nested deeper than ``MAX_DEPTH`` is refused before usd-core parses it (its parser recurses
+and crashes the process on ~30 000 nested prims). A crate file is bounded by ``MAX_BYTES`` too, but
+neither its nesting nor what the crate reader unpacks from those bytes (it compresses integer arrays,
+by at most LZ4's ratio of ~255) is bounded before usd-core reads it: a crafted crate is only as safe
+as usd-core's crate reader.
 """
 
 from __future__ import annotations
@@ -32,6 +35,23 @@ __all__ = ["open_stage", "MAX_BYTES"]
 
 #: Largest USD file read (bytes): a robot with inline visual meshes is ~5-20 MB of text (Panda: 18 MB .usda).
 MAX_BYTES = 256 * 1024 * 1024
+#: Deepest nesting of brackets in USD text: usd-core's text parser recurses and crashes the process (a
+#: segmentation fault, no exception) somewhere between 10 000 and 30 000 nested prims (usd-core 26.11); a
+#: robot is < 20 deep.
+MAX_DEPTH = 1000
+_OTHER_BYTES = bytes(b for b in range(256) if b not in b"{}[]()")
+
+
+def _nesting(data: bytes) -> int:
+    """The deepest nesting of brackets ({ [ ( together) in USD text: a bound, not a parse (brackets in
+    strings count too)."""
+    import numpy as np
+
+    marks = np.frombuffer(data.translate(None, _OTHER_BYTES), dtype=np.uint8)
+    if not marks.size:
+        return 0
+    steps = np.where((marks == ord("{")) | (marks == ord("[")) | (marks == ord("(")), 1, -1).astype(np.int32)
+    return int(np.cumsum(steps).max())
 
 
 def _layer_from_bytes(pxr: Any, data: bytes, path: str) -> Any:
@@ -54,6 +74,8 @@ def _layer_from_bytes(pxr: Any, data: bytes, path: str) -> Any:
     if text_start != b"#usda":
         what = "a .usdz archive" if data.startswith(b"PK") else "neither USD text ('#usda') nor a USD crate"
         raise InputError(f"{path}: {what}; robkin reads .usda text and .usdc crate files")
+    if _nesting(data) > MAX_DEPTH:
+        raise InputError(f"{path}: brackets nested more than {MAX_DEPTH} deep; a robot's USD text is a few levels deep")
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
