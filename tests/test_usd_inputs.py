@@ -171,3 +171,23 @@ def test_deep_nesting_is_refused_before_usd_core_parses_it(tmp_path, capsys):
     start = time.perf_counter()
     assert main(["info", str(path)]) == 2
     assert "nested more than 1000 deep" in capsys.readouterr().err and time.perf_counter() - start < 5
+
+
+def test_copies_of_copies_are_bounded(tmp_path, capsys, monkeypatch):
+    """An internal reference on a prim that is not instanceable is refused (each level could double the
+    stage); instances of instances are composed once each, and the prims looked at below the links are
+    capped (each level of instance proxies doubles them)."""
+    copy = usda(extra='def Xform "c" (\n    references = </proto>\n)\n{\n}\n') + 'def Xform "proto"\n{\n}\n'
+    status, err = _run(tmp_path, capsys, copy)
+    assert status == 2 and "copies another prim by a reference without being instanceable" in err
+    levels = 12  # 2^12 boxes through instance proxies
+    protos = 'def Xform "p0"\n{\n    def Cube "box" (prepend apiSchemas = ["PhysicsCollisionAPI"])\n    {\n    }\n}\n'
+    for k in range(1, levels + 1):
+        protos += (f'def Xform "p{k}"\n{{\n' + "".join(f'    def Xform "i{m}" (\n        instanceable = true\n'
+                   f'        references = </p{k - 1}>\n    )\n    {{\n    }}\n' for m in range(2)) + "}\n")
+    bomb = usda(extra=f'def Xform "c" (\n    instanceable = true\n    references = </p{levels}>\n)\n{{\n}}\n') + protos
+    from robkin.io.usd import shapes_read
+
+    monkeypatch.setattr(shapes_read, "MAX_PRIMS", 1000)
+    status, err = _run(tmp_path, capsys, bomb)
+    assert status == 2 and "more than 1000 prims below the links" in err, err

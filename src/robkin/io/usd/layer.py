@@ -12,8 +12,10 @@ other files' prims (``references``, ``payloads``) and animation clips (``clips``
 * before any composition, the layer's specs are searched for arcs to other files: a sublayer, a
   reference or payload with an asset path, value clips. Any of them refuses the file with one line
   naming the prim and the asset (``usdcat --flatten`` makes a self-contained copy). References and
-  payloads inside the layer (``</Other/Prim>``), inherits, specializes and variants are allowed:
-  they compose the layer with itself;
+  payloads inside the layer (``</Other/Prim>``), inherits and specializes are allowed on instanceable
+  prims (as Isaac Sim's importer writes its meshes), where each prototype is composed once; elsewhere
+  they could copy copies of prims, exponentially, and are refused (``usdcat --flatten`` writes them
+  out). Variants are allowed;
 * the stage is then composed from that layer alone (``Usd.Stage.Open`` of the in-memory layer).
 
 USD text nested deeper than ``MAX_DEPTH`` is refused before usd-core parses it (its parser recurses
@@ -97,6 +99,10 @@ def _check_self_contained(pxr: Any, layer: Any, path: str) -> None:
         raise InputError(f"{path}: has sublayers ({quote(layer.subLayerPaths[0])}); robkin reads one self-contained "
                          f"USD file and follows nothing it names (flatten it: usdcat --flatten {path} -o flat.usda)")
     found: list[tuple[str, str, str]] = []
+    copies: list[tuple[str, str]] = []
+
+    def items(ops: Any) -> tuple[Any, ...]:
+        return (*ops.explicitItems, *ops.prependedItems, *ops.appendedItems, *ops.addedItems)
 
     def visit(spec_path: Any) -> None:
         if found or not spec_path.IsPrimPath() and not spec_path.IsPrimVariantSelectionPath():
@@ -104,11 +110,16 @@ def _check_self_contained(pxr: Any, layer: Any, path: str) -> None:
         spec = layer.GetPrimAtPath(spec_path)
         if spec is None:
             return
-        for kind, items in (("reference", spec.referenceList), ("payload", spec.payloadList)):
-            for item in (*items.explicitItems, *items.prependedItems, *items.appendedItems, *items.addedItems):
+        for kind, ops in (("reference", spec.referenceList), ("payload", spec.payloadList)):
+            for item in items(ops):
                 if item.assetPath:
                     found.append((str(spec_path), kind, item.assetPath))
                     return
+                if not spec.instanceable:
+                    copies.append((str(spec_path), kind))
+        for kind, ops in (("inherit", spec.inheritPathList), ("specialize", spec.specializesList)):
+            if items(ops) and not spec.instanceable:
+                copies.append((str(spec_path), kind))
         for key in ("clips", "clipSets"):
             if spec.HasInfo(key):
                 found.append((str(spec_path), "value clips", key))
@@ -119,6 +130,11 @@ def _check_self_contained(pxr: Any, layer: Any, path: str) -> None:
         prim, kind, asset = found[0]
         raise InputError(f"{path}: prim {quote(prim)} has a {kind} to {quote(asset)}; robkin reads one "
                          f"self-contained USD file and follows nothing it names (flatten it: usdcat --flatten)")
+    if copies:
+        prim, kind = copies[0]
+        raise InputError(f"{path}: prim {quote(prim)} copies another prim by a {kind} without being instanceable; "
+                         f"robkin composes a file with itself through instanceable prims only (copies of copies "
+                         f"grow exponentially; usdcat --flatten writes them out)")
 
 
 def _usd_message(exc: Exception) -> str:

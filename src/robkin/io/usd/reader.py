@@ -82,6 +82,7 @@ class _Reader:
         self.poses: dict[str, np.ndarray] = {}
         self.prims: dict[str, Any] = {}
         self.extra_links: list[str] = []  # the intermediate links CHILD/JOINT
+        self.visited = 0  # prims looked at for shapes (bounded: see shapes_read)
 
     def where(self, prim: Any) -> str:
         return f"{self.path}: prim {quote(str(prim.GetPath()))}"

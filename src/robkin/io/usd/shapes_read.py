@@ -7,12 +7,17 @@ from typing import TYPE_CHECKING, Any, Iterator
 import numpy as np
 
 from ... import se3
+from ...errors import InputError
 from .format import NAME_ATTR, authored as _get, matrix_of_gf as _matrix, without_scale as _rigid
 
 if TYPE_CHECKING:  # pragma: no cover
     from ...body_parts import Shape
 
-__all__ = ["link_shapes"]
+__all__ = ["link_shapes", "MAX_PRIMS"]
+
+#: Prims looked at below the links, instance proxies included: nested instances multiply (each level of
+#: instances of instances), a robot has a few hundred.
+MAX_PRIMS = 200_000
 
 #: Rotations taking z onto a primitive's X or Y axis (a robkin cylinder or capsule runs along z).
 _ALONG = {"X": np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]]),
@@ -35,6 +40,10 @@ def link_shapes(reader: Any, link: str, prim: Any) -> Iterator[Shape]:
     it = iter(Usd.PrimRange(prim, Usd.TraverseInstanceProxies()))  # instanced shapes too (Isaac's importer)
     next(it)  # the link itself
     for p in it:
+        reader.visited += 1
+        if reader.visited > MAX_PRIMS:
+            raise InputError(f"{reader.path}: more than {MAX_PRIMS} prims below the links (instances of instances "
+                             f"of instances?); a robot has a few hundred")
         if p.GetPath() in reader.links:
             it.PruneChildren()  # another link (a frame inside this one): its own shapes
             continue
