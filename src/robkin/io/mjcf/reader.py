@@ -173,6 +173,7 @@ class _TreeBuilder:
             link, pending = child, _shift(*after)
         if not joints or link != name:  # welded body, or its frame is off the last joint's
             self._add(f"{name}:fixed", "fixed", link, self._link(name), pending)
+        self.content.setdefault(name, [])  # every body, for <compiler boundmass> (geom_mass)
         self._contents(name, parts, todo)
 
     def _joint(self, el: Any, cls: str, body: str, frame: Pose
