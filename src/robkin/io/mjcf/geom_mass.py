@@ -43,7 +43,7 @@ from .poses import Pose, geom_placement
 from .source import MjcfSource
 from ..trees.model import attribute_floats as _floats
 
-__all__ = ["MassRules", "BodyMasses"]
+__all__ = ["MassRules", "BodyMasses", "MeshUnavailable"]
 
 #: MuJoCo's mjEPS: a geom lighter than this, or a primitive smaller than this, carries no mass
 EPS = 1e-14
@@ -88,6 +88,10 @@ class MassRules:
         return cls(**kw)
 
 
+class MeshUnavailable(InputError):
+    """A mesh whose points cannot be had (no file for text input, not found, not readable)."""
+
+
 def _int(text: str | None, default: int, where: str) -> int:
     try:
         return default if text is None else int(text.strip())
@@ -121,12 +125,15 @@ class _Mesh:
             from ..meshes.files import resolve_mesh_file
 
             if self.src.folder is None:
-                raise InputError(f"{where}: its file {quote(file)} cannot be found for MJCF given as text")
+                raise MeshUnavailable(f"{where}: its file {quote(file)} cannot be found for MJCF given as text")
             rel = str(PurePosixPath(self.src.meshdir.replace("\\", "/")) / file.replace("\\", "/"))
             found = resolve_mesh_file(rel, self.src.source)
             if found.path is None:
-                raise InputError(f"{where}: {found.reason}")
-            v, f = read_mesh_file(found.path, where)
+                raise MeshUnavailable(f"{where}: {found.reason}")
+            try:
+                v, f = read_mesh_file(found.path, where)
+            except (InputError, OSError) as exc:
+                raise MeshUnavailable(str(exc) if isinstance(exc, InputError) else f"{where}: {exc}") from None
         else:
             v, f = mesh_points(a.get("vertex"), a.get("face"), where)
         scale = tuple(float(x) for x in _floats(a.get("scale"), 3, f"{where}: scale", (1, 1, 1)))
@@ -145,9 +152,10 @@ class _Mesh:
             except ValueError as exc:
                 raise InputError(f"{self.where}: {exc}") from None
             w, V = np.linalg.eigh(mm.inertia)
-            mm.frame = V                              # principal axes (columns), moments w ascending
+            w, V = w[::-1], V[:, ::-1] * np.array([1.0, 1.0, -1.0])  # MuJoCo's order: largest first
+            mm.frame = V                              # principal axes (columns), a rotation
             mm.moments = w
-            mm.box = 0.5 * np.sqrt(np.maximum(6 * (w.sum() - 2 * w) / mm.measure, 0.0))
+            mm.box = 0.5 * np.sqrt(np.maximum(6 * (w.sum() - 2 * w) / mm.measure, 0.0))  # equivalent box
             local = (v - mm.centre) @ V
             mm.aabb = (local.min(axis=0), local.max(axis=0))
             self._mass = mm
@@ -180,17 +188,31 @@ class BodyMasses:
         ``explicit``: the bodies' ``<inertial>``s as read)."""
         rules = self.rules
         out: dict[str, Inertial | None] = {}
+        unavailable: list[str] = []
         for body, items in parts.items():
             if body == "world":
                 out[body] = None
                 continue
             given = explicit.get(body)
             if rules.inertiafromgeom == "true" or (rules.inertiafromgeom == "auto" and given is None):
-                geoms = [self._geom(el, T, cls, body, k) for k, (el, T, cls) in enumerate(items) if el.tag == "geom"]
+                try:
+                    geoms = [self._geom(el, T, cls, body, k) for k, (el, T, cls) in enumerate(items)
+                             if el.tag == "geom"]
+                except MeshUnavailable as exc:
+                    unavailable.append(f"'{body}' ({exc})" if not unavailable else f"'{body}'")
+                    out[body] = None
+                    continue
                 chosen = [g for g in geoms if g is not None and g[0] > EPS]
                 if chosen:
                     given = self._merged(body, chosen)
             out[body] = self._bounded(body, given)
+        if unavailable:
+            import warnings
+
+            listed = ", ".join(unavailable[:4]) + (f" and {len(unavailable) - 4} more" if len(unavailable) > 4 else "")
+            warnings.warn(f"{self.src.source}: the mass MuJoCo gives {len(unavailable)} body(ies) from their mesh "
+                          f"geoms cannot be computed, so they are left without mass properties: {listed}",
+                          UserWarning, stacklevel=2)
         if rules.settotalmass > 0:
             total = sum(m.mass for m in out.values() if m is not None)
             if total > 0:
@@ -243,11 +265,39 @@ class BodyMasses:
         return self._massed(a, where, measure, lambda m: np.diag(primitive_moments(kind, size, m, sh)), P,
                             np.zeros(3))
 
-    @staticmethod
-    def _fitted(kind: str, mm: Any, a: Mapping[str, str], where: str) -> tuple[tuple[float, float, float], np.ndarray]:
+    def _fitted(self, kind: str, mm: Any, a: Mapping[str, str], where: str
+                ) -> tuple[tuple[float, float, float], np.ndarray]:
         """(MJCF size, pose (4, 4) in the mesh's coordinates) of a primitive fitted to a mesh (MuJoCo's
-        ``FitGeom``)."""
-        raise InputError(f"{where}: a {kind} fitted to a mesh is not supported yet")
+        ``FitGeom``: the mesh's equivalent-inertia box, or with ``fitaabb`` its bounding box in its
+        principal frame, times ``fitscale``)."""
+        b = mm.box
+        centre = np.zeros(3)
+        if kind == "ellipsoid" or kind == "box":
+            size = b.copy()
+        if not self.rules.fitaabb:
+            if kind == "sphere":
+                size = np.array([b.sum() / 3, 0.0, 0.0])
+            elif kind == "capsule":
+                r = (b[0] + b[1]) / 2
+                size = np.array([r, max(0.0, b[2] - r / 2), 0.0])
+            elif kind == "cylinder":
+                size = np.array([(b[0] + b[1]) / 2, b[2], 0.0])
+        else:
+            lo, hi = mm.aabb
+            centre = (lo + hi) / 2
+            half = hi - centre
+            if kind in ("ellipsoid", "box"):
+                size = half
+            elif kind == "sphere":
+                size = np.array([half.max(), 0.0, 0.0])
+            else:
+                r = max(half[0], half[1])
+                size = np.array([r, half[2] - (r if kind == "capsule" else 0.0), 0.0])
+        scale = float(_floats(a.get("fitscale"), 1, f"{where}: fitscale", (1.0,))[0])
+        F = np.eye(4)
+        F[:3, :3] = mm.frame
+        F[:3, 3] = mm.centre + mm.frame @ centre
+        return (float(size[0] * scale), float(size[1] * scale), float(size[2] * scale)), F
 
     def _massed(self, a: Mapping[str, str], where: str, measure: float, inertia: Callable[[float], np.ndarray],
                 P: np.ndarray, centre: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
