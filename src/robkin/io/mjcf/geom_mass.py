@@ -20,7 +20,8 @@ A geom's mass
 The body's
     The geoms merged exactly (parallel-axis theorem), then ``<compiler boundmass>`` and ``boundinertia``
     (lower bounds on the mass and on each principal moment of every body but the world, with or
-    without geoms), ``balanceinertia`` (principal moments that break A + B >= C become their mean), and
+    without geoms; a body with neither an inertial nor geom mass gets them, as in MuJoCo, at the point
+    its own ``pos`` names, read in its own frame), ``balanceinertia`` (principal moments that break A + B >= C become their mean), and
     last ``settotalmass`` (every body's mass and inertia scaled so that they add up to it).
 
 ``plane`` and ``hfield`` geoms carry no mass here (MuJoCo allows a plane only on a static body); an
@@ -165,8 +166,8 @@ class _Mesh:
 class BodyMasses:
     """Body name -> its ``Inertial`` (pose relative to the body frame) or None, by MuJoCo's rules."""
 
-    def __init__(self, src: MjcfSource, attrs: Attrs):
-        self.src, self.attrs = src, attrs
+    def __init__(self, src: MjcfSource, attrs: Attrs, body_poses: Mapping[str, Pose] | None = None):
+        self.src, self.attrs, self.body_poses = src, attrs, body_poses or {}
         self.rules = MassRules.of(src)
         self._meshes: dict[str, _Mesh] | None = None
 
@@ -334,6 +335,11 @@ class BodyMasses:
         if r.boundmass <= 0 and r.boundinertia <= 0 and not r.balanceinertia:
             return m
         pose = np.eye(4) if m is None else m.pose
+        if m is None:
+            # MuJoCo's: a body without an inertial frame takes its own pos and orientation (relative to
+            # its parent) as one, read relative to itself
+            own = self.body_poses.get(body)
+            pose = np.eye(4) if own is None else pose_rows.matrix(own)
         mass = 0.0 if m is None else m.mass
         I = np.zeros((3, 3)) if m is None else pose[:3, :3] @ m.inertia @ pose[:3, :3].T
         w, V = np.linalg.eigh(I)
@@ -343,6 +349,8 @@ class BodyMasses:
         mass2 = max(mass, r.boundmass)
         if (m is not None and mass2 == mass and np.array_equal(w2, w)) or (mass2 == 0 and not w2.any()):
             return m
+        if m is None:  # principal moments in the body's own orientation (MuJoCo's quirk above)
+            return Inertial(body, 0, pose, mass2, np.diag(w2))
         centre = np.eye(4)
         centre[:3, 3] = pose[:3, 3]
-        return Inertial(body, 0, centre, mass2, V @ np.diag(w2) @ V.T, None if m is None else m.origin)
+        return Inertial(body, 0, centre, mass2, V @ np.diag(w2) @ V.T, m.origin)

@@ -90,10 +90,13 @@ class MjcfContent(ContentOnce):
         ``<geom>`` and ``<inertial>`` children (``<frame>``s dissolved).
     attrs : callable
         (element, class, where) -> the element's attributes with its class's defaults applied.
+    body_poses : dict, optional
+        Body name -> its own pose attributes (relative to its parent), for ``geom_mass``.
     """
 
-    def __init__(self, src: MjcfSource, parts: dict[str, list[tuple[Any, Pose, str]]], attrs: Attrs):
-        self._src, self._parts, self._attrs = src, parts, attrs
+    def __init__(self, src: MjcfSource, parts: dict[str, list[tuple[Any, Pose, str]]], attrs: Attrs,
+                 body_poses: Mapping[str, Pose] | None = None):
+        self._src, self._parts, self._attrs, self._body_poses = src, parts, attrs, body_poses or {}
         super().__init__(self._build)
 
     def _build(self) -> dict[str, LinkContent]:
@@ -109,7 +112,7 @@ class MjcfContent(ContentOnce):
                     explicit[link] = self._inertial(el, T, link)
                 else:
                     shapes[link] += self._geom(el, T, cls, link, k, meshes, materials)
-        inertials = BodyMasses(self._src, self._attrs).inertials(self._parts, explicit)
+        inertials = BodyMasses(self._src, self._attrs, self._body_poses).inertials(self._parts, explicit)
         out = {}
         for link in self._parts:
             if shapes[link] or inertials.get(link) is not None:

@@ -68,6 +68,7 @@ class _TreeBuilder:
         self.kinds: dict[str, str] = {}  # chain joint name -> MuJoCo type, for ball/free refusal
         self.refs: dict[str, float] = {}  # hinge/slide joint name -> ref (qpos units), for the equalities
         self.content: dict[str, list[Part]] = {}  # link -> its geoms and inertial
+        self.body_poses: dict[str, Pose] = {}  # body -> its pos/orientation relative to its parent (geom_mass)
         self.counts = {"body": 0, "joint": 0, "site": 0}
         self.names: set[str] = {"world"}
         # every body's name, known before the walk so that a site named like a later body steps aside
@@ -161,7 +162,9 @@ class _TreeBuilder:
         name = el.get("name") or f"body{i}"
         where = f"{self.src.source}: body '{name}'"
         cls = el.get("childclass") or cls
-        pending = pose_rows.compose(T, placement(el.attrib, self.src, where))
+        own = placement(el.attrib, self.src, where)
+        self.body_poses[name] = own
+        pending = pose_rows.compose(T, own)
         parts = self._flatten(el, cls)
         joints = [p for p in parts if p[0].tag in ("joint", "freejoint")]  # file order, as MuJoCo
         link = parent
@@ -264,7 +267,7 @@ def model_from_mjcf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str
                 # held at one value: equal limits, the one meaning of robkin.io.trees.joint_limits
                 j.lower = j.upper = locks[j.name]
                 j.type = "revolute" if j.type == "continuous" else j.type
-    content = MjcfContent(src, tree.content, tree._attrs)
+    content = MjcfContent(src, tree.content, tree._attrs, tree.body_poses)
     return UrdfModel(src.root.get("model"), tuple(tree.links), tuple(tree.joints), src.source, content), tree.kinds
 
 
