@@ -288,3 +288,12 @@ def test_urdf_out_says_it_cannot_carry_armature():
     with pytest.warns(UserWarning, match=r"URDF cannot carry joint armature.*j0, j2") as caught:
         urdf_from_robot(robot)
     assert len([w for w in caught if "armature" in str(w.message)]) == 1
+
+
+def test_height_field_weighs_as_mujocos_box_and_a_plane_nothing():
+    xml = ('<mujoco><asset><hfield name="h" nrow="3" ncol="3" size="0.3 0.2 0.1 0.05"/></asset><worldbody>'
+           '<geom type="plane" size="1 1 0.1"/><body name="b0"><joint name="j0" axis="0 1 0"/>'
+           '<geom type="hfield" hfield="h" pos="0.1 0 0" euler="0.1 0.2 0.3"/>'
+           '<body name="b1" pos="0 0 0.5"><joint name="j1" axis="1 0 0"/><geom type="box" size=".1 .1 .1"/>'
+           '<site name="tip"/></body></body></worldbody></mujoco>')
+    assert compare(xml, tip="tip") <= ROUNDING

@@ -24,8 +24,9 @@ The body's
     its own ``pos`` names, read in its own frame), ``balanceinertia`` (principal moments that break A + B >= C become their mean), and
     last ``settotalmass`` (every body's mass and inertia scaled so that they add up to it).
 
-``plane`` and ``hfield`` geoms carry no mass here (MuJoCo allows a plane only on a static body); an
-``sdf`` geom in a body whose mass comes from its geoms is refused.
+A ``plane`` carries no mass (MuJoCo allows one only on a static body); an ``hfield`` weighs as MuJoCo
+weighs it, the box (x and y radii, elevation / 4 + base / 2) of its ``<hfield size>``; an ``sdf`` geom as
+its mesh.
 """
 
 from __future__ import annotations
@@ -48,7 +49,6 @@ __all__ = ["MassRules", "BodyMasses", "MeshUnavailable"]
 
 #: MuJoCo's mjEPS: a geom lighter than this, or a primitive smaller than this, carries no mass
 EPS = 1e-14
-NO_MASS_KINDS = ("plane", "hfield")
 Attrs = Callable[[Any, str, str], Mapping[str, str]]
 
 
@@ -233,7 +233,7 @@ class BodyMasses:
         if not lo <= _int(a.get("group"), 0, f"{where}: group") <= hi:
             return None
         kind = a.get("type", "sphere")
-        if kind in NO_MASS_KINDS:
+        if kind == "plane":
             return None
         shell = a.get("shellinertia", "false")
         if shell not in ("true", "false"):
@@ -241,11 +241,13 @@ class BodyMasses:
         pose, length = geom_placement(a, self.src, where)
         P = pose_rows.matrix(pose_rows.compose(T, pose))
         mesh = a.get("mesh")
-        if kind == "mesh" or (kind in PRIMITIVE_KINDS and mesh):
+        if kind == "hfield":  # MuJoCo weighs a height field as the box (rx, ry, elevation / 4 + base / 2)
+            kind, size = "box", self._hfield_size(a.get("hfield"), where)
+        elif kind in ("mesh", "sdf") or (kind in PRIMITIVE_KINDS and mesh):
             if mesh not in self.meshes():
                 raise InputError(f"{where}: mesh {quote(mesh)} is not a <mesh> of the <asset>s")
             mm = self.meshes()[mesh].mass()
-            if kind == "mesh":
+            if kind in ("mesh", "sdf"):
                 if shell == "true":
                     raise InputError(f"{where}: shellinertia on a mesh geom (MuJoCo refuses it: give the "
                                      f"<mesh> inertia=\"shell\")")
@@ -258,13 +260,22 @@ class BodyMasses:
             if length is not None:
                 size = (size[0], length / 2, 0.0) if kind in ("capsule", "cylinder") else (size[0], size[0], length / 2)
         else:
-            raise InputError(f"{where}: an {kind} geom in a body whose mass comes from its geoms is not supported")
+            raise InputError(f"{where}: type {quote(kind)} is not one of plane, hfield, {', '.join(PRIMITIVE_KINDS)}, "
+                             f"mesh, sdf")
         if kind == "sphere":
             size = (size[0], 0.0, 0.0)
         sh = shell == "true"
         measure = primitive_measure(kind, size, sh)
         return self._massed(a, where, measure, lambda m: np.diag(primitive_moments(kind, size, m, sh)), P,
                             np.zeros(3))
+
+    def _hfield_size(self, name: str | None, where: str) -> tuple[float, float, float]:
+        for asset in self.src.root.findall("asset"):
+            for el in asset.findall("hfield"):
+                if el.get("name") == name:
+                    rx, ry, ez, bz = _floats(el.get("size"), 4, f"{where}: hfield {quote(name)} size", ())
+                    return float(rx), float(ry), 0.25 * float(ez) + 0.5 * float(bz)
+        raise InputError(f"{where}: hfield {quote(name)} is not an <hfield> of the <asset>s")
 
     def _fitted(self, kind: str, mm: Any, a: Mapping[str, str], where: str
                 ) -> tuple[tuple[float, float, float], np.ndarray]:
