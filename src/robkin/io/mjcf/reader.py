@@ -7,7 +7,9 @@ What is read, with MuJoCo's own semantics
     the body origin), ``axis``, ``ref``, ``range``/``limited`` (and ``autolimits``), several joints in
     one body; ``<default>`` classes with inheritance, ``class`` and ``childclass``; ``<include>``
     (see ``source``); geoms (visual and collision shapes) and ``<inertial>``s as ``Robot.bodies``
-    (see ``geoms``). Actuators and everything dynamic are ignored.
+    (see ``geoms``), each body's mass as MuJoCo compiles it (from its geoms where MuJoCo takes it from
+    them: ``geom_mass``); joint ``damping``, ``frictionloss`` and ``armature`` (the last in the
+    dynamics). Actuators, sensors and the rest of the simulation options are ignored.
 
 The tree becomes a ``UrdfModel`` (links = bodies and sites) and the chain is picked by the URDF
 reader's ``robot_from_model``, so ``base_link``/``tip_link`` name bodies or sites. A body whose
