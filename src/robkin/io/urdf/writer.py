@@ -340,14 +340,14 @@ def _warn_armature(robot: Robot) -> None:
 def urdf_from_robot(robot: Robot) -> str:
     """A URDF (text) of the robot, FK-identical at every q; see the module doc for what it holds.
 
+    Joint armature (MJCF) has no URDF element: it is left out, said in one warning line naming the joints.
+
     Parameters
     ----------
     robot : Robot
         Any robot. With ``robot.bodies`` from a robot file, the file's links, joints, shapes and
         inertials are written under their own names; otherwise a plain chain world, base,
         link1..linkN, tool.
-
-    Joint armature (MJCF) has no URDF element: it is left out, said in one warning line naming the joints.
     """
     from ...version import __version__
 
