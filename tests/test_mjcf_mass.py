@@ -300,3 +300,16 @@ def test_height_field_weighs_as_mujocos_box_and_a_plane_nothing():
            '<body name="b1" pos="0 0 0.5"><joint name="j1" axis="1 0 0"/><geom type="box" size=".1 .1 .1"/>'
            '<site name="tip"/></body></body></worldbody></mujoco>')
     assert compare(xml, tip="tip") <= ROUNDING
+
+
+@pytest.mark.parametrize("default", ["", '<mesh inertia="convex"/>', '<mesh inertia="exact"/>'])
+def test_mesh_inertia_mode_from_the_default_class_or_mujocos_default(default):
+    # no inertia on the <mesh>: MuJoCo 4.0's default is legacy, or the class's; the two-box mesh tells
+    # them apart (legacy 1412 kg, exact 1000 kg, convex 2168 kg at density 1000 and this scale)
+    xml = chain_model([['<geom type="mesh" mesh="boxes"/>'], GEOMS], defaults=default).replace(' inertia="legacy"', "")
+    assert compare(xml, tip="tip", tol=MESH_TOL) <= 1e-10          # observed 1.5e-12
+    robot = robot_from_mjcf(xml, tip_link="tip")
+    model = mujoco.MjModel.from_xml_string(xml)
+    assert robot.bodies.inertials[0].mass == pytest.approx(model.body_mass[1], rel=1e-14)
+    assert robot.bodies.inertials[0].mass == pytest.approx({"": 1411.834, "convex": 2167.969, "exact": 1000.0}[
+        default.split('"')[1] if default else ""], rel=1e-6)
