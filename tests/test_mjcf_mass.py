@@ -313,3 +313,13 @@ def test_mesh_inertia_mode_from_the_default_class_or_mujocos_default(default):
     assert robot.bodies.inertials[0].mass == pytest.approx(model.body_mass[1], rel=1e-14)
     assert robot.bodies.inertials[0].mass == pytest.approx({"": 1411.834, "convex": 2167.969, "exact": 1000.0}[
         default.split('"')[1] if default else ""], rel=1e-6)
+
+
+def test_a_mesh_without_volume_leaves_its_body_without_mass_in_one_warning_line():
+    # MuJoCo refuses the model ("mesh volume is too small"); robkin keeps its kinematics and shapes
+    xml = ('<mujoco><asset><mesh name="f" vertex="0 0 0 1 0 0 0 1 0 1 1 0" face="0 1 2 1 3 2"/></asset><worldbody>'
+           '<body name="a"><joint name="j"/><geom type="mesh" mesh="f"/><geom size="0.1"/>'
+           '<body name="b" pos="0 0 1"><joint name="k"/><geom size="0.1"/></body></body></worldbody></mujoco>')
+    robot = robot_from_mjcf(xml, tip_link="b")
+    with pytest.warns(UserWarning, match=r"cannot be computed.*'a' \(.*mesh volume is too small"):
+        assert [i.link for i in robot.bodies.inertials] == ["b"]

@@ -90,7 +90,8 @@ class MassRules:
 
 
 class MeshUnavailable(InputError):
-    """A mesh whose points cannot be had (no file for text input, not found, not readable)."""
+    """A mesh whose mass cannot be had (no file for text input, not found, not readable, or a volume
+    MuJoCo refuses)."""
 
 
 def _int(text: str | None, default: int, where: str) -> int:
@@ -150,8 +151,8 @@ class _Mesh:
             v, f = self.points()
             try:
                 mm = mesh_mass(v, f, mode, _int(self.attrs.get("maxhullvert"), -1, f"{self.where}: maxhullvert"))
-            except ValueError as exc:
-                raise InputError(f"{self.where}: {exc}") from None
+            except ValueError as exc:  # MuJoCo refuses the model; robkin keeps its kinematics and shapes
+                raise MeshUnavailable(f"{self.where}: {exc}") from None
             w, V = np.linalg.eigh(mm.inertia)
             w, V = w[::-1], V[:, ::-1] * np.array([1.0, 1.0, -1.0])  # MuJoCo's order: largest first
             mm.frame = V                              # principal axes (columns), a rotation
