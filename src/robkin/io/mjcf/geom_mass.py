@@ -322,7 +322,7 @@ class BodyMasses:
         else:
             density = float(_floats(a.get("density"), 1, f"{where}: density", (1000.0,))[0])
             mass = density * measure
-        if mass < 0 or (a.get("mass") is None and float(_floats(a.get("density"), 1, where, (1000.0,))[0]) < 0):
+        if mass < 0:
             raise InputError(f"{where}: mass or density is negative (MuJoCo refuses it)")
         R = P[:3, :3]
         I = R @ inertia(mass) @ R.T if mass > 0 else np.zeros((3, 3))
