@@ -110,7 +110,8 @@ def geoms(draw, meshes: bool = False) -> str:
     if kind == "mesh":
         attrs.append(f'type="mesh" mesh="{draw(st.sampled_from(["hull", "boxes"]))}"')
     elif kind == "fitted":
-        attrs.append(f'type="{draw(st.sampled_from(KINDS))}" mesh="hull" fitscale="{draw(st.sampled_from(["1", "1.3"]))}"')
+        scale = draw(st.sampled_from(["1", "1.3"]))
+        attrs.append(f'type="{draw(st.sampled_from(KINDS))}" mesh="hull" fitscale="{scale}"')
     else:
         attrs.append(f'type="{kind}" size="{" ".join(map(_f, size))}"')
     if kind in ("capsule", "cylinder", "box", "ellipsoid") and draw(st.booleans()):

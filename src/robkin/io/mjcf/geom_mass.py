@@ -21,8 +21,9 @@ The body's
     The geoms merged exactly (parallel-axis theorem), then ``<compiler boundmass>`` and ``boundinertia``
     (lower bounds on the mass and on each principal moment of every body but the world, with or
     without geoms; a body with neither an inertial nor geom mass gets them, as in MuJoCo, at the point
-    its own ``pos`` names, read in its own frame), ``balanceinertia`` (principal moments that break A + B >= C become their mean), and
-    last ``settotalmass`` (every body's mass and inertia scaled so that they add up to it).
+    its own ``pos`` names, read in its own frame), ``balanceinertia`` (principal moments that break
+    A + B >= C become their mean), and last ``settotalmass`` (every body's mass and inertia scaled so
+    that they add up to it).
 
 A ``plane`` carries no mass (MuJoCo allows one only on a static body); an ``hfield`` weighs as MuJoCo
 weighs it, the box (x and y radii, elevation / 4 + base / 2) of its ``<hfield size>``; an ``sdf`` geom as
