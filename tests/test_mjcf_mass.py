@@ -324,3 +324,14 @@ def test_a_mesh_without_volume_leaves_its_body_without_mass_in_one_warning_line(
     robot = robot_from_mjcf(xml, tip_link="b")
     with pytest.warns(UserWarning, match=r"cannot be computed.*'a' \(.*mesh volume is too small"):
         assert [i.link for i in robot.bodies.inertials] == ["b"]
+
+
+def test_other_formats_have_no_armature():
+    from robkin.dynamics.rigid_body import armature
+    from robkin.io import load
+    from test_urdf import robot_file
+
+    robot = load(robot_file("ur_description/urdf/ur5_robot.urdf"), tip_link="tool0")
+    assert all(j.armature is None for j in robot.joints)
+    assert all(lk.joint is None or lk.joint.armature is None for lk in robot.bodies.links)
+    assert armature(robot) is None  # nothing added to M or the torques
