@@ -29,7 +29,9 @@ class Joint:
     only decides how frame-based tables are written.
 
     ``effort`` (N or N m), ``velocity`` (m/s or rad/s), ``damping``, ``friction`` and ``mimic`` are
-    kept from robot files and written back; kinematics never uses them.
+    kept from robot files and written back; kinematics never uses them. ``armature`` (MJCF: a rotor's
+    reflected inertia, kg m^2 or kg; None elsewhere) is added to ``Robot.mass_matrix`` and
+    ``Robot.inverse_dynamics``.
     """
 
     name: str

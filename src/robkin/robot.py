@@ -328,6 +328,7 @@ class Robot:
         q, qd, qdd of one shape (n,) or (N, n), SI units; qd, qdd default to zero. ``gravity`` (3,) in
         the world frame (``world`` maps it to the base), default (0, 0, -9.81) m/s^2. Needs the links'
         mass properties (``bodies.inertials``); see ``robkin.dynamics.rigid_body``. ``threads`` as ``fk``.
+        Each joint's ``armature`` (MJCF) adds armature * qdd, as in MuJoCo.
         """
         return _rigid_body().inverse_dynamics(self, q, qd, qdd, gravity, threads)
 
@@ -336,7 +337,8 @@ class Robot:
         return _rigid_body().gravity_torques(self, q, gravity, threads)
 
     def mass_matrix(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:
-        """Joint-space mass matrix at q: (n,) -> (n, n), (N, n) -> (N, n, n); composite rigid bodies."""
+        """Joint-space mass matrix at q: (n,) -> (n, n), (N, n) -> (N, n, n); composite rigid bodies, each
+        joint's ``armature`` (MJCF) on the diagonal, as in MuJoCo."""
         return _rigid_body().mass_matrix(self, q, threads)
 
     # ------------------------------------------------------------------ conveniences

@@ -10,7 +10,8 @@ equivalence check names the first joint.
 
 Tolerances are relative, as the kinematic check's ``tol``: masses to the larger mass, centres to the
 robot's size, inertias to the body's inertia scale (its largest entry, or mass times size squared),
-M and g to their largest entry.
+M and g to their largest entry. M(q) is the bodies' own: joint armature (a rotor's inertia, MJCF) is left
+out of it, and a difference in armature is said in the notes.
 """
 
 from __future__ import annotations
@@ -115,6 +116,17 @@ def _relative(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.abs(a - b).max(initial=0.0)) / scale if scale > 0 else 0.0
 
 
+def _rigid(robot: "Robot", M: np.ndarray) -> np.ndarray:
+    """M(q) of the bodies alone: the joints' armature (not a mass property of a body) taken off its diagonal."""
+    from .rigid_body import armature
+
+    arm = armature(robot)
+    if arm is not None:
+        i = np.arange(robot.n)
+        M[..., i, i] -= arm
+    return M
+
+
 def compare_masses(a: "Robot", b: "Robot", kinematics: "Comparison", samples: int = 16) -> MassComparison:
     """Compare the mass properties of A and B, given their kinematic comparison.
 
@@ -163,11 +175,14 @@ def compare_masses(a: "Robot", b: "Robot", kinematics: "Comparison", samples: in
     Qb = math.pi * (2.0 * unit_sample(samples, a.n) - 1.0)
     Qa = Qb * signs + offsets
     ga, gb = a.world[:3, :3] @ _DOWN, b.world[:3, :3] @ _DOWN   # -z of each base, in its world frame
-    Ma = a.mass_matrix(Qa) * signs[None, :, None] * signs[None, None, :]
+    Ma = _rigid(a, a.mass_matrix(Qa)) * signs[None, :, None] * signs[None, None, :]
     Ga = a.gravity(Qa, gravity=ga) * signs
-    M_err = _relative(Ma, b.mass_matrix(Qb))
+    M_err = _relative(Ma, _rigid(b, b.mass_matrix(Qb)))
     g_err = _relative(Ga, b.gravity(Qb, gravity=gb))
     notes = []
+    arm_a, arm_b = ([j.armature or 0.0 for j in r.joints] for r in (a, b))
+    if arm_a != arm_b:
+        notes.append(f"joint armature differs (A {arm_a}, B {arm_b}): M(q) is compared without it")
     moving_same = all(body.same for body in bodies[1:])
     if not bodies[0].same:
         notes.append("the base bodies differ (body 0 never moves: no effect on the joint torques)")

@@ -7,6 +7,11 @@ move with the bodies, for ``robkin.compiled.chain.dynamics``. Body 0 (the base) 
 
 Gravity is given in the world frame (``Robot.world`` maps world -> robot base); the default is
 (0, 0, -9.81) m/s^2, pinocchio's and the Robotics Toolbox's.
+
+Joint armature (``Joint.armature``: a rotor's reflected inertia, kg m^2 for a revolute joint, kg for a
+prismatic one; MJCF ``armature``) is added as MuJoCo adds it: ``mass_matrix`` gets it on its diagonal,
+``inverse_dynamics`` adds armature * qdd to each joint's torque, and the gravity torques do not change.
+A joint without armature (None, every URDF, SDF or table robot) adds nothing.
 """
 
 from __future__ import annotations
@@ -35,7 +40,7 @@ STANDARD_GRAVITY = (0.0, 0.0, -9.81)
 _CACHE = "_dynamics_kernel"
 
 
-def _kernel(robot: "Robot") -> "tuple[ChainDynamics, np.ndarray]":
+def _kernel(robot: "Robot") -> "tuple[ChainDynamics, np.ndarray, np.ndarray | None]":
     entry = robot.__dict__.get(_CACHE)
     if entry is None:
         from ..compiled.chain.dynamics import ChainDynamics
@@ -48,8 +53,16 @@ def _kernel(robot: "Robot") -> "tuple[ChainDynamics, np.ndarray]":
         frames = np.concatenate([np.eye(4)[None], robot.frames[:-1]])
         mass, com, inertia = masses.in_frames(frames)
         kernel = ChainDynamics(robot._local, robot.revolute, mass[1:], com[1:], inertia[1:])
-        entry = robot.__dict__[_CACHE] = (kernel, _gravity_in_base(robot, STANDARD_GRAVITY))
+        entry = robot.__dict__[_CACHE] = (kernel, _gravity_in_base(robot, STANDARD_GRAVITY), armature(robot))
     return entry
+
+
+def armature(robot: "Robot") -> np.ndarray | None:
+    """The joints' armature (n,) (kg m^2 or kg; a joint without one: 0), or None when no joint has any."""
+    a = np.array([j.armature or 0.0 for j in robot.joints], dtype=float)
+    if not np.all(np.isfinite(a)):
+        raise InputError("joint armature: expected finite numbers")
+    return a if a.any() else None
 
 
 def _gravity_in_base(robot: "Robot", gravity: ArrayLike | None) -> np.ndarray:
@@ -83,13 +96,18 @@ def inverse_dynamics(robot: "Robot", q: ArrayLike, qd: ArrayLike | None = None, 
     Returns
     -------
     (n,) or (N, n) array
+        Including each joint's armature times its acceleration (see the module doc).
     """
-    kernel, g = robot.__dict__.get(_CACHE) or _kernel(robot)
+    kernel, g, arm = robot.__dict__.get(_CACHE) or _kernel(robot)
     if gravity is not None:
         g = _gravity_in_base(robot, gravity)
     t = 0 if threads is None else check_threads(threads)
     out = kernel.inverse_dynamics(q, qd, qdd, g, t)   # float64 arrays as they are: no copies, no checks
-    return _checked_call(robot, kernel, q, qd, qdd, g, t) if out is None else out
+    if out is None:
+        out = _checked_call(robot, kernel, q, qd, qdd, g, t)
+    if arm is not None and qdd is not None:
+        out += arm * _joint_array(robot, qdd, "qdd", out.shape)
+    return out
 
 
 def _checked_call(robot: "Robot", kernel: "ChainDynamics", q: ArrayLike, qd: ArrayLike | None,
@@ -111,7 +129,7 @@ def gravity_torques(robot: "Robot", q: ArrayLike, gravity: ArrayLike | None = No
     ``gravity`` and ``threads`` as in ``inverse_dynamics``. Equals ``inverse_dynamics(q)`` with zero velocity and
     acceleration (pinocchio's ``computeGeneralizedGravity``, the Robotics Toolbox's ``gravload``).
     """
-    kernel, g = robot.__dict__.get(_CACHE) or _kernel(robot)
+    kernel, g, _ = robot.__dict__.get(_CACHE) or _kernel(robot)
     if gravity is not None:
         g = _gravity_in_base(robot, gravity)
     t = 0 if threads is None else check_threads(threads)
@@ -123,12 +141,15 @@ def mass_matrix(robot: "Robot", q: ArrayLike, threads: int | None = None) -> np.
     """Joint-space mass (inertia) matrix at q: (n,) -> (n, n), (N, n) -> (N, n, n), symmetric.
 
     Composite-rigid-body algorithm; units kg m^2 (revolute pairs), kg m (mixed), kg (prismatic pairs).
-    ``threads`` as in ``inverse_dynamics``.
+    The joints' armature is on the diagonal (see the module doc). ``threads`` as in ``inverse_dynamics``.
     """
-    kernel = (robot.__dict__.get(_CACHE) or _kernel(robot))[0]
+    kernel, _, arm = robot.__dict__.get(_CACHE) or _kernel(robot)
     t = 0 if threads is None else check_threads(threads)
     out = kernel.mass_matrix(q, t)
     if out is None:
         out = kernel.mass_matrix(_joint_array(robot, q, "q", None), t)
         assert out is not None  # a checked, contiguous float64 array is always usable
+    if arm is not None:
+        i = np.arange(robot.n)
+        out[..., i, i] += arm
     return out

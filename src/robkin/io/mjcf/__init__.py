@@ -1,7 +1,9 @@
 """MJCF (MuJoCo's XML) in and out.
 
 - In: ``source`` (one XML tree, ``<include>`` resolved, ``<compiler>`` and ``<default>`` read), ``reader``
-  (the body tree as a Robot: ``robot_from_mjcf``), with ``poses``, ``geoms`` and ``equality``.
+  (the body tree as a Robot: ``robot_from_mjcf``), with ``poses``, ``geoms`` and ``equality``; each body's
+  mass as MuJoCo compiles it: ``geom_mass`` (the rules), ``geom_inertia`` (primitive and mesh formulas),
+  ``mesh_data`` (a mesh's points from its file or attributes).
 - Out: ``writer`` (``mjcf_from_robot``: a model MuJoCo simulates), ``tree`` (which link becomes which
   body, joint or site), ``geoms_write``, ``inertial``, ``actuators``, and the meshes beside the model
   (``files``: ``write_mjcf``, ``meshes``, ``mesh_parts``).

@@ -90,25 +90,33 @@ class MjcfContent(ContentOnce):
         ``<geom>`` and ``<inertial>`` children (``<frame>``s dissolved).
     attrs : callable
         (element, class, where) -> the element's attributes with its class's defaults applied.
+    body_poses : dict, optional
+        Body name -> its own pose attributes (relative to its parent), for ``geom_mass``.
     """
 
-    def __init__(self, src: MjcfSource, parts: dict[str, list[tuple[Any, Pose, str]]], attrs: Attrs):
-        self._src, self._parts, self._attrs = src, parts, attrs
+    def __init__(self, src: MjcfSource, parts: dict[str, list[tuple[Any, Pose, str]]], attrs: Attrs,
+                 body_poses: Mapping[str, Pose] | None = None):
+        self._src, self._parts, self._attrs, self._body_poses = src, parts, attrs, body_poses or {}
         super().__init__(self._build)
 
     def _build(self) -> dict[str, LinkContent]:
+        from .geom_mass import BodyMasses
+
         meshes, materials = self._assets()
-        out = {}
+        shapes: dict[str, list[Shape]] = {}
+        explicit: dict[str, Inertial] = {}
         for link, parts in self._parts.items():
-            shapes: list[Shape] = []
-            inertial = None
+            shapes[link] = []
             for k, (el, T, cls) in enumerate(parts):
                 if el.tag == "inertial":
-                    inertial = self._inertial(el, T, link)
+                    explicit[link] = self._inertial(el, T, link)
                 else:
-                    shapes += self._geom(el, T, cls, link, k, meshes, materials)
-            if shapes or inertial is not None:
-                out[link] = LinkContent(tuple(shapes), inertial)
+                    shapes[link] += self._geom(el, T, cls, link, k, meshes, materials)
+        inertials = BodyMasses(self._src, self._attrs, self._body_poses).inertials(self._parts, explicit)
+        out = {}
+        for link in self._parts:
+            if shapes[link] or inertials.get(link) is not None:
+                out[link] = LinkContent(tuple(shapes[link]), inertials.get(link))
         return out
 
     def _assets(self) -> tuple[dict[str, tuple[str, tuple[float, ...]]], dict[str, Material]]:

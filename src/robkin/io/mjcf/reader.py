@@ -7,7 +7,9 @@ What is read, with MuJoCo's own semantics
     the body origin), ``axis``, ``ref``, ``range``/``limited`` (and ``autolimits``), several joints in
     one body; ``<default>`` classes with inheritance, ``class`` and ``childclass``; ``<include>``
     (see ``source``); geoms (visual and collision shapes) and ``<inertial>``s as ``Robot.bodies``
-    (see ``geoms``). Actuators and everything dynamic are ignored.
+    (see ``geoms``), each body's mass as MuJoCo compiles it (from its geoms where MuJoCo takes it from
+    them: ``geom_mass``); joint ``damping``, ``frictionloss`` and ``armature`` (the last in the
+    dynamics). Actuators, sensors and the rest of the simulation options are ignored.
 
 The tree becomes a ``UrdfModel`` (links = bodies and sites) and the chain is picked by the URDF
 reader's ``robot_from_model``, so ``base_link``/``tip_link`` name bodies or sites. A body whose
@@ -68,6 +70,7 @@ class _TreeBuilder:
         self.kinds: dict[str, str] = {}  # chain joint name -> MuJoCo type, for ball/free refusal
         self.refs: dict[str, float] = {}  # hinge/slide joint name -> ref (qpos units), for the equalities
         self.content: dict[str, list[Part]] = {}  # link -> its geoms and inertial
+        self.body_poses: dict[str, Pose] = {}  # body -> its pos/orientation relative to its parent (geom_mass)
         self.counts = {"body": 0, "joint": 0, "site": 0}
         self.names: set[str] = {"world"}
         # every body's name, known before the walk so that a site named like a later body steps aside
@@ -161,7 +164,9 @@ class _TreeBuilder:
         name = el.get("name") or f"body{i}"
         where = f"{self.src.source}: body '{name}'"
         cls = el.get("childclass") or cls
-        pending = pose_rows.compose(T, placement(el.attrib, self.src, where))
+        own = placement(el.attrib, self.src, where)
+        self.body_poses[name] = own
+        pending = pose_rows.compose(T, own)
         parts = self._flatten(el, cls)
         joints = [p for p in parts if p[0].tag in ("joint", "freejoint")]  # file order, as MuJoCo
         link = parent
@@ -173,6 +178,7 @@ class _TreeBuilder:
             link, pending = child, _shift(*after)
         if not joints or link != name:  # welded body, or its frame is off the last joint's
             self._add(f"{name}:fixed", "fixed", link, self._link(name), pending)
+        self.content.setdefault(name, [])  # every body, for <compiler boundmass> (geom_mass)
         self._contents(name, parts, todo)
 
     def _joint(self, el: Any, cls: str, body: str, frame: Pose
@@ -263,7 +269,7 @@ def model_from_mjcf(source: str | os.PathLike[str]) -> tuple[UrdfModel, dict[str
                 # held at one value: equal limits, the one meaning of robkin.io.trees.joint_limits
                 j.lower = j.upper = locks[j.name]
                 j.type = "revolute" if j.type == "continuous" else j.type
-    content = MjcfContent(src, tree.content, tree._attrs)
+    content = MjcfContent(src, tree.content, tree._attrs, tree.body_poses)
     return UrdfModel(src.root.get("model"), tuple(tree.links), tuple(tree.joints), src.source, content), tree.kinds
 
 

@@ -324,8 +324,23 @@ def _plain(robot: Robot) -> list[str]:
     return out
 
 
+def _warn_armature(robot: Robot) -> None:
+    """One warning line naming the joints whose armature (rotor inertia, MJCF) URDF has no place for."""
+    named = [j.name for j in robot.joints if j.armature]
+    named += [lk.joint.name for lk in robot.bodies.links
+              if lk.joint is not None and lk.joint.armature and lk.joint.name not in named]
+    if named:
+        import warnings
+
+        listed = ", ".join(named[:8]) + (f" and {len(named) - 8} more" if len(named) > 8 else "")
+        warnings.warn(f"URDF cannot carry joint armature (rotor inertia, in the mass matrix of MJCF models): "
+                      f"left out for {listed}", UserWarning, stacklevel=3)
+
+
 def urdf_from_robot(robot: Robot) -> str:
     """A URDF (text) of the robot, FK-identical at every q; see the module doc for what it holds.
+
+    Joint armature (MJCF) has no URDF element: it is left out, said in one warning line naming the joints.
 
     Parameters
     ----------
@@ -338,6 +353,7 @@ def urdf_from_robot(robot: Robot) -> str:
 
     frames = _faithful_frames(robot) if robot.bodies.links else None
     body = _plain(robot) if frames is None else _faithful(robot, frames)
+    _warn_armature(robot)
     unknown = [j.name for j in robot.joints if j.effort is None or j.velocity is None]
     head = ['<?xml version="1.0"?>', f"<!-- written by robkin {__version__} -->"]
     if unknown:
