@@ -7,11 +7,19 @@ What is written (``mjcf_text``)
     each joint with its axis, ``range`` (``limited="false"`` when unlimited, or when lower = upper:
     MuJoCo refuses an empty range), ``damping``, ``frictionloss`` and ``armature`` where the source
     gave them; inertials exact (``inertial``); mimic joints as ``<equality><joint>`` with
-    ``polycoef="offset multiplier 0 0 0"``; actuators (``actuators``); a keyframe ``home`` at q = 0.
+    ``polycoef="offset multiplier 0 0 0"``; actuators (``actuators``).
+
+Simulation (a servo plan, ``robkin.simulation.servos``: the gain rule is that module's doc)
+    ``<option integrator="implicitfast" timestep="0.002">`` (the servos' damping integrated implicitly;
+    the step the gains are made for); position servos by default; gravity compensation (on by default
+    for position and velocity servos) as ``gravcomp="1"`` on every moving body: MuJoCo's passive force,
+    an ideal counterbalance outside the actuators' effort (see ``robkin.simulation.servos``); a keyframe ``home`` with
+    every joint inside its limits (``Robot.home``: q = 0 clipped into them, or the caller's) and
+    ``ctrl`` holding it.
 
 What q means
     MuJoCo's qpos[:n] is q: the chain's joints come first in the tree (each chain child is its
-    parent's first child), joints off the chain after them, at 0 in ``home``. The site named as the
+    parent's first child), joints off the chain after them (at 0 clipped into their limits in ``home``). The site named as the
     tip link (``tool`` for a robot from a table) is at world @ robot.fk(q).
 
 Numbers are written in full precision (``repr``); poses relative to the parent body as ``pos`` and a
@@ -28,7 +36,7 @@ import numpy as np
 from ... import se3
 from ..files.float_text import float_text as _num
 from .format import place_attrs
-from .actuators import DEFAULT_KP, DEFAULT_KV, actuator_lines
+from .actuators import actuated, actuator_lines
 from .geoms_write import DEFAULT_CLASSES, GeomAssets
 from .inertial import PLACEHOLDER_INERTIA, PLACEHOLDER_MASS, BodyMass, body_mass, inertial_xml
 from .tree import BodyPlan, JointPlan, body_tree
@@ -36,6 +44,7 @@ from ..files.xmltext import quoteattr
 
 if TYPE_CHECKING:  # pragma: no cover
     from ...robot import Robot
+    from ...simulation.servos import ServoPlan
 
 __all__ = ["mjcf_from_robot", "mjcf_text", "CHANGED_MARK"]
 
@@ -122,8 +131,10 @@ def _is_world(bp: BodyPlan) -> bool:
 
 
 def _body_lines(plan: list[BodyPlan], masses: list[BodyMass | None], world: np.ndarray, geoms: GeomAssets,
-                scale: float, repaired: list[str]) -> list[str]:
+                scale: float, repaired: list[str], gravcomp: bool = False) -> list[str]:
+    """The bodies' lines; ``gravcomp``: gravity compensated on every moving body."""
     out: list[str] = []
+    moving = [False] * len(plan)
     top = [i for i, bp in enumerate(plan) if bp.parent is None]
     todo: list[tuple[int, int, bool]] = [(i, 2, False) for i in reversed(top)]  # (body, depth, closing)
     while todo:
@@ -142,7 +153,9 @@ def _body_lines(plan: list[BodyPlan], masses: list[BodyMass | None], world: np.n
             out += [f"{ind}<site name={quoteattr(n)}{place_attrs(world @ P, scale)}/>" for n, P in bp.sites]
             todo.extend((c, depth, False) for c in reversed(bp.children))
             continue
-        out.append(f"{ind}<body name={quoteattr(bp.name)}{place_attrs(se3.inv(parent_frame) @ abs_frame, scale, bp.origin)}>")
+        moving[i] = bp.joint is not None or (par is not None and moving[par])
+        comp = ' gravcomp="1"' if gravcomp and moving[i] else ""
+        out.append(f"{ind}<body name={quoteattr(bp.name)}{place_attrs(se3.inv(parent_frame) @ abs_frame, scale, bp.origin)}{comp}>")
         if bp.joint is not None:
             out.append(f"{ind}  {_joint_xml(bp.joint, bp.frame, scale)}")
         if masses[i] is not None:
@@ -180,8 +193,9 @@ def _equalities(joints: list[JointPlan]) -> list[str]:
     return ["  <equality>"] + out + ["  </equality>"] if out else []
 
 
-def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actuators: str = "motor",
-              kp: float = DEFAULT_KP, kv: float = DEFAULT_KV, fuse_fixed: bool = False,
+def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actuators: str = "position",
+              kp: float | None = None, kv: float | None = None, home: Sequence[float] | None = None,
+              gravcomp: bool | None = None, servos: ServoPlan | None = None, fuse_fixed: bool = False,
               mesh_parts: Mapping[str, Sequence[tuple[str, tuple[float, ...]]]] | None = None) -> str:
     """The MJCF text of a robot (see the module doc).
 
@@ -192,9 +206,17 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
         Mesh file name as the source wrote it -> ``file`` to write (relative to the output's folder);
         mesh shapes whose file is not in it are left out (one warning when no mapping is given: the
         maker of a mapping says what it could not find).
-    actuators : 'motor' | 'position' | 'velocity' | 'none'
-    kp, kv : float
-        Servo gains of position (kp, kv) and velocity (kv) actuators (N m/rad, N m s/rad or N/m, N s/m).
+    actuators : 'position' | 'velocity' | 'motor' | 'none'
+    kp, kv : float, optional
+        Servo gains of position (kp, kv) and velocity (kv) actuators (N m/rad, N m s/rad or N/m, N s/m)
+        on every joint; default: each joint's from the rule of ``robkin.simulation.servos``.
+    home : (n,) sequence of float, optional
+        The chain's keyframe ``home`` (checked against the limits); default q = 0 clipped into them.
+    gravcomp : bool, optional
+        Gravity compensation; default on for position and velocity servos.
+    servos : ServoPlan, optional
+        A plan made by the caller (``robkin.simulation.servo_plan``); then ``actuators``, ``kp``, ``kv``,
+        ``home`` and ``gravcomp`` are the plan's and must not be given.
     fuse_fixed : bool
         Merge bodies fixed to their parent into it (mass merged exactly; their names become sites).
     mesh_parts : mapping, optional
@@ -203,14 +225,20 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
     """
     from ...version import __version__
 
+    if servos is None:
+        from ...capabilities import servo_plan
+
+        servos = servo_plan()(robot, kind=actuators, home=home, kp=kp, kv=kv, gravcomp=gravcomp)
     plan, named = body_tree(robot, fuse=fuse_fixed)
     scale = max(robot.scale, 1.0)
     geoms = GeomAssets(mesh_files, mesh_parts)
     masses, placeholders = _masses(plan)
     repaired: list[str] = []
-    bodies = _body_lines(plan, masses, np.asarray(robot.world, dtype=float), geoms, scale, repaired)
     # MuJoCo's joint (and qpos) order is the tree's, which lists the chain first
     joints = [bp.joint for bp in plan if bp.joint is not None]
+    driven = actuated(servos, joints)
+    bodies = _body_lines(plan, masses, np.asarray(robot.world, dtype=float), geoms, scale, repaired,
+                         servos.gravcomp)
     if placeholders:
         warnings.warn(f"body(ies) {', '.join(placeholders[:6])}{', ...' if len(placeholders) > 6 else ''} move "
                       f"without mass or inertia (with what is welded to them): given {PLACEHOLDER_MASS:g} kg "
@@ -231,6 +259,8 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
             *changed,
             f"<mujoco model={quoteattr(robot.name or 'robot')}>",
             '  <compiler angle="radian" autolimits="true" inertiafromgeom="false"/>',
+            # the servos' damping integrated implicitly, at the step their gains are made for
+            f'  <option integrator="{servos.integrator}" timestep="{_num(servos.timestep)}"/>',
             # a brighter viewer headlight than MuJoCo's default (0.1 ambient, 0.4 diffuse): the model is
             # seen as it is without a scene around it
             '  <visual><headlight ambient="0.3 0.3 0.3" diffuse="0.6 0.6 0.6" specular="0.1 0.1 0.1"/></visual>',
@@ -240,15 +270,19 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
     light = ['    <light name="robkin_light" pos="0 0 4" dir="0 0 -1" directional="true" castshadow="false"/>']
     out += ["  <worldbody>"] + light + bodies + ["  </worldbody>"]
     out += _equalities(joints)
-    out += actuator_lines(actuators, joints, kp, kv)
-    nq = len(joints)
-    out += ["  <keyframe>", f'    <key name="home" qpos="{" ".join(["0"] * nq)}"/>', "  </keyframe>", "</mujoco>", ""]
+    out += actuator_lines(servos, joints)
+    qpos = [(s.home if (s := servos.get(j.name)) is not None else 0.0) for j in joints]
+    key = f'    <key name="home" qpos="{_nums(qpos)}"'
+    if driven:
+        key += f' ctrl="{_nums([s.home if servos.kind == "position" else 0.0 for s in driven])}"'
+    out += ["  <keyframe>", key + "/>", "  </keyframe>", "</mujoco>", ""]
     return "\n".join(out)
 
 
 def mjcf_from_robot(robot: Robot, **options: Any) -> str:
     """MJCF text of the robot: a model MuJoCo simulates (``robkin.io.mjcf.writer.mjcf_text``, whose
-    keyword options ``mesh_files``, ``actuators``, ``kp``, ``kv``, ``fuse_fixed`` it takes).
+    keyword options ``mesh_files``, ``actuators``, ``kp``, ``kv``, ``home``, ``gravcomp``, ``servos``,
+    ``fuse_fixed`` it takes).
 
     MuJoCo's qpos[:n] is q, and the site named as the tip link (``tool`` for a robot without link
     names) is at ``world @ robot.fk(q)``.
