@@ -65,20 +65,21 @@ def _hinge_slide(model: Any) -> np.ndarray:
 def _outside(model: Any, qpos: np.ndarray) -> np.ndarray:
     """How far each limited 1-dof joint is past its range (0 inside), by joint index."""
     out = np.zeros(model.njnt)
-    for j in _hinge_slide(model):
-        if model.jnt_limited[j]:
-            lo, hi = model.jnt_range[j]
-            x = qpos[model.jnt_qposadr[j]]
-            out[j] = max(lo - x, x - hi, 0.0)
+    j = _hinge_slide(model)
+    j = j[model.jnt_limited[j].astype(bool)]
+    x = qpos[model.jnt_qposadr[j]]
+    lo, hi = model.jnt_range[j, 0], model.jnt_range[j, 1]
+    out[j] = np.maximum(np.maximum(lo - x, x - hi), 0.0)
     return out
 
 
 def _self_contacts(model: Any, data: Any) -> tuple[int, float]:
-    """(contacts between two bodies that are not the world's, deepest penetration (m, >= 0))."""
+    """(contacts between two of the robot's bodies, deepest penetration (m, >= 0)); the world body's own
+    geoms (a scene's floor) are not the robot's, its bodies welded to the world (the base) are."""
     n, depth = 0, 0.0
     for c in data.contact[: data.ncon]:
         b1, b2 = model.geom_bodyid[c.geom1], model.geom_bodyid[c.geom2]
-        if model.body_weldid[b1] != 0 and model.body_weldid[b2] != 0:
+        if b1 != 0 and b2 != 0:
             n += 1
             depth = max(depth, -float(c.dist))
     return n, depth

@@ -177,7 +177,7 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
     """Everything the page shows for a robot at q: joints, all representations, URDF, pose, geometry.
 
     Returns a JSON-ready dict: ``name``, ``n``, ``joints`` (name, type, lower, upper, flip), ``scale``,
-    ``q``, ``document`` (the robot document with all sections, as ``robkin convert --to json``
+    ``q``, ``home`` (``Robot.home()``: q = 0 clipped into the limits, the MJCF keyframe's), ``document`` (the robot document with all sections, as ``robkin convert --to json``
     writes it), ``urdf`` (text, or null with ``urdf_error``), ``T`` (tool pose at q, 4x4), ``rpy_xyz``
     (tool pose as roll, pitch, yaw, x, y, z), ``scene`` (geometry to draw, see ``Scene.to_json``) and
     ``warnings`` (inputs projected onto valid values). With ``strict_q`` false, a q of the wrong
@@ -212,6 +212,7 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
                     "flip": j.flip} for j, lim in zip(robot.joints, robot.limits)],
         "scale": robot.scale,
         "q": Q.tolist(),
+        "home": robot.home().tolist(),
         "document": doc,
         "urdf": urdf,
         "urdf_error": urdf_error,

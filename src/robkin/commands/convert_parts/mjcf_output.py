@@ -13,7 +13,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ...robot import Robot
     from ...simulation.servos import ServoPlan
 
-__all__ = ["add_mjcf_options", "check_mjcf_options", "render_mjcf", "servos_of", "MJCF_HELP"]
+__all__ = ["add_mjcf_options", "check_mjcf_options", "render_mjcf", "servos_of", "scene_of", "MJCF_HELP"]
 
 #: = io.mjcf.actuators.ACTUATOR_KINDS (not imported: the module loads with every command)
 _KINDS = ("position", "velocity", "motor", "none")
@@ -116,8 +116,7 @@ def servos_of(robot: Robot, args: argparse.Namespace) -> ServoPlan:
         try:
             robot.home(home)
         except InputError as exc:
-            lim = ", ".join(f"[{lo:g}, {hi:g}]" for lo, hi in robot.limits)
-            raise InputError(f"--home: {str(exc).removeprefix('home: ')} (the limits: {lim})") from None
+            raise InputError(f"--home: {str(exc).removeprefix('home: ')}") from None
     return servo_plan(robot, kind=args.actuators, home=home, kp=args.kp, kv=args.kv, gravcomp=args.gravcomp)
 
 
@@ -131,3 +130,13 @@ def render_mjcf(robot: Robot, args: argparse.Namespace, source: str | None, out_
     servos = servos_of(robot, args)  # before the meshes are copied: a bad --home writes nothing
     return mjcf_with_meshes(robot, source, out_dir, mesh_dir=mesh_dir, package_paths=package_paths(args),
                             servos=servos, fuse_fixed=args.fuse_fixed)
+
+
+def scene_of(robot: Robot, out: Path) -> tuple[Path, str]:
+    """(``scene.xml`` beside ``out``, its text: ``robkin.io.mjcf.scene``)."""
+    from ...io.mjcf.scene import scene_text
+
+    scene = out.with_name("scene.xml")
+    if scene == out:
+        raise InputError(f"--scene: {out} is itself named scene.xml; name the model otherwise")
+    return scene, scene_text(robot, out.name)

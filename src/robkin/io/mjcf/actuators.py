@@ -20,14 +20,19 @@ as their joints (MuJoCo keeps actuator names apart from joint names), in joint o
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 from ..files.float_text import float_text as _num
 from ..files.xmltext import quoteattr
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ...simulation.servos import JointServo, ServoPlan
     from .tree import JointPlan
+
+#: ``robkin.simulation.servos.ServoPlan`` and ``JointServo``: the capabilities layer, above io, makes the
+#: plan; io only reads its fields (kind, gravcomp, timestep, integrator; per joint name, home, kp, kv,
+#: force, ctrl, actuated), so it names no type of a layer above it.
+ServoPlan = Any
+JointServo = Any
 
 __all__ = ["ACTUATOR_KINDS", "actuator_lines", "actuated"]
 

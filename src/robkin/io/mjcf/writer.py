@@ -36,7 +36,7 @@ import numpy as np
 from ... import se3
 from ..files.float_text import float_text as _num
 from .format import place_attrs
-from .actuators import actuated, actuator_lines
+from .actuators import ServoPlan, actuated, actuator_lines
 from .geoms_write import DEFAULT_CLASSES, GeomAssets
 from .inertial import PLACEHOLDER_INERTIA, PLACEHOLDER_MASS, BodyMass, body_mass, inertial_xml
 from .tree import BodyPlan, JointPlan, body_tree
@@ -44,7 +44,6 @@ from ..files.xmltext import quoteattr
 
 if TYPE_CHECKING:  # pragma: no cover
     from ...robot import Robot
-    from ...simulation.servos import ServoPlan
 
 __all__ = ["mjcf_from_robot", "mjcf_text", "CHANGED_MARK"]
 
