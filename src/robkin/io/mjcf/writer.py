@@ -215,7 +215,7 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
         Gravity compensation; default on for position and velocity servos.
     servos : ServoPlan, optional
         A plan made by the caller (``robkin.simulation.servo_plan``); then ``actuators``, ``kp``, ``kv``,
-        ``home`` and ``gravcomp`` are the plan's and must not be given.
+        ``home`` and ``gravcomp`` are the plan's (the arguments of those names are not used).
     fuse_fixed : bool
         Merge bodies fixed to their parent into it (mass merged exactly; their names become sites).
     mesh_parts : mapping, optional
