@@ -185,7 +185,7 @@ function apply(res, body) {
   if (changed) {
     state.jointKey = key;
     buildSliders(res);
-    // home (q = 0) outside a joint's limits: the slider sits on the limit; show the robot there
+    // a q outside a joint's limits (the server starts at Robot.home, inside them): the slider sits on the limit; show the robot there
     if (currentQ().some((v, i) => v !== res.q[i])) { refresh(); return; }
   }
   state.robot = res;
