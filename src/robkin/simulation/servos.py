@@ -218,7 +218,10 @@ def _subtree_inertia(robot: Robot, j: _Moving) -> float:
     for lk in b.links:
         if lk.parent is not None:
             kids.setdefault(lk.parent, []).append(lk.name)
-    below, todo = set(), [j.link]
+    if j.link is None or j.axis is None or j.point is None:
+        return 0.0
+    below: set[str] = set()
+    todo = [j.link]
     while todo:
         name = todo.pop()
         below.add(name)
@@ -233,8 +236,8 @@ def _subtree_inertia(robot: Robot, j: _Moving) -> float:
         R, c = m.pose[:3, :3], m.pose[:3, 3]
         a = j.axis
         r = c - j.point
-        r = r - (r @ a) * a  # type: ignore[operator]
-        total += float(a @ (R @ m.inertia @ R.T) @ a) + m.mass * float(r @ r)  # type: ignore[operator]
+        r = r - (r @ a) * a
+        total += float(a @ (R @ m.inertia @ R.T) @ a) + m.mass * float(r @ r)
     return total
 
 
