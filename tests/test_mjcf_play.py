@@ -230,3 +230,14 @@ def test_the_gui_home_is_the_hubs(panda_src):
     res = describe(Path(panda_src).read_text(), "urdf", tip_link="panda_hand_tcp")
     assert res["home"] == robkin.load(panda_src, tip_link="panda_hand_tcp").home().tolist()
     assert res["home"][3] == -0.0698
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--to", "mjcf", "--scene"], "--scene: writes scene.xml beside the model, so it needs -o"),
+    (["--to", "urdf", "--home", "0"], "--home: applies to --to mjcf only"),
+    (["--to", "urdf", "--no-gravcomp"], "--no-gravcomp: applies to --to mjcf only"),
+])
+def test_options_out_of_place_are_one_line(panda_src, argv, message):
+    status, err = _convert(["convert", panda_src, "--tip-link", "panda_hand_tcp", *argv])
+    lines = [ln for ln in err.splitlines() if ln.startswith("robkin: error:")]
+    assert status == 2 and len(lines) == 1 and message in lines[0], err
