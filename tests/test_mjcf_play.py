@@ -92,7 +92,11 @@ def test_home_holds_for_5_seconds(arm):
     robot, out, err = arm
     full = hold_check(out)                   # as the user presses play
     assert not full.warnings and not full.compile_warnings and not full.outside, full.line()
+    lines = [ln for ln in err.splitlines() if "MuJoCo:" in ln]   # convert said it, in one line
+    assert len(lines) == 1 and "max drift" in lines[0] and "self-contact" in lines[0], err
+    assert ("holds home" in lines[0]) == full.holds
     if not full.holds:
+        assert "with contacts off it holds" in lines[0], lines[0]   # and named the cause
         # TODO(collision branch): self-contacts at home (meshes that overlap between bodies MuJoCo does
         # not filter: Panda 10, Kinova 7, Z1 1, SO-100 5, Baxter 26, TIAGo 131, Talos 78 on 2026-11-28)
         # kick some arms; the contact exclusions of the collision work remove them. Then drop this branch:
@@ -101,9 +105,6 @@ def test_home_holds_for_5_seconds(arm):
         full = hold_check(out, contacts=False)   # the servos' part: contacts switched off
         assert not full.warnings, full.line()
     assert full.drift <= HOLD_DRIFT and full.qvel <= HOLD_QVEL, full.line()
-    # convert said it, in one line with the numbers
-    lines = [ln for ln in err.splitlines() if "MuJoCo:" in ln]
-    assert len(lines) == 1 and "max drift" in lines[0] and "self-contact" in lines[0], err
 
 
 def test_a_step_on_each_joint_settles_inside_the_limits(arm):
