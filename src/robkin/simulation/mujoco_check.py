@@ -3,7 +3,7 @@
 MuJoCo is an optional dependency: ``available()`` says whether it imports, and the checks raise
 ``ImportError`` without it (``robkin convert`` then says the simulation was not checked).
 
-- ``hold_check(path)``: load the model (warnings MuJoCo prints while compiling are caught), reset to
+- ``hold_check(path)``: load the model (the warnings MuJoCo's compiler gives are caught), reset to
   the keyframe ``home``, check every joint inside its range, count the contacts between the robot's
   own geoms there, simulate ``seconds`` under the keyframe's controls, and report the largest drift
   from home, the final largest |qvel| and MuJoCo's warnings (``data.warning``).
@@ -14,11 +14,12 @@ MuJoCo is an optional dependency: ``available()`` says whether it imports, and t
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Iterator, Sequence
 
 import numpy as np
 
@@ -43,6 +44,25 @@ def available() -> bool:
     except ImportError:
         return False
     return True
+
+
+@contextlib.contextmanager
+def _c_warnings() -> Iterator[list[str]]:
+    """MuJoCo's C-level warnings (its compiler's, mj_step's) collected in a list instead of printed and
+    logged to MUJOCO_LOG.TXT, where the bindings let a callback take them (``set_mju_user_warning``)."""
+    import mujoco
+
+    got: list[str] = []
+    setter, getter = getattr(mujoco, "set_mju_user_warning", None), getattr(mujoco, "get_mju_user_warning", None)
+    if setter is None or getter is None:
+        yield got
+        return
+    old = getter()
+    setter(lambda msg: got.append(str(msg).strip().splitlines()[0] if str(msg).strip() else "warning"))
+    try:
+        yield got
+    finally:
+        setter(old)
 
 
 def _warnings(data: Any) -> list[str]:
@@ -130,10 +150,10 @@ def hold_check(path: str | Path, seconds: float = HOLD_SECONDS, key: str = "home
     import mujoco
 
     t0 = time.perf_counter()
-    with warnings.catch_warnings(record=True) as caught:
+    with warnings.catch_warnings(record=True) as caught, _c_warnings() as printed:
         warnings.simplefilter("always")
         model = mujoco.MjModel.from_xml_path(str(path))
-    compile_warnings = [str(w.message).splitlines()[0] for w in caught]
+    compile_warnings = [str(w.message).splitlines()[0] for w in caught] + printed
     data = mujoco.MjData(model)
     k = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, key)
     if k >= 0:
@@ -150,9 +170,10 @@ def hold_check(path: str | Path, seconds: float = HOLD_SECONDS, key: str = "home
     adr = model.jnt_qposadr[joints]
     drift = np.zeros(len(joints))
     t1 = time.perf_counter()
-    for _ in range(steps):
-        mujoco.mj_step(model, data)
-        np.maximum(drift, np.abs(data.qpos[adr] - home[adr]), out=drift)
+    with _c_warnings():  # counted in data.warning; not printed (nor logged to MUJOCO_LOG.TXT)
+        for _ in range(steps):
+            mujoco.mj_step(model, data)
+            np.maximum(drift, np.abs(data.qpos[adr] - home[adr]), out=drift)
     t2 = time.perf_counter()
     worst = int(np.argmax(drift)) if len(drift) else 0
     return HoldReport(seconds, steps, float(drift.max()) if len(drift) else 0.0,
@@ -210,12 +231,13 @@ def step_check(path: str | Path, seconds: float = 2.0, size: float = 0.2, slide_
         target = h + (s if up else -s)
         data.ctrl[a] = target
         past, over, who = 0.0, 0.0, ""
-        for _ in range(steps):
-            mujoco.mj_step(model, data)
-            o = _outside(model, data.qpos) * watch
-            if o.size and o.max() > past:
-                past, who = float(o.max()), model.joint(int(np.argmax(o))).name
-            over = max(over, (data.qpos[adr] - target) * (1 if up else -1))
+        with _c_warnings():
+            for _ in range(steps):
+                mujoco.mj_step(model, data)
+                o = _outside(model, data.qpos) * watch
+                if o.size and o.max() > past:
+                    past, who = float(o.max()), model.joint(int(np.argmax(o))).name
+                over = max(over, (data.qpos[adr] - target) * (1 if up else -1))
         rep.joints.append(model.joint(j).name)
         rep.step.append(target - h)
         rep.error.append(abs(float(data.qpos[adr]) - target))
