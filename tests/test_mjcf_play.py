@@ -242,3 +242,10 @@ def test_options_out_of_place_are_one_line(panda_src, argv, message):
     status, err = _convert(["convert", panda_src, "--tip-link", "panda_hand_tcp", *argv])
     lines = [ln for ln in err.splitlines() if ln.startswith("robkin: error:")]
     assert status == 2 and len(lines) == 1 and message in lines[0], err
+
+
+def test_a_robot_without_masses_is_said_to_have_nothing_to_hold(tmp_path):
+    from robkin.examples import EXAMPLES_DIR
+
+    status, err = _convert(["convert", str(EXAMPLES_DIR / "rrpr.yaml"), "--to", "mjcf", "-o", str(tmp_path / "r.xml")])
+    assert status == 0 and "the source gave no masses): nothing to hold" in err, err

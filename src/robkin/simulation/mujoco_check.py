@@ -35,6 +35,8 @@ HOLD_QVEL = 1e-3
 #: (solref 0.02 s by default) and give way under load. Observed (2026-11-28): 5.5 mrad on the Panda's
 #: joint 4, homed on its limit, while joint 2's step saturates at 87 N m; 1e-2 is twice that.
 RANGE_SLACK = 1e-2
+#: A model lighter than this (kg) carries only the MJCF writer's placeholder masses (1e-9 kg a body).
+WEIGHTLESS = 1e-6
 
 
 def available() -> bool:
@@ -122,6 +124,7 @@ class HoldReport:
     wall: float                  # wall-clock seconds of the whole check
     step_ms: float               # milliseconds per mj_step
     compile_warnings: list[str] = field(default_factory=list)
+    mass: float = math.inf       # the model's total mass (kg)
 
     @property
     def holds(self) -> bool:
@@ -138,6 +141,8 @@ class HoldReport:
                  "no MuJoCo warning" if not (self.warnings or self.compile_warnings)
                  else "MuJoCo warnings: " + ", ".join(self.compile_warnings + self.warnings),
                  f"{self.step_ms:.3g} ms per step"]
+        if self.mass < WEIGHTLESS:
+            parts.insert(1, f"the model weighs {self.mass:.1g} kg (the source gave no masses): nothing to hold")
         return "; ".join(parts)
 
 
@@ -179,7 +184,7 @@ def hold_check(path: str | Path, seconds: float = HOLD_SECONDS, key: str = "home
     return HoldReport(seconds, steps, float(drift.max()) if len(drift) else 0.0,
                       model.joint(joints[worst]).name if len(joints) else "", float(np.abs(data.qvel).max(initial=0.0)),
                       _warnings(data), outside, count, depth, model.nu, time.perf_counter() - t0,
-                      1e3 * (t2 - t1) / max(steps, 1), compile_warnings)
+                      1e3 * (t2 - t1) / max(steps, 1), compile_warnings, float(model.body_mass.sum()))
 
 
 @dataclass
