@@ -219,8 +219,10 @@ def step_check(path: str | Path, seconds: float = 2.0, size: float = 0.2, slide_
     k = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, key)
     steps = int(round(seconds / model.opt.timestep))
     watched = [a for a in range(model.nu) if joints is None or model.joint(model.actuator_trnid[a, 0]).name in joints]
-    watch = np.zeros(model.njnt, dtype=bool)
-    watch[[model.actuator_trnid[a, 0] for a in watched]] = True
+    # the watched joints' ranges, once: (joint ids, qpos addresses, lower, upper) of those limited
+    wj = np.array([model.actuator_trnid[a, 0] for a in watched], dtype=int)
+    wj = wj[(model.jnt_limited[wj] != 0) & np.isin(wj, _hinge_slide(model))] if wj.size else wj
+    wadr, wlo, whi = model.jnt_qposadr[wj], model.jnt_range[wj, 0], model.jnt_range[wj, 1]
     rep = StepReport([], [], [], [], [], [], [])
     for a in watched:
         j = model.actuator_trnid[a, 0]
@@ -239,9 +241,10 @@ def step_check(path: str | Path, seconds: float = 2.0, size: float = 0.2, slide_
         with _c_warnings():
             for _ in range(steps):
                 mujoco.mj_step(model, data)
-                o = _outside(model, data.qpos) * watch
+                x = data.qpos[wadr]
+                o = np.maximum(wlo - x, x - whi)
                 if o.size and o.max() > past:
-                    past, who = float(o.max()), model.joint(int(np.argmax(o))).name
+                    past, who = float(o.max()), model.joint(int(wj[int(np.argmax(o))])).name
                 over = max(over, (data.qpos[adr] - target) * (1 if up else -1))
         rep.joints.append(model.joint(j).name)
         rep.step.append(target - h)

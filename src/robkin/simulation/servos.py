@@ -11,7 +11,10 @@ The rule (``servo_plan``)
           the links below it about its axis (their mass for a slide), plus its armature; a joint that
           another one mimics adds the follower's inertia times the multiplier squared.
     kp    I * (2 pi BANDWIDTH_HZ)^2, raised to friction / FRICTION_ERROR where the source's joint
-          friction would stall the servo further than that from its target.
+          friction would stall the servo further than that from its target, and to damping * 2 pi
+          BANDWIDTH_HZ where the source's joint damping alone overdamps the servo (its time constant
+          damping / kp then stays within 1 / (2 pi BANDWIDTH_HZ): TIAGo's fingers, 0.5 N m s/rad on
+          1e-3 kg m^2, would otherwise take 0.5 s).
     kv    2 sqrt(kp I) - damping (critically damped with the source's joint damping counted), raised
           where the time step needs more damping for the servo to be stable (``_stable_damping``), never
           below 0. A velocity servo's gain: max(I * 2 pi BANDWIDTH_HZ, friction / VELOCITY_FRICTION_ERROR).
@@ -332,7 +335,7 @@ def servo_plan(robot: Robot, *, kind: str = "position", home: ArrayLike | None =
         d, f = j.damping or 0.0, j.friction or 0.0
         k = v = 0.0
         if kind == "position":
-            k = kp if kp is not None else max(I * w * w, f / FRICTION_ERROR)
+            k = kp if kp is not None else max(I * w * w, f / FRICTION_ERROR, d * w)
             v = kv if kv is not None else max(2.0 * math.sqrt(k * I), _stable_damping(k, Ic, timestep)) - d
         elif kind == "velocity":
             v = kv if kv is not None else max(I * w, f / VELOCITY_FRICTION_ERROR)
