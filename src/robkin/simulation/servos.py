@@ -213,35 +213,52 @@ def _chain_inertia(robot: Robot, home: np.ndarray) -> tuple[np.ndarray, np.ndarr
     return np.diag(M).copy(), coupled
 
 
-def _subtree_inertia(robot: Robot, j: _Moving) -> float:
-    """The inertia of the links below ``j`` (its own link included) about its axis, at q = 0 (kg m^2),
-    or their mass for a slide (kg)."""
+def _subtree_moments(robot: Robot) -> dict[str, tuple[float, np.ndarray, np.ndarray]]:
+    """For every link: (mass, first moment m c, inertia about the base origin) of the link and the links
+    below it, at q = 0 in the base frame; one pass from the leaves up (O(links + inertials))."""
     b = robot.bodies
     kids: dict[str, list[str]] = {}
     for lk in b.links:
         if lk.parent is not None:
             kids.setdefault(lk.parent, []).append(lk.name)
-    if j.link is None or j.axis is None or j.point is None:
-        return 0.0
-    below: set[str] = set()
-    todo = [j.link]
-    while todo:
-        name = todo.pop()
-        below.add(name)
-        todo += kids.get(name, [])
-    total = 0.0
+    own: dict[str, tuple[float, np.ndarray, np.ndarray]] = {}
     for m in b.inertials:
-        if m.link not in below or m.mass <= 0:
-            continue
-        if j.prismatic:
-            total += m.mass
+        if m.mass <= 0:
             continue
         R, c = m.pose[:3, :3], m.pose[:3, 3]
-        a = j.axis
-        r = c - j.point
-        r = r - (r @ a) * a
-        total += float(a @ (R @ m.inertia @ R.T) @ a) + m.mass * float(r @ r)
-    return total
+        I_o = R @ m.inertia @ R.T + m.mass * (float(c @ c) * np.eye(3) - np.outer(c, c))
+        mass, first, inertia = own.get(m.link, (0.0, np.zeros(3), np.zeros((3, 3))))
+        own[m.link] = (mass + m.mass, first + m.mass * c, inertia + I_o)
+    out: dict[str, tuple[float, np.ndarray, np.ndarray]] = {}
+    roots = [lk.name for lk in b.links if lk.parent is None]
+    stack: list[tuple[str, bool]] = [(r, False) for r in roots]
+    while stack:  # post-order: a link's sum after its children's
+        name, done = stack.pop()
+        if not done:
+            stack.append((name, True))
+            stack.extend((k, False) for k in kids.get(name, []))
+            continue
+        mass, first, inertia = own.get(name, (0.0, np.zeros(3), np.zeros((3, 3))))
+        for k in kids.get(name, []):
+            km, kf, ki = out[k]
+            mass, first, inertia = mass + km, first + kf, inertia + ki
+        out[name] = (mass, first, inertia)
+    return out
+
+
+def _subtree_inertia(moments: dict[str, tuple[float, np.ndarray, np.ndarray]], j: _Moving) -> float:
+    """The inertia of the links below ``j`` (its own link included) about its axis, at q = 0 (kg m^2),
+    or their mass for a slide (kg)."""
+    if j.link is None or j.axis is None or j.point is None or j.link not in moments:
+        return 0.0
+    mass, first, inertia = moments[j.link]
+    if mass <= 0 or j.prismatic:
+        return max(mass, 0.0)
+    c = first / mass
+    I_c = inertia - mass * (float(c @ c) * np.eye(3) - np.outer(c, c))  # parallel axes: to the centre,
+    d = c - j.point                                                      # then to the axis's point
+    I_p = I_c + mass * (float(d @ d) * np.eye(3) - np.outer(d, d))
+    return float(j.axis @ I_p @ j.axis)
 
 
 def _stable_damping(kp: float, inertia: float, h: float) -> float:
@@ -316,12 +333,13 @@ def servo_plan(robot: Robot, *, kind: str = "position", home: ArrayLike | None =
                 homes[j.name] = j.mimic.offset + j.mimic.multiplier * homes[j.mimic.joint]
     inertia: dict[str, float] = {}
     coupled: dict[str, float] = {}
+    moments = _subtree_moments(robot) if any(j.chain is None for j in joints) else {}
     for j in joints:
         if j.chain is not None:
             own = chain[0][j.chain] if chain is not None else 0.0
             coupled[j.name] = chain[1][j.chain] if chain is not None else 0.0
         else:
-            own = _subtree_inertia(robot, j) + (j.armature or 0.0)
+            own = _subtree_inertia(moments, j) + (j.armature or 0.0)
             coupled[j.name] = own
         inertia[j.name] = own
     names = {j.name for j in joints}
