@@ -84,8 +84,14 @@ def test_home_is_inside_the_limits_and_ctrl_holds_it(arm):
         if model.jnt_limited[j]:
             lo, hi = model.jnt_range[j]
             assert lo <= key.qpos[model.jnt_qposadr[j]] <= hi, model.joint(j).name
-    for a in range(model.nu):   # position servos: ctrl = the joint's home
+    plan = servo_plan(robot)
+    for a in range(model.nu):   # position servos: ctrl = the joint's home; the plan's gains, written
         assert key.ctrl[a] == key.qpos[model.jnt_qposadr[model.actuator_trnid[a, 0]]]
+        servo = plan[model.actuator(a).name]
+        assert model.actuator_gainprm[a, 0] == servo.kp and model.actuator_biasprm[a, 2] == -servo.kv
+    # every actuated joint of the plan, the chain's first (the rest in MuJoCo's tree order, not the plan's)
+    names = [model.actuator(a).name for a in range(model.nu)]
+    assert sorted(names) == sorted(s.name for s in plan.actuated()) and names[: robot.n] == [j.name for j in robot.joints]
     assert model.opt.integrator == mujoco.mjtIntegrator.mjINT_IMPLICITFAST and model.opt.timestep == 0.002
 
 
