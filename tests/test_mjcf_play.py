@@ -80,6 +80,8 @@ def test_home_is_inside_the_limits_and_ctrl_holds_it(arm):
     key = model.key("home")
     home = robot.home()
     np.testing.assert_array_equal(key.qpos[: robot.n], home)     # the hub's home, the GUI's too
+    # MuJoCo's reset (mj_resetData: the viewer's start and its Reset) is home too: each joint's ref
+    np.testing.assert_allclose(model.qpos0, key.qpos, rtol=0, atol=1e-15)
     for j in range(model.njnt):
         if model.jnt_limited[j]:
             lo, hi = model.jnt_range[j]
@@ -212,6 +214,18 @@ def test_a_given_home_holds(tmp_path, panda):
     out.write_text(mjcf_from_robot(panda, mesh_files={}, home=[0, -0.785, 0, -2.356, 0, 1.571, 0.785]))
     rep = hold_check(out, contacts=False)
     assert rep.holds, rep.line()
+    # drawn at that home (each joint's ref), qpos is still q: the tool where robkin's FK puts it
+    model = mujoco.MjModel.from_xml_path(str(out))
+    data = mujoco.MjData(model)
+    np.testing.assert_allclose(model.qpos0[:7], [0, -0.785, 0, -2.356, 0, 1.571, 0.785], rtol=0, atol=1e-15)
+    site = model.site("panda_hand_tcp").id
+    for q in np.random.default_rng(3).uniform(-1, 1, (3, 7)) + panda.home():
+        data.qpos[:7] = q
+        mujoco.mj_kinematics(model, data)
+        T = panda.world @ panda.fk(q)
+        # 1e-12 m and rad: a few products of metre-size rotations (observed ~1e-16)
+        np.testing.assert_allclose(data.site_xpos[site], T[:3, 3], rtol=0, atol=1e-12)
+        np.testing.assert_allclose(data.site_xmat[site].reshape(3, 3), T[:3, :3], rtol=0, atol=1e-12)
 
 
 @pytest.mark.parametrize("extra, message", [
