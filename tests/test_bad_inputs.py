@@ -188,7 +188,7 @@ CASES = [
                                      '<mass value="1e308"/></inertial></link>')}, _leg("m.urdf", "mjcf", "out.xml"),
          "m.urdf: link 'b' inertial: mass value: '1e308' is beyond +-1e+100"),
     Case("servo gain beyond 1e100", {"g.urdf": GOOD_URDF},
-         _leg("g.urdf", "mjcf", "out.xml") + ["--actuators", "position", "--kv", "1e308"], "--kv 1e+308: a gain"),
+         _leg("g.urdf", "mjcf", "out.xml") + ["--actuators", "position", "--kv", "1e308"], "--kv 1e308: a gain"),
     Case("recursive YAML alias under dh", {"ra.yaml": GOOD_DOC.replace("dh: {", "dh: &d {x: *d, ")}, _leg("ra.yaml"),
          "ra.yaml: not valid YAML (line 3, column 12): dh.x: found a recursive alias"),
     Case("more joints than MAX_JOINTS", {"many.json": '{"robkin": 1, "joints": [' + ", ".join(['"revolute"'] * 10001)

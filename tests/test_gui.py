@@ -1109,3 +1109,32 @@ def test_browser_locked_joint_slider_cannot_move(browser, tmp_path):
     finally:
         srv.shutdown()
         srv.server_close()
+
+
+#: Two joints, the second's range excluding 0 (as the Panda's joint 4): its home is its upper limit.
+HOME_URDF = """<robot name="home_arm">
+  <link name="base"/><link name="l1"/><link name="l2"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0 0 0.3"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="-0.5" effort="1" velocity="1"/></joint>
+</robot>"""
+
+
+def test_browser_home_button_goes_to_robot_home(page):
+    """The home button: Robot.home() (q = 0 clipped into the limits), the MJCF keyframe 'home' too."""
+    pg = page
+    before = _updates(pg)
+    pg.select_option("#format", "urdf")
+    pg.fill("#robot-text", HOME_URDF)
+    _wait_update(pg, before)
+    pg.wait_for_function("() => document.body.dataset.state == 'ready'")
+    box = pg.query_selector("#q0").bounding_box()      # move joint 1 away from home
+    before = _updates(pg)
+    pg.mouse.click(box["x"] + 0.8 * box["width"], box["y"] + box["height"] / 2)
+    _wait_update(pg, before)
+    assert float(pg.input_value("#q0")) > 0.5
+    before = _updates(pg)
+    pg.click("#home")
+    _wait_update(pg, before)
+    assert [float(pg.input_value(f"#q{i}")) for i in range(2)] == [0.0, -0.5]

@@ -232,8 +232,9 @@ def test_mjcf_round_trips_through_robkin(tmp_path):
 
 @pytest.mark.parametrize("argv, message", [
     (["--to", "urdf", "--fuse-fixed"], "--fuse-fixed: applies to --to mjcf only"),
-    (["--to", "mjcf", "--kp", "10"], "--kp: applies to --actuators position"),
-    (["--to", "mjcf", "--actuators", "position", "--kp", "-1"], "--kp -1.0: a gain is a number >= 0"),
+    (["--to", "mjcf", "--actuators", "velocity", "--kp", "10"], "--kp: applies to --actuators position"),
+    (["--to", "mjcf", "--kp", "-1"], "--kp -1: a gain is a number >= 0"),
+    (["--to", "mjcf", "--kv", "fast"], "--kv fast: a gain is a number >= 0"),
     (["--to", "mjcf", "--actuators", "motor", "--kv", "3"], "--kv: applies to --actuators position or velocity"),
 ])
 def test_bad_mjcf_options_are_one_clear_line(tmp_path, capsys, argv, message):
@@ -375,7 +376,10 @@ def test_python_write_mjcf_takes_the_meshes_along(tmp_path):
         path = write_mjcf(robot, tmp_path / "so100.xml", source=src, actuators="position")
     model = mujoco.MjModel.from_xml_path(str(path))
     assert model.nmesh > 0 and all((tmp_path / "meshes").iterdir())
-    assert model.nu == robot.n and model.actuator_gainprm[0, 0] == 100
+    # the rule's gains (robkin.simulation.servos): the shoulder pan's kp = I (2 pi 5 Hz)^2 (no friction)
+    from robkin.simulation import servo_plan
+
+    assert model.nu == robot.n and model.actuator_gainprm[0, 0] == servo_plan(robot)["shoulder_pan"].kp
 
 
 def test_collada_visual_is_drawn_in_its_own_colours(tmp_path):

@@ -9,7 +9,9 @@ use (``import robkin`` stays light), and it is declared as the hub's facade (CON
 
 - ``ik_function()``: ``robkin.kinematics.ik.ik``, which *is* ``Robot.ik`` (the robot its first argument;
   ``robot.CapabilityMethod`` puts it in the class on first use);
-- ``rigid_body()``, ``jacobian()``: the modules behind the dynamics and Jacobian methods.
+- ``rigid_body()``, ``jacobian()``: the modules behind the dynamics and Jacobian methods;
+- ``servo_plan()``: ``robkin.simulation.servos.servo_plan``, the servos of a simulation model, for the
+  writers in io (below the capabilities) that are called without a plan of their caller's.
 """
 
 from __future__ import annotations
@@ -20,8 +22,9 @@ from typing import TYPE_CHECKING, Callable
 
 if TYPE_CHECKING:  # what static type checkers see: the result types of the methods
     from .kinematics.ik import IKResult
+    from .simulation.servos import ServoPlan
 
-__all__ = ["ik_function", "jacobian", "rigid_body"]
+__all__ = ["ik_function", "jacobian", "rigid_body", "servo_plan"]
 
 
 @cache
@@ -46,3 +49,11 @@ def rigid_body() -> ModuleType:
     from .dynamics import rigid_body as module
 
     return module
+
+
+@cache
+def servo_plan() -> Callable[..., "ServoPlan"]:
+    """``robkin.simulation.servos.servo_plan``, imported on first use and then kept."""
+    from .simulation.servos import servo_plan as function
+
+    return function

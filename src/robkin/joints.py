@@ -7,14 +7,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Iterable, Literal
+from typing import TYPE_CHECKING, Iterable, Literal, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike
 
 from .errors import InputError
 
 if TYPE_CHECKING:  # pragma: no cover
     from .body_parts import Mimic
 
-__all__ = ["Joint", "JointType", "JOINT_TYPES", "default_joints"]
+__all__ = ["Joint", "JointType", "JOINT_TYPES", "default_joints", "home_configuration"]
 
 JointType = Literal["revolute", "prismatic"]
 JOINT_TYPES: tuple[str, ...] = ("revolute", "prismatic")
@@ -64,3 +67,49 @@ class Joint:
 def default_joints(types: Iterable[str]) -> tuple[Joint, ...]:
     """Joints named joint1..jointN with the given types."""
     return tuple(Joint(f"joint{i + 1}", t) for i, t in enumerate(types))  # type: ignore[arg-type]
+
+
+#: How far (rad or length units) a given home may lie outside a joint's limits and still count as on
+#: them: the rounding of limits written in decimal (a home typed as the limit's printed value).
+HOME_LIMIT_TOL = 1e-9
+
+
+def home_configuration(joints: Sequence[Joint], q: ArrayLike | None = None) -> np.ndarray:
+    """The robot's home: q = 0 clipped into each joint's limits, or a given ``q`` checked against them.
+
+    This is the one definition every consumer shares: the MJCF writer's keyframe ``home`` (and its
+    servos' ``ctrl``), the GUI's "home" button, the USD writer's initial state. A joint whose range
+    excludes 0 (the Panda's joint 4, [-3.07, -0.07]) is homed on its nearest limit.
+
+    Parameters
+    ----------
+    joints : sequence of Joint (n,)
+    q : (n,) array_like, optional
+        A home of the caller's (``robkin convert --home``): n finite numbers, each within its joint's
+        limits (``HOME_LIMIT_TOL`` of rounding allowed, and clipped onto the limit).
+
+    Returns
+    -------
+    (n,) float array
+
+    Raises
+    ------
+    InputError
+        ``q`` of the wrong length, not finite, or outside a joint's limits (the message names it).
+    """
+    lower = np.array([-np.inf if j.lower is None else j.lower for j in joints], dtype=float)
+    upper = np.array([np.inf if j.upper is None else j.upper for j in joints], dtype=float)
+    if q is None:
+        return np.clip(np.zeros(len(joints)), lower, upper)
+    try:
+        v = np.asarray(q, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise InputError(f"home: expected {len(joints)} numbers (one per joint)") from None
+    if v.shape != (len(joints),):
+        raise InputError(f"home: expected {len(joints)} numbers (one per joint), got {v.size}")
+    if not np.all(np.isfinite(v)):
+        raise InputError("home: expected finite numbers")
+    for j, x, lo, hi in zip(joints, v, lower, upper):
+        if not lo - HOME_LIMIT_TOL <= x <= hi + HOME_LIMIT_TOL:
+            raise InputError(f"home: joint '{j.name}' at {x:g} is outside its limits [{lo:g}, {hi:g}]")
+    return np.clip(v, lower, upper)

@@ -23,13 +23,13 @@ from .names import check_name, duplicates
 from .bodies import EMPTY_BODIES, Bodies
 from .capabilities import ik_function
 from .capabilities import jacobian as _jacobian_module, rigid_body as _rigid_body
-from .joints import JOINT_TYPES, Joint, JointType, default_joints
+from .joints import JOINT_TYPES, Joint, JointType, default_joints, home_configuration
 from .frame_stacks import frame_scales, local_transforms
 
 if TYPE_CHECKING:  # pragma: no cover
     from .compiled.chain.fk import Chain
 
-__all__ = ["Joint", "JointType", "Robot", "JOINT_TYPES", "default_joints", "EXACT_TOL", "PROJECTION_TOL", "check_pose", "check_poses", "check_q",
+__all__ = ["Joint", "JointType", "Robot", "JOINT_TYPES", "default_joints", "home_configuration", "EXACT_TOL", "PROJECTION_TOL", "check_pose", "check_poses", "check_q",
            "identity_pose"]
 
 
@@ -181,6 +181,11 @@ class Robot:
                         for j in self.joints])
         lim.setflags(write=False)
         return lim
+
+    def home(self, q: ArrayLike | None = None) -> np.ndarray:
+        """The robot's home (n,): q = 0 clipped into the joint limits, or ``q`` checked against them
+        (``robkin.joints.home_configuration``: the MJCF keyframe ``home``, the GUI's "home")."""
+        return home_configuration(self.joints, q)
 
     def screws(self) -> np.ndarray:
         """Space-frame unit screws (n, 6) ordered (w, v): revolute (z, -z x p), prismatic (0, z)."""

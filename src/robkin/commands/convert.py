@@ -239,13 +239,26 @@ def run(args: argparse.Namespace) -> int:
             data = render_usd(robot, out.suffix.lower(), args, inputs[0])
             with atomic_file(out, binary=True) as fh:
                 fh.write(data)
+            wrote(out)
+            written = [out]
         else:
-            write_text_atomic(out, render_file(robot, fmt, out.suffix.lower(), args, inputs[0], out.parent))
-        wrote(out)
+            text = render_file(robot, fmt, out.suffix.lower(), args, inputs[0], out.parent)
+            if fmt == "mjcf" and args.scene:  # the model and its scene.xml, all or nothing
+                from .convert_parts.mjcf_output import scene_of
+
+                scene = scene_of(robot, out)
+                write_texts_atomic([(out, text), scene])
+                wrote(out)
+                wrote(scene[0])
+                written = [out, scene[0]]
+            else:
+                write_text_atomic(out, text)
+                wrote(out)
+                written = [out]
         if fmt in CHECKED_FORMATS:
             from .convert_parts.output_check import check_written
 
-            with _removed_on_error([out]):
+            with _removed_on_error(written):
                 check_written(robot, out, fmt)
         if note:
             print(f"robkin: note: {note}", file=sys.stderr)

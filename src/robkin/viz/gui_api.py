@@ -148,7 +148,7 @@ def _q_of(robot: Robot, q: Any, strict: bool = True, field: str = "q") -> np.nda
     from ..io.files.numbers import number
 
     if q is None or (not strict and isinstance(q, (list, tuple)) and len(q) != robot.n):
-        return np.zeros(robot.n)  # no q, or q of a robot the user has just edited into another one
+        return robot.home()  # no q, or q of a robot the user has just edited into another one: its home
     if not isinstance(q, (list, tuple)) or len(q) != robot.n:
         raise InputError(f"{field}: expected {robot.n} numbers (one per joint)")
     if not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in q):
@@ -177,12 +177,12 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
     """Everything the page shows for a robot at q: joints, all representations, URDF, pose, geometry.
 
     Returns a JSON-ready dict: ``name``, ``n``, ``joints`` (name, type, lower, upper, flip), ``scale``,
-    ``q``, ``document`` (the robot document with all sections, as ``robkin convert --to json``
+    ``q``, ``home`` (``Robot.home()``: q = 0 clipped into the limits, the MJCF keyframe's), ``document`` (the robot document with all sections, as ``robkin convert --to json``
     writes it), ``urdf`` (text, or null with ``urdf_error``), ``T`` (tool pose at q, 4x4), ``rpy_xyz``
     (tool pose as roll, pitch, yaw, x, y, z), ``scene`` (geometry to draw, see ``Scene.to_json``) and
     ``warnings`` (inputs projected onto valid values). With ``strict_q`` false, a q of the wrong
-    length (the user edited the robot into one with another joint count) means home instead of an
-    error. ``overlay`` lists representations (``robkin.viz.scene.REPRESENTATIONS``) to rebuild the robot
+    length (the user edited the robot into one with another joint count) means home (``Robot.home()``)
+    instead of an error. ``overlay`` lists representations (``robkin.viz.scene.REPRESENTATIONS``) to rebuild the robot
     from and draw on top: their scenes come back as ``overlays`` and by how much they and the robot
     disagree as ``agreement`` {position, rotation, axes} (rounding-size for a correct conversion).
     ``links`` lists a URDF's link names (the candidates for base and tip link). ``other`` (a dict of
@@ -212,6 +212,7 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
                     "flip": j.flip} for j, lim in zip(robot.joints, robot.limits)],
         "scale": robot.scale,
         "q": Q.tolist(),
+        "home": robot.home().tolist(),
         "document": doc,
         "urdf": urdf,
         "urdf_error": urdf_error,

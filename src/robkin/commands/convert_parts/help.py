@@ -86,7 +86,8 @@ examples:
   robkin convert robot.yaml --to urdf -o robot.urdf
   robkin convert robot.yaml --to mjcf -o robot.xml
   robkin convert panda.urdf --tip-link panda_hand_tcp --to mjcf -o panda_mjcf/panda.xml
-  robkin convert ur5.urdf --tip-link tool0 --to mjcf --actuators position --kp 500 --kv 50 -o ur5/ur5.xml
+  robkin convert ur5.urdf --tip-link tool0 --to mjcf --scene -o ur5/ur5.xml   # then: python -m mujoco.viewer --mjcf=ur5/scene.xml
+  robkin convert panda.urdf --tip-link panda_hand_tcp --to mjcf --home 0,-0.785,0,-2.356,0,1.571,0.785 --kp 500 --kv 50 -o p/p.xml
   robkin convert panda.urdf --tip-link panda_hand_tcp --to usd -o panda.usda
   robkin convert panda.urdf --tip-link panda_hand_tcp --to rtb -o panda_rtb.py
   robkin convert ur5.urdf --tip-link tool0 --to rtb --convention mdh -o ur5_mdh.py

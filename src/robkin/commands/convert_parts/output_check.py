@@ -7,6 +7,12 @@ g(q) at 16 configurations), and one line on stderr says the outcome: what could 
 robot without inertials), or where the written file differs (a warning; the file is kept, since the
 differences the writer makes on purpose, such as a placeholder mass MuJoCo needs, were warned about
 already).
+
+An MJCF is then simulated (``sim_line``, ``robkin.simulation.mujoco_check.hold_check``): MuJoCo loads it
+without warnings, ``home`` is inside the limits, the self-contacts at home are counted, and 5 s from
+``home`` under its actuators hold it: one more line with the numbers (when it does not hold and there
+are self-contacts at home, simulated again with contacts off to say whether they are the cause), or,
+when MuJoCo is not installed, one saying the simulation was not checked.
 """
 
 from __future__ import annotations
@@ -19,7 +25,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:  # pragma: no cover
     from ...robot import Robot
 
-__all__ = ["check_written"]
+__all__ = ["check_written", "sim_line"]
 
 
 def _ends(robot: Robot) -> tuple[str | None, str | None]:
@@ -65,4 +71,27 @@ def check_written(robot: Robot, path: Path, fmt: str) -> str:
             why = " (the writer changed masses MuJoCo refuses, as warned above)"
         line = f"robkin: warning: {path}: read back, its mass properties differ{why}: {masses.first_difference}"
     print(line, file=sys.stderr)
+    if fmt == "mjcf":
+        print(sim_line(path), file=sys.stderr)
     return line
+
+
+def sim_line(path: Path) -> str:
+    """The simulation check's line (``robkin: note: ...`` when home holds, else ``robkin: warning: ...``)."""
+    from ...simulation.mujoco_check import available, hold_check
+
+    if not available():
+        return f"robkin: note: {path}: simulation not checked (MuJoCo is not installed: pip install mujoco)"
+    try:
+        report = hold_check(path)
+    except Exception as exc:  # noqa: BLE001 - a writer bug must not hide the written file
+        return f"robkin: warning: {path}: MuJoCo could not simulate it ({str(exc).splitlines()[0] if str(exc) else exc!r})"
+    why = ""
+    if not report.holds and report.contacts and not report.warnings:  # the servos, or the contacts?
+        free = hold_check(path, contacts=False)
+        if free.holds:
+            why = (f"; with contacts off it holds (max drift {free.drift:.1e}): the self-contacts at home "
+                   f"kick it")
+        report.wall += free.wall
+    kind = "note" if report.holds else "warning"
+    return f"robkin: {kind}: {path}: MuJoCo: {report.line()}{why} ({report.wall:.2g} s)"

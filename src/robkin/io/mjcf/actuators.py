@@ -1,11 +1,14 @@
 """The ``<actuator>`` section of a written MJCF: one actuator per joint, the chain's first.
 
+The gains, ranges and home come from a servo plan (``robkin.simulation.servos.ServoPlan``: its module
+doc states the rule); this module only writes them.
+
 Kinds (``robkin convert --to mjcf --actuators KIND``)
-    motor     ``ctrl`` is the joint torque (N m) or force (N); ``ctrlrange`` +-effort
-    position  a servo to ``ctrl`` (rad or m) with stiffness ``kp`` and damping ``kv``; ``ctrlrange``
-              the joint's range, ``forcerange`` +-effort
+    position  (the default) a servo to ``ctrl`` (rad or m) with stiffness ``kp`` and damping ``kv``;
+              ``ctrlrange`` the joint's range, ``forcerange`` +-effort
     velocity  a servo to ``ctrl`` (rad/s or m/s) with gain ``kv``; ``ctrlrange`` +-velocity,
               ``forcerange`` +-effort
+    motor     ``ctrl`` is the joint torque (N m) or force (N); ``ctrlrange`` +-effort
     none      no actuators
 
 Every joint is actuated except those that mimic another (they follow it through an equality). An
@@ -17,7 +20,7 @@ as their joints (MuJoCo keeps actuator names apart from joint names), in joint o
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 from ..files.float_text import float_text as _num
 from ..files.xmltext import quoteattr
@@ -25,43 +28,51 @@ from ..files.xmltext import quoteattr
 if TYPE_CHECKING:  # pragma: no cover
     from .tree import JointPlan
 
-__all__ = ["ACTUATOR_KINDS", "actuator_lines", "DEFAULT_KP", "DEFAULT_KV"]
+#: ``robkin.simulation.servos.ServoPlan`` and ``JointServo``: the capabilities layer, above io, makes the
+#: plan; io only reads its fields (kind, gravcomp, timestep, integrator; per joint name, home, kp, kv,
+#: force, ctrl, actuated), so it names no type of a layer above it.
+ServoPlan = Any
+JointServo = Any
 
-ACTUATOR_KINDS = ("motor", "position", "velocity", "none")
-#: Default servo gains (N m/rad, N m s/rad): stiff enough to hold a ~1 m arm of a few kg against
-#: gravity within ~0.1 rad, damped enough not to ring at MuJoCo's default 2 ms step.
-DEFAULT_KP = 100.0
-DEFAULT_KV = 10.0
+__all__ = ["ACTUATOR_KINDS", "actuator_lines", "actuated"]
 
-
-def _known(v: float | None) -> bool:
-    return v is not None and v > 0
+ACTUATOR_KINDS = ("position", "velocity", "motor", "none")
 
 
-def _range(attr: str, lo: float, hi: float) -> str:
-    return f'{attr}limited="true" {attr}range="{_num(lo)} {_num(hi)}"'
+def _range(attr: str, r: tuple[float, float] | None) -> str:
+    if r is None:
+        return f'{attr}limited="false"'
+    return f'{attr}limited="true" {attr}range="{_num(r[0])} {_num(r[1])}"'
 
 
-def _one(kind: str, j: JointPlan, kp: float, kv: float) -> str:
-    name = quoteattr(j.name)
-    force = _range("force", -j.effort, j.effort) if _known(j.effort) else 'forcelimited="false"'  # type: ignore[operator]
+def _one(kind: str, s: JointServo) -> str:
+    name = quoteattr(s.name)
+    force = _range("force", s.force)
     if kind == "motor":
-        ctrl = _range("ctrl", -j.effort, j.effort) if _known(j.effort) else 'ctrllimited="false"'  # type: ignore[operator]
-        return f"    <motor name={name} joint={name} {ctrl}/>"
+        return f"    <motor name={name} joint={name} {_range('ctrl', s.ctrl)}/>"
     if kind == "position":
-        limited = j.lower is not None and j.upper is not None and j.lower < j.upper
-        ctrl = _range("ctrl", j.lower, j.upper) if limited else 'ctrllimited="false"'  # type: ignore[arg-type]
-        return f'    <position name={name} joint={name} kp="{_num(kp)}" kv="{_num(kv)}" {ctrl} {force}/>'
-    ctrl = _range("ctrl", -j.velocity, j.velocity) if _known(j.velocity) else 'ctrllimited="false"'  # type: ignore[operator]
-    return f'    <velocity name={name} joint={name} kv="{_num(kv)}" {ctrl} {force}/>'
+        return (f'    <position name={name} joint={name} kp="{_num(s.kp)}" kv="{_num(s.kv)}" '
+                f'{_range("ctrl", s.ctrl)} {force}/>')
+    return f'    <velocity name={name} joint={name} kv="{_num(s.kv)}" {_range("ctrl", s.ctrl)} {force}/>'
 
 
-def actuator_lines(kind: str, joints: Sequence[JointPlan], kp: float = DEFAULT_KP,
-                   kv: float = DEFAULT_KV) -> list[str]:
-    """The ``<actuator>`` element (a list of lines; empty for kind 'none' or no joints)."""
-    if kind not in ACTUATOR_KINDS:
-        raise ValueError(f"actuators: '{kind}' is not one of {', '.join(ACTUATOR_KINDS)}")
-    driven = [j for j in joints if j.mimic is None]
-    if kind == "none" or not driven:
+def actuated(plan: ServoPlan, joints: Sequence[JointPlan]) -> list[JointServo]:
+    """The plan's entries of the written joints that get an actuator, in the joints' (MuJoCo's) order."""
+    if plan.kind == "none":
         return []
-    return ["  <actuator>"] + [_one(kind, j, kp, kv) for j in driven] + ["  </actuator>"]
+    out = []
+    for j in joints:
+        s = plan.get(j.name)
+        if s is not None and s.actuated and j.mimic is None:
+            out.append(s)
+    return out
+
+
+def actuator_lines(plan: ServoPlan, joints: Sequence[JointPlan]) -> list[str]:
+    """The ``<actuator>`` element (a list of lines; empty for kind 'none' or no joints)."""
+    if plan.kind not in ACTUATOR_KINDS:
+        raise ValueError(f"actuators: '{plan.kind}' is not one of {', '.join(ACTUATOR_KINDS)}")
+    driven = actuated(plan, joints)
+    if not driven:
+        return []
+    return ["  <actuator>"] + [_one(plan.kind, s) for s in driven] + ["  </actuator>"]

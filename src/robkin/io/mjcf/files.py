@@ -29,7 +29,7 @@ def mjcf_with_meshes(robot: Robot, source: str | os.PathLike[str] | None, out_di
     With ``out_dir``, the meshes are copied into ``out_dir/mesh_dir`` first and named relative to
     ``out_dir``; without it, the found meshes MuJoCo reads are named by their absolute paths. Meshes
     not found are left out with one warning line. ``options``: those of ``writer.mjcf_text``
-    (``actuators``, ``kp``, ``kv``, ``fuse_fixed``).
+    (``actuators``, ``kp``, ``kv``, ``home``, ``gravcomp``, ``servos``, ``fuse_fixed``).
     """
     from .writer import mjcf_text
 

@@ -185,7 +185,7 @@ function apply(res, body) {
   if (changed) {
     state.jointKey = key;
     buildSliders(res);
-    // home (q = 0) outside a joint's limits: the slider sits on the limit; show the robot there
+    // a q outside a joint's limits (the server starts at Robot.home, inside them): the slider sits on the limit; show the robot there
     if (currentQ().some((v, i) => v !== res.q[i])) { refresh(); return; }
   }
   state.robot = res;
@@ -521,7 +521,10 @@ async function start() {
   $("other-clear").addEventListener("click", () => { $("other-text").value = ""; $("other-file").value = ""; refresh(); });
   $("arm-angle-slider").addEventListener("input", swivel);
   $("arm-angle-slider").addEventListener("change", () => { dragEnded(); });
-  $("home").addEventListener("click", () => { setQ(currentQ().map(() => 0)); refresh(); });
+  // home: the hub's (Robot.home: q = 0 clipped into the limits), the MJCF keyframe 'home' too
+  $("home").addEventListener("click", () => {
+    const home = state.robot && state.robot.home;
+    setQ(home && home.length === currentQ().length ? home : currentQ().map(() => 0)); refresh(); });
   document.querySelectorAll("[data-view]").forEach((b) => b.addEventListener("click", () => viewer.view(b.dataset.view)));
   $("gizmo-mode").addEventListener("change", () => viewer.setGizmoMode($("gizmo-mode").value));
   const [init, reps] = await Promise.all([fetch("/api/start").then((r) => r.json()),
