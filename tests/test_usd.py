@@ -152,6 +152,33 @@ def test_stage_is_an_articulation(written):
             parent = parent.GetParent()
 
 
+def test_drives_are_the_servo_plans(written):
+    """convert --to usd drives every actuated joint with the MJCF export's default servo gains
+    (robkin.simulation.servo_plan: stiffness and damping per degree for revolute joints, maxForce the
+    effort) towards home, and compensates gravity as Isaac Lab does (disableGravity on every body)."""
+    from robkin.simulation import servo_plan
+
+    _, robot, out, _, _ = written
+    plan = servo_plan(robot)
+    stage = Usd.Stage.Open(str(out))
+    joints = {_name(p): p for p in stage.Traverse() if p.IsA(UsdPhysics.Joint)}
+    checked = 0
+    for s in plan.actuated():
+        p = joints[s.name]
+        revolute = p.IsA(UsdPhysics.RevoluteJoint)
+        per = math.pi / 180 if revolute else 1.0  # N m/rad -> N m/deg
+        drive = UsdPhysics.DriveAPI(p, "angular" if revolute else "linear")
+        # float32 attributes: 6e-8 relative rounding
+        assert drive.GetStiffnessAttr().Get() == pytest.approx(s.kp * per, rel=1e-6)
+        assert drive.GetDampingAttr().Get() == pytest.approx(s.kv * per, rel=1e-6)
+        assert drive.GetTargetPositionAttr().Get() == pytest.approx(s.home / per, rel=1e-6, abs=1e-6)
+        assert s.kp > 0
+        checked += 1
+    assert checked >= robot.n
+    bodies = [p for p in stage.Traverse() if p.HasAPI(UsdPhysics.RigidBodyAPI)]
+    assert bodies and all(p.GetAttribute("physxRigidBody:disableGravity").Get() is True for p in bodies)
+
+
 def test_fk_from_the_joint_prims(written):
     """FK at 10 configurations from pxr's own reading of the joints equals the source's."""
     _, robot, out, _, _ = written

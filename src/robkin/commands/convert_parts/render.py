@@ -112,11 +112,15 @@ def render_usd(robot, suffix: str, args: argparse.Namespace | None, source: str 
     """The bytes of a USD file (``.usda`` text, ``.usd``/``.usdc`` crate) for one robot, the meshes of
     its robot file ``source`` inline (``robkin.io.usd.writer``)."""
     from ...io.usd.writer import usd_bytes
+    from ...simulation.servos import servo_plan
     from .._common import package_paths
 
-    # TODO(sim): drives=servo_plan(robot) once robkin.simulation is on main; until then effort-only drives
-    return usd_bytes(_with_link_geometry(robot, args), suffix, source=source,
-                     package_paths=package_paths(args) if args is not None else None)
+    robot = _with_link_geometry(robot, args)
+    # the drives hold the same home with the same gains as the MJCF export's default position servos
+    plan = servo_plan(robot)
+    drives = {s.name: (s.kp, s.kv, None if s.force is None else s.force[1]) for s in plan.actuated()}
+    return usd_bytes(robot, suffix, source=source, package_paths=package_paths(args) if args is not None else None,
+                     drives=drives, gravity_off=plan.gravcomp)
 
 
 def render_in(path: str, robot, fmt: str, out_ext: str, args: argparse.Namespace, out_dir: Path | None = None,

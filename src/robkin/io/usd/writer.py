@@ -73,11 +73,12 @@ def _local_pose(pxr: Any, joint: Any, k: int, T: np.ndarray) -> None:
 
 
 class _Writer:
-    def __init__(self, robot: Robot, meshes: Mapping[str, MeshData], drives: DriveGains | None) -> None:
+    def __init__(self, robot: Robot, meshes: Mapping[str, MeshData], drives: DriveGains | None,
+                 gravity_off: bool = False) -> None:
         from ..mjcf.tree import body_tree
 
         self.pxr = _pxr()
-        self.robot, self.meshes, self.drives = robot, meshes, drives
+        self.robot, self.meshes, self.drives, self.gravity_off = robot, meshes, drives, gravity_off
         self.plan, _ = body_tree(robot)
         self.world = np.asarray(robot.world, dtype=float)
         self.scale = max(robot.scale, 1.0)
@@ -158,6 +159,10 @@ class _Writer:
             else:
                 self.rigid.append(i)
                 UsdPhysics.RigidBodyAPI.Apply(prim.GetPrim())
+                if self.gravity_off:  # gravity compensated as Isaac Lab's disable_gravity does it (module doc)
+                    prim.GetPrim().AddAppliedSchema("PhysxRigidBodyAPI")
+                    prim.GetPrim().CreateAttribute("physxRigidBody:disableGravity", Sdf.ValueTypeNames.Bool,
+                                                   custom=False).Set(True)
                 bm = body_mass(bp.inertials)
                 if bm is not None and bm.mass > 0:
                     if write_mass(pxr, prim.GetPrim(), bm, bp.frame):
@@ -289,7 +294,7 @@ class _Writer:
 
 
 def usd_stage(robot: Robot, *, meshes: Mapping[str, MeshData] | None = None,
-              drives: DriveGains | None = None) -> Any:
+              drives: DriveGains | None = None, gravity_off: bool = False) -> Any:
     """The robot as an in-memory USD stage (``pxr.Usd.Stage``; see the module doc): its root layer
     is the file (keep the stage while using the layer: the stage owns it).
 
@@ -303,8 +308,14 @@ def usd_stage(robot: Robot, *, meshes: Mapping[str, MeshData] | None = None,
         Joint name -> (stiffness, damping, largest force) in SI units (N m/rad, N m s/rad, N m; N/m,
         N s/m, N), any of them None; written per degree for revolute joints. Joints not in it (and
         every joint when None) get effort-only drives: stiffness and damping 0, ``maxForce`` = effort.
+        ``robkin convert --to usd`` gives the servo gains of ``robkin.simulation.servo_plan``.
+    gravity_off : bool
+        Gravity compensated: every rigid body gets PhysX's ``physxRigidBody:disableGravity`` (what
+        Isaac Lab's articulation configurations set for a fixed-base arm held by its drives; UsdPhysics
+        itself has no gravity compensation). ``robkin convert --to usd`` sets it where the servo plan
+        compensates gravity, as the MJCF's ``gravcomp`` does.
     """
-    return _Writer(robot, meshes or {}, drives).build()
+    return _Writer(robot, meshes or {}, drives, gravity_off).build()
 
 
 def usd_from_robot(robot: Robot, **options: Any) -> str:
@@ -336,12 +347,14 @@ def _source_meshes(robot: Robot, source: str | os.PathLike[str] | None,
 
 
 def usd_bytes(robot: Robot, suffix: str, *, source: str | os.PathLike[str] | None = None,
-              package_paths: Mapping[str, Path] | None = None, drives: DriveGains | None = None) -> bytes:
+              package_paths: Mapping[str, Path] | None = None, drives: DriveGains | None = None,
+              gravity_off: bool = False) -> bytes:
     """The file's bytes for ``suffix`` ``.usda`` (text) or ``.usd``/``.usdc`` (binary crate), the meshes
     of the robot file ``source`` inline."""
     import tempfile
 
-    stage = usd_stage(robot, meshes=_source_meshes(robot, source, package_paths), drives=drives)
+    stage = usd_stage(robot, meshes=_source_meshes(robot, source, package_paths), drives=drives,
+                      gravity_off=gravity_off)
     layer = stage.GetRootLayer()
     if suffix == ".usda":
         return layer.ExportToString().encode("utf-8")
@@ -353,7 +366,8 @@ def usd_bytes(robot: Robot, suffix: str, *, source: str | os.PathLike[str] | Non
 
 
 def write_usd(robot: Robot, path: str | os.PathLike[str], *, source: str | os.PathLike[str] | None = None,
-              package_paths: Mapping[str, Path] | None = None, drives: DriveGains | None = None) -> Path:
+              package_paths: Mapping[str, Path] | None = None, drives: DriveGains | None = None,
+              gravity_off: bool = False) -> Path:
     """Write ``robot`` as ``path`` (``.usda`` text, ``.usd``/``.usdc`` binary), atomically, its meshes
     (from the robot file ``source``) inline; returns the path."""
     from ...errors import InputError
@@ -364,7 +378,8 @@ def write_usd(robot: Robot, path: str | os.PathLike[str], *, source: str | os.Pa
     suffix = out.suffix.lower()
     if suffix not in USD_EXTENSIONS:
         raise InputError(f"{out}: a USD file is named {', '.join(USD_EXTENSIONS)}")
-    data = usd_bytes(robot, suffix, source=source, package_paths=package_paths, drives=drives)
+    data = usd_bytes(robot, suffix, source=source, package_paths=package_paths, drives=drives,
+                     gravity_off=gravity_off)
     with atomic_file(out, binary=True) as fh:
         fh.write(data)
     return out
