@@ -18,7 +18,7 @@ from .parameters import ErrorModel
 from .report import residual_stats
 
 __all__ = ["FitData", "fit_rounds", "bounds", "MAX_ANGLE", "MAX_LENGTH", "CHI_MEDIAN", "HUBER", "OUTLIER_SIGMAS",
-           "ROUNDS", "FTOL", "XTOL", "MAX_NFEV", "Budget"]
+           "ROUNDS", "FTOL", "XTOL", "MAX_NFEV", "Budget", "stacked"]
 
 #: Box around each nominal angle (rad): calibration corrects a model that is about right, and a larger
 #: change means the model or the data are wrong (and would let near-redundant parameters run away).
@@ -72,9 +72,11 @@ class FitData:
         self.w_o = float(mdl.robot.scale if w_o is None else w_o)
         self.weights = np.ones(len(Q))
 
-    def residuals(self, p: np.ndarray, jacobian: bool = False) -> tuple[np.ndarray, np.ndarray | None]:
-        """(N, d) residuals (prediction - measurement; orientation times w_o) and their Jacobian (N, d, P)."""
-        T, J = self.mdl.poses(p, self.Q, jacobian=jacobian)
+    def residuals(self, p: np.ndarray, jacobian: bool = False, columns: np.ndarray | None = None
+                  ) -> tuple[np.ndarray, np.ndarray | None]:
+        """(N, d) residuals (prediction - measurement; orientation times w_o) and their Jacobian (N, d, P),
+        or its ``columns`` (N, d, K) only (``ErrorModel.poses``)."""
+        T, J = self.mdl.poses(p, self.Q, jacobian=jacobian, columns=columns)
         r = T[:, :3, 3] - self.P
         if self.Rm is not None:
             ro = se3.log_rotation(T[:, :3, :3] @ np.swapaxes(self.Rm, 1, 2))
@@ -103,10 +105,10 @@ class FitData:
         weighted residuals over the degrees of freedom left."""
         if free.size == 0:
             return {}
-        r, J = self.residuals(p, jacobian=True)
+        r, J = self.residuals(p, jacobian=True, columns=free)
         assert J is not None
         sw = np.sqrt(self.weights)[:, None]
-        A = (J[:, :, free] * sw[:, :, None]).reshape(-1, free.size)
+        A = stacked(J * sw[:, :, None])
         b = (r * sw).ravel()
         dof = int(np.count_nonzero(self.weights)) * self.d - free.size
         if dof <= 0:
@@ -151,9 +153,9 @@ def _fit(data: FitData, p: np.ndarray, free: np.ndarray, budget: Budget | None =
             budget.reached = True
             return p
     sw = np.sqrt(data.weights)[:, None]
-    _, J0 = data.residuals(p, jacobian=True)
+    _, J0 = data.residuals(p, jacobian=True, columns=free)
     assert J0 is not None
-    s = column_scale((J0[:, :, free] * sw[:, :, None]).reshape(-1, free.size))
+    s = column_scale(stacked(J0 * sw[:, :, None]))
     lo, hi = bounds(data.mdl)
     base = p.copy()
 
@@ -166,9 +168,9 @@ def _fit(data: FitData, p: np.ndarray, free: np.ndarray, budget: Budget | None =
         return (data.residuals(params(x))[0] * sw).ravel()
 
     def jac(x: np.ndarray) -> np.ndarray:
-        J = data.residuals(params(x), jacobian=True)[1]
+        J = data.residuals(params(x), jacobian=True, columns=free)[1]
         assert J is not None
-        return ((J[:, :, free] * sw[:, :, None]).reshape(-1, free.size)) * s
+        return stacked(J * sw[:, :, None]) * s
 
     x, _, nfev, njev, status = solve(fun, jac, np.zeros(free.size), (lo[free] - base[free]) / s,
                                      (hi[free] - base[free]) / s, ftol=FTOL, xtol=XTOL, max_nfev=max_nfev)
@@ -176,6 +178,13 @@ def _fit(data: FitData, p: np.ndarray, free: np.ndarray, budget: Budget | None =
         budget.left -= (nfev + njev + 1) * N   # + 1: J0 above
         budget.reached |= status == 0 and max_nfev < MAX_NFEV
     return params(x)
+
+
+def stacked(J: np.ndarray) -> np.ndarray:
+    """(N, d, K) Jacobian rows -> the (N * d, K) matrix of the fit, column-major (each parameter's column
+    contiguous, as NumPy's ``J[:, :, free]`` of the whole Jacobian laid it out): NumPy then sums a column
+    pairwise, and the fits keep the bits they had when the Jacobian was computed whole."""
+    return np.asfortranarray(J.reshape(-1, J.shape[2]))
 
 
 def _update_orientation_weight(data: FitData, p: np.ndarray) -> bool:

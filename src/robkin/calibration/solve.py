@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ..robot import Robot
-from .fit import MAX_ANGLE, MAX_LENGTH, Budget, FitData, bounds, fit_rounds
+from .fit import MAX_ANGLE, MAX_LENGTH, Budget, FitData, bounds, fit_rounds, stacked
 from .identifiability import ILL_CONDITIONED, describe, identify
 from .inputs import check_marker, check_measured, check_pose, split_holdout
 from .parameters import MODELS, build_model
@@ -127,9 +127,9 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
         fixed = set(frame_free) ^ set(mdl.world_params + mdl.marker_params)
         cand = np.array([i for i in range(mdl.size) if i not in fixed and (
             only is None or i in frame_free or mdl.groups[i] in only or mdl.names[i] in only)], dtype=int)
-        _, J = data.residuals(p, jacobian=True)
+        _, J = data.residuals(p, jacobian=True, columns=cand)
         assert J is not None  # asked for
-        ident = identify(J[:, :, cand].reshape(-1, len(cand)) * np.sqrt(data.weights).repeat(data.d)[:, None])
+        ident = identify(stacked(J) * np.sqrt(data.weights).repeat(data.d)[:, None])
         free, condition = cand[ident.kept], ident.condition
         for d in ident.dropped:
             sentences.append(describe(int(cand[d]), [int(cand[k]) for k in ident.partners.get(int(d), [])],
