@@ -136,7 +136,7 @@ class Diagnosis:
         if 0 < self.poses_ranked < self.poses:
             out.append(f"(the shares are from {self.poses_ranked} of the {self.poses} poses, evenly spread)")
         if self.budget_reached:
-            out.append(f"the joint-by-joint fits reached their work budget ({WORK:.3g} pose evaluations): the "
+            out.append(f"the joint-by-joint fits reached their work budget ({WORK:,} pose evaluations): the "
                        f"joints and parameters not listed were not fitted")
         return out
 
