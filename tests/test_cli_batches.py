@@ -201,3 +201,47 @@ def test_batch_rows_are_counted_as_data_lines_not_file_lines(tmp_path, monkeypat
     path.write_text("# comments first\n" * 20 + "".join(f"{k},{-k}\n\n" for k in range(11)))
     with pytest.raises(InputError, match="more than 10 rows"):
         batch_files.read_rows(str(path))
+
+
+@pytest.mark.parametrize("every", [False, True])
+def test_every_output_of_ik_poses_holds_the_same_results(tmp_path, ur5, capsys, every):
+    """The batch results are arrays, and each output is made from them: .npy, .npz, CSV (file and
+    stdout) and JSON agree value for value, rows without a solution included (with --all: solution 0,
+    first, then the target's solutions numbered from 1, in the order of the .npz's)."""
+    path, robot = ur5
+    T = robot.fk(robot.random_q(12, rng=11))
+    T[[3, 7], 0, 3] += 3.0  # two targets out of reach
+    np.save(tmp_path / "T.npy", T)
+    base = ["ik", path, "--tip-link", "tool0", "--poses", str(tmp_path / "T.npy")] + (["--all"] if every else [])
+    for ext in ("npy", "npz", "csv", "json"):
+        assert main(base + ["-o", str(tmp_path / f"out.{ext}")]) == 0
+    capsys.readouterr()
+    assert main(base) == 0
+    stdout = capsys.readouterr().out
+    assert stdout == (tmp_path / "out.csv").read_text()
+    z = np.load(tmp_path / "out.npz")
+    np.testing.assert_array_equal(np.load(tmp_path / "out.npy"), z["q"])
+    assert z["error"].dtype.kind == "U" and list(np.flatnonzero(~z["success"])) == [3, 7]
+    assert all("out of reach" in e for e in z["error"][[3, 7]]) and not any(z["error"][z["success"]])
+    doc = json.loads((tmp_path / "out.json").read_text())
+    for k, r in enumerate(doc["results"]):
+        assert r["success"] == z["success"][k] and (r["reason"] or "") == z["error"][k]
+        np.testing.assert_array_equal(r["q"], z["q"][k])
+        assert (r["position_error"], r["orientation_error"]) == (z["position_error"][k], z["orientation_error"][k])
+    header, rows = _csv(tmp_path / "out.csv")
+    joints = [header.index(j.name) for j in robot.joints]
+    if not every:
+        assert len(rows) == 12 and [int(r[0]) for r in rows] == list(range(1, 13))
+        np.testing.assert_array_equal([[float(r[i]) for i in joints] for r in rows], z["q"])  # read back bit for bit
+        assert [r[1] == "true" for r in rows] == list(z["success"])
+        return
+    S = z["solutions"]
+    assert len(rows) == len(S) + 2 and len(S) > 12   # the UR5: up to 8 solutions a target
+    assert [(int(r[0]), int(r[1])) for r in rows] == sorted((int(r[0]), int(r[1])) for r in rows)
+    failed = [r for r in rows if r[1] == "0"]
+    assert [int(r[0]) for r in failed] == [4, 8] and all(r[2] == "false" for r in failed)
+    solved = [r for r in rows if r[1] != "0"]
+    np.testing.assert_array_equal([[int(r[0]) - 1] + [float(r[i]) for i in joints] for r in solved], S)
+    for k, r in enumerate(doc["results"]):
+        np.testing.assert_array_equal(np.reshape([s["q"] for s in r["solutions"]], (-1, robot.n)),
+                                      S[S[:, 0] == k, 1:])

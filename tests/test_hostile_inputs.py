@@ -378,8 +378,8 @@ def test_malformed_meshes_left_out_of_the_mjcf(tmp_path: Path) -> None:
 # --- 16: check MODEL MEASUREMENTS on measurements not of the model: bounded, and said ----------------------
 
 def test_check_on_random_measurements_is_bounded(tmp_path: Path) -> None:
-    import time
-
+    """The base fit only: no per-joint fits (12 full fits took 15-60 s; the base fit alone ~2 s). Not
+    timed here (shared machines): bounded by what runs, which the output shows."""
     import numpy as np
 
     from robkin import load
@@ -391,8 +391,6 @@ def test_check_on_random_measurements_is_bounded(tmp_path: Path) -> None:
     rng = np.random.default_rng(0)
     meas = tmp_path / "random.csv"
     write_measurements_csv(meas, robot, rng.uniform(-3, 3, (1000, 6)), rng.uniform(-1, 1, (1000, 3)))
-    t0 = time.perf_counter()
     r = robkin("check", model, meas)
-    assert time.perf_counter() - t0 < 60  # generous: 12 full fits took 15-60 s, the base fit alone ~2 s
     assert r.returncode == 1, r.stderr   # a valid answer: the model is not the measured robot
     assert "not of this model" in r.stdout and "share of the error" not in r.stdout, r.stdout

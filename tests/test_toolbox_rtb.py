@@ -55,7 +55,7 @@ KINEMATIC = {"scara": robkin.load(Path(robkin.__file__).parent / "examples" / "s
 #: same sums in other frames and order. A wrong frame, sign or inertia term is off by O(1).
 REL_TOL = 1e-9
 #: what is observed (this machine, 2026-11-28, Robotics Toolbox in the test venv): fkine 1.3e-12, rne
-#: 8.2e-12, gravload 8.0e-12 of the largest entry (the README: "1e-11 and below"); 4e-11 is ~5x that (the
+#: 8.2e-12, gravload 8.0e-12 of the largest entry (README and docs/toolboxes.md: "<= 8.2e-12"); 4e-11 is ~5x that (the
 #: toolbox's Python sums in its own order; another version may round differently), so that a regression
 #: far below the promise still fails.
 ROUNDING_REL = 4e-11

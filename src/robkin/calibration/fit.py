@@ -18,7 +18,7 @@ from .parameters import ErrorModel
 from .report import residual_stats
 
 __all__ = ["FitData", "fit_rounds", "bounds", "MAX_ANGLE", "MAX_LENGTH", "CHI_MEDIAN", "HUBER", "OUTLIER_SIGMAS",
-           "ROUNDS", "FTOL", "XTOL", "MAX_NFEV"]
+           "ROUNDS", "FTOL", "XTOL", "MAX_NFEV", "Budget", "stacked"]
 
 #: Box around each nominal angle (rad): calibration corrects a model that is about right, and a larger
 #: change means the model or the data are wrong (and would let near-redundant parameters run away).
@@ -43,6 +43,24 @@ ROUNDS = 4
 FTOL, XTOL, MAX_NFEV = 1e-12, 1e-10, 400
 
 
+class Budget:
+    """Work a group of fits may do, counted in pose evaluations: one residual or one Jacobian evaluated
+    at one pose. Deterministic (the same input stops at the same step on any machine), unlike a clock.
+
+    A fit given a budget evaluates at most what is left of it (``_fit`` caps its evaluation limit to
+    that); a fit cut short by it, or not run for want of it, sets ``reached``.
+    """
+
+    def __init__(self, evaluations: int) -> None:
+        self.total = int(evaluations)
+        self.left = int(evaluations)
+        self.reached = False
+
+    @property
+    def used(self) -> int:
+        return self.total - self.left
+
+
 class FitData:
     """Measurements of the fit (or the hold-out) and their residuals for an error model."""
 
@@ -54,9 +72,11 @@ class FitData:
         self.w_o = float(mdl.robot.scale if w_o is None else w_o)
         self.weights = np.ones(len(Q))
 
-    def residuals(self, p: np.ndarray, jacobian: bool = False) -> tuple[np.ndarray, np.ndarray | None]:
-        """(N, d) residuals (prediction - measurement; orientation times w_o) and their Jacobian (N, d, P)."""
-        T, J = self.mdl.poses(p, self.Q, jacobian=jacobian)
+    def residuals(self, p: np.ndarray, jacobian: bool = False, columns: np.ndarray | None = None
+                  ) -> tuple[np.ndarray, np.ndarray | None]:
+        """(N, d) residuals (prediction - measurement; orientation times w_o) and their Jacobian (N, d, P),
+        or its ``columns`` (N, d, K) only (``ErrorModel.poses``)."""
+        T, J = self.mdl.poses(p, self.Q, jacobian=jacobian, columns=columns)
         r = T[:, :3, 3] - self.P
         if self.Rm is not None:
             ro = se3.log_rotation(T[:, :3, :3] @ np.swapaxes(self.Rm, 1, 2))
@@ -85,10 +105,10 @@ class FitData:
         weighted residuals over the degrees of freedom left."""
         if free.size == 0:
             return {}
-        r, J = self.residuals(p, jacobian=True)
+        r, J = self.residuals(p, jacobian=True, columns=free)
         assert J is not None
         sw = np.sqrt(self.weights)[:, None]
-        A = (J[:, :, free] * sw[:, :, None]).reshape(-1, free.size)
+        A = stacked(J * sw[:, :, None])
         b = (r * sw).ravel()
         dof = int(np.count_nonzero(self.weights)) * self.d - free.size
         if dof <= 0:
@@ -101,10 +121,14 @@ class FitData:
         return {int(i): float(np.sqrt(max(c, 0.0))) for i, c in zip(free, np.diag(cov))}
 
 
-def fit_rounds(data: FitData, p: np.ndarray, free: np.ndarray, loss: str, auto_weight: bool) -> np.ndarray:
-    """Fit, then re-estimate the orientation weight and the robust weights, and fit again."""
+def fit_rounds(data: FitData, p: np.ndarray, free: np.ndarray, loss: str, auto_weight: bool,
+               budget: Budget | None = None) -> np.ndarray:
+    """Fit, then re-estimate the orientation weight and the robust weights, and fit again; with a
+    ``budget``, no further round once it is reached."""
     for k in range(ROUNDS if (loss == "huber" or (auto_weight and data.Rm is not None)) else 1):
-        p = _fit(data, p, free)
+        p = _fit(data, p, free, budget)
+        if budget is not None and budget.reached:
+            break
         changed = False
         if auto_weight and data.Rm is not None:
             changed |= _update_orientation_weight(data, p)
@@ -115,14 +139,23 @@ def fit_rounds(data: FitData, p: np.ndarray, free: np.ndarray, loss: str, auto_w
     return p
 
 
-def _fit(data: FitData, p: np.ndarray, free: np.ndarray) -> np.ndarray:
-    """Bounded Levenberg-Marquardt (``robkin.compiled.runtime.box_lsq``) over the free parameters, scaled."""
+def _fit(data: FitData, p: np.ndarray, free: np.ndarray, budget: Budget | None = None) -> np.ndarray:
+    """Bounded Levenberg-Marquardt (``robkin.compiled.runtime.box_lsq``) over the free parameters, scaled;
+    with a ``budget``, at most the evaluations left of it (a Jacobian counts as one evaluation, like a
+    residual: the solver makes at most one per residual, so a limit of k residuals costs <= 2k + 1)."""
     from ..compiled.runtime.box_lsq import solve
 
+    N = len(data.Q)
+    max_nfev = MAX_NFEV
+    if budget is not None:
+        max_nfev = min(MAX_NFEV, (budget.left // max(N, 1) - 1) // 2)
+        if max_nfev < 1:
+            budget.reached = True
+            return p
     sw = np.sqrt(data.weights)[:, None]
-    _, J0 = data.residuals(p, jacobian=True)
+    _, J0 = data.residuals(p, jacobian=True, columns=free)
     assert J0 is not None
-    s = column_scale((J0[:, :, free] * sw[:, :, None]).reshape(-1, free.size))
+    s = column_scale(stacked(J0 * sw[:, :, None]))
     lo, hi = bounds(data.mdl)
     base = p.copy()
 
@@ -135,13 +168,23 @@ def _fit(data: FitData, p: np.ndarray, free: np.ndarray) -> np.ndarray:
         return (data.residuals(params(x))[0] * sw).ravel()
 
     def jac(x: np.ndarray) -> np.ndarray:
-        J = data.residuals(params(x), jacobian=True)[1]
+        J = data.residuals(params(x), jacobian=True, columns=free)[1]
         assert J is not None
-        return ((J[:, :, free] * sw[:, :, None]).reshape(-1, free.size)) * s
+        return stacked(J * sw[:, :, None]) * s
 
-    x, *_ = solve(fun, jac, np.zeros(free.size), (lo[free] - base[free]) / s, (hi[free] - base[free]) / s,
-                  ftol=FTOL, xtol=XTOL, max_nfev=MAX_NFEV)
+    x, _, nfev, njev, status = solve(fun, jac, np.zeros(free.size), (lo[free] - base[free]) / s,
+                                     (hi[free] - base[free]) / s, ftol=FTOL, xtol=XTOL, max_nfev=max_nfev)
+    if budget is not None:
+        budget.left -= (nfev + njev + 1) * N   # + 1: J0 above
+        budget.reached |= status == 0 and max_nfev < MAX_NFEV
     return params(x)
+
+
+def stacked(J: np.ndarray) -> np.ndarray:
+    """(N, d, K) Jacobian rows -> the (N * d, K) matrix of the fit, column-major (each parameter's column
+    contiguous, as NumPy's ``J[:, :, free]`` of the whole Jacobian laid it out): NumPy then sums a column
+    pairwise, and the fits keep the bits they had when the Jacobian was computed whole."""
+    return np.asfortranarray(J.reshape(-1, J.shape[2]))
 
 
 def _update_orientation_weight(data: FitData, p: np.ndarray) -> bool:

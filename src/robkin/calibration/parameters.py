@@ -43,6 +43,11 @@ MODELS = ("hayati", "mdh", "poe")
 #: elementary motions: translations along and rotations about the current frame's x, y, z
 KINDS = ("Tx", "Ty", "Tz", "Rx", "Ry", "Rz")
 _FLIP_X = np.diag([1.0, -1.0, -1.0, 1.0])
+#: Poses per block of the Jacobian's pass: the pass keeps every frame of the chain (128 bytes a pose per
+#: elementary motion; ~30 motions for a 6-joint arm), which at the 200 000 poses a measurement file may
+#: hold was ~0.8 GB at once; 4096 poses hold ~16 MB, and the blocks' Python overhead (~40 numpy calls
+#: each) is lost in their work.
+JACOBIAN_BLOCK = 4096
 
 
 @dataclass
@@ -99,10 +104,25 @@ class ErrorModel:
         return len(self.nominal)
 
     # ------------------------------------------------------------------ evaluation
-    def poses(self, p: np.ndarray, Q: np.ndarray, *, jacobian: bool = False
+    def poses(self, p: np.ndarray, Q: np.ndarray, *, jacobian: bool = False, columns: np.ndarray | None = None
               ) -> tuple[np.ndarray, np.ndarray | None]:
         """Measured poses (N, 4, 4) at joint values Q (N, n) for parameters p (P,), and optionally the
-        Jacobian (N, 6, P) of (position, orientation rotation vector) in the measuring frame."""
+        Jacobian (N, 6, P) of (position, orientation rotation vector) in the measuring frame; with
+        ``columns`` (K,) parameter indices, only those columns of it (N, 6, K), the same values.
+
+        With the Jacobian, the poses go through the chain in blocks of ``JACOBIAN_BLOCK``: each pose is
+        computed on its own, so the blocks give the same bits as one pass."""
+        N = Q.shape[0]
+        col = None if columns is None else {int(c): k for k, c in enumerate(columns)}
+        if not jacobian or N <= JACOBIAN_BLOCK:
+            return self._poses(p, Q, jacobian, col)
+        T, J = np.empty((N, 4, 4)), np.empty((N, 6, len(p) if col is None else len(col)))
+        for s in range(0, N, JACOBIAN_BLOCK):
+            T[s:s + JACOBIAN_BLOCK], J[s:s + JACOBIAN_BLOCK] = self._poses(p, Q[s:s + JACOBIAN_BLOCK], True, col)
+        return T, J
+
+    def _poses(self, p: np.ndarray, Q: np.ndarray, jacobian: bool,
+               col: dict[int, int] | None = None) -> tuple[np.ndarray, np.ndarray | None]:
         N = Q.shape[0]
         T = np.broadcast_to(np.eye(4), (N, 4, 4))
         frames: list[tuple[int, str, np.ndarray]] = []
@@ -114,13 +134,13 @@ class ErrorModel:
                 T = T @ _elementary(op.kind, p[op.param] + op.sign * Q[:, op.joint], N)
             else:  # the same motion at every pose: one 4x4
                 T = T @ _elementary(op.kind, p[op.param], 1)[0]
-            if jacobian:
-                frames.append((op.param, op.kind, T))
+            if jacobian and (col is None or op.param in col):   # the frames of the columns asked for only
+                frames.append((op.param if col is None else col[op.param], op.kind, T))
         if not jacobian:
             return T, None
-        J = np.zeros((N, 6, len(p)))
+        J = np.zeros((N, 6, len(p) if col is None else len(col)))
         tip = T[:, :3, 3]
-        for param, kind, F in frames:
+        for param, kind, F in frames:   # param: the column of J
             u = F[:, :3, "xyz".index(kind[1])]
             if kind[0] == "T":
                 J[:, :3, param] += u

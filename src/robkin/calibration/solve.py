@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ..robot import Robot
-from .fit import MAX_ANGLE, MAX_LENGTH, FitData, bounds, fit_rounds
+from .fit import MAX_ANGLE, MAX_LENGTH, Budget, FitData, bounds, fit_rounds, stacked
 from .identifiability import ILL_CONDITIONED, describe, identify
 from .inputs import check_marker, check_measured, check_pose, split_holdout
 from .parameters import MODELS, build_model
@@ -35,13 +35,18 @@ __all__ = ["calibrate", "initial_frame", "MAX_ANGLE", "MAX_LENGTH"]
 #: A joint moved over less than this (rad, or robot sizes for a prismatic joint) in the measurements
 #: barely excites its parameters: the report warns.
 MIN_SPREAD = 0.5
+#: Pose evaluations of a calibration outside its fits, charged to a budget: the start's FK, the
+#: identification's Jacobian, the statistics before and after (fit and hold-out), the standard
+#: deviations' Jacobian and the outliers' residuals.
+OUTSIDE_FITS = 8
 
 
 def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: ArrayLike | None = None, *,
               model: str = "hayati", world: ArrayLike | None = None, marker: ArrayLike | None = None,
               orientation_weight: float | None = None, loss: str = "huber",
               holdout: float | ArrayLike | None = None, seed: int = 0, kinematics: bool = True,
-              only: Sequence[str] | None = None, rows: Sequence[int] | None = None) -> CalibrationResult:
+              only: Sequence[str] | None = None, rows: Sequence[int] | None = None,
+              budget: Budget | None = None) -> CalibrationResult:
     """Identify the real robot from measured tool points (and orientations).
 
     Parameters
@@ -74,6 +79,11 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
         with the base and marker: which joint explains the measurements (``robkin check``).
     rows : sequence of int, optional
         Row numbers of the poses in their file, for the outlier list (default 1..N).
+    budget : fit.Budget, optional
+        Pose evaluations the fits may use, shared with other calls given the same budget (``robkin
+        check``'s joint-by-joint fits); once it is reached the fits stop where they are and
+        ``budget.reached`` is set. The call's evaluations outside the fits (``OUTSIDE_FITS`` per pose)
+        are charged too. Default: no limit but each fit's own (``fit.MAX_NFEV``).
 
     Returns
     -------
@@ -97,6 +107,8 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
     mdl = build_model(robot, model, world=W0, marker=m0, full_pose=Rm is not None,
                       world_known=W_known is not None, marker_known=m_known is not None)
     data = FitData(mdl, Q[fit], P[fit], None if Rm is None else Rm[fit])
+    if budget is not None:
+        budget.left -= OUTSIDE_FITS * N
     if orientation_weight is not None:
         if not (np.isfinite(orientation_weight) and orientation_weight > 0):
             raise InputError(f"orientation_weight: {orientation_weight} is not a positive number of metres per radian")
@@ -104,7 +116,7 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
     frame_free = ([] if W_known is not None else mdl.world_params) + ([] if m_known is not None else mdl.marker_params)
     p = mdl.nominal.copy()
     if frame_free:
-        p = fit_rounds(data, p, np.array(frame_free), loss, orientation_weight is None)
+        p = fit_rounds(data, p, np.array(frame_free), loss, orientation_weight is None, budget)
     nominal_robot = mdl.robot_at(p)
     p_before = p.copy()
     warnings: list[str] = []
@@ -115,15 +127,15 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
         fixed = set(frame_free) ^ set(mdl.world_params + mdl.marker_params)
         cand = np.array([i for i in range(mdl.size) if i not in fixed and (
             only is None or i in frame_free or mdl.groups[i] in only or mdl.names[i] in only)], dtype=int)
-        _, J = data.residuals(p, jacobian=True)
+        _, J = data.residuals(p, jacobian=True, columns=cand)
         assert J is not None  # asked for
-        ident = identify(J[:, :, cand].reshape(-1, len(cand)) * np.sqrt(data.weights).repeat(data.d)[:, None])
+        ident = identify(stacked(J) * np.sqrt(data.weights).repeat(data.d)[:, None])
         free, condition = cand[ident.kept], ident.condition
         for d in ident.dropped:
             sentences.append(describe(int(cand[d]), [int(cand[k]) for k in ident.partners.get(int(d), [])],
                                       mdl.names, Rm is None, mdl.groups[cand[d]] not in ("base", "marker")))
         data.weights[:] = 1.0
-        p = fit_rounds(data, p, free, loss, orientation_weight is None)
+        p = fit_rounds(data, p, free, loss, orientation_weight is None, budget)
         if condition > ILL_CONDITIONED:
             warnings.append(f"the poses do not excite the parameters well (condition number {condition:.3g} > "
                             f"{ILL_CONDITIONED:g}): measure more poses, spread over the joint ranges")
@@ -142,7 +154,9 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
     if model == "mdh" and kinematics:
         warnings += _parallel_warning(robot)
     fit_rows = [rows[i] for i in fit]
-    outliers = [(fit_rows[k], float(data.pose_norms(p)[k])) for k in np.flatnonzero(data.weights == 0.0)]
+    rejected = np.flatnonzero(data.weights == 0.0)
+    norms = data.pose_norms(p) if len(rejected) else np.empty(0)   # once, not once per outlier
+    outliers = [(fit_rows[k], float(norms[k])) for k in rejected]
     return CalibrationResult(
         robot=result_robot, nominal=nominal_robot, model=model, parameters=params, unidentifiable=sentences,
         condition=condition, before_fit=before[0], before_holdout=before[1], after_fit=after[0],

@@ -159,7 +159,7 @@ def _is_terminal(stream: Any) -> bool:
         return False
 
 
-def _emit(args: argparse.Namespace, columns: list[str], table: Any, arrays: dict[str, np.ndarray],
+def _emit(args: argparse.Namespace, columns: list[str], table: Any, arrays: dict[str, Any],
           main_array: str, document: Any) -> None:
     """Results to -o (by extension) or stdout (CSV, or JSON with --json). ``table`` (rows) and
     ``document`` may be functions giving them: only the one the output needs is made."""
@@ -236,6 +236,10 @@ def ik_batch(robot: "Robot", args: argparse.Namespace, solve: dict[str, Any]) ->
 
     A target without a solution is not an error: its row has success false, the reason, and the
     closest configuration found with its distance (position, orientation) from the target.
+
+    The results are arrays (q, success, errors; a code per target into the distinct reasons; with --all
+    the solutions stacked with a count per target); the CSV rows and the JSON document are made from
+    them only for the output that needs them, CSV rows one at a time.
     """
     from ..io.batch_files import read_rows
     from ._common import revolute_degrees
@@ -247,8 +251,10 @@ def ik_batch(robot: "Robot", args: argparse.Namespace, solve: dict[str, Any]) ->
     Q = np.full((N, n), np.nan)
     ok = np.zeros(N, dtype=bool)
     perr, oerr = np.full(N, np.inf), np.full(N, np.inf)
-    reason = [""] * N
-    every: list[np.ndarray] = [np.empty((0, n))] * N  # with --all: every solution of each target
+    code = np.zeros(N, dtype=np.int32)  # the reason of target k is reasons[code[k]]
+    reasons: dict[str, int] = {"": 0}
+    counts = np.zeros(N, dtype=np.int64)  # with --all: how many solutions each target has
+    found: list[np.ndarray] = []  # with --all: each block's solutions, stacked
     rng = np.random.default_rng(args.seed)  # one stream for every block: reproducible
     method = [""]
 
@@ -256,9 +262,11 @@ def ik_batch(robot: "Robot", args: argparse.Namespace, solve: dict[str, Any]) ->
         res = robot.ik(targets[s], rng=rng, all_solutions=args.all, **solve)
         Q[s], ok[s], perr[s], oerr[s] = res.q, res.success, res.position_error, res.orientation_error
         msgs = res.message if isinstance(res.message, list) else [res.message] * (s.stop - s.start)
-        reason[s] = msgs
+        code[s] = [reasons.setdefault(m, len(reasons)) for m in msgs]
         if args.all and res.solutions is not None:
-            every[s] = [np.atleast_2d(x) for x in res.solutions]
+            block = [np.atleast_2d(x) for x in res.solutions]
+            counts[s] = [len(x) for x in block]
+            found.append(np.concatenate(block).reshape(-1, n))
         method[0] = res.method
 
     _blocks(N, "ik", step)
@@ -266,31 +274,50 @@ def ik_batch(robot: "Robot", args: argparse.Namespace, solve: dict[str, Any]) ->
     closest = _closest(robot, targets, Q, fail, args.seed)
     for k in fail:
         Q[k], perr[k], oerr[k] = closest[k]
+    del closest
     if len(fail):
         print(f"robkin: ik: {len(fail)} of {N} targets have no solution (see the 'success' and 'error' "
               f"columns; q there is the closest configuration found)", file=sys.stderr)
     names = [j.name for j in robot.joints]
+    text = list(reasons)  # by code
 
     def out(q: np.ndarray) -> np.ndarray:
         return revolute_degrees(robot, q, to_radians=False) if args.degrees else q
 
     q_out = out(Q)
+    solutions = np.concatenate(found) if found else np.empty((0, n))
+    del found
+    first = np.concatenate([[0], np.cumsum(counts)])  # target k's solutions: solutions[first[k]:first[k + 1]]
     columns = ["row", "success", *names, "position_error", "orientation_error", "error"]
-    table = [[k + 1, bool(ok[k]), *q_out[k], perr[k], oerr[k], reason[k]] for k in range(N)]
-    results = [{"q": q_out[k], "success": bool(ok[k]), "position_error": perr[k], "orientation_error": oerr[k],
-                "reason": reason[k] or None} for k in range(N)]
-    arrays = {"q": q_out, "success": ok, "position_error": perr, "orientation_error": oerr,
-              "error": np.array(reason, dtype=str)}
+
+    def table() -> Iterator[list[Any]]:  # CSV only, one row at a time
+        if not args.all:
+            for k in range(N):
+                yield [k + 1, bool(ok[k]), *q_out[k], perr[k], oerr[k], text[code[k]]]
+            return
+        for k in range(N):  # every solution numbered from 1; 0 marks a target without one, first
+            if not ok[k]:
+                yield [k + 1, 0, False, *q_out[k], perr[k], oerr[k], text[code[k]]]
+            S = solutions[first[k]:first[k + 1]]
+            for i, (x, sol) in enumerate(zip(S, out(S))):
+                yield [k + 1, i + 1, True, *sol, *_errors(robot, x, targets[k]), ""]
+
+    def document() -> dict[str, Any]:  # JSON only (at most MAX_JSON_ROWS rows)
+        results: list[dict[str, Any]] = [
+            {"q": q_out[k], "success": bool(ok[k]), "position_error": perr[k], "orientation_error": oerr[k],
+             "reason": text[code[k]] or None} for k in range(N)]
+        if args.all:
+            for k in range(N):
+                results[k]["solutions"] = [{"q": sol} for sol in out(solutions[first[k]:first[k + 1]])]
+        return {"joints": names, "method": method[0], "results": results}
+
+    arrays: dict[str, Any] = {"q": q_out, "success": ok, "position_error": perr, "orientation_error": oerr,
+                              "error": lambda: np.array(text, dtype=str)[code]}
     if args.all:  # every solution: one CSV row each (numbered), a list per target in JSON, (M, 1 + n) in .npz
         columns.insert(1, "solution")
-        table = [[k + 1, i + 1, True, *sol, *_errors(robot, S, targets[k]), ""]
-                 for k in range(N) for i, (S, sol) in enumerate(zip(every[k], out(every[k])))] + \
-                [[k + 1, 0, False, *q_out[k], perr[k], oerr[k], reason[k]] for k in np.flatnonzero(~ok)]
-        table.sort(key=lambda r: (r[0], r[1]))
-        for k in range(N):
-            results[k]["solutions"] = [{"q": sol} for sol in out(every[k])]
-        arrays["solutions"] = np.array([[k, *sol] for k in range(N) for sol in out(every[k])]).reshape(-1, 1 + n)
-    _emit(args, columns, table, arrays, "q", {"joints": names, "method": method[0], "results": results})
+        arrays["solutions"] = lambda: np.concatenate([np.repeat(np.arange(N), counts)[:, None], out(solutions)],
+                                                     axis=1)
+    _emit(args, columns, table, arrays, "q", document)
     return 0
 
 

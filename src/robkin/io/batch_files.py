@@ -260,13 +260,14 @@ def write_csv(stream: IO[str], columns: Sequence[str], table: Iterable[Sequence[
 
 
 def write_rows(path: str, columns: Sequence[str], table: Iterable[Sequence[Any]] | Callable[[], Iterable[Sequence[Any]]],
-               arrays: Mapping[str, np.ndarray], main_array: str, document: Any) -> None:
+               arrays: Mapping[str, np.ndarray | Callable[[], np.ndarray]], main_array: str,
+               document: Any) -> None:
     """Write a batch's results to ``path`` by its extension (atomically).
 
     ``.csv``: ``columns`` and ``table`` (rows, or a function giving them: called only here, so the
     rows are made, one at a time if it is a generator, only for CSV); ``.npy``: ``arrays[main_array]``;
     ``.npz``: every array of ``arrays``; ``.json``: ``document`` (or a function giving it; robkin's
-    JSON style).
+    JSON style). An array may be given as a function giving it, called only for the file that holds it.
     """
     from .files.atomic import atomic_file, write_text_atomic
 
@@ -281,8 +282,13 @@ def write_rows(path: str, columns: Sequence[str], table: Iterable[Sequence[Any]]
     elif ext in (".npy", ".npz"):
         with atomic_file(path, binary=True) as f:
             if ext == ".npy":
-                np.save(f, np.asarray(arrays[main_array]), allow_pickle=False)
+                np.save(f, _array(arrays[main_array]), allow_pickle=False)
             else:
-                np.savez(f, **{k: np.asarray(v) for k, v in arrays.items()})
+                np.savez(f, **{k: _array(v) for k, v in arrays.items()})
     else:
         raise InputError(f"{path}: unknown output extension '{ext}'; -o writes .csv, .npy, .npz or .json")
+
+
+def _array(value: Any) -> np.ndarray:
+    """An output array, or the array a function gives (made only when written)."""
+    return np.asarray(value() if callable(value) else value)
