@@ -69,7 +69,10 @@ def render_mjcf(robot: Robot, args: argparse.Namespace, source: str | None, out_
     from ...io.mjcf.actuators import DEFAULT_KP, DEFAULT_KV
     from ...io.mjcf.files import mjcf_with_meshes
     from .._common import package_paths
+    from .collision_output import collision_stage
 
-    return mjcf_with_meshes(robot, source, out_dir, mesh_dir=mesh_dir, package_paths=package_paths(args),
-                            actuators=args.actuators, kp=DEFAULT_KP if args.kp is None else args.kp,
-                            kv=DEFAULT_KV if args.kv is None else args.kv, fuse_fixed=args.fuse_fixed)
+    with collision_stage(robot, args, source, out_dir, mesh_dir) as stage:  # --collision (collision_output)
+        return mjcf_with_meshes(stage.robot, source, out_dir, mesh_dir=mesh_dir, package_paths=package_paths(args),
+                                actuators=args.actuators, kp=DEFAULT_KP if args.kp is None else args.kp,
+                                kv=DEFAULT_KV if args.kv is None else args.kv, fuse_fixed=args.fuse_fixed,
+                                premade=stage.premade, contact_excludes=stage.contact_excludes)

@@ -29,6 +29,7 @@ from ... import se3
 from ..files.float_text import float_text as _num
 from .format import place_attrs
 from .actuators import DEFAULT_KP, DEFAULT_KV, actuator_lines
+from .contacts import contact_lines
 from .geoms_write import DEFAULT_CLASSES, GeomAssets
 from .inertial import PLACEHOLDER_INERTIA, PLACEHOLDER_MASS, BodyMass, body_mass, inertial_xml
 from .tree import BodyPlan, JointPlan, body_tree
@@ -182,7 +183,8 @@ def _equalities(joints: list[JointPlan]) -> list[str]:
 
 def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actuators: str = "motor",
               kp: float = DEFAULT_KP, kv: float = DEFAULT_KV, fuse_fixed: bool = False,
-              mesh_parts: Mapping[str, Sequence[tuple[str, tuple[float, ...]]]] | None = None) -> str:
+              mesh_parts: Mapping[str, Sequence[tuple[str, tuple[float, ...]]]] | None = None,
+              contact_excludes: Sequence[tuple[str, str]] | None = None) -> str:
     """The MJCF text of a robot (see the module doc).
 
     Parameters
@@ -200,6 +202,8 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
     mesh_parts : mapping, optional
         Mesh file name as the source wrote it -> [(file to write, rgba)]: a visual mesh split by colour
         (``mesh_parts``), drawn as one geom per part where the source gives the shape no colour.
+    contact_excludes : sequence of (body, body), optional
+        Body pairs written as ``<contact><exclude>`` (``robkin.io.mjcf.contacts``).
     """
     from ...version import __version__
 
@@ -239,6 +243,7 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
     out = head + (["  <asset>"] + assets + ["  </asset>"] if assets else [])
     light = ['    <light name="robkin_light" pos="0 0 4" dir="0 0 -1" directional="true" castshadow="false"/>']
     out += ["  <worldbody>"] + light + bodies + ["  </worldbody>"]
+    out += contact_lines(contact_excludes)
     out += _equalities(joints)
     out += actuator_lines(actuators, joints, kp, kv)
     nq = len(joints)
