@@ -25,12 +25,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from .hull import convex_hull, hull_volume, is_flat, principal_frame
-from .tessellate import point_triangle_distance, primitive_mesh, surface_samples
+from .tessellate import convex_distance, primitive_mesh, surface_samples
 
 __all__ = ["Primitive", "FitReport", "fit_primitive", "fit_report", "primitive_volume"]
 
 #: Points on a primitive's surface where the distance to the link is measured (plus its vertices).
 HAUSDORFF_SAMPLES = 2000
+#: Smallest size of a fitted primitive relative to the link's (MuJoCo refuses a zero size; a flat link
+#: gets a box this thin).
+THIN = 1e-3
 
 
 @dataclass(frozen=True)
@@ -96,6 +99,7 @@ def _axis_frame(z: np.ndarray) -> np.ndarray:
 
 def _round_candidates(P: np.ndarray, axes: list[np.ndarray]) -> list[Primitive]:
     out = []
+    floor = THIN * float(np.ptp(P, axis=0).max())
     for a in axes:
         R = _axis_frame(a)
         local = P @ R
@@ -105,7 +109,7 @@ def _round_candidates(P: np.ndarray, axes: list[np.ndarray]) -> list[Primitive]:
         rho = np.sqrt(((local[:, :2] - c2) ** 2).sum(axis=1))
         mid = (t.min() + t.max()) / 2
         centre = R @ np.array([c2[0], c2[1], mid])
-        out.append(Primitive("cylinder", (rho_max, float(t.max() - t.min())), _frame(R, centre)))
+        out.append(Primitive("cylinder", (max(rho_max, floor), max(float(t.max() - t.min()), floor)), _frame(R, centre)))
         best = None
         for r in np.linspace(rho_max, max(rho_max, (t.max() - t.min()) / 2) + 1e-12, 48):
             cap = np.sqrt(np.maximum(r * r - rho * rho, 0.0))
@@ -115,7 +119,8 @@ def _round_candidates(P: np.ndarray, axes: list[np.ndarray]) -> list[Primitive]:
             if best is None or v < best[0]:
                 best = (v, r, length, (top + bottom) / 2)
         _, r, length, tc = best
-        out.append(Primitive("capsule", (float(r), float(length)), _frame(R, R @ np.array([c2[0], c2[1], tc]))))
+        if length > THIN * max(r, 1e-300):  # a capsule of no length is the sphere candidate's business
+            out.append(Primitive("capsule", (float(r), float(length)), _frame(R, R @ np.array([c2[0], c2[1], tc]))))
     return out
 
 
@@ -127,13 +132,14 @@ def fit_primitive(P: np.ndarray, link_axes: np.ndarray | None = None) -> Primiti
         V, _ = convex_hull(P)
         P = V  # enclosing the hull's vertices encloses everything
     c, R, ext = principal_frame(P)
-    cands = [Primitive("box", tuple(float(x) for x in np.maximum(ext, 1e-9)), _frame(R, c))]
+    floor = THIN * max(float(ext.max()), 1e-300)
+    cands = [Primitive("box", tuple(float(x) for x in np.maximum(ext, floor)), _frame(R, c))]
     axes = [R[:, k] for k in range(3)]
     if link_axes is not None:
         L = np.asarray(link_axes, dtype=float)
         local = P @ L
         lo, hi = local.min(axis=0), local.max(axis=0)
-        cands.append(Primitive("box", tuple(float(x) for x in np.maximum(hi - lo, 1e-9)), _frame(L, L @ ((lo + hi) / 2))))
+        cands.append(Primitive("box", tuple(float(x) for x in np.maximum(hi - lo, floor)), _frame(L, L @ ((lo + hi) / 2))))
         axes += [L[:, k] for k in range(3)]
     centre, radius = _enclosing_center(P, c)
     cands.append(Primitive("sphere", (radius,), _frame(np.eye(3), centre)))
@@ -152,7 +158,6 @@ def fit_report(link: str, prim: Primitive, hulls: list[tuple[np.ndarray, np.ndar
     vol = primitive_volume(prim.kind, prim.size)
     V, F = primitive_mesh(prim.kind, prim.size)
     samples = surface_samples(V, F, HAUSDORFF_SAMPLES) @ prim.pose[:3, :3].T + prim.pose[:3, 3]
-    offset = np.cumsum([0] + [len(v) for v, _ in hulls])
-    allF = np.vstack([f + offset[k] for k, (_, f) in enumerate(hulls)])
-    h = float(point_triangle_distance(samples, allV, allF).max())
+    # the primitive encloses every hull, so its surface lies outside each of them (convex_distance)
+    h = float(np.min([convex_distance(samples, v, f) for v, f in hulls], axis=0).max())
     return FitReport(link, prim.kind, vol, ref, vol / ref - 1.0 if ref > 0 else float("inf"), h)

@@ -85,9 +85,7 @@ def _say(line: str) -> None:
 
 
 def _report(result, mode: str) -> None:
-    from ...collision.decimate import DEFAULT_MAX_FACES  # noqa: F401 - the module is loaded already
-
-    if result.unread:
+    if result.unread and mode != "source":  # in source mode the writer's copy says it for every mesh
         import warnings
 
         warnings.warn(f"{len(result.unread)} collision mesh(es) could not be read and stay as the source gave them: "
