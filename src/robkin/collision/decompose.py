@@ -32,10 +32,11 @@ __all__ = ["PARAMETERS", "MAX_PARTS", "cache_dir", "decompose"]
 
 #: CoACD's parameters used by robkin (see the module doc); concavity threshold 0.05 as CoACD's default.
 PARAMETERS = {"threshold": 0.05, "max_convex_hull": 8, "preprocess_resolution": 40, "resolution": 1000,
-              "mcts_nodes": 10, "mcts_iterations": 60, "mcts_max_depth": 2, "max_ch_vertex": 128, "seed": 0}
+              "mcts_nodes": 10, "mcts_iterations": 60, "mcts_max_depth": 2, "decimate": True, "max_ch_vertex": 64,
+              "seed": 0}
 #: Most convex parts per mesh (= PARAMETERS["max_convex_hull"]); a cache file holding more is not used.
 MAX_PARTS = 8
-#: Largest cache file read (128-vertex hulls: a few kB per part).
+#: Largest cache file read (64-vertex hulls: a few kB per part).
 MAX_CACHE_BYTES = 8 * 1024 * 1024
 #: Triangles handed to CoACD at most: it remeshes to its own resolution anyway, and its cost grows with the input.
 MAX_INPUT_FACES = 20_000
