@@ -26,7 +26,7 @@ def home(model) -> np.ndarray:
     """q = 0 clipped into each limited hinge or slide joint's range (the definition of home)."""
     q = np.array(model.qpos0)
     for j in range(model.njnt):
-        if model.jnt_type[j] in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE):
+        if int(model.jnt_type[j]) in (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE)):
             lo, hi = model.jnt_range[j]
             q[model.jnt_qposadr[j]] = min(max(0.0, lo), hi) if model.jnt_limited[j] else 0.0
     return q
