@@ -123,9 +123,9 @@ def collision_stage(robot: Robot, args: argparse.Namespace, source: str | None, 
     before = set(_files(folder))
     existed = folder is not None and folder.exists()
     try:
-        if mode == "source" and not any(s.role == "collision" and s.geometry.kind == "mesh"
-                                        for s in robot.bodies.shapes):
-            stage = Stage(robot)
+        if mode == "source" and (out_dir is None or not any(s.role == "collision" and s.geometry.kind == "mesh"
+                                                             for s in robot.bodies.shapes)):
+            stage = Stage(robot)  # without a folder (stdout), the model names the source's files where they are
         else:
             from ...collision import collision_geometry
             from .._common import package_paths

@@ -79,7 +79,7 @@ def mjcf_with_meshes(robot: Robot, source: str | os.PathLike[str] | None, out_di
             mesh_files = {k: str(v.path) for k, v in resolved.items()
                           if v.path is not None and v.path.suffix.lower() in MUJOCO_MESH_SUFFIXES}
     text = mjcf_text(robot, mesh_files=mesh_files, mesh_parts=mesh_parts, **options)
-    _refuse_empty(robot, text, source)
+    _refuse_empty(robot, text, source, out_dir)
     if contact_excludes is not None:
         pairs = contact_excludes(text)
         if pairs:
@@ -90,7 +90,7 @@ def mjcf_with_meshes(robot: Robot, source: str | os.PathLike[str] | None, out_di
     return text
 
 
-def _refuse_empty(robot: Robot, text: str, source: str | os.PathLike[str] | None) -> None:
+def _refuse_empty(robot: Robot, text: str, source: str | os.PathLike[str] | None, out_dir: Path | None) -> None:
     """InputError when the robot has visual shapes and the model has no visual geom (MuJoCo would show
     nothing: its collision geoms are hidden by default)."""
     visuals = [s for s in robot.bodies.shapes if s.role == "visual"]
@@ -101,6 +101,8 @@ def _refuse_empty(robot: Robot, text: str, source: str | os.PathLike[str] | None
     try:
         import trimesh  # noqa: F401
         hint = "see the warnings above"
+        if out_dir is None:
+            hint = "write it with -o DIR/robot.xml: COLLADA and PLY meshes are then converted into DIR/meshes"
     except ImportError:
         hint = "COLLADA (.dae) and PLY meshes are converted with trimesh: pip install 'robkin[meshes]'"
     raise InputError(f"none of the {len(visuals)} visual shape(s) could be written, so the model would render "
