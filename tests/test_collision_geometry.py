@@ -266,3 +266,50 @@ def test_a_model_whose_visuals_are_all_dropped_is_refused(tmp_path, capsys, monk
     assert err[-1].startswith("robkin: error:") and "render empty" in err[-1] and "robkin[meshes]" in err[-1]
     assert list(out.iterdir()) == []
     _ = os
+
+
+@pytest.mark.parametrize("data, reason", [
+    (b"\0" * 80 + (4_000_000_000).to_bytes(4, "little") + b"\0" * 50, "not a binary STL"),
+    (b"", "no triangles"),
+])
+def test_hostile_stl_is_refused_with_a_reason(tmp_path, data, reason):
+    """A binary STL header claiming 4e9 triangles is never believed (its size disagrees: read as ASCII by
+    trimesh, which finds nothing); an empty file has no triangles. One short reason each, no traceback."""
+    from robkin.collision.mesh_data import MeshError
+
+    path = tmp_path / "bad.stl"
+    path.write_bytes(data)
+    with pytest.raises(MeshError) as exc:
+        read_mesh(path)
+    assert "\n" not in str(exc.value) and len(str(exc.value)) < 120
+
+
+def test_nan_vertex_is_refused(tmp_path):
+    from robkin.collision.mesh_data import MeshError
+
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, np.nan]], dtype=float)
+    path = tmp_path / "nan.stl"
+    path.write_bytes(stl_bytes(V, np.array([[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]])))
+    with pytest.raises(MeshError, match="NaN or infinite"):
+        read_mesh(path)
+
+
+def test_without_mujoco_only_adjacent_pairs_are_excluded(monkeypatch):
+    """The touching pairs need MuJoCo; without it the parent-child pairs are still excluded (the world's
+    welded bodies included) and the note says what was not checked."""
+    from robkin.collision.exclusions import contact_excludes
+
+    text = """<mujoco><worldbody>
+      <body name="base"><geom class="collision" type="box" size="1 1 1"/>
+        <body name="mount"><geom class="collision" type="box" size="1 1 1"/>
+          <body name="l1"><joint name="j1"/><geom class="collision" type="box" size="1 1 1"/>
+            <body name="l2"><joint name="j2"/><geom class="visual" type="box" size="1 1 1"/>
+              <body name="l3"><joint name="j3"/><geom class="collision" type="box" size="1 1 1"/></body>
+            </body>
+          </body>
+        </body>
+      </body></worldbody></mujoco>"""
+    monkeypatch.setitem(sys.modules, "mujoco", None)
+    pairs, note = contact_excludes(text, None, 1.0)
+    assert sorted(pairs) == [("base", "l1"), ("l1", "mount")]   # l2 has no collision geom: l2/l3 not needed
+    assert "not checked (MuJoCo is not installed)" in note
