@@ -313,3 +313,25 @@ def test_without_mujoco_only_adjacent_pairs_are_excluded(monkeypatch):
     pairs, note = contact_excludes(text, None, 1.0)
     assert sorted(pairs) == [("base", "l1"), ("l1", "mount")]   # l2 has no collision geom: l2/l3 not needed
     assert "not checked (MuJoCo is not installed)" in note
+
+
+def test_decomposition_report_against_manifold_and_trimesh(cache):
+    """The report's union volume (Monte Carlo) against manifold3d's exact union, within 1 % of the mesh's
+    volume (observed 0.1-0.4 %); its Hausdorff distance is the largest of trimesh's closest-point distances
+    from the same part surface points that lie outside the mesh (trimesh's contains)."""
+    from robkin.collision.decompose import decompose
+    from robkin.collision.decompose_fit import SAMPLES, decomposition_report
+
+    V, F = _l_shape()
+    parts, _ = decompose(V, F)
+    hulls = [convex_hull(pv) for pv, _ in parts]
+    report = decomposition_report("l", V, F, hulls)
+    mesh = trimesh.Trimesh(V, F)
+    union = trimesh.boolean.union([trimesh.Trimesh(*h) for h in hulls], engine="manifold").volume
+    assert report.reference == "mesh" and report.parts == len(hulls)
+    assert report.volume_error == pytest.approx(union / mesh.volume - 1, abs=0.01)
+    assert report.hull_volume_error == pytest.approx(mesh.convex_hull.volume / mesh.volume - 1, rel=1e-9)
+    samples = np.vstack([surface_samples(pv, pf, SAMPLES, seed=k) for k, (pv, pf) in enumerate(hulls)])
+    outside = ~mesh.contains(samples)
+    _, dist, _ = trimesh.proximity.closest_point(mesh, samples[outside])
+    assert report.hausdorff == pytest.approx(dist.max() if outside.any() else 0.0, rel=1e-6, abs=1e-9)

@@ -36,6 +36,7 @@ from .mesh_data import MeshError, read_mesh, stl_bytes
 if TYPE_CHECKING:  # pragma: no cover
     from ..body_parts import Shape
     from ..robot import Robot
+    from .decompose_fit import DecompositionReport
     from .primitives import FitReport
 
 __all__ = ["MODES", "Collision", "collision_geometry"]
@@ -50,6 +51,7 @@ class Collision:
     robot: Robot
     premade: dict[str, str] = field(default_factory=dict)
     fits: list[FitReport] = field(default_factory=list)
+    decompositions: list[DecompositionReport] = field(default_factory=list)
     meshes_in: int = 0          # distinct source meshes used for collision
     meshes_out: int = 0         # mesh files written
     faces_out: int = 0          # their triangles
@@ -216,16 +218,19 @@ def _convert(mode: str, V: np.ndarray, F: np.ndarray, stem: str, need_writer, ma
         return [("mesh", one, need_writer().write(f"{stem}_hull", hv, hf), np.eye(4))]
     from .decompose import decompose
 
+    from .decompose_fit import decomposition_report
+
     parts, cached = decompose(V, F)
     result.cached += int(cached)
+    hulls = [convex_hull(pv) for pv, _ in parts if not is_flat(pv)]  # a part's hull drops stray inner vertices
+    if not hulls:
+        return [("keep", (), None, None)]
+    result.decompositions.append(decomposition_report(stem, V, F, hulls))
     out = []
-    for k, (pv, _) in enumerate(parts):
-        if is_flat(pv):
-            continue
-        hv, hf = convex_hull(pv)  # CoACD's parts are convex; their hull drops any stray inner vertex
+    for k, (hv, hf) in enumerate(hulls):
         result.faces_out += len(hf)
         out.append(("mesh", one, need_writer().write(f"{stem}_part{k}", hv, hf), np.eye(4)))
-    return out or [("keep", (), None, None)]
+    return out
 
 
 def _primitives(robot: Robot, shapes: list[Shape], mesh_of, result: Collision) -> list[Shape]:

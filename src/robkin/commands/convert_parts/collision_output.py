@@ -101,6 +101,13 @@ def _report(result, mode: str) -> None:
         cached = f", {result.cached} from the cache" if mode == "decompose" else ""
         _say(f"--collision {mode}: {result.meshes_in} mesh(es) -> {result.meshes_out} convex mesh file(s), "
              f"{result.faces_out} triangles{cached}, in {result.seconds:.1f} s")
+    if mode == "decompose" and result.decompositions:
+        print("  per mesh: convex parts, volume error of their union and of the single hull (vs the mesh, or its "
+              "hull when the mesh is not closed), one-sided Hausdorff distance (parts -> mesh)", file=sys.stderr)
+        for d in result.decompositions:
+            ref = "" if d.reference == "mesh" else " (vs its hull: the mesh is not closed)"
+            print(f"  {d.mesh}: {d.parts} parts, volume {100 * d.volume_error:+.1f} % (hull "
+                  f"{100 * d.hull_volume_error:+.1f} %){ref}, Hausdorff {d.hausdorff:.4g}", file=sys.stderr)
     if mode == "primitives":
         _say(f"--collision primitives: {len(result.fits)} link(s) in {result.seconds:.1f} s; per link: kind, "
              f"volume error (vs the link's convex hull), one-sided Hausdorff distance (primitive -> link)")
