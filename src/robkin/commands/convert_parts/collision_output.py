@@ -103,14 +103,16 @@ def _report(result, mode: str) -> None:
              f"{result.faces_out} triangles{cached}, in {result.seconds:.1f} s")
     if mode == "decompose" and result.decompositions:
         print("  per mesh: convex parts, volume error of their union and of the single hull (vs the mesh, or its "
-              "hull when the mesh is not closed), one-sided Hausdorff distance (parts -> mesh)", file=sys.stderr)
+              "hull when the mesh is not closed), one-sided Hausdorff distance (parts -> mesh, robot length unit)",
+              file=sys.stderr)
         for d in result.decompositions:
             ref = "" if d.reference == "mesh" else " (vs its hull: the mesh is not closed)"
             print(f"  {d.mesh}: {d.parts} parts, volume {100 * d.volume_error:+.1f} % (hull "
                   f"{100 * d.hull_volume_error:+.1f} %){ref}, Hausdorff {d.hausdorff:.4g}", file=sys.stderr)
     if mode == "primitives":
         _say(f"--collision primitives: {len(result.fits)} link(s) in {result.seconds:.1f} s; per link: kind, "
-             f"volume error (vs the link's convex hull), one-sided Hausdorff distance (primitive -> link)")
+             f"volume error (vs the link's convex hull), one-sided Hausdorff distance (primitive -> link, in the "
+             f"robot's length unit)")
         for f in result.fits:
             err = "n/a (flat link)" if f.volume_error == float("inf") else f"{100 * f.volume_error:+.0f} %"
             print(f"  {f.link}: {f.kind}, volume {err}, Hausdorff {f.hausdorff:.4g}", file=sys.stderr)
