@@ -29,7 +29,8 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p = sub.add_parser("convert", help="convert a robot into another representation",
                        description="Convert a robot description into another representation, exactly: "
                                    "forward kinematics of the output equals that of the input at every q.",
-                       epilog=epilog().replace("{mjcf}", MJCF_HELP + "\n" + COLLISION_HELP), formatter_class=argparse.RawDescriptionHelpFormatter)
+                       epilog=epilog().replace("{mjcf}", MJCF_HELP + "\n" + COLLISION_HELP),
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("input", nargs="+", metavar="INPUT",
                    help="robot document (.yaml/.yml/.json) or robot file: URDF (.urdf; .xacro with --allow-xacro), "
                         "MJCF (.xml/.mjcf) or SDF (.sdf) (one or more)")

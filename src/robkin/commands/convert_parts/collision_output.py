@@ -32,7 +32,7 @@ Collision geometry (--to mjcf|urdf, --collision MODE): source (default) keeps th
 shapes, primitives as primitives, a mesh above --max-faces triangles decimated; hull writes one convex
 hull per mesh (what MuJoCo collides anyway, as a small file); decompose cuts each mesh into convex parts
 with CoACD (pip install 'robkin[collision]'; cached in ~/.cache/robkin/coacd); primitives fits one box,
-sphere, cylinder or capsule per link and prints each fit (volume error, one-sided Hausdorff distance);
+sphere, cylinder or capsule per link; both print their fit (volume error, one-sided Hausdorff distance);
 none writes no collision shapes. New mesh files go into meshes/collision/ beside the output; a flat
 mesh (no volume) becomes a thin box. MJCF: body pairs joined by a joint, and pairs whose collision
 geoms touch at home (q = 0 clipped into the limits; checked with MuJoCo when it is installed), are

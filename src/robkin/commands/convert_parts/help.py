@@ -82,6 +82,7 @@ examples:
   robkin convert robot.yaml --to mjcf -o robot.xml
   robkin convert panda.urdf --tip-link panda_hand_tcp --to mjcf -o panda_mjcf/panda.xml
   robkin convert ur5.urdf --tip-link tool0 --to mjcf --actuators position --kp 500 --kv 50 -o ur5/ur5.xml
+  robkin convert ur5.urdf --tip-link tool0 --to mjcf --collision decompose -o ur5/ur5.xml
   robkin convert panda.urdf --tip-link panda_hand_tcp --to rtb -o panda_rtb.py
   robkin convert ur5.urdf --tip-link tool0 --to rtb --convention mdh -o ur5_mdh.py
   robkin convert ur5.urdf --tip-link tool0 --to matlab -o ur5.m
