@@ -335,3 +335,25 @@ def test_decomposition_report_against_manifold_and_trimesh(cache):
     outside = ~mesh.contains(samples)
     _, dist, _ = trimesh.proximity.closest_point(mesh, samples[outside])
     assert report.hausdorff == pytest.approx(dist.max() if outside.any() else 0.0, rel=1e-6, abs=1e-9)
+
+
+def test_cached_fit_numbers_are_checked(cache, tmp_path):
+    """The fit report's numbers beside a cached decomposition are used only when sound: five finite
+    float64, the same count of parts, a reference of 0 or 1, a distance >= 0, a regular file."""
+    from robkin.collision.decompose import _fit_path, cached_fit, remember_fit
+
+    V, F = _l_shape()
+    good = (2.0, 0.05, 0.4, 1.0, 0.001)
+    remember_fit(V, F, good)
+    assert cached_fit(V, F, 2).tolist() == list(good)
+    assert cached_fit(V, F, 3) is None                       # another count of parts
+    path = _fit_path(V, F)
+    for bad in (np.array([2.0, np.nan, 0.4, 1.0, 0.0]), np.array([2.0, 0.05, 0.4, 0.5, 0.0]),
+                np.array([2.0, 0.05, 0.4, 1.0, -1.0]), np.zeros(6)):
+        path.write_bytes(bad.astype("<f8").tobytes())
+        assert cached_fit(V, F, 2) is None
+    target = tmp_path / "fit"
+    target.write_bytes(np.array(good).astype("<f8").tobytes())
+    path.unlink()
+    path.symlink_to(target)
+    assert cached_fit(V, F, 2) is None

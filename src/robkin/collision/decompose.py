@@ -12,8 +12,10 @@ The cache
     is decomposed once. The cache is untrusted: a file is read only if it is a regular file (not a
     symbolic link) of at most ``MAX_CACHE_BYTES``, as NumPy arrays without pickles, and used only if
     it holds at most ``MAX_PARTS`` parts of finite vertices inside the mesh's box (grown by 1 % of
-    its size) with valid faces; anything else is computed again (and the file replaced). Files are
-    written atomically, the folder made private (mode 0700).
+    its size) with valid faces; anything else is computed again (and the file replaced). Beside it,
+    ``<sha256>.fit`` keeps the numbers of the decomposition's fit report (``decompose_fit``: five
+    float64, used only when finite and consistent with the parts). Files are written atomically, the
+    folder made private (mode 0700).
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ import numpy as np
 
 from .decimate import MissingExtra
 
-__all__ = ["PARAMETERS", "MAX_PARTS", "cache_dir", "decompose"]
+__all__ = ["PARAMETERS", "MAX_PARTS", "cache_dir", "decompose", "cached_fit", "remember_fit"]
 
 #: CoACD's parameters used by robkin (see the module doc); concavity threshold 0.05 as CoACD's default.
 PARAMETERS = {"threshold": 0.05, "max_convex_hull": 8, "preprocess_resolution": 40, "resolution": 1000,
@@ -72,21 +74,33 @@ def _valid(parts: list[tuple[np.ndarray, np.ndarray]], V: np.ndarray) -> bool:
     return True
 
 
-def _load(path: Path, V: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]] | None:
+def _read(path: Path, limit: int) -> bytes | None:
+    """The bytes of a regular file (never through a symbolic link) of at most ``limit`` bytes, or None."""
+    import stat
+
     try:
-        flags = os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0)
-        fd = os.open(path, flags)
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
     except OSError:
         return None
     try:
-        import stat
-
         info = os.fstat(fd)
-        if not stat.S_ISREG(info.st_mode) or info.st_size > MAX_CACHE_BYTES:
+        if not stat.S_ISREG(info.st_mode) or info.st_size > limit:
             return None
         with os.fdopen(fd, "rb") as f:
             fd = -1
-            data = f.read(MAX_CACHE_BYTES + 1)
+            return f.read(limit + 1)
+    except OSError:
+        return None
+    finally:
+        if fd >= 0:
+            os.close(fd)
+
+
+def _load(path: Path, V: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]] | None:
+    data = _read(path, MAX_CACHE_BYTES)
+    if data is None:
+        return None
+    try:
         with np.load(io.BytesIO(data), allow_pickle=False) as z:
             count = int(z["count"])
             if not 1 <= count <= MAX_PARTS:
@@ -95,26 +109,55 @@ def _load(path: Path, V: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]] | No
                      for k in range(count)]
     except Exception:  # noqa: BLE001 - a damaged or hostile cache file: decomposed again
         return None
-    finally:
-        if fd >= 0:
-            os.close(fd)
     return parts if _valid(parts, V) else None
 
 
-def _store(path: Path, parts: list[tuple[np.ndarray, np.ndarray]]) -> None:
+def _write(path: Path, data: bytes) -> None:
     from ..io.files.atomic import atomic_file
 
     try:
         path.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
-        buf = io.BytesIO()
-        arrays = {"count": np.array(len(parts))}
-        for k, (pv, pf) in enumerate(parts):
-            arrays[f"v{k}"], arrays[f"f{k}"] = pv, pf
-        np.savez(buf, **arrays)
         with atomic_file(path, binary=True) as f:
-            f.write(buf.getvalue())
+            f.write(data)
     except Exception:  # noqa: BLE001 - a cache that cannot be written costs time, not the result
         pass
+
+
+def _store(path: Path, parts: list[tuple[np.ndarray, np.ndarray]]) -> None:
+    buf = io.BytesIO()
+    arrays = {"count": np.array(len(parts))}
+    for k, (pv, pf) in enumerate(parts):
+        arrays[f"v{k}"], arrays[f"f{k}"] = pv, pf
+    np.savez(buf, **arrays)
+    _write(path, buf.getvalue())
+
+
+def _fit_path(V: np.ndarray, F: np.ndarray) -> Path:
+    from importlib.metadata import version
+
+    return cache_dir() / f"{_key(V, F, version('coacd'))}.fit"
+
+
+#: Numbers of a cached fit report: parts, volume error, hull volume error, reference (1: the mesh, 0: its
+#: hull), Hausdorff distance (``decompose_fit.DecompositionReport``), as little-endian float64.
+FIT_NUMBERS = 5
+
+
+def cached_fit(V: np.ndarray, F: np.ndarray, parts: int) -> np.ndarray | None:
+    """The fit report's numbers stored beside the cached decomposition of (V, F), if they are sound: five
+    finite numbers, the same count of parts, a reference of 0 or 1, a distance >= 0; else None."""
+    data = _read(_fit_path(V, F), 8 * FIT_NUMBERS)
+    if data is None or len(data) != 8 * FIT_NUMBERS:
+        return None
+    values = np.frombuffer(data, dtype="<f8")
+    if not np.isfinite(values).all() or values[0] != parts or values[3] not in (0.0, 1.0) or values[4] < 0:
+        return None
+    return values
+
+
+def remember_fit(V: np.ndarray, F: np.ndarray, values) -> None:
+    """Store the fit report's numbers beside the decomposition of (V, F) (see ``cached_fit``)."""
+    _write(_fit_path(V, F), np.asarray(values, dtype="<f8").tobytes())
 
 
 def decompose(V: np.ndarray, F: np.ndarray, *, use_cache: bool = True) -> tuple[list[tuple[np.ndarray, np.ndarray]], bool]:

@@ -218,14 +218,23 @@ def _convert(mode: str, V: np.ndarray, F: np.ndarray, stem: str, need_writer, ma
         return [("mesh", one, need_writer().write(f"{stem}_hull", hv, hf), np.eye(4))]
     from .decompose import decompose
 
-    from .decompose_fit import decomposition_report
+    from .decompose import cached_fit, remember_fit
+    from .decompose_fit import DecompositionReport, decomposition_report
 
     parts, cached = decompose(V, F)
     result.cached += int(cached)
     hulls = [convex_hull(pv) for pv, _ in parts if not is_flat(pv)]  # a part's hull drops stray inner vertices
     if not hulls:
         return [("keep", (), None, None)]
-    result.decompositions.append(decomposition_report(stem, V, F, hulls))
+    known = cached_fit(V, F, len(hulls)) if cached else None
+    if known is not None:
+        result.decompositions.append(DecompositionReport(stem, len(hulls), float(known[1]), float(known[2]),
+                                                         "mesh" if known[3] else "hull", float(known[4])))
+    else:
+        report = decomposition_report(stem, V, F, hulls)
+        result.decompositions.append(report)
+        remember_fit(V, F, (report.parts, report.volume_error, report.hull_volume_error,
+                            float(report.reference == "mesh"), report.hausdorff))
     out = []
     for k, (hv, hf) in enumerate(hulls):
         result.faces_out += len(hf)
