@@ -78,12 +78,11 @@ def test_every_mode_loads_without_penetration_at_home(ur5):
         assert kinds == {mesh, int(mujoco.mjtGeom.mjGEOM_BOX)}
 
 
+@pytest.mark.parametrize("ur5", ["hull"], indirect=True)
 def test_hull_mode_writes_the_hull_mujoco_would_collide(ur5, tmp_path):
     """hull: each collision mesh is the convex hull of its source mesh (same volume as trimesh's hull of
     the source, within float32 rounding of the STL), and far fewer triangles."""
     mode, out, model = ur5
-    if mode != "hull":
-        pytest.skip("hull mode only")
     files = sorted((out.parent / "meshes" / "collision").glob("*.stl"))
     assert len(files) == 7
     for f in files:
