@@ -357,3 +357,28 @@ def test_cached_fit_numbers_are_checked(cache, tmp_path):
     path.unlink()
     path.symlink_to(target)
     assert cached_fit(V, F, 2) is None
+
+
+def test_a_refused_conversion_leaves_no_collision_files(tmp_path, capsys, monkeypatch):
+    """--collision hull writes the hulls before the model; when the model is then refused (its COLLADA
+    visuals cannot be converted without trimesh), the hull files and the folders made for them go too."""
+    src = tmp_path / "src"
+    src.mkdir()
+    (src / "tet.dae").write_text(TET_DAE)
+    cube = trimesh.creation.box((0.05, 0.05, 0.05))
+    (src / "cube.stl").write_bytes(stl_bytes(np.asarray(cube.vertices), np.asarray(cube.faces)))
+    (src / "r.urdf").write_text(
+        '<robot name="r"><link name="base"/><link name="l1"><visual><geometry><mesh filename="tet.dae"/>'
+        '</geometry></visual><collision><geometry><mesh filename="cube.stl"/></geometry></collision></link>'
+        '<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>')
+    monkeypatch.setitem(sys.modules, "trimesh", None)
+    out = tmp_path / "out"
+    out.mkdir()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["convert", str(src / "r.urdf"), "--to", "mjcf", "-o", str(out / "r.xml"),
+                     "--collision", "hull"]) == 2
+    err = capsys.readouterr().err
+    assert "1 mesh(es) -> 1 convex mesh file(s)" in err and "render empty" in err   # written, then refused
+    assert list(out.rglob("*")) == []
