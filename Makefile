@@ -1,5 +1,5 @@
 # Two commands on a fresh machine with python3 and a C compiler:
-#   make demo   create .venv, install robkin, run the paper examples through every representation
+#   make demo   create .venv, install robkin with its mesh extra, run the paper examples through every representation
 #   make test   create .venv, install robkin with its test dependencies, run the test suite
 #   make docs   build the documentation site into site/ (strict)
 #   make dist   the release: sdist and wheel in dist/, carrying the GUI's three.js (the wheel needs
@@ -35,6 +35,15 @@ EXTRA = $(PY) -c "import sys, importlib.metadata as m; \
   [print(r.name + ('[' + ','.join(sorted(r.extras)) + ']' if r.extras else '') + str(r.specifier)) \
    for r in map(R, m.requires('robkin') or []) if r.marker and r.marker.evaluate({'extra': sys.argv[1]})]"
 
+# The 'meshes' extra (trimesh, pycollada: pure Python) in the environment `make demo` makes: without it
+# `convert --to mjcf` cannot convert COLLADA (.dae) or PLY meshes, and a robot whose visuals are all
+# COLLADA (most ROS arms) would be refused rather than written empty.
+$(VENV)/.meshes: $(VENV)/.core pyproject.toml
+	$(PIP) install packaging
+	$(EXTRA) meshes > $(VENV)/requirements-meshes.txt
+	$(PIP) install -r $(VENV)/requirements-meshes.txt
+	touch $@
+
 $(VENV)/.test: $(VENV)/.core pyproject.toml
 	$(PIP) install packaging
 	$(EXTRA) test > $(VENV)/requirements-test.txt
@@ -54,7 +63,7 @@ $(ASSETS): package.json package-lock.json src/robkin/viz/assets.py | $(VENV)/.co
 
 assets: $(ASSETS)
 
-demo: $(VENV)/.core $(ASSETS)
+demo: $(VENV)/.core $(VENV)/.meshes $(ASSETS)
 	$(VENV)/bin/robkin demo
 
 test: $(VENV)/.test $(ASSETS)

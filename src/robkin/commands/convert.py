@@ -23,12 +23,14 @@ from .convert_parts.toolbox import CODE_FORMATS, add_toolbox_options, check_tool
 
 
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    from .convert_parts.collision_output import COLLISION_HELP, add_collision_options
     from .convert_parts.mjcf_output import MJCF_HELP, add_mjcf_options
 
     p = sub.add_parser("convert", help="convert a robot into another representation",
                        description="Convert a robot description into another representation, exactly: "
                                    "forward kinematics of the output equals that of the input at every q.",
-                       epilog=epilog().replace("{mjcf}", MJCF_HELP), formatter_class=argparse.RawDescriptionHelpFormatter)
+                       epilog=epilog().replace("{mjcf}", MJCF_HELP + "\n" + COLLISION_HELP),
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("input", nargs="+", metavar="INPUT",
                    help="robot document (.yaml/.yml/.json) or robot file: URDF (.urdf; .xacro with --allow-xacro), "
                         "MJCF (.xml/.mjcf), SDF (.sdf) or USD (.usda/.usd/.usdc) (one or more)")
@@ -61,6 +63,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     add_toolbox_options(p)
     add_package_path(p)
     add_mjcf_options(p)
+    add_collision_options(p)
     p.add_argument("--link-geometry", choices=["none", "capsules"], default="none",
                    help="--to urdf|mjcf|usd: give the links shapes a simulator shows: 'capsules' draws a capsule "
                         "from each joint frame origin to the next and a cylinder along each joint axis "
@@ -180,6 +183,9 @@ def run(args: argparse.Namespace) -> int:
     from .convert_parts.mjcf_output import check_mjcf_options
 
     check_mjcf_options(args)
+    from .convert_parts.collision_output import check_collision_options
+
+    check_collision_options(args)
     if args.json and (args.output or fmt in ("urdf", "mjcf", "usd", "yaml")):
         raise InputError(f"--json prints a table format as JSON to stdout; it does not combine with "
                          f"{'-o' if args.output else '--to ' + fmt}")

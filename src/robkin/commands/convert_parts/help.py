@@ -89,6 +89,7 @@ examples:
   robkin convert ur5.urdf --tip-link tool0 --to mjcf --scene -o ur5/ur5.xml   # then: python -m mujoco.viewer --mjcf=ur5/scene.xml
   robkin convert panda.urdf --tip-link panda_hand_tcp --to mjcf --home 0,-0.785,0,-2.356,0,1.571,0.785 --kp 500 --kv 50 -o p/p.xml
   robkin convert panda.urdf --tip-link panda_hand_tcp --to usd -o panda.usda
+  robkin convert ur5.urdf --tip-link tool0 --to mjcf --collision decompose -o ur5/ur5.xml
   robkin convert panda.urdf --tip-link panda_hand_tcp --to rtb -o panda_rtb.py
   robkin convert ur5.urdf --tip-link tool0 --to rtb --convention mdh -o ur5_mdh.py
   robkin convert ur5.urdf --tip-link tool0 --to matlab -o ur5.m

@@ -126,10 +126,13 @@ def render_mjcf(robot: Robot, args: argparse.Namespace, source: str | None, out_
     meshes copied into ``out_dir/mesh_dir`` first (see ``robkin.io.mjcf.files``)."""
     from ...io.mjcf.files import mjcf_with_meshes
     from .._common import package_paths
+    from .collision_output import collision_stage
 
     servos = servos_of(robot, args)  # before the meshes are copied: a bad --home writes nothing
-    return mjcf_with_meshes(robot, source, out_dir, mesh_dir=mesh_dir, package_paths=package_paths(args),
-                            servos=servos, fuse_fixed=args.fuse_fixed)
+    with collision_stage(robot, args, source, out_dir, mesh_dir) as stage:  # --collision (collision_output)
+        return mjcf_with_meshes(stage.robot, source, out_dir, mesh_dir=mesh_dir, package_paths=package_paths(args),
+                                servos=servos, fuse_fixed=args.fuse_fixed, premade=stage.premade,
+                                contact_excludes=stage.contact_excludes)
 
 
 def scene_of(robot: Robot, out: Path) -> tuple[Path, str]:

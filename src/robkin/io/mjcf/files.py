@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 import warnings
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
 
 if TYPE_CHECKING:  # pragma: no cover
     from ...robot import Robot
@@ -23,6 +23,8 @@ __all__ = ["mjcf_with_meshes", "write_mjcf"]
 
 def mjcf_with_meshes(robot: Robot, source: str | os.PathLike[str] | None, out_dir: Path | None, *,
                      mesh_dir: str = "meshes", package_paths: Mapping[str, Path] | None = None,
+                     premade: Mapping[str, str] | None = None,
+                     contact_excludes: Callable[[str], Sequence[tuple[str, str]]] | None = None,
                      **options: Any) -> str:
     """The MJCF text of ``robot`` (read from the robot file ``source``; None: no meshes to find).
 
@@ -30,15 +32,29 @@ def mjcf_with_meshes(robot: Robot, source: str | os.PathLike[str] | None, out_di
     ``out_dir``; without it, the found meshes MuJoCo reads are named by their absolute paths. Meshes
     not found are left out with one warning line. ``options``: those of ``writer.mjcf_text``
     (``actuators``, ``kp``, ``kv``, ``home``, ``gravcomp``, ``servos``, ``fuse_fixed``).
+
+    ``premade``: mesh names of shapes whose files are already in ``out_dir`` (made by
+    ``robkin.collision``) -> their paths relative to it: named as such, never looked for in the source.
+    ``contact_excludes``: a function of the model's draft text giving the body pairs to exclude from
+    contact (``robkin.collision.exclusions``), written into the final text.
+    InputError (one line) when the robot has visual shapes and none of them could be written: the model
+    would render empty.
     """
     from .writer import mjcf_text
 
-    mesh_files: dict[str, str] = {}
+    premade = dict(premade or {})
+    mesh_files: dict[str, str] = dict(premade)
     mesh_parts: dict[str, list[tuple[str, tuple[float, ...]]]] = {}
-    if source is not None and any(s.geometry.kind == "mesh" for s in robot.bodies.shapes):
+    found_in = robot
+    if premade:
+        from dataclasses import replace
+
+        found_in = robot.replace(bodies=replace(robot.bodies, shapes=tuple(
+            s for s in robot.bodies.shapes if s.geometry.filename not in premade)))
+    if source is not None and any(s.geometry.kind == "mesh" for s in found_in.bodies.shapes):
         from ..meshes.files import MUJOCO_MESH_SUFFIXES, copy_meshes, missing_line, resolve_meshes
 
-        resolved = resolve_meshes(robot, source, package_paths)
+        resolved = resolve_meshes(found_in, source, package_paths)
         missing = missing_line(resolved, source)
         if missing:
             warnings.warn(missing.replace("drawn without them", "left out of the MJCF"), UserWarning, stacklevel=2)
@@ -48,7 +64,7 @@ def mjcf_with_meshes(robot: Robot, source: str | os.PathLike[str] | None, out_di
             from .mesh_parts import visual_mesh_parts
 
             sources = {m.path.resolve() for m in resolved.values() if m.path is not None}
-            mesh_files = fit_for_mujoco(copy_meshes(resolved, out_dir, mesh_dir), out_dir, sources)
+            mesh_files = fit_for_mujoco(copy_meshes(resolved, out_dir, mesh_dir), out_dir, sources) | premade
             # COLLADA visuals in their own colours, where the source gives the shape none
             uncoloured = {s.geometry.filename for s in robot.bodies.shapes if s.role == "visual"
                           and s.geometry.kind == "mesh" and (s.material is None or s.material.rgba is None)}
@@ -62,7 +78,35 @@ def mjcf_with_meshes(robot: Robot, source: str | os.PathLike[str] | None, out_di
         else:  # a model without a folder: the files where they are, in the formats MuJoCo reads
             mesh_files = {k: str(v.path) for k, v in resolved.items()
                           if v.path is not None and v.path.suffix.lower() in MUJOCO_MESH_SUFFIXES}
-    return mjcf_text(robot, mesh_files=mesh_files, mesh_parts=mesh_parts, **options)
+    text = mjcf_text(robot, mesh_files=mesh_files, mesh_parts=mesh_parts, **options)
+    _refuse_empty(robot, text, source, out_dir)
+    if contact_excludes is not None:
+        pairs = contact_excludes(text)
+        if pairs:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # said by the draft already
+                text = mjcf_text(robot, mesh_files=mesh_files, mesh_parts=mesh_parts, contact_excludes=pairs,
+                                 **options)
+    return text
+
+
+def _refuse_empty(robot: Robot, text: str, source: str | os.PathLike[str] | None, out_dir: Path | None) -> None:
+    """InputError when the robot has visual shapes and the model has no visual geom (MuJoCo would show
+    nothing: its collision geoms are hidden by default)."""
+    visuals = [s for s in robot.bodies.shapes if s.role == "visual"]
+    if not visuals or '<geom class="visual"' in text:
+        return
+    from ...errors import InputError
+
+    try:
+        import trimesh  # noqa: F401
+        hint = "see the warnings above"
+        if out_dir is None:
+            hint = "write it with -o DIR/robot.xml: COLLADA and PLY meshes are then converted into DIR/meshes"
+    except ImportError:
+        hint = "COLLADA (.dae) and PLY meshes are converted with trimesh: pip install 'robkin[meshes]'"
+    raise InputError(f"none of the {len(visuals)} visual shape(s) could be written, so the model would render "
+                     f"empty ({hint})", source=None if source is None else str(source))
 
 
 def _drop_unused(robot: Robot, mesh_files: dict[str, str], mesh_parts: Mapping[str, object], out_dir: Path,

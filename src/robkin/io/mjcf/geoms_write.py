@@ -13,6 +13,13 @@ an ``<asset><material>`` of that name, an unnamed colour the geom's ``rgba``; te
 Mesh files: ``mesh_files`` maps a shape's file name as the source wrote it to the ``file`` to write
 (relative to the output file's folder, where ``robkin convert`` copies the meshes). A mesh shape whose
 file is not in it is left out; the writer warns once with how many and which.
+
+Mesh inertia: no geom adds mass, but MuJoCo computes every mesh's volume when it compiles and refuses a
+mesh whose volume is (nearly) zero, such as a flat decal of a visual mesh. A mesh only visual geoms use
+is written with ``inertia="shell"`` (its surface, which a flat mesh has), a mesh a collision geom uses
+with ``inertia="convex"`` (its convex hull, which is what MuJoCo collides; a flat collision mesh is made
+a thin box before it gets here, ``robkin.collision``). Tested with MuJoCo 4.0; a release without the
+mesh ``inertia`` attribute refuses it.
 """
 
 from __future__ import annotations
@@ -56,6 +63,7 @@ class GeomAssets:
         #: materials), drawn in its own colours when the source gives the shape none
         self.mesh_parts = dict(mesh_parts or {})
         self.meshes: dict[tuple[str, tuple[float, ...]], str] = {}  # (written file, scale) -> asset name
+        self.colliding: set[str] = set()  # mesh assets a collision geom uses
         self.materials: dict[str, Material] = {}
         self.missing: list[str] = []
         self._names: set[str] = set()
@@ -124,6 +132,8 @@ class GeomAssets:
             if mesh is None:
                 return None
             what = f'type="mesh" mesh={quoteattr(mesh)}'
+            if s.role == "collision":
+                self.colliding.add(mesh)
         elif g.kind == "box":
             what = f'type="box" size="{_nums(np.asarray(g.size) / 2)}"'
         elif g.kind == "sphere":
@@ -141,7 +151,8 @@ class GeomAssets:
         out = []
         for (written, scale), name in self.meshes.items():
             sc = "" if scale == (1.0, 1.0, 1.0) else f' scale="{_nums(scale)}"'
-            out.append(f"    <mesh name={quoteattr(name)} file={quoteattr(written)}{sc}/>")
+            inertia = "convex" if name in self.colliding else "shell"
+            out.append(f"    <mesh name={quoteattr(name)} file={quoteattr(written)}{sc} inertia=\"{inertia}\"/>")
         for name, m in self.materials.items():
             out.append(f"    <material name={quoteattr(name)} rgba=\"{_nums(m.rgba or (1, 1, 1, 1))}\"/>")
         return out

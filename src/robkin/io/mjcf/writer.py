@@ -40,6 +40,7 @@ from ... import se3
 from ..files.float_text import float_text as _num
 from .format import place_attrs
 from .actuators import ServoPlan, actuated, actuator_lines
+from .contacts import contact_lines
 from .geoms_write import DEFAULT_CLASSES, GeomAssets
 from .inertial import PLACEHOLDER_INERTIA, PLACEHOLDER_MASS, BodyMass, body_mass, inertial_xml
 from .tree import BodyPlan, JointPlan, body_tree
@@ -237,7 +238,8 @@ def _equalities(joints: list[JointPlan], refs: Mapping[str, float] | None = None
 def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actuators: str = "position",
               kp: float | None = None, kv: float | None = None, home: Sequence[float] | None = None,
               gravcomp: bool | None = None, servos: ServoPlan | None = None, fuse_fixed: bool = False,
-              mesh_parts: Mapping[str, Sequence[tuple[str, tuple[float, ...]]]] | None = None) -> str:
+              mesh_parts: Mapping[str, Sequence[tuple[str, tuple[float, ...]]]] | None = None,
+              contact_excludes: Sequence[tuple[str, str]] | None = None) -> str:
     """The MJCF text of a robot (see the module doc).
 
     Parameters
@@ -263,6 +265,8 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
     mesh_parts : mapping, optional
         Mesh file name as the source wrote it -> [(file to write, rgba)]: a visual mesh split by colour
         (``mesh_parts``), drawn as one geom per part where the source gives the shape no colour.
+    contact_excludes : sequence of (body, body), optional
+        Body pairs written as ``<contact><exclude>`` (``robkin.io.mjcf.contacts``).
     """
     from ...version import __version__
 
@@ -311,6 +315,7 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
     out = head + (["  <asset>"] + assets + ["  </asset>"] if assets else [])
     light = ['    <light name="robkin_light" pos="0 0 4" dir="0 0 -1" directional="true" castshadow="false"/>']
     out += ["  <worldbody>"] + light + bodies + ["  </worldbody>"]
+    out += contact_lines(contact_excludes)
     out += _equalities(joints, homes)
     out += actuator_lines(servos, joints)
     qpos = [(s.home if (s := servos.get(j.name)) is not None else 0.0) for j in joints]
