@@ -84,6 +84,9 @@ def workdir(kit, tmp_path, monkeypatch):
     work = tmp_path / "work"
     shutil.copytree(kit, work, symlinks=True)
     monkeypatch.chdir(work)
+    # the real robots' meshes are found as in a ROS workspace: an MJCF whose visuals would all be missing is
+    # refused (it would render empty), and the examples write MJCF of the Panda copied here alone
+    monkeypatch.setenv("ROS_PACKAGE_PATH", str(Path(ROBOTS_DIR).parent.parent))
     return work
 
 

@@ -104,32 +104,36 @@ def test_home_holds_for_5_seconds(arm):
     lines = [ln for ln in err.splitlines() if "MuJoCo:" in ln]   # convert said it, in one line
     assert len(lines) == 1 and "max drift" in lines[0] and "self-contact" in lines[0], err
     assert ("holds home" in lines[0]) == full.holds
-    if not full.holds:
-        # TODO(collision branch): self-contacts at home (meshes that overlap between bodies MuJoCo does
-        # not filter: Panda 10, Kinova 8, Z1 1, SO-100 5, Baxter 39, TIAGo 131, Talos 97 on 2026-11-28)
-        # kick some arms; the contact exclusions of the collision work remove them. Then drop this branch:
-        # the hold is asserted as the user sees it, contacts on.
-        assert full.contacts > 0, full.line()
-        # convert simulated it again with contacts off (the servos' part): it holds, and the line says so
-        assert "with contacts off it holds" in lines[0], lines[0]
-        return
+    # the hold as the user sees it, contacts on: the export's contact exclusions (robkin.collision) leave no
+    # self-contact at home (before them: Panda 10, Kinova 8, Z1 1, SO-100 5, Baxter 39, TIAGo 131, Talos 97)
+    assert full.contacts == 0 and full.holds, full.line()
     assert full.drift <= HOLD_DRIFT and full.qvel <= HOLD_QVEL, full.line()
 
 
 def test_a_step_on_each_joint_settles_inside_the_limits(arm):
     robot, out, _ = arm
     chain = [j.name for j in robot.joints]
-    # contacts as the user has them where the robot is free of self-contact at home; elsewhere off: the
-    # step of a servo, not a collision (TODO(collision branch): contacts on everywhere)
-    free = hold_check(out, seconds=0.002).contacts == 0
-    rep = step_check(out, seconds=1.0, contacts=free)   # every actuated joint: fingers, other arm, head
+    # contacts on, as the user has them
+    rep = step_check(out, seconds=1.0, contacts=True)   # every actuated joint: fingers, other arm, head
     assert rep.joints[: len(chain)] == chain            # the chain's first
-    for name, step, error, past, who in zip(rep.joints, rep.step, rep.error, rep.past_range, rep.past_joint):
+    blocked = []
+    for name, step, error, past, who, touching in zip(rep.joints, rep.step, rep.error, rep.past_range,
+                                                       rep.past_joint, rep.contacts):
         # a real step: 0.2 rad (0.02 m), or half the room left in the range
         assert abs(step) > (0.01 if model_slide(out, name) else 0.05), name
-        assert error <= STEP_ERROR, f"{name}: {error:.3g} rad from its target"
         assert past <= RANGE_SLACK, f"stepping {name}: {who} {past:.3g} past its range"
+        if error > STEP_ERROR:
+            # only a step that drives a link into another one may stop short (observed: the Panda's finger
+            # into the other finger, Z1's joint 4, Talos's wrist): it ends in contact, and the servo alone
+            # (contacts off) settles it
+            assert touching > 0, f"{name}: {error:.3g} rad from its target, and no contact stops it"
+            blocked.append(name)
     assert not rep.warnings
+    assert len(blocked) <= len(rep.joints) // 4, blocked   # a collision here and there, not the servos' rule
+    if blocked:
+        alone = step_check(out, seconds=1.0, contacts=False, joints=blocked)
+        for name, error in zip(alone.joints, alone.error):
+            assert error <= STEP_ERROR, f"{name}: {error:.3g} rad from its target with contacts off"
 
 
 def model_slide(path: Path, joint: str) -> bool:

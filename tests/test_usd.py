@@ -480,3 +480,31 @@ def test_a_batch_writes_usda_files_and_checks_them(tmp_path, capsys):
     err = capsys.readouterr().err
     assert (out / "r.usda").is_file() and (out / "d.usda").is_file()
     assert err.count("read back: FK") == 1 and err.count("FK checked; mass properties not checked") == 1
+
+
+@pytest.mark.parametrize("mode", ["hull", "primitives"])
+def test_collision_modes_reach_the_usd_colliders(mode, tmp_path):
+    """--collision for --to usd: the colliders are the collision stage's shapes, inline (hull: convex
+    meshes; primitives: one UsdGeom primitive per link), and nothing is left beside the file."""
+    trimesh = pytest.importorskip("trimesh")
+    path = robot_file("ur_description/urdf/ur5_robot.urdf")
+    out = tmp_path / "ur5.usda"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["convert", path, "--tip-link", "tool0", "--to", "usd", "--collision", mode, "-o", str(out)]) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["ur5.usda"]
+    stage = Usd.Stage.Open(str(out))
+    colliders = [p for p in stage.Traverse() if p.HasAPI(UsdPhysics.CollisionAPI)]
+    assert len(colliders) >= 6
+    meshes = [p for p in colliders if p.IsA(UsdGeom.Mesh)]
+    assert len(meshes) == (7 if mode == "hull" else 0)   # UR5: 7 collision meshes (ee_link's box stays a box)
+    for p in colliders:
+        if mode == "hull" and p.IsA(UsdGeom.Mesh):
+            m = UsdGeom.Mesh(p)
+            tri = np.array(m.GetFaceVertexIndicesAttr().Get()).reshape(-1, 3)
+            mesh = trimesh.Trimesh(np.array(m.GetPointsAttr().Get(), dtype=float), tri, process=False)
+            assert mesh.is_convex, p.GetPath()
+        elif mode == "hull":
+            assert p.GetTypeName() == "Cube", p.GetPath()
+        else:
+            assert not p.IsA(UsdGeom.Mesh) and p.GetTypeName() in ("Cube", "Sphere", "Capsule", "Cylinder"), p.GetPath()

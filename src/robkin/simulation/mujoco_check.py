@@ -199,6 +199,8 @@ class StepReport:
     past_range: list[float]
     past_joint: list[str]
     warnings: list[str]
+    #: contacts at the end of each step (a step that drives a link into another one ends in contact)
+    contacts: list[int] = field(default_factory=list)
 
     def worst(self) -> tuple[float, str]:
         k = int(np.argmax(self.error)) if self.error else 0
@@ -252,5 +254,6 @@ def step_check(path: str | Path, seconds: float = 2.0, size: float = 0.2, slide_
         rep.overshoot.append(over)
         rep.past_range.append(past)
         rep.past_joint.append(who)
+        rep.contacts.append(int(data.ncon))
         rep.warnings += [f"{model.joint(j).name}: {w}" for w in _warnings(data)]
     return rep

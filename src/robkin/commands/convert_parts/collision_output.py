@@ -66,9 +66,9 @@ def check_collision_options(args: argparse.Namespace) -> None:
     mode, faces = getattr(args, "collision", "source"), getattr(args, "max_faces", None)
     if args.to not in _WRITERS:
         if mode != "source":
-            raise InputError(f"--collision {mode}: applies to --to mjcf or urdf, not --to {args.to}")
+            raise InputError(f"--collision {mode}: applies to --to mjcf, urdf or usd, not --to {args.to}")
         if faces is not None:
-            raise InputError(f"--max-faces: applies to --to mjcf or urdf, not --to {args.to}")
+            raise InputError(f"--max-faces: applies to --to mjcf, urdf or usd, not --to {args.to}")
 
 
 @dataclass

@@ -119,8 +119,19 @@ def render_usd(robot, suffix: str, args: argparse.Namespace | None, source: str 
     # the drives hold the same home with the same gains as the MJCF export's default position servos
     plan = servo_plan(robot)
     drives = {s.name: (s.kp, s.kv, None if s.force is None else s.force[1]) for s in plan.actuated()}
-    return usd_bytes(robot, suffix, source=source, package_paths=package_paths(args) if args is not None else None,
-                     drives=drives, gravity_off=plan.gravcomp)
+    paths = package_paths(args) if args is not None else None
+    if args is None or getattr(args, "collision", "source") == "source" and getattr(args, "max_faces", None) is None:
+        return usd_bytes(robot, suffix, source=source, package_paths=paths, drives=drives, gravity_off=plan.gravcomp)
+    import tempfile
+
+    from .collision_output import collision_stage
+
+    # --collision / --max-faces: the collision meshes made in a scratch folder, then inlined like the rest
+    with tempfile.TemporaryDirectory(prefix="robkin-usd-collision-") as scratch:
+        with collision_stage(robot, args, source, Path(scratch), "meshes", fmt="usd") as stage:
+            premade = {name: Path(scratch) / rel for name, rel in stage.premade.items()}
+            return usd_bytes(stage.robot, suffix, source=source, package_paths=paths, drives=drives,
+                             gravity_off=plan.gravcomp, premade=premade)
 
 
 def render_in(path: str, robot, fmt: str, out_ext: str, args: argparse.Namespace, out_dir: Path | None = None,

@@ -325,8 +325,22 @@ def usd_from_robot(robot: Robot, **options: Any) -> str:
 
 
 def _source_meshes(robot: Robot, source: str | os.PathLike[str] | None,
-                   package_paths: Mapping[str, Path] | None) -> dict[str, MeshData]:
-    """The robot file's meshes, read (one warning line for those left out)."""
+                   package_paths: Mapping[str, Path] | None,
+                   premade: Mapping[str, Path] | None = None) -> dict[str, MeshData]:
+    """The robot file's meshes, read (one warning line for those left out); ``premade``: mesh names ->
+    files made for this export (``robkin.collision``'s hulls, parts, decimated meshes), read from there."""
+    if premade:
+        from dataclasses import replace
+
+        from .meshes import read_meshes
+
+        made, left = read_meshes(dict(premade))
+        if left:
+            warnings.warn(f"{len(left)} collision mesh file(s) cannot be read, left out of the USD: "
+                          f"{'; '.join(left[:3])}", UserWarning, stacklevel=3)
+        rest = robot.replace(bodies=replace(robot.bodies, shapes=tuple(
+            s for s in robot.bodies.shapes if s.geometry.filename not in premade)))
+        return {**_source_meshes(rest, source, package_paths), **made}
     if source is None or not any(s.geometry.kind == "mesh" for s in robot.bodies.shapes):
         if any(s.geometry.kind == "mesh" for s in robot.bodies.shapes):
             warnings.warn("the robot's mesh files are not known without its source file: its mesh shapes are "
@@ -348,12 +362,12 @@ def _source_meshes(robot: Robot, source: str | os.PathLike[str] | None,
 
 def usd_bytes(robot: Robot, suffix: str, *, source: str | os.PathLike[str] | None = None,
               package_paths: Mapping[str, Path] | None = None, drives: DriveGains | None = None,
-              gravity_off: bool = False) -> bytes:
+              gravity_off: bool = False, premade: Mapping[str, Path] | None = None) -> bytes:
     """The file's bytes for ``suffix`` ``.usda`` (text) or ``.usd``/``.usdc`` (binary crate), the meshes
-    of the robot file ``source`` inline."""
+    of the robot file ``source`` inline (those named in ``premade`` read from the file it gives)."""
     import tempfile
 
-    stage = usd_stage(robot, meshes=_source_meshes(robot, source, package_paths), drives=drives,
+    stage = usd_stage(robot, meshes=_source_meshes(robot, source, package_paths, premade), drives=drives,
                       gravity_off=gravity_off)
     layer = stage.GetRootLayer()
     if suffix == ".usda":
