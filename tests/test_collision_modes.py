@@ -162,7 +162,7 @@ def test_bad_values_one_line_exit_2(tmp_path, capsys, argv, message):
 def test_options_need_a_shape_writer(tmp_path, capsys, argv):
     assert main(["convert", str(UR5), "--to", "dh", "-o", str(tmp_path / "x.yaml"), *argv]) == 2
     err = capsys.readouterr().err.strip()
-    assert argv[0] in err and "--to mjcf or urdf" in err and len(err.splitlines()) == 1
+    assert argv[0] in err and "--to mjcf, urdf or usd" in err and len(err.splitlines()) == 1
     assert not list(tmp_path.iterdir())
 
 
