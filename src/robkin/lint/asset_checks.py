@@ -30,18 +30,28 @@ def asset_findings(u: RawUrdf, meshes: MeshCache, max_faces: int = MAX_FACES) ->
     span = robot_span(u)
     for ln in u.links:
         el = f"link '{ln.name}'"
+        has_collision = any(g.role == "collision" for g in ln.geometries)
         for g in ln.geometries:
             if g.kind != "mesh":
                 continue
+            # a visual mesh beside collision shapes is only looked for (and its triangles counted when the
+            # count is in a binary STL's header): parsing COLLADA visuals is most of a lint's time
+            skim = g.role == "visual" and has_collision
 
             def add(sev, code, message, fix):
                 f.append(Finding(sev, code, u.file, g.line, el, message, fix))
 
-            r = meshes.get(g.filename or "")
+            r = meshes.found(g.filename or "") if skim else meshes.get(g.filename or "")
             if r.path is None:
                 add(ERROR, "mesh-missing", f"{g.role} mesh '{g.filename}': {r.reason} (MuJoCo refuses the file; "
                     "pinocchio loads no geometry)", "put the mesh where the filename says, or fix the filename "
                     "(--package-path NAME=DIR tells where package:// is)")
+                continue
+            if skim:
+                faces = _stl_faces(r.path)
+                if faces is not None and faces > max_faces:
+                    add(WARNING, "mesh-faces", f"{g.role} mesh '{g.filename}' has {faces} triangles, above the budget "
+                        f"of {max_faces} (slow to load and draw)", "decimate it")
                 continue
             if r.V is None or r.F is None:
                 add(ERROR, "mesh-unreadable", f"{g.role} mesh '{g.filename}': {r.reason}",
@@ -67,3 +77,17 @@ def asset_findings(u: RawUrdf, meshes: MeshCache, max_faces: int = MAX_FACES) ->
                 add(INFO, "mesh-open", f"collision mesh '{g.filename}' is not watertight: lint (and MuJoCo's inertia "
                     "from geometry) take its convex hull's volume", "close the mesh if its own volume matters")
     return f
+
+
+def _stl_faces(path) -> int | None:
+    """The triangle count of a binary STL from its 84-byte header (None for any other file)."""
+    try:
+        if path.suffix.lower() != ".stl":
+            return None
+        size = path.stat().st_size
+        with open(path, "rb") as fh:
+            head = fh.read(84)
+    except OSError:
+        return None
+    n = int.from_bytes(head[80:84], "little") if len(head) == 84 else -1
+    return n if size == 84 + 50 * n else None

@@ -43,6 +43,15 @@ class MeshCache:
         self.source_file, self.package_paths = source_file, dict(package_paths or {})
         self._cache: dict[str, MeshRead] = {}
 
+    def found(self, filename: str) -> MeshRead:
+        """Where the mesh is (or why not), without reading it (a read one's triangles are kept)."""
+        if filename in self._cache:
+            return self._cache[filename]
+        from ..io.meshes.files import resolve_mesh_file
+
+        found = resolve_mesh_file(filename, self.source_file, self.package_paths)
+        return MeshRead(found.path, found.reason)
+
     def get(self, filename: str) -> MeshRead:
         if filename not in self._cache:
             from ..collision.mesh_data import MeshError, read_mesh
@@ -123,11 +132,11 @@ def _box(g: Geometry, meshes: MeshCache) -> tuple[np.ndarray, np.ndarray] | None
 
 def link_solid(link: RawLink, meshes: MeshCache) -> Solid | None:
     """The solid of ``link``'s collision shapes (visual ones when it has none); None without usable shapes.
-    Its box (``lo``, ``hi``) holds all the link's shapes, visual and collision."""
+    Its box (``lo``, ``hi``) holds the same shapes."""
     shapes = [g for g in link.geometries if g.role == "collision"] or [g for g in link.geometries if g.role == "visual"]
     parts = []
     lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
-    for g in link.geometries:
+    for g in shapes:
         box = _box(g, meshes)
         if box is not None:
             lo, hi = np.minimum(lo, box[0]), np.maximum(hi, box[1])

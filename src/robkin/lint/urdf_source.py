@@ -99,11 +99,10 @@ class RawUrdf:
 
 def _geometry(role: str, el: Any) -> Geometry | None:
     g = el.find("geometry")
-    if g is None or not len(g):
+    shapes = [c for c in g if isinstance(c.tag, str)] if g is not None else []
+    if not shapes:
         return None
-    shape = g[0]
-    if not isinstance(shape.tag, str):
-        return None
+    shape = shapes[0]
     kind, size, filename, scale = shape.tag, None, None, (1.0, 1.0, 1.0)
     if kind == "box":
         s = numbers(shape.get("size"), 3)
@@ -164,8 +163,9 @@ def parse_urdf_text(text: str, source: str) -> RawUrdf:
     from ..io.trees.xml_parse import _refuse_dtd
 
     _refuse_dtd(text, source)
+    # comments kept: --fix writes the tree back, and the reader's find/findall skip them
     parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False,
-                             remove_comments=True, remove_pis=True, encoding="utf-8")
+                             remove_comments=False, remove_pis=True, encoding="utf-8")
     try:
         root = etree.fromstring(text.encode("utf-8", "surrogatepass"), parser)
     except etree.XMLSyntaxError as exc:
