@@ -43,12 +43,12 @@ def joint_findings(u: RawUrdf) -> list[Finding]:
             if bounded and lo and hi:
                 if lo[0] > hi[0]:
                     add(ERROR, "limits-reversed", lline,
-                        f"lower {lo[0]:g} > upper {hi[0]:g}: no position is allowed (MuJoCo refuses 'invalid "
-                        f"limits'; pinocchio loads an empty range)", f'swap them: lower="{hi[0]:g}" upper="{lo[0]:g}"')
+                        f"lower {lo[0]:g} > upper {hi[0]:g}: no position is allowed (MuJoCo silently drops "
+                        f"the limit: the joint turns freely; pinocchio keeps an empty range)", f'swap them: lower="{hi[0]:g}" upper="{lo[0]:g}"')
                 elif lo[0] == hi[0]:
                     add(WARNING, "limits-zero-range", lline,
-                        f"lower = upper = {lo[0]:g}: the joint cannot move (MuJoCo refuses a limited joint "
-                        f"whose range is empty)", 'make it type="fixed", or give it its real range')
+                        f"lower = upper = {lo[0]:g}: the joint cannot move, yet MuJoCo ignores the limit "
+                        f"(with a warning) and lets it turn freely", 'make it type="fixed", or give it its real range')
             for key in ("effort", "velocity"):
                 text = lim.get(key)
                 v = numbers(text, 1)

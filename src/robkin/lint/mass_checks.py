@@ -85,25 +85,24 @@ def mass_findings(u: RawUrdf, meshes: MeshCache) -> list[Finding]:
                 "write all six inertia values (kg m^2)")
             continue
         w, _ = principal(ln.inertia)
-        scale = max(abs(w).max(), 1e-300)
-        rel_moving = ln.name in moving
-        # a link that does not move in this file (a fixed base) is ignored by the simulators' dynamics
-        bad = ERROR if rel_moving else WARNING
-        still = "" if rel_moving else " (the link does not move in this file: it matters once its base floats)"
-        if w[0] < -1e-12 * scale:
-            add(bad, "inertia-not-positive", f"inertia is not positive definite (principal moments "
-                f"{_g(w)} kg m^2): MuJoCo and drake refuse it, pinocchio loads a non-physical body{still}", _FIX_I)
+        # MuJoCo 4.0 (observed) refuses these on every link, moving, fixed to a moving one or the fixed base;
+        # an all-zero inertia is a point mass, which it takes where the body it is fused into has inertia
+        if np.any(ln.inertia != 0) and w[0] < MIN_VALUE:
+            what = "not positive definite" if w[0] < 0 else "singular (a moment is zero)"
+            add(ERROR, "inertia-not-positive", f"inertia is {what}: principal moments {_g(w)} kg m^2; MuJoCo refuses "
+                "it ('inertia must have positive eigenvalues'), drake refuses a negative moment, pinocchio loads a "
+                "non-physical body", _FIX_I)
             continue
         if w[0] + w[1] < w[2] * (1 - TRIANGLE_TOL):
-            add(bad, "inertia-triangle", f"principal moments {_g(w)} kg m^2 violate the triangle inequality "
-                f"A + B >= C (no mass distribution has them): MuJoCo refuses it unless balanceinertia patches it, "
-                f"drake refuses it, pinocchio loads it{still}", _FIX_I)
+            add(ERROR, "inertia-triangle", f"principal moments {_g(w)} kg m^2 violate the triangle inequality "
+                f"A + B >= C (no mass distribution has them): MuJoCo refuses it ('use balanceinertia to fix'), "
+                f"drake refuses it, pinocchio loads it", _FIX_I)
             continue
         gw = principal(group_inertia[ln.name])[0] if ln.name in group_inertia else None
         if is_head and gw is not None and gw[0] <= MIN_VALUE:
             add(ERROR, "inertia-singular", f"inertia is rank-deficient (principal moments {_g(gw)} kg m^2, with the "
-                "links fixed to it): MuJoCo refuses a moving body with a moment below mjMINVAL unless balanceinertia "
-                "patches it", _FIX_I)
+                "links fixed to it): MuJoCo refuses it ('mass and inertia of moving bodies must be larger than "
+                "mjMINVAL'), pinocchio's forward dynamics divides by zero", _FIX_I)
             continue
         if ln.mass < NEGLIGIBLE_MASS:
             continue  # a frame's dummy mass: it changes no dynamics, whatever its inertia and geometry
