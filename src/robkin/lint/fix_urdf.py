@@ -110,7 +110,11 @@ def fix_urdf(u: RawUrdf, findings: Sequence[Finding], *, inertia: str = "nearest
             ax.set("xyz", " ".join(_num(x) for x in v / np.linalg.norm(v)))
             changes.append(f"{where}: axis normalised to {ax.get('xyz')}")
         elif f.code in ("mimic-missing", "mimic-cycle") and name in joints and joints[name].mimic is not None:
-            joints[name].el.remove(joints[name].mimic)
+            mimic = joints[name].mimic
+            before = mimic.getprevious()
+            if before is not None:  # the layout around it stays: the line goes, nothing else moves
+                before.tail = mimic.tail
+            joints[name].el.remove(mimic)
             changes.append(f"{where}: <mimic> removed (warning: the joint now moves on its own)")
         elif f.code in _INERTIA_CODES + _GEOMETRY_ONLY and name in links:
             ln = links[name]
@@ -148,4 +152,4 @@ def fix_urdf(u: RawUrdf, findings: Sequence[Finding], *, inertia: str = "nearest
     for c in u.root.itersiblings(preceding=True):  # a comment before <robot>: on its own line, as it was
         c.tail = "\n"
     text = etree.tostring(u.root.getroottree(), encoding="unicode")  # the comments around <robot> too
-    return '<?xml version="1.0" encoding="utf-8"?>\n' + text + "\n", changes
+    return (u.declaration + "\n" if u.declaration else "") + text + "\n", changes

@@ -71,12 +71,17 @@ def mass_findings(u: RawUrdf, meshes: MeshCache) -> list[Finding]:
             continue
         is_head = ln.name in moving and groups.get(ln.name) == ln.name
         if is_head and group_mass.get(ln.name, 0.0) <= MIN_VALUE:
+            has_geoms = any(g.role == "collision" for g in ln.geometries)
+            if not ln.has_inertial and has_geoms:
+                mujoco_says = ("MuJoCo silently gives it the mass of its collision shapes at 1000 kg/m^3 "
+                               "(inertiafromgeom auto)")
+            else:
+                mujoco_says = "MuJoCo refuses it ('mass and inertia of moving bodies must be larger than mjMINVAL')"
             what = "no <inertial>" if not ln.has_inertial else f"mass {ln.mass:g} kg"
             add(ERROR, "mass-zero-moving",
-                f"a moving link with {what} (nor any link fixed to it): MuJoCo refuses it ('mass and inertia of "
-                f"moving bodies must be larger than mjMINVAL') unless boundmass patches it; pinocchio's and drake's "
-                f"forward dynamics divide by zero", "give the link its mass and inertia (--fix derives them from the "
-                "collision geometry at --density)")
+                f"a moving link with {what} (nor any link fixed to it): {mujoco_says}; pinocchio and drake get a "
+                f"massless body (a singular mass matrix where nothing below carries mass)", "give the link its mass "
+                "and inertia (--fix derives them from the collision geometry at --density)")
             continue
         if not ln.has_inertial or not ln.mass:
             continue

@@ -95,6 +95,7 @@ class RawUrdf:
     name: str | None
     links: list[RawLink]
     joints: list[RawJoint]
+    declaration: str = ""    # the file's own <?xml ...?> line, written back by --fix
 
 
 def _geometry(role: str, el: Any) -> Geometry | None:
@@ -177,7 +178,9 @@ def parse_urdf_text(text: str, source: str) -> RawUrdf:
         raise InputError(f"{source}: root element is <{root.tag}>, not a URDF <robot>")
     links = [_link(el) for el in root.findall("link")]
     joints = [_joint(el) for el in root.findall("joint")]
-    return RawUrdf(source, root, root.get("name"), links, joints)
+    head = text.lstrip("\ufeff")
+    declaration = head[:head.index("?>") + 2] if head.startswith("<?xml") and "?>" in head[:200] else ""
+    return RawUrdf(source, root, root.get("name"), links, joints, declaration)
 
 
 def read_urdf(path: str, allow_xacro: bool = False) -> RawUrdf:
