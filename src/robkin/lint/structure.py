@@ -6,7 +6,7 @@ import re
 
 import numpy as np
 
-from .findings import ERROR, INFO, WARNING, Finding
+from .findings import ERROR, INFO, Finding
 from .urdf_source import RawUrdf
 
 __all__ = ["structure_findings", "moving_links", "rigid_groups", "poses_in_group"]
@@ -44,7 +44,8 @@ def structure_findings(u: RawUrdf) -> list[Finding]:
                     f"{kind} name has characters other than letters, digits and _ - . / (ROS names, SDF and USD "
                     f"prim names reject some of them)", "rename it with letters, digits and underscores")
     if not u.name:
-        add(WARNING, "robot-name", u.root.sourceline, "robot", "<robot> has no name attribute (urdfdom refuses it)",
+        add(ERROR, "robot-name", u.root.sourceline, "robot", "<robot> has no name attribute (urdfdom, so pinocchio, "
+            "refuses it)",
             'add name="..." to <robot>')
     names = {ln.name for ln in u.links}
     parent_of: dict[str, str] = {}
