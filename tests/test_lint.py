@@ -93,12 +93,15 @@ def test_effort_missing_and_zero_velocity(tmp_path):
 
 def test_mimic_target_missing(tmp_path):
     text = arm(j2_extra='<mimic joint="joint7" multiplier="1"/>')
-    _one(tmp_path, text, "mimic-missing", "<mimic", element="joint 'joint2'")
+    _one(tmp_path, text, "mimic-missing", "<mimic", severity="warning", element="joint 'joint2'")
 
 
 def test_mimic_cycle(tmp_path):
     text = arm(j2_extra='<mimic joint="joint2"/>')
     _one(tmp_path, text, "mimic-cycle", "<mimic")
+    two = arm(j2_extra='<mimic joint="joint1"/>').replace('<axis xyz="0 0 1"/>', '<axis xyz="0 0 1"/><mimic joint="joint2"/>')
+    found = [f for f in lint_file(write(tmp_path, two)) if f.code == "mimic-cycle"]
+    assert len(found) == 1 and "joint1 -> joint2 -> joint1" in found[0].message
 
 
 def test_axis_zero_and_not_unit(tmp_path):

@@ -31,8 +31,8 @@ exit status: 0 no errors (warnings allowed), 1 errors found, 2 a file cannot be 
 examples:
   robkin lint panda.urdf
   robkin lint ur5.urdf panda.urdf --format json
-  robkin lint ur5.urdf --format sarif > lint.sarif
-  robkin lint ur5.urdf --fix --inertia geometry -o /tmp/ur5_fixed.urdf
+  robkin lint ur5.urdf --format sarif
+  robkin lint ur5.urdf --fix --inertia geometry -o ur5_fixed.urdf
 """
 
 

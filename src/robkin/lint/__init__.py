@@ -45,7 +45,31 @@ def lint_urdf(raw, package_paths: Mapping[str, Path] | None = None, max_faces: i
 
 def lint_file(path: str | os.PathLike, *, package_paths: Mapping[str, Path] | None = None,
               allow_xacro: bool = False, max_faces: int | None = None) -> list[Finding]:
-    """Every finding of one robot file; ``InputError`` when it cannot be read at all."""
+    """Every finding of one robot file.
+
+    Parameters
+    ----------
+    path : str or PathLike
+        A URDF (``.urdf``; ``.xacro`` with ``allow_xacro``) gets every check, each with its line; MJCF,
+        SDF, USD, robot documents and tables get their reader's checks and the joint limits.
+    package_paths : mapping of str to Path, optional
+        Where ``package://NAME`` mesh files are (NAME -> folder), tried first.
+    allow_xacro : bool
+        Expand a ``.xacro`` file (it runs code: only for files you trust).
+    max_faces : int, optional
+        Warn about meshes with more triangles (default ``asset_checks.MAX_FACES``, 200 000).
+
+    Returns
+    -------
+    list of Finding
+        Sorted by line; ``severity`` is ``"error"`` (a simulator refuses the file, or the physics is
+        wrong), ``"warning"`` (silently changed, or suspicious) or ``"info"``.
+
+    Raises
+    ------
+    InputError
+        When the file cannot be read at all: missing, too big, not XML, a DTD, not a ``<robot>``.
+    """
     p = os.fspath(path)
     if Path(p).suffix.lower() in (".urdf", ".xacro"):
         from .urdf_source import read_urdf

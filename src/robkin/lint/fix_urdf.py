@@ -81,7 +81,29 @@ def _write_inertial(ln, mass: float, com: np.ndarray, I: np.ndarray) -> None:
 
 def fix_urdf(u: RawUrdf, findings: Sequence[Finding], *, inertia: str = "nearest", density: float = 1000.0,
              meshes: MeshCache | None = None) -> tuple[str, list[str]]:
-    """(the corrected URDF text, one line per change or per finding left alone) for ``findings`` of ``u``."""
+    """The corrected URDF for the ``findings`` lint gave on ``u``, and one line per change.
+
+    Parameters
+    ----------
+    u : RawUrdf
+        The file as ``urdf_source.read_urdf`` read it (its tree is changed in place).
+    findings : sequence of Finding
+        What ``lint_file`` found; only these are corrected.
+    inertia : {"nearest", "geometry"}
+        An invalid inertia becomes the nearest valid tensor (principal axes kept, moments moved least),
+        or the collision geometry's (solid, uniform) at the link's stated mass; ``"geometry"`` also
+        replaces placeholder inertias and inertias the geometry cannot hold.
+    density : float
+        kg/m^3 giving a moving link without mass the mass of its collision geometry.
+    meshes : MeshCache, optional
+        Where the meshes are (default: beside ``u.file``).
+
+    Returns
+    -------
+    (str, list of str)
+        The file's text (its own XML declaration, comments and layout kept) and one line per change,
+        or per error left as it is ("not fixed (...)").
+    """
     from lxml import etree  # type: ignore[import-untyped, unused-ignore]
 
     if inertia not in ("nearest", "geometry"):

@@ -59,16 +59,18 @@ def joint_findings(u: RawUrdf) -> list[Finding]:
                     add(ERROR, f"{key}-malformed", lline, f"{key}='{text}' is not a number", f"write {key} as a number")
                 elif v and v[0] <= 0 and j.type != "fixed":
                     add(WARNING, f"{key}-zero", lline,
-                        f"{key} = {v[0]:g}: a simulator given this limit cannot move the joint (drake makes no "
-                        f"actuator for effort 0; pinocchio's {key}Limit is 0)", f"set {key} from the datasheet")
+                        f"{key} = {v[0]:g}: a simulator that enforces this limit cannot move the joint "
+                        f"(pinocchio's {key}Limit is then 0)", f"set {key} from the datasheet")
         if j.mimic is not None:
             target = j.mimic.get("joint")
             mline = j.mimic.sourceline
             if not target or target not in names:
-                add(ERROR, "mimic-missing", mline, f"mimics joint '{target}', which is not in the file "
-                    f"(pinocchio and MuJoCo's equality refuse it)", "remove the <mimic> or name an existing joint")
+                add(WARNING, "mimic-missing", mline, f"mimics joint '{target}', which is not in the file: MuJoCo "
+                    f"ignores the <mimic> (with a warning) and pinocchio silently, so the joint moves on its own",
+                    "remove the <mimic> or name an existing joint")
             elif target == j.name:
-                add(ERROR, "mimic-cycle", mline, "the joint mimics itself", "remove the <mimic>")
+                add(ERROR, "mimic-cycle", mline, "the joint mimics itself (MuJoCo refuses it: 'repeated in equality "
+                    "constraint')", "remove the <mimic>")
             else:
                 mimic_of[j.name] = target
         if j.type in ("revolute", "continuous", "prismatic", "planar"):
@@ -84,7 +86,7 @@ def joint_findings(u: RawUrdf) -> list[Finding]:
                 elif abs(n - 1) > AXIS_TOL:
                     u_ = np.asarray(axis) / n
                     add(WARNING, "axis-not-unit", aline,
-                        f"axis has length {n:.6g}, not 1 (MuJoCo, pinocchio and drake normalise it silently)",
+                        f"axis has length {n:.6g}, not 1 (MuJoCo and pinocchio normalise it silently)",
                         "xyz=\"" + " ".join(f"{x:.9g}" for x in u_) + "\"")
     # mimic chains that come back to themselves
     done: set[str] = set()

@@ -95,13 +95,13 @@ def mass_findings(u: RawUrdf, meshes: MeshCache) -> list[Finding]:
         if np.any(ln.inertia != 0) and w[0] < MIN_VALUE:
             what = "not positive definite" if w[0] < 0 else "singular (a moment is zero)"
             add(ERROR, "inertia-not-positive", f"inertia is {what}: principal moments {_g(w)} kg m^2; MuJoCo refuses "
-                "it ('inertia must have positive eigenvalues'), drake refuses a negative moment, pinocchio loads a "
-                "non-physical body", _FIX_I)
+                "it ('inertia must have positive eigenvalues'), drake warns and substitutes a plausible inertia, "
+                "pinocchio loads a non-physical body", _FIX_I)
             continue
         if w[0] + w[1] < w[2] * (1 - TRIANGLE_TOL):
             add(ERROR, "inertia-triangle", f"principal moments {_g(w)} kg m^2 violate the triangle inequality "
                 f"A + B >= C (no mass distribution has them): MuJoCo refuses it ('use balanceinertia to fix'), "
-                f"drake refuses it, pinocchio loads it", _FIX_I)
+                f"drake warns and substitutes a plausible inertia, pinocchio loads it as it is", _FIX_I)
             continue
         gw = principal(group_inertia[ln.name])[0] if ln.name in group_inertia else None
         if is_head and gw is not None and gw[0] <= MIN_VALUE:
