@@ -265,6 +265,20 @@ def test_other_formats_get_reader_checks(tmp_path, capsys):
     assert "error" in capsys.readouterr().out
 
 
+def test_mjcf_reader_refusal_is_a_finding_with_its_line(tmp_path, capsys):
+    bad = tmp_path / "bad.xml"
+    bad.write_text('<mujoco model="m">\n  <worldbody>\n    <body name="b1">\n'
+                   '      <joint name="j1" type="hinge" axis="0 0 1" range="1 -1" limited="true"/>\n'
+                   '      <inertial pos="0 0 0" mass="1" diaginertia="0.1 0.1 0.1"/>\n    </body>\n'
+                   '  </worldbody>\n</mujoco>\n')
+    found = lint_file(bad)
+    assert [(f.severity, f.line, f.element) for f in found] == [("error", 4, "joint 'j1'")]
+    assert "range" in found[0].message
+    assert main(["lint", str(bad)]) == 1
+    (tmp_path / "broken.xml").write_text("<mujoco><worldbody><body")
+    assert main(["lint", str(tmp_path / "broken.xml")]) == 2
+
+
 def test_xacro_needs_opt_in(tmp_path):
     x = write(tmp_path, arm(), "arm.xacro")
     assert main(["lint", str(x)]) == 2

@@ -17,6 +17,20 @@ _UNREADABLE = re.compile(r"no such file|not a regular file|larger than|not well-
                          r"refused XML|cannot be read|not a file|unknown (?:file )?(?:type|format|extension)|"
                          r"permission", re.I)
 _LINE = re.compile(r"\bline (\d+)")
+#: the element a reader's message starts with: "joint 'j1' (body 'b1'): ..."
+_ELEMENT = re.compile(r"^(joint|link|body|site|geom|model|mesh) '([^']{1,200})'")
+
+
+def _line_of_name(path: str, name: str) -> int | None:
+    """The first line of an XML file with name="NAME" (the reader keeps no lines; this finds the element)."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as fh:
+            for k, text in enumerate(fh, 1):
+                if f'name="{name}"' in text or f"name='{name}'" in text:
+                    return k
+    except OSError:
+        return None
+    return None
 
 
 def lint_other(path: str, allow_xacro: bool = False) -> list[Finding]:
@@ -33,8 +47,11 @@ def lint_other(path: str, allow_xacro: bool = False) -> list[Finding]:
             raise
         m = _LINE.search(msg)
         text = msg[len(path) + 2:] if msg.startswith(path + ": ") else msg
-        return [Finding(ERROR, "reader-refuses", path, int(m.group(1)) if m else None, "", text,
-                        "correct what the message names")]
+        e = _ELEMENT.match(text)
+        line = int(m.group(1)) if m else (_line_of_name(path, e.group(2)) if e and p.suffix.lower() in
+                                          (".xml", ".mjcf", ".sdf") else None)
+        return [Finding(ERROR, "reader-refuses", path, line, f"{e.group(1)} '{e.group(2)}'" if e else "",
+                        text[e.end():].lstrip(" :") if e else text, "correct what the message names")]
     found = []
     for j in robot.joints:
         if j.lower is not None and j.upper is not None and j.lower > j.upper:
