@@ -284,3 +284,13 @@ def test_xacro_needs_opt_in(tmp_path):
     assert main(["lint", str(x)]) == 2
     pytest.importorskip("xacro")
     assert main(["lint", str(x), "--allow-xacro"]) == 0
+
+
+def test_hostile_mesh_names_read_nothing(tmp_path):
+    # a file is untrusted: a mesh name that leads to a non-mesh file, a remote address or out of its
+    # package is a finding, and nothing but mesh files is opened
+    for name, why in (("/etc/passwd", "not a mesh file"), ("http://example.com/a.stl", "nothing is fetched"),
+                      ("package://pkg/../../x.stl", "")):
+        found = [f for f in lint_file(write(tmp_path, arm(l2_geometry=f'<mesh filename="{name}"/>')))
+                 if f.code == "mesh-missing"]
+        assert len(found) == 1 and why in found[0].message
