@@ -265,6 +265,15 @@ def test_other_formats_get_reader_checks(tmp_path, capsys):
     assert "error" in capsys.readouterr().out
 
 
+def test_reader_projection_is_a_warning(capsys):
+    from robkin.examples import EXAMPLES_DIR
+
+    found = lint_file(EXAMPLES_DIR / "arbitrary_3r.yaml")  # the paper's rounded screws: projected by the reader
+    warned = [f for f in found if f.code == "reader-changes"]
+    assert warned and all(f.severity == "warning" for f in warned) and any("normalised" in f.message for f in warned)
+    assert main(["lint", str(EXAMPLES_DIR / "arbitrary_3r.yaml")]) == 0
+
+
 def test_mjcf_reader_refusal_is_a_finding_with_its_line(tmp_path, capsys):
     bad = tmp_path / "bad.xml"
     bad.write_text('<mujoco model="m">\n  <worldbody>\n    <body name="b1">\n'

@@ -18,7 +18,7 @@ targets, axes), mass properties (moving links without mass, inertias not positiv
 the triangle inequality, more inertia than the geometry can hold, density over the collision volume
 outside 20-25000 kg/m^3, centre of mass outside the geometry, placeholders) and meshes (missing,
 unreadable, flat, open, more than --max-faces triangles, millimetres). MJCF, SDF, USD, documents and
-tables get their reader's checks and the joint limits.
+tables get their reader's checks (its refusal an error, its warnings warnings) and the joint limits.
 
 --fix -o OUT writes the file with what lint can correct changed and nothing else (URDF only): limits
 swapped, axes normalised, dangling or cyclic <mimic> removed, invalid inertias replaced (--inertia

@@ -1,6 +1,7 @@
 """Lint of the formats other than URDF (MJCF, SDF, USD, robot documents, tables): their strict readers'
-checks. A reader's refusal is a finding (error, with the line when the reader names one); a file that is
-not there, too big or not parseable at all stays an ``InputError``. The full per-link checks are URDF's."""
+checks. A reader's refusal is a finding (error, with the line of the element it names), its warnings
+(a near-valid value projected) are warnings; a file that is not there, too big or not parseable at all
+stays an ``InputError``. The full per-link checks are URDF's."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import re
 from pathlib import Path
 
 from ..errors import InputError
-from .findings import ERROR, INFO, Finding
+from .findings import ERROR, INFO, WARNING, Finding
 
 __all__ = ["lint_other"]
 
@@ -39,8 +40,12 @@ def lint_other(path: str, allow_xacro: bool = False) -> list[Finding]:
     p = Path(path)
     if not p.is_file():
         raise InputError(f"{path}: no such file")
+    import warnings
+
     try:
-        robot = load(path, allow_xacro=allow_xacro)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            robot = load(path, allow_xacro=allow_xacro)
     except InputError as exc:
         msg = str(exc)
         if _UNREADABLE.search(msg):
@@ -52,7 +57,10 @@ def lint_other(path: str, allow_xacro: bool = False) -> list[Finding]:
                                           (".xml", ".mjcf", ".sdf") else None)
         return [Finding(ERROR, "reader-refuses", path, line, f"{e.group(1)} '{e.group(2)}'" if e else "",
                         text[e.end():].lstrip(" :") if e else text, "correct what the message names")]
-    found = []
+    # what the reader changed silently but for a warning (a near-valid value projected, a mesh left out)
+    found = [Finding(WARNING, "reader-changes", path, None, "", str(w.message).splitlines()[0],
+                     "write the value the reader used (the message names it)") for w in caught
+             if issubclass(w.category, UserWarning)]
     for j in robot.joints:
         if j.lower is not None and j.upper is not None and j.lower > j.upper:
             found.append(Finding(ERROR, "limits-reversed", path, None, f"joint '{j.name}'",
