@@ -252,7 +252,7 @@ def run(args: argparse.Namespace) -> int:
             if fmt == "mjcf" and args.scene:  # the model and its scene.xml, all or nothing
                 from .convert_parts.mjcf_output import scene_of
 
-                scene = scene_of(robot, out)
+                scene = scene_of(robot, out, text)
                 write_texts_atomic([(out, text), scene])
                 wrote(out)
                 wrote(scene[0])

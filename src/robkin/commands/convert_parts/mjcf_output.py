@@ -135,11 +135,14 @@ def render_mjcf(robot: Robot, args: argparse.Namespace, source: str | None, out_
                                 contact_excludes=stage.contact_excludes)
 
 
-def scene_of(robot: Robot, out: Path) -> tuple[Path, str]:
-    """(``scene.xml`` beside ``out``, its text: ``robkin.io.mjcf.scene``)."""
+def scene_of(robot: Robot, out: Path, text: str | None = None) -> tuple[Path, str]:
+    """(``scene.xml`` beside ``out``, its text: ``robkin.io.mjcf.scene``); ``text``: the model's MJCF,
+    whose geoms at home the floor goes under (``robkin.simulation.ground``, when MuJoCo is installed)."""
     from ...io.mjcf.scene import scene_text
+    from ...simulation.ground import lowest_point
 
     scene = out.with_name("scene.xml")
     if scene == out:
         raise InputError(f"--scene: {out} is itself named scene.xml; name the model otherwise")
-    return scene, scene_text(robot, out.name)
+    lowest = None if text is None else lowest_point(text, out.parent)
+    return scene, scene_text(robot, out.name, lowest)

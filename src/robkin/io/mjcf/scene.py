@@ -3,8 +3,9 @@
 ``robkin convert X --to mjcf -o DIR/robot.xml --scene`` writes ``DIR/scene.xml`` with it: the robot
 file is included (``<include file="robot.xml"/>``), so the folder opens in MuJoCo's viewer
 (``python -m mujoco.viewer --mjcf DIR/scene.xml``) ready to press play, and the robot file stays the
-model to load in code. The floor lies under the robot's lowest link origin at home (at z = 0 when
-nothing is below it): a mid-tree base (a humanoid's torso) keeps its legs above it.
+model to load in code. The floor lies at z = 0, or lower where the robot reaches below it at home: under
+the lowest point of its geoms when the caller measured it (``robkin.simulation.ground``, with MuJoCo),
+else under its lowest link origin. A mid-tree base (a humanoid's torso) keeps its legs above it.
 """
 
 from __future__ import annotations
@@ -30,9 +31,17 @@ def floor_height(robot: Robot) -> float:
     return min(0.0, min(z))
 
 
-def scene_text(robot: Robot, model_file: str) -> str:
-    """The scene's MJCF text, including ``model_file`` (a name relative to the scene's folder)."""
+#: the floor's distance below the lowest geom point (relative to the robot's size): no touching contact at
+#: home (MuJoCo's default contact margin is 0; 1 mm on a 1 m arm is invisible in the viewer)
+FLOOR_GAP = 1e-3
+
+
+def scene_text(robot: Robot, model_file: str, lowest: float | None = None) -> str:
+    """The scene's MJCF text, including ``model_file`` (a name relative to the scene's folder);
+    ``lowest``: the lowest z of the model's geoms at home, if measured (the floor goes under it)."""
     z = floor_height(robot)
+    if lowest is not None and np.isfinite(lowest):
+        z = min(z, lowest - FLOOR_GAP * max(robot.scale, 1.0))
     size = max(2.0, 4.0 * robot.scale)
     return "\n".join([
         '<?xml version="1.0"?>',
