@@ -85,17 +85,16 @@ CHAINS = [
      None, "link2"),
     # grippers: a finger of a parallel or three-finger gripper, through the arm
     ("Panda left finger", "gripper", "panda_description/urdf/panda.urdf", None, "panda_leftfinger"),
-    # (the Panda's right finger is left out: its joint mimics the left one's, and robkin reads independent
-    # joints only; it says so and asks for a tip before it)
+    ("Panda right finger (mimic)", "gripper", "panda_description/urdf/panda.urdf", None, "panda_rightfinger"),
     ("Kinova finger 1", "gripper", "kinova_description/robots/kinova.urdf", None, "j2s6s200_link_finger_tip_1"),
     ("Kinova finger 2", "gripper", "kinova_description/robots/kinova.urdf", None, "j2s6s200_link_finger_tip_2"),
     ("SO-101 moving jaw", "gripper", "so_arm_description/urdf/so101.urdf", None, "moving_jaw_so101_v1_link"),
     ("Baxter gripper finger", "gripper", "baxter_description/urdf/baxter.urdf", None, "r_gripper_l_finger_tip"),
-    ("PR2 gripper finger", "gripper", "pr2_description/urdf/pr2.urdf", None, "r_gripper_l_finger_tip_link"),
+    ("PR2 gripper finger", "gripper", "pr2_description/urdf/pr2.urdf", None, "r_gripper_l_finger_link"),
     ("TALOS gripper finger", "gripper", "talos_data/robots/talos_left_arm.urdf", None,
      "gripper_left_fingertip_1_link"),
     ("TIAGo Pro gripper finger", "gripper", "tiago_pro_description/robots/tiago_pro.urdf", None,
-     "gripper_left_fingertip_left_link"),
+     "gripper_left_outer_finger_left_link"),
     ("TriFinger finger (finger_edu)", "gripper", "finger_edu_description/robots/finger_edu.urdf", None,
      "finger_tip_link"),
     # hands: one finger each
@@ -107,8 +106,8 @@ CHAINS = [
     ("G1 hand, thumb", "hand", "g1_description/urdf/g1_29dof_with_hand_rev_1_0.urdf", None, "left_hand_thumb_2_link"),
     ("G1 hand, index", "hand", "g1_description/urdf/g1_29dof_with_hand_rev_1_0.urdf", None, "left_hand_index_1_link"),
     ("TIAGo hand, index", "hand", "tiago_description/robots/tiago.urdf", None, "hand_index_flex_3_link"),
-    ("Romeo hand, thumb", "hand", "romeo_description/urdf/romeo.urdf", None, "LThumb3Link"),
-    ("Alex (PSYONIC hand), index", "hand", "alex_description/urdf/alex_psyonic_hands.urdf", None, "Left_index_anchor"),
+    ("Romeo hand, thumb (mimic)", "hand", "romeo_description/urdf/romeo.urdf", None, "LThumb3Link"),
+    ("Alex (PSYONIC hand), index (mimic)", "hand", "alex_description/urdf/alex_psyonic_hands.urdf", None, "Left_index_anchor"),
     ("Alex (SAKE hand), finger", "hand", "alex_description/urdf/alex_sake_hands.urdf", None, "RightSakeFingerTip1"),
     # humanoid limbs
     ("TALOS left arm", "humanoid arm", "talos_data/robots/talos_full_v2.urdf", "torso_2_link", "gripper_left_base_link"),
@@ -181,8 +180,17 @@ class Row:
     usd: dict = field(default_factory=dict)         # robkin, pxr, physics (bool or message)
     code: dict = field(default_factory=dict)        # format -> "ok" or refusal string
     lint: str = "n/a (lint not on this branch)"
-    notes: list = field(default_factory=list)
+    notes: list = field(default_factory=list)      # failures of the measurement itself
+    info: list = field(default_factory=list)       # explanations of figures (not failures)
+    warned: dict = field(default_factory=dict)     # format -> robkin convert's warning lines
     seconds: float = 0.0
+    chain_joints: tuple = ()
+
+
+def warnings_of(text: str) -> list[str]:
+    # (the MJCF's hold line is a warning when it does not hold: it has a column of its own)
+    return [ln.split("warning:", 1)[1].strip() for ln in text.splitlines()
+            if "robkin: warning:" in ln and "MuJoCo: " not in ln]
 
 
 def cli(argv: list[str]) -> tuple[int, str]:
@@ -234,7 +242,14 @@ class Pin:
         full = pin.buildModelFromUrdf(str(path))
         keep = {j.name for j in robot.joints}
         lock = [i for i in range(1, full.njoints) if full.names[i] not in keep]
-        self.model = pin.buildReducedModel(full, lock, pin.neutral(full)) if lock else full
+        self.reduced = True
+        try:
+            self.model = pin.buildReducedModel(full, lock, pin.neutral(full)) if lock else full
+        except ValueError as e:
+            # pinocchio refuses to reduce a model with two frames of one name (a joint and a link): the full
+            # model then, the others joints at 0 (neutral): the chain's rows and columns of M(q) and g(q)
+            # are the reduced model's (locking a joint at 0 leaves the chain's composite inertias as they are)
+            self.model, self.reduced = full, str(e).split(" - ")[0]
         self.data = self.model.createData()
         self.joints = [self.model.joints[self.model.getJointId(j.name)] for j in robot.joints]
         self.order = [jm.idx_v for jm in self.joints]
@@ -251,7 +266,7 @@ class Pin:
 
     def fk(self, q: np.ndarray) -> np.ndarray:
         self.pin.framesForwardKinematics(self.model, self.data, self.q(q))
-        return self.data.oMf[self.model.getFrameId(self.tip)].homogeneous.copy()
+        return self.data.oMf[self.model.getFrameId(self.tip, self.pin.BODY)].homogeneous.copy()
 
     def gravity(self, q) -> np.ndarray:
         return self.pin.computeGeneralizedGravity(self.model, self.data, self.q(q))[self.order].copy()
@@ -335,11 +350,13 @@ def guard(row: Row, what: str, fn, *args):
     try:
         return fn(*args)
     except Exception as e:   # noqa: BLE001 - every failure is a row's note
-        row.notes.append(f"{what}: {type(e).__name__}: {str(e).splitlines()[0][:160] if str(e) else ''}")
+        text = str(e).splitlines()[0] if str(e) else ""
+        root = robots_dir()
+        row.notes.append(f"{what}: {type(e).__name__}: {text.replace(root + os.sep, '') if root else text}")
         return None
 
 
-HOLD = re.compile(r"MuJoCo: (holds home|does NOT hold home)[^;]*max drift ([0-9.e+-]+)")
+HOLD = re.compile(r"MuJoCo: (holds home|does NOT hold home)[^;]*max drift ([0-9.e+-]+) \(([^)]*)\)")
 
 
 def measure(row: Row, path: str, tmp: Path, draws: int, lint: bool) -> Row:
@@ -348,12 +365,16 @@ def measure(row: Row, path: str, tmp: Path, draws: int, lint: bool) -> Row:
     robot = guard(row, "robkin load", load, path, row.base, row.tip)
     if robot is None:
         return row
+    row.chain_joints = tuple(j.name for j in robot.joints)
     row.n, row.joints = robot.n, "".join("R" if j.revolute else "P" for j in robot.joints)
     size = robot.scale
     qs = robot.random_q(draws, rng=7)
     F = robot.fk(qs)
     W = robot.world @ F   # the tip in the file's world frame (a mid-tree base's pose in front)
     ref = guard(row, "pinocchio (source)", Pin, path, robot)
+    if ref is not None and ref.reduced is not True:
+        row.info.append(f"pinocchio's buildReducedModel refuses the file ({ref.reduced}): its full model is the "
+                        "reference, the joints off the chain at 0 (the same M, g rows)")
     if ref is not None:
         row.source["fk"] = fk_error(W, np.array([ref.fk(q) for q in qs]), size)
         row.source["M"], row.source["g"] = dynamics_vs(ref, robot.mass_matrix, robot.gravity, qs)
@@ -370,6 +391,7 @@ def measure(row: Row, path: str, tmp: Path, draws: int, lint: bool) -> Row:
 
     out = tmp / "robot.urdf"
     status, text = cli(["convert", path, *ends, "--to", "urdf", "-o", str(out)])
+    row.warned["URDF"] = warnings_of(text)
     if status:
         row.urdf["error"] = first_error(text)
     else:
@@ -382,17 +404,20 @@ def measure(row: Row, path: str, tmp: Path, draws: int, lint: bool) -> Row:
 
     out = tmp / "mjcf" / "robot.xml"
     status, text = cli(["convert", path, *ends, "--to", "mjcf", "-o", str(out)])
+    row.warned["MJCF"] = warnings_of(text)
     if status:
         row.mjcf["error"] = first_error(text)
     else:
         found = HOLD.search(text)
         row.mjcf["hold"] = None if not found else found.group(1) == "holds home"
+        row.mjcf["drift_joint"] = found.group(3) if found else None
         row.mjcf["hold_line"] = next((ln.split("MuJoCo: ", 1)[1] for ln in text.splitlines() if "MuJoCo: " in ln), "")
         row.mjcf["robkin"] = guard(row, "MJCF read back", back, out)
         guard(row, "MuJoCo", mujoco_parity, row, out, robot, ref, qs, W, size)
 
     out = tmp / "robot.usdc"
     status, text = cli(["convert", path, *ends, "--to", "usd", "-o", str(out)])
+    row.warned["USD"] = warnings_of(text)
     if status:
         row.usd["error"] = first_error(text)
     else:
@@ -459,27 +484,79 @@ def hold_cell(row: Row) -> str:
     return "error" if "error" in row.mjcf else "—" if h is None else "holds" if h else "**no**"
 
 
-def explain(row: Row) -> list[str]:
-    """The row's notes: every refusal, failure and figure outside rounding, with its reason."""
-    notes = list(row.notes)
-    refused = {k: v for k, v in {**row.tables, **row.code}.items() if isinstance(v, str) and v != "ok"}
-    for k, v in refused.items():
-        if k == "opw":
-            continue   # summarised below: OPW is a model of one arm class
-        notes.append(f"{k} {v}")
-    if isinstance(row.code.get("opw"), str) and row.code["opw"] != "ok":
-        notes.append("opw: not an OPW arm (6R, parallel 2-3, spherical wrist)")
-    for fmt_, d in (("URDF", row.urdf), ("MJCF", row.mjcf), ("USD", row.usd)):
+MIMIC = "mimics another joint"
+#: convert's warnings that explain a figure, in a few words (the rest are quoted as they are)
+KNOWN = [
+    ("inertia not physical", "the source's inertia of {bodies} is not physical (a principal moment above the sum of "
+     "the other two, or negative): clipped to the nearest valid one{why}"),
+    ("move without mass or inertia", "massless moving bodies ({bodies}) given 1e-9 kg / 1e-12 kg m^2 so that MuJoCo "
+     "loads the model"),
+    ("move without mass: written without MassAPI", "massless links written without MassAPI values (a simulator "
+     "derives them from the colliders)"),
+    ("read back, its mass properties differ", None),   # the consequence of the two above, said once
+    ("PhysX couples rotations only", "a prismatic mimic joint off the chain: written free, its coupling kept as "
+     "robkin:mimic attributes (PhysX couples rotations only)"),
+]
+
+
+def _bodies(line: str) -> str:
+    found = re.search(r"(?:body\(ies\)|link\(s\)) (.*?)(?::| move)", line)
+    return found.group(1) if found else "some bodies"
+
+
+def failures(row: Row) -> list[str]:
+    """What failed in this row, each with its reason."""
+    out = []
+    for note in row.notes:
+        if MIMIC in note:
+            joint = re.search(r"joint '([^']+)' mimics", note)
+            out.append(f"refused by robkin, by design: joint {joint.group(1) if joint else '?'} on the way to the tip "
+                       "mimics another (a coupled finger); robkin reads chains of independent joints and says to "
+                       "end the chain before it")
+        else:
+            out.append(note)
+    for k, v in row.tables.items():
+        if isinstance(v, str):
+            out.append(f"{k} {v}")
+    for name, d in (("URDF", row.urdf), ("MJCF", row.mjcf), ("USD", row.usd)):
         if "error" in d:
-            notes.append(f"{fmt_} refused: {d['error']}")
+            out.append(f"{name} refused: {d['error']}")
     if row.mjcf.get("hold") is False:
-        notes.append("MuJoCo: " + row.mjcf.get("hold_line", ""))
+        line = "MuJoCo: " + row.mjcf.get("hold_line", "")
+        joint = row.mjcf.get("drift_joint")
+        if joint and joint not in row.chain_joints:
+            line += (f" — the drifting joint {joint} is off the chain: a finger joint coupled to another by "
+                     "an equality constraint (a URDF mimic), its bodies massless in the source (1e-9 kg "
+                     "placeholders): it does not settle in 5 s; a robkin export issue, reported")
+        out.append(line)
     if row.usd.get("physics") not in (None, "ok"):
-        notes.append(f"UsdPhysics: {row.usd['physics']}")
-    return notes
+        out.append(f"UsdPhysics: {row.usd['physics']}")
+    return out
 
 
-def page(rows: list[Row], seconds: float, lint: bool, draws: int, command: str) -> str:
+def explanations(row: Row) -> list[str]:
+    """Why a figure is above rounding or a format was not written, where that is by design."""
+    out = list(row.info)
+    for fmt_, lines in row.warned.items():
+        for line in lines:
+            known = next((k for k in KNOWN if k[0] in line), None)
+            if known is None:
+                out.append(f"{fmt_}: {line[:200]}")
+            elif known[1]:
+                why = ", as MuJoCo requires: that is the M, g difference" if fmt_ == "MJCF" else ""
+                out.append(f"{fmt_}: " + known[1].format(bodies=_bodies(line), why=why))
+    for k, v in row.code.items():
+        if k != "opw" and v != "ok":
+            out.append(f"{k} {v}")
+    seen = set()
+    return [x for x in out if not (x in seen or seen.add(x))]
+
+
+def explain(row: Row) -> list[str]:
+    return failures(row) + explanations(row)
+
+
+def page(rows: list[Row], seconds: float, lint: bool, draws: int, command: str, cpu: float | None = None) -> str:
     import mujoco
     import pinocchio
 
@@ -502,7 +579,8 @@ def page(rows: list[Row], seconds: float, lint: bool, draws: int, command: str) 
         f"legged robots. Each is converted by `robkin convert` (default options) to every format robkin "
         f"writes, and each output is read back: by robkin, and by the format's own peer. {draws} joint "
         "vectors are drawn within the limits (fixed seed). The whole page took "
-        f"{seconds:.0f} s to regenerate.",
+        f"{seconds:.0f} s to regenerate (wall time"
+        + (f"; {cpu:.0f} s of CPU time in this process" if cpu is not None else "") + "), nothing cached.",
         "",
         "How to read it (benchmarks/zoo.py's docstring has the details):",
         "",
@@ -519,8 +597,12 @@ def page(rows: list[Row], seconds: float, lint: bool, draws: int, command: str) 
         "keyframe home with contacts on (`robkin.simulation.mujoco_check.hold_check`). **USD**: robkin "
         "read back / pxr's FK from the joint prims (float32 numbers: ~1e-7 expected) and **physics**: "
         "usd-core's UsdPhysics parser sees one valid articulation.",
-        "- **code**: rtb, matlab, eaik, opw files written (robkin reads none back; the toolboxes are run "
-        "on a few arms by the tests). OPW is one arm class, so most chains are refused it, by design.",
+        "- **code**: the rtb, matlab, eaik, opw files written (robkin reads none back; the toolboxes are run "
+        "on a few arms by the tests). OPW is one arm class, so most chains are refused it, by design; EAIK "
+        "takes revolute joints only.",
+        "- **notes**: failures in bold, with their reason; then the warnings `robkin convert` printed that explain "
+        "a figure above rounding (MuJoCo's mass rules: the M, g differences of a few rows are the source's own "
+        "unphysical or missing inertias, changed so that MuJoCo loads the model).",
         f"- **lint**: {'`robkin lint` on the source' if lint else 'n/a: `robkin lint` is not on this branch'}.",
         "",
     ]
@@ -532,8 +614,8 @@ def page(rows: list[Row], seconds: float, lint: bool, draws: int, command: str) 
             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for i, r in enumerate(rows, 1):
         src = r.source
-        code = sum(1 for v in r.code.values() if v == "ok")
-        notes = "; ".join(explain(r)).replace("|", "/") or "—"
+        code = ", ".join(k for k, v in r.code.items() if v == "ok") or "—"
+        notes = "; ".join([f"**{x}**" for x in failures(r)] + explanations(r)).replace("|", "/") or "—"
         out.append(
             f"| {i} | {r.label} | {r.kind} | `{r.rel.split('/')[-1]}`: {r.base or '(root)'} → {r.tip} | "
             f"{r.n} {r.joints} | {fmt(src.get('fk'))} / {fmt(src.get('M'))} / {fmt(src.get('g'))} | "
@@ -541,7 +623,7 @@ def page(rows: list[Row], seconds: float, lint: bool, draws: int, command: str) 
             f"{fmt(r.urdf.get('robkin'))} / {fmt(r.urdf.get('fk'))} / {fmt(r.urdf.get('M'))} / {fmt(r.urdf.get('g'))} | "
             f"{fmt(r.mjcf.get('robkin'))} / {fmt(r.mjcf.get('fk'))} / {fmt(r.mjcf.get('M'))} / {fmt(r.mjcf.get('g'))} | "
             f"{hold_cell(r)} | {fmt(r.usd.get('robkin'))} / {fmt(r.usd.get('pxr'))} | {fmt(r.usd.get('physics'))} | "
-            f"{code}/{len(CODES)} | {r.lint} | {r.seconds:.1f} | {notes} |")
+            f"{code} | {r.lint} | {r.seconds:.1f} | {notes} |")
     return "\n".join(out) + "\n"
 
 
@@ -575,12 +657,17 @@ def summary(rows: list[Row]) -> list[str]:
     loaded_pin = sum(1 for r in rows if "fk" in r.urdf)
     physics = sum(1 for r in rows if r.usd.get("physics") == "ok")
     codes = {c: sum(1 for r in rows if r.code.get(c) == "ok") for c in CODES}
-    noted = sum(1 for r in rows if explain(r))
+    failed = [r for r in rows if failures(r)]
+    explained = sum(1 for r in rows if explanations(r))
     lines += ["", f"Loads: MuJoCo loads {loaded_mj}/{len(rows)} MJCF files, pinocchio {loaded_pin}/{len(rows)} "
               f"URDF files, UsdPhysics parses {physics}/{len(rows)} USD stages as one valid articulation. "
               f"Pressing play: {holds}/{measured} MJCF exports hold home for 5 s with contacts on. Code written: "
               + ", ".join(f"{c} {k}/{len(rows)}" for c, k in codes.items())
-              + f". {noted} rows carry a note (a refusal, a failure or a figure to explain)."]
+              + f" (OPW is one class of 6R arms: the others are refused it, by design). {len(failed)} rows carry "
+              f"a failure (bold in the notes, listed below), {explained} an explanation of a figure.",
+              "", "Failures, each with its reason:", ""]
+    for r in failed:
+        lines.append(f"- **{r.label}**: " + "; ".join(failures(r)))
     return lines
 
 
@@ -597,7 +684,7 @@ def main() -> int:
     chains = [c for c in CHAINS if not args.only or any(o.lower() in c[0].lower() for o in args.only)]
     lint = lint_available()
     rows = []
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     with tempfile.TemporaryDirectory() as tmp:
         for i, (label, kind, rel_, base, tip) in enumerate(chains):
             folder = Path(tmp) / f"r{i}"
@@ -605,15 +692,15 @@ def main() -> int:
             row = measure(Row(label, kind, rel_, base, tip), os.path.join(root, rel_), folder, args.draws, lint)
             rows.append(row)
             print(f"[{i + 1}/{len(chains)}] {label}: {row.seconds:.1f} s"
-                  + (f"; {len(explain(row))} note(s)" if explain(row) else ""), file=sys.stderr)
-    seconds = time.perf_counter() - t0
+                  + (f"; FAILED: {'; '.join(failures(row))[:300]}" if failures(row) else ""), file=sys.stderr)
+    seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
     command = "make zoo" if os.environ.get("ROBKIN_ZOO_MAKE") else "python benchmarks/zoo.py " + " ".join(sys.argv[1:])
-    text = page(rows, seconds, lint, args.draws, command.strip())
+    text = page(rows, seconds, lint, args.draws, command.strip(), cpu)
     if args.out == "-":
         sys.stdout.write(text)
     else:
         Path(args.out).write_text(text)
-        print(f"wrote {args.out}: {len(rows)} chains in {seconds:.0f} s", file=sys.stderr)
+        print(f"wrote {args.out}: {len(rows)} chains in {seconds:.0f} s ({cpu:.0f} s CPU)", file=sys.stderr)
     return 0
 
 
