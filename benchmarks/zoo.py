@@ -156,6 +156,16 @@ def robots_dir() -> str:
     return found[0] if found else ""
 
 
+def cpu_name() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown CPU"
+
+
 def lint_available() -> bool:
     import importlib.util
 
@@ -570,7 +580,10 @@ def page(rows: list[Row], seconds: float, lint: bool, draws: int, command: str, 
 
     files = sorted({r.rel for r in rows})
     when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    machine = f"{platform.machine()}, {platform.processor() or platform.node()}, Python {platform.python_version()}"
+    machine = f"{platform.machine()}, {cpu_name()}, {os.cpu_count()} CPUs"
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    machine += (f", run on {cores} of them (CPU affinity)" if cores != os.cpu_count() else "")
+    machine += f", load average {os.getloadavg()[0]:.1f} at the end, Python {platform.python_version()}"
     try:
         import importlib.metadata as md
         erd = md.version("example-robot-data")
