@@ -421,7 +421,7 @@ def measure(row: Row, path: str, tmp: Path, draws: int, lint: bool) -> Row:
                 row.urdf["M"], row.urdf["g"] = dynamics_vs(ref, other.mass_matrix, other.gravity, qs)
 
     out = tmp / "mjcf" / "robot.xml"
-    status, text = cli(["convert", path, *ends, "--to", "mjcf", "-o", str(out)])
+    status, text = cli(["convert", path, *ends, "--to", "mjcf", "--scene", "-o", str(out)])
     row.warned["MJCF"] = warnings_of(text)
     if status:
         row.mjcf["error"] = first_error(text)
@@ -431,6 +431,11 @@ def measure(row: Row, path: str, tmp: Path, draws: int, lint: bool) -> Row:
         row.mjcf["drift_joint"] = found.group(3) if found else None
         row.mjcf["hold_line"] = next((ln.split("MuJoCo: ", 1)[1] for ln in text.splitlines() if "MuJoCo: " in ln), "")
         row.mjcf["robkin"] = guard(row, "MJCF read back", back, out)
+        scene = guard(row, "MuJoCo scene", scene_hold, out.parent / "scene.xml")
+        if scene is not None:
+            row.mjcf["scene"], row.mjcf["scene_line"] = scene.holds, scene.line()
+            row.mjcf["scene_joint"] = scene.drift_joint
+            row.mjcf["floor"] = scene.floor
         guard(row, "MuJoCo", mujoco_parity, row, out, robot, ref, qs, W, size)
 
     out = tmp / "robot.usdc"
@@ -454,6 +459,26 @@ def measure(row: Row, path: str, tmp: Path, draws: int, lint: bool) -> Row:
         row.lint = "ok" if status == 0 else f"exit {status}: {first_error(text)}"
     row.seconds = time.perf_counter() - t0
     return row
+
+
+def scene_hold(path: Path):
+    """The written scene (a floor, a light, the robot) pressed play: 5 s from the keyframe home, contacts on."""
+    from robkin.simulation.mujoco_check import hold_check
+
+    import mujoco
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        report = hold_check(path)
+        model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    key = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, "home")
+    if key >= 0:
+        mujoco.mj_resetDataKeyframe(model, data, key)
+    mujoco.mj_forward(model, data)
+    floor = [c for c in data.contact[:data.ncon] if "floor" in (model.geom(c.geom1).name, model.geom(c.geom2).name)]
+    report.floor = (len(floor), -min((c.dist for c in floor), default=0.0))
+    return report
 
 
 def mujoco_parity(row: Row, out: Path, robot, ref, qs, F, size) -> None:
@@ -498,8 +523,10 @@ def worst(values) -> float | None:
 
 
 def hold_cell(row: Row) -> str:
-    h = row.mjcf.get("hold")
-    return "error" if "error" in row.mjcf else "—" if h is None else "holds" if h else "**no**"
+    def word(h):
+        return "—" if h is None else "holds" if h else "**no**"
+
+    return "error" if "error" in row.mjcf else f"{word(row.mjcf.get('hold'))} / {word(row.mjcf.get('scene'))}"
 
 
 MIMIC = "mimics another joint"
@@ -546,6 +573,15 @@ def failures(row: Row) -> list[str]:
             line += (f" — the drifting joint {joint} is off the chain: a finger joint coupled to another by "
                      "an equality constraint (a URDF mimic), its bodies massless in the source (1e-9 kg "
                      "placeholders): it does not settle in 5 s; a robkin export issue, reported")
+        out.append(line)
+    if row.mjcf.get("scene") is False and row.mjcf.get("hold") is not False:
+        line = "the scene (floor added): " + row.mjcf.get("scene_line", "")
+        count, depth = row.mjcf.get("floor", (0, 0.0))
+        if count:
+            line += (f" — the floor touches the robot at home ({count} contacts, {depth * 1e3:.2g} mm deep): the "
+                     "scene lays the floor at the robot's lowest point at home while the chain's base is welded "
+                     "in the air, so the floor pushes the feet and the servos give way; a robkin scene issue, "
+                     "reported (the model alone holds)")
         out.append(line)
     if row.usd.get("physics") not in (None, "ok"):
         out.append(f"UsdPhysics: {row.usd['physics']}")
@@ -615,7 +651,8 @@ def page(rows: list[Row], seconds: float, lint: bool, draws: int, command: str, 
         "- **URDF**: robkin read back / pinocchio's FK, M, g of the written URDF. **MJCF**: robkin read "
         "back / MuJoCo's FK (tip site), M (`mj_fullM`), g (`qfrc_bias` at rest) of the written MJCF, and "
         "**hold**: the line `robkin convert` prints after simulating its own output for 5 s from the "
-        "keyframe home with contacts on (`robkin.simulation.mujoco_check.hold_check`). **USD**: robkin "
+        "keyframe home with contacts on (`robkin.simulation.mujoco_check.hold_check`), for the model and for "
+        "the scene `--scene` writes beside it (a floor, a light). **USD**: robkin "
         "read back / pxr's FK from the joint prims (float32 numbers: ~1e-7 expected) and **physics**: "
         "usd-core's UsdPhysics parser sees one valid articulation.",
         "- **code**: the rtb, matlab, eaik, opw files written (robkin reads none back; the toolboxes are run "
@@ -680,6 +717,8 @@ def summary(rows: list[Row]) -> list[str]:
         fk, count = col(f)
         lines.append(f"| {name} | {who} | {fk} | {col(m)[0] if m else '—'} | {col(g)[0] if g else '—'} | {count} |")
     holds = sum(1 for r in rows if r.mjcf.get("hold") is True)
+    scenes = sum(1 for r in rows if r.mjcf.get("scene") is True)
+    scened = sum(1 for r in rows if r.mjcf.get("scene") is not None)
     measured = sum(1 for r in rows if r.mjcf.get("hold") is not None)
     loaded_mj = sum(1 for r in rows if "fk" in r.mjcf)
     loaded_pin = sum(1 for r in rows if "fk" in r.urdf)
@@ -689,7 +728,8 @@ def summary(rows: list[Row]) -> list[str]:
     explained = sum(1 for r in rows if explanations(r))
     lines += ["", f"Loads: MuJoCo loads {loaded_mj}/{len(rows)} MJCF files, pinocchio {loaded_pin}/{len(rows)} "
               f"URDF files, UsdPhysics parses {physics}/{len(rows)} USD stages as one valid articulation. "
-              f"Pressing play: {holds}/{measured} MJCF exports hold home for 5 s with contacts on. Code written: "
+              f"Pressing play: {holds}/{measured} MJCF exports hold home for 5 s with contacts on, and "
+              f"{scenes}/{scened} of the scenes written beside them (`--scene`: a floor and a light added). Code written: "
               + ", ".join(f"{c} {k}/{len(rows)}" for c, k in codes.items())
               + f" (OPW is one class of 6R arms: the others are refused it, by design). {len(failed)} rows carry "
               f"a failure (bold in the notes, listed below), {explained} an explanation of a figure.",

@@ -53,7 +53,7 @@ def test_two_chains_measured_in_every_format(zoo, tmp_path):
                         {k: row.mjcf[k] for k in ("robkin", "fk", "M", "g")}):
             assert max(figures.values()) <= 1e-12, figures           # doubles: rounding
         assert row.usd["robkin"] <= 1e-6 and row.usd["pxr"] <= 1e-6  # float32
-        assert row.usd["physics"] == "ok" and row.mjcf["hold"] is True
+        assert row.usd["physics"] == "ok" and row.mjcf["hold"] is True and row.mjcf["scene"] is True
         assert row.code["rtb"] == row.code["matlab"] == "ok"
     text = zoo.page(rows, 1.0, False, 2, "pytest")
     assert "## Summary" in text and text.count("\n| 1 | ") == 1 and "| 2 | " in text
