@@ -549,17 +549,26 @@ def _bodies(line: str) -> str:
     return found.group(1) if found else "some bodies"
 
 
+#: the kinds of failure seen, each explained once on the page (a row's note names its kind and its figures)
+REASONS = {
+    "mimic": "refused by robkin, by design: a joint on the way to the tip mimics another (a coupled finger); "
+             "robkin reads chains of independent joints, and its message says to end the chain before that joint",
+    "finger": "the MJCF model does not hold home: the drifting joint is off the chain, a finger joint coupled to "
+              "another by an equality constraint (a URDF mimic) whose bodies are massless in the source (given "
+              "1e-9 kg so that MuJoCo loads them): it does not settle in 5 s. A robkin export issue, reported",
+    "floor": "the model holds home, the scene written beside it (`--scene`) does not: the scene lays its floor under "
+             "the lowest link *origin* at q = 0 (`robkin.io.mjcf.scene.floor_height`), not under the robot's "
+             "geometry at home, so meshes that reach below that origin (a wrist, a foot, a hand's palm) start inside "
+             "the floor, which pushes them and the servos give way. A robkin scene issue, reported",
+}
+
+
 def failures(row: Row) -> list[str]:
-    """What failed in this row, each with its reason."""
+    """What failed in this row: '<kind>: <figures>' for a kind of REASONS, else the failure as it is."""
     out = []
     for note in row.notes:
-        if MIMIC in note:
-            joint = re.search(r"joint '([^']+)' mimics", note)
-            out.append(f"refused by robkin, by design: joint {joint.group(1) if joint else '?'} on the way to the tip "
-                       "mimics another (a coupled finger); robkin reads chains of independent joints and says to "
-                       "end the chain before it")
-        else:
-            out.append(note)
+        joint = re.search(r"joint '([^']+)' mimics", note)
+        out.append(f"mimic: joint {joint.group(1)}" if MIMIC in note and joint else note)
     for k, v in row.tables.items():
         if isinstance(v, str):
             out.append(f"{k} {v}")
@@ -567,22 +576,14 @@ def failures(row: Row) -> list[str]:
         if "error" in d:
             out.append(f"{name} refused: {d['error']}")
     if row.mjcf.get("hold") is False:
-        line = "MuJoCo: " + row.mjcf.get("hold_line", "")
         joint = row.mjcf.get("drift_joint")
-        if joint and joint not in row.chain_joints:
-            line += (f" — the drifting joint {joint} is off the chain: a finger joint coupled to another by "
-                     "an equality constraint (a URDF mimic), its bodies massless in the source (1e-9 kg "
-                     "placeholders): it does not settle in 5 s; a robkin export issue, reported")
-        out.append(line)
+        kind = "finger" if joint and joint not in row.chain_joints else "MuJoCo"
+        out.append(f"{kind}: " + row.mjcf.get("hold_line", "").split("; home")[0])
     if row.mjcf.get("scene") is False and row.mjcf.get("hold") is not False:
-        line = "the scene (floor added): " + row.mjcf.get("scene_line", "")
         count, depth = row.mjcf.get("floor", (0, 0.0))
-        if count:
-            line += (f" — the floor touches the robot at home ({count} contacts, {depth * 1e3:.2g} mm deep): the "
-                     "scene lays the floor at the robot's lowest point at home while the chain's base is welded "
-                     "in the air, so the floor pushes the feet and the servos give way; a robkin scene issue, "
-                     "reported (the model alone holds)")
-        out.append(line)
+        line = row.mjcf.get("scene_line", "").split("; home")[0]
+        out.append(f"floor: the floor cuts {depth * 1e3:.2g} mm into the robot at home ({count} contacts); {line}"
+                   if count else f"scene: {line}")
     if row.usd.get("physics") not in (None, "ok"):
         out.append(f"UsdPhysics: {row.usd['physics']}")
     return out
@@ -733,9 +734,15 @@ def summary(rows: list[Row]) -> list[str]:
               + ", ".join(f"{c} {k}/{len(rows)}" for c, k in codes.items())
               + f" (OPW is one class of 6R arms: the others are refused it, by design). {len(failed)} rows carry "
               f"a failure (bold in the notes, listed below), {explained} an explanation of a figure.",
-              *(["", "Failures, each with its reason:", ""] if failed else [])]
+              *(["", "Failures, by reason (each row's note gives its figures):", ""] if failed else [])]
+    kinds: dict[str, list[str]] = {}
     for r in failed:
-        lines.append(f"- **{r.label}**: " + "; ".join(failures(r)))
+        for f in failures(r):
+            kind = f.split(":", 1)[0]
+            kinds.setdefault(kind if kind in REASONS else f, []).append(r.label)
+    for kind, labels in kinds.items():
+        unique = list(dict.fromkeys(labels))
+        lines.append(f"- **{REASONS.get(kind, kind)}** ({len(unique)}): " + ", ".join(unique))
     return lines
 
 
