@@ -4,13 +4,15 @@
 #   make docs   build the documentation site into site/ (strict)
 #   make dist   the release: sdist and wheel in dist/, carrying the GUI's three.js (the wheel needs
 #               neither npm nor a C compiler to install)
+#   make zoo    the robot zoo: 70 chains of example-robot-data in every format robkin writes, read back by
+#               robkin, pinocchio, MuJoCo and pxr; regenerates docs/zoo.md (about 5 min on one core)
 #   make sanitize  the compiled core rebuilt with bounds checks and ASan+UBSan, its tests run on it
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip --disable-pip-version-check -q
 
-.PHONY: demo test bench ext assets docs dist sanitize clean
+.PHONY: demo test bench zoo ext assets docs dist sanitize clean
 
 # The compiled core (the .pyx files in src/robkin/compiled/'s sub-packages) is built once, by pip with
 # the machine's C compiler; the extras (test, docs, bench) then install only their own dependencies
@@ -75,6 +77,14 @@ bench: $(VENV)/.test
 	$(PIP) install -r $(VENV)/requirements-bench.txt
 	$(PIP) install --no-deps 'robotkinecal>=0.1' 'pybotics>=3.1'
 	for b in benchmarks/bench_*.py; do echo "== $$b"; $(PY) $$b || exit 1; done
+
+# The robot zoo (benchmarks/zoo.py): every chain converted to every format, each output read back by robkin
+# and by its peer, the MJCF pressed play; writes docs/zoo.md. Nothing is cached between runs.
+zoo: $(VENV)/.core
+	$(PIP) install packaging
+	$(EXTRA) zoo > $(VENV)/requirements-zoo.txt
+	$(PIP) install -r $(VENV)/requirements-zoo.txt
+	ROBKIN_ZOO_MAKE=1 $(PY) benchmarks/zoo.py --out docs/zoo.md
 
 # The documentation site (MkDocs Material + mkdocstrings) into site/; strict: a broken link or
 # reference fails the build. The CLI reference is generated from the parsers (docs/hooks/).
