@@ -174,6 +174,30 @@ def lint_available() -> bool:
     return "lint" in getattr(cli, "COMMANDS", ()) or importlib.util.find_spec("robkin.commands.lint") is not None
 
 
+_LINTED: dict[str, str] = {}
+
+
+def lint_status(path: str) -> str:
+    """``robkin lint`` of the whole file (once per file: several chains share it): 'ok', the warnings'
+    count, or the errors' count and the first error (exit 1), or why it could not be read (exit 2)."""
+    if path not in _LINTED:
+        import json
+
+        status, text = cli(["lint", path, "--format", "json"])
+        if status == 2:
+            _LINTED[path] = f"unreadable: {first_error(text)}"
+        else:
+            start = text.find("[")
+            found = json.loads(text[start:text.rindex("]") + 1]) if start >= 0 else []
+            errors = [f for f in found if f.get("severity") == "error"]
+            warns = [f for f in found if f.get("severity") == "warning"]
+            if errors:
+                _LINTED[path] = f"{len(errors)} error(s): {errors[0].get('element', '')}: {errors[0].get('message', '')}"
+            else:
+                _LINTED[path] = f"{len(warns)} warning(s)" if warns else "ok"
+    return _LINTED[path]
+
+
 @dataclass
 class Row:
     label: str
@@ -455,8 +479,7 @@ def measure(row: Row, path: str, tmp: Path, draws: int, lint: bool) -> Row:
         status, text = cli(["convert", path, *ends, "--to", code, "-o", str(tmp / f"{code}.{ext}")])
         row.code[code] = "ok" if status == 0 else "refused: " + first_error(text)
     if lint:
-        status, text = cli(["lint", path, *ends])
-        row.lint = "ok" if status == 0 else f"exit {status}: {first_error(text)}"
+        row.lint = lint_status(path)
     row.seconds = time.perf_counter() - t0
     return row
 
@@ -662,7 +685,7 @@ def page(rows: list[Row], seconds: float, lint: bool, draws: int, command: str, 
         "- **notes**: failures in bold, with their reason; then the warnings `robkin convert` printed that explain "
         "a figure above rounding (MuJoCo's mass rules: the M, g differences of a few rows are the source's own "
         "unphysical or missing inertias, changed so that MuJoCo loads the model).",
-        f"- **lint**: {'`robkin lint` on the source' if lint else 'n/a: `robkin lint` is not on this branch'}.",
+        f"- **lint**: {'`robkin lint FILE --format json` on the source file (the whole file, not only the chain): ok, its warnings, or its errors' if lint else 'n/a: `robkin lint` is not on this branch'}.",
         "",
     ]
     out += summary(rows)
