@@ -22,11 +22,11 @@ The pairs are body names, written by the MJCF writer as ``<contact><exclude body
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Iterable
+from typing import Any, Iterable
 
 import numpy as np
 
-__all__ = ["TOUCH", "contact_excludes", "adjacent_pairs", "touching_pairs", "home_qpos"]
+__all__ = ["TOUCH", "contact_excludes", "adjacent_pairs", "touching_pairs", "home_qpos", "compile_draft"]
 
 #: Geoms closer than this fraction of the robot's size at home count as touching (1 mm on a 1 m arm:
 #: well above MuJoCo's float rounding of mesh hulls, well below any gap a designer leaves on purpose).
@@ -86,6 +86,17 @@ def home_qpos(model) -> np.ndarray:
     return q
 
 
+def compile_draft(text: str, folder: str | Path | None) -> Any:
+    """MuJoCo's model (``mujoco.MjModel``) of the MJCF ``text`` whose mesh files are named relative to
+    ``folder``; MuJoCo must be importable, and its refusal is raised as it comes."""
+    import mujoco
+
+    spec = mujoco.MjSpec.from_string(text)
+    if folder is not None:
+        spec.meshdir = str(Path(folder).resolve())
+    return spec.compile()
+
+
 def touching_pairs(text: str, folder: Path | None, size: float) -> list[tuple[str, str]] | None:
     """Body pairs whose collision geoms are closer than ``TOUCH * size`` at home, by MuJoCo; None without
     MuJoCo. ``folder``: where the model's mesh files are named from."""
@@ -93,10 +104,7 @@ def touching_pairs(text: str, folder: Path | None, size: float) -> list[tuple[st
         import mujoco
     except ImportError:
         return None
-    spec = mujoco.MjSpec.from_string(text)
-    if folder is not None:
-        spec.meshdir = str(Path(folder).resolve())
-    model = spec.compile()
+    model = compile_draft(text, folder)
     data = mujoco.MjData(model)
     collision = (model.geom_contype != 0) | (model.geom_conaffinity != 0)
     model.geom_margin[collision] = TOUCH * size

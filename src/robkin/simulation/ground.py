@@ -20,10 +20,10 @@ __all__ = ["lowest_point"]
 _CORNERS = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
 
 
-def lowest_point(text: str, folder: str | Path | None = None, key: str = "home") -> float | None:
-    """The lowest z (world frame, the model's length unit) of any geom's bounding box at keyframe
-    ``key`` (qpos0 without it); None without MuJoCo, without geoms, or when MuJoCo cannot compile
-    ``text`` (the model's own check says why).
+def lowest_point(text: str, folder: str | Path | None = None) -> float | None:
+    """The lowest z (world frame, the model's length unit) of any geom's bounding box at home (the
+    keyframe ``home``: ``robkin.collision.exclusions.home_qpos``); None without MuJoCo, without geoms, or
+    when MuJoCo cannot compile ``text`` (the model's own check says why).
 
     Parameters
     ----------
@@ -36,20 +36,16 @@ def lowest_point(text: str, folder: str | Path | None = None, key: str = "home")
         import mujoco
     except ImportError:
         return None
+    from ..collision.exclusions import compile_draft, home_qpos
+
     try:
-        spec = mujoco.MjSpec.from_string(text)
-        if folder is not None:
-            spec.meshdir = str(Path(folder).resolve())
-        model = spec.compile()
+        model = compile_draft(text, folder)
     except Exception:  # noqa: BLE001 - MuJoCo's refusal is reported by the simulation check
         return None
     if model.ngeom == 0:
         return None
     data = mujoco.MjData(model)
-    for k in range(model.nkey):
-        if model.key(k).name == key:
-            data.qpos[:] = model.key(k).qpos
-            break
+    data.qpos[:] = home_qpos(model)
     mujoco.mj_forward(model, data)
     aabb = np.asarray(model.geom_aabb).reshape(model.ngeom, 6)
     centre, half = aabb[:, :3], aabb[:, 3:]
