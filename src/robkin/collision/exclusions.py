@@ -10,10 +10,11 @@ penetrating contact, ``contact_excludes`` lists:
 * every pair of rigid groups joined by a joint (a body with a joint, and the bodies welded to it, and
   the same for its parent), as MoveIt's "Adjacent";
 * every pair of bodies whose collision geoms touch or penetrate at ``home`` (the draft's keyframe
-  ``home``: ``Robot.home``, q = 0 clipped into each joint's limits, or ``--home``): closer than ``TOUCH`` times the robot's size, as MuJoCo computes their distance
-  (a mesh through its convex hull). MoveIt's "Default" makes the same choice. This needs MuJoCo
-  (``pip install mujoco``): the model is compiled in memory from the writer's draft and its contacts
-  at home read (``mj_forward``) with every collision geom's margin set to the touch distance. Without
+  ``home``: ``Robot.home``, q = 0 clipped into each joint's limits, or ``--home``): closer than
+  ``TOUCH`` times the robot's size, as MuJoCo computes their distance (a mesh through its convex
+  hull). MoveIt's "Default" makes the same choice. This needs MuJoCo (``pip install mujoco``): the
+  model is compiled in memory from the writer's draft and its contacts at home read (``mj_forward``)
+  with every collision geom's margin set to the touch distance. Without
   MuJoCo, only the adjacent pairs are excluded, and the note says so.
 
 The pairs are body names, written by the MJCF writer as ``<contact><exclude body1= body2=/>``.

@@ -120,7 +120,7 @@ def render_usd(robot, suffix: str, args: argparse.Namespace | None, source: str 
     plan = servo_plan(robot)
     drives = {s.name: (s.kp, s.kv, None if s.force is None else s.force[1]) for s in plan.actuated()}
     paths = package_paths(args) if args is not None else None
-    if args is None or getattr(args, "collision", "source") == "source" and getattr(args, "max_faces", None) is None:
+    if args is None or (getattr(args, "collision", "source") == "source" and getattr(args, "max_faces", None) is None):
         return usd_bytes(robot, suffix, source=source, package_paths=paths, drives=drives, gravity_off=plan.gravcomp)
     import tempfile
 
