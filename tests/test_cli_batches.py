@@ -80,7 +80,7 @@ def test_fk_output_feeds_ik_and_back_through_stdin(tmp_path, ur5, monkeypatch, c
 
 
 def test_progress_on_a_terminal(tmp_path, ur5, monkeypatch, capsys):
-    from robkin.commands import _batches
+    from robkin.commands.support import batches as _batches
 
     path, robot = ur5
     np.save(tmp_path / "q.npy", robot.random_q(30, rng=1))

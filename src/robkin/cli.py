@@ -68,7 +68,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; returns the exit status (testable without a subprocess)."""
     from .errors import InputError
 
-    from .commands._common import number_option_fix
+    from .commands.support.common import number_option_fix
 
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser(argv[0] if argv and argv[0] in COMMANDS else None)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ._common import add_input, seed
+from .support.common import add_input, seed
 
 EPILOG = """\
 MEASUREMENTS is a CSV file with a header line: one column per joint, named as the model's joints
@@ -75,8 +75,8 @@ def run(args: argparse.Namespace) -> int:
     from ..calibration.solve import calibrate
     from ..errors import InputError
     from ..io.files.atomic import write_text_atomic
-    from ._common import load_input
-    from ._output import print_json, wrote
+    from .support.common import load_input
+    from .support.output import print_json, wrote
 
     out = Path(args.output)
     if out.suffix.lower() not in OUT_EXTENSIONS:
@@ -89,7 +89,7 @@ def run(args: argparse.Namespace) -> int:
     m = read_measurements(args.measurements, robot)
     marker = None
     if args.marker is not None:
-        from ._common import parse_q
+        from .support.common import parse_q
 
         marker = parse_q(args.marker, 3, "--marker")
     result = calibrate(robot, m.q, m.positions, m.quaternions, model=args.model,

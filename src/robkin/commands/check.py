@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from ._chains import add_chain_options
+from .support.chains import add_chain_options
 
 EPILOG = """\
 Two descriptions are the same robot when the tool pose is the same at every joint vector q. If they
@@ -48,7 +48,7 @@ examples:
 
 
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
-    from ._common import add_allow_xacro, add_from
+    from .support.common import add_allow_xacro, add_from
 
     p = sub.add_parser("check", help="are two descriptions (or a model and measurements) the same robot? (exit 0 if yes)",
                        description="Compare two robot descriptions joint by joint: are they the same robot, "
@@ -72,13 +72,13 @@ def run(args: argparse.Namespace) -> int:
     from ..errors import InputError
 
     if args.b.lower().endswith((".csv", ".npz", ".npy")):   # a model against measured samples
-        from ._check_measurements import run_measurements
+        from .support.check_measurements import run_measurements
 
         return run_measurements(args)
     args.tol = 1e-6 if args.tol is None else args.tol
     if not (math.isfinite(args.tol) and args.tol > 0):
         raise InputError(f"--tol: {args.tol} is not a positive number")
-    from ._chains import chain_ends
+    from .support.chains import chain_ends
     from ..io import load
 
     (base_a, tip_a), (base_b, tip_b) = chain_ends(args, [args.a, args.b])
@@ -98,7 +98,7 @@ def run(args: argparse.Namespace) -> int:
         d["a"], d["b"] = args.a, args.b
         d["notes"] = [render_options(note, args._flags) for note in d["notes"]]
         d["mass"] = masses.to_dict()
-        from ._output import print_json
+        from .support.output import print_json
 
         print_json(d)
     else:

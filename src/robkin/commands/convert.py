@@ -13,12 +13,12 @@ from pathlib import Path
 from typing import Iterator
 
 from ..errors import InputError
-from ._chains import add_chain_options, chain_ends
-from ._common import add_allow_xacro, add_from, add_package_path
+from .support.chains import add_chain_options, chain_ends
+from .support.common import add_allow_xacro, add_from, add_package_path
 from .convert_parts.help import epilog
 from .convert_parts.render import (CHECKED_FORMATS, DOC_EXTENSIONS, EXTENSIONS, TABLE_EXTENSIONS, check_link_geometry,
                                    render_file, render_in, render_usd, section_of, table_representations)
-from ._output import wrote
+from .support.output import wrote
 from .convert_parts.toolbox import CODE_FORMATS, add_toolbox_options, check_toolbox_options
 
 

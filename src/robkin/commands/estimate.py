@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ._common import parse_pose, seed
+from .support.common import parse_pose, seed
 
 EPILOG = """\
 Types (Huczala et al. 2021): A nearest distance and B joints on a Bezier curve reach the position;
@@ -86,7 +86,7 @@ def run(args: argparse.Namespace) -> int:
         results, opt_summary = _optimise(args, poses, base, estimates)
 
     if args.json:
-        from ._output import print_json
+        from .support.output import print_json
 
         out: dict[str, Any] = {k: dict(m.as_dict(), type=k, dh=_dh_json(rows))
                                for k, (_, m, rows) in results.items()}
@@ -95,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
         print_json(out)
     else:
         _print_text(results, estimates, opt_summary)
-    from ._output import wrote
+    from .support.output import wrote
 
     _write_all({path: results[k][:2] for k, path in outputs.items()})
     for path in outputs.values():

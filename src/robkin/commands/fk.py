@@ -7,9 +7,9 @@ import argparse
 from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError
-from ._common import add_degrees, add_input, add_threads, load_input, parse_q, revolute_degrees
-from ._gravity import EPILOG as GRAVITY_EPILOG
-from ._gravity import add_gravity, gravity_extras, print_gravity
+from .support.common import add_degrees, add_input, add_threads, load_input, parse_q, revolute_degrees
+from .support.gravity import EPILOG as GRAVITY_EPILOG
+from .support.gravity import add_gravity, gravity_extras, print_gravity
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
@@ -54,7 +54,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                         'and "q"')
     add_degrees(p, "revolute joint values in --q, and roll, pitch, yaw and q in the output")
     add_threads(p)
-    from ._batches import add_output
+    from .support.batches import add_output
 
     add_output(p, "--q-file")
     p.add_argument("--jacobian", action="store_true",
@@ -72,11 +72,11 @@ def run(args: argparse.Namespace) -> int:
 
     from .. import se3
     from ..io.tables.terminal import fmt_num, matrix_text
-    from ._output import joint_names, print_json, warn_outside_limits
+    from .support.output import joint_names, print_json, warn_outside_limits
 
     robot = load_input(args.input, args)
     if args.q_file is not None:
-        from ._batches import fk_batch
+        from .support.batches import fk_batch
 
         if args.jacobian or args.manipulability:
             raise InputError("--jacobian/--manipulability: one --q at a time (for many, use Robot.jacobian "

@@ -6,7 +6,7 @@ import argparse
 import sys
 
 from ..errors import InputError
-from ._common import add_package_path, package_paths
+from .support.common import add_package_path, package_paths
 
 HELP = "browser app: see a robot in 3D, drag its tool by IK, convert it, compare two descriptions"
 EPILOG = """\

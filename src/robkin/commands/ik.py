@@ -6,7 +6,7 @@ import argparse
 import sys
 from typing import TYPE_CHECKING
 
-from ._common import add_degrees, add_input, add_threads, load_input, parse_pose, parse_q, revolute_degrees, seed
+from .support.common import add_degrees, add_input, add_threads, load_input, parse_pose, parse_q, revolute_degrees, seed
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
@@ -100,7 +100,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                         "200, as Robot.ik; a target stops at its first success)")
     p.add_argument("--seed", type=seed, default=0, help="numeric: random seed (default 0)")
     add_threads(p)
-    from ._batches import add_output
+    from .support.batches import add_output
 
     add_output(p, "--poses")
     return p
@@ -135,7 +135,7 @@ def run(args: argparse.Namespace) -> int:
         psi = number(args.arm_angle, "--arm-angle")
         solve["arm_angle"] = math.radians(psi) if args.degrees else psi
     if args.poses:
-        from ._batches import ik_batch
+        from .support.batches import ik_batch
 
         return ik_batch(robot, args, solve)
     result = robot.ik(T, all_solutions=args.all, rng=args.seed, **solve)
@@ -143,7 +143,7 @@ def run(args: argparse.Namespace) -> int:
     if result.success:
         solutions = result.solutions if args.all else result.q[None]
     else:
-        from ._batches import closest_of
+        from .support.batches import closest_of
 
         solutions = np.empty((0, robot.n))
         closest = closest_of(robot, T, result, args.seed)
@@ -154,7 +154,7 @@ def run(args: argparse.Namespace) -> int:
     if args.degrees:
         solutions = revolute_degrees(robot, solutions, to_radians=False)
     if args.json:
-        from ._output import joint_names, print_json
+        from .support.output import joint_names, print_json
 
         print_json({"solutions": [{"q": q, "position_error": e[0], "orientation_error": e[1]}
                                   for q, e in zip(solutions, errors)],

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from ._common import add_input, load_input
+from .support.common import add_input, load_input
 
 EPILOG = """\
 For each joint: type, limits, the axis direction and a point on it (in the robot base frame at q = 0),
@@ -102,7 +102,7 @@ def _show_chains(path: str, chains, kinds: dict[str, str], as_json: bool) -> int
               "unsupported": [j.name for j in js if j.name in kinds]}
              for base, tip, js in chains]
     if as_json:
-        from ._output import print_json
+        from .support.output import print_json
 
         print_json({"file": path, "tree": True, "chains": items})
         return 0
@@ -135,7 +135,7 @@ def run(args: argparse.Namespace) -> int:
         robot = load_input(args.input, args)
     d = describe(robot)
     if args.json:
-        from ._output import print_json
+        from .support.output import print_json
 
         print_json(d)
         return 0

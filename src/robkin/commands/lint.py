@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ._common import add_allow_xacro, add_package_path, package_paths
+from .support.common import add_allow_xacro, add_package_path, package_paths
 
 EPILOG = """\
 Each finding is one line: FILE:LINE: SEVERITY: ELEMENT: what is wrong; fix: what to do. Severities:

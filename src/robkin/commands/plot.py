@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 
 from ..errors import InputError
-from ._common import add_input, add_package_path, load_input, package_paths, parse_q
-from ._output import warn_outside_limits, wrote
+from .support.common import add_input, add_package_path, load_input, package_paths, parse_q
+from .support.output import warn_outside_limits, wrote
 
 HELP = "draw a robot (joint axes blue, tool pink), representations overlaid, or estimation metrics"
 EPILOG = """\

@@ -137,7 +137,7 @@ def collision_stage(robot: Robot, args: argparse.Namespace, source: str | None, 
             stage = Stage(robot)  # without a folder (stdout), the model names the source's files where they are
         else:
             from ...collision import collision_geometry
-            from .._common import package_paths
+            from ..support.common import package_paths
 
             try:
                 result = collision_geometry(robot, mode, source=source, out_dir=out_dir, mesh_dir=mesh_dir,

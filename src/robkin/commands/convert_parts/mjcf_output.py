@@ -108,7 +108,7 @@ def check_mjcf_options(args: argparse.Namespace) -> None:
 def servos_of(robot: Robot, args: argparse.Namespace) -> ServoPlan:
     """The servo plan of the command's options (``--home`` checked against the robot's limits)."""
     from ...simulation.servos import servo_plan
-    from .._common import parse_q
+    from ..support.common import parse_q
 
     home = None
     if args.home is not None:
@@ -125,7 +125,7 @@ def render_mjcf(robot: Robot, args: argparse.Namespace, source: str | None, out_
     """The MJCF text of ``robot`` read from ``source`` with the command's options; with ``out_dir``, its
     meshes copied into ``out_dir/mesh_dir`` first (see ``robkin.io.mjcf.files``)."""
     from ...io.mjcf.files import mjcf_with_meshes
-    from .._common import package_paths
+    from ..support.common import package_paths
     from .collision_output import collision_stage
 
     servos = servos_of(robot, args)  # before the meshes are copied: a bad --home writes nothing

@@ -113,7 +113,7 @@ def render_usd(robot, suffix: str, args: argparse.Namespace | None, source: str 
     its robot file ``source`` inline (``robkin.io.usd.writer``)."""
     from ...io.usd.writer import usd_bytes
     from ...simulation.servos import servo_plan
-    from .._common import package_paths
+    from ..support.common import package_paths
 
     robot = _with_link_geometry(robot, args)
     # the drives hold the same home with the same gains as the MJCF export's default position servos

@@ -35,7 +35,7 @@ def render_urdf(robot: "Robot", args: argparse.Namespace, source: str | None, ou
         from dataclasses import replace
 
         from ...io.meshes.files import copy_meshes, missing_line, resolve_meshes, with_mesh_names
-        from .._common import package_paths
+        from ..support.common import package_paths
 
         found_in = robot.replace(bodies=replace(robot.bodies, shapes=tuple(
             s for s in robot.bodies.shapes if s.geometry.filename not in premade)))

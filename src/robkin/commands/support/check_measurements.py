@@ -8,12 +8,12 @@ import math
 
 def run_measurements(args: argparse.Namespace) -> int:
     """Compare the model (args.a) with the measurements (args.b); exit 0 if it explains them within --tol."""
-    from ..calibration.diagnosis import DEFAULT_TOL, diagnose
-    from ..calibration.measurements import read_measurements
-    from ..errors import InputError
-    from ..io import load
-    from ._chains import chain_ends
-    from ._output import print_json
+    from ...calibration.diagnosis import DEFAULT_TOL, diagnose
+    from ...calibration.measurements import read_measurements
+    from ...errors import InputError
+    from ...io import load
+    from .chains import chain_ends
+    from .output import print_json
 
     tol = DEFAULT_TOL if args.tol is None else args.tol
     if not (math.isfinite(tol) and tol > 0):

@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..errors import InputError
+from ...errors import InputError
 
 __all__ = ["DEFAULT", "CHAIN_HELP", "add_chain_options", "chain_ends"]
 

@@ -6,13 +6,13 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..errors import InputError
-from ..io.files.numbers import number_list
+from ...errors import InputError
+from ...io.files.numbers import number_list
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
 
-    from ..robot import Robot
+    from ...robot import Robot
 
 __all__ = ["add_input", "add_allow_xacro", "add_from", "add_package_path", "package_paths", "load_input", "seed",
            "parse_q", "parse_pose", "number_option_fix"]
@@ -32,7 +32,7 @@ def add_input(p: argparse.ArgumentParser, many: bool = False) -> None:
 def add_from(p: argparse.ArgumentParser) -> None:
     """--from: which table a table file (.csv/.tsv/.txt) holds, where the file does not say (any
     registered representation with a table form; the registry imports nothing heavy)."""
-    from ..representations.registry import names
+    from ...representations.registry import names
 
     table_inputs = names("csv")
     p.add_argument("--from", dest="representation", choices=table_inputs, metavar="TABLE",
@@ -58,7 +58,7 @@ def add_package_path(p: argparse.ArgumentParser) -> None:
 
 
 def _package_path(text: str) -> tuple[str, Path]:
-    from ..io.meshes.files import parse_package_path
+    from ...io.meshes.files import parse_package_path
 
     try:
         return parse_package_path(text)
@@ -73,7 +73,7 @@ def package_paths(args: argparse.Namespace) -> dict[str, Path]:
 
 def load_input(path: str, args: argparse.Namespace) -> "Robot":
     """The robot in ``path``, with the command's chain selectors and --allow-xacro."""
-    from ..io import load
+    from ...io import load
 
     return load(path, base_link=getattr(args, "base_link", None), tip_link=getattr(args, "tip_link", None),
                 allow_xacro=getattr(args, "allow_xacro", False),
@@ -133,8 +133,8 @@ def parse_pose(text: str, option: str = "--pose", degrees: bool = False) -> "np.
     (row-major 4x4)."""
     import numpy as np
 
-    from .. import se3
-    from ..robot import check_pose
+    from ... import se3
+    from ...robot import check_pose
 
     values = number_list(text, option)
     if len(values) == 6:

@@ -15,14 +15,14 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
 
-    from ..robot import Robot
+    from ...robot import Robot
 
 __all__ = ["print_json", "wrote", "warn_outside_limits", "joint_names"]
 
 
 def print_json(obj: Any) -> None:
     """Print ``obj`` as JSON in robkin's style (indented, full precision) to stdout."""
-    from ..io.files.jsontext import dumps
+    from ...io.files.jsontext import dumps
 
     print(dumps(obj))
 
@@ -42,7 +42,7 @@ def warn_outside_limits(robot: "Robot", q: "np.ndarray", option: str = "--q") ->
 
     The comparison is exact: a value typed with the limits' own digits is at the limit, not outside.
     """
-    from ..io.tables.terminal import fmt_num
+    from ...io.tables.terminal import fmt_num
 
     for joint, value in zip(robot.joints, q):
         unit = "rad" if joint.revolute else "m"

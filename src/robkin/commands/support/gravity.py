@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
 
-    from ..robot import Robot
+    from ...robot import Robot
 
 __all__ = ["add_gravity", "gravity_extras", "print_gravity"]
 
@@ -34,7 +34,7 @@ def gravity_extras(robot: "Robot", q: "np.ndarray", args: argparse.Namespace) ->
     """{"gravity": torques (n,)} when asked for, else {}; InputError for a robot without masses."""
     if not (args.gravity or args.gravity_vector):
         return {}
-    from ._common import parse_q
+    from .common import parse_q
 
     g = None if args.gravity_vector is None else parse_q(args.gravity_vector, 3, "--gravity-vector")
     return {"gravity": robot.gravity(q, gravity=g)}
@@ -44,7 +44,7 @@ def print_gravity(robot: "Robot", extra: dict[str, Any], args: argparse.Namespac
     """The gravity torques as a table, one row per joint with its unit."""
     if "gravity" not in extra:
         return
-    from ..io.tables.terminal import fmt_num, text_table
+    from ...io.tables.terminal import fmt_num, text_table
 
     g = "0, 0, -9.81" if args.gravity_vector is None else args.gravity_vector
     rows = [[j.name, fmt_num(t), "N m" if j.revolute else "N"] for j, t in zip(robot.joints, extra["gravity"])]

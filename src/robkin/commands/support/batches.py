@@ -20,11 +20,11 @@ from typing import TYPE_CHECKING, Any, Callable, Iterator
 
 import numpy as np
 
-from ..errors import InputError
+from ...errors import InputError
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..io.batch_files import Rows
-    from ..robot import Robot
+    from ...io.batch_files import Rows
+    from ...robot import Robot
 
 __all__ = ["BLOCK", "PROGRESS_FROM", "add_output", "fk_batch", "ik_batch", "closest_of", "q_rows", "pose_rows"]
 
@@ -83,8 +83,8 @@ def q_rows(rows: "Rows", robot: "Robot") -> np.ndarray:
 
 def pose_rows(rows: "Rows", degrees: bool = False) -> np.ndarray:
     """Target poses (N, 4, 4) from a batch file (see the module), each checked as a rigid pose."""
-    from .. import se3
-    from ..robot import check_pose
+    from ... import se3
+    from ...robot import check_pose
 
     V = rows.values
     p = _columns(rows, ["x", "y", "z"])
@@ -112,7 +112,7 @@ def pose_rows(rows: "Rows", degrees: bool = False) -> np.ndarray:
     elif p is not None and (quat is not None or rpy is not None):
         T[:, :3, 3] = p
         if quat is not None:  # the quaternion is the rotation when both are there (no gimbal lock)
-            from ..io.mjcf.format import matrix_from_quat
+            from ...io.mjcf.format import matrix_from_quat
 
             _finite(quat, rows.source, "quaternion value")
             norms = np.linalg.norm(quat, axis=1)
@@ -163,8 +163,8 @@ def _emit(args: argparse.Namespace, columns: list[str], table: Any, arrays: dict
           main_array: str, document: Any) -> None:
     """Results to -o (by extension) or stdout (CSV, or JSON with --json). ``table`` (rows) and
     ``document`` may be functions giving them: only the one the output needs is made."""
-    from ..io.batch_files import write_csv, write_rows
-    from ._output import print_json, wrote
+    from ...io.batch_files import write_csv, write_rows
+    from .output import print_json, wrote
 
     if args.output:
         write_rows(args.output, columns, table, arrays, main_array, document)
@@ -177,7 +177,7 @@ def _emit(args: argparse.Namespace, columns: list[str], table: Any, arrays: dict
 
 def _json_rows(args: argparse.Namespace, N: int, source: str) -> None:
     """Refuse JSON output of more than MAX_JSON_ROWS rows before any work (its rows are Python dicts)."""
-    from ..io.batch_files import MAX_JSON_ROWS
+    from ...io.batch_files import MAX_JSON_ROWS
 
     if N > MAX_JSON_ROWS and (args.json or (args.output or "").lower().endswith(".json")):
         raise InputError(f"{source}: {N} rows; JSON output (--json, -o .json) holds at most {MAX_JSON_ROWS} rows: "
@@ -186,9 +186,9 @@ def _json_rows(args: argparse.Namespace, N: int, source: str) -> None:
 
 def fk_batch(robot: "Robot", args: argparse.Namespace) -> int:
     """``robkin fk --q-file FILE``: the tool pose at every joint vector of the file."""
-    from .. import se3
-    from ..io.batch_files import read_rows
-    from ._common import revolute_degrees
+    from ... import se3
+    from ...io.batch_files import read_rows
+    from .common import revolute_degrees
 
     _check_output(args)
     Q = q_rows(read_rows(args.q_file, key="q"), robot)
@@ -241,8 +241,8 @@ def ik_batch(robot: "Robot", args: argparse.Namespace, solve: dict[str, Any]) ->
     the solutions stacked with a count per target); the CSV rows and the JSON document are made from
     them only for the output that needs them, CSV rows one at a time.
     """
-    from ..io.batch_files import read_rows
-    from ._common import revolute_degrees
+    from ...io.batch_files import read_rows
+    from .common import revolute_degrees
 
     _check_output(args)
     targets = pose_rows(read_rows(args.poses, key="poses"), degrees=args.degrees)
@@ -343,7 +343,7 @@ def _closest(robot: "Robot", targets: np.ndarray, Q: np.ndarray, rows: np.ndarra
 
 
 def _errors(robot: "Robot", q: np.ndarray, T: np.ndarray) -> tuple[float, float]:
-    from .. import se3
+    from ... import se3
 
     F = robot.fk(q)
     return float(np.linalg.norm(T[:3, 3] - F[:3, 3])), float(np.linalg.norm(se3.log_rotation(T[:3, :3] @ F[:3, :3].T)))
