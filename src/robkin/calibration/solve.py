@@ -27,6 +27,7 @@ from typing import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .. import se3
 from ..errors import InputError
 from ..robot import Robot
 from .fit import MAX_ANGLE, MAX_LENGTH, Budget, FitData, bounds, fit_rounds, stacked
@@ -190,9 +191,9 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
 
         result_robot = result_robot.replace(joints=tuple(
             replace(j, stiffness=stiffness[j.name]["stiffness"]) for j in result_robot.joints))
-    flange_p = p.copy()
-    flange_p[mdl.marker_params] = 0.0   # the marker's motions at zero: the chain ends at the flange
-    flange = mdl.robot_at(flange_p).tool
+    # the flange keeps its nominal pose relative to the last joint's axis frame: all that lies beyond
+    # that axis (the last link's parameters, the marker) is one rigid offset the measurements cannot split
+    flange = result_robot.frames[-2] @ se3.inv(mdl.robot_at(mdl.nominal).frames[-2]) @ robot.tool
     if model == "mdh" and kinematics:
         warnings += _parallel_warning(robot)
     fit_rows = [rows[i] for i in fit]
