@@ -140,10 +140,10 @@ class CalibrationResult:
             out.append(f"  {p.name:<38} {(p.estimate - p.nominal) * scale:+.4g}{std} {unit}")
         for name, k in (self.stiffness or {}).items():
             if k["stiffness"] is not None:
-                out.append(f"  joint {name} stiffness{'':<21} {k['stiffness']:.4g} {k['unit']} "
+                out.append(f"  {'joint ' + name + ' stiffness':<38} {k['stiffness']:.4g} {k['unit']} "
                            f"+- {100 * k['std'] / k['compliance']:.2g} %")
             elif k["observable"]:
-                out.append(f"  joint {name} stiffness{'':<21} not determined (compliance {k['compliance']:.3g} "
+                out.append(f"  {'joint ' + name + ' stiffness':<38} not determined (compliance {k['compliance']:.3g} "
                            f"+- {k['std'] or 0:.2g}: not positive beyond the noise)")
         from .. import se3
 

@@ -262,7 +262,7 @@ def _warnings(robot: Robot, Q: np.ndarray, data: FitData, n_free: int, params: l
             out.append(f"joint {j.name} moved over only {s:.3g} {'rad' if j.revolute else 'robot sizes'} in the "
                        f"measurements: spread the poses over its range")
     for prm in params:
-        if prm.at_bound:
+        if prm.at_bound and prm.unit in ("m", "rad"):   # (a compliance at its bound: "not determined")
             out.append(f"{prm.name} stopped at its bound ({prm.estimate - prm.nominal:+.3g} {prm.unit} from nominal): "
                        f"the model or the measurements are far from each other")
     return out
