@@ -44,7 +44,7 @@ For the controller: --offsets FILE.csv writes the joint zero offsets (joint, off
 the real joint at encoder value q is where the nominal model puts q + offset); --table FILE writes the
 calibrated table, flange kept, in the source's convention (a DH, modified DH or Hayati model; else
 --to's) as .csv, .md, .tex, .yaml or .json; --filter TARGETS.csv --filtered OUT.csv reads flange poses
-(x, y, z, qw, qx, qy, qz [, payload], robot base frame) and writes per target the joint values that
+(x, y, z, qw, qx, qy, qz [, payload], robot base frame; 'robkin fk -o' writes such a file) and writes per target the joint values that
 bring the calibrated robot there (IK started from the nominal model's own solution), the filtered pose
 (the nominal model's FK of them: send it to a controller that runs the nominal kinematics), reached and
 the error left (m).
@@ -58,8 +58,8 @@ examples:
   robkin calibrate robot.yaml probe.csv -o robot_cal.yaml --base-known --marker 0,0,0.05
   robkin calibrate ur5.urdf loaded.csv -o ur5_cal.yaml --tip-link tool0 --compliance
   robkin calibrate ur5.urdf measurements.csv -o ur5_cal.urdf --tip-link tool0 --keep-frames
-  robkin calibrate vendor_dh.yaml m.csv -o cal.yaml --offsets offsets.csv --table cal_dh.csv
-  robkin calibrate ur5.urdf m.csv -o cal.yaml --tip-link tool0 --filter targets.csv --filtered commands.csv
+  robkin calibrate robot.yaml probe.csv -o cal.yaml --base-known --offsets offsets.csv --table cal_dh.csv
+  robkin calibrate ur5.urdf measurements.csv -o c.yaml --tip-link tool0 --filter targets.csv --filtered cmd.csv
 """
 
 OUT_EXTENSIONS = (".urdf", ".xml", ".mjcf", ".yaml", ".yml", ".json")

@@ -76,50 +76,72 @@ def table_text(robot: Robot, nominal: Robot, path: str | Path, convention: str |
 
 def read_targets(path: str, robot: Robot) -> tuple[np.ndarray, np.ndarray | None]:
     """Target poses (N, 4, 4) in the robot base frame and payloads (N,) or None from a CSV with columns
-    x, y, z, qw, qx, qy, qz [, payload]; InputError naming the file, line and column otherwise."""
+    x, y, z, qw, qx, qy, qz [, payload]; the other columns ``robkin fk -o`` writes (row, the joints, roll,
+    pitch, yaw, success, error) are ignored, so its output is a targets file; any other column is an
+    error (a typo must not drop the payload). InputError naming the file, line and column otherwise."""
     from ...calibration.inputs import _matrix_from_quaternion
     from ...calibration.measurements import MAX_BYTES
     from ...io.files.input_files import read_text_file
+    from ...io.tables.cells import csv_read_cell
 
     text = read_text_file(path, MAX_BYTES, "a targets file")
+    if "\0" in text:
+        raise InputError(f"{path}: holds a NUL character; a targets file is CSV text")
+    ignored = {"row", "roll", "pitch", "yaw", "success", "error"} | {j.name for j in robot.joints}
+    wanted = TARGET_COLUMNS + ("payload",)
     header: list[str] | None = None
     rows: list[list[float]] = []
-    for line_no, record in enumerate(csv.reader(io.StringIO(text.replace("\0", ""))), start=1):
-        if not record or not "".join(record).strip() or record[0].lstrip().startswith("#"):
-            continue
-        if header is None:
-            header = [h.strip() for h in record]
-            unknown = [h for h in header if h not in TARGET_COLUMNS + ("payload",)]
-            missing = [c for c in TARGET_COLUMNS if c not in header]
-            if unknown or missing or len(set(header)) != len(header):
-                raise InputError(f"{path}: columns {', '.join(quote(h) for h in header[:9])}: expected "
-                                 f"{', '.join(TARGET_COLUMNS)} [, payload] (each once)")
-            continue
-        if len(record) != len(header):
-            raise InputError(f"{path}: line {line_no}: {len(record)} values for {len(header)} columns")
-        try:
-            values = [float(c) for c in record]
-        except ValueError:
-            raise InputError(f"{path}: line {line_no}: a value is not a number") from None
-        if not all(np.isfinite(values)):
-            raise InputError(f"{path}: line {line_no}: a value is not a finite number")
-        rows.append(values)
-        if len(rows) > MAX_TARGETS:
-            raise InputError(f"{path}: more than {MAX_TARGETS} targets")
+    try:
+        for line_no, record in enumerate(csv.reader(io.StringIO(text)), start=1):
+            if not record or not "".join(record).strip() or record[0].lstrip().startswith("#"):
+                continue
+            if header is None:
+                header = [csv_read_cell(h.strip()) for h in record]
+                unknown = [h for h in header if h not in wanted and h not in ignored]
+                missing = [c for c in TARGET_COLUMNS if c not in header]
+                if unknown or missing or len(set(header)) != len(header):
+                    what = f"column {quote(unknown[0])} is not known" if unknown else \
+                        f"no column {quote(missing[0])}" if missing else "a column appears twice"
+                    raise InputError(f"{path}: {what}; expected {', '.join(TARGET_COLUMNS)} [, payload]")
+                continue
+            if len(record) != len(header):
+                raise InputError(f"{path}: line {line_no}: {len(record)} values for {len(header)} columns")
+            values = []
+            for h, cell in zip(header, record):
+                if h not in wanted:
+                    continue
+                try:
+                    v = float(cell)
+                except ValueError:
+                    raise InputError(f"{path}: line {line_no}, column {quote(h)}: {quote(cell.strip())} is not a "
+                                     f"number") from None
+                if not abs(v) <= 1e9:   # also NaN: no target lies a million kilometres away
+                    raise InputError(f"{path}: line {line_no}, column {quote(h)}: not a finite number")
+                values.append(v)
+            rows.append(values)
+            if len(rows) > MAX_TARGETS:
+                raise InputError(f"{path}: more than {MAX_TARGETS} targets")
+    except csv.Error as exc:
+        raise InputError(f"{path}: not CSV ({exc})") from None
     if header is None or not rows:
         raise InputError(f"{path}: no targets; expected a header {', '.join(TARGET_COLUMNS)} and one pose per line")
     A = np.array(rows)
-    col = {h: A[:, k] for k, h in enumerate(header)}
+    col = {h: A[:, k] for k, h in enumerate(h for h in header if h in wanted)}
     qt = np.stack([col[c] for c in TARGET_COLUMNS[3:]], axis=1)
     norms = np.linalg.norm(qt, axis=1)
     bad = np.flatnonzero(~(np.abs(norms - 1.0) <= 1e-3))   # 3-4 typed digits, as measurement files
     if bad.size:
         raise InputError(f"{path}: target {bad[0] + 1}: quaternion (qw, qx, qy, qz) has norm {norms[bad[0]]:.6g}, "
                          f"not 1")
+    payloads = col.get("payload")
+    if payloads is not None:
+        from ...calibration.compliance import check_payloads
+
+        payloads = check_payloads(payloads, len(A))
     T = np.tile(np.eye(4), (len(A), 1, 1))
     T[:, :3, :3] = _matrix_from_quaternion(qt / norms[:, None])
     T[:, :3, 3] = np.stack([col[c] for c in TARGET_COLUMNS[:3]], axis=1)
-    return T, col.get("payload")
+    return T, payloads
 
 
 def filter_targets(calibrated: Robot, nominal: Robot, targets: np.ndarray, payloads: np.ndarray | None = None
@@ -129,8 +151,10 @@ def filter_targets(calibrated: Robot, nominal: Robot, targets: np.ndarray, paylo
     ``calibrated``: the calibrated robot with the nominal flange and base frame (``keep_frames``).
     """
     nom = nominal.ik(targets)
-    cal = calibrated.ik(targets, q0=nom.q)
-    q_link = cal.q
+    start = np.where(np.isfinite(nom.q), nom.q, nominal.home())   # where the nominal IK failed: the home
+    cal = calibrated.ik(targets, q0=start)
+    ok = np.asarray(cal.success, dtype=bool) & np.all(np.isfinite(cal.q), axis=-1)
+    q_link = np.where(ok[:, None], cal.q, start)   # a target out of reach: reported, not NaN
     q = q_link
     if payloads is not None and any(j.stiffness for j in calibrated.joints):
         from ...calibration.compliance import holding_torques
@@ -139,7 +163,7 @@ def filter_targets(calibrated: Robot, nominal: Robot, targets: np.ndarray, paylo
         q = q_link + c * holding_torques(calibrated, q_link, payloads)   # command past the deflection
     reached = calibrated.fk_compliant(q, 0.0 if payloads is None else payloads)
     error = np.linalg.norm(reached[:, :3, 3] - targets[:, :3, 3], axis=1)
-    return q, nominal.fk(q), np.asarray(cal.success, dtype=bool), error
+    return q, nominal.fk(q), ok, error
 
 
 def filtered_csv(robot: Robot, q: np.ndarray, poses: np.ndarray, success: np.ndarray, error: np.ndarray) -> str:
