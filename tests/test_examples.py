@@ -134,13 +134,16 @@ def _make_kit(tmp_path: Path) -> Path:
 
 def _measurements(ur5: robkin.Robot, rrpr: robkin.Robot) -> None:
     """The measurement files of the calibrate and check examples: the UR5 as its URDF says (so that check
-    finds it the same robot), a perturbed Panda, and the RRPR robot probed in its own base frame with a
+    finds it the same robot), a UR5 with compliant joints and a 10 kg payload at every other pose, a
+    perturbed Panda, and the RRPR robot probed in its own base frame with a
     marker 5 cm along the tool's z (--base-known --marker 0,0,0.05)."""
     from robkin.calibration import simulate, write_measurements_csv
     from robkin.calibration.simulation import perturbed
 
     sim = simulate(ur5, 60, offset=0.0, angle=0.0, seed=1)
     write_measurements_csv("measurements.csv", ur5, sim.q, sim.positions)
+    loaded = simulate(ur5, 60, seed=4, stiffness=[3e4, 2e4, 1.5e4, 5e4, 6e4, 7e4], payload=[10.0, 0.0] * 30)
+    write_measurements_csv("loaded.csv", ur5, loaded.q, loaded.positions, payloads=loaded.payloads)
     panda = robkin.load("panda.urdf", tip_link="panda_link8")
     sim = simulate(panda, 60, seed=2)
     write_measurements_csv("panda_poses.csv", panda, sim.q, sim.positions)

@@ -10,6 +10,7 @@ use (``import robkin`` stays light), and it is declared as the hub's facade (CON
 - ``ik_function()``: ``robkin.kinematics.ik.ik``, which *is* ``Robot.ik`` (the robot its first argument;
   ``robot.CapabilityMethod`` puts it in the class on first use);
 - ``rigid_body()``, ``jacobian()``: the modules behind the dynamics and Jacobian methods;
+- ``compliance()``: ``robkin.calibration.compliance``, behind ``Robot.fk_compliant``;
 - ``servo_plan()``: ``robkin.simulation.servos.servo_plan``, the servos of a simulation model, for the
   writers in io (below the capabilities) that are called without a plan of their caller's.
 """
@@ -24,7 +25,7 @@ if TYPE_CHECKING:  # what static type checkers see: the result types of the meth
     from .kinematics.ik import IKResult
     from .simulation.servos import ServoPlan
 
-__all__ = ["ik_function", "jacobian", "rigid_body", "servo_plan"]
+__all__ = ["ik_function", "jacobian", "rigid_body", "compliance", "servo_plan"]
 
 
 @cache
@@ -47,6 +48,14 @@ def jacobian() -> ModuleType:
 def rigid_body() -> ModuleType:
     """``robkin.dynamics.rigid_body``, imported on first use and then kept."""
     from .dynamics import rigid_body as module
+
+    return module
+
+
+@cache
+def compliance() -> ModuleType:
+    """``robkin.calibration.compliance``, imported on first use and then kept."""
+    from .calibration import compliance as module
 
     return module
 

@@ -48,6 +48,7 @@ class Joint:
     friction: float | None = None
     armature: float | None = None
     mimic: Mimic | None = None
+    stiffness: float | None = None
 
     def __post_init__(self) -> None:
         if self.type not in JOINT_TYPES:
@@ -56,6 +57,9 @@ class Joint:
             v = getattr(self, bound)
             if v is not None and math.isnan(v):
                 raise InputError(f"joint '{self.name}': limits.{bound} is NaN")
+        if self.stiffness is not None and not (math.isfinite(self.stiffness) and self.stiffness > 0):
+            raise InputError(f"joint '{self.name}': stiffness {self.stiffness} is not a positive number "
+                             f"(N m/rad, or N/m for a prismatic joint)")
         if self.lower is not None and self.upper is not None and self.lower > self.upper:
             raise InputError(f"joint '{self.name}': limits.lower {self.lower} > limits.upper {self.upper}")
 

@@ -22,7 +22,7 @@ from .errors import InputError, quote
 from .names import check_name, duplicates
 from .bodies import EMPTY_BODIES, Bodies
 from .capabilities import ik_function
-from .capabilities import jacobian as _jacobian_module, rigid_body as _rigid_body
+from .capabilities import compliance as _compliance, jacobian as _jacobian_module, rigid_body as _rigid_body
 from .joints import JOINT_TYPES, Joint, JointType, default_joints, home_configuration
 from .frame_stacks import frame_scales, local_transforms
 
@@ -345,6 +345,18 @@ class Robot:
         """Joint-space mass matrix at q: (n,) -> (n, n), (N, n) -> (N, n, n); composite rigid bodies, each
         joint's ``armature`` (MJCF) on the diagonal, as in MuJoCo."""
         return _rigid_body().mass_matrix(self, q, threads)
+
+    def fk_compliant(self, q: ArrayLike, payload: ArrayLike = 0.0, payload_com: ArrayLike | None = None, *,
+                     gravity: ArrayLike | None = None) -> np.ndarray:
+        """Tool pose (base frame) with each joint deflected by its gravity torque over its ``stiffness``.
+
+        q (n,) -> (4, 4), (N, n) -> (N, 4, 4) (rad, m: the commanded, encoder values); ``payload`` (kg, a
+        scalar or one per configuration) at the tool origin or at ``payload_com`` (3,) in the tool frame (m);
+        ``gravity`` (3,) in the robot base frame, default (0, 0, -9.81) m/s^2. The links' own weight counts
+        where the robot has masses. Joints without a stiffness are rigid; with none, this is ``fk``.
+        See ``robkin.calibration.compliance`` (the model, first order in the deflection).
+        """
+        return _compliance().fk_compliant(self, q, payload, payload_com, gravity)
 
     # ------------------------------------------------------------------ conveniences
     def random_q(self, size: int | None = None, rng: np.random.Generator | int | None = None,

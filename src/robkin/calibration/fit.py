@@ -18,7 +18,7 @@ from .parameters import ErrorModel
 from .report import residual_stats
 
 __all__ = ["FitData", "fit_rounds", "bounds", "MAX_ANGLE", "MAX_LENGTH", "CHI_MEDIAN", "HUBER", "OUTLIER_SIGMAS",
-           "ROUNDS", "FTOL", "XTOL", "MAX_NFEV", "Budget", "stacked"]
+           "ROUNDS", "FTOL", "XTOL", "MAX_NFEV", "MAX_COMPLIANCE", "Budget", "stacked"]
 
 #: Box around each nominal angle (rad): calibration corrects a model that is about right, and a larger
 #: change means the model or the data are wrong (and would let near-redundant parameters run away).
@@ -41,6 +41,10 @@ ROUNDS = 4
 #: Levenberg-Marquardt stopping: relative cost decrease and step (scaled variables) below these are
 #: ~1e-5 of the noise's effect; evaluation limit far beyond the ~10-30 steps a fit takes.
 FTOL, XTOL, MAX_NFEV = 1e-12, 1e-10, 400
+#: Box of a joint's compliance (rad per N m, m per N) around 0: a stiffness of 100 N m/rad, softer
+#: than any arm joint that holds a payload (industrial arms: 1e4-1e6, cobots' strain-wave gears 1e3-1e5);
+#: negative values stay allowed so that noise on an unexcited joint shows as such, not as a bound.
+MAX_COMPLIANCE = 1e-2
 
 
 class Budget:
@@ -65,8 +69,10 @@ class FitData:
     """Measurements of the fit (or the hold-out) and their residuals for an error model."""
 
     def __init__(self, mdl: ErrorModel, Q: np.ndarray, P: np.ndarray, Rm: np.ndarray | None,
-                 w_o: float | None = None) -> None:
+                 w_o: float | None = None, torques: np.ndarray | None = None) -> None:
         self.mdl, self.Q, self.P, self.Rm = mdl, Q, P, Rm
+        #: holding torques (N, n) the compliance parameters multiply (None: a rigid model)
+        self.torques = torques
         self.d = 3 if Rm is None else 6
         #: metres per radian; a rotation of 1 rad counts like the robot's size until estimated
         self.w_o = float(mdl.robot.scale if w_o is None else w_o)
@@ -76,7 +82,7 @@ class FitData:
                   ) -> tuple[np.ndarray, np.ndarray | None]:
         """(N, d) residuals (prediction - measurement; orientation times w_o) and their Jacobian (N, d, P),
         or its ``columns`` (N, d, K) only (``ErrorModel.poses``)."""
-        T, J = self.mdl.poses(p, self.Q, jacobian=jacobian, columns=columns)
+        T, J = self.mdl.poses(p, self.Q, jacobian=jacobian, columns=columns, torques=self.torques)
         r = T[:, :3, 3] - self.P
         if self.Rm is not None:
             ro = se3.log_rotation(T[:, :3, :3] @ np.swapaxes(self.Rm, 1, 2))
@@ -96,7 +102,7 @@ class FitData:
         use = np.ones(len(self.Q), dtype=bool) if use is None else use
         if not use.any():
             return {}
-        T, _ = self.mdl.poses(p, self.Q[use])
+        T, _ = self.mdl.poses(p, self.Q[use], torques=None if self.torques is None else self.torques[use])
         ori = None if self.Rm is None else se3.log_rotation(T[:, :3, :3] @ np.swapaxes(self.Rm[use], 1, 2))
         return residual_stats(T[:, :3, 3] - self.P[use], ori)
 
@@ -223,8 +229,12 @@ def bounds(mdl: ErrorModel) -> tuple[np.ndarray, np.ndarray]:
     lo = np.full(mdl.size, -np.inf)
     hi = np.full(mdl.size, np.inf)
     free_frame = set(mdl.world_params + mdl.marker_params)
+    compliance = set(mdl.compliance_params)
     for i in range(mdl.size):
         if i in free_frame:
+            continue
+        if i in compliance:
+            lo[i], hi[i] = -MAX_COMPLIANCE, MAX_COMPLIANCE
             continue
         half = MAX_ANGLE if mdl.units[i] == "rad" else MAX_LENGTH * mdl.robot.scale
         lo[i], hi[i] = mdl.nominal[i] - half, mdl.nominal[i] + half

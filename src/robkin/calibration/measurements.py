@@ -2,12 +2,14 @@
 
 CSV (``.csv``): a header line, then one pose per line. Columns, in any order: one per joint named as
 the model's joints (q in radians or metres), ``x``, ``y``, ``z`` (the measured point in the measuring
-device's frame, metres) and optionally ``qw``, ``qx``, ``qy``, ``qz`` (a unit quaternion of the measured
-orientation, all four or none). Other columns are refused (a typo must not silently drop a joint).
+device's frame, metres), optionally ``qw``, ``qx``, ``qy``, ``qz`` (a unit quaternion of the measured
+orientation, all four or none) and ``payload`` (the mass the robot carried at that pose, kg, >= 0: for
+compliance, ``robkin.calibration.compliance``). Other columns are refused (a typo must not silently drop a joint).
 Blank lines and lines starting with ``#`` are skipped.
 
 NumPy (``.npz``): one array per column name, as in the CSV (each of length N), or ``q`` (N, n),
-``positions`` (N, 3) and optionally ``quaternions`` (N, 4) (w, x, y, z). ``.npy``: a structured array
+``positions`` (N, 3) and optionally ``quaternions`` (N, 4) (w, x, y, z) and ``payloads`` (N,).
+``.npy``: a structured array
 with the CSV's column names as fields, or a plain (N, n + 3) or (N, n + 7) array whose columns are in
 the CSV order (joints, x, y, z[, qw, qx, qy, qz]). NumPy files are read without pickles, so loading them
 runs no code.
@@ -36,6 +38,7 @@ MAX_BYTES = 64 * 1024 * 1024
 MAX_POSES = 200_000
 POSITION_COLUMNS = ("x", "y", "z")
 QUATERNION_COLUMNS = ("qw", "qx", "qy", "qz")
+PAYLOAD_COLUMN = "payload"
 #: A quaternion whose norm is within this of 1 is normalised (4-6 typed digits); beyond, refused.
 QUATERNION_TOL = 1e-3
 
@@ -43,12 +46,13 @@ QUATERNION_TOL = 1e-3
 @dataclass
 class Measurements:
     """Poses read from a file: q (N, n), positions (N, 3), quaternions (N, 4) (w, x, y, z) or None, and the
-    line number of each pose in the file (for messages and the outlier list)."""
+    line number of each pose in the file (for messages and the outlier list); payloads (N,) (kg) or None."""
 
     q: np.ndarray
     positions: np.ndarray
     quaternions: np.ndarray | None
     rows: list[int]
+    payloads: np.ndarray | None = None
 
 
 def read_measurements(path: str | os.PathLike[str], robot: Robot) -> Measurements:
@@ -76,21 +80,29 @@ def read_measurements(path: str | os.PathLike[str], robot: Robot) -> Measurement
             raise InputError(f"{p}: line {m.rows[bad[0]]}: quaternion (qw, qx, qy, qz) has norm {norms[bad[0]]:.6g}; "
                              f"a unit quaternion is needed")
         m.quaternions = m.quaternions / norms[:, None]
+    if m.payloads is not None:
+        from .compliance import MAX_PAYLOAD
+
+        bad = np.flatnonzero(~((m.payloads >= 0) & (m.payloads <= MAX_PAYLOAD)))
+        if bad.size:
+            raise InputError(f"{p}: line {m.rows[bad[0]]}, column 'payload': {m.payloads[bad[0]]:g} is not a mass "
+                             f"in [0, {MAX_PAYLOAD:g}] kg")
     return m
 
 
 def _columns_expected(names: list[str]) -> str:
-    return ", ".join(names + list(POSITION_COLUMNS)) + " [, qw, qx, qy, qz]"
+    return ", ".join(names + list(POSITION_COLUMNS)) + " [, qw, qx, qy, qz] [, payload]"
 
 
 def _check_header(header: list[str], names: list[str], src: str) -> list[str]:
     from ..io.tables.cells import csv_read_cell
 
     header = [csv_read_cell(h.strip()) for h in header]  # names as written (csv_text_cell undone)
-    known = set(names) | set(POSITION_COLUMNS) | set(QUATERNION_COLUMNS)
+    known = set(names) | set(POSITION_COLUMNS) | set(QUATERNION_COLUMNS) | {PAYLOAD_COLUMN}
     for h in header:
         if h not in known:
-            raise InputError(f"{src}: column {quote(h)} is neither a joint of the model nor x, y, z, qw, qx, qy, qz; "
+            raise InputError(f"{src}: column {quote(h)} is neither a joint of the model nor x, y, z, qw, qx, qy, qz, "
+                             f"payload; "
                              f"expected {_columns_expected(names)}")
     seen: set[str] = set()
     for h in header:
@@ -159,7 +171,7 @@ def _assemble(col: dict[str, np.ndarray], names: list[str], rows: list[int]) -> 
     q = np.stack([col[n] for n in names], axis=1)
     pos = np.stack([col[c] for c in POSITION_COLUMNS], axis=1)
     quat = np.stack([col[c] for c in QUATERNION_COLUMNS], axis=1) if "qw" in col else None
-    return Measurements(q, pos, quat, rows)
+    return Measurements(q, pos, quat, rows, col.get(PAYLOAD_COLUMN))
 
 
 def _npy_array(data: bytes, src: str, member: str = "") -> np.ndarray:
@@ -216,7 +228,8 @@ def _from_numpy(data: bytes, ext: str, names: list[str], src: str) -> Measuremen
             q = _numeric(arrays["q"], src, "q", (None, len(names)))
             pos = _numeric(arrays["positions"], src, "positions", (len(q), 3))
             quat = _numeric(arrays["quaternions"], src, "quaternions", (len(q), 4)) if "quaternions" in arrays else None
-            return Measurements(q, pos, quat, list(range(1, len(q) + 1)))
+            pay = _numeric(arrays["payloads"], src, "payloads", (len(q),)) if "payloads" in arrays else None
+            return Measurements(q, pos, quat, list(range(1, len(q) + 1)), pay)
         _check_header(list(arrays), names, src)
         count: int | None = None
         columns: dict[str, np.ndarray] = {}
@@ -256,14 +269,17 @@ def _numeric(a: np.ndarray, src: str, name: str, shape: tuple[int | None, ...]) 
 
 
 def write_measurements_csv(path: str | os.PathLike[str], robot: Robot, q: np.ndarray, positions: np.ndarray,
-                           quaternions: np.ndarray | None = None) -> None:
-    """Write poses in the CSV contract (atomically), numbers in full precision."""
+                           quaternions: np.ndarray | None = None, payloads: np.ndarray | None = None) -> None:
+    """Write poses in the CSV contract (atomically), numbers in full precision; ``payloads`` (N,) kg
+    as the ``payload`` column."""
     from ..io.files.atomic import write_text_atomic
     from ..io.tables.cells import csv_text_cell
 
     header = [j.name for j in robot.joints] + list(POSITION_COLUMNS) + \
-        (list(QUATERNION_COLUMNS) if quaternions is not None else [])
-    parts = [q, positions] + ([quaternions] if quaternions is not None else [])
+        (list(QUATERNION_COLUMNS) if quaternions is not None else []) + \
+        ([PAYLOAD_COLUMN] if payloads is not None else [])
+    parts = [q, positions] + ([quaternions] if quaternions is not None else []) + \
+        ([np.asarray(payloads, dtype=float).reshape(-1, 1)] if payloads is not None else [])
     A = np.concatenate(parts, axis=1)
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")

@@ -14,7 +14,10 @@ carrying one parameter and, for the joints, the joint value:
 - ``poe``: every joint frame of the GJD moved by a full small rigid motion Tx Ty Tz Rx Ry then the joint
   Rz(theta + q), the local product-of-exponentials model (Chen and Yang's), free of singular rows.
 
-Prismatic joints add q to d (Tz) instead of theta. The base W is the robot base in the measuring frame
+Prismatic joints add q to d (Tz) instead of theta. With ``compliance``, each joint gets one more
+parameter c_i (rad per N m, m per N: 1 / stiffness, ``robkin.calibration.compliance``) and its value
+becomes q_i - c_i tau_i, tau the holding torques of the pose (given with the joint values): the pose is
+linear in c_i to first order, its Jacobian column -tau_i times the joint's. The base W is the robot base in the measuring frame
 (identified unless known); the marker is the measured point on the tool (its position; with measured
 orientations, its full pose), identified unless known.
 
@@ -59,6 +62,7 @@ class Op:
     param: int = -1                  # index into the parameter vector
     joint: int = -1                  # joint whose value adds to the parameter (-1: none)
     sign: float = 1.0                # +1, or -1 for a flipped joint
+    comp: int = -1                   # index of the joint's compliance parameter (-1: none)
 
 
 @dataclass
@@ -98,50 +102,64 @@ class ErrorModel:
     full_pose: bool
     world_params: list[int] = field(default_factory=list)
     marker_params: list[int] = field(default_factory=list)
+    #: index of each joint's compliance parameter (n,), empty without ``compliance``
+    compliance_params: list[int] = field(default_factory=list)
 
     @property
     def size(self) -> int:
         return len(self.nominal)
 
     # ------------------------------------------------------------------ evaluation
-    def poses(self, p: np.ndarray, Q: np.ndarray, *, jacobian: bool = False, columns: np.ndarray | None = None
-              ) -> tuple[np.ndarray, np.ndarray | None]:
+    def poses(self, p: np.ndarray, Q: np.ndarray, *, jacobian: bool = False, columns: np.ndarray | None = None,
+              torques: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray | None]:
         """Measured poses (N, 4, 4) at joint values Q (N, n) for parameters p (P,), and optionally the
         Jacobian (N, 6, P) of (position, orientation rotation vector) in the measuring frame; with
         ``columns`` (K,) parameter indices, only those columns of it (N, 6, K), the same values.
+        ``torques`` (N, n): the holding torques of the poses (N m, N), which the compliance parameters
+        multiply (ignored by a model without them).
 
         With the Jacobian, the poses go through the chain in blocks of ``JACOBIAN_BLOCK``: each pose is
         computed on its own, so the blocks give the same bits as one pass."""
         N = Q.shape[0]
         col = None if columns is None else {int(c): k for k, c in enumerate(columns)}
         if not jacobian or N <= JACOBIAN_BLOCK:
-            return self._poses(p, Q, jacobian, col)
+            return self._poses(p, Q, jacobian, col, torques)
         T, J = np.empty((N, 4, 4)), np.empty((N, 6, len(p) if col is None else len(col)))
         for s in range(0, N, JACOBIAN_BLOCK):
-            T[s:s + JACOBIAN_BLOCK], J[s:s + JACOBIAN_BLOCK] = self._poses(p, Q[s:s + JACOBIAN_BLOCK], True, col)
+            block = slice(s, s + JACOBIAN_BLOCK)
+            T[block], J[block] = self._poses(p, Q[block], True, col, None if torques is None else torques[block])
         return T, J
 
-    def _poses(self, p: np.ndarray, Q: np.ndarray, jacobian: bool,
-               col: dict[int, int] | None = None) -> tuple[np.ndarray, np.ndarray | None]:
+    def _poses(self, p: np.ndarray, Q: np.ndarray, jacobian: bool, col: dict[int, int] | None = None,
+               torques: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray | None]:
         N = Q.shape[0]
         T = np.broadcast_to(np.eye(4), (N, 4, 4))
-        frames: list[tuple[int, str, np.ndarray]] = []
+        frames: list[tuple[int, str, np.ndarray, np.ndarray | None]] = []
+        bends = torques is not None and bool(self.compliance_params)
         for op in self.ops:
             if op.kind is None:
                 T = T @ _const(op)
                 continue
             if op.joint >= 0:
-                T = T @ _elementary(op.kind, p[op.param] + op.sign * Q[:, op.joint], N)
+                q = Q[:, op.joint]
+                if bends and op.comp >= 0:
+                    q = q - p[op.comp] * torques[:, op.joint]   # the link side: q - c tau
+                T = T @ _elementary(op.kind, p[op.param] + op.sign * q, N)
             else:  # the same motion at every pose: one 4x4
                 T = T @ _elementary(op.kind, p[op.param], 1)[0]
             if jacobian and (col is None or op.param in col):   # the frames of the columns asked for only
-                frames.append((op.param if col is None else col[op.param], op.kind, T))
+                frames.append((op.param if col is None else col[op.param], op.kind, T, None))
+            if jacobian and bends and op.comp >= 0 and (col is None or op.comp in col):
+                frames.append((op.comp if col is None else col[op.comp], op.kind, T,
+                               -op.sign * torques[:, op.joint]))   # d(value)/dc, per pose
         if not jacobian:
             return T, None
         J = np.zeros((N, 6, len(p) if col is None else len(col)))
         tip = T[:, :3, 3]
-        for param, kind, F in frames:   # param: the column of J
+        for param, kind, F, factor in frames:   # param: the column of J
             u = F[:, :3, "xyz".index(kind[1])]
+            if factor is not None:
+                u = u * factor[:, None]
             if kind[0] == "T":
                 J[:, :3, param] += u
             else:
@@ -228,7 +246,7 @@ class _Builder:
 
 def build_model(robot: Robot, kind: str = "hayati", *, world: np.ndarray | None = None,
                 marker: np.ndarray | None = None, full_pose: bool = False, world_known: bool = False,
-                marker_known: bool = False) -> ErrorModel:
+                marker_known: bool = False, compliance: bool = False) -> ErrorModel:
     """The error model of ``robot`` (see the module doc).
 
     Parameters
@@ -247,6 +265,8 @@ def build_model(robot: Robot, kind: str = "hayati", *, world: np.ndarray | None 
         The base pose (marker) is known and held: the first joint's frame relative to the base (the
         flange relative to the last joint) gets six parameters of its own, which a free base (marker)
         would otherwise stand for.
+    compliance : bool
+        One compliance parameter per joint (rad/(N m), m/N; nominal 0), see the module doc.
     """
     b = _Builder()
     W = np.eye(4) if world is None else np.asarray(world, dtype=float)
@@ -316,8 +336,18 @@ def build_model(robot: Robot, kind: str = "hayati", *, world: np.ndarray | None 
     else:
         point = m if m.shape == (3,) else m[:3, 3]
         marker_params = [b.elem(k, v, f"marker {k[1]}", "marker") for k, v in zip(KINDS[:3], point)]
+    compliance_params = []
+    if compliance:
+        for i, j in enumerate(robot.joints):
+            idx = len(b.nominal)
+            b.ops[b.joint_ops[i]].comp = idx
+            b.nominal.append(0.0)
+            b.names.append(f"joint {names[i]} compliance")
+            b.units.append("rad/(N m)" if j.revolute else "m/N")
+            b.groups.append(names[i])
+            compliance_params.append(idx)
     return ErrorModel(robot, kind, b.ops, np.array(b.nominal), b.names, b.units, b.groups, b.joint_ops,
-                      full_pose, world_params, marker_params)
+                      full_pose, world_params, marker_params, compliance_params)
 
 
 def _joint_elem(b: _Builder, revolute: bool, value: float, name: str, joint: int, sign: float) -> None:

@@ -66,6 +66,13 @@ class CalibrationResult:
     warnings : list of str
     orientation_weight : float or None
         Metres per radian used (None without measured orientations).
+    stiffness : dict or None
+        With ``compliance``: per joint name, ``stiffness`` (N m/rad, N/m; None where not observable or
+        not significant), ``compliance`` (its inverse as fitted, None if not fitted), ``std`` (of the
+        compliance) and ``observable``.
+    flange : (4, 4) array or None
+        The calibrated flange (the nominal tool frame, moved by the calibration) in the robot base frame:
+        ``robot.tool`` is the marker on it.
     """
 
     robot: Robot
@@ -85,6 +92,8 @@ class CalibrationResult:
     poses_holdout: int = 0
     #: the nominal robot's tool frame (the flange the marker is given in), (4, 4)
     nominal_tool: np.ndarray | None = None
+    stiffness: dict[str, dict[str, Any]] | None = None
+    flange: np.ndarray | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """The report as JSON-ready data."""
@@ -101,6 +110,7 @@ class CalibrationResult:
             "world": self.robot.world.tolist(),
             "marker": None if self.nominal_tool is None else
             (np.linalg.inv(self.nominal_tool) @ self.robot.tool).tolist(),
+            "stiffness": self.stiffness,
         }
 
     def text(self) -> str:
@@ -123,11 +133,18 @@ class CalibrationResult:
             out.append(f"orientation weight: {self.orientation_weight:.4g} m/rad")
         out.append("parameters (change from nominal +- standard deviation):")
         for p in self.parameters:
-            if not p.identified or p.group in ("base", "marker"):
-                continue
+            if not p.identified or p.group in ("base", "marker") or p.unit not in ("m", "rad"):
+                continue   # (compliances: as stiffnesses below)
             scale, unit = (1e3, "mm") if p.unit == "m" else (np.degrees(1.0), "deg")
             std = "" if p.std is None else f" +- {p.std * scale:.3g}"
             out.append(f"  {p.name:<38} {(p.estimate - p.nominal) * scale:+.4g}{std} {unit}")
+        for name, k in (self.stiffness or {}).items():
+            if k["stiffness"] is not None:
+                out.append(f"  {'joint ' + name + ' stiffness':<38} {k['stiffness']:.4g} {k['unit']} "
+                           f"+- {100 * k['std'] / k['compliance']:.2g} %")
+            elif k["observable"]:
+                out.append(f"  {'joint ' + name + ' stiffness':<38} not determined (compliance {k['compliance']:.3g} "
+                           f"+- {k['std'] or 0:.2g}: not positive beyond the noise)")
         from .. import se3
 
         W = self.robot.world

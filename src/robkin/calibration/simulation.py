@@ -4,6 +4,8 @@ How many poses, how spread, what noise: try it here before measuring. The truth 
 frame of the GJD (``perturbed``) by a small rigid motion: a translation of ``offset`` per component
 and a rotation of ``angle`` per component, the rotation about the joint's own axis being its zero
 offset (the links after it turn); it stands somewhere in the measuring frame (``world``) and carries a marker off its flange.
+With ``stiffness`` its joints bend under gravity (``robkin.calibration.compliance``: the links' weight where
+the robot has masses, and a ``payload`` at the marker), gravity along -z of its base.
 
 ``reference_fit`` is the yardstick the calibration is judged by: a plain Gauss-Newton least-squares fit
 (central finite differences, minimum-norm steps by SVD) with the very parameterisation that made the
@@ -39,6 +41,8 @@ class Simulation:
         The perturbation of each joint (``perturbed``).
     marker : (4, 4) array
         The marker in the nominal flange frame.
+    payloads : (N,) array
+        Payload mass of each pose (kg), at the marker.
     """
 
     truth: Robot
@@ -47,6 +51,7 @@ class Simulation:
     orientations: np.ndarray
     frame_motions: np.ndarray
     marker: np.ndarray
+    payloads: np.ndarray | None = None
 
 
 def random_configurations(robot: Robot, count: int, rng: np.random.Generator) -> np.ndarray:
@@ -72,10 +77,14 @@ def perturbed(robot: Robot, motions: np.ndarray) -> Robot:
 
 def simulate(robot: Robot, poses: int = 60, *, offset: float = 1e-3, angle: float = 1e-3,
              noise: float = 20e-6, angle_noise: float = np.radians(0.005), distance: tuple[float, float] = (1.0, 2.0),
-             marker: tuple[float, float] = (0.02, 0.08), seed: int = 0) -> Simulation:
+             marker: tuple[float, float] = (0.02, 0.08), seed: int = 0, stiffness: float | np.ndarray | None = None,
+             payload: float | np.ndarray = 0.0) -> Simulation:
     """A perturbed robot, standing ``distance`` (m) from the measuring frame's origin at a random rotation,
     with a marker ``marker`` (m) off its flange at a random orientation, measured at ``poses`` random
-    configurations with Gaussian noise ``noise`` (m, per coordinate) and ``angle_noise`` (rad, per axis)."""
+    configurations with Gaussian noise ``noise`` (m, per coordinate) and ``angle_noise`` (rad, per axis).
+
+    ``stiffness`` (a value or one per joint, N m/rad or N/m) makes the truth's joints bend under gravity
+    (``Robot.fk_compliant``), with ``payload`` (kg, a value or one per pose) at the marker."""
     rng = np.random.default_rng(seed)
     motions = np.concatenate([rng.normal(0.0, offset, (robot.n, 3)), rng.normal(0.0, angle, (robot.n, 3))], axis=1)
     u = rng.normal(size=3)
@@ -85,10 +94,18 @@ def simulate(robot: Robot, poses: int = 60, *, offset: float = 1e-3, angle: floa
     real = perturbed(robot, motions)
     truth = real.replace(frames=np.concatenate([real.frames[:-1], (real.tool @ M)[None]]), world=W)
     q = random_configurations(robot, poses, rng)
-    T = W @ truth.fk(q)
+    masses = np.broadcast_to(np.asarray(payload, dtype=float), (poses,)).copy()
+    if stiffness is not None:
+        from dataclasses import replace
+
+        k = np.broadcast_to(np.asarray(stiffness, dtype=float), (robot.n,))
+        truth = truth.replace(joints=tuple(replace(j, stiffness=float(v)) for j, v in zip(truth.joints, k)))
+        T = W @ truth.fk_compliant(q, masses)
+    else:
+        T = W @ truth.fk(q)
     pos = T[:, :3, 3] + rng.normal(0.0, noise, (poses, 3))
     rot = T[:, :3, :3] @ _rotations(rng.normal(0.0, angle_noise, (poses, 3)))
-    return Simulation(truth, q, pos, rot, motions, M)
+    return Simulation(truth, q, pos, rot, motions, M, masses)
 
 
 def prediction_error(model: Robot, truth: Robot, q: np.ndarray) -> np.ndarray:

@@ -35,7 +35,8 @@ With measurements as B (.csv, .npz or .npy, the format 'robkin calibrate' reads)
 compared with measured samples: given its best base and marker, how far it is from them (RMS and
 max), and which joint's parameters, then which parameter, explain most of the difference. Then --tol
 is the RMS position residual in metres the model may leave (default 0.0005); exit status 0 if the
-model explains them within it.
+model explains them within it. A model whose joints carry a stiffness (calibrate --compliance) is
+deflected by the gravity torques of the links and of the measurements' payload column first.
 
 examples:
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0
@@ -63,6 +64,9 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--tol", type=float, default=None,  # 1e-6 = equivalence.DEFAULT_TOL (not imported: startup time)
                    help="relative tolerance on angles (rad) and lengths / robot size (default 1e-06); against "
                         "measurements: RMS position residual in metres (default 0.0005)")
+    p.add_argument("--payload-com", metavar="X,Y,Z",
+                   help="against measurements with a payload column: the payload's centre of mass in the model's "
+                        "tool frame (m; default the tool origin)")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
     return p
 

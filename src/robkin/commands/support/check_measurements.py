@@ -7,7 +7,10 @@ import math
 
 
 def run_measurements(args: argparse.Namespace) -> int:
-    """Compare the model (args.a) with the measurements (args.b); exit 0 if it explains them within --tol."""
+    """Compare the model (args.a) with the measurements (args.b); exit 0 if it explains them within --tol.
+
+    A model whose joints carry a ``stiffness`` (a compliance calibration's) is compared deflected by the
+    gravity torques of the measurements' ``payload`` column (at the tool origin or ``--payload-com``)."""
     from ...calibration.diagnosis import DEFAULT_TOL, diagnose
     from ...calibration.measurements import read_measurements
     from ...errors import InputError
@@ -21,7 +24,14 @@ def run_measurements(args: argparse.Namespace) -> int:
     (base, tip), _ = chain_ends(args, [args.a, args.b])
     robot = load(args.a, base_link=base, tip_link=tip, allow_xacro=args.allow_xacro)
     m = read_measurements(args.b, robot)
-    result = diagnose(robot, m.q, m.positions, m.quaternions, tol=tol, rows=m.rows)
+    q = m.q
+    if m.payloads is not None and any(j.stiffness for j in robot.joints):   # the model's compliance applies
+        from ...calibration.compliance import compliant_q
+        from .common import parse_q
+
+        com = None if args.payload_com is None else parse_q(args.payload_com, 3, "--payload-com")
+        q = compliant_q(robot, m.q, m.payloads, com)
+    result = diagnose(robot, q, m.positions, m.quaternions, tol=tol, rows=m.rows)
     if args.json:
         d = result.to_dict()
         d["model"], d["measurements"] = args.a, args.b

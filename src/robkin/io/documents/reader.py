@@ -1,8 +1,9 @@
 """The robot document (YAML or JSON): reading, validating and cross-checking (writing: ``writer``).
 
 Schema (docs/conventions.md): ``robkin: 1``, optional ``name``, ``joints`` (one entry per joint: name, type
-revolute|prismatic, optional limits {lower, upper} and flip), and at least one representation section:
-``gjd``, ``dh``, ``mdh``, ``hayati``, ``rpy_xyz``, ``poe``, ``poe_body``; optionally ``world``, the
+revolute|prismatic, optional limits {lower, upper}, flip and stiffness (N m/rad, or N/m for a
+prismatic joint: a compliance calibration's; never converted by ``angles``)), and at least one
+representation section: ``gjd``, ``dh``, ``mdh``, ``hayati``, ``rpy_xyz``, ``poe``, ``poe_body``; optionally ``world``, the
 world -> robot base transform (4x4; also row 0 of ``rpy_xyz``), kept and written out but not part of
 FK, and ``angles``. Rows may be objects with named keys or lists in column order; numbers may be
 arithmetic strings such as "-pi/2". A ``dh`` table with n + 1 rows and no ``base`` is the conversion
@@ -176,9 +177,9 @@ def _joints(value: Any, unit: str = "radians") -> tuple[Joint, ...]:
             entry = {"type": entry}
         if not isinstance(entry, Mapping):
             raise InputError(f"{where}: expected a mapping like {{name: joint{i + 1}, type: revolute}}")
-        extra = sorted(str(k) for k in entry if k not in ("name", "type", "limits", "flip"))
+        extra = sorted(str(k) for k in entry if k not in ("name", "type", "limits", "flip", "stiffness"))
         if extra:
-            raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; known: name, type, limits, flip")
+            raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; known: name, type, limits, flip, stiffness")
         name = str(entry.get("name", f"joint{i + 1}"))
         jtype = entry.get("type")
         if jtype is None:
@@ -210,7 +211,14 @@ def _joints(value: Any, unit: str = "radians") -> tuple[Joint, ...]:
                     lower = v
                 else:
                     upper = v
-        out.append(Joint(name, jtype, lower, upper, flip))  # type: ignore[arg-type]
+        stiffness = None
+        if entry.get("stiffness") is not None:  # N m/rad (N/m prismatic): never an angle, so never converted
+            field = f"{where} ('{name}').stiffness"
+            stiffness = number(entry["stiffness"], field)
+            if not stiffness > 0:
+                raise InputError(f"{field}: {stiffness} is not a positive number (N m/rad, or N/m for a prismatic "
+                                 f"joint)")
+        out.append(Joint(name, jtype, lower, upper, flip, stiffness=stiffness))  # type: ignore[arg-type]
     return tuple(out)
 
 

@@ -41,6 +41,8 @@ def _joint_entry(j: Joint, degrees: bool) -> dict[str, Any]:
                            if v is not None}
     if j.flip:
         entry["flip"] = True
+    if j.stiffness is not None:
+        entry["stiffness"] = _clean(j.stiffness)
     return entry
 
 

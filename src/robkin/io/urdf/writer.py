@@ -201,6 +201,12 @@ def _faithful_frames(robot: Robot) -> dict[str, np.ndarray] | None:
         off_axis = np.linalg.norm(d - np.dot(d, J[:3, 2]) * J[:3, 2])
         if j.revolute and off_axis > tol:
             frames[b.chain[i + 1]] = flip_frame(J, j.flip)
+    if b.tip == b.chain[-1] and np.abs(frames[b.tip] - robot.tool).max() > tol:
+        # the last link is the tool link: it can take the tool's frame where that frame's origin is on
+        # the last joint's axis (a calibrated flange; any frame for a prismatic joint)
+        J, d = robot.frames[-2], robot.tool[:3, 3] - robot.frames[-2][:3, 3]
+        if not robot.joints[-1].revolute or np.linalg.norm(d - np.dot(d, J[:3, 2]) * J[:3, 2]) <= tol:
+            frames[b.tip] = robot.tool
     if b.tip == b.chain[-1]:
         if np.abs(frames[b.tip] - robot.tool).max() > tol:
             return None  # the tool left the last link's frame: no source link can carry it
