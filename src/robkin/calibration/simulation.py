@@ -75,7 +75,12 @@ def simulate(robot: Robot, poses: int = 60, *, offset: float = 1e-3, angle: floa
              marker: tuple[float, float] = (0.02, 0.08), seed: int = 0) -> Simulation:
     """A perturbed robot, standing ``distance`` (m) from the measuring frame's origin at a random rotation,
     with a marker ``marker`` (m) off its flange at a random orientation, measured at ``poses`` random
-    configurations with Gaussian noise ``noise`` (m, per coordinate) and ``angle_noise`` (rad, per axis)."""
+    configurations with Gaussian noise ``noise`` (m, per coordinate) and ``angle_noise`` (rad, per axis).
+
+    The perturbation (``perturbed``): each joint's frame moved by a Gaussian translation of standard deviation
+    ``offset`` (m) per component and a rotation of ``angle`` (rad) per component; ``seed``: the random seed
+    (the same seed, the same robot and samples).
+    """
     rng = np.random.default_rng(seed)
     motions = np.concatenate([rng.normal(0.0, offset, (robot.n, 3)), rng.normal(0.0, angle, (robot.n, 3))], axis=1)
     u = rng.normal(size=3)
