@@ -22,8 +22,8 @@ pytest.importorskip("trimesh")      # the URDFs' COLLADA meshes are converted fo
 DOC = ROOT / "docs" / "mjcf.md"
 
 
-def _blocks(kind: str) -> list[str]:
-    return re.findall(rf"```{kind}\n(.*?)```", DOC.read_text(), flags=re.S)
+def _blocks(kind: str, doc: Path = DOC) -> list[str]:
+    return re.findall(rf"```{kind}\n(.*?)```", doc.read_text(), flags=re.S)
 
 
 @pytest.fixture
@@ -76,3 +76,14 @@ def test_write_mjcf_makes_its_folder_and_removes_it_on_failure(bare):
             pytest.raises(InputError, match="render empty"):
         write_mjcf(panda, "panda_out/panda.xml", source="panda.urdf")
     assert not Path("panda_out").exists()
+
+
+def test_simulation_page_first_command_runs_as_printed(bare, capsys):
+    """docs/simulation.md opens with the same Panda conversion (it had no --package-path either)."""
+    block = _blocks("sh", ROOT / "docs" / "simulation.md")[0]
+    env: dict[str, str] = {}
+    for line in block.splitlines():
+        if line.strip() and not line.startswith(("#", "python -m mujoco.viewer")):
+            run_example(line, env)
+    capsys.readouterr()
+    assert any(Path("panda_mjcf/meshes").glob("*.stl")) and Path("panda_mjcf/scene.xml").is_file()

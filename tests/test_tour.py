@@ -10,7 +10,8 @@ itself is the source tree under test, put on the venv's path with a ``.pth`` fil
 Makefile's ``pip install -e .`` leaves (setuptools' editable install is that same ``.pth``; the compiled core
 is already built beside the sources), and a ``robkin`` script as pip writes one.
 
-The shell lines are README.md's first ``sh`` block with ``robkin convert`` (the tour), run by bash with
+``robkin demo`` runs first, as ``make demo`` ends with it. The shell lines are README.md's first ``sh``
+block with ``robkin convert`` (the tour), run by bash with
 ``set -e`` from a folder holding the venv as ``.venv`` (the tour starts with ``source .venv/bin/activate``).
 ``robkin gui`` serves until stopped: the line runs with ``--port 0`` added and ``BROWSER=true`` (``--open``
 opens nothing), is checked to serve its page, then stopped. The README's Python block then runs in the
@@ -120,7 +121,9 @@ def test_readme_tour_runs_in_the_venv_make_demo_makes(tmp_path):
         env.update(TMPDIR=str(work / "tmp"), TOUR_GUI_LOG=str(tmp_path / "gui.log"), MPLBACKEND="Agg",
                    HOME=str(tmp_path / "home"), MUJOCO_GL=os.environ.get("MUJOCO_GL", "egl"))
         # after the tour, the folder it ended in (its `cd "$(mktemp -d)"`)
-        script = GUI_WRAPPER + "\n".join(tour_lines()) + f'\npwd > "{tmp_path / "tour_dir"}"\n'
+        # what `make demo` itself runs last, then the tour
+        script = GUI_WRAPPER + ".venv/bin/robkin demo > /dev/null\n" + "\n".join(tour_lines()) + \
+            f'\npwd > "{tmp_path / "tour_dir"}"\n'
         done = subprocess.run([BASH, "-c", script], cwd=work, env=env, capture_output=True, text=True, timeout=1800)
         assert done.returncode == 0, f"the tour failed after make demo:\n{done.stderr[-4000:]}"
         tour = Path((tmp_path / "tour_dir").read_text().strip())
