@@ -1,5 +1,6 @@
 # Two commands on a fresh machine with python3 and a C compiler:
-#   make demo   create .venv, install robkin with its mesh extra, run the paper examples through every representation
+#   make demo   create .venv, install robkin with what the README's tour uses (the 'demo' extra), run the paper
+#               examples through every representation
 #   make test   create .venv, install robkin with its test dependencies, run the test suite
 #   make docs   build the documentation site into site/ (strict)
 #   make dist   the release: sdist and wheel in dist/, carrying the GUI's three.js (the wheel needs
@@ -37,13 +38,16 @@ EXTRA = $(PY) -c "import sys, importlib.metadata as m; \
   [print(r.name + ('[' + ','.join(sorted(r.extras)) + ']' if r.extras else '') + str(r.specifier)) \
    for r in map(R, m.requires('robkin') or []) if r.marker and r.marker.evaluate({'extra': sys.argv[1]})]"
 
-# The 'meshes' extra (trimesh, pycollada: pure Python) in the environment `make demo` makes: without it
-# `convert --to mjcf` cannot convert COLLADA (.dae) or PLY meshes, and a robot whose visuals are all
-# COLLADA (most ROS arms) would be refused rather than written empty.
-$(VENV)/.meshes: $(VENV)/.core pyproject.toml
+# The 'demo' extra in the environment `make demo` makes: what the README's tour uses, run as printed in such
+# a venv by tests/test_tour.py. The mesh formats of 'meshes' (trimesh, pycollada: pure Python; without them
+# `convert --to mjcf` cannot convert COLLADA (.dae) or PLY meshes, and a robot whose visuals are all COLLADA
+# (most ROS arms) would be refused rather than written empty), the real robots of example-robot-data (the
+# UR5 and Panda URDFs with their meshes: a 131 MB download, 414 MB installed) and matplotlib (pictures).
+# (about 1 min on a fast network, measured 2026-11-29; pip's cache makes a second venv take seconds)
+$(VENV)/.demo: $(VENV)/.core pyproject.toml
 	$(PIP) install packaging
-	$(EXTRA) meshes > $(VENV)/requirements-meshes.txt
-	$(PIP) install -r $(VENV)/requirements-meshes.txt
+	$(EXTRA) demo > $(VENV)/requirements-demo.txt
+	$(PIP) install -r $(VENV)/requirements-demo.txt
 	touch $@
 
 $(VENV)/.test: $(VENV)/.core pyproject.toml
@@ -65,7 +69,7 @@ $(ASSETS): package.json package-lock.json src/robkin/viz/assets.py | $(VENV)/.co
 
 assets: $(ASSETS)
 
-demo: $(VENV)/.core $(VENV)/.meshes $(ASSETS)
+demo: $(VENV)/.core $(VENV)/.demo $(ASSETS)
 	$(VENV)/bin/robkin demo
 
 test: $(VENV)/.test $(ASSETS)

@@ -70,6 +70,8 @@ def load(path: str | os.PathLike[str], base_link: str | None = None, tip_link: s
 
     ``base_link``/``tip_link`` pick a serial chain from a robot file: URDF/SDF links, MJCF bodies or sites.
     A .xacro file is expanded only with ``allow_xacro=True`` (xacro runs code from the file).
+
+    ``path``: the file to read (str or path-like); its suffix picks the reader.
     """
     from .io import load as _load
 

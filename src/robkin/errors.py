@@ -30,7 +30,10 @@ _BIDI_CONTROLS = frozenset("\u202a\u202b\u202c\u202d\u202e\u2066\u2067\u2068\u20
 
 
 def unprintable(c: str) -> bool:
-    """True for a character that must not appear in a name or a message (see _UNPRINTABLE_CATEGORIES)."""
+    """True for a character that must not appear in a name or a message (see _UNPRINTABLE_CATEGORIES).
+
+    ``c``: one character.
+    """
     return c in _BIDI_CONTROLS or unicodedata.category(c) in _UNPRINTABLE_CATEGORIES
 
 
@@ -58,6 +61,8 @@ def quote(value: object, limit: int = MAX_QUOTE) -> str:
 
     Bounded whatever the value: long strings and numbers are cut in the middle, nested lists and
     mappings are shown to two levels and a few items, and control characters are escaped.
+
+    ``limit``: the longest text (characters) a value becomes.
     """
     if isinstance(value, str):
         return "'" + printable(_shorten(value, limit)) + "'"
@@ -73,7 +78,10 @@ class RobkinError(Exception):
 
 
 class InputError(RobkinError, ValueError):
-    """The input does not describe a valid robot; the message says where and what would be valid."""
+    """The input does not describe a valid robot; the message says where and what would be valid.
+
+    ``message``: the one line; ``source``: the file it is about, put in front of the message.
+    """
 
     def __init__(self, message: str, *, source: str | None = None) -> None:
         self.source = source
@@ -81,7 +89,10 @@ class InputError(RobkinError, ValueError):
         super().__init__(printable(_shorten(text, MAX_MESSAGE)))
 
     def in_source(self, source: str) -> "InputError":
-        """The same error, prefixed with the file it came from (unless it already names it first)."""
+        """The same error, prefixed with the file it came from (unless it already names it first).
+
+        ``source``: the file name.
+        """
         if self.source is not None or str(self).startswith(f"{printable(source)}:"):
             return self
         return InputError(str(self), source=source)

@@ -201,6 +201,9 @@ class Robot:
 
         New frames are no longer those of the table the robot came from, so unless ``frames_from`` is
         given with them it is cleared.
+
+        ``changes``: the fields to change, as keyword arguments (``frames=``, ``joints=``, ``world=``, ``name=``,
+        ``frames_from=``, ``bodies=``); TypeError for a field Robot does not have.
         """
         if "frames" in changes:
             changes.setdefault("frames_from", None)
@@ -316,6 +319,8 @@ class Robot:
             Joint values.
         kind : {'translational', 'rotational', 'full'}
             Rows of the base-frame Jacobian [v; w] used: v (length^3), w (dimensionless) or both.
+        threads : int, optional
+            At most that many threads for a batch (default automatic, see ``robkin.threads``).
 
         Returns
         -------
@@ -338,12 +343,20 @@ class Robot:
         return _rigid_body().inverse_dynamics(self, q, qd, qdd, gravity, threads)
 
     def gravity(self, q: ArrayLike, *, gravity: ArrayLike | None = None, threads: int | None = None) -> np.ndarray:
-        """Torques/forces (n,) or (N, n) that hold the robot still at q (``inverse_dynamics`` at rest)."""
+        """Torques/forces (n,) or (N, n) that hold the robot still at q (``inverse_dynamics`` at rest).
+
+        ``q`` (n,) or (N, n); ``gravity``: (3,) m/s^2 in the world frame, default (0, 0, -9.81); ``threads``:
+        at most that many threads for a batch (default automatic, see ``robkin.threads``).
+        """
         return _rigid_body().gravity_torques(self, q, gravity, threads)
 
     def mass_matrix(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:
         """Joint-space mass matrix at q: (n,) -> (n, n), (N, n) -> (N, n, n); composite rigid bodies, each
-        joint's ``armature`` (MJCF) on the diagonal, as in MuJoCo."""
+        joint's ``armature`` (MJCF) on the diagonal, as in MuJoCo.
+
+        ``q`` (n,) or (N, n); ``threads``: at most that many threads for a batch (default automatic, see
+        ``robkin.threads``).
+        """
         return _rigid_body().mass_matrix(self, q, threads)
 
     def fk_compliant(self, q: ArrayLike, payload: ArrayLike = 0.0, payload_com: ArrayLike | None = None, *,
@@ -361,7 +374,12 @@ class Robot:
     # ------------------------------------------------------------------ conveniences
     def random_q(self, size: int | None = None, rng: np.random.Generator | int | None = None,
                  default_range: float = math.pi) -> np.ndarray:
-        """Random joint values within limits (uniform); unlimited joints use +-default_range."""
+        """Random joint values within limits (uniform); unlimited joints use +-default_range.
+
+        ``size``: None for one configuration (n,), else N for (N, n); ``rng``: a numpy Generator, an int seed
+        or None (fresh entropy); ``default_range``: the half range of unlimited joints (radians, or length
+        units for prismatic joints).
+        """
         rng = np.random.default_rng(rng)
         lim = self.limits
         lo = np.where(np.isfinite(lim[:, 0]), lim[:, 0], -default_range)

@@ -255,7 +255,10 @@ def dh_matrix(a: ArrayLike, d: ArrayLike, alpha: ArrayLike, theta: ArrayLike) ->
 
 
 def mdh_matrix(a: ArrayLike, d: ArrayLike, alpha: ArrayLike, theta: ArrayLike) -> Array:
-    """Modified (Craig) DH link transform Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i) -> (..., 4, 4)."""
+    """Modified (Craig) DH link transform Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i) -> (..., 4, 4).
+
+    ``a``, ``d`` (lengths), ``alpha``, ``theta`` (radians): arrays of one shape (...), or numbers.
+    """
     a, d, alpha, theta = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (a, d, alpha, theta)))
     ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha), np.sin(alpha)
     out = np.zeros(a.shape + (4, 4))

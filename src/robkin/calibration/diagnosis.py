@@ -144,7 +144,12 @@ class Diagnosis:
 def diagnose(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: ArrayLike | None = None, *,
              model: str = "hayati", world: ArrayLike | None = None, marker: ArrayLike | None = None,
              tol: float = DEFAULT_TOL, rows: list[int] | None = None) -> Diagnosis:
-    """Compare a model with measured samples (arguments as ``calibrate``'s); see the module doc."""
+    """Compare a model with measured samples (arguments as ``calibrate``'s); see the module doc.
+
+    ``robot`` (the model), ``q`` (N, n), ``positions`` (N, 3) m, ``orientations`` (N, 3, 3) or (N, 4),
+    optional, ``model``, ``world`` (4, 4), ``marker`` (3,) m and ``rows`` as for ``calibrate``; ``tol``: the
+    RMS position error (m) below which the model explains the samples.
+    """
     # the robust loss of calibrate: a bad measurement (5.5 robust deviations off) is listed, not blamed
     # on a joint; a model's systematic error spreads smoothly over the poses and is not cut off
     kw: dict[str, Any] = dict(model=model, world=world, marker=marker, rows=rows)

@@ -57,7 +57,10 @@ class Measurements:
 
 def read_measurements(path: str | os.PathLike[str], robot: Robot) -> Measurements:
     """Read a measurement file (see the module doc) for ``robot``'s joints; InputError naming the file,
-    line and column otherwise."""
+    line and column otherwise.
+
+    ``path``: the CSV file; ``robot``: whose joint names the columns must carry.
+    """
     p = os.fspath(path)
     ext = Path(p).suffix.lower()
     names = [j.name for j in robot.joints]

@@ -84,7 +84,12 @@ def simulate(robot: Robot, poses: int = 60, *, offset: float = 1e-3, angle: floa
     configurations with Gaussian noise ``noise`` (m, per coordinate) and ``angle_noise`` (rad, per axis).
 
     ``stiffness`` (a value or one per joint, N m/rad or N/m) makes the truth's joints bend under gravity
-    (``Robot.fk_compliant``), with ``payload`` (kg, a value or one per pose) at the marker."""
+    (``Robot.fk_compliant``), with ``payload`` (kg, a value or one per pose) at the marker.
+
+    The perturbation (``perturbed``): each joint's frame moved by a Gaussian translation of standard deviation
+    ``offset`` (m) per component and a rotation of ``angle`` (rad) per component; ``seed``: the random seed
+    (the same seed, the same robot and samples).
+    """
     rng = np.random.default_rng(seed)
     motions = np.concatenate([rng.normal(0.0, offset, (robot.n, 3)), rng.normal(0.0, angle, (robot.n, 3))], axis=1)
     u = rng.normal(size=3)

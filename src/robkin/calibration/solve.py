@@ -88,6 +88,8 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: Ar
         'huber' (default: Huber weights, outliers rejected and listed) or 'linear' (plain least squares).
     holdout : float in [0, 1) or (N,) bool mask, optional
         Poses kept out of the fit to test the result on (a fraction is picked at random with ``seed``).
+    seed : int
+        The random seed of the held-out poses' choice (the same seed, the same poses).
     kinematics : bool
         False: fit only the base and the marker (the nominal model at its best).
     only : sequence of str, optional

@@ -128,7 +128,10 @@ def _unique(pairs: Iterable[tuple[str, str]]) -> list[tuple[str, str]]:
 
 def contact_excludes(text: str, folder: Path | None, size: float) -> tuple[list[tuple[str, str]], str]:
     """(body pairs to exclude, a one-line note saying how many of each kind) for the draft MJCF ``text``
-    whose meshes are named relative to ``folder`` (see the module doc)."""
+    whose meshes are named relative to ``folder`` (see the module doc).
+
+    ``size``: the robot's size (m): geoms closer than ``TOUCH`` times it at home count as touching.
+    """
     adjacent = _unique(adjacent_pairs(text))
     touching = touching_pairs(text, folder, size)
     if touching is None:

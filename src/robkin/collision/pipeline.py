@@ -125,6 +125,10 @@ def collision_geometry(robot: Robot, mode: str, *, source: str | None, out_dir: 
     out_dir : Path or None
         The output's folder; new mesh files go under ``out_dir/mesh_dir/collision``. None: modes that
         write meshes (hull, decompose, a decimated or flat source mesh) need it (ValueError).
+    mesh_dir : str
+        The meshes' folder under ``out_dir`` (as the MJCF writer names it).
+    package_paths : mapping of package name to folder, optional
+        Where ``package://NAME/...`` meshes are (``--package-path NAME=DIR``).
     max_faces : int
         The face budget of a written mesh.
     """

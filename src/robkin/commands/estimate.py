@@ -138,11 +138,18 @@ def _output_paths(args: argparse.Namespace, kinds: tuple[str, ...]) -> dict[str,
 
 
 def _check_plot_path(path: str) -> None:
+    """--plot's file and matplotlib, checked before any work: without matplotlib nothing is written."""
     from ..io.files.atomic import check_writable_dir
 
     if Path(path).suffix.lower() not in (".png", ".svg", ".pdf"):
         raise InputError(f"--plot {path}: picture must end in .png, .svg or .pdf")
     check_writable_dir(path)
+    try:
+        # matplotlib itself: the drawing modules import it lazily, inside their functions, so importing
+        # them proves nothing (an ImportError would surface only when drawing, as a traceback)
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise InputError("--plot: pictures need matplotlib (pip install 'robkin[plot]')") from None
 
 
 def _optimise(args, poses, base, estimates):
@@ -236,11 +243,9 @@ def _remove_folders(folders: set[Path]) -> None:
 
 
 def _plot(estimates, path: str) -> None:
-    try:
-        from ..viz.metrics import MetricEntry, plot_metrics
-        from ..viz.plot import save_figure
-    except ImportError as exc:
-        raise InputError(f"--plot: pictures need matplotlib (pip install 'robkin[plot]'): {exc}") from None
+    from ..viz.metrics import MetricEntry, plot_metrics
+    from ..viz.plot import save_figure
+
     entries = [MetricEntry(f"type {k}", "target", k, e.metrics.length, e.metrics.manipulability_translational,
                            e.metrics.manipulability_rotational) for k, e in estimates.items()]
     save_figure(plot_metrics(entries, title="estimates A-D"), path)

@@ -28,6 +28,14 @@ elbow's swivel instead: --arm-angle PSI gives every solution (up to 8) at that a
 one on --q0's branch. Every solution printed is checked by forward kinematics to the
 tolerances.
 
+The start: --q0, or by default a configuration inside every joint's limits (zero for each joint whose
+range holds zero, else the middle of its range: the Panda's joint 4, range [-3.07, -0.07], starts at
+-1.57). One solution is the one nearest the start among those found (closed form: of every branch;
+numeric: the first success, from the start itself when that attempt succeeds). --all lists one row per
+closed-form branch; a numeric set on a redundant arm (a 7-joint arm at a full pose, any arm with
+--position-only) is a continuum, of which the rows kept differ pairwise by more than 0.5 rad in some
+revolute joint (0.1 x the robot's size in some prismatic one).
+
 A pose with no solution is not an error: the output has no solutions, the reason and the closest
 configuration's distance from the target (as the GUI shows it; JSON key "closest": q, position_error
 in length units, orientation_error in radians) go to stderr (one line), and the exit status is 0.
@@ -69,14 +77,16 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                             "yaw; or m11..m34), .npy (N, 4, 4) / (N, 6) / (N, 7) or .npz; '-' reads standard "
                             "input. One output row per target, with success and error columns")
     p.add_argument("--all", action="store_true",
-                   help="every distinct solution (closed form: all branches; numeric: those found from "
-                        "1 + RESTARTS starts)")
+                   help="every distinct solution, nearest to --q0 first (closed form: one per branch; "
+                        "numeric: those found from 1 + RESTARTS starts, and on a redundant arm (more joints "
+                        "than matched components) only those more than 0.5 rad apart in some joint)")
     p.add_argument("--json", action="store_true",
                    help='print {"solutions": [{"q": [...], "position_error": ..., "orientation_error": ...}], '
                         '"joints": [...], "method": ..., "success": ..., "reason": ...}')
     add_degrees(p, "roll, pitch, yaw in --pose, revolute joint values in --q0 and in the solutions")
     p.add_argument("--q0", metavar="Q1,Q2,...",
-                   help="preferred configuration: numeric start and tie-break (default: zeros)")
+                   help="preferred configuration: numeric start and tie-break, clipped into the limits (default: "
+                        "zero for each joint whose range holds it, else the middle of its range)")
     mask = p.add_mutually_exclusive_group()
     mask.add_argument("--position-only", action="store_true", help="match the position only (numeric)")
     mask.add_argument("--mask", metavar="X,Y,Z,RX,RY,RZ",

@@ -85,6 +85,8 @@ def inverse_dynamics(robot: "Robot", q: ArrayLike, qd: ArrayLike | None = None, 
 
     Parameters
     ----------
+    robot : Robot
+        Its inertials (``robkin.mass_properties``) and joints' armature.
     q, qd, qdd : (n,) or (N, n) arrays of one shape
         Joint values (rad or m), velocities (rad/s or m/s), accelerations (rad/s^2 or m/s^2); qd and
         qdd default to zero.
@@ -142,6 +144,8 @@ def mass_matrix(robot: "Robot", q: ArrayLike, threads: int | None = None) -> np.
 
     Composite-rigid-body algorithm; units kg m^2 (revolute pairs), kg m (mixed), kg (prismatic pairs).
     The joints' armature is on the diagonal (see the module doc). ``threads`` as in ``inverse_dynamics``.
+
+    ``robot``: the Robot (its inertials, ``mass_properties``); ``q`` (n,) or (N, n) joint values.
     """
     kernel, _, arm = robot.__dict__.get(_CACHE) or _kernel(robot)
     t = 0 if threads is None else check_threads(threads)

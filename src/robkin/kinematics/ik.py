@@ -55,16 +55,24 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
     T : (4, 4) or (N, 4, 4) array
         Target tool poses in the robot base frame.
     q0 : (n,) or (N, n) array, optional
-        Preferred configuration: the numeric start, and the tie-break among closed-form solutions
-        (and for their free joints, e.g. the SCARA's redundant vertical pair). Default: zero, clipped
-        into the limits.
+        Preferred configuration, the start: the numeric solver's first attempt starts there, and the
+        answer ``q`` is the solution nearest to it among those found (every closed-form branch; for the
+        numeric method the first success, and with ``all_solutions`` every one found), as are free
+        joints (e.g. the SCARA's redundant vertical pair). Given values are clipped into the limits.
+        Default: inside every joint's limits, zero where zero is within a joint's range, else the
+        midpoint of its range (``kinematics.limits.default_preference``; docs/ik.md).
     mask : 'pose' (default), 'position', or 6 values 0/1 for (x, y, z, rx, ry, rz)
         Residual components that must match (base frame). Anything but the full pose is numeric.
     method : 'auto', 'analytic' or 'numeric'
     all_solutions : bool
-        Also return every distinct solution: all closed-form branches, or for the numeric method the
-        distinct solutions reached from 1 + ``restarts`` starts run side by side (not guaranteed to
-        be all of them).
+        Also return every distinct solution, nearest to ``q0`` first: all closed-form branches (one row
+        per branch; rows closer than ``SAME_SOLUTION_TOL`` in every joint are one), or for the numeric
+        method the distinct solutions reached from 1 + ``restarts`` starts run side by side (not
+        guaranteed to be all of them). Where the solutions form a continuum (a redundant target: more
+        joints than matched pose components, e.g. a 7-joint arm at a full pose) the numeric rows are
+        kept spaced: each differs from every row before it by more than ``REDUNDANT_SPACING`` (0.5 rad)
+        in some revolute joint or ``REDUNDANT_SPACING_LENGTH`` (0.1) times the robot's size in some
+        prismatic joint.
     tol_position : float
         Length units (metres for metre robots).
     tol_orientation : float

@@ -26,12 +26,21 @@ from .kernel_solver import ClosedFormSolver
 from .limits import LIMIT_TOL, default_preference
 from .lm import LMSettings, solve_lm
 
-__all__ = ["SAME_SOLUTION_TOL", "closed_form_batch", "numeric_batch", "preferred_starts", "single_closed_form"]
+__all__ = ["SAME_SOLUTION_TOL", "REDUNDANT_SPACING", "REDUNDANT_SPACING_LENGTH", "closed_form_batch", "numeric_batch", "preferred_starts", "single_closed_form"]
 
 #: Two solutions of one target are the same when no joint differs by more than this (radians, or
 #: lengths relative to the robot's size): far above the ~1e-12 spread of one solution reached
 #: along different branches or restarts, far below any real difference between branches.
 SAME_SOLUTION_TOL = 1e-6
+
+#: Numeric ``all_solutions`` of a redundant target (more joints than matched components: a 7-joint arm at a
+#: full pose, any arm at a position-only mask) are a continuum, the self-motion manifold, and the restarts
+#: land all along it. Of those, one is kept per neighbourhood: each solution kept (nearest to q0 first)
+#: differs from every one kept before it by more than this in some revolute joint (radians: ~29 deg, a
+#: visibly other posture) or more than REDUNDANT_SPACING_LENGTH * the robot's size in some prismatic joint.
+#: (At SAME_SOLUTION_TOL the Panda's 201 restarts gave 83 rows, many a few milliradians apart.)
+REDUNDANT_SPACING = 0.5
+REDUNDANT_SPACING_LENGTH = 0.1
 
 
 @dataclass
@@ -137,6 +146,10 @@ def numeric_batch(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np
     sols = None
     if all_solutions:
         scale = _joint_scale(robot)
+        same = SAME_SOLUTION_TOL
+        if n > int(np.count_nonzero(mask)):     # redundant: a continuum of solutions, kept spaced apart
+            scale = np.where(robot.revolute, 1.0, robot.scale * (REDUNDANT_SPACING_LENGTH / REDUNDANT_SPACING))
+            same = REDUNDANT_SPACING
         # 1 + restarts starts per target side by side, each one attempt; keep every distinct success
         K = 1 + settings.restarts
         span = np.where(robot.revolute, np.pi, robot.scale)
@@ -149,7 +162,7 @@ def numeric_batch(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np
                        ref=np.repeat(q_ref, K, axis=0))
         Q = out.q.reshape(N, K, n)
         ok = out.success.reshape(N, K)
-        sols = [distinct_sorted(Q[i][ok[i]], q_ref[i], scale, SAME_SOLUTION_TOL) for i in range(N)]
+        sols = [distinct_sorted(Q[i][ok[i]], q_ref[i], scale, same) for i in range(N)]
         iters = out.iterations.reshape(N, K).sum(axis=1)
         attempts = np.full(N, K)
         E = np.hypot(out.position_error, out.orientation_error).reshape(N, K)

@@ -41,6 +41,10 @@ def jacobian_space(robot: Robot, q: ArrayLike, threads: int | None = None,
 
     Column i is joint i's unit screw at q in the base frame: revolute (z_i, p_i x z_i), prismatic
     (0, z_i), with z_i the axis and p_i a point on it. Compiled.
+
+    ``robot``: the Robot; ``threads``: at most that many threads for a batch (default automatic, see
+    ``robkin.threads``); ``out``: an array of the result's shape to write into (float64, C-contiguous), else a
+    new one.
     """
     return _compiled(robot, q, 1, threads, out)
 
@@ -48,7 +52,11 @@ def jacobian_space(robot: Robot, q: ArrayLike, threads: int | None = None,
 def jacobian_body(robot: Robot, q: ArrayLike, threads: int | None = None,
                   out: np.ndarray | None = None) -> np.ndarray:
     """Body Jacobian (6, n) or (N, 6, n): the space Jacobian seen from the tool frame,
-    Ad_{T^-1} J_s; rows (w, v). Compiled."""
+    Ad_{T^-1} J_s; rows (w, v). Compiled.
+
+    ``robot``: the Robot; ``q`` (n,) or (N, n) joint values; ``threads``: at most that many threads for a
+    batch (default automatic); ``out``: an array of the result's shape to write into, else a new one.
+    """
     return _compiled(robot, q, 2, threads, out)
 
 
@@ -58,12 +66,19 @@ def jacobian_geometric(robot: Robot, q: ArrayLike, threads: int | None = None,
 
     Revolute column (z_i x (p_tool - p_i); z_i), prismatic (z_i; 0). Length units per radian in the
     v rows of revolute joints. Compiled.
+
+    ``robot``: the Robot; ``q`` (n,) or (N, n) joint values; ``threads``: at most that many threads for a
+    batch (default automatic, see ``robkin.threads``); ``out``: an array of the result's shape to write into
+    (float64, C-contiguous), else a new one.
     """
     return _compiled(robot, q, 0, threads, out)
 
 
 def singular_values(J: ArrayLike) -> np.ndarray:
-    """Singular values (..., min(m, n)) in descending order."""
+    """Singular values (..., min(m, n)) in descending order.
+
+    ``J``: the matrices (..., m, n).
+    """
     return np.linalg.svd(np.asarray(J, dtype=float), compute_uv=False)
 
 
@@ -93,6 +108,8 @@ def manipulability(robot: Robot, q: ArrayLike, kind: str = "translational",
         Joint values (radians / length units).
     kind : {'translational', 'rotational', 'full'}
         Rows used: v (3 x n), w (3 x n) or both (6 x n).
+    threads : int, optional
+        At most that many threads for a batch (default automatic, see ``robkin.threads``).
 
     Returns
     -------
@@ -125,6 +142,9 @@ def inverse_condition_number(robot: Robot, q: ArrayLike, kind: str = "translatio
     depends on the length unit (the measure is most meaningful per kind). Shapes as ``manipulability``.
     Only the first min(rows, n) singular values exist: an arm with fewer joints than selected rows is
     measured within the span of its Jacobian.
+
+    ``robot``: the Robot; ``q`` (n,) or (N, n) joint values; ``kind``: 'translational', 'rotational' or
+    'full', the rows used.
     """
     s = _selected_singular_values(robot, q, kind)
     smax = s[..., 0]
@@ -136,13 +156,19 @@ def min_singular_value(robot: Robot, q: ArrayLike, kind: str = "translational") 
 
     Units: length per radian (translational rows of revolute joints), 1 (rotational). Shapes as
     ``manipulability``.
+
+    ``robot``: the Robot; ``q`` (n,) or (N, n) joint values; ``kind``: 'translational', 'rotational' or
+    'full', the rows used.
     """
     return _scalar(_selected_singular_values(robot, q, kind)[..., -1])
 
 
 def measures(robot: Robot, q: ArrayLike) -> dict[str, np.ndarray | float]:
     """All measures at q: Yoshikawa manipulability (translational, rotational, full), inverse
-    condition number and minimum singular value (translational and rotational)."""
+    condition number and minimum singular value (translational and rotational).
+
+    ``robot``: the Robot; ``q`` (n,) or (N, n) joint values; each value a float, or (N,) for a batch.
+    """
     out: dict[str, np.ndarray | float] = {}
     for kind in _ROWS:
         out[f"manipulability_{kind}"] = manipulability(robot, q, kind)

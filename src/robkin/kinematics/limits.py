@@ -50,5 +50,28 @@ def within_limits(Q: np.ndarray, limits: np.ndarray) -> np.ndarray:
 
 
 def default_preference(limits: np.ndarray) -> np.ndarray:
-    """(n,) the preferred configuration when the caller gives none: zero, clipped into the limits (n, 2)."""
-    return np.minimum(np.maximum(0.0, limits[:, 0]), limits[:, 1])
+    """(n,) the default start of IK when the caller gives no ``q0``: inside every joint's limits.
+
+    Each joint starts at zero where zero lies within its limits (the robot's own home: nothing changes for
+    an arm whose ranges all contain it), else at the midpoint of its range, the value farthest from both
+    limits. (Zero clipped into the range would sit on a limit: the Panda's joint 4, range [-3.07, -0.07],
+    would start at -0.07, an elbow stretched straight against its stop, a singular start from which the
+    numeric solver wanders to a contorted answer.) A range with one infinite end takes the finite limit
+    nearest zero when zero lies outside it (no midpoint exists).
+
+    Parameters
+    ----------
+    limits : (n, 2) array
+        Lower and upper limits (radians or length units), -inf / +inf where none.
+
+    Returns
+    -------
+    (n,) array
+        The default start; within ``limits`` on every joint.
+    """
+    lower, upper = limits[:, 0], limits[:, 1]
+    inside = (lower <= 0.0) & (upper >= 0.0)
+    finite = np.isfinite(lower) & np.isfinite(upper)
+    with np.errstate(invalid="ignore"):     # inf + -inf where a range is unbounded: not used there
+        middle = 0.5 * (lower + upper)
+    return np.where(inside, 0.0, np.where(finite, middle, np.minimum(np.maximum(0.0, lower), upper)))

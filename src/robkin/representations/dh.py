@@ -39,13 +39,18 @@ class DHTable(LinkTable):
     link_matrix: ClassVar[Callable[..., np.ndarray]] = staticmethod(se3.dh_matrix)
 
     def base_row(self, tol: float = 1e-9) -> tuple[float, float, float, float] | None:
-        """The base as a fixed DH row (the paper's n+1-row layout), or None if it is not one."""
+        """The base as a fixed DH row (the paper's n+1-row layout), or None if it is not one.
+
+        ``tol``: how far (in the robot's length unit and radians) the base may be from a DH row and still
+        count as one.
+        """
         row = dh_params_between(np.eye(4), self.base)
         if np.allclose(se3.dh_matrix(*row), self.base, atol=tol * max(1.0, np.abs(self.base[:3, 3]).max())):
             return row
         return None
 
     def to_robot(self, name: str | None = None) -> Robot:
+        """The robot this table describes (``robot_from_dh``); ``name``: the robot's name (default: none)."""
         return robot_from_dh(self, name=name)
 
 
@@ -56,6 +61,8 @@ def robot_from_dh(table: "DHTable | ArrayLike", name: str | None = None, *, join
     ``table`` may also be the rows alone, an (n, 4) array of (a, d, alpha, theta) (lengths in the robot's unit,
     angles in radians), with ``joints`` (None: all revolute; a type string such as "RRPR"; or n
     ``Joint``) and optional ``base`` / ``tool`` (4, 4); anything else raises one InputError.
+
+    ``name``: the robot's name (default: none).
     """
     from .table_input import link_table_of
 

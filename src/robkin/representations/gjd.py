@@ -17,6 +17,8 @@ def robot_from_gjd(frames: ArrayLike, joints: Any = None, name: str | None = Non
     """The robot of n + 1 frames (n + 1, 4, 4) in the base frame at q = 0 (joint frames, then the tool).
 
     ``joints``: None (all revolute), a type string such as "RRPR", or n ``Joint``.
+
+    ``frames``: the GJD frames (n + 1, 4, 4); ``name``: the robot's name (default: none).
     """
     from .table_input import joints_for
 
@@ -33,5 +35,9 @@ def robot_from_gjd(frames: ArrayLike, joints: Any = None, name: str | None = Non
 
 
 def gjd_from_robot(robot: Robot) -> np.ndarray:
-    """The GJD frames (n + 1, 4, 4)."""
+    """The GJD frames (n + 1, 4, 4).
+
+    ``robot``: any Robot; its frames J_1..J_n (joint i's axis along z) and J_{n+1} (the tool) at q = 0, in its
+    base frame.
+    """
     return np.array(robot.frames)

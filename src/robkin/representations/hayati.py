@@ -65,6 +65,7 @@ class HayatiTable(LinkTable):
     link_matrix: ClassVar[Callable[..., np.ndarray]] = staticmethod(hayati_matrix)
 
     def to_robot(self, name: str | None = None) -> Robot:
+        """The robot this table describes (``robot_from_hayati``); ``name``: the robot's name (default: none)."""
         return robot_from_hayati(self, name=name)
 
 
@@ -75,6 +76,8 @@ def robot_from_hayati(table: "HayatiTable | ArrayLike", name: str | None = None,
     ``table`` may also be the rows alone, an (n, 5) array of (a, d, alpha, theta, beta) (lengths in the robot's unit,
     angles in radians), with ``joints`` (None: all revolute; a type string such as "RRPR"; or n
     ``Joint``) and optional ``base`` / ``tool`` (4, 4); anything else raises one InputError.
+
+    ``name``: the robot's name (default: none).
     """
     from .table_input import link_table_of
 

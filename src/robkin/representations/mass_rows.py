@@ -50,13 +50,19 @@ _SIX = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))
 
 
 def six_from_tensor(I: np.ndarray) -> np.ndarray:
-    """(..., 3, 3) inertia tensors -> (..., 6) entries (Ixx, Iyy, Izz, Ixy, Iyz, Ixz)."""
+    """(..., 3, 3) inertia tensors -> (..., 6) entries (Ixx, Iyy, Izz, Ixy, Iyz, Ixz).
+
+    ``I``: the tensors (..., 3, 3), kg m^2.
+    """
     I = np.asarray(I, dtype=float)
     return np.stack([I[..., r, c] for r, c in _SIX], axis=-1)
 
 
 def tensor_from_six(six: np.ndarray) -> np.ndarray:
-    """(..., 6) entries (Ixx, Iyy, Izz, Ixy, Iyz, Ixz) -> (..., 3, 3) symmetric tensors."""
+    """(..., 6) entries (Ixx, Iyy, Izz, Ixy, Iyz, Ixz) -> (..., 3, 3) symmetric tensors.
+
+    ``six``: the entries (..., 6), kg m^2.
+    """
     six = np.asarray(six, dtype=float)
     I = np.empty(six.shape[:-1] + (3, 3))
     for k, (r, c) in enumerate(_SIX):
@@ -137,7 +143,11 @@ class MassRows:
     @classmethod
     def from_six(cls, mass: ArrayLike, com: ArrayLike, six: ArrayLike, base: "MassRows | None" = None
                  ) -> "MassRows":
-        """From masses (n,), centres (n, 3) and inertia entries (n, 6) as the documents write them."""
+        """From masses (n,), centres (n, 3) and inertia entries (n, 6) as the documents write them.
+
+        ``mass`` (n,) kg, ``com`` (n, 3) m in each row's frame, ``six`` (n, 6) kg m^2 (Ixx, Iyy, Izz, Ixy,
+        Iyz, Ixz), ``base``: the base's own mass properties (a MassRows of one row), or None.
+        """
         return cls(np.asarray(mass, dtype=float), np.asarray(com, dtype=float),
                    tensor_from_six(np.asarray(six, dtype=float).reshape(-1, 6)), base)
 

@@ -31,6 +31,7 @@ class MDHTable(LinkTable):
     link_matrix: ClassVar[Callable[..., np.ndarray]] = staticmethod(se3.mdh_matrix)
 
     def to_robot(self, name: str | None = None) -> Robot:
+        """The robot this table describes (``robot_from_mdh``); ``name``: the robot's name (default: none)."""
         return robot_from_mdh(self, name=name)
 
 
@@ -42,6 +43,8 @@ def robot_from_mdh(table: "MDHTable | ArrayLike", name: str | None = None, *, jo
     ``table`` may also be the rows alone, an (n, 4) array of (a(i-1), d, alpha(i-1), theta) (lengths in the
     robot's unit, angles in radians), with ``joints`` (None: all revolute; a type string such as "RRPR"; or n
     ``Joint``) and optional ``base`` / ``tool`` (4, 4); anything else raises one InputError.
+
+    ``name``: the robot's name (default: none).
     """
     from .table_input import link_table_of
 

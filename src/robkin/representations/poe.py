@@ -50,6 +50,9 @@ def check_screws(screws: ArrayLike, joints: tuple[Joint, ...], field_name: str =
     ``size`` is a length of the robot the screws do not show, in the screws' length unit: the
     distance from the PoE's reference frame to the tool (|translation of M|). In the body frame every
     axis may pass through the tool origin (all |v| ~ 0) while the tool is 1000 units from the base.
+
+    ``joints``: the joints the screws belong to (their types decide what is valid); ``field_name``: how
+    messages name the screws (``poe.screws[i]``); ``warn``: False projects silently.
     """
     try:
         S = np.array(screws, dtype=float)
@@ -180,6 +183,7 @@ class PoE:
         return T @ self.M if self.frame == "space" else self.M @ T
 
     def to_robot(self, name: str | None = None) -> Robot:
+        """The robot these screws describe (``robot_from_poe``); ``name``: the robot's name (default: none)."""
         return robot_from_poe(self, name=name)
 
 
@@ -191,6 +195,8 @@ def robot_from_poe(poe: "PoE | ArrayLike", name: str | None = None, *, M: ArrayL
     home tool pose (4, 4); identity when absent), ``frame`` ('space' or 'body') and ``joints`` (None:
     prismatic where w = 0, revolute elsewhere; a type string such as "RRPR"; or n ``Joint``); anything
     else raises one InputError.
+
+    ``name``: the robot's name (default: none).
     """
     if not isinstance(poe, PoE):
         poe = _poe_of(poe, M, joints, frame)

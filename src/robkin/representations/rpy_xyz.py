@@ -34,13 +34,19 @@ COLUMNS = ("roll", "pitch", "yaw", "x", "y", "z")
 
 
 def pose_from_row(row: ArrayLike) -> np.ndarray:
-    """(..., 6) rows (roll, pitch, yaw, x, y, z) -> (..., 4, 4) poses."""
+    """(..., 6) rows (roll, pitch, yaw, x, y, z) -> (..., 4, 4) poses.
+
+    ``row``: the rows (..., 6), angles in radians.
+    """
     row = np.asarray(row, dtype=float)
     return se3.homogeneous(se3.matrix_from_rpy(row[..., :3]), row[..., 3:])
 
 
 def row_from_pose(T: ArrayLike) -> np.ndarray:
-    """(..., 4, 4) poses -> (..., 6) rows (roll, pitch, yaw, x, y, z)."""
+    """(..., 4, 4) poses -> (..., 6) rows (roll, pitch, yaw, x, y, z).
+
+    ``T``: the poses (..., 4, 4).
+    """
     T = np.asarray(T, dtype=float)
     return np.concatenate([se3.rpy_from_matrix(T[..., :3, :3]), T[..., :3, 3]], axis=-1)
 
@@ -116,6 +122,7 @@ class RPYTable:
         return T @ P[-1]
 
     def to_robot(self, name: str | None = None) -> Robot:
+        """The robot this table describes (``robot_from_rpy``); ``name``: the robot's name (default: none)."""
         return robot_from_rpy(self, name=name)
 
 
@@ -126,6 +133,8 @@ def robot_from_rpy(table: "RPYTable | ArrayLike", name: str | None = None, *, jo
     ``table`` may also be the rows alone, an (n + 2, 6) array of (roll, pitch, yaw, x, y, z), with
     ``joints`` (None: all revolute; a type string such as "RRPR"; or n ``Joint``); anything else raises
     one InputError.
+
+    ``name``: the robot's name (default: none).
     """
     if not isinstance(table, RPYTable):
         from .table_input import joints_for, rows_array

@@ -211,7 +211,11 @@ def step_check(path: str | Path, seconds: float = 2.0, size: float = 0.2, slide_
                key: str = "home", contacts: bool = True, joints: Sequence[str] | None = None) -> StepReport:
     """From keyframe ``key``, step each position actuator's control (see the module doc); ``contacts``
     as for ``hold_check``; ``joints``: the joints stepped, and watched for leaving their range (default:
-    every actuated joint)."""
+    every actuated joint).
+
+    ``path``: the MJCF file; ``seconds``: how long each step is watched; ``size``: the step of a revolute
+    joint (rad), ``slide_size`` of a prismatic one (m).
+    """
     import mujoco
 
     model = mujoco.MjModel.from_xml_path(str(path))

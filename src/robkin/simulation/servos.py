@@ -129,6 +129,7 @@ class ServoPlan:
         raise KeyError(name)
 
     def get(self, name: str) -> JointServo | None:
+        """The servo of joint ``name``, or None when the joint has none."""
         return next((j for j in self.joints if j.name == name), None)
 
     @property
@@ -302,7 +303,9 @@ def servo_plan(robot: Robot, *, kind: str = "position", home: ArrayLike | None =
         Compensate gravity; default: yes for position and velocity servos, no for motors and none (a
         motor's ``ctrl`` is the whole torque).
     bandwidth : float
-        Hz (``BANDWIDTH_HZ``); timestep : s, the step the gains must be stable at (``TIMESTEP``).
+        Hz (``BANDWIDTH_HZ``).
+    timestep : float
+        s, the step the gains must be stable at (``TIMESTEP``).
 
     Returns
     -------

@@ -157,7 +157,11 @@ def estimate(pose: ArrayLike, n: int, kind: str = "D", base: ArrayLike | None = 
 
 def estimate_all(pose: ArrayLike, n: int, base: ArrayLike | None = None,
                  kinds: Iterable[str] = KINDS) -> dict[str, Estimate]:
-    """All (or the given) estimate types for one target, keyed by type letter."""
+    """All (or the given) estimate types for one target, keyed by type letter.
+
+    ``pose``, ``n``, ``base``: as for ``estimate`` (the target pose (4, 4) in the world frame, the number of
+    joints, the base pose, default identity); ``kinds``: the types among 'A', 'B', 'C', 'D'.
+    """
     return {k: estimate(pose, n, k, base) for k in (_check_kind(k) for k in kinds)}
 
 

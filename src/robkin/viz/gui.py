@@ -127,6 +127,9 @@ def make_server(host: str = "127.0.0.1", port: int = 8765, text: str = "", fmt: 
     ``source`` is the file ``text`` was read from: only then are the meshes it references served
     (``package_paths``: NAME -> folder of packages they name, as ``--package-path``).
     Raises InputError when the three.js modules are not installed (see ``robkin.viz.assets``).
+
+    ``base_link``, ``tip_link``: the chain of a URDF, SDF or MJCF ``text``; ``quiet``: False logs each request
+    to stderr.
     """
     from ..examples import EXAMPLES_DIR
     from .assets import require_assets

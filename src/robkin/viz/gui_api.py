@@ -297,6 +297,9 @@ def solve_ik(text: str, fmt: str, target: Any, q0: Any, base_link: str | None = 
     the tool pose ``T``, its ``rpy_xyz`` and the ``scene`` to draw. ``arm_angle`` (radians, SRS arms
     only): solve at that arm angle, on q0's branch (``kinematics.srs``); the answer's ``srs`` and
     ``arm_angle`` say whether the arm is SRS and the arm angle of ``q``.
+
+    ``text``, ``fmt``: the robot, as the page holds it (a robot file's text and its format, 'auto' to guess);
+    ``base_link``, ``tip_link``: its chain; ``tool_row``: a table's last row is the tool, not a joint.
     """
     from .. import se3
     from .scene import build_scene
@@ -373,6 +376,9 @@ def export(text: str, fmt: str, to: str, base_link: str | None = None, tip_link:
 
     ``to`` is one of EXPORTS: the full document as 'yaml' or 'json', 'urdf', or one representation
     as a YAML document holding ``joints`` and that section only.
+
+    ``text``, ``fmt``: the robot, as the page holds it (a robot file's text and its format, 'auto' to guess);
+    ``base_link``, ``tip_link``: its chain; ``tool_row``: a table's last row is the tool, not a joint.
     """
     from ..io.documents.reader import document_from_robot, dump
 

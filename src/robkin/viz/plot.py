@@ -179,6 +179,8 @@ def save_figure(fig: "Figure", path: str | os.PathLike, *, caption: str = "") ->
     """Write ``fig`` to ``path`` (.png, .svg, .pdf, or .html with the SVG inline), all-or-nothing.
 
     Returns the path written. InputError for an unknown extension or an unwritable folder.
+
+    ``caption``: a line of text written under the picture (empty: none).
     """
     import io
 

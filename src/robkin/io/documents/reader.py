@@ -55,13 +55,19 @@ AGREE_TOL = 1e-6
 
 # ---------------------------------------------------------------------------------------- reading
 def read_document(path: str | os.PathLike[str]) -> Robot:
-    """Read a robot document (.yaml, .yml or .json) into a Robot; InputError names file and field."""
+    """Read a robot document (.yaml, .yml or .json) into a Robot; InputError names file and field.
+
+    ``path``: the file.
+    """
     text, fmt = read_text(path)
     return parse_document(text, fmt, source=str(path))
 
 
 def read_text(path: str | os.PathLike[str]) -> tuple[str, str]:
-    """The text of a document file and its format ('yaml' or 'json'); InputError names the problem."""
+    """The text of a document file and its format ('yaml' or 'json'); InputError names the problem.
+
+    ``path``: the file.
+    """
     p = Path(path)
     ext = p.suffix.lower()
     fmt = {".yaml": "yaml", ".yml": "yaml", ".json": "json"}.get(ext)
@@ -75,6 +81,8 @@ def parse_text(text: str, fmt: str, source: str) -> Any:
 
     Bounded for untrusted text: YAML aliases are limited (``safe_yaml``), integers too long for a
     float become +-inf (refused later with the field's name), and deep nesting is an error.
+
+    ``fmt``: 'yaml' or 'json'; ``source``: the name messages give the text (a file name).
     """
     if fmt == "json":
         try:
@@ -107,7 +115,10 @@ def _json_int(text: str) -> int | float:
 
 
 def parse_document(text: str, fmt: str = "yaml", source: str = "<document>") -> Robot:
-    """Parse document text (fmt 'yaml' or 'json') into a Robot."""
+    """Parse document text (fmt 'yaml' or 'json') into a Robot.
+
+    ``text``: the document; ``source``: the name messages give it (a file name).
+    """
     data = parse_text(text, fmt, source)
     try:
         sections, joints, name = _sections(data)
@@ -117,7 +128,10 @@ def parse_document(text: str, fmt: str = "yaml", source: str = "<document>") -> 
 
 
 def read_sections(path: str | os.PathLike[str]) -> dict[str, Robot]:
-    """Each representation section of a document as its own Robot (for comparing them)."""
+    """Each representation section of a document as its own Robot (for comparing them).
+
+    ``path``: the document file.
+    """
     text, fmt = read_text(path)
     data = parse_text(text, fmt, str(path))
     try:
@@ -262,7 +276,10 @@ def _with_masses(primary: Robot, robots: dict[str, Robot]) -> Robot:
 
 
 def same_robot(a: Robot, b: Robot, tol: float = AGREE_TOL) -> str | None:
-    """None if two robots have the same FK (checked at home and fixed configurations), else why not."""
+    """None if two robots have the same FK (checked at home and fixed configurations), else why not.
+
+    ``a``, ``b``: the robots; ``tol``: the largest FK difference allowed (the robot's length unit, radians).
+    """
     if a.n != b.n:
         return f"{a.n} vs {b.n} joints"
     if a.types != b.types:

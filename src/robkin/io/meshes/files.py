@@ -110,7 +110,10 @@ def with_mesh_names(robot: "Robot", names: Mapping[str, str]) -> "Robot":
 
 
 def parse_package_path(text: str) -> tuple[str, Path]:
-    """``NAME=DIR`` of ``--package-path`` -> (NAME, DIR); ValueError (one line) when malformed."""
+    """``NAME=DIR`` of ``--package-path`` -> (NAME, DIR); ValueError (one line) when malformed.
+
+    ``text``: the option's value, ``NAME=DIR``.
+    """
     name, sep, folder = text.partition("=")
     name = name.strip()
     if not sep or not folder or not _valid_package(name):
@@ -191,7 +194,10 @@ def _check_file(candidate: Path) -> tuple[Path | None, str | None]:
 
 def resolve_mesh_file(filename: str, robot_file: str | os.PathLike,
                       package_paths: Mapping[str, Path] | None = None) -> MeshFile:
-    """Find the one mesh file ``filename`` (as written in ``robot_file``); see the module doc."""
+    """Find the one mesh file ``filename`` (as written in ``robot_file``); see the module doc.
+
+    ``package_paths``: package name -> its folder (``--package-path NAME=DIR``), searched first.
+    """
     robot_file = Path(robot_file)
     packages = dict(package_paths or {})
     if not filename:
@@ -219,7 +225,8 @@ def resolve_mesh_file(filename: str, robot_file: str | os.PathLike,
             where = ", ".join(("a folder above the file",) + SEARCH_PATHS[scheme] +
                               (("AMENT_PREFIX_PATH",) if scheme == "package" else ()))
             return MeshFile(filename, None, f"{scheme} '{package}' not found (looked in {where}); "
-                                            f"give its folder with --package-path {package}=DIR")
+                                            f"give its folder with --package-path {package}=DIR "
+                                            f"(Python: package_paths={{'{package}': DIR}})")
         reason = None
         for root in roots:
             path, why = _check_file(root.joinpath(*parts))
@@ -288,7 +295,11 @@ def _warn_outside(found: Iterable[MeshFile], source_file: Path) -> None:
 
 
 def missing_line(resolved: Mapping[str, MeshFile], source_file: str | os.PathLike) -> str | None:
-    """One line saying which meshes were not found and why (grouped by reason), or None if none are missing."""
+    """One line saying which meshes were not found and why (grouped by reason), or None if none are missing.
+
+    ``resolved``: mesh name -> ``MeshFile`` (``resolve_meshes``); ``source_file``: the robot file, named at
+    the line's start.
+    """
     by_reason: dict[str, list[str]] = {}
     for m in resolved.values():
         if m.path is None:
@@ -315,6 +326,8 @@ def copy_meshes(resolved: Mapping[str, MeshFile], out_dir: str | os.PathLike, su
     without trimesh, or when a file cannot be converted, those meshes are left out of the result with
     one warning line naming them.
     Meshes not found (``path`` None) are left out as well.
+
+    ``resolved``: mesh name -> ``MeshFile`` (``resolve_meshes``); the ones not found are skipped.
     """
     from ..files.atomic import check_inside
 

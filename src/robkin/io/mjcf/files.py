@@ -126,11 +126,42 @@ def _drop_unused(robot: Robot, mesh_files: dict[str, str], mesh_parts: Mapping[s
 def write_mjcf(robot: Robot, path: str | os.PathLike[str], *, source: str | os.PathLike[str] | None = None,
                package_paths: Mapping[str, Path] | None = None, **options: Any) -> Path:
     """Write ``robot`` as an MJCF model at ``path`` with its meshes in a ``meshes`` folder beside it
-    (see the module doc); returns the path. ``source``: the robot file it was read from (its meshes);
-    ``options``: those of ``writer.mjcf_text``."""
+    (see the module doc); returns the path.
+
+    Parameters
+    ----------
+    robot : Robot
+    path : str or path
+        The model file. Its folder is made if need be, inside an existing folder (as ``robkin convert
+        -o`` does); if the model cannot be written, a folder made here is removed again.
+    source : str or path, optional
+        The robot file the robot was read from: its meshes are found from there (None: no meshes).
+    package_paths : mapping of package name to folder, optional
+        Where ``package://NAME/...`` meshes are (``--package-path NAME=DIR`` on the command line);
+        searched before the folders above ``source``, ``ROS_PACKAGE_PATH`` and ``AMENT_PREFIX_PATH``.
+    **options
+        Those of ``writer.mjcf_text`` (``actuators``, ``kp``, ``kv``, ``home``, ``gravcomp``, ``servos``,
+        ``fuse_fixed``).
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
+    import shutil
+
     from ..files.atomic import write_text_atomic
 
     out = Path(path)
-    text = mjcf_with_meshes(robot, source, out.parent, package_paths=package_paths, **options)
-    write_text_atomic(out, text)
+    folder = out.parent if str(out.parent) else Path(".")
+    made = not folder.exists() and (folder.parent if str(folder.parent) else Path(".")).is_dir()
+    if made:
+        folder.mkdir()
+    try:
+        text = mjcf_with_meshes(robot, source, folder, package_paths=package_paths, **options)
+        write_text_atomic(out, text)
+    except BaseException:
+        if made:    # the meshes copied into it are this call's: nothing half-written is left
+            shutil.rmtree(folder, ignore_errors=True)
+        raise
     return out

@@ -19,13 +19,19 @@ __all__ = ["locked_value", "locked_joints", "warn_locked", "mjcf_lock_equalities
 
 
 def locked_value(lower: float | None, upper: float | None) -> float | None:
-    """The value a joint is held at when its limits are equal, else None."""
+    """The value a joint is held at when its limits are equal, else None.
+
+    ``lower``, ``upper``: the joint's limits (None where there is none).
+    """
     return lower if lower is not None and upper is not None and lower == upper else None
 
 
 def locked_joints(joints: Iterable[Any]) -> list[tuple[str, float]]:
     """(name, value) of each joint (anything with ``name``, ``lower``, ``upper``: ``Joint``,
-    ``UrdfJoint``, the MJCF writer's plans) whose lower limit equals its upper one, in order."""
+    ``UrdfJoint``, the MJCF writer's plans) whose lower limit equals its upper one, in order.
+
+    ``joints``: the joints, in order.
+    """
     out = []
     for j in joints:
         v = locked_value(j.lower, j.upper)
@@ -35,7 +41,10 @@ def locked_joints(joints: Iterable[Any]) -> list[tuple[str, float]]:
 
 
 def warn_locked(source: str, joints: Iterable[Any]) -> None:
-    """One warning line naming the joints with equal limits, if any (see the module doc)."""
+    """One warning line naming the joints with equal limits, if any (see the module doc).
+
+    ``source``: the file the warning names; ``joints``: the joints, as ``locked_joints`` takes them.
+    """
     locked = locked_joints(joints)
     if not locked:
         return
@@ -51,5 +60,7 @@ def mjcf_lock_equalities(joints: Iterable[Any], quoteattr: Callable[[str], str],
     """MJCF ``<joint>`` equality elements holding each locked joint at its value (for ``<equality>``).
 
     ``quoteattr`` quotes an attribute value, ``number`` writes a float (the writer's own helpers).
+
+    ``joints``: the joints, as ``locked_joints`` takes them.
     """
     return [f"<joint joint1={quoteattr(name)} polycoef=\"{number(v)} 0 0 0 0\"/>" for name, v in locked_joints(joints)]

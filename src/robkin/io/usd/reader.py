@@ -348,6 +348,8 @@ def robot_from_usd(source: str | os.PathLike[str], base_link: str | None = None,
     base_link, tip_link : str, optional
         Links (rigid bodies, or frames robkin wrote) at the chain's ends; by default the link fixed to
         the world and the only leaf below it.
+    name : str, optional
+        The robot's name (default: the articulation's).
 
     Returns
     -------

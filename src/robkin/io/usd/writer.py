@@ -383,7 +383,13 @@ def write_usd(robot: Robot, path: str | os.PathLike[str], *, source: str | os.Pa
               package_paths: Mapping[str, Path] | None = None, drives: DriveGains | None = None,
               gravity_off: bool = False) -> Path:
     """Write ``robot`` as ``path`` (``.usda`` text, ``.usd``/``.usdc`` binary), atomically, its meshes
-    (from the robot file ``source``) inline; returns the path."""
+    (from the robot file ``source``) inline; returns the path.
+
+    ``source``: the robot file its meshes are found from (None: none); ``package_paths``: package name -> folder
+    for ``package://`` meshes (``--package-path``); ``drives``, ``gravity_off``: as for ``usd_stage`` (joint
+    name -> drive gains, default effort-only drives; every rigid body with gravity disabled, i.e.
+    compensated).
+    """
     from ...errors import InputError
     from ..files.atomic import atomic_file
     from .format import USD_EXTENSIONS
