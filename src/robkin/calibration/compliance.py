@@ -105,9 +105,26 @@ def holding_torques(robot: Robot, q: ArrayLike, payload: ArrayLike = 0.0, payloa
 
 def compliant_q(robot: Robot, q: ArrayLike, payload: ArrayLike = 0.0, payload_com: ArrayLike | None = None,
                 gravity: ArrayLike | None = None) -> np.ndarray:
-    """The link-side joint values q - tau(q) / k (see the module doc): (n,) or (N, n).
+    """The link-side joint values q - tau(q) / k (see the module doc).
 
-    Joints without a ``stiffness`` are rigid (no deflection)."""
+    Parameters
+    ----------
+    robot : Robot
+        Joints with ``stiffness`` (N m/rad, N/m) bend; joints without are rigid (no deflection).
+    q : (n,) or (N, n) array
+        Commanded (encoder) joint values (rad, m).
+    payload : float or (N,) array
+        Payload mass (kg), at the tool origin or at ``payload_com``.
+    payload_com : (3,) array, optional
+        The payload's centre of mass in the tool frame (m).
+    gravity : (3,) array, optional
+        Gravity in the robot base frame (m/s^2); default (0, 0, -9.81).
+
+    Returns
+    -------
+    (n,) or (N, n) array
+        The deflected joint values (rad, m).
+    """
     c = np.array([0.0 if j.stiffness is None else 1.0 / j.stiffness for j in robot.joints])
     Q = np.asarray(q, dtype=float)
     if not c.any():

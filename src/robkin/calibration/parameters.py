@@ -143,7 +143,7 @@ class ErrorModel:
             if op.joint >= 0:
                 q = Q[:, op.joint]
                 if bends and op.comp >= 0:
-                    q = q - p[op.comp] * torques[:, op.joint]   # the link side: q - c tau
+                    q = q - p[op.comp] * torques[:, op.joint]   # type: ignore[index]  # the link side: q - c tau (bends: torques given)
                 T = T @ _elementary(op.kind, p[op.param] + op.sign * q, N)
             else:  # the same motion at every pose: one 4x4
                 T = T @ _elementary(op.kind, p[op.param], 1)[0]
@@ -151,7 +151,7 @@ class ErrorModel:
                 frames.append((op.param if col is None else col[op.param], op.kind, T, None))
             if jacobian and bends and op.comp >= 0 and (col is None or op.comp in col):
                 frames.append((op.comp if col is None else col[op.comp], op.kind, T,
-                               -op.sign * torques[:, op.joint]))   # d(value)/dc, per pose
+                               -op.sign * torques[:, op.joint]))   # type: ignore[index]  # d(value)/dc, per pose
         if not jacobian:
             return T, None
         J = np.zeros((N, 6, len(p) if col is None else len(col)))

@@ -22,7 +22,7 @@ that excite the parameters poorly.
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -33,7 +33,7 @@ from ..robot import Robot
 from .fit import MAX_ANGLE, MAX_LENGTH, Budget, FitData, bounds, fit_rounds, stacked
 from .identifiability import ILL_CONDITIONED, describe, identify
 from .inputs import check_marker, check_measured, check_pose, split_holdout
-from .parameters import MODELS, build_model
+from .parameters import MODELS, ErrorModel, build_model
 from .report import CalibrationResult, Parameter
 from .start import initial_frame
 
@@ -224,7 +224,7 @@ def _torques(robot: Robot, Q: np.ndarray, payload: ArrayLike | None, payload_com
     return holding_torques(robot, Q, m, com, gravity)
 
 
-def _unloaded(mdl, data: FitData, sentences: list[str]) -> set[int]:
+def _unloaded(mdl: ErrorModel, data: FitData, sentences: list[str]) -> set[int]:
     """Compliance parameters of joints whose torque stays below ``TORQUE_FLOOR`` of the most loaded
     one's: not observable (a sentence each)."""
     if not mdl.compliance_params or data.torques is None:
@@ -239,7 +239,8 @@ def _unloaded(mdl, data: FitData, sentences: list[str]) -> set[int]:
     return out
 
 
-def _stiffness(mdl, p: np.ndarray, std: dict[int, float], free: np.ndarray) -> dict[str, dict]:
+def _stiffness(mdl: ErrorModel, p: np.ndarray, std: dict[int, float],
+               free: np.ndarray) -> dict[str, dict[str, Any]]:
     """Per joint: compliance, its standard deviation, and the stiffness (None unless significant)."""
     out = {}
     kept = set(free.tolist())
