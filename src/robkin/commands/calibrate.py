@@ -34,6 +34,7 @@ examples:
   robkin calibrate ur5.urdf measurements.csv -o ur5_calibrated.yaml --tip-link tool0 --to hayati
   robkin calibrate panda.urdf panda_poses.csv -o panda_cal.urdf --tip-link panda_link8 --holdout 0.2 --json
   robkin calibrate robot.yaml probe.csv -o robot_cal.yaml --base-known --marker 0,0,0.05
+  robkin calibrate ur5.urdf --plan 30 -o poses.csv --tip-link tool0 --marker 0,0.03,0.05
 """
 
 OUT_EXTENSIONS = (".urdf", ".xml", ".mjcf", ".yaml", ".yml", ".json")
@@ -45,7 +46,8 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                                    "orientations), and write the calibrated robot.",
                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     add_input(p)
-    p.add_argument("measurements", metavar="MEASUREMENTS", help="measured poses: .csv, .npz or .npy")
+    p.add_argument("measurements", metavar="MEASUREMENTS", nargs="?",
+                   help="measured poses: .csv, .npz or .npy (none with --plan)")
     p.add_argument("-o", "--output", metavar="OUT", required=True,
                    help="the calibrated robot: .urdf, .xml/.mjcf, .yaml/.yml/.json")
     from ..representations.registry import names
@@ -65,6 +67,9 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--loss", choices=["huber", "linear"], default="huber",
                    help="huber (default: robust, outliers rejected and listed) or linear (plain least squares)")
     p.add_argument("--json", action="store_true", help="print the report as JSON")
+    from .calibrate_parts.plan import add_plan_options
+
+    add_plan_options(p)
     return p
 
 
@@ -77,7 +82,11 @@ def run(args: argparse.Namespace) -> int:
     from ..io.files.atomic import write_text_atomic
     from .support.common import load_input
     from .support.output import print_json, wrote
+    from .calibrate_parts.plan import dispatch
 
+    planned = dispatch(args)   # --plan N: the poses to measure, not a calibration
+    if planned is not None:
+        return planned
     out = Path(args.output)
     if out.suffix.lower() not in OUT_EXTENSIONS:
         raise InputError(f"{out}: the calibrated robot is written as {', '.join(OUT_EXTENSIONS)}")
