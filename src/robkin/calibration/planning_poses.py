@@ -115,7 +115,8 @@ class Plan:
 
 def plan_poses(robot: Robot, count: int, *, model: str = "hayati", candidates: np.ndarray | None = None,
                region: Region | None = None, noise: float = DEFAULT_NOISE, marker: np.ndarray | None = None,
-               base_known: bool = False, random_count: int = DEFAULT_CANDIDATES, seed: int = 0) -> Plan:
+               base_known: bool = False, random_count: int = DEFAULT_CANDIDATES, seed: int = 0,
+               source: str | None = None) -> Plan:
     """Choose ``count`` configurations to measure for a calibration (see the module doc).
 
     Parameters
@@ -141,6 +142,8 @@ def plan_poses(robot: Robot, count: int, *, model: str = "hayati", candidates: n
         Random candidates drawn when none are given.
     seed : int
         Seed of the random candidates and of the random designs compared with.
+    source : str, optional
+        Where given candidates come from (a file name), for the report and messages.
     """
     if model not in MODELS:
         raise InputError(f"model '{model}' is not one of {', '.join(MODELS)}")
@@ -156,12 +159,12 @@ def plan_poses(robot: Robot, count: int, *, model: str = "hayati", candidates: n
         source = "random inside the joint limits" + (f" with the marker in {region.describe()}" if region else "")
     else:
         Q = np.asarray(candidates, dtype=float)
-        source = "given"
+        source = "given" if source is None else f"from {source}"
         if region is not None:
             from .planning_candidates import marker_points
 
             Q = Q[region.inside(marker_points(robot, Q, marker))]
-            source = f"given, with the marker in {region.describe()}"
+            source += f", with the marker in {region.describe()}"
     if len(Q) < count:
         raise InputError(f"--plan {count}: only {len(Q)} candidate configurations ({source}); give more candidates "
                          f"or plan fewer poses")

@@ -101,7 +101,7 @@ def run_plan(args: argparse.Namespace) -> int:
     plan = plan_poses(robot, args.plan, model=args.model, candidates=candidates, region=region,
                       noise=DEFAULT_NOISE if args.noise is None else args.noise, marker=marker,
                       base_known=args.base_known, random_count=args.random_candidates or DEFAULT_CANDIDATES,
-                      seed=args.seed)
+                      seed=args.seed, source=args.candidates)
     write_poses_csv(out, plan.joints, plan.q)
     wrote(out)
     if args.json:
