@@ -44,6 +44,8 @@ examples:
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0 --tip-link -     # a chain per input, in order
   robkin check ur5_rows.txt ur5.urdf --from dh --base-link - --base-link base --tip-link - --tip-link tool0
   robkin check ur5.urdf measurements.csv --tip-link tool0            # a model against measurements
+  robkin check ur5.urdf measurements.csv --tip-link tool0 --report iso9283
+  robkin check ur5.urdf measurements.csv --tip-link tool0 --report html -o report.html
 """
 
 
@@ -64,6 +66,9 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="relative tolerance on angles (rad) and lengths / robot size (default 1e-06); against "
                         "measurements: RMS position residual in metres (default 0.0005)")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
+    from .support.measurement_reports import add_report_options
+
+    add_report_options(p)
     return p
 
 
@@ -71,7 +76,11 @@ def run(args: argparse.Namespace) -> int:
     from ..equivalence.comparison import compare
     from ..errors import InputError
 
-    if args.b.lower().endswith((".csv", ".npz", ".npy")):   # a model against measured samples
+    from .support.measurement_reports import check_report_options
+
+    measured = args.b.lower().endswith((".csv", ".npz", ".npy"))
+    check_report_options(args, measured)
+    if measured:   # a model against measured samples
         from .support.check_measurements import run_measurements
 
         return run_measurements(args)

@@ -21,6 +21,10 @@ def run_measurements(args: argparse.Namespace) -> int:
     (base, tip), _ = chain_ends(args, [args.a, args.b])
     robot = load(args.a, base_link=base, tip_link=tip, allow_xacro=args.allow_xacro)
     m = read_measurements(args.b, robot)
+    if args.report:   # ISO 9283 figures or the HTML report instead of the diagnosis text
+        from .measurement_reports import run_report
+
+        return run_report(args, robot, m, tol)
     result = diagnose(robot, m.q, m.positions, m.quaternions, tol=tol, rows=m.rows)
     if args.json:
         d = result.to_dict()
