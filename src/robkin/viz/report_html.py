@@ -19,7 +19,7 @@ Section = tuple[str, Union[str, bytes, tuple[Sequence[str], Sequence[Sequence[st
 
 _STYLE = """body{font-family:system-ui,sans-serif;margin:2em auto;max-width:62em;color:#222}
 h1{font-size:1.4em}h2{font-size:1.1em;margin-top:1.6em;border-bottom:1px solid #ccc}
-pre{background:#f6f6f6;padding:.8em;overflow-x:auto;font-size:.85em}
+pre{background:#f6f6f6;padding:.8em;white-space:pre-wrap;font-size:.85em}
 table{border-collapse:collapse;font-size:.85em}td,th{border:1px solid #ccc;padding:.2em .5em;text-align:right}
 th{background:#eee}img{max-width:100%}"""
 

@@ -43,7 +43,7 @@ def residuals_per_pose(rows: Sequence[int], residuals: np.ndarray) -> bytes:
     ax.set_xlabel("row in the measurement file")
     ax.set_ylabel("residual (mm)")
     ax.set_title("residual per pose: attained minus command position")
-    ax.legend(loc="upper right", ncol=4, fontsize=8)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)   # outside: never over the points
     ax.grid(alpha=0.3)
     return figure_png(fig)
 
