@@ -109,7 +109,8 @@ class Plan:
             shown = f"{std * 1e3:.3g} mm" if unit == "m" else f"{np.degrees(std):.3g} deg"
             out.append(f"  {name:<40} {shown}")
         if self.unidentifiable:
-            out.append("not identifiable from positions (held at nominal): " + ", ".join(self.unidentifiable))
+            out.append("not identifiable from positions, one of each redundant group held at nominal (calibrate "
+                       "may hold another of the group): " + ", ".join(self.unidentifiable))
         return "\n".join(out)
 
 
