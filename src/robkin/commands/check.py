@@ -37,6 +37,11 @@ max), and which joint's parameters, then which parameter, explain most of the di
 is the RMS position residual in metres the model may leave (default 0.0005); exit status 0 if the
 model explains them within it.
 
+--report iso9283 prints instead ISO 9283 pose accuracy AP and repeatability RP per commanded pose (the
+rows with equal joint values; the command being the model with its best base and marker); --report html
+-o REPORT.html writes a standalone page with the diagnosis, that table and residual plots per pose and
+per joint (matplotlib). The exit status is the same.
+
 examples:
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0
   robkin check vendor_dh.yaml robot.urdf --tol 1e-4       # a table typed with 4 decimals
