@@ -223,3 +223,14 @@ def test_cli_plan_refuses_measurements_and_other_outputs(ur5_path, tmp_path, cap
     assert "--plan: no MEASUREMENTS" in capsys.readouterr().err
     assert main(["calibrate", ur5_path, "--plan", "30", "-o", str(tmp_path / "p.urdf")]) == 2
     assert "a pose plan is written as .csv" in capsys.readouterr().err
+
+
+def test_candidates_that_lose_parameters_are_warned_about():
+    """Forty copies of one configuration determine 3 parameters (a point), not the 26 spread poses do."""
+    robot = load("ur5")
+    plan = plan_poses(robot, 30, candidates=np.tile([0.1, 0.2, 0.3, 0.4, 0.5, 0.6], (40, 1)), marker=MARKER)
+    assert any("determine 3 of the" in w for w in plan.warnings)
+    assert "warning: the candidates determine 3 of the" in plan.text()
+    spread = plan_poses(robot, 30, candidates=random_configurations(robot, 200, np.random.default_rng(1)),
+                        marker=MARKER)
+    assert spread.warnings == []

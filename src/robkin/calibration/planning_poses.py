@@ -32,6 +32,9 @@ DEFAULT_CANDIDATES = 2000
 DEFAULT_NOISE = 10e-6
 #: Random designs the plan is compared with (their median is reported).
 RANDOM_DRAWS = 20
+#: Random configurations inside the limits that tell how many parameters poses can determine, to warn
+#: when given candidates (or a region) determine fewer: 300 x 3 rows are ~10 times the 30-40 parameters.
+REFERENCE_CANDIDATES = 300
 
 
 @dataclass
@@ -80,6 +83,7 @@ class Plan:
     candidates: int
     source: str
     marker: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
+    warnings: list[str] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:
         """The report as JSON-ready data (SI units)."""
@@ -90,7 +94,7 @@ class Plan:
                 "random": {"condition_number": self.random_condition,
                            "expected_position_error_rms": self.random_error, "draws": RANDOM_DRAWS},
                 "parameters": [{"name": n, "unit": u, "std": s} for n, u, s in self.parameters],
-                "unidentifiable": self.unidentifiable,
+                "unidentifiable": self.unidentifiable, "warnings": self.warnings,
                 "q": self.q.tolist()}
 
     def text(self) -> str:
@@ -111,6 +115,7 @@ class Plan:
         if self.unidentifiable:
             out.append("not identifiable from positions, one of each redundant group held at nominal (calibrate "
                        "may hold another of the group): " + ", ".join(self.unidentifiable))
+        out += [f"warning: {w}" for w in self.warnings]
         return "\n".join(out)
 
 
@@ -174,7 +179,18 @@ def plan_poses(robot: Robot, count: int, *, model: str = "hayati", candidates: n
     if count * 3 < K:
         raise InputError(f"--plan {count}: {count} poses give {3 * count} measured values for the {K} identifiable "
                          f"parameters of the {model} model; plan at least {-(-K // 3)} poses (better 2-3 times that)")
-    design = exchange(problem, count, "D")
+    warnings = []
+    if candidates is not None or region is not None:   # do they lose parameters random poses determine?
+        full = design_problem(robot, random_candidates(robot, REFERENCE_CANDIDATES, np.random.default_rng(seed)),
+                              model, marker, base_known).J.shape[2]
+        if K < full:
+            warnings.append(f"the candidates determine {K} of the {full} parameters poses spread over the joint "
+                            f"limits determine: spread them over the joint ranges (or widen the region)")
+    try:
+        design = exchange(problem, count, "D")
+    except np.linalg.LinAlgError:
+        raise InputError(f"--plan {count}: no {count} of the candidates determine the {K} parameters together; "
+                         f"plan more poses or give more varied candidates") from None
     J_all = problem.J / problem.scale
     err = expected_error(J_all[design], J_all, noise)
     std = expected_std(J_all[design], noise)
@@ -184,7 +200,7 @@ def plan_poses(robot: Robot, count: int, *, model: str = "hayati", candidates: n
     params = [(n, u, float(s)) for n, u, s in zip(problem.names, problem.units, std)]
     return Plan(Q[design], [j.name for j in robot.joints], model, "D", float(noise), _condition(J_all[design]),
                 params, problem.dropped, err, r_cond, r_err, len(Q), source,
-                [0.0, 0.0, 0.0] if marker is None else [float(v) for v in marker])
+                [0.0, 0.0, 0.0] if marker is None else [float(v) for v in marker], warnings)
 
 
 def _condition(J: np.ndarray) -> float:
