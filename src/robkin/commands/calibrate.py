@@ -60,6 +60,7 @@ examples:
   robkin calibrate ur5.urdf measurements.csv -o ur5_cal.urdf --tip-link tool0 --keep-frames
   robkin calibrate robot.yaml probe.csv -o cal.yaml --base-known --offsets offsets.csv --table cal_dh.csv
   robkin calibrate ur5.urdf measurements.csv -o c.yaml --tip-link tool0 --filter targets.csv --filtered cmd.csv
+  robkin calibrate ur5.urdf --plan 30 -o poses.csv --tip-link tool0 --marker 0,0.03,0.05
 """
 
 OUT_EXTENSIONS = (".urdf", ".xml", ".mjcf", ".yaml", ".yml", ".json")
@@ -71,7 +72,8 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                                    "orientations), and write the calibrated robot.",
                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     add_input(p)
-    p.add_argument("measurements", metavar="MEASUREMENTS", help="measured poses: .csv, .npz or .npy")
+    p.add_argument("measurements", metavar="MEASUREMENTS", nargs="?",
+                   help="measured poses: .csv, .npz or .npy (none with --plan)")
     p.add_argument("-o", "--output", metavar="OUT", required=True,
                    help="the calibrated robot: .urdf, .xml/.mjcf, .yaml/.yml/.json")
     from ..representations.registry import names
@@ -103,6 +105,9 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--filter", metavar="TARGETS.csv", help="flange poses to reach with the calibrated robot")
     p.add_argument("--filtered", metavar="OUT.csv", help="where --filter writes joint values and filtered poses")
     p.add_argument("--json", action="store_true", help="print the report as JSON")
+    from .calibrate_parts.plan import add_plan_options
+
+    add_plan_options(p)
     return p
 
 
@@ -115,7 +120,11 @@ def run(args: argparse.Namespace) -> int:
     from ..io.files.atomic import write_texts_atomic
     from .support.common import load_input
     from .support.output import print_json, wrote
+    from .calibrate_parts.plan import dispatch
 
+    planned = dispatch(args)   # --plan N: the poses to measure, not a calibration
+    if planned is not None:
+        return planned
     out = Path(args.output)
     if out.suffix.lower() not in OUT_EXTENSIONS:
         raise InputError(f"{out}: the calibrated robot is written as {', '.join(OUT_EXTENSIONS)}")

@@ -38,6 +38,11 @@ is the RMS position residual in metres the model may leave (default 0.0005); exi
 model explains them within it. A model whose joints carry a stiffness (calibrate --compliance) is
 deflected by the gravity torques of the links and of the measurements' payload column first.
 
+--report iso9283 prints instead ISO 9283 pose accuracy AP and repeatability RP per commanded pose (the
+rows with equal joint values; the command being the model with its best base and marker); --report html
+-o REPORT.html writes a standalone page with the diagnosis, that table and residual plots per pose and
+per joint (matplotlib). The exit status is the same.
+
 examples:
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0
   robkin check vendor_dh.yaml robot.urdf --tol 1e-4       # a table typed with 4 decimals
@@ -45,6 +50,8 @@ examples:
   robkin check ur5.urdf ur5_dh.yaml --tip-link tool0 --tip-link -     # a chain per input, in order
   robkin check ur5_rows.txt ur5.urdf --from dh --base-link - --base-link base --tip-link - --tip-link tool0
   robkin check ur5.urdf measurements.csv --tip-link tool0            # a model against measurements
+  robkin check ur5.urdf measurements.csv --tip-link tool0 --report iso9283
+  robkin check ur5.urdf measurements.csv --tip-link tool0 --report html -o report.html
 """
 
 
@@ -68,6 +75,9 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="against measurements with a payload column: the payload's centre of mass in the model's "
                         "tool frame (m; default the tool origin)")
     p.add_argument("--json", action="store_true", help="print the comparison as JSON")
+    from .support.measurement_reports import add_report_options
+
+    add_report_options(p)
     return p
 
 
@@ -75,7 +85,11 @@ def run(args: argparse.Namespace) -> int:
     from ..equivalence.comparison import compare
     from ..errors import InputError
 
-    if args.b.lower().endswith((".csv", ".npz", ".npy")):   # a model against measured samples
+    from .support.measurement_reports import check_report_options
+
+    measured = args.b.lower().endswith((".csv", ".npz", ".npy"))
+    check_report_options(args, measured)
+    if measured:   # a model against measured samples
         from .support.check_measurements import run_measurements
 
         return run_measurements(args)

@@ -26,11 +26,18 @@ def run_measurements(args: argparse.Namespace) -> int:
     m = read_measurements(args.b, robot)
     q = m.q
     if m.payloads is not None and any(j.stiffness for j in robot.joints):   # the model's compliance applies
+        from dataclasses import replace
+
         from ...calibration.compliance import compliant_q
         from .common import parse_q
 
         com = None if args.payload_com is None else parse_q(args.payload_com, 3, "--payload-com")
         q = compliant_q(robot, m.q, m.payloads, com)
+        m = replace(m, q=q)
+    if args.report:   # ISO 9283 figures or the HTML report instead of the diagnosis text
+        from .measurement_reports import run_report
+
+        return run_report(args, robot, m, tol)
     result = diagnose(robot, q, m.positions, m.quaternions, tol=tol, rows=m.rows)
     if args.json:
         d = result.to_dict()
