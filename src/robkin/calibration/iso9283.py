@@ -84,8 +84,27 @@ class PoseFigures:
 def pose_figures(command: np.ndarray, attained: np.ndarray, command_R: np.ndarray | None = None,
                  attained_R: np.ndarray | None = None, rows: list[int] | None = None,
                  q: ArrayLike | None = None) -> PoseFigures:
-    """The ISO 9283 figures of one commanded pose: command position (3,), attained positions (n, 3),
-    optionally the command orientation (3, 3) and the attained ones (n, 3, 3)."""
+    """The ISO 9283 figures of one commanded pose.
+
+    Parameters
+    ----------
+    command : (3,) array
+        The command position (m).
+    attained : (n, 3) array
+        The attained (measured) positions (m), one per time the pose was commanded.
+    command_R : (3, 3) array, optional
+        The command orientation; with ``attained_R``, the orientation figures AP_a/b/c and RP_a/b/c.
+    attained_R : (n, 3, 3) array, optional
+        The attained orientations.
+    rows : list of int, optional
+        The measurements' line numbers (default 1..n), for the report.
+    q : (n_joints,) array, optional
+        The commanded joint values (rad, m), for the report.
+
+    Returns
+    -------
+    PoseFigures
+    """
     P = np.asarray(attained, dtype=float)
     n = len(P)
     bary = P.mean(axis=0)
@@ -170,8 +189,32 @@ class Iso9283Report:
 def iso9283(robot: Robot, q: ArrayLike, positions: ArrayLike, orientations: ArrayLike | None = None, *,
             model: str = "hayati", world: ArrayLike | None = None, marker: ArrayLike | None = None,
             rows: list[int] | None = None) -> Iso9283Report:
-    """ISO 9283 AP and RP of measurements (arguments as ``calibrate``'s) per commanded pose, the command
-    being the model with its best base and marker (see the module doc)."""
+    """ISO 9283 AP and RP of measurements per commanded pose, the command being the model with its best
+    base and marker (see the module doc).
+
+    Parameters
+    ----------
+    robot : Robot
+        The model.
+    q : (N, n) array
+        Commanded joint values (rad, m); rows with equal values are one commanded pose.
+    positions : (N, 3) array
+        Measured points in the measuring frame (m).
+    orientations : (N, 4) array, optional
+        Measured orientations as quaternions (w, x, y, z): adds the orientation figures.
+    model : str
+        The error model of the base and marker fit (as ``calibrate``'s).
+    world : (4, 4) array, optional
+        A known base in the measuring frame (as ``calibrate``'s).
+    marker : (3,) array, optional
+        A known marker in the tool frame (m).
+    rows : list of int, optional
+        The measurements' line numbers, for the report.
+
+    Returns
+    -------
+    Iso9283Report
+    """
     from .solve import calibrate
 
     base = calibrate(robot, q, positions, orientations, kinematics=False, model=model, world=world, marker=marker,

@@ -143,6 +143,12 @@ def exchange(problem: DesignProblem, count: int, criterion: str = "D", start: np
         'D' (maximise det M) or 'I' (minimise the mean prediction variance over the candidates).
     start : (count,) int array, optional
         The starting design (default: the greedy sequential one).
+    max_passes : int
+        At most this many passes of exchanges over the design (each pass stops early when none improves).
+
+    Returns
+    -------
+    (count,) int array
     """
     if criterion not in CRITERIA:
         raise ValueError(f"criterion '{criterion}' is not one of {', '.join(CRITERIA)}")
@@ -161,7 +167,24 @@ def exchange(problem: DesignProblem, count: int, criterion: str = "D", start: np
 def best_design(problem: DesignProblem, count: int, starts: int = 4, seed: int = 0) -> np.ndarray:
     """The yardstick a plan is judged by: the best I-optimal design (least mean prediction variance over
     the candidates) the exchange finds from the D-optimal design, the greedy I design and ``starts``
-    random starts (count,) candidate indices. Costs ~(2 + starts) times a plan."""
+    random starts. Costs ~(2 + starts) times a plan.
+
+    Parameters
+    ----------
+    problem : DesignProblem
+        The candidates' identification Jacobians.
+    count : int
+        Poses in the design.
+    starts : int
+        Random starting designs tried besides the two deterministic ones.
+    seed : int
+        Seed of the random starts.
+
+    Returns
+    -------
+    (count,) int array
+        Candidate indices.
+    """
     rng = np.random.default_rng(seed)
     B = _information(problem.J) / len(problem.J)
     options = [exchange(problem, count, "I", start=exchange(problem, count, "D")), exchange(problem, count, "I")]
