@@ -15,7 +15,7 @@ examples:
   robkin gui rrpr.yaml --open         # also opens the page in your web browser
   robkin gui ur5.urdf --tip-link tool0 --port 9000
   robkin gui ur5.urdf --tip-link tool0 --package-path ur_description=.   # package://ur_description/ is here
-  robkin gui rrpr.yaml rrpr_dh.yaml   # visual check: B drawn over A, first differing joint in red
+  robkin gui rrpr.yaml rrpr_dh.yaml   # check: B drawn over A, robkin check's verdict (joints and masses)
   robkin gui vendor_dh.yaml robot.urdf --exaggerate 100   # B's differences from A drawn 100x larger
 
 The app runs on this machine only: it listens on a loopback address (127.0.0.1 by default; --host
@@ -39,8 +39,9 @@ def register(subparsers) -> argparse.ArgumentParser:
     p.add_argument("input", nargs="?", metavar="INPUT",
                    help="robot document (.yaml/.yml/.json), URDF (.urdf), MJCF (.xml/.mjcf) or SDF (.sdf) to show first")
     p.add_argument("other", nargs="?", metavar="B",
-                   help="a second description to compare INPUT with (visual check; --base-link/--tip-link "
-                        "apply to both when both are the same XML format)")
+                   help="a second description to compare INPUT with, as 'robkin check' does (kinematics and "
+                        "mass properties, the first difference in red; --base-link/--tip-link apply to both "
+                        "when both are the same XML format)")
     p.add_argument("--base-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: first of the serial chain")
     p.add_argument("--tip-link", metavar="LINK", help="URDF/SDF link or MJCF body/site: last of the chain (the tool)")
     add_package_path(p)

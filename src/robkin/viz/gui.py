@@ -1,8 +1,9 @@
 """``robkin gui``: a small local web app to load a robot, look at it in 3D and convert it.
 
 A standard-library HTTP server (no web framework, nothing fetched from the internet) serves one page
-(``static/index.html``, ``app.js``, ``viewer.js``, ``style.css``: a three.js 3D view with a draggable
-tool frame, joint sliders, tables of every representation, downloads), the three.js modules of
+(``static/index.html``, ``style.css``, ``app.js``, ``tables.js``, ``check.js``, ``dom.js``,
+``viewer.js``, ``meshes.js``: a three.js 3D view with a draggable tool frame, joint sliders, tables of
+every representation, downloads, the check against a second robot), the three.js modules of
 ``static/vendor/`` (see :mod:`robkin.viz.assets`), and a JSON API over :mod:`robkin.viz.gui_api`:
 
 ``GET /api/start``

@@ -189,10 +189,12 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
     text, fmt, base_link, tip_link, tool_row, and ``exaggerate``, a factor from 1 to 1e6) is a second
     description to compare with: ``check`` holds its scene at the same q (its differences from the
     robot multiplied by ``exaggerate``, see ``robkin.viz.difference``), the difference ``arrows``
-    (true distances), ``robkin check``'s diagnosis, and the first joint that differs.
+    (true distances), and ``robkin check``'s diagnosis of the whole robot, kinematics and mass
+    properties (``robkin.viz.check_view.check_other``).
     """
     from .. import se3
     from ..io.documents.reader import document_from_robot
+    from .check_view import check_other
     from .scene import build_scene
 
     robot, notes, links = _robot(text, fmt, base_link, tip_link, tool_row)
@@ -224,7 +226,7 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
         "links": list(links),
         "motions": _motions(robot, Q),
         **_arm_angle(robot, Q),
-        "check": None if other is None else _check(robot, Q, other),
+        "check": None if other is None else check_other(robot, Q, other, _robot),
         "warnings": notes,
     }
 
@@ -237,52 +239,6 @@ def _motions(robot: Robot, Q: np.ndarray) -> list | None:
     from ..bodies import body_motions  # type: ignore[import-not-found, unused-ignore]
 
     return body_motions(robot, Q).tolist()
-
-
-def _check(robot: Robot, Q: np.ndarray, other: Any) -> dict[str, Any]:
-    """Robot B (``other``) against the robot shown: B's scene at the same q and ``compare``'s diagnosis."""
-    from ..equivalence.comparison import compare
-    from .scene import build_scene
-
-    if not isinstance(other, dict):
-        raise InputError("other: expected an object with the second robot's text")
-    try:
-        b, _, _ = _robot(other.get("text"), other.get("fmt"), other.get("base_link"), other.get("tip_link"),
-                         other.get("tool_row"))
-    except InputError as exc:
-        raise InputError(f"robot B: {exc}") from None
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # B's conversion notes are not about the robot shown
-        result = compare(robot, b)
-    # the first joint that is not the same: a different axis, or the same axis with another sign or zero
-    first = next((m.index for m in result.joints if m.status != "same"), None)
-    if first is None and result.n_a != result.n_b:
-        first = min(result.n_a, result.n_b)
-    qb = Q if b.n == robot.n else np.zeros(b.n)
-    scene_b = build_scene(b, qb, label=b.name or "B")
-    factor, arrows = _exaggeration(other.get("exaggerate")), []
-    if b.n == robot.n and np.array_equal(b.revolute, robot.revolute):
-        from .difference import difference_arrows, exaggerate
-
-        scene_a = build_scene(robot, Q)
-        arrows = [a.to_json() for a in difference_arrows(scene_a, scene_b, factor)]
-        scene_b = exaggerate(scene_a, scene_b, factor)
-    return {"name": b.name or "", "n": b.n, "scene": scene_b.to_json(), "comparison": result.to_dict(),
-            "first_joint": first, "exaggerate": factor, "arrows": arrows}
-
-
-def _exaggeration(value: Any) -> float:
-    """other.exaggerate: the factor differences are drawn with (1 when absent)."""
-    from ..io.files.numbers import number
-
-    if value is None:
-        return 1.0
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError("other.exaggerate: expected a number from 1 to 1e6")
-    k = number(value, "other.exaggerate")
-    if not 1 <= k <= 1e6:
-        raise InputError(f"other.exaggerate: expected a number from 1 to 1e6, got {quote(value)}")
-    return k
 
 
 def solve_ik(text: str, fmt: str, target: Any, q0: Any, base_link: str | None = None,

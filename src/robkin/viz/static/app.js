@@ -4,9 +4,9 @@
 // tool-frame gizmo driving IK, and the visual check against a second robot.
 import { Viewer, overlayLegend } from "./viewer.js";
 import { loadVisuals } from "./meshes.js";
-
-const $ = (id) => document.getElementById(id);
-const DEG = 180 / Math.PI;
+import { $, el, num, cell, display } from "./dom.js";
+import { representationSections } from "./tables.js";
+import { checkContents } from "./check.js";
 
 const state = {
   robot: null,          // last good answer of /api/describe
@@ -163,12 +163,17 @@ function showBranches(solutions) {
   if (box.hidden) { box.replaceChildren(); return; }
   const q = currentQ();
   const dist = (s) => Math.max(...s.map((v, i) => Math.abs(v - q[i])));
-  box.replaceChildren("IK branches:", ...solutions.map((sol, k) => {
+  const buttons = solutions.map((sol, k) => {
     const b = el("button", { type: "button", text: String(k + 1), title: sol.map((v) => num(v)).join(", ") });
     if (dist(sol) < 1e-9) b.className = "current";  // the solution shown (1e-9: same numbers, rounding only)
-    b.addEventListener("click", () => { setQ(sol); refresh(); });
+    b.addEventListener("click", () => {  // the robot moves there, and so does the highlight
+      buttons.forEach((o) => o.classList.toggle("current", o === b));
+      setQ(sol);
+      refresh();
+    });
     return b;
-  }));
+  });
+  box.replaceChildren("IK branches:", ...buttons);
 }
 
 // ------------------------------------------------------------------ applying an answer
@@ -189,6 +194,7 @@ function apply(res, body) {
     if (currentQ().some((v, i) => v !== res.q[i])) { refresh(); return; }
   }
   state.robot = res;
+  display.scale = res.scale;
   $("robot-name").textContent = (res.name || "robot") + " — " + res.n + " joints";
   viewer.show(res);
   if (changed) viewer.view("fit");
@@ -214,25 +220,6 @@ function showError(message) {
   document.body.dataset.state = "error";
 }
 
-// A number for display: 10 significant digits; below 1e-10 of the robot's size shown as 0 (rounding
-// of conversions and IK, ~1e-12, lies under it; typed tables, 1e-6 at best, far above). The full
-// value is in the cell's title and in copies.
-function num(x, angle = false) {
-  if (x === null || x === undefined) return "";
-  let v = angle && $("units").value === "deg" ? x * DEG : x;
-  if (Math.abs(v) < 1e-10 * (state.robot ? Math.max(state.robot.scale, 1) : 1)) v = 0;
-  return String(Number(v.toPrecision(10)));
-}
-
-function el(tag, attrs = {}, ...kids) {
-  const e = document.createElement(tag);
-  for (const [k, v] of Object.entries(attrs)) {
-    if (k === "text") e.textContent = v; else if (k === "class") e.className = v; else e.setAttribute(k, v);
-  }
-  for (const kid of kids) if (kid) e.append(kid);
-  return e;
-}
-
 // URDF: base and tip link chosen from the file's links; a choice that is not among them (given on
 // the command line for a format without a link list) stays selectable.
 function showLinks(links, body) {
@@ -247,7 +234,7 @@ function showLinks(links, body) {
 }
 
 // ------------------------------------------------------------------ sliders
-function jointUnit(j) { return j.type === "prismatic" ? "" : $("units").value === "deg" ? "°" : " rad"; }
+function jointUnit(j) { return j.type === "prismatic" ? "" : display.deg ? "°" : " rad"; }
 
 function showSliderValue(i) {
   const j = state.robot ? state.robot.joints[i] : null, s = $("q" + i);
@@ -275,6 +262,7 @@ function buildSliders(res) {
       text: (i + 1) + " " + j.name + (prismatic ? " (P)" : " (R)") }), s, out));
   });
   state.robot = res;
+  display.scale = res.scale;
   res.joints.forEach((_, i) => showSliderValue(i));
 }
 
@@ -282,92 +270,8 @@ function setQ(q) {
   q.forEach((v, i) => { const s = $("q" + i); if (s) { s.value = String(v); showSliderValue(i); } });
 }
 
-// ------------------------------------------------------------------ tables
-// A copy button: the table's numbers as tab-separated text at full precision (shortest round trip).
-function copyButton(rows) {
-  const b = el("button", { type: "button", class: "copy", text: "copy" });
-  b.addEventListener("click", () => {
-    const text = rows.map((r) => r.join("\t")).join("\n") + "\n";
-    document.body.dataset.copied = text;
-    if (navigator.clipboard) navigator.clipboard.writeText(text).catch(() => {});
-  });
-  return b;
-}
-
-function cell(v, angle = false) { return el("td", { text: num(v, angle), title: String(v) }); }
-
-function matrixTable(M, caption, id) {
-  const t = el("table", { class: "num" });
-  if (id) t.id = id;
-  for (const row of M) t.append(el("tr", {}, ...row.map((v) => cell(v))));
-  return el("div", {}, el("div", { class: "caption", text: caption }, copyButton(M)), t);
-}
-
-function rowsTable(id, header, labels, rows, angleCols) {
-  const t = el("table", { class: "num", id });
-  const unit = $("units").value === "deg" ? " (°)" : "";
-  t.append(el("tr", {}, ...header.map((h, k) => el("th", { text: h + (angleCols.includes(k - 1) ? unit : ""),
-                                                          class: k === 0 ? "label" : "" }))));
-  rows.forEach((r, i) => {
-    t.append(el("tr", {}, el("td", { class: "label", text: labels[i] }), ...r.map((v, k) => cell(v, angleCols.includes(k)))));
-  });
-  return el("div", {}, t, copyButton([header, ...rows.map((r, i) => [labels[i], ...r])]));
-}
-
-// Each link's mass properties (m, r, I: the robot document's row fields) when the rows carry them;
-// `frame` says which frame r and I are in. Empty (nothing shown) for a robot without them.
-const MASS_HEADER = ["joint", "m (kg)", "rx (m)", "ry (m)", "rz (m)", "Ixx (kg m²)", "Iyy (kg m²)",
-                     "Izz (kg m²)", "Ixy (kg m²)", "Iyz (kg m²)", "Ixz (kg m²)"];
-function massTable(id, entries, names, frame, base) {
-  if (!entries || !entries.length || entries.some((e) => e.m === undefined)) return [];
-  const all = base && base.m !== undefined ? [base, ...entries] : entries;  // the base body's first, if known
-  const rows = all.map((e) => [e.m, ...e.r, ...e.I]);
-  const labels = all === entries ? names : ["base", ...names];
-  return [el("div", { class: "caption", text: "Mass properties, r and I in " + frame +
-                      "; I about the centre of mass (everything fixed to a link merged in)" }),
-          el("div", { class: "wide" }, rowsTable(id, MASS_HEADER, labels, rows, []))];
-}
-
-function section(title, key, ...kids) {
-  return el("details", { id: "section-" + key, open: "" }, el("summary", { text: title }), ...kids);
-}
-
-// One section per registered representation (GET /api/representations, robkin.representations.registry),
-// in the registry's order, laid out by its layout; a section the document does not hold (Hayati, only
-// where consecutive axes are nearly parallel) is left out. LAYOUTS: layout -> the section's contents.
-const LAYOUTS = {
-  "link-table": (rep, sec, names) => [
-    rowsTable("table-" + rep.section, ["joint", ...rep.columns.map((c) => c.label)], names,
-              sec.rows.map((r) => rep.columns.map((c) => r[c.key])), angleColumns(rep)),
-    ...massTable("mass-" + rep.section, sec.rows, names, rep.mass_frame, sec.base_mass),
-    el("div", { class: "matrices" }, matrixTable(sec.base, "base"), matrixTable(sec.tool, "tool"))],
-  screws: (rep, sec, names) => [
-    rowsTable("table-" + rep.section, ["joint", ...rep.columns.map((c) => c.label)], names, sec.screws,
-              angleColumns(rep)),
-    ...massTable("mass-" + rep.section, sec.masses, names, rep.mass_frame, sec.base_mass),
-    el("div", { class: "matrices" }, matrixTable(sec.M, "M (tool at home)"))],
-  rpy: (rep, sec, names) => [
-    rowsTable("table-" + rep.section, ["", ...rep.columns.map((c) => c.label)], ["world → base", ...names, "→ tool"],
-              sec.rows.map((r) => rep.columns.map((c) => r[c.key])), angleColumns(rep)),
-    ...massTable("mass-" + rep.section, sec.rows.slice(1, -1), names, rep.mass_frame, sec.rows[0])],
-  frames: (rep, sec, names, res) => {
-    const box = el("div", { class: "matrices", id: "table-" + rep.section });
-    sec.frames.forEach((F, i) => box.append(matrixTable(F, i < res.n ? "J" + (i + 1) + " " + res.joints[i].name : "tool")));
-    return [box];
-  },
-};
-
-function angleColumns(rep) { return rep.columns.flatMap((c, k) => (c.angle ? [k] : [])); }
-
-function showTables(res) {
-  const doc = res.document, names = res.joints.map((j) => j.name + (j.type === "prismatic" ? " (P)" : " (R)"));
-  const parts = state.reps.representations.filter((rep) => doc[rep.section] && LAYOUTS[rep.layout])
-    .map((rep) => section(rep.title, rep.section, ...LAYOUTS[rep.layout](rep, doc[rep.section], names, res)));
-  const urdf = res.urdf !== null ? el("pre", { class: "urdf", id: "urdf-text", text: res.urdf })
-                                 : el("p", { id: "urdf-text", text: "URDF: " + res.urdf_error });
-  parts.push(section("URDF", "urdf", urdf));
-  $("tables").replaceChildren(...parts);
-}
+// ------------------------------------------------------------------ tables (tables.js)
+function showTables(res) { $("tables").replaceChildren(...representationSections(res, state.reps)); }
 
 // The overlay checkboxes and the representations' download buttons (after YAML, JSON and URDF), as
 // GET /api/representations lists them.
@@ -392,34 +296,13 @@ function showAgreement(res) {
     e(res.agreement.rotation) + " (rotation); joint axes by " + e(res.agreement.axes) + ".");
 }
 
-// The visual check: robot B drawn dashed orange, `robkin check`'s verdict and joint table beside it.
+// The visual check (check.js): robot B drawn dashed orange, `robkin check`'s verdict on the whole robot
+// (kinematics and mass properties), the per-joint table and both robots' masses, under the view.
 function showCheck(res) {
   const box = $("check"), c = res.check;
   box.hidden = !c;
-  if (!c) { box.replaceChildren(); return; }
-  const cmp = c.comparison;
-  const verdict = el("div", { class: "verdict " + (cmp.same ? "same" : cmp.equivalent ? "" : "differs"),
-                              id: "check-verdict", text: cmp.verdict });
-  const t = el("table", { class: "num", id: "check-joints" });
-  t.append(el("tr", {}, ...["joint", "A", "B", "status", "detail"].map((h) => el("th", { text: h }))));
-  for (const j of cmp.joints) {
-    const row = el("tr", { class: j.joint - 1 === c.first_joint ? "differs" : "" },
-      el("td", { text: String(j.joint) }), el("td", { class: "label", text: j.name_a }),
-      el("td", { class: "label", text: j.name_b }), el("td", { class: "label", text: j.status }),
-      el("td", { class: "label", text: j.detail }));
-    t.append(row);
-  }
-  const first = c.first_joint === null ? "" :
-    "first joint that differs: J" + (c.first_joint + 1) + " (red in the view)";
-  const zoom = el("button", { type: "button", id: "zoom-first", text: "zoom to the first difference" });
-  zoom.disabled = c.first_joint === null && !c.arrows.length;
-  zoom.addEventListener("click", () => zoomToFirstDifference(res));
-  const scaled = c.exaggerate > 1 ? ", differences ×" + c.exaggerate : "";
-  const arrows = c.arrows.length ? "; red arrows: where B's axes are (true distance at the arrow head)" : "";
-  box.replaceChildren(el("div", { text: "B: " + (c.name || "robot") + ", " + c.n + " joints, drawn dashed orange" +
-                                        scaled + arrows }),
-                      verdict, el("div", { id: "check-first", text: first }, zoom), t,
-                      el("div", { text: "tool: " + cmp.tool }));
+  document.body.classList.toggle("comparing", !!c);
+  box.replaceChildren(...(c ? checkContents(res, zoomToFirstDifference) : []));
 }
 
 // The camera on the first joint that differs (its difference arrow, else its axis on robot A), close
@@ -449,7 +332,7 @@ function showPose(res) {
   });
   const p = res.rpy_xyz;
   t.append(el("tr", {}, el("th", { text: "rpy" }), ...[0, 1, 2].map((k) => cell(p[k], true)),
-              el("td", { text: $("units").value === "deg" ? "°" : "rad" })));
+              el("td", { text: display.deg ? "°" : "rad" })));
 }
 
 // ------------------------------------------------------------------ meshes
@@ -502,12 +385,12 @@ function showFields() {
 async function start() {
   viewer = new Viewer($("view"), { onDrag: dragged, onDragEnd: dragEnded });
   let timer = null;
-  const edited = () => { showFields(); clearTimeout(timer); timer = setTimeout(() => refresh(), 250); };
+  const edited = () => { showFields(); showExample(); clearTimeout(timer); timer = setTimeout(() => refresh(), 250); };
   $("robot-text").addEventListener("input", edited);
   $("other-text").addEventListener("input", edited);
   for (const id of ["format", "base-link", "tip-link", "last-row", "other-format"]) $(id).addEventListener("change", edited);
   $("exaggerate").addEventListener("change", () => refresh());
-  $("units").addEventListener("change", () => { state.tablesKey = null; refresh(); });
+  $("units").addEventListener("change", () => { display.deg = $("units").value === "deg"; state.tablesKey = null; refresh(); });
   for (const [input, text, format] of [["file", "robot-text", "format"], ["other-file", "other-text", "other-format"]]) {
     $(input).addEventListener("change", async () => {
       const f = $(input).files[0];
@@ -543,6 +426,7 @@ async function start() {
     $("file").value = "";
     edited();
   });
+  display.deg = $("units").value === "deg";
   if (init.text) {
     $("robot-text").value = init.text;
     $("format").value = init.fmt || "auto";
@@ -563,7 +447,16 @@ async function start() {
     $("check-panel").open = true;
   }
   showFields();
+  showExample();
   refresh();
+}
+
+// The Example list names the example shown (also when it came from the command line), "—" once the
+// text is another robot (a file, an edit).
+function showExample() {
+  const examples = state.start ? state.start.examples : {}, text = $("robot-text").value;
+  const auto = ["auto", "yaml"].includes($("format").value);
+  $("example").value = (auto && Object.keys(examples).find((k) => examples[k] === text)) || "";
 }
 
 document.addEventListener("DOMContentLoaded", start);

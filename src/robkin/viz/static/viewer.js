@@ -45,6 +45,7 @@ export class Viewer {
     this.scene.add(sun);
     this.orbit = new OrbitControls(this.camera, this.renderer.domElement);
     this.orbit.addEventListener("change", () => this.render());
+    this.orbit.addEventListener("start", () => { this.userMoved = true; });  // the user turned, panned or zoomed
     this.world = new THREE.Group();      // ground grid and base frame
     this.robot = new THREE.Group();      // stick figure, overlays, robot B
     this.meshes = new THREE.Group();     // visuals (meshes) placed per joint frame
@@ -265,6 +266,8 @@ export class Viewer {
     this.visuals = visuals;
     for (const v of visuals) this.meshes.add(v.object);
     if (this.res) this.posesMeshes(this.res);
+    // meshes arrive after the first picture: frame them too, unless the user has moved the camera since
+    if (visuals.length && this.res && !this.userMoved) this.view("fit");
     this.render();
   }
 
@@ -278,27 +281,48 @@ export class Viewer {
   }
 
   // ------------------------------------------------------------------ camera
+  // Everything drawn of the robot at its shown pose: links, joint axes, tool frame, overlays, robot B,
+  // difference arrows, the meshes, and the base frame (not the grid).
   bounds() {
-    const box = new THREE.Box3();
-    if (this.res) for (const p of this.res.scene.links) box.expandByPoint(v3(p));
-    if (this.res && this.res.check) for (const p of this.res.check.scene.links) box.expandByPoint(v3(p));
-    if (this.res) for (const o of this.res.overlays || []) for (const p of o.links) box.expandByPoint(v3(p));
-    box.expandByPoint(new THREE.Vector3());
-    box.expandByScalar(0.1 * this.scale);
+    const box = new THREE.Box3().setFromObject(this.robot);
+    if (this.visuals && this.visuals.length) box.union(new THREE.Box3().setFromObject(this.meshes));
+    box.expandByPoint(new THREE.Vector3()).expandByPoint(new THREE.Vector3(1, 1, 1).multiplyScalar(TRIAD * this.scale));
+    box.expandByScalar(0.03 * this.scale);  // the axis labels, beside their points
     return box;
+  }
+
+  // The camera distance along `d` (unit, from the centre c toward the camera) at which the whole box
+  // is in the picture: for each corner, its offset across the view over the tangent of the half field
+  // of view, plus its depth toward the camera (a perspective fit of the box, not of its sphere).
+  fitDistance(box, c, d) {
+    const cam = this.camera;
+    cam.position.copy(c).add(d);
+    cam.lookAt(c);
+    cam.updateMatrixWorld();
+    const right = new THREE.Vector3().setFromMatrixColumn(cam.matrixWorld, 0);
+    const up = new THREE.Vector3().setFromMatrixColumn(cam.matrixWorld, 1);
+    const tv = Math.tan(cam.fov * Math.PI / 360), th = tv * cam.aspect;
+    let dist = 1e-6 * this.scale;
+    for (let i = 0; i < 8; i++) {
+      const q = new THREE.Vector3(i & 1 ? box.max.x : box.min.x, i & 2 ? box.max.y : box.min.y,
+                                  i & 4 ? box.max.z : box.min.z).sub(c);
+      const z = q.dot(d);
+      dist = Math.max(dist, z + Math.abs(q.dot(right)) / th, z + Math.abs(q.dot(up)) / tv);
+    }
+    return dist * 1.06;  // 6%: a margin inside the frame's edge
   }
 
   // Camera looking at the robot: "iso" (the reset view), "front" (from +x), "side" (from -y), "top"
   // (from +z), or "fit" (keep the direction, frame the robot).
   view(name, direction = null) {
     const box = this.bounds(), c = box.getCenter(new THREE.Vector3());
-    const r = Math.max(box.getSize(new THREE.Vector3()).length() / 2, this.scale * 0.5);
-    const dist = r / Math.sin((this.camera.fov * Math.PI / 180) / 2) * 1.05;
     // top: a hair off the vertical, where the orbit's z-up frame is singular
     const dirs = { iso: [1, -1.3, 0.8], front: [1, 0, 0], side: [0, -1, 0], top: [-1e-4, 0, 1] };
     const cur = this.camera.position.clone().sub(this.orbit.target);
     const d = direction ? v3(direction).normalize() :
       name === "fit" && cur.lengthSq() > 0 ? cur.normalize() : v3(dirs[name] || dirs.iso).normalize();
+    const dist = this.fitDistance(box, c, d);
+    this.userMoved = false;
     this.orbit.target.copy(c);
     this.camera.position.copy(c).addScaledVector(d, dist);
     this.camera.near = dist / 1000;
