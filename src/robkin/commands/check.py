@@ -108,7 +108,7 @@ def run(args: argparse.Namespace) -> int:
     from ..messages import render_options
 
     result = compare(a, b, tol=args.tol)
-    from ..dynamics.compare import compare_masses
+    from ..dynamics.compare import compare_masses, same_robot
 
     masses = compare_masses(a, b, result)
     if args.json:
@@ -129,6 +129,6 @@ def run(args: argparse.Namespace) -> int:
         show_blocks([render_options(blk, args._flags) if isinstance(blk, str) else blk
                      for blk in comparison_blocks(result, title)])
         print(masses.summary())
-    return 0 if result.same and masses.same is not False else 1
+    return 0 if same_robot(result, masses) else 1
 
 

@@ -29,7 +29,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..equivalence.comparison import Comparison
     from ..robot import Robot
 
-__all__ = ["BodyMatch", "MassComparison", "compare_masses"]
+__all__ = ["BodyMatch", "MassComparison", "compare_masses", "same_robot"]
 
 #: gravity along -z of the robot base (m/s^2), for the g(q) comparison
 _DOWN = np.array([0.0, 0.0, -9.81])
@@ -193,3 +193,9 @@ def compare_masses(a: "Robot", b: "Robot", kinematics: "Comparison", samples: in
     return MassComparison(checked=True, same=same, bodies=tuple(bodies), first_difference=first,
                           total_mass_a=ma.total_mass, total_mass_b=mb.total_mass, mass_matrix_error=M_err,
                           gravity_error=g_err, samples=samples, notes=tuple(notes))
+
+
+def same_robot(kinematics: "Comparison", masses: MassComparison) -> bool:
+    """``robkin check A B``'s verdict (exit status 0), which the GUI's visual check shows too: the same
+    mechanism, and mass properties that agree or that one side does not give (``masses.same`` None)."""
+    return bool(kinematics.same and masses.same is not False)

@@ -47,7 +47,7 @@ def check_other(robot: Robot, Q: np.ndarray, other: Any,
         ``first_joint`` (index of the first joint that is not the same, or None), ``masses`` (see
         :func:`mass_rows`), B's ``scene``, ``arrows`` and the ``exaggerate`` factor.
     """
-    from ..dynamics.compare import compare_masses
+    from ..dynamics.compare import compare_masses, same_robot
     from ..equivalence.comparison import compare
     from .scene import build_scene
 
@@ -62,7 +62,7 @@ def check_other(robot: Robot, Q: np.ndarray, other: Any,
         warnings.simplefilter("ignore")  # B's conversion notes are not about the robot shown
         result = compare(robot, b)          # what `robkin check A B` calls, with its default tolerance
         masses = compare_masses(robot, b, result)
-    same = bool(result.same and masses.same is not False)  # `robkin check`'s exit status 0
+    same = same_robot(result, masses)  # `robkin check`'s exit status 0
     # the first joint that is not the same: a different axis, or the same axis with another sign or zero
     first = next((m.index for m in result.joints if m.status != "same"), None)
     if first is None and result.n_a != result.n_b:
