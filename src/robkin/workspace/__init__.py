@@ -21,9 +21,9 @@ from __future__ import annotations
 from ..lazy_exports import lazy_exports
 
 __all__ = ["WorkspaceMap", "reachability_map", "default_samples", "sphere_directions", "base_placement",
-           "Placement", "agreement", "save_map", "load_map"]
+           "Placement", "agreement", "verify", "save_map", "load_map"]
 
 __getattr__, __dir__ = lazy_exports(__name__, globals(), {
     "WorkspaceMap": ".maps", "reachability_map": ".maps", "default_samples": ".maps",
     "sphere_directions": ".grid", "base_placement": ".placement", "Placement": ".placement",
-    "agreement": ".compare", "save_map": ".files", "load_map": ".files"})
+    "agreement": ".compare", "verify": ".placement", "save_map": ".files", "load_map": ".files"})
