@@ -23,11 +23,12 @@ so that the task poses are reachable (columns x, y, z with qw, qx, qy, qz or rol
 'robkin ik --poses'): candidates on a grid of the map's voxel and --yaws headings, scored by how many
 poses the map reaches from there; --verify checks the best ones with IK.
 
+On a Dask cluster: --dask tcp://10.0.0.5:8786 (the scheduler's address; pip install 'dask[distributed]').
+
 examples:
-  robkin workspace panda.urdf --tip-link panda_hand_tcp -o panda_map.npz --samples 1000000 --plot panda_map.png
-  robkin workspace panda.urdf --tip-link panda_hand_tcp --map panda_map.npz --base-for poses.csv --verify
-  robkin workspace ur5.urdf --tip-link tool0 --voxel 0.1 --orientations 20 --samples 200000 -o ur5_map.npz --json
-  robkin workspace panda.urdf --tip-link panda_hand_tcp -o fine.npz --voxel 0.02 --dask tcp://10.0.0.5:8786
+  robkin workspace ur5.urdf --tip-link tool0 -o ur5_map.npz --voxel 0.1 --orientations 20 --samples 3e5 --plot ur5_map.png
+  robkin workspace ur5.urdf --tip-link tool0 --map ur5_map.npz --base-for targets.csv --yaws 8 --verify
+  robkin workspace panda.urdf --tip-link panda_hand_tcp -o panda_map.npz --samples 1e6 --threads 2 --json
 """
 
 

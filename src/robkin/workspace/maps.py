@@ -130,12 +130,6 @@ class WorkspaceMap:
         aligned: voxel (i, j, k) of this map is voxel global_index + (i, j, k) of any other)."""
         return np.rint(self.origin / self.voxel).astype(np.int64)
 
-    def save(self, path: str) -> None:
-        """Write the map as a compressed .npz (``robkin.workspace.files``), atomically."""
-        from .files import save_map
-
-        save_map(self, path)
-
 
 def reachability_map(robot: Robot, voxel: float = 0.05, orientations: int = 50, *, samples: int | None = None,
                      seed: int = 0, kind: str = "translational", threads: int | None = None,
