@@ -42,7 +42,7 @@ def register(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--orientations", metavar="K", type=int, default=50,
                    help="approach-direction bins (default 50; 1: position only)")
     p.add_argument("--samples", metavar="N", type=float,
-                   help="configurations sampled (default 2e7 at 5 cm voxels, scaled by (0.05 / voxel)^3)")
+                   help="configurations sampled (default 4e7 at 5 cm voxels, scaled by (0.05 / voxel)^3)")
     p.add_argument("--seed", type=seed, default=0, help="sampling seed (default 0)")
     p.add_argument("--manipulability", metavar="KIND", default="translational",
                    choices=("translational", "rotational", "full"),

@@ -1,8 +1,9 @@
 """``WorkspaceMap`` and ``reachability_map``: where the tool of a robot can go, and with which approach
 directions, on a voxel grid in the robot base frame.
 
-Method: sampling. Configurations are drawn uniformly between the joint limits (``sampling``), each
-one's tool pose is binned by FK: its origin marks a voxel, the direction of its z axis (the approach
+Method: sampling. Configurations are drawn uniformly between the joint limits (``sampling``; in
+groups of 8 that differ only in a revolute joint 1, whose tool poses are one FK's turned about joint 1's
+axis), each one's tool pose is binned: its origin marks a voxel, the direction of its z axis (the approach
 axis) marks the nearest of K directions of a near-uniform sphere lattice (``grid.sphere_directions``).
 So ``reachable[i, j, k]`` counts the approach directions (within a ~sqrt(4/K) rad cone each) in
 which the tool origin reaches voxel (i, j, k); the roll about the approach axis is not binned (a
@@ -11,8 +12,8 @@ for cells as fine as these cones). Every mark is made by a configuration inside 
 never claims a voxel that cannot be reached; what it can miss is a sliver reached by a small volume
 of configurations (see docs/workspace.md for the measured agreement with brute force).
 
-Sampling rather than IK per voxel and direction: FK costs ~0.1-0.4 us a configuration, so tens of
-millions of samples fit in a minute on one core, while a numeric IK call per (voxel, direction) cell
+Sampling rather than IK per voxel and direction: a configuration costs ~0.5 us (FK, manipulability and
+the binning), so tens of millions fit in a minute on one core, while a numeric IK call per (voxel, direction) cell
 (~2 million cells for a 5 cm Panda map with K = 50) costs tens of us each and still has to decide
 "unreachable" from a failure to converge.
 """
@@ -28,15 +29,16 @@ from numpy.typing import ArrayLike
 from ..errors import InputError
 from ..robot import Robot
 from .grid import check_orientations, check_voxel, direction_bins, reach_box, sample_ranges, sphere_directions
-from .sampling import Partial, Plan, run_local
+from .sampling import Partial, Plan, run_local, sweep_of
 
 __all__ = ["WorkspaceMap", "reachability_map", "default_samples", "KINDS"]
 
 #: Manipulability measures a map may keep (``Robot.manipulability``'s kinds).
 KINDS = ("translational", "rotational", "full")
-#: Samples of a 5 cm map: 2e7 leave ~0.3 % of the voxels that 5e7 samples reach unmarked on the Panda
-#: (benchmarks/bench_workspace.py); finer voxels need proportionally more (``default_samples``).
-SAMPLES_AT_5CM = 20_000_000
+#: Configurations of a 5 cm map: ~25 s of one core for the Panda (benchmarks/bench_workspace.py), where
+#: 1e7 brute-force samples reach 99.7 % of its voxels; finer voxels need proportionally more
+#: (``default_samples``).
+SAMPLES_AT_5CM = 40_000_000
 
 
 def default_samples(voxel: float) -> int:
@@ -146,7 +148,7 @@ def reachability_map(robot: Robot, voxel: float = 0.05, orientations: int = 50, 
     orientations : int
         K, the number of approach-direction bins (default 50; 1 for a position-only map).
     samples : int, optional
-        Configurations sampled (default ``default_samples(voxel)``: 2e7 at 5 cm).
+        Configurations sampled (default ``default_samples(voxel)``: 4e7 at 5 cm).
     seed : int
         The sampling's seed: the same seed and samples give the same map, locally or on Dask.
     kind : {'translational', 'rotational', 'full'}
@@ -176,7 +178,8 @@ def reachability_map(robot: Robot, voxel: float = 0.05, orientations: int = 50, 
         raise InputError(f"seed: expected a whole number 0 .. 2**63 - 1, got {seed!r}")
     origin, shape = reach_box(robot, v)
     lower, upper = sample_ranges(robot)
-    plan = Plan(robot, origin, shape, v, sphere_directions(k), lower, upper, int(total), int(seed), kind)
+    plan = Plan(robot, origin, shape, v, sphere_directions(k), lower, upper, int(total), int(seed), kind,
+                sweep_of(robot))
     if dask is not None:
         from .distributed import run_on_dask
 

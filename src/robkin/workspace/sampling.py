@@ -20,12 +20,15 @@ import numpy as np
 from ..robot import Robot
 from .grid import direction_bins
 
-__all__ = ["CHUNK", "Plan", "Partial", "chunks", "split", "run_chunks", "run_local"]
+__all__ = ["CHUNK", "SWEEP", "Plan", "Partial", "chunks", "split", "sweep_of", "run_chunks", "run_local"]
 
 #: Configurations per chunk: large enough that the kernels' per-call cost (~50 us) is lost in the work
 #: and NumPy's per-array overhead too, small enough that a chunk's temporaries (FK poses: 128 bytes a
 #: sample) stay ~10 MB.
 CHUNK = 65536
+#: Configurations per FK evaluation when joint 1 is revolute (``run_chunks``): a power of two (a divisor
+#: of CHUNK). The per-configuration NumPy work then dominates; 8 gives ~4x the configurations per second.
+SWEEP = 8
 
 
 @dataclass(frozen=True, eq=False)
@@ -42,6 +45,7 @@ class Plan:
     samples: int
     seed: int
     kind: str                   # manipulability kind (Robot.manipulability)
+    sweep: int = 1              # configurations per FK evaluation (run_chunks)
 
 
 def chunks(samples: int) -> int:
@@ -70,41 +74,81 @@ class Partial:
         self.best_q[better] = other.best_q[better]
 
 
+def sweep_of(robot: Robot) -> int:
+    """Configurations per FK evaluation: ``SWEEP`` when joint 1 is revolute, else 1 (see ``run_chunks``)."""
+    return SWEEP if robot.joints[0].revolute else 1
+
+
 def run_chunks(plan: Plan, start: int, stop: int, threads: int | None = None) -> Partial:
     """The partial map of chunks ``start`` .. ``stop - 1`` of the plan, folded in order.
 
-    ``threads`` bounds the FK and manipulability kernels' threads (see ``robkin.threads``).
+    A chunk's configurations come in groups of ``plan.sweep`` that differ only in joint 1 (revolute):
+    joint values u (uniform in [0, 1)^n, mapped onto the limits) and the same u with u_1 shifted by
+    j / sweep (mod 1), j = 1 .. sweep - 1: each configuration is still uniform between the limits, and
+    joint 1 is sampled evenly. Turning joint 1 turns the whole arm about joint 1's axis, so one FK and
+    one manipulability (which a rigid turn does not change) serve the whole group: the tool poses of the
+    others are the first one's turned about that axis. ``threads`` bounds the kernels' threads.
     """
     out = Partial(plan)
-    robot, n = plan.robot, plan.robot.n
+    robot, n, sweep = plan.robot, plan.robot.n, plan.sweep
     shape = np.array(plan.shape)
     k = len(plan.directions)
     span = plan.upper - plan.lower
+    axis, point = robot.frames[0, :3, 2], robot.frames[0, :3, 3]
+    shifts = np.arange(sweep) / sweep
+    voxels = int(np.prod(shape))
+    best = np.full(voxels, -np.inf)
+    first = np.full(voxels, np.iinfo(np.int64).max)
     for c in range(start, stop):
         size = min(CHUNK, plan.samples - c * CHUNK)
         if size <= 0:
             break
         rng = np.random.default_rng([plan.seed, c])
-        q = plan.lower + span * rng.random((size, n))
+        groups = -(-size // sweep)
+        u = rng.random((groups, n))
+        q = plan.lower + span * u
         T = robot.fk(q, threads=threads)
-        ijk = np.floor((T[:, :3, 3] - plan.origin) / plan.voxel).astype(np.intp)
+        m = np.asarray(robot.manipulability(q, plan.kind, threads=threads))
+        if sweep > 1:
+            u1 = (u[:, :1] + shifts) % 1.0                                      # (groups, sweep)
+            q1 = plan.lower[0] + span[0] * u1
+            turn = q1 - q[:, :1]
+            p = _turned(T[:, :3, 3] - point, axis, turn) + point
+            z = _turned(T[:, :3, 2], axis, turn)
+            m = np.repeat(m, sweep)
+            qs = np.repeat(q, sweep, axis=0)
+            qs[:, 0] = q1.reshape(-1)
+            p, z, m, qs = p[:size], z[:size], m[:size], qs[:size]
+        else:
+            p, z, qs = T[:, :3, 3], T[:, :3, 2], q
+        ijk = np.floor((p - plan.origin) / plan.voxel).astype(np.intp)
         # the box holds every reachable position with a voxel to spare (grid.reach_box); the clip only
         # guards against rounding at its edge
         np.clip(ijk, 0, shape - 1, out=ijk)
         flat = (ijk[:, 0] * shape[1] + ijk[:, 1]) * shape[2] + ijk[:, 2]
-        out.bins[flat * k + direction_bins(T[:, :3, 2], plan.directions)] = True
-        m = np.asarray(robot.manipulability(q, plan.kind, threads=threads))
-        # per voxel, the sample of largest manipulability (the earliest on a tie: lexsort is stable)
-        order = np.lexsort((-m, flat))
-        sorted_flat = flat[order]
-        first = np.ones(size, dtype=bool)
-        first[1:] = sorted_flat[1:] != sorted_flat[:-1]
-        pick = order[first]
+        out.bins[flat * k + direction_bins(z, plan.directions)] = True
+        # per voxel, the configuration of largest manipulability (the earliest on a tie)
+        np.maximum.at(best, flat, m)
+        top = np.flatnonzero(m == best[flat])
+        np.minimum.at(first, flat[top], top)
+        pick = top[first[flat[top]] == top]                 # one per voxel: its earliest best
         vox = flat[pick]
         better = m[pick] > out.manipulability[vox]
         out.manipulability[vox[better]] = m[pick[better]]
-        out.best_q[vox[better]] = q[pick[better]]
+        out.best_q[vox[better]] = qs[pick[better]]
+        best[vox] = -np.inf
+        first[vox] = np.iinfo(np.int64).max
     return out
+
+
+def _turned(v: np.ndarray, axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
+    """Vectors v (G, 3) each turned by its angles (G, S) about the unit axis (3,) (Rodrigues' formula):
+    (G * S, 3), the S turns of each vector in a row."""
+    along = np.outer(v @ axis, axis)                     # the part on the axis, which the turn keeps
+    across = v - along
+    normal = np.cross(axis, v)
+    c, s = np.cos(angle)[:, :, None], np.sin(angle)[:, :, None]
+    return (along[:, None, :] + across[:, None, :] * c + normal[:, None, :] * s).reshape(-1, 3)
 
 
 def split(count: int, parts: int) -> list[tuple[int, int]]:
