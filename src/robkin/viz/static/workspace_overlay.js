@@ -37,7 +37,7 @@ export class WorkspaceOverlay {
     geometry.setAttribute("position", new THREE.BufferAttribute(pos, 3));
     geometry.setAttribute("color", new THREE.BufferAttribute(col, 3));
     const material = new THREE.PointsMaterial({ size: 0.5 * res.voxel, vertexColors: true, transparent: true,
-                                                opacity: 0.35, depthWrite: false, sizeAttenuation: true });
+                                                opacity: 0.5, depthWrite: false, sizeAttenuation: true });
     this.group.add(new THREE.Points(geometry, material));
     this.last = res;
     this.viewer.render();
