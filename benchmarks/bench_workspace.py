@@ -9,7 +9,8 @@ agreement).
 3. Agreement, a voxel being reachable when any orientation bin is: ``recall`` (of the voxels brute force
    reaches, the fraction the map reaches: the goal's measure, as the map cannot mark an unreached voxel,
    each mark being a configuration within the limits, so disagreement is only voxels one of the two
-   samplings missed), ``jaccard`` and ``box_agreement`` (``robkin.workspace.agreement``). And, as the
+   samplings missed; the map's voxels that brute force missed are each checked through the map's own
+   witness, ``best_q``), ``jaccard`` and ``box_agreement`` (``robkin.workspace.agreement``). And, as the
    yardstick of what sampling can give, a second brute force of 1e7 with a third seed against the first:
    two 1e7 samplings miss different voxels at the boundary.
 
@@ -74,6 +75,13 @@ def main() -> None:
     print(f"brute force: {args.reference:.3g} samples, {len(ref)} voxels, {time.perf_counter() - t:.1f} s", flush=True)
     grid_box = _box_agreement(mine, ref)
     print(f"map vs brute force: {compare(mine, ref)}, box agreement {grid_box:.4f} (goal >= 0.99)", flush=True)
+    extra = np.array(sorted(mine - ref), dtype=np.int64).reshape(-1, 3)
+    q = wmap.best_q[tuple((extra - wmap.global_index()).T)]
+    inside = (q >= panda.limits[:, 0]).all(axis=1) & (q <= panda.limits[:, 1]).all(axis=1)
+    landed = np.floor(panda.fk(q)[:, :3, 3] / VOXEL).astype(np.int64)
+    shown = int((inside & (landed == extra).all(axis=1)).sum())
+    print(f"the map's {len(extra)} voxels brute force missed: {shown} shown reachable by their best_q (within "
+          f"the limits, FK in the voxel)", flush=True)
     other = brute_force(panda, int(args.reference), 2)
     print(f"brute force vs brute force (another seed): {compare(other, ref)}", flush=True)
 

@@ -17,7 +17,7 @@ __all__ = ["agreement", "reachable_voxels"]
 def reachable_voxels(wmap: WorkspaceMap) -> set[tuple[int, int, int]]:
     """The reachable voxels as global indices (whole voxels from the base origin)."""
     g = wmap.global_index()
-    return {tuple(int(x) for x in row) for row in np.argwhere(wmap.reachable > 0) + g}
+    return {(int(i), int(j), int(k)) for i, j, k in np.argwhere(wmap.reachable > 0) + g}
 
 
 def agreement(a: WorkspaceMap, b: WorkspaceMap) -> dict[str, float]:

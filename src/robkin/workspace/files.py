@@ -11,6 +11,7 @@ unreached; ``bins`` (X, Y, Z, K) bool; ``directions`` (K, 3); ``best_q`` (X, Y, 
 from __future__ import annotations
 
 import zipfile
+from typing import Any
 
 import numpy as np
 
@@ -32,7 +33,7 @@ def save_map(wmap: WorkspaceMap, path: str) -> None:
     """Write ``wmap`` to ``path`` (.npz, compressed), all or nothing (``robkin.io.files.atomic``)."""
     from ..io.files.atomic import atomic_file
 
-    arrays = {"reachable": wmap.reachable, "origin": np.asarray(wmap.origin, dtype=float),
+    arrays: dict[str, Any] = {"reachable": wmap.reachable, "origin": np.asarray(wmap.origin, dtype=float),
               "voxel": np.float64(wmap.voxel), "manipulability": wmap.manipulability, "bins": wmap.bins,
               "directions": wmap.directions, "best_q": wmap.best_q, "samples": np.int64(wmap.samples),
               "seed": np.int64(wmap.seed), "kind": np.str_(wmap.kind), "name": np.str_(wmap.name),
@@ -80,7 +81,7 @@ def _header(archive: zipfile.ZipFile, name: str, path: str) -> tuple[tuple[int, 
 def _array(archive: zipfile.ZipFile, name: str, path: str, header: tuple[tuple[int, ...], np.dtype]) -> np.ndarray:
     with archive.open(name + ".npy") as stream:
         try:
-            arr = np.lib.format.read_array(stream, allow_pickle=False)  # type: ignore[arg-type]
+            arr = np.lib.format.read_array(stream, allow_pickle=False)
         except (ValueError, OSError, zipfile.BadZipFile, EOFError) as exc:
             raise InputError(f"{path}: array '{name}' cannot be read ({exc})") from None
     if arr.shape != header[0]:  # pragma: no cover - the same header read twice

@@ -91,7 +91,8 @@ class WorkspaceMap:
     @property
     def shape(self) -> tuple[int, int, int]:
         """(X, Y, Z): voxels along each axis."""
-        return self.bins.shape[:3]  # type: ignore[return-value]
+        X, Y, Z = self.bins.shape[:3]
+        return int(X), int(Y), int(Z)
 
     @property
     def reachable(self) -> np.ndarray:
@@ -112,7 +113,7 @@ class WorkspaceMap:
         inside = np.all((ijk >= 0) & (ijk < np.array(self.shape)), axis=1)
         return np.where(inside[:, None], ijk, 0), inside
 
-    def reaches(self, T: ArrayLike) -> np.ndarray:
+    def reaches(self, T: ArrayLike) -> np.ndarray | bool:
         """Whether each pose (4, 4) or (N, 4, 4) (base frame) falls in a marked (voxel, direction) cell.
 
         A screening, not a proof: the cell was reached by some configuration, with the tool origin
