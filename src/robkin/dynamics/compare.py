@@ -197,5 +197,6 @@ def compare_masses(a: "Robot", b: "Robot", kinematics: "Comparison", samples: in
 
 def same_robot(kinematics: "Comparison", masses: MassComparison) -> bool:
     """``robkin check A B``'s verdict (exit status 0), which the GUI's visual check shows too: the same
-    mechanism, and mass properties that agree or that one side does not give (``masses.same`` None)."""
+    mechanism (``kinematics``, from ``equivalence.compare``), and ``masses`` (from ``compare_masses``) that
+    agree or that one side does not give (``masses.same`` None)."""
     return bool(kinematics.same and masses.same is not False)

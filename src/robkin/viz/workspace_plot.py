@@ -25,7 +25,7 @@ MAX_POINTS = 20000
 
 
 def plot_workspace(wmap: "WorkspaceMap", title: str | None = None) -> "Figure":
-    """A figure of ``wmap``: x-y, x-z and y-z slices of ``reachable`` and a 3-D scatter (see the module)."""
+    """A figure of ``wmap`` (with ``title`` above it when given): x-y, x-z and y-z slices of ``reachable`` and a 3-D scatter (see the module)."""
     from matplotlib.figure import Figure
 
     reach = wmap.reachable

@@ -43,7 +43,7 @@ def save_map(wmap: WorkspaceMap, path: str) -> None:
 
 
 def load_map(path: str) -> WorkspaceMap:
-    """Read a map written by ``save_map``; InputError naming the file and array if it is not one."""
+    """Read the map at ``path`` written by ``save_map``; InputError naming the file and array if it is not one."""
     try:
         archive = zipfile.ZipFile(path)
     except FileNotFoundError:

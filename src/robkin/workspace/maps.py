@@ -114,7 +114,7 @@ class WorkspaceMap:
         return np.where(inside[:, None], ijk, 0), inside
 
     def reaches(self, T: ArrayLike) -> np.ndarray | bool:
-        """Whether each pose (4, 4) or (N, 4, 4) (base frame) falls in a marked (voxel, direction) cell.
+        """Whether each pose ``T`` (4, 4) or (N, 4, 4) (base frame) falls in a marked (voxel, direction) cell.
 
         A screening, not a proof: the cell was reached by some configuration, with the tool origin
         somewhere in the voxel and its z axis within the bin's cone (roll free). ``Robot.ik`` decides a

@@ -156,7 +156,7 @@ def _axis(lo: float, hi: float, step: float) -> np.ndarray:
 
 
 def verify(robot: Robot, poses: ArrayLike, candidate: dict[str, float], **ik_options: object) -> np.ndarray:
-    """Which task poses ``Robot.ik`` reaches from a candidate base (a dict of ``Placement.ranked``).
+    """Which task ``poses`` (P, 4, 4) ``robot``'s ``Robot.ik`` reaches from a ``candidate`` base (a dict of ``Placement.ranked``).
 
     Returns (P,) bool: the IK's success for B^-1 T of each pose (within the joint limits, at the IK's
     default tolerances); ``ik_options`` go to ``Robot.ik``.
