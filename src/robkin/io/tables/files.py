@@ -58,6 +58,10 @@ TABLE_REPRESENTATIONS = LiveNames(lambda: names("csv"))
 #: (pi/2, pi/3, pi/4, pi/6, pi/12, ...). Numerators up to 2 * denominator (one full turn).
 PI_DENOMINATORS = (1, 2, 3, 4, 6, 8, 12)
 _BLOCK = [f"m{r}{c}" for r in (1, 2, 3) for c in (1, 2, 3, 4)]
+#: The label cells of the base body's row in DH, MDH, Hayati and PoE tables (index 0, before joint 1's):
+#: it carries the base's mass properties and leaves the kinematic columns empty (the base is no joint;
+#: its pose is the ``base`` transform). RPY-XYZ's world row carries them instead.
+BASE_LABELS = ("0", "(base)", "fixed")
 
 
 @dataclass
@@ -145,9 +149,11 @@ def with_precision(t: Table, robot: Robot, digits: int | str | None = None) -> T
     if digits == "exact":
         return t
     t.digits = None if digits is None else int(digits)
-    lengths = [abs(v) for _, values in t.rows for v, c in zip(values, t.columns) if _kind(c[0]) == "length"]
+    lengths = [abs(v) for _, values in t.rows for v, c in zip(values, t.columns)
+               if _kind(c[0]) == "length" and not math.isnan(v)]  # NaN: an empty cell (the base row's)
     lengths += [float(np.linalg.norm(np.asarray(T)[:3, 3])) for _, T in t.transforms]
-    count = len(t.rows) * len(t.columns) + 12 * len(t.transforms)
+    # the kinematic budget's share per value; the base row (no kinematic values) takes no share
+    count = sum(list(lab) != list(BASE_LABELS) for lab, _ in t.rows) * len(t.columns) + 12 * len(t.transforms)
     t.tolerances = decimal_tolerances(robot.scale, robot.scale + float(sum(lengths)), count, SNAP_BUDGET)
     return t
 
@@ -170,14 +176,16 @@ def table_of(robot: Robot, rep: str) -> Table:
         return Table(title, ["i", "frame", "type"], cols,
                      [(lab, list(map(float, F[:3].ravel()))) for lab, F in zip(labels, r.table_of(robot))])
     t = r.table_of(robot)
+    # the base body's row (row 0: its mass properties, no kinematic values) when the table knows them
+    base = [(list(BASE_LABELS), [math.nan] * len(cols))] if t.masses is not None and t.masses.base is not None else []
     if r.layout == "link-table":
         return with_mass_columns(Table(title, ["i", "joint", "type"], cols,
-                                       [(lab, list(map(float, row))) for lab, row in zip(jl, np.asarray(t.rows))],
-                                       [("base", t.base), ("tool", t.tool)]), t.masses)
+                                       base + [(lab, list(map(float, row))) for lab, row in zip(jl, np.asarray(t.rows))],
+                                       [("base", t.base), ("tool", t.tool)]), t.masses, first=len(base))
     if r.layout == "screws":
         return with_mass_columns(Table(title, ["i", "joint", "type"], cols,
-                                       [(lab, list(map(float, s))) for lab, s in zip(jl, t.screws)], [("M", t.M)]),
-                                 t.masses)
+                                       base + [(lab, list(map(float, s))) for lab, s in zip(jl, t.screws)],
+                                       [("M", t.M)]), t.masses, first=len(base))
     labels = [["0", "world->base", ""]] + jl + [[str(robot.n + 1), "tool", ""]]  # rpy: n + 2 rows
     return with_mass_columns(Table(title, ["row", "frame", "type"], cols,
                                    [(lab, list(map(float, row))) for lab, row in zip(labels, t.rows)]),
@@ -212,7 +220,8 @@ def with_mass_columns(t: Table, masses: "MassRows | None", first: int = 0) -> Ta
     # own numbers: the mass matrix and gravity torques move by ~1e-11 of their largest entry at most,
     # far inside the 1e-9 the round trips promise, while the noise of the frame changes goes (UR5's
     # -0.0929999999998: its URDF's 4.9e-12 rad tilt times the link's length)
-    size = max([abs(v) for _, vals in t.rows for v, c in zip(vals, t.columns) if _kind(c[0]) == "length"]
+    size = max([abs(v) for _, vals in t.rows for v, c in zip(vals, t.columns)
+                if _kind(c[0]) == "length" and not math.isnan(v)]
                + [float(np.linalg.norm(np.asarray(T)[:3, 3])) for _, T in t.transforms] + [1e-300])
     scales = [float(np.abs(mass).max()), size, size, size, *[float(np.abs(inertia).max())] * 6]
     tolerances = {c: 1e-12 * ref for (c, _), ref in zip(MASS_COLUMNS, scales)}
