@@ -283,17 +283,33 @@ def _tex_num(table: Table, x: float, column: tuple[str, str, bool], pi: bool) ->
     return f"${sign}{k}$" if not m else f"${sign}\\frac{{{k}}}{{{m}}}$"
 
 
-def to_latex(t: Table, pi: bool = False) -> str:
-    """A ``table`` environment (plain ``tabular`` and ``\\hline``; matrices need amsmath's bmatrix)."""
-    ncol = len(t.labels) + len(t.columns)
-    heads = [_tex_text(s) for s in t.labels] + [c[1] for c in t.columns]
-    out = [r"\begin{table}[ht]", r"\centering", f"\\caption{{{_tex_text(t.title)}}}",
-           r"\begin{tabular}{" + "l" * len(t.labels) + "r" * len(t.columns) + "}", r"\hline",
-           " & ".join(heads) + r" \\", r"\hline"]
+def _tabular(t: Table, labels: int, columns: Sequence[int], pi: bool) -> list[str]:
+    """One ``tabular`` of ``t``: its first ``labels`` label columns and the value columns ``columns``
+    (indices into ``t.columns``), the rows that have a value in one of them."""
+    cols = [t.columns[k] for k in columns]
+    out = [r"\begin{tabular}{" + "l" * labels + "r" * len(cols) + "}", r"\hline",
+           " & ".join([_tex_text(s) for s in t.labels[:labels]] + [c[1] for c in cols]) + r" \\", r"\hline"]
     for lab, values in t.rows:
-        cells = [_tex_text(s) for s in lab] + [_tex_num(t, v, c, pi) for v, c in zip(values, t.columns)]
+        if all(math.isnan(values[k]) for k in columns):  # no such quantity on this row
+            continue
+        cells = [_tex_text(s) for s in lab[:labels]] + [_tex_num(t, values[k], t.columns[k], pi) for k in columns]
         out.append(" & ".join(cells) + r" \\")
-    out += [r"\hline", r"\end{tabular}"]
+    return out + [r"\hline", r"\end{tabular}"]
+
+
+def to_latex(t: Table, pi: bool = False) -> str:
+    """A ``table`` environment (plain ``tabular`` and ``\\hline``; matrices need amsmath's bmatrix).
+
+    With mass properties the float holds four tabulars, so that a 7-joint arm fits the text width of an
+    A4 article: the representation's columns; then each link's m and r; I's diagonal; I's products,
+    rows labelled by the first table's i (row 0: the base body's)."""
+    mass_heads = {c for c, _ in MASS_COLUMNS}
+    kin = [k for k, c in enumerate(t.columns) if c[0] not in mass_heads]
+    mass = [k for k, c in enumerate(t.columns) if c[0] in mass_heads]
+    out = [r"\begin{table}[ht]", r"\centering", f"\\caption{{{_tex_text(t.title)}}}", *_tabular(t, len(t.labels), kin, pi)]
+    if mass:  # m and r, I's diagonal, I's products: each part about as wide as the representation's table
+        for part in (mass[:4], mass[4:7], mass[7:]):
+            out += ["", r"\medskip", *_tabular(t, 1, part, pi)]
     for name, T in t.transforms:
         block = [_tex(s) for s in _block_text(t, T)] + ["0", "0", "0", "1"]
         rows = [" & ".join(block[4 * r:4 * r + 4]) for r in range(4)]
@@ -302,7 +318,7 @@ def to_latex(t: Table, pi: bool = False) -> str:
         out += ["", r"\smallskip", f"${label} = \\begin{{bmatrix}} " + r" \\ ".join(rows)
                 + r" \end{bmatrix}$"]
     out.append(r"\end{table}")
-    if ncol > 12:  # the GJD's 15 columns: let the float be as wide as the page allows
+    if len(t.labels) + len(kin) > 12 or mass:  # the GJD's 15 columns, the inertia's long numbers
         out.insert(1, r"\small")
     return "\n".join(out) + "\n"
 
