@@ -39,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from .attribution import attribute
 from .params import ParameterDifference, parameter_differences
 from .walk import Walk, pose_difference
 from ..robot import Robot
@@ -155,7 +156,8 @@ def compare(a: Robot, b: Robot, tol: float = DEFAULT_TOL, samples: int = 64) -> 
         first = f"joint counts differ: A has {a.n}, B has {b.n}"
     SA, SB = a.screws(), b.screws()
     walk = Walk(a, b, SA, SB, scale, tol)
-    result = walk.run(n)
+    walked = walk.run(n)
+    result = attribute(a, b, walked, scale, tol)  # the joint whose axis moved, not an offset before it
     signs, offsets, matched = result.signs, result.offsets, result.matched
     joints = [JointMatch(k, a.joints[k].name, b.joints[k].name, a.joints[k].type, b.joints[k].type, "same")
               for k in range(matched)]
@@ -214,7 +216,7 @@ def compare(a: Robot, b: Robot, tol: float = DEFAULT_TOL, samples: int = 64) -> 
                                  detail=f"{kind}: " + "; ".join(texts) if texts else
                                  f"its {kind} row matches (compared after joint {matched + 1})"))
     if not same:
-        notes += _base_hints(a, b, joints, params, matched, scale, tol)
+        notes += _base_hints(a, b, joints, params, walked.matched, scale, tol)  # the walks alike, unattributed
     if mapped and not same and first is None:
         diff = next(j for j in joints if j.status != "same")
         first = f"joint {diff.index + 1} ('{diff.name_a}' / '{diff.name_b}'): {diff.detail}"
