@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..io.files.float_text import distinct_texts
 from ..samples import unit_sample
 from ..mass_properties import LinkMasses, link_masses
 
@@ -78,8 +79,10 @@ class MassComparison:
         """One line, as ``robkin check`` prints it."""
         if not self.checked:
             return f"mass properties: not compared ({self.reason})"
+        ta, tb = distinct_texts(self.total_mass_a, self.total_mass_b) if not self.same else \
+            (f"{self.total_mass_a:.6g}", f"{self.total_mass_b:.6g}")
         head = (f"mass properties: {'same' if self.same else 'DIFFER'} ({len(self.bodies)} bodies, total "
-                f"{self.total_mass_a:.6g} kg vs {self.total_mass_b:.6g} kg; M(q) and g(q) at {self.samples} "
+                f"{ta} kg vs {tb} kg; M(q) and g(q) at {self.samples} "
                 f"configurations differ by {self.mass_matrix_error:.2g} and {self.gravity_error:.2g} of their "
                 f"largest entry)")
         return head if self.same else f"{head}; first difference: {self.first_difference}"
@@ -168,7 +171,7 @@ def compare_masses(a: "Robot", b: "Robot", kinematics: "Comparison", samples: in
         if not same and first is None:
             what = []
             if abs(m1 - m2) > tol * max(m1, m2):
-                what.append(f"mass {m1:.6g} kg vs {m2:.6g} kg")
+                what.append("mass {} kg vs {} kg".format(*distinct_texts(m1, m2)))  # digits enough to differ
             if dist > tol * scale:
                 what.append(f"centre of mass {dist:.4g} m apart")
             if dI > tol * inertia_scale:
