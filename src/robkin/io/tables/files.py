@@ -24,7 +24,11 @@ Mass properties
     When the robot has them, each joint row ends with ten more columns: ``m (kg)``, ``rx (m)``,
     ``ry (m)``, ``rz (m)``, ``Ixx (kg m^2)``, ``Iyy``, ``Izz``, ``Ixy``, ``Iyz``, ``Ixz`` (the same
     unit): link i's mass, centre of mass and inertia about it, in the table's own link frame i
-    (``robkin.representations.mass_rows``). RPY-XYZ's world and tool rows leave them empty.
+    (``robkin.representations.mass_rows``). The base body's (frame {0}), when known, is on a row of its
+    own before joint 1's in DH, MDH, Hayati and PoE tables: ``0, (base), fixed`` with the
+    representation's cells empty (``BASE_LABELS``; the reader takes it back as ``base_mass``); on
+    RPY-XYZ's world row, whose tool row leaves them empty. LaTeX puts the mass columns in tabulars of
+    their own (m and r; I's diagonal; I's products) so that a 7-joint arm fits an A4 page.
 """
 
 from __future__ import annotations
