@@ -148,12 +148,13 @@ def test_source_products_that_are_not_zero_are_kept():
 
 
 def test_latex_of_a_seven_joint_arm_with_masses_fits_an_a4_page(tmp_path):
-    """Panda (7 joints, masses) in every table with mass columns: the kinematics and the mass properties
-    in tabulars that fit the text width of an A4 article (before: one 17-column tabular, 185 pt too
-    wide). Measured by pdflatex: no overfull box."""
+    """Panda (7 joints, masses) in every table: the kinematics (a PoE's omega then v, a GJD's rotation
+    rows then position) and the mass properties in tabulars that fit the text width of an A4 article
+    (before: DH's one 17-column tabular was 185 pt too wide, body-frame PoE's 221 pt, GJD's 384 pt).
+    Measured by pdflatex: no overfull box."""
     panda = robkin.load(robot_file(CASES["panda"][0]), tip_link="panda_hand_tcp")
     body = "\n".join(render_table(panda, rep, "latex", pi=True) + "\\clearpage"
-                     for rep in ("dh", "mdh", "hayati", "poe", "rpy-xyz"))
+                     for rep in ("dh", "mdh", "hayati", "poe", "poe-body", "rpy-xyz", "gjd"))
     tex = render_table(panda, "dh", "latex")
     assert tex.count("\\begin{tabular}") == 4  # kinematics; m and r; I's diagonal; I's products
     assert max(len(line.split(" & ")) for line in tex.splitlines() if " & " in line and "bmatrix" not in line) <= 7

@@ -304,13 +304,24 @@ def _tabular(t: Table, labels: int, columns: Sequence[int], pi: bool) -> list[st
 def to_latex(t: Table, pi: bool = False) -> str:
     """A ``table`` environment (plain ``tabular`` and ``\\hline``; matrices need amsmath's bmatrix).
 
-    With mass properties the float holds four tabulars, so that a 7-joint arm fits the text width of an
-    A4 article: the representation's columns; then each link's m and r; I's diagonal; I's products,
-    rows labelled by the first table's i (row 0: the base body's)."""
+    The float holds several tabulars, so that a 7-joint arm fits the text width of an A4 article: the
+    representation's columns (a PoE's omega, then its v; a GJD frame's rotation row by row, then its position); with mass
+    properties each link's m and r, I's diagonal, I's products; the later ones labelled by the first
+    one's i (row 0: the base body's)."""
     mass_heads = {c for c, _ in MASS_COLUMNS}
     kin = [k for k, c in enumerate(t.columns) if c[0] not in mass_heads]
     mass = [k for k, c in enumerate(t.columns) if c[0] in mass_heads]
-    out = [r"\begin{table}[ht]", r"\centering", f"\\caption{{{_tex_text(t.title)}}}", *_tabular(t, len(t.labels), kin, pi)]
+    # a screw's omega then its v; a frame's rotation row by row, then its position: long decimals
+    # (sqrt(2)/2 to 15 digits) six or twelve abreast overflow the page
+    if len(kin) == 6:
+        parts = [kin[:3], kin[3:]]
+    elif len(kin) == 12:
+        parts = [kin[0:3], kin[4:7], kin[8:11], kin[3::4]]
+    else:
+        parts = [kin]
+    out = [r"\begin{table}[ht]", r"\centering", f"\\caption{{{_tex_text(t.title)}}}"]
+    for k, part in enumerate(parts):
+        out += ([] if k == 0 else ["", r"\medskip"]) + _tabular(t, len(t.labels) if k == 0 else 1, part, pi)
     if mass:  # m and r, I's diagonal, I's products: each part about as wide as the representation's table
         for part in (mass[:4], mass[4:7], mass[7:]):
             out += ["", r"\medskip", *_tabular(t, 1, part, pi)]
