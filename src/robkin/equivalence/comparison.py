@@ -21,6 +21,11 @@ depth-first search tries the preferred mapping (no offset, sign +1) first and ba
 joint whose axis cannot be matched is reported with how it differs: type, axis direction (angle), or
 axis position (distance between the lines; revolute joints only, a prismatic joint is a direction).
 
+When no mapping exists, the walk's greed can name the wrong joint: a zero offset of joint k-1 may carry
+a tilted axis k into place and leave every later axis out of place. ``equivalence.attribution`` then
+weighs the walk's explanation against the axes as they are, and names the first joint whose axis line
+differs when that leaves less unexplained (issue 32).
+
 A rotation of the base about joint 1's axis cannot be told from a zero offset of joint 1 (FK is in
 the base frame), and is reported as the latter; a half turn there gets a note naming the base frame
 (a ROS URDF's ``base_link`` against a vendor table's ``base``) and ``base_link=``.
