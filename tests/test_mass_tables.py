@@ -430,8 +430,11 @@ def test_text_csv_markdown_latex_carry_the_masses_with_units():
         start = head.index("m (kg)")
         assert head[start:] == ["m (kg)", "rx (m)", "ry (m)", "rz (m)", "Ixx (kg m^2)", "Iyy (kg m^2)",
                                 "Izz (kg m^2)", "Ixy (kg m^2)", "Iyz (kg m^2)", "Ixz (kg m^2)"]
-        values = np.array([[float(c) for c in r[start:]] for r in rows[1:1 + robot.n]])
-        want = np.column_stack([m.mass, m.com, m.six])
+        # row 0 is the base body's (UR5 base_link, 4 kg): its mass columns only
+        assert rows[1][:3] == ["0", "(base)", "fixed"] and rows[1][3:start] == [""] * (start - 3)
+        values = np.array([[float(c) for c in r[start:]] for r in rows[1:2 + robot.n]])
+        want = np.column_stack([np.concatenate([m.base.mass, m.mass]), np.vstack([m.base.com, m.com]),
+                                np.vstack([m.base.six, m.six])])
         if digits == "exact":
             np.testing.assert_array_equal(values, want)  # every digit
         else:  # the shortest decimals within 1e-12 of the largest mass, length, inertia entry

@@ -36,7 +36,7 @@ def parse_csv(text: str):
     lines = list(csv.reader(io.StringIO(text)))
     head, rest = lines[0], lines[1:]
     cut = rest.index([]) if [] in rest else len(rest)
-    rows = rest[:cut]
+    rows = [r for r in rest[:cut] if r[:2] != ["0", "(base)"]]  # the base body's row: its masses only
     transforms = {}
     for line in rest[cut + 2:]:
         T = np.eye(4)
@@ -105,7 +105,7 @@ def test_ur5_dh_with_pi_shows_exact_angles_as_multiples_of_pi():
 def test_markdown_carries_full_precision_when_exact():
     robot = ur5()
     text = render_table(robot, "dh", "markdown", digits="exact")
-    lines = [ln for ln in text.splitlines() if ln.startswith("| ") and ln[2].isdigit()][:robot.n]
+    lines = [ln for ln in text.splitlines() if ln.startswith("| ") and ln[2].isdigit()][1:1 + robot.n]
     cells = np.array([[float(c) for c in ln.strip("| ").split(" | ")[3:]] for ln in lines])
     table = dh_from_robot(robot)
     np.testing.assert_array_equal(cells[:, :4], table.rows)
@@ -148,7 +148,8 @@ def test_convert_format_to_stdout_and_file(tmp_path, capsys):
                  "--pi"]) == 0
     out = capsys.readouterr().out
     assert out.startswith("i,joint,type,a,d,alpha,theta,m (kg),rx (m),ry (m),rz (m),Ixx (kg m^2),Iyy (kg m^2),"
-                          "Izz (kg m^2),Ixy (kg m^2),Iyz (kg m^2),Ixz (kg m^2)\n1,shoulder_pan_joint,revolute,")
+                          "Izz (kg m^2),Ixy (kg m^2),Iyz (kg m^2),Ixz (kg m^2)\n0,(base),fixed,,,,,4,0,0,0,0.00443333156,"
+                          "0.00443333156,0.0072,0,0,0\n1,shoulder_pan_joint,revolute,")
     target = tmp_path / "ur5.tex"
     assert main(["convert", path, "--tip-link", "tool0", "--to", "mdh", "--format", "latex", "-o", str(target)]) == 0
     assert target.read_text().startswith("\\begin{table}")

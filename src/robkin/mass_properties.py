@@ -86,6 +86,12 @@ def merge_masses_by_group(mass: ArrayLike, com: ArrayLike, inertia: ArrayLike, g
     massive = total > 0.0
     centre = np.zeros((count, 3))
     centre[massive] = moment[massive] / total[massive, None]
+    # a whole of one massive part is that part: its centre exactly (m c / m can be off by an ulp, and
+    # the parallel-axis term of that ulp would be 1e-32 noise where the part has a 0 product of inertia)
+    alone = massive & (np.bincount(g, weights=(m > 0.0), minlength=count) == 1)
+    which = np.zeros(count, dtype=np.intp)
+    which[g[m > 0.0]] = np.flatnonzero(m > 0.0)
+    centre[alone] = c[which[alone]]
     d = c - centre[g]                                # offsets of each body's centre from its whole's
     # parallel axis: I_about_centre = I_c + m (|d|^2 E - d d^T), summed per group
     shift = m[:, None, None] * ((d * d).sum(axis=1)[:, None, None] * np.eye(3) - d[:, :, None] * d[:, None, :])
@@ -112,6 +118,8 @@ class LinkMasses:
     mass: np.ndarray
     com: np.ndarray
     inertia: np.ndarray
+    #: the parts merged (``link_masses``), for which entries of ``in_frames`` are exactly 0; None: unknown
+    parts: "_Parts | None" = None
 
     def __post_init__(self) -> None:
         for name in ("mass", "com", "inertia"):
@@ -152,8 +160,53 @@ class LinkMasses:
         R, p = F[:, :3, :3], F[:, :3, 3]
         com = np.einsum("kji,kj->ki", R, self.com - p)          # R^T (c - p)
         com[self.mass == 0] = 0.0
+        # a centre closer to 0 than the rounding of c - p (a few ulps of the larger) is 0: the
+        # frame sits on it exactly, and what is left is the noise of the frame algebra
+        reach = np.abs(self.com).max(axis=1) + np.abs(p).max(axis=1)
+        com[np.abs(com) <= EXACT_ZERO * reach[:, None]] = 0.0
         inertia = np.einsum("kji,kjl,klm->kim", R, self.inertia, R)  # R^T I R
-        return self.mass.copy(), com, 0.5 * (inertia + inertia.transpose(0, 2, 1))
+        inertia = 0.5 * (inertia + inertia.transpose(0, 2, 1))
+        if self.parts is not None:  # the entries that are 0 in the source stay exactly 0
+            inertia[~self.parts.nonzero_in(R, self.com)] = 0.0
+        return self.mass.copy(), com, inertia
+
+
+#: A rotation entry (or a centre's coordinate, relative to the lengths it was computed from) this close
+#: to 0 is the rounding of an exact 0: cos(pi/2) is 6.1e-17 in floats, and products of rotations leave
+#: a few ulps of 1 where the exact product has 0. 4 ulps of 1 (8.9e-16): far below any tilt a robot
+#: file describes (UR5's 1.57079632679 for pi/2 is a 4.9e-12 rad tilt, which stays).
+EXACT_ZERO = 4 * float(np.finfo(float).eps)
+
+
+@dataclass(frozen=True, eq=False)
+class _Parts:
+    """The inertials merged into bodies: which body each is on, its axes in the base frame at q = 0,
+    which entries of its inertia are nonzero, its mass and centre (base frame)."""
+
+    body: np.ndarray        # (k,) int
+    rotation: np.ndarray    # (k, 3, 3)
+    nonzero: np.ndarray     # (k, 3, 3) bool
+    mass: np.ndarray        # (k,)
+    centre: np.ndarray      # (k, 3)
+
+    def nonzero_in(self, R: np.ndarray, centres: np.ndarray) -> np.ndarray:
+        """(n+1, 3, 3) bool: the entries of each body's inertia in axes R (n+1, 3, 3) that are not 0 by
+        structure: a part's nonzero entries carried by the rotation from its axes to R's (entries
+        within EXACT_ZERO of 0 counted as 0), and the parallel-axis terms of parts off the body's
+        centre ``centres`` (n+1, 3) (offsets within the rounding of the centres counted as 0)."""
+        net = np.abs(np.einsum("kji,kjl->kil", R[self.body], self.rotation)) > EXACT_ZERO  # part axes -> R's
+        S = net.astype(float)
+        carried = np.einsum("kij,kjl,kml->kim", S, self.nonzero.astype(float), S) > 0
+        d = np.einsum("kji,kj->ki", R[self.body], self.centre - centres[self.body])
+        reach = np.abs(self.centre).max(axis=1) + np.abs(centres[self.body]).max(axis=1)
+        off = (np.abs(d) > EXACT_ZERO * reach[:, None]) & (self.mass > 0)[:, None]
+        # m (|d|^2 E - d d^T): entry (a, a) has d_b^2 + d_c^2, entry (a, b) has d_a d_b
+        shift = off[:, :, None] & off[:, None, :]
+        others = off.sum(axis=1)[:, None] - off                    # nonzero d's other than d_a
+        shift[:, np.arange(3), np.arange(3)] = others > 0
+        out = np.zeros((len(R), 3, 3), dtype=bool)
+        np.logical_or.at(out, self.body, carried | shift)
+        return out
 
 
 def link_masses(robot: "Robot") -> LinkMasses | None:
@@ -175,9 +228,11 @@ def link_masses(robot: "Robot") -> LinkMasses | None:
     pose = np.stack([part.pose for part in inertials])
     R = pose[:, :3, :3]
     rotated = R @ np.stack([part.inertia for part in inertials]) @ R.transpose(0, 2, 1)   # into base axes
-    mass, com, inertia = merge_masses_by_group(np.array([part.mass for part in inertials]), pose[:, :3, 3],
-                                               rotated, body, n + 1)
-    return LinkMasses(mass, com, inertia)
+    masses = np.array([part.mass for part in inertials])
+    mass, com, inertia = merge_masses_by_group(masses, pose[:, :3, 3], rotated, body, n + 1)
+    parts = _Parts(body, R, np.stack([np.asarray(part.inertia) != 0 for part in inertials]), masses,
+                   pose[:, :3, 3])
+    return LinkMasses(mass, com, inertia, parts)
 
 
 def check_inertia(mass: float, inertia: ArrayLike, where: str) -> np.ndarray:

@@ -12,7 +12,11 @@ Two descriptions are the same robot when the tool pose is the same at every join
 are not, the joints are compared in order and the first one that differs is named, with how: joint
 type, axis direction (angle), axis position (distance), positive direction (sign) or zero offset.
 Descriptions that differ only in signs and zero offsets are the same mechanism with another joint
-convention; the table gives the mapping q_A = sign * q_B + offset.
+convention; the table gives the mapping q_A = sign * q_B + offset. Where a zero offset would carry one
+axis into place but leave more axes (and the tool) out of place than the axes as they are, the joint
+named is the first whose axis line differs: a tilted joint k is joint k, not an offset of joint k-1.
+Values that differ are printed with as many digits as show the difference (mass 14.5893 kg vs
+14.58932 kg).
 
 Past a difference the comparison goes on: both robots are written as the same kind of table (standard
 DH, or modified DH / Hayati when either came from one) by the same frame rules, and every row that

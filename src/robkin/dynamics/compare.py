@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..io.files.float_text import distinct_texts
 from ..samples import unit_sample
 from ..mass_properties import LinkMasses, link_masses
 
@@ -78,8 +79,10 @@ class MassComparison:
         """One line, as ``robkin check`` prints it."""
         if not self.checked:
             return f"mass properties: not compared ({self.reason})"
+        ta, tb = distinct_texts(self.total_mass_a, self.total_mass_b) if not self.same else \
+            (f"{self.total_mass_a:.6g}", f"{self.total_mass_b:.6g}")
         head = (f"mass properties: {'same' if self.same else 'DIFFER'} ({len(self.bodies)} bodies, total "
-                f"{self.total_mass_a:.6g} kg vs {self.total_mass_b:.6g} kg; M(q) and g(q) at {self.samples} "
+                f"{ta} kg vs {tb} kg; M(q) and g(q) at {self.samples} "
                 f"configurations differ by {self.mass_matrix_error:.2g} and {self.gravity_error:.2g} of their "
                 f"largest entry)")
         return head if self.same else f"{head}; first difference: {self.first_difference}"
@@ -111,8 +114,11 @@ def _moved(robot: "Robot", masses: LinkMasses, q: np.ndarray) -> tuple[np.ndarra
     return com, inertia
 
 
-def _relative(a: np.ndarray, b: np.ndarray) -> float:
-    scale = max(float(np.abs(a).max(initial=0.0)), float(np.abs(b).max(initial=0.0)))
+def _relative(a: np.ndarray, b: np.ndarray, floor: float = 0.0) -> float:
+    """Largest difference relative to the largest entry, or to ``floor`` when that is larger: where
+    every entry is 0 but for rounding (g(q) of a robot whose axes are all vertical, 1e-17 N m) the
+    noise is no difference."""
+    scale = max(float(np.abs(a).max(initial=0.0)), float(np.abs(b).max(initial=0.0)), floor)
     return float(np.abs(a - b).max(initial=0.0)) / scale if scale > 0 else 0.0
 
 
@@ -165,7 +171,7 @@ def compare_masses(a: "Robot", b: "Robot", kinematics: "Comparison", samples: in
         if not same and first is None:
             what = []
             if abs(m1 - m2) > tol * max(m1, m2):
-                what.append(f"mass {m1:.6g} kg vs {m2:.6g} kg")
+                what.append("mass {} kg vs {} kg".format(*distinct_texts(m1, m2)))  # digits enough to differ
             if dist > tol * scale:
                 what.append(f"centre of mass {dist:.4g} m apart")
             if dI > tol * inertia_scale:
@@ -177,8 +183,12 @@ def compare_masses(a: "Robot", b: "Robot", kinematics: "Comparison", samples: in
     ga, gb = a.world[:3, :3] @ _DOWN, b.world[:3, :3] @ _DOWN   # -z of each base, in its world frame
     Ma = _rigid(a, a.mass_matrix(Qa)) * signs[None, :, None] * signs[None, None, :]
     Ga = a.gravity(Qa, gravity=ga) * signs
-    M_err = _relative(Ma, _rigid(b, b.mass_matrix(Qb)))
-    g_err = _relative(Ga, b.gravity(Qb, gravity=gb))
+    # floors: a thousandth of the moving mass at one robot size (its inertia there, its weight's torque
+    # there), far below the entries of any robot whose M or g is not 0 by its geometry (UR5: 17 kg,
+    # largest M entry ~3 kg m^2), far above rounding noise (1e-17)
+    moving = 1e-3 * max(float(ma.mass[1:].sum()), float(mb.mass[1:].sum()))
+    M_err = _relative(Ma, _rigid(b, b.mass_matrix(Qb)), moving * scale * scale)
+    g_err = _relative(Ga, b.gravity(Qb, gravity=gb), float(np.linalg.norm(_DOWN)) * moving * scale)
     notes = []
     arm_a, arm_b = ([j.armature or 0.0 for j in r.joints] for r in (a, b))
     if arm_a != arm_b:

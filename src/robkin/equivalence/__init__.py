@@ -2,6 +2,7 @@
 
 - ``comparison``: ``compare(a, b)`` and its result ``Comparison``, the joint mapping ``JointMatch``;
 - ``walk``: the joint-by-joint search for a joint mapping q_A = s q_B + delta;
+- ``attribution``: which joint to name when there is none: the walk's, or the first axis line that moved;
 - ``report``: the comparison as text (``str(comparison)``, ``robkin check``);
 - ``params``: past the first difference, the parameters that differ, as the same kind of table.
 """

@@ -21,6 +21,11 @@ depth-first search tries the preferred mapping (no offset, sign +1) first and ba
 joint whose axis cannot be matched is reported with how it differs: type, axis direction (angle), or
 axis position (distance between the lines; revolute joints only, a prismatic joint is a direction).
 
+When no mapping exists, the walk's greed can name the wrong joint: a zero offset of joint k-1 may carry
+a tilted axis k into place and leave every later axis out of place. ``equivalence.attribution`` then
+weighs the walk's explanation against the axes as they are, and names the first joint whose axis line
+differs when that leaves less unexplained (issue 32).
+
 A rotation of the base about joint 1's axis cannot be told from a zero offset of joint 1 (FK is in
 the base frame), and is reported as the latter; a half turn there gets a note naming the base frame
 (a ROS URDF's ``base_link`` against a vendor table's ``base``) and ``base_link=``.
@@ -39,6 +44,7 @@ from typing import Any
 
 import numpy as np
 
+from .attribution import attribute
 from .params import ParameterDifference, parameter_differences
 from .walk import Walk, pose_difference
 from ..robot import Robot
@@ -155,7 +161,8 @@ def compare(a: Robot, b: Robot, tol: float = DEFAULT_TOL, samples: int = 64) -> 
         first = f"joint counts differ: A has {a.n}, B has {b.n}"
     SA, SB = a.screws(), b.screws()
     walk = Walk(a, b, SA, SB, scale, tol)
-    result = walk.run(n)
+    walked = walk.run(n)
+    result = attribute(a, b, walked, scale, tol)  # the joint whose axis moved, not an offset before it
     signs, offsets, matched = result.signs, result.offsets, result.matched
     joints = [JointMatch(k, a.joints[k].name, b.joints[k].name, a.joints[k].type, b.joints[k].type, "same")
               for k in range(matched)]
@@ -214,7 +221,7 @@ def compare(a: Robot, b: Robot, tol: float = DEFAULT_TOL, samples: int = 64) -> 
                                  detail=f"{kind}: " + "; ".join(texts) if texts else
                                  f"its {kind} row matches (compared after joint {matched + 1})"))
     if not same:
-        notes += _base_hints(a, b, joints, params, matched, scale, tol)
+        notes += _base_hints(a, b, joints, params, walked.matched, scale, tol)  # the walks alike, unattributed
     if mapped and not same and first is None:
         diff = next(j for j in joints if j.status != "same")
         first = f"joint {diff.index + 1} ('{diff.name_a}' / '{diff.name_b}'): {diff.detail}"

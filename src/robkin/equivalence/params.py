@@ -35,7 +35,10 @@ class ParameterDifference:
     unit: str
 
     def text(self) -> str:
-        return f"{self.parameter} {self.a:.6g} vs {self.b:.6g} {self.unit}"
+        from ..io.files.float_text import distinct_texts
+
+        a, b = distinct_texts(self.a, self.b)  # 6 digits, or as many more as show the difference
+        return f"{self.parameter} {a} vs {b} {self.unit}"
 
     def to_dict(self) -> dict[str, Any]:
         return {"joint": self.joint, "parameter": self.parameter, "a": self.a, "b": self.b, "unit": self.unit}

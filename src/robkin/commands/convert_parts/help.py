@@ -62,7 +62,10 @@ every table carries each link's mass m (kg), centre of mass r (m) and inertia ab
 Ixx, Iyy, Izz, Ixy, Iyz, Ixz) in that table's own link frame i (DH, Hayati: frame {i} after joint i;
 modified DH: frame {i} on joint i's axis; RPY-XYZ: joint i's frame; PoE: its reference frame at q = 0),
 everything rigidly attached to a link (fixed links, the tool) merged in: a block under the table on
-stdout, m/r/I on the rows of a document, ten more columns in CSV/Markdown/LaTeX. A table with them
+stdout, m/r/I on the rows of a document, ten more columns in CSV/Markdown/LaTeX. The base body's (frame
+{0}) is on a row 0 '(base)' with the kinematic cells empty (DH, MDH, Hayati, PoE) or on RPY-XYZ's world
+row, and reads back from CSV, so 'robkin check t.csv robot.urdf' compares the whole robot; LaTeX puts
+the mass columns in tabulars of their own (an A4 page holds a 7-joint arm). A table with them
 converts back (--to urdf: <inertial>s) with the same mass matrix and gravity torques.
 
 Chains: --base-link / --tip-link given once apply to every robot file among the inputs; given once

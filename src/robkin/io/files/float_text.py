@@ -10,7 +10,7 @@ for exact conversions.
 
 from __future__ import annotations
 
-__all__ = ["float_text", "short_text", "digits_text", "decimal_tolerances"]
+__all__ = ["float_text", "short_text", "digits_text", "decimal_tolerances", "distinct_texts"]
 
 
 def float_text(x: float) -> str:
@@ -80,3 +80,15 @@ def decimal_tolerances(scale: float, reach: float, count: int, budget: float) ->
     """
     share = budget * scale / max(count, 1)
     return share, share / max(reach, scale, 1e-300)
+
+
+def distinct_texts(x: float, y: float, digits: int = 6) -> tuple[str, str]:
+    """Two values as text with ``digits`` significant digits, or as many more as it takes to tell them
+    apart (the shortest decimals that differ; ``float_text`` of each at most): a report of a difference
+    never prints '14.5893 kg vs 14.5893 kg'. Equal values print alike."""
+    x, y = float(x), float(y)
+    for d in range(digits, 18):
+        tx, ty = digits_text(x, d), digits_text(y, d)
+        if tx != ty or x == y:
+            return tx, ty
+    return float_text(x), float_text(y)

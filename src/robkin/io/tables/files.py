@@ -24,7 +24,11 @@ Mass properties
     When the robot has them, each joint row ends with ten more columns: ``m (kg)``, ``rx (m)``,
     ``ry (m)``, ``rz (m)``, ``Ixx (kg m^2)``, ``Iyy``, ``Izz``, ``Ixy``, ``Iyz``, ``Ixz`` (the same
     unit): link i's mass, centre of mass and inertia about it, in the table's own link frame i
-    (``robkin.representations.mass_rows``). RPY-XYZ's world and tool rows leave them empty.
+    (``robkin.representations.mass_rows``). The base body's (frame {0}), when known, is on a row of its
+    own before joint 1's in DH, MDH, Hayati and PoE tables: ``0, (base), fixed`` with the
+    representation's cells empty (``BASE_LABELS``; the reader takes it back as ``base_mass``); on
+    RPY-XYZ's world row, whose tool row leaves them empty. LaTeX puts the mass columns in tabulars of
+    their own (m and r; I's diagonal; I's products) so that a 7-joint arm fits an A4 page.
 """
 
 from __future__ import annotations
@@ -58,6 +62,10 @@ TABLE_REPRESENTATIONS = LiveNames(lambda: names("csv"))
 #: (pi/2, pi/3, pi/4, pi/6, pi/12, ...). Numerators up to 2 * denominator (one full turn).
 PI_DENOMINATORS = (1, 2, 3, 4, 6, 8, 12)
 _BLOCK = [f"m{r}{c}" for r in (1, 2, 3) for c in (1, 2, 3, 4)]
+#: The label cells of the base body's row in DH, MDH, Hayati and PoE tables (index 0, before joint 1's):
+#: it carries the base's mass properties and leaves the kinematic columns empty (the base is no joint;
+#: its pose is the ``base`` transform). RPY-XYZ's world row carries them instead.
+BASE_LABELS = ("0", "(base)", "fixed")
 
 
 @dataclass
@@ -145,9 +153,11 @@ def with_precision(t: Table, robot: Robot, digits: int | str | None = None) -> T
     if digits == "exact":
         return t
     t.digits = None if digits is None else int(digits)
-    lengths = [abs(v) for _, values in t.rows for v, c in zip(values, t.columns) if _kind(c[0]) == "length"]
+    lengths = [abs(v) for _, values in t.rows for v, c in zip(values, t.columns)
+               if _kind(c[0]) == "length" and not math.isnan(v)]  # NaN: an empty cell (the base row's)
     lengths += [float(np.linalg.norm(np.asarray(T)[:3, 3])) for _, T in t.transforms]
-    count = len(t.rows) * len(t.columns) + 12 * len(t.transforms)
+    # the kinematic budget's share per value; the base row (no kinematic values) takes no share
+    count = sum(list(lab) != list(BASE_LABELS) for lab, _ in t.rows) * len(t.columns) + 12 * len(t.transforms)
     t.tolerances = decimal_tolerances(robot.scale, robot.scale + float(sum(lengths)), count, SNAP_BUDGET)
     return t
 
@@ -170,14 +180,16 @@ def table_of(robot: Robot, rep: str) -> Table:
         return Table(title, ["i", "frame", "type"], cols,
                      [(lab, list(map(float, F[:3].ravel()))) for lab, F in zip(labels, r.table_of(robot))])
     t = r.table_of(robot)
+    # the base body's row (row 0: its mass properties, no kinematic values) when the table knows them
+    base = [(list(BASE_LABELS), [math.nan] * len(cols))] if t.masses is not None and t.masses.base is not None else []
     if r.layout == "link-table":
         return with_mass_columns(Table(title, ["i", "joint", "type"], cols,
-                                       [(lab, list(map(float, row))) for lab, row in zip(jl, np.asarray(t.rows))],
-                                       [("base", t.base), ("tool", t.tool)]), t.masses)
+                                       base + [(lab, list(map(float, row))) for lab, row in zip(jl, np.asarray(t.rows))],
+                                       [("base", t.base), ("tool", t.tool)]), t.masses, first=len(base))
     if r.layout == "screws":
         return with_mass_columns(Table(title, ["i", "joint", "type"], cols,
-                                       [(lab, list(map(float, s))) for lab, s in zip(jl, t.screws)], [("M", t.M)]),
-                                 t.masses)
+                                       base + [(lab, list(map(float, s))) for lab, s in zip(jl, t.screws)],
+                                       [("M", t.M)]), t.masses, first=len(base))
     labels = [["0", "world->base", ""]] + jl + [[str(robot.n + 1), "tool", ""]]  # rpy: n + 2 rows
     return with_mass_columns(Table(title, ["row", "frame", "type"], cols,
                                    [(lab, list(map(float, row))) for lab, row in zip(labels, t.rows)]),
@@ -212,7 +224,8 @@ def with_mass_columns(t: Table, masses: "MassRows | None", first: int = 0) -> Ta
     # own numbers: the mass matrix and gravity torques move by ~1e-11 of their largest entry at most,
     # far inside the 1e-9 the round trips promise, while the noise of the frame changes goes (UR5's
     # -0.0929999999998: its URDF's 4.9e-12 rad tilt times the link's length)
-    size = max([abs(v) for _, vals in t.rows for v, c in zip(vals, t.columns) if _kind(c[0]) == "length"]
+    size = max([abs(v) for _, vals in t.rows for v, c in zip(vals, t.columns)
+                if _kind(c[0]) == "length" and not math.isnan(v)]
                + [float(np.linalg.norm(np.asarray(T)[:3, 3])) for _, T in t.transforms] + [1e-300])
     scales = [float(np.abs(mass).max()), size, size, size, *[float(np.abs(inertia).max())] * 6]
     tolerances = {c: 1e-12 * ref for (c, _), ref in zip(MASS_COLUMNS, scales)}
@@ -274,17 +287,44 @@ def _tex_num(table: Table, x: float, column: tuple[str, str, bool], pi: bool) ->
     return f"${sign}{k}$" if not m else f"${sign}\\frac{{{k}}}{{{m}}}$"
 
 
-def to_latex(t: Table, pi: bool = False) -> str:
-    """A ``table`` environment (plain ``tabular`` and ``\\hline``; matrices need amsmath's bmatrix)."""
-    ncol = len(t.labels) + len(t.columns)
-    heads = [_tex_text(s) for s in t.labels] + [c[1] for c in t.columns]
-    out = [r"\begin{table}[ht]", r"\centering", f"\\caption{{{_tex_text(t.title)}}}",
-           r"\begin{tabular}{" + "l" * len(t.labels) + "r" * len(t.columns) + "}", r"\hline",
-           " & ".join(heads) + r" \\", r"\hline"]
+def _tabular(t: Table, labels: int, columns: Sequence[int], pi: bool) -> list[str]:
+    """One ``tabular`` of ``t``: its first ``labels`` label columns and the value columns ``columns``
+    (indices into ``t.columns``), the rows that have a value in one of them."""
+    cols = [t.columns[k] for k in columns]
+    out = [r"\begin{tabular}{" + "l" * labels + "r" * len(cols) + "}", r"\hline",
+           " & ".join([_tex_text(s) for s in t.labels[:labels]] + [c[1] for c in cols]) + r" \\", r"\hline"]
     for lab, values in t.rows:
-        cells = [_tex_text(s) for s in lab] + [_tex_num(t, v, c, pi) for v, c in zip(values, t.columns)]
+        if all(math.isnan(values[k]) for k in columns):  # no such quantity on this row
+            continue
+        cells = [_tex_text(s) for s in lab[:labels]] + [_tex_num(t, values[k], t.columns[k], pi) for k in columns]
         out.append(" & ".join(cells) + r" \\")
-    out += [r"\hline", r"\end{tabular}"]
+    return out + [r"\hline", r"\end{tabular}"]
+
+
+def to_latex(t: Table, pi: bool = False) -> str:
+    """A ``table`` environment (plain ``tabular`` and ``\\hline``; matrices need amsmath's bmatrix).
+
+    The float holds several tabulars, so that a 7-joint arm fits the text width of an A4 article: the
+    representation's columns (a PoE's omega, then its v; a GJD frame's rotation row by row, then its position); with mass
+    properties each link's m and r, I's diagonal, I's products; the later ones labelled by the first
+    one's i (row 0: the base body's)."""
+    mass_heads = {c for c, _ in MASS_COLUMNS}
+    kin = [k for k, c in enumerate(t.columns) if c[0] not in mass_heads]
+    mass = [k for k, c in enumerate(t.columns) if c[0] in mass_heads]
+    # a screw's omega then its v; a frame's rotation row by row, then its position: long decimals
+    # (sqrt(2)/2 to 15 digits) six or twelve abreast overflow the page
+    if len(kin) == 6:
+        parts = [kin[:3], kin[3:]]
+    elif len(kin) == 12:
+        parts = [kin[0:3], kin[4:7], kin[8:11], kin[3::4]]
+    else:
+        parts = [kin]
+    out = [r"\begin{table}[ht]", r"\centering", f"\\caption{{{_tex_text(t.title)}}}"]
+    for k, part in enumerate(parts):
+        out += ([] if k == 0 else ["", r"\medskip"]) + _tabular(t, len(t.labels) if k == 0 else 1, part, pi)
+    if mass:  # m and r, I's diagonal, I's products: each part about as wide as the representation's table
+        for part in (mass[:4], mass[4:7], mass[7:]):
+            out += ["", r"\medskip", *_tabular(t, 1, part, pi)]
     for name, T in t.transforms:
         block = [_tex(s) for s in _block_text(t, T)] + ["0", "0", "0", "1"]
         rows = [" & ".join(block[4 * r:4 * r + 4]) for r in range(4)]
@@ -293,7 +333,7 @@ def to_latex(t: Table, pi: bool = False) -> str:
         out += ["", r"\smallskip", f"${label} = \\begin{{bmatrix}} " + r" \\ ".join(rows)
                 + r" \end{bmatrix}$"]
     out.append(r"\end{table}")
-    if ncol > 12:  # the GJD's 15 columns: let the float be as wide as the page allows
+    if len(t.labels) + len(kin) > 12 or mass:  # the GJD's 15 columns, the inertia's long numbers
         out.insert(1, r"\small")
     return "\n".join(out) + "\n"
 

@@ -12,7 +12,9 @@ Two kinds of file are read (``.csv``, ``.tsv``, ``.txt``):
   expressions such as ``-pi/2`` (what ``--pi`` writes). The ten mass columns robkin writes after the
   representation's (``m (kg)``, ``rx (m)``, ..., ``Ixz (kg m^2)``) are read as each link's mass
   properties in the table's link frame (RPY-XYZ's world row: the base's; see ``io.documents.masses``).
-  A text cell robkin wrote with a leading ``'`` against spreadsheet formulas (``'=x``) is read as the
+  A first row whose representation cells are empty (``0, (base), fixed, , , , , m, rx, ...``) is the base
+  body's: its mass columns are the base's, in link frame 0 (the document's ``base_mass``). A text cell
+  robkin wrote with a leading ``'`` against spreadsheet formulas (``'=x``) is read as the
   name itself (``=x``; ``io.tables.cells``);
 * bare rows (no header), as pasted from a paper and as the GUI takes them
   (``robkin.io.tables.pasted``): ``a d alpha theta [R|P]`` per line, and so on.
@@ -201,6 +203,9 @@ def _header_document(lines: list[str], representation: str | None, tab: bool) ->
         body.append((k, _split(line, tab)))
     else:
         rest = []
+    base_mass = None
+    if body and not any(c.strip() for c in body[0][1][start:start + len(cols)]):
+        base_mass = _base_row(body.pop(0), rep, mass_at, header)
     for k, cells in body:
         if len(cells) < start + len(cols):
             raise InputError(f"line {k}: expected {start + len(cols)} columns ({', '.join(header[:start + len(cols)])}), "
@@ -211,7 +216,25 @@ def _header_document(lines: list[str], representation: str | None, tab: bool) ->
     transforms = _transforms(rest, tab)
     doc = _document(rep, rows, joints, transforms)
     add_mass_columns(doc[by_name(rep).section], masses)
+    if base_mass is not None:
+        doc[by_name(rep).section]["base_mass"] = {"m": base_mass[0], "r": base_mass[1:4], "I": base_mass[4:]}
     return doc
+
+
+def _base_row(row: tuple[int, list[str]], rep: str, mass_at: int | None, header: list[str]) -> list[float]:
+    """The base body's ten mass values from the first row when its representation cells are empty
+    (``io.tables.files.BASE_LABELS``: DH, MDH, Hayati and PoE tables write it so); InputError when
+    such a row has no mass values or belongs to a table that carries the base's otherwise."""
+    k, cells = row
+    if by_name(rep).layout not in ("link-table", "screws"):
+        raise InputError(f"line {k}: the {rep} columns are empty; a {rep} table has a value in each of them on "
+                         f"every row" + (" (its world row carries the base's mass)" if by_name(rep).layout == "rpy"
+                                         else ""))
+    values = mass_cells(cells, mass_at, k, header)
+    if values is None:
+        raise InputError(f"line {k}: the {rep} columns are empty; only the base's row (row 0) leaves them empty, "
+                         f"and it carries the base's mass columns (m (kg), rx (m), ...)")
+    return values
 
 
 def _transforms(numbered: list[tuple[int, str]], tab: bool) -> dict[str, list[list[float]]]:

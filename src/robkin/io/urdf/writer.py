@@ -44,6 +44,7 @@ from ... import se3
 from ...bodies import Inertial, Link, Mimic, Shape
 from ...robot import Robot
 from ..trees.model import NO_LIMIT, origin_matrix
+from ...mass_properties import EXACT_ZERO
 from ..files.float_text import float_text as _num
 from ..files.xmltext import quoteattr
 
@@ -156,7 +157,12 @@ def _link_xml(name: str, frame: np.ndarray, shapes: list[Shape], inertial: Inert
     inv = se3.inv(frame)
     if inertial is not None:
         I = inertial.inertia
-        out += ["    <inertial>", f"      {_origin(inv @ inertial.pose, inertial.origin, scale)}".rstrip(),
+        at = inv @ inertial.pose
+        # a centre of mass on a link frame's axis stays on it: a coordinate within the rounding of the
+        # two positions it is the difference of is 0 (mass_properties.EXACT_ZERO)
+        reach = float(np.abs(frame[:3, 3]).max() + np.abs(inertial.pose[:3, 3]).max())
+        at[:3, 3][np.abs(at[:3, 3]) <= EXACT_ZERO * reach] = 0.0
+        out += ["    <inertial>", f"      {_origin(at, inertial.origin, scale)}".rstrip(),
                 f'      <mass value="{_num(inertial.mass)}"/>',
                 f'      <inertia ixx="{_num(I[0, 0])}" ixy="{_num(I[0, 1])}" ixz="{_num(I[0, 2])}" '
                 f'iyy="{_num(I[1, 1])}" iyz="{_num(I[1, 2])}" izz="{_num(I[2, 2])}"/>', "    </inertial>"]
