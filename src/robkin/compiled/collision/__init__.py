@@ -1,0 +1,1 @@
+"""Collision kernels: batch self-collision of capsule models after the chain's batch frames (``capsules``)."""

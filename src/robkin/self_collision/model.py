@@ -1,0 +1,131 @@
+"""The self-collision model of a robot: a capsule per link, the pairs checked, the compiled check.
+
+``SelfCollisionModel`` holds the capsules (``capsules``), the allowed-collision matrix (``acm``: the
+pairs never checked, with MoveIt's reasons) and, from both, the pairs that are checked. ``collides(q)``
+answers per configuration whether any checked pair of capsules touches or overlaps; ``distances(q)``
+gives each checked pair's distance (negative: overlap), and ``closest(q, k)`` the k closest pairs. Both
+run compiled (``robkin.compiled.collision.capsules``: the chain's frames and the segment distances
+per block of configurations, blocks over every core; ``threads`` as ``Robot.fk``).
+
+Conservative: the capsules contain the links' collision geometry, so a configuration the model calls
+free is free for the meshes too (for the checked pairs); one it calls colliding may be a near miss.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..checks import check_q, check_threads
+from ..errors import InputError
+from .capsules import Capsule
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..robot import Robot
+
+__all__ = ["SelfCollisionModel", "DisabledPair"]
+
+
+@dataclass(frozen=True)
+class DisabledPair:
+    """A link pair never checked: ``reason`` 'Adjacent' (joined by one joint), 'Default' (in collision at
+    the robot's home), 'Always' (in collision at every sampled configuration) or 'Never' (in collision at
+    none), as MoveIt's SRDF ``<disable_collisions>`` says."""
+
+    link1: str
+    link2: str
+    reason: str
+
+
+@dataclass(eq=False)
+class SelfCollisionModel:
+    """Capsules per link and the pairs checked (see the module doc).
+
+    robot : the robot (its chain moves the capsules)
+    capsules : one per link with collision geometry
+    disabled : the allowed-collision matrix: pairs never checked
+    samples : configurations the matrix was sampled at (0: given, not sampled)
+    """
+
+    robot: Robot
+    capsules: list[Capsule]
+    disabled: list[DisabledPair] = field(default_factory=list)
+    samples: int = 0
+
+    def __post_init__(self) -> None:
+        names = [c.link for c in self.capsules]
+        index = {name: k for k, name in enumerate(names)}
+        off = {frozenset((d.link1, d.link2)) for d in self.disabled}
+        pairs = [(i, j) for i in range(len(names)) for j in range(i + 1, len(names))
+                 if frozenset((names[i], names[j])) not in off]
+        self._pairs = np.array(pairs, dtype=np.intc).reshape(-1, 2)
+        self._index = index
+        # each capsule's end points in its body's GJD frame at q = 0 (body 0: the base frame)
+        J = self.robot.frames
+        caps = np.empty((len(self.capsules), 7))
+        for k, c in enumerate(self.capsules):
+            inv = np.linalg.inv(J[c.body - 1]) if c.body > 0 else np.eye(4)
+            caps[k, :3] = inv[:3, :3] @ c.a + inv[:3, 3]
+            caps[k, 3:6] = inv[:3, :3] @ c.b + inv[:3, 3]
+            caps[k, 6] = c.radius
+        self._caps = caps
+        self._frame = np.array([c.body for c in self.capsules], dtype=np.intc)
+
+    @property
+    def links(self) -> list[str]:
+        """The links with a capsule, in the model's order."""
+        return [c.link for c in self.capsules]
+
+    @property
+    def pairs(self) -> list[tuple[str, str]]:
+        """The checked link pairs, in the order of ``distances``' last axis."""
+        return [(self.capsules[i].link, self.capsules[j].link) for i, j in self._pairs]
+
+    def with_disabled(self, disabled: Sequence[DisabledPair]) -> SelfCollisionModel:
+        """The same capsules with another allowed-collision matrix (an SRDF read back, say)."""
+        known = set(self._index)
+        for d in disabled:
+            for name in (d.link1, d.link2):
+                if name not in known:
+                    raise InputError(f"disable_collisions: link {name!r} has no collision geometry in this "
+                                     f"robot (links: {', '.join(sorted(known))})")
+        return SelfCollisionModel(self.robot, self.capsules, list(disabled), self.samples)
+
+    def _q(self, q: ArrayLike) -> tuple[np.ndarray, bool]:
+        qa = np.asarray(q)
+        single = qa.ndim == 1
+        qa = np.ascontiguousarray(check_q(qa[None] if single else qa, self.robot.n), dtype=np.float64)
+        return qa, single
+
+    def collides(self, q: ArrayLike, *, threads: int | None = None) -> bool | np.ndarray:
+        """Whether some checked pair of capsules touches or overlaps: q (n,) -> bool, (N, n) -> (N,) bool."""
+        from ..compiled.collision.capsules import collide
+
+        qa, single = self._q(q)
+        t = 0 if threads is None else check_threads(threads)
+        hit = collide(self.robot._chain, qa, self._caps, self._frame, self._pairs, t)
+        assert hit is not None  # checked, finite, contiguous float64
+        out = hit.view(np.bool_)
+        return bool(out[0]) if single else out
+
+    def distances(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:
+        """Distance between the capsules of each checked pair (length units; negative: they overlap by
+        that much): q (n,) -> (P,), (N, n) -> (N, P), in the order of ``pairs``."""
+        from ..compiled.collision.capsules import distances
+
+        qa, single = self._q(q)
+        t = 0 if threads is None else check_threads(threads)
+        d = distances(self.robot._chain, qa, self._caps, self._frame, self._pairs, t)
+        assert d is not None
+        return d[0] if single else d
+
+    def closest(self, q: ArrayLike, k: int = 3) -> list[tuple[str, str, float]]:
+        """The ``k`` closest checked pairs at one configuration q (n,): [(link1, link2, distance)], nearest first."""
+        d = self.distances(q)
+        if d.ndim != 1:
+            raise InputError("closest: one configuration q (n,)")
+        names = self.pairs
+        return [(names[i][0], names[i][1], float(d[i])) for i in np.argsort(d, kind="stable")[:max(int(k), 0)]]
