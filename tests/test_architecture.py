@@ -30,7 +30,8 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("representations", ("robkin.representations",)),
     ("io", ("robkin.io",)),
     ("capabilities", ("robkin.kinematics", "robkin.equivalence", "robkin.dynamics", "robkin.calibration",
-                      "robkin.synthesis", "robkin.simulation", "robkin.collision", "robkin.lint")),
+                      "robkin.synthesis", "robkin.simulation", "robkin.collision", "robkin.lint",
+                      "robkin.self_collision")),
     ("viz", ("robkin.viz",)),
     ("front", ("robkin.commands", "robkin.cli", "robkin")),
 )

@@ -63,14 +63,14 @@ def self_collision_model(robot: Robot, source: str | Path | None = None, *,
     if len(links) < 2:
         raise InputError(f"robot {robot.name or ''}: {len(links)} link(s) with collision geometry; "
                          "self-collision needs at least two")
-    model = SelfCollisionModel(robot, link_capsules(links))
+    use_exact = exact_available() if exact is None else bool(exact)
+    checker = ExactChecker(robot, links) if use_exact else None
+    model = SelfCollisionModel(robot, link_capsules(links), exact=checker)
     if disabled is not None:
         model = model.with_disabled(disabled)
     else:
-        use_exact = exact_available() if exact is None else bool(exact)
-        checker = ExactChecker(robot, links) if use_exact else None
         model = SelfCollisionModel(robot, model.capsules, allowed_collisions(model, checker, int(samples), rng),
-                                   int(samples))
+                                   int(samples), checker)
     _MODELS[robot] = model
     return model
 
@@ -85,14 +85,16 @@ def model_of(robot: Robot) -> SelfCollisionModel:
     return model
 
 
-def self_collision(robot: Robot, q: ArrayLike, *, model: SelfCollisionModel | None = None,
+def self_collision(robot: Robot, q: ArrayLike, *, model: SelfCollisionModel | None = None, exact: bool = False,
                    threads: int | None = None) -> bool | np.ndarray:
     """Whether the robot collides with itself at q: (n,) -> bool, (N, n) -> (N,) bool array.
 
-    Conservative (capsules around the links, ``SelfCollisionModel.collides``): False means free for the
-    links' collision geometry; True may be a near miss. ``model``: default ``model_of(robot)``.
+    Conservative (capsules around the links, ``SelfCollisionModel.collides``, compiled, every core): False
+    means free for the links' collision geometry; True may be a near miss. ``exact=True``: what the
+    capsules flag is checked again with the meshes (coal), so True is a real contact. ``model``: default
+    ``model_of(robot)``.
     """
-    return (model or model_of(robot)).collides(q, threads=threads)
+    return (model or model_of(robot)).collides(q, exact=exact, threads=threads)
 
 
 def self_collision_distances(robot: Robot, q: ArrayLike, *, model: SelfCollisionModel | None = None,

@@ -80,8 +80,10 @@ class ExactChecker:
             out.append((geom, self.coal.Transform3s(np.ascontiguousarray(T[:3, :3]), np.ascontiguousarray(T[:3, 3]))))
         return out
 
-    def colliding_pairs(self, q: np.ndarray, pairs: Iterable[tuple[int, int]]) -> list[tuple[int, int]]:
-        """The pairs (u, v) of link indices whose shapes touch at the configuration q (n,)."""
+    def colliding_pairs(self, q: np.ndarray, pairs: Iterable[tuple[int, int]],
+                        first: bool = False) -> list[tuple[int, int]]:
+        """The pairs (u, v) of link indices whose shapes touch at the configuration q (n,); ``first``: stop
+        at the first one."""
         F = self.robot.frames_at(np.asarray(q, dtype=float))
         placed: dict[int, list[tuple[object, object]]] = {}
         out = []
@@ -93,6 +95,8 @@ class ExactChecker:
                 placed[v] = self._placed(F, v)
             if any(collide(g1, t1, g2, t2, self.request, Result()) for g1, t1 in placed[u] for g2, t2 in placed[v]):
                 out.append((u, v))
+                if first:
+                    break
         return out
 
     def pair_collides(self, q: np.ndarray, u: int, v: int) -> bool:

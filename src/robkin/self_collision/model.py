@@ -25,6 +25,7 @@ from .capsules import Capsule
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
+    from .exact import ExactChecker
 
 __all__ = ["SelfCollisionModel", "DisabledPair"]
 
@@ -54,6 +55,8 @@ class SelfCollisionModel:
     capsules: list[Capsule]
     disabled: list[DisabledPair] = field(default_factory=list)
     samples: int = 0
+    #: the exact check of the links' own geometry (``exact.ExactChecker``), when coal was there to build it
+    exact: ExactChecker | None = None
 
     def __post_init__(self) -> None:
         names = [c.link for c in self.capsules]
@@ -92,7 +95,7 @@ class SelfCollisionModel:
                 if name not in known:
                     raise InputError(f"disable_collisions: link {name!r} has no collision geometry in this "
                                      f"robot (links: {', '.join(sorted(known))})")
-        return SelfCollisionModel(self.robot, self.capsules, list(disabled), self.samples)
+        return SelfCollisionModel(self.robot, self.capsules, list(disabled), self.samples, self.exact)
 
     def _q(self, q: ArrayLike) -> tuple[np.ndarray, bool]:
         qa = np.asarray(q)
@@ -100,8 +103,13 @@ class SelfCollisionModel:
         qa = np.ascontiguousarray(check_q(qa[None] if single else qa, self.robot.n), dtype=np.float64)
         return qa, single
 
-    def collides(self, q: ArrayLike, *, threads: int | None = None) -> bool | np.ndarray:
-        """Whether some checked pair of capsules touches or overlaps: q (n,) -> bool, (N, n) -> (N,) bool."""
+    def collides(self, q: ArrayLike, *, exact: bool = False, threads: int | None = None) -> bool | np.ndarray:
+        """Whether some checked pair of capsules touches or overlaps: q (n,) -> bool, (N, n) -> (N,) bool.
+
+        ``exact``: the configurations whose capsules meet are checked again with the links' own geometry
+        (coal, ``exact.ExactChecker``), only for the pairs whose capsules meet: the answer is then the
+        meshes' (slower: a Python call per such configuration). Needs the model's ``exact`` checker.
+        """
         from ..compiled.collision.capsules import collide
 
         qa, single = self._q(q)
@@ -109,7 +117,20 @@ class SelfCollisionModel:
         hit = collide(self.robot._chain, qa, self._caps, self._frame, self._pairs, t)
         assert hit is not None  # checked, finite, contiguous float64
         out = hit.view(np.bool_)
+        if exact and out.any():
+            out = self._confirm(qa, out.copy(), t)
         return bool(out[0]) if single else out
+
+    def _confirm(self, qa: np.ndarray, hit: np.ndarray, threads: int) -> np.ndarray:
+        """``hit`` with each flagged configuration checked again exactly (see ``collides``)."""
+        if self.exact is None:
+            raise InputError("exact=True: this model has no exact check (coal was not installed when it was built)")
+        rows = np.flatnonzero(hit)
+        d = self.distances(qa[rows], threads=threads)
+        for r, k in enumerate(rows):
+            near = [tuple(self._pairs[p]) for p in np.flatnonzero(d[r] <= 0.0)]
+            hit[k] = bool(self.exact.colliding_pairs(qa[k], near, first=True))
+        return hit
 
     def distances(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:
         """Distance between the capsules of each checked pair (length units; negative: they overlap by
