@@ -3,12 +3,12 @@
 ``collision_free_ik(ik, robot, T, ...)`` wraps ``robkin.kinematics.ik.ik`` (passed in, so that this
 package does not import the kinematics entry point that calls it):
 
-1. IK is asked for every solution (``all_solutions=True``: every closed-form branch, or the distinct
-   numeric solutions of its side-by-side starts). Each is checked by the self-collision model
-   (``build.model_of(robot)``): capsules, compiled, then, where the model has the exact check (coal),
-   the configurations whose capsules meet checked again with the links' own geometry. Colliding
-   solutions are **dropped**: ``q`` is the collision-free solution nearest to ``q0`` (IK's order), and
-   with ``all_solutions=True`` ``solutions`` lists only the collision-free ones.
+1. IK as asked; its answer (or, with ``all_solutions=True``, each solution) is checked by the
+   self-collision model (``build.model_of(robot)``): capsules, compiled, then, where the model has the
+   exact check (coal), the configurations whose capsules meet checked again with the links' own
+   geometry. Where the preferred closed-form solution collides, every branch of that target is asked
+   for. Colliding solutions are **dropped**: ``q`` is the collision-free solution nearest to ``q0``
+   (IK's order), and with ``all_solutions=True`` ``solutions`` lists only the collision-free ones.
 2. Targets left without a collision-free solution are retried numerically from other starts: up to
    ``RETRIES`` rounds, each from collision-free configurations drawn within the limits (seeded by
    ``rng``), keeping the first collision-free solution.
@@ -84,12 +84,28 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
 
     model = model or model_of(robot)
     exact = (model.exact is not None) if exact is None else bool(exact)
-    res = ik(robot, T, q0=q0, all_solutions=True, rng=rng, **options)
+    res = ik(robot, T, q0=q0, all_solutions=all_solutions, rng=rng, **options)
     single = np.ndim(res.success) == 0
-    sols = [res.solutions] if single else list(res.solutions)
-    sols = [np.asarray(s, dtype=float).reshape(-1, robot.n) for s in sols]
+    n = robot.n
+    if all_solutions:
+        sols = [res.solutions] if single else list(res.solutions)
+        sols = [np.asarray(s, dtype=float).reshape(-1, n) for s in sols]
+    else:   # the preferred solution first; the other branches are asked for only where it collides
+        ok = np.atleast_1d(res.success)
+        sols = [q[None] if good else np.empty((0, n)) for q, good in zip(np.array(res.q, dtype=float).reshape(-1, n), ok)]
     free = _collision_free(model, sols, exact)
     targets = np.asarray(T, dtype=float).reshape(-1, 4, 4)
+    left = [i for i, f in enumerate(free) if not len(f)]
+    if left and not all_solutions and res.method != "numeric":   # closed form: every branch of those targets
+        sub = ik(robot, targets[left] if not single else targets[0], q0=None if q0 is None else
+                 (np.asarray(q0, dtype=float).reshape(-1, n)[left] if np.ndim(q0) == 2 else q0),
+                 all_solutions=True, rng=rng, **options)
+        got = [sub.solutions] if single else list(sub.solutions)
+        got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
+        for i, g in zip(left, got):
+            sols[i] = g
+        for i, g in zip(left, _collision_free(model, got, exact)):
+            free[i] = g
     gen = np.random.default_rng(rng)
     numeric = {k: v for k, v in options.items() if k not in ("method",)}
     for _ in range(RETRIES):
@@ -98,10 +114,16 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
             break
         starts = _free_starts(robot, model, len(left), gen)
         sub = ik(robot, targets[left] if not single else targets[0], q0=starts if not single else starts[0],
-                 method="numeric", all_solutions=True, rng=gen, **numeric)
-        got = [sub.solutions] if single else list(sub.solutions)
-        got = _collision_free(model, [np.asarray(s, dtype=float).reshape(-1, robot.n) for s in got], exact)
+                 method="numeric", all_solutions=all_solutions, rng=gen, **numeric)
+        if all_solutions:
+            got = [sub.solutions] if single else list(sub.solutions)
+        else:
+            good = np.atleast_1d(sub.success)
+            got = [q[None] if g else np.empty((0, n)) for q, g in zip(np.array(sub.q, dtype=float).reshape(-1, n), good)]
+        got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
         for i, g in zip(left, got):
+            sols[i] = g if len(g) else sols[i]
+        for i, g in zip(left, _collision_free(model, got, exact)):
             free[i] = g
     q = np.array(res.q, dtype=float).reshape(-1, robot.n)
     success = np.zeros(len(free), dtype=bool)
@@ -132,6 +154,8 @@ def _errors(robot: Robot, targets: np.ndarray, q: np.ndarray) -> tuple[np.ndarra
         P = robot.fk(np.ascontiguousarray(q[ok]))
         Td = targets[ok] if len(targets) > 1 else np.repeat(targets, int(ok.sum()), axis=0)
         ep[ok] = np.linalg.norm(Td[:, :3, 3] - P[:, :3, 3], axis=1)
-        c = (np.einsum("nij,nij->n", Td[:, :3, :3], P[:, :3, :3]) - 1.0) / 2.0
-        eo[ok] = np.arccos(np.clip(c, -1.0, 1.0))
+        E = Td[:, :3, :3] @ np.swapaxes(P[:, :3, :3], 1, 2)   # R_d R^T; its angle by atan2 (accurate near 0)
+        c = (np.trace(E, axis1=1, axis2=2) - 1.0) / 2.0
+        w = np.stack([E[:, 2, 1] - E[:, 1, 2], E[:, 0, 2] - E[:, 2, 0], E[:, 1, 0] - E[:, 0, 1]], axis=1)
+        eo[ok] = np.arctan2(np.linalg.norm(w, axis=1) / 2.0, c)
     return ep, eo

@@ -126,7 +126,7 @@ class SelfCollisionModel:
         if self.exact is None:
             raise InputError("exact=True: this model has no exact check (coal was not installed when it was built)")
         rows = np.flatnonzero(hit)
-        d = self.distances(qa[rows], threads=threads)
+        d = self.distances(qa[rows], threads=threads or None)
         for r, k in enumerate(rows):
             near = [tuple(self._pairs[p]) for p in np.flatnonzero(d[r] <= 0.0)]
             hit[k] = bool(self.exact.colliding_pairs(qa[k], near, first=True))
