@@ -110,13 +110,22 @@ cdef int check_block(const double* L, const unsigned char* rev, int n, const dou
     cdef int m = <int>(N - k0 if N - k0 < BLOCK else BLOCK), b, p, u, v
     cdef double* F
     cdef double* W
-    cdef double rr, d2
+    cdef double* S
+    cdef double rr, d2, x, y, z, s
+    cdef int i
     if not finite_block(Q, n, N, j):
         return 1
-    F = <double*>malloc(sizeof(double) * (16 * (n + 1) * m + 6 * C))
+    F = <double*>malloc(sizeof(double) * (16 * (n + 1) * m + 6 * C + C))
     if F == NULL:
         return -1
     W = F + 16 * (n + 1) * m
+    S = W + 6 * C
+    for i in range(C):
+        # each capsule's bounding sphere about its segment's midpoint: half the length plus the radius
+        x = caps[7 * i + 3] - caps[7 * i]
+        y = caps[7 * i + 4] - caps[7 * i + 1]
+        z = caps[7 * i + 5] - caps[7 * i + 2]
+        S[i] = 0.5 * sqrt(x * x + y * y + z * z) + caps[7 * i + 6]
     frame_poses(L, rev, n, Q + n * k0, m, F)
     for b in range(m):
         move_capsules(F + 16 * (n + 1) * b, n, caps, frame, C, W)
@@ -125,6 +134,13 @@ cdef int check_block(const double* L, const unsigned char* rev, int n, const dou
             for p in range(P):
                 u = pairs[2 * p]
                 v = pairs[2 * p + 1]
+                # bounding spheres apart: the capsules are (no segment distance needed)
+                x = W[6 * u] + W[6 * u + 3] - W[6 * v] - W[6 * v + 3]
+                y = W[6 * u + 1] + W[6 * u + 4] - W[6 * v + 1] - W[6 * v + 4]
+                z = W[6 * u + 2] + W[6 * u + 5] - W[6 * v + 2] - W[6 * v + 5]
+                s = S[u] + S[v]
+                if x * x + y * y + z * z > 4.0 * s * s:
+                    continue
                 rr = caps[7 * u + 6] + caps[7 * v + 6]
                 if segment_distance2(W + 6 * u, W + 6 * u + 3, W + 6 * v, W + 6 * v + 3) <= rr * rr:
                     hit[k0 + b] = 1
