@@ -58,15 +58,28 @@ def _agreement(model, path):
     return sum((p in mine) == (p in theirs) for p in every) / len(every), mine - theirs, theirs - mine
 
 
-def test_capsules_contain_every_vertex(panda, ur5):
+def test_capsules_contain_every_vertex_and_the_hull(panda, ur5):
+    """A link's capsules together contain every vertex of its geometry and points spread through its
+    convex hull (random convex combinations of four hull vertices): a cut link's parts leave no gap."""
+    from robkin.collision.hull import convex_hull
     from robkin.self_collision.capsules import point_segment_distance
     from robkin.self_collision.geometry import enclosing_points, link_geometry
 
+    rng = np.random.default_rng(8)
     for (robot, model), path in ((panda, PANDA), (ur5, UR5)):
         geo = {g.name: g for g in link_geometry(robot, path)}
-        for c in model.capsules:
-            P = np.vstack([enclosing_points(s) for s in geo[c.link].shapes])
-            assert point_segment_distance(P, c.a, c.b).max() <= c.radius, c.link
+        for link in model.links:
+            P = np.vstack([enclosing_points(s) for s in geo[link].shapes])
+            H, _ = convex_hull(P)
+            W = rng.dirichlet(np.ones(4), size=3000)
+            X = np.einsum("kj,kjd->kd", W, H[rng.integers(0, len(H), size=(3000, 4))])
+            caps = [c for c in model.capsules if c.link == link]
+            for pts in (P, X):
+                inside = np.zeros(len(pts), dtype=bool)
+                for c in caps:
+                    inside |= point_segment_distance(pts, c.a, c.b) <= c.radius
+                assert inside.all(), link
+    assert len(panda[1].capsules) > len(panda[1].links)    # some links are cut into parts
 
 
 def test_segment_distance_against_dense_sampling():

@@ -43,10 +43,10 @@ class DisabledPair:
 
 @dataclass(eq=False)
 class SelfCollisionModel:
-    """Capsules per link and the pairs checked (see the module doc).
+    """Capsules of the links and the link pairs checked (see the module doc).
 
     robot : the robot (its chain moves the capsules)
-    capsules : one per link with collision geometry
+    capsules : one or more per link with collision geometry (a link's consecutive)
     disabled : the allowed-collision matrix: pairs never checked
     samples : configurations the matrix was sampled at (0: given, not sampled)
     """
@@ -59,13 +59,25 @@ class SelfCollisionModel:
     exact: ExactChecker | None = None
 
     def __post_init__(self) -> None:
-        names = [c.link for c in self.capsules]
+        names: list[str] = []
+        for c in self.capsules:
+            if c.link not in names:
+                names.append(c.link)
         index = {name: k for k, name in enumerate(names)}
+        of_link: list[list[int]] = [[] for _ in names]
+        for k, c in enumerate(self.capsules):
+            of_link[index[c.link]].append(k)
         off = {frozenset((d.link1, d.link2)) for d in self.disabled}
-        pairs = [(i, j) for i in range(len(names)) for j in range(i + 1, len(names))
+        links = [(i, j) for i in range(len(names)) for j in range(i + 1, len(names))
                  if frozenset((names[i], names[j])) not in off]
-        self._pairs = np.array(pairs, dtype=np.intc).reshape(-1, 2)
+        # capsule pairs grouped by link pair, in the order of ``links`` (``starts``: where each group begins)
+        caps_pairs = [(u, v) for i, j in links for u in of_link[i] for v in of_link[j]]
+        sizes = [len(of_link[i]) * len(of_link[j]) for i, j in links]
+        self._names = names
         self._index = index
+        self._link_pairs = np.array(links, dtype=np.intc).reshape(-1, 2)
+        self._pairs = np.array(caps_pairs, dtype=np.intc).reshape(-1, 2)
+        self._starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.intp) if sizes else np.zeros(0, np.intp)
         # each capsule's end points in its body's GJD frame at q = 0 (body 0: the base frame)
         J = self.robot.frames
         caps = np.empty((len(self.capsules), 7))
@@ -79,13 +91,13 @@ class SelfCollisionModel:
 
     @property
     def links(self) -> list[str]:
-        """The links with a capsule, in the model's order."""
-        return [c.link for c in self.capsules]
+        """The links with capsules, in the model's order."""
+        return list(self._names)
 
     @property
     def pairs(self) -> list[tuple[str, str]]:
         """The checked link pairs, in the order of ``distances``' last axis."""
-        return [(self.capsules[i].link, self.capsules[j].link) for i, j in self._pairs]
+        return [(self._names[i], self._names[j]) for i, j in self._link_pairs]
 
     def with_disabled(self, disabled: Sequence[DisabledPair]) -> SelfCollisionModel:
         """The same capsules with another allowed-collision matrix (an SRDF read back, say)."""
@@ -128,7 +140,7 @@ class SelfCollisionModel:
         rows = np.flatnonzero(hit)
         d = self.distances(qa[rows], threads=threads or None)
         for r, k in enumerate(rows):
-            near = [tuple(self._pairs[p]) for p in np.flatnonzero(d[r] <= 0.0)]
+            near = [tuple(self._link_pairs[p]) for p in np.flatnonzero(d[r] <= 0.0)]
             hit[k] = bool(self.exact.colliding_pairs(qa[k], near, first=True))
         return hit
 
@@ -141,6 +153,8 @@ class SelfCollisionModel:
         t = 0 if threads is None else check_threads(threads)
         d = distances(self.robot._chain, qa, self._caps, self._frame, self._pairs, t)
         assert d is not None
+        if len(self._pairs) != len(self._link_pairs):   # a link pair's distance: its nearest capsule pair's
+            d = np.minimum.reduceat(d, self._starts, axis=1) if len(self._starts) else d[:, :0]
         return d[0] if single else d
 
     def closest(self, q: ArrayLike, k: int = 3) -> list[tuple[str, str, float]]:
