@@ -37,7 +37,21 @@ ARMS = {
     "panda": ("panda_description/urdf/panda.urdf", "panda_hand_tcp", "panda_description/srdf/panda.srdf"),
     "ur5": ("ur_description/urdf/ur5_joint_limited_robot.urdf", "tool0",
             "ur_description/srdf/ur5_joint_limited_robot.srdf"),
+    "iiwa": ("IIWA", None, None),     # rtbdata's KUKA LBR iiwa 14 R820 (collision meshes; no SRDF shipped)
 }
+
+
+def iiwa_path() -> tuple[str, dict] | None:
+    """rtbdata's iiwa URDF and its package folder, or None without rtbdata."""
+    try:
+        import rtbdata
+    except ImportError:
+        return None
+    from pathlib import Path
+
+    folder = Path(rtbdata.__file__).parent / "xacro" / "kuka_description" / "kuka_lbr_iiwa"
+    urdf = folder / "urdf" / "lbr_iiwa_14_r820.urdf"
+    return (str(urdf), {"kuka_lbr_iiwa_support": folder}) if urdf.is_file() else None
 
 
 def best_of(f, runs=5):
@@ -55,19 +69,30 @@ def main() -> None:
     ap.add_argument("--targets", type=int, default=1000)
     args = ap.parse_args()
     for name, (urdf, tip, srdf) in ARMS.items():
-        path = os.path.join(ROBOTS_DIR, urdf)
+        packages = None
+        if urdf == "IIWA":
+            found = iiwa_path()
+            if found is None:
+                print("iiwa: rtbdata is not installed")
+                continue
+            path, packages = found
+        else:
+            path = os.path.join(ROBOTS_DIR, urdf)
         robot = robkin.load(path, tip_link=tip)
         t = time.perf_counter()
-        model = self_collision_model(robot, path)
+        model = self_collision_model(robot, path, package_paths=packages)
         built = time.perf_counter() - t
         links = model.links
         every = [frozenset((a, b)) for i, a in enumerate(links) for b in links[i + 1:]]
         mine = {frozenset((d.link1, d.link2)) for d in model.disabled}
-        theirs = {frozenset(p) for p in re.findall(r'link1="([^"]+)" link2="([^"]+)"',
-                                                    open(os.path.join(ROBOTS_DIR, srdf)).read())}
-        agree = sum((p in mine) == (p in theirs) for p in every)
-        print(f"{name}: model in {built:.1f} s ({model.samples} samples); {len(model.pairs)} pairs checked; "
-              f"ACM agrees with the shipped SRDF on {agree}/{len(every)} pairs ({100 * agree / len(every):.1f} %)")
+        line = f"{name}: model in {built:.1f} s ({model.samples} samples); {len(model.capsules)} capsules, " \
+               f"{len(model.pairs)} link pairs checked"
+        if srdf:
+            theirs = {frozenset(p) for p in re.findall(r'link1="([^"]+)" link2="([^"]+)"',
+                                                        open(os.path.join(ROBOTS_DIR, srdf)).read())}
+            agree = sum((p in mine) == (p in theirs) for p in every)
+            line += f"; ACM agrees with the shipped SRDF on {agree}/{len(every)} pairs ({100 * agree / len(every):.1f} %)"
+        print(line)
         Q = robot.random_q(args.configs, rng=2026)
         dt = best_of(lambda: robot.self_collision(Q, threads=1))
         print(f"  batch capsule check, 1 thread: {1e6 * dt / len(Q):.3f} us/configuration "

@@ -211,9 +211,25 @@ def test_with_disabled_from_the_shipped_srdf(panda):
         model.with_disabled([DisabledPair("panda_link1", "nowhere", "Never")])
 
 
-@pytest.mark.parametrize("which", ["panda", "ur5"])
-def test_collision_free_ik(which, panda, ur5):
-    robot, model = panda if which == "panda" else ur5
+@pytest.fixture(scope="module")
+def iiwa():
+    """rtbdata's KUKA LBR iiwa 14 R820, which has collision meshes (tests/data/iiwa14.urdf has none)."""
+    rtbdata = pytest.importorskip("rtbdata")
+    from pathlib import Path
+
+    from robkin.self_collision import self_collision_model
+
+    folder = Path(rtbdata.__file__).parent / "xacro" / "kuka_description" / "kuka_lbr_iiwa"
+    urdf = folder / "urdf" / "lbr_iiwa_14_r820.urdf"
+    if not urdf.is_file():
+        pytest.skip("rtbdata has no iiwa")
+    robot = robkin.load(urdf)
+    return robot, self_collision_model(robot, urdf, package_paths={"kuka_lbr_iiwa_support": folder}, samples=5000)
+
+
+@pytest.mark.parametrize("which", ["panda", "ur5", "iiwa"])
+def test_collision_free_ik(which, request):
+    robot, model = request.getfixturevalue(which)
     rng = np.random.default_rng(5)
     Q = robot.random_q(1500, rng=rng)
     free = ~np.asarray(model.collides(Q, exact=True))
