@@ -58,28 +58,27 @@ def _agreement(model, path):
     return sum((p in mine) == (p in theirs) for p in every) / len(every), mine - theirs, theirs - mine
 
 
-def test_capsules_contain_every_vertex_and_the_hull(panda, ur5):
-    """A link's capsules together contain every vertex of its geometry and points spread through its
-    convex hull (random convex combinations of four hull vertices): a cut link's parts leave no gap."""
-    from robkin.collision.hull import convex_hull
+def test_capsules_contain_the_links_surfaces(panda, ur5):
+    """A link's capsules together contain every vertex of its geometry and points spread over its
+    surface triangles (random barycentric points): a cut link's parts leave no gap."""
     from robkin.self_collision.capsules import point_segment_distance
-    from robkin.self_collision.geometry import enclosing_points, link_geometry
+    from robkin.self_collision.geometry import enclosing_triangles, link_geometry
 
     rng = np.random.default_rng(8)
     for (robot, model), path in ((panda, PANDA), (ur5, UR5)):
         geo = {g.name: g for g in link_geometry(robot, path)}
         for link in model.links:
-            P = np.vstack([enclosing_points(s) for s in geo[link].shapes])
-            H, _ = convex_hull(P)
-            W = rng.dirichlet(np.ones(4), size=3000)
-            X = np.einsum("kj,kjd->kd", W, H[rng.integers(0, len(H), size=(3000, 4))])
+            T = np.concatenate([enclosing_triangles(s) for s in geo[link].shapes])
+            W = rng.dirichlet(np.ones(3), size=(len(T), 4))
+            X = np.einsum("tkj,tjd->tkd", W, T).reshape(-1, 3)
             caps = [c for c in model.capsules if c.link == link]
-            for pts in (P, X):
+            for pts in (T.reshape(-1, 3), X):
                 inside = np.zeros(len(pts), dtype=bool)
                 for c in caps:
                     inside |= point_segment_distance(pts, c.a, c.b) <= c.radius
                 assert inside.all(), link
     assert len(panda[1].capsules) > len(panda[1].links)    # some links are cut into parts
+    assert len([c for c in ur5[1].capsules if c.link == "base_link"]) > 1   # the flat base: strips
 
 
 def test_segment_distance_against_dense_sampling():

@@ -2,8 +2,8 @@
 enclosing every vertex of the link's collision geometry, cut into up to ``MAX_PER_LINK`` capsules where
 that makes them much tighter.
 
-The link's points (``geometry.enclosing_points``: mesh vertices, box corners, round primitives grown
-to enclose their tessellation) are reduced to their convex hull. A capsule of a point set: for each
+The link's points (mesh vertices, box corners, round primitives' tessellations grown to enclose them:
+``geometry.enclosing_triangles``) are reduced to their convex hull. A capsule of a point set: for each
 candidate axis (the hull's three principal axes and the base frame's three axes at q = 0, often the
 link's own), the points are projected across the axis, an enclosing circle (``_circle``) gives the
 capsule's axis line and least radius, and radii from there up to half the points' length along the
@@ -12,13 +12,13 @@ volume wins. Every point is then measured to the chosen segment and the radius s
 those distances plus ``MARGIN``: the capsule contains the points' hull whatever the rounding of the
 search.
 
-Cuts: the hull is cut in two by a plane through its box centre across one of its principal axes; each
-half is the hull of the vertices on its side and the points where the hull's edges cross the plane,
-so the two halves' hulls together are the whole hull. A cut is taken (the best of every part and axis)
-while it shrinks the volume of the union of the link's capsules (a Monte Carlo estimate) by at least
-``SPLIT_GAIN``: a flat disc (the UR5's base) becomes strips, an elbow two capsules. Each capsule
-contains its part's hull, so the capsules together contain the link's geometry (conservative: the
-model never says "free" where the meshes touch).
+Cuts: the link's surface triangles (``geometry.enclosing_triangles``) are clipped by a plane through
+their box centre across one of their principal axes; each side's solid lies in the convex hull of that
+side's triangles (its boundary is those triangles and the cut face, whose edge lies on them), so the
+two sides' capsules together contain the link, concave links included. A cut is taken (the best of
+every part and axis) while it shrinks the volume of the union of the link's capsules (a Monte Carlo
+estimate) by at least ``SPLIT_GAIN``: a flat disc (the UR5's base) becomes strips, an elbow two
+capsules (conservative: the model never says "free" where the meshes touch).
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry import LinkGeometry, enclosing_points
+from .geometry import LinkGeometry, enclosing_triangles
 
 __all__ = ["Capsule", "fit_capsule", "link_capsules", "point_segment_distance", "MARGIN"]
 
@@ -127,44 +127,65 @@ def _capsule_volume(a: np.ndarray, b: np.ndarray, r: float) -> float:
     return float(np.pi * r * r * np.linalg.norm(b - a) + 4 / 3 * np.pi * r ** 3)
 
 
-def _halves(V: np.ndarray, F: np.ndarray, axis: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The convex hull (V, F) cut in two by the plane through ``c`` across ``axis``: the points of each
-    half (the vertices on that side and where the hull's edges cross the plane), whose two convex hulls
-    together are the whole hull."""
-    s = (V - c) @ axis
-    edges = np.unique(np.sort(np.vstack([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1), axis=0)
-    si, sj = s[edges[:, 0]], s[edges[:, 1]]
-    cross = si * sj < 0.0
-    t = si[cross] / (si[cross] - sj[cross])
-    X = V[edges[cross, 0]] + t[:, None] * (V[edges[cross, 1]] - V[edges[cross, 0]])
-    return np.vstack([V[s <= 0.0], X]), np.vstack([V[s >= 0.0], X])
+def _clip(T: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """The parts of the triangles T (m, 3, 3) where ``s`` (m, 3: the vertices' signed distances to a
+    plane) is <= 0, as triangles: a triangle with one vertex there becomes one, with two a quad (two)."""
+    inside = s <= 0.0
+    count = inside.sum(axis=1)
+    out = [T[count == 3]]
+    for lone_inside, pick in ((True, count == 1), (False, count == 2)):
+        if not pick.any():
+            continue
+        Tk, sk, ik = T[pick], s[pick], inside[pick]
+        first = np.argmax(ik if lone_inside else ~ik, axis=1)       # the vertex on its own side
+        order = (first[:, None] + np.arange(3)) % 3
+        P = np.take_along_axis(Tk, order[:, :, None], axis=1)
+        d = np.take_along_axis(sk, order, axis=1)
+        X1 = P[:, 0] + (d[:, 0] / (d[:, 0] - d[:, 1]))[:, None] * (P[:, 1] - P[:, 0])
+        X2 = P[:, 0] + (d[:, 0] / (d[:, 0] - d[:, 2]))[:, None] * (P[:, 2] - P[:, 0])
+        if lone_inside:
+            out.append(np.stack([P[:, 0], X1, X2], axis=1))
+        else:
+            out.append(np.stack([P[:, 1], P[:, 2], X2], axis=1))
+            out.append(np.stack([P[:, 1], X2, X1], axis=1))
+    return np.concatenate(out)
+
+
+def _halves(T: np.ndarray, axis: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The triangles T (m, 3, 3) cut by the plane through ``c`` across ``axis``: each side's parts. The
+    solid they bound is cut the same way, and each side's part of it lies in the convex hull of that
+    side's triangles (its boundary: those triangles and the cut face, whose edge is on them)."""
+    s = (T - c) @ axis
+    return _clip(T, s), _clip(T, -s)
 
 
 class _Piece:
-    """A convex part of a link (its hull) and the capsule fitted to it; its best cut is found on demand."""
+    """A part of a link (its surface triangles) and the capsule fitted to them; its cuts on demand."""
 
-    def __init__(self, P: np.ndarray) -> None:
-        from ..collision.hull import convex_hull, is_flat
+    def __init__(self, T: np.ndarray) -> None:
+        from ..collision.hull import is_flat
 
-        self.flat = is_flat(P)
-        self.V, self.F = (P, None) if self.flat else convex_hull(P)
-        self.a, self.b, self.r = fit_capsule(self.V)
+        self.T = T
+        self.P = np.unique(T.reshape(-1, 3), axis=0)
+        self.flat = is_flat(self.P)
+        self.a, self.b, self.r = fit_capsule(self.P)
         self.volume = _capsule_volume(self.a, self.b, self.r)
-        self._cuts: list[tuple[_Piece, _Piece]] | None = None
+        self._cuts: list[list[_Piece]] | None = None
 
-    def cuts(self) -> list[tuple[_Piece, _Piece]]:
-        """The two halves of this piece cut across each of its principal axes through its box centre
-        (none for a flat or tiny piece)."""
-        if self.flat or len(self.V) < 8:
+    def cuts(self) -> list[list[_Piece]]:
+        """This piece cut in two across each of its principal axes through its box centre (none for a flat
+        or tiny piece)."""
+        if self.flat or len(self.P) < 8:
             return []
         if self._cuts is None:
             from ..collision.hull import principal_frame
 
-            c, R, _ = principal_frame(self.V)
+            c, R, _ = principal_frame(self.P)
             self._cuts = []
             for k in range(3):
-                A, B = _halves(self.V, self.F, R[:, k], c)
-                self._cuts.append((_Piece(A), _Piece(B)))
+                A, B = _halves(self.T, R[:, k], c)
+                if len(A) and len(B):
+                    self._cuts.append([_Piece(A), _Piece(B)])
         return self._cuts
 
 
@@ -184,7 +205,7 @@ def link_capsules(links: list[LinkGeometry], max_per_link: int = MAX_PER_LINK) -
     out = []
     rng = np.random.default_rng(0)   # the volume estimate's points: the same capsules on every run
     for g in links:
-        pieces = [_Piece(np.vstack([enclosing_points(s) for s in g.shapes]))]
+        pieces = [_Piece(np.concatenate([enclosing_triangles(s) for s in g.shapes]))]
         p0 = pieces[0]
         lo = np.minimum(p0.a, p0.b) - 1.2 * p0.r
         hi = np.maximum(p0.a, p0.b) + 1.2 * p0.r
@@ -194,13 +215,17 @@ def link_capsules(links: list[LinkGeometry], max_per_link: int = MAX_PER_LINK) -
         while len(pieces) < max_per_link:
             best = None
             for k, p in enumerate(pieces):
-                for pa, pb in p.cuts():
-                    v = _union_volume(pieces[:k] + [pa, pb] + pieces[k + 1:], X, box)
-                    if best is None or v < best[0]:
-                        best = (v, k, pa, pb)
-            if best is None or best[0] > (1.0 - SPLIT_GAIN) * current:
+                for parts in p.cuts():
+                    if len(pieces) + len(parts) - 1 > max_per_link:
+                        continue
+                    v = _union_volume(pieces[:k] + parts + pieces[k + 1:], X, box)
+                    # the share of the volume saved per capsule added
+                    gain = (current - v) / current / (len(parts) - 1)
+                    if best is None or gain > best[0]:
+                        best = (gain, v, k, parts)
+            if best is None or best[0] < SPLIT_GAIN:
                 break
-            current, k, pa, pb = best
-            pieces[k:k + 1] = [pa, pb]
+            _, current, k, parts = best
+            pieces[k:k + 1] = parts
         out += [Capsule(g.name, g.body, p.a, p.b, p.r) for p in pieces]
     return out

@@ -22,7 +22,7 @@ from ..errors import InputError, quote
 if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
 
-__all__ = ["LinkShape", "LinkGeometry", "link_geometry", "enclosing_points"]
+__all__ = ["LinkShape", "LinkGeometry", "link_geometry", "enclosing_points", "enclosing_triangles"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,6 +70,21 @@ def enclosing_points(shape: LinkShape) -> np.ndarray:
         if shape.kind != "box":
             V = V * _ring_scale(shape.kind)
     return V @ shape.pose[:3, :3].T + shape.pose[:3, 3]
+
+
+def enclosing_triangles(shape: LinkShape) -> np.ndarray:
+    """Triangles (m, 3, 3) in the base frame at q = 0 bounding a solid that contains ``shape``: a mesh's
+    own, a box's, a round primitive's tessellation grown to enclose it (see ``enclosing_points``)."""
+    from ..collision.tessellate import primitive_mesh
+
+    if shape.kind == "mesh":
+        assert shape.vertices is not None and shape.faces is not None
+        V, F = shape.vertices, shape.faces
+    else:
+        V, F = primitive_mesh(shape.kind, shape.size)
+        if shape.kind != "box":
+            V = V * _ring_scale(shape.kind)
+    return (V @ shape.pose[:3, :3].T + shape.pose[:3, 3])[F]
 
 
 def link_geometry(robot: Robot, source: str | Path | None = None,
