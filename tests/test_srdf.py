@@ -71,3 +71,21 @@ def test_collision_command_bad_input(tmp_path, capsys):
     with pytest.raises(SystemExit) as exc:   # argparse's one-line usage error
         main(["collision", str(bad), "--samples", "0"])
     assert exc.value.code == 2
+
+
+def test_collision_command_names_a_missing_mesh_and_a_robot_without_geometry(tmp_path, capsys):
+    urdf = tmp_path / "two.urdf"
+    urdf.write_text("""<robot name="two">
+  <link name="a"><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+  <link name="b"><collision><geometry><mesh filename="nowhere.stl"/></geometry></collision></link>
+  <joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>""")
+    assert main(["collision", str(urdf), "-o", str(tmp_path / "o.srdf")]) == 2
+    err = capsys.readouterr().err
+    assert "link 'b'" in err and "nowhere.stl" in err and err.count("\n") == 1
+    from robkin.examples import EXAMPLES_DIR
+
+    assert main(["collision", str(EXAMPLES_DIR / "rrpr.yaml")]) == 2
+    assert "collision geometry" in capsys.readouterr().err
+
