@@ -117,7 +117,7 @@ def main() -> None:
         print(f"  {len(never)} 'Never' pairs checked exactly at {len(Q2)} new configurations "
               f"({int(meet.sum())} pair-configurations where capsules meet): touching {touching or 'none'}")
         Qt = robot.random_q(4 * args.targets, rng=7)
-        ok = ~np.asarray(model.collides(Qt, exact=True))
+        ok = ~np.asarray(model.collides(Qt, level="exact"))
         T = robot.fk(Qt[ok][:args.targets])
         robot.ik(T[:10])
         robot.ik(T[:10], avoid_self_collision=True)
@@ -128,7 +128,7 @@ def main() -> None:
         res = robot.ik(T, avoid_self_collision=True)
         t_free = time.perf_counter() - t
         print(f"  IK on {len(T)} collision-free targets: plain {100 * plain.success.mean():.1f} % in {t_plain:.3f} s "
-              f"({100 * np.asarray(model.collides(plain.q[plain.success], exact=True)).mean():.1f} % of its answers "
+              f"({100 * np.asarray(model.collides(plain.q[plain.success], level="exact")).mean():.1f} % of its answers "
               f"collide); collision-free {100 * res.success.mean():.1f} % in {t_free:.3f} s "
               f"({t_free / t_plain:.1f}x)")
 

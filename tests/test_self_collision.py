@@ -154,7 +154,7 @@ def test_never_pairs_are_collision_free_on_new_samples(panda, ur5):
 def test_no_false_free_verdict_against_the_mesh_check(panda, ur5):
     """No configuration the capsules call free touches by the meshes. (The UR5's capsules of the base and
     the upper arm meet at every configuration, so its model calls none free: conservative, and the reason
-    ``collides(exact=True)`` and collision-aware IK confirm with the meshes.)"""
+    ``collides(level="parts")`` and collision-aware IK refine with the links' convex parts.)"""
     for robot, model in (panda, ur5):
         Q = robot.random_q(2000, rng=7)
         free = ~np.asarray(model.collides(Q))
@@ -165,16 +165,25 @@ def test_no_false_free_verdict_against_the_mesh_check(panda, ur5):
         assert free.mean() > 0.5 if robot.name == "panda" else True
 
 
-def test_exact_confirmation_keeps_only_real_contacts(ur5):
+def test_levels_parts_and_exact(ur5, panda):
+    """'parts' is conservative (never free where the meshes touch) and tighter than the capsules; 'exact'
+    is coal's verdict on every checked pair."""
+    for robot, model in (ur5, panda):
+        Q = robot.random_q(400, rng=2)
+        rough = np.asarray(model.collides(Q))
+        parts = np.asarray(model.collides(Q, level="parts"))
+        exact = np.asarray(model.collides(Q, level="exact"))
+        assert (exact <= parts).all() and (parts <= rough).all()
+        names = model.links
+        pairs = [(names.index(a), names.index(b)) for a, b in model.pairs]
+        for k in range(len(Q)):
+            assert exact[k] == bool(model.exact.colliding_pairs(Q[k], pairs, first=True))
+    assert parts.sum() < rough.sum() or not rough.any()
     robot, model = ur5
-    Q = robot.random_q(300, rng=2)
-    rough = np.asarray(model.collides(Q))
-    exact = np.asarray(model.collides(Q, exact=True))
-    assert (exact <= rough).all()
-    names = model.links
-    pairs = [(names.index(a), names.index(b)) for a, b in model.pairs]
-    for k in range(len(Q)):
-        assert exact[k] == bool(model.exact.colliding_pairs(Q[k], pairs, first=True))
+    Q = robot.random_q(400, rng=3)
+    assert np.asarray(model.collides(Q, level="parts")).mean() < 0.5 < np.asarray(model.collides(Q)).mean()
+    with pytest.raises(InputError, match="level"):
+        model.collides(Q, level="meshes")
 
 
 def test_robot_methods_shapes_batches_and_threads(panda):
@@ -231,19 +240,19 @@ def test_collision_free_ik(which, request):
     robot, model = request.getfixturevalue(which)
     rng = np.random.default_rng(5)
     Q = robot.random_q(1500, rng=rng)
-    free = ~np.asarray(model.collides(Q, exact=True))
+    free = ~np.asarray(model.collides(Q, level="exact"))
     T = robot.fk(Q[free][:150])
     plain = robot.ik(T)
     res = robot.ik(T, avoid_self_collision=True)
     assert res.success.mean() >= 0.99
     ok = res.success
-    assert not np.asarray(model.collides(res.q[ok], exact=True)).any()
+    assert not np.asarray(model.collides(res.q[ok], level="exact")).any()
     lo, hi = robot.limits.T
     assert ((res.q[ok] >= lo) & (res.q[ok] <= hi)).all()
     assert (res.position_error[ok] <= 1e-9).all() and (res.orientation_error[ok] <= 1e-9).all()
     assert np.allclose(robot.fk(res.q[ok]), T[ok], atol=1e-8)
     if which == "ur5":   # the closed form's preferred branch collides for some targets: another one is taken
-        moved = np.asarray(model.collides(plain.q[plain.success], exact=True))
+        moved = np.asarray(model.collides(plain.q[plain.success], level="exact"))
         assert moved.any()
     one = robot.ik(T[0], avoid_self_collision=True, all_solutions=True)
-    assert one.success and not np.asarray(model.collides(one.solutions, exact=True)).any()
+    assert one.success and not np.asarray(model.collides(one.solutions, level="exact")).any()

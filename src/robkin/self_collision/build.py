@@ -52,7 +52,7 @@ def self_collision_model(robot: Robot, source: str | Path | None = None, *,
         sampling one.
     """
     from .acm import allowed_collisions
-    from .capsules import link_capsules
+    from .capsules import link_capsules, link_parts
     from .exact import ExactChecker, exact_available
     from .geometry import link_geometry
     from .model import SelfCollisionModel
@@ -65,12 +65,12 @@ def self_collision_model(robot: Robot, source: str | Path | None = None, *,
                          "self-collision needs at least two")
     use_exact = exact_available() if exact is None else bool(exact)
     checker = ExactChecker(robot, links) if use_exact else None
-    model = SelfCollisionModel(robot, link_capsules(links), exact=checker)
+    model = SelfCollisionModel(robot, link_capsules(links), exact=checker, parts=link_parts(links))
     if disabled is not None:
         model = model.with_disabled(disabled)
     else:
         model = SelfCollisionModel(robot, model.capsules, allowed_collisions(model, checker, int(samples), rng),
-                                   int(samples), checker)
+                                   int(samples), checker, model.parts)
     _MODELS[robot] = model
     return model
 
@@ -85,16 +85,17 @@ def model_of(robot: Robot) -> SelfCollisionModel:
     return model
 
 
-def self_collision(robot: Robot, q: ArrayLike, *, model: SelfCollisionModel | None = None, exact: bool = False,
+def self_collision(robot: Robot, q: ArrayLike, *, level: str = "capsules", model: SelfCollisionModel | None = None,
                    threads: int | None = None) -> bool | np.ndarray:
     """Whether the robot collides with itself at q: (n,) -> bool, (N, n) -> (N,) bool array.
 
-    Conservative (capsules around the links, ``SelfCollisionModel.collides``, compiled, every core): False
-    means free for the links' collision geometry; True may be a near miss. ``exact=True``: what the
-    capsules flag is checked again with the meshes (coal), so True is a real contact. ``model``: default
-    ``model_of(robot)``.
+    ``level='capsules'`` (default): capsules around the links, compiled, every core; conservative: False
+    means free for the links' collision geometry, True may be a near miss. ``'parts'``: what the capsules
+    flag is tested again with the links' convex parts (compiled; still conservative, tighter).
+    ``'exact'``: then with the meshes (coal), so True is a real contact (``SelfCollisionModel.collides``).
+    ``model``: default ``model_of(robot)``.
     """
-    return (model or model_of(robot)).collides(q, exact=exact, threads=threads)
+    return (model or model_of(robot)).collides(q, level=level, threads=threads)
 
 
 def self_collision_distances(robot: Robot, q: ArrayLike, *, model: SelfCollisionModel | None = None,

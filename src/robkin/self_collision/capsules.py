@@ -29,7 +29,7 @@ import numpy as np
 
 from .geometry import LinkGeometry, enclosing_triangles
 
-__all__ = ["Capsule", "fit_capsule", "link_capsules", "point_segment_distance", "MARGIN"]
+__all__ = ["Capsule", "fit_capsule", "link_capsules", "link_parts", "point_segment_distance", "MARGIN"]
 
 #: Added to each fitted radius, relative to the link's size: 1e-9 is far above float64 rounding of the
 #: distances (1e-16 relative) and far below any clearance that matters (a nanometre on a 1 m link).
@@ -43,6 +43,9 @@ MAX_PER_LINK = 4
 #: centre seen is kept).
 CIRCLE_STEPS = 100
 SPLIT_GAIN = 0.15
+#: Halvings of a link into convex parts for the test between capsules and coal (8 parts: a tube
+#: between two housings, the UR5's upper arm, gets thin middle parts).
+PART_DEPTH = 3
 #: Points of the Monte Carlo estimate of a link's capsule volume (its error, ~1 % of the volume, is well
 #: below SPLIT_GAIN).
 VOLUME_POINTS = 20000
@@ -228,4 +231,29 @@ def link_capsules(links: list[LinkGeometry], max_per_link: int = MAX_PER_LINK) -
             _, current, k, parts = best
             pieces[k:k + 1] = parts
         out += [Capsule(g.name, g.body, p.a, p.b, p.r) for p in pieces]
+    return out
+
+
+def link_parts(links: list[LinkGeometry], depth: int = PART_DEPTH) -> list[tuple[str, int, np.ndarray]]:
+    """Convex parts of each link: its surface triangles halved across their longest principal axis,
+    ``depth`` times (up to 2**depth parts), each part the vertices (k, 3) of its convex hull (base frame
+    at q = 0); [(link, body, vertices)], a link's parts consecutive. Together they contain the link (see
+    ``_halves``): the finer, tighter test ``SelfCollisionModel.collides(exact=True)`` runs before coal."""
+    from ..collision.hull import convex_hull, is_flat, principal_frame
+
+    def split(T: np.ndarray, level: int) -> list[np.ndarray]:
+        P = np.unique(T.reshape(-1, 3), axis=0)
+        flat = is_flat(P)
+        if level == 0 or flat or len(P) < 8:
+            return [P if flat else convex_hull(P)[0]]
+        c, R, ext = principal_frame(P)
+        A, B = _halves(T, R[:, int(np.argmax(ext))], c)
+        if not len(A) or not len(B):
+            return [convex_hull(P)[0]]
+        return split(A, level - 1) + split(B, level - 1)
+
+    out = []
+    for g in links:
+        T = np.concatenate([enclosing_triangles(s) for s in g.shapes])
+        out += [(g.name, g.body, V) for V in split(T, depth)]
     return out

@@ -4,9 +4,8 @@
 package does not import the kinematics entry point that calls it):
 
 1. IK as asked; its answer (or, with ``all_solutions=True``, each solution) is checked by the
-   self-collision model (``build.model_of(robot)``): capsules, compiled, then, where the model has the
-   exact check (coal), the configurations whose capsules meet checked again with the links' own
-   geometry. Where the preferred closed-form solution collides, every branch of that target is asked
+   self-collision model (``build.model_of(robot)``): capsules, then, where they meet, the links' convex
+   parts (both compiled and conservative: a solution kept is free for the meshes; ``level``). Where the preferred closed-form solution collides, every branch of that target is asked
    for. Colliding solutions are **dropped**: ``q`` is the collision-free solution nearest to ``q0``
    (IK's order), and with ``all_solutions=True`` ``solutions`` lists only the collision-free ones.
 2. Targets left without a collision-free solution are retried numerically from other starts: up to
@@ -51,12 +50,12 @@ def _free_starts(robot: Robot, model: SelfCollisionModel, count: int, rng: np.ra
     return out
 
 
-def _collision_free(model: SelfCollisionModel, sols: list[np.ndarray], exact: bool) -> list[np.ndarray]:
+def _collision_free(model: SelfCollisionModel, sols: list[np.ndarray], level: str) -> list[np.ndarray]:
     """Each target's solutions without the colliding ones (one batch check of all of them)."""
     sizes = [len(s) for s in sols]
     if not sum(sizes):
         return sols
-    hit = np.asarray(model.collides(np.vstack([s for s in sols if len(s)]), exact=exact))
+    hit = np.asarray(model.collides(np.vstack([s for s in sols if len(s)]), level=level))
     out, k = [], 0
     for s, m in zip(sols, sizes):
         out.append(s[~hit[k:k + m]])
@@ -65,7 +64,7 @@ def _collision_free(model: SelfCollisionModel, sols: list[np.ndarray], exact: bo
 
 
 def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, model: SelfCollisionModel | None = None,
-                      exact: bool | None = None, q0: ArrayLike | None = None, all_solutions: bool = False,
+                      level: str | None = None, q0: ArrayLike | None = None, all_solutions: bool = False,
                       rng: np.random.Generator | int | None = 0, **options: Any) -> Any:
     """``ik(robot, T, ...)`` keeping only solutions free of self collision (see the module doc).
 
@@ -75,15 +74,17 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         ``robkin.kinematics.ik.ik``.
     model : SelfCollisionModel, optional
         Default: ``build.model_of(robot)``.
-    exact : bool, optional
-        Confirm the capsules' collisions with the exact check; default: when the model has one.
+    level : {'capsules', 'parts', 'exact'}, optional
+        How a solution is checked (``SelfCollisionModel.collides``); default 'parts' (compiled and
+        conservative: a solution kept is free for the meshes), 'capsules' for a model without parts.
     q0, all_solutions, rng, options
         As for ``ik``.
     """
     from .build import model_of
 
     model = model or model_of(robot)
-    exact = (model.exact is not None) if exact is None else bool(exact)
+    if level is None:
+        level = "parts" if model.parts else "capsules"
     res = ik(robot, T, q0=q0, all_solutions=all_solutions, rng=rng, **options)
     single = np.ndim(res.success) == 0
     n = robot.n
@@ -93,7 +94,7 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     else:   # the preferred solution first; the other branches are asked for only where it collides
         ok = np.atleast_1d(res.success)
         sols = [q[None] if good else np.empty((0, n)) for q, good in zip(np.array(res.q, dtype=float).reshape(-1, n), ok)]
-    free = _collision_free(model, sols, exact)
+    free = _collision_free(model, sols, level)
     targets = np.asarray(T, dtype=float).reshape(-1, 4, 4)
     left = [i for i, f in enumerate(free) if not len(f)]
     if left and not all_solutions and res.method != "numeric":   # closed form: every branch of those targets
@@ -104,7 +105,7 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
         for i, g in zip(left, got):
             sols[i] = g
-        for i, g in zip(left, _collision_free(model, got, exact)):
+        for i, g in zip(left, _collision_free(model, got, level)):
             free[i] = g
     gen = np.random.default_rng(rng)
     numeric = {k: v for k, v in options.items() if k not in ("method",)}
@@ -123,7 +124,7 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
         for i, g in zip(left, got):
             sols[i] = g if len(g) else sols[i]
-        for i, g in zip(left, _collision_free(model, got, exact)):
+        for i, g in zip(left, _collision_free(model, got, level)):
             free[i] = g
     q = np.array(res.q, dtype=float).reshape(-1, robot.n)
     success = np.zeros(len(free), dtype=bool)

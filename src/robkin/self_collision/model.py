@@ -27,7 +27,11 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
     from .exact import ExactChecker
 
-__all__ = ["SelfCollisionModel", "DisabledPair"]
+__all__ = ["SelfCollisionModel", "DisabledPair", "LEVELS"]
+
+#: How far ``SelfCollisionModel.collides`` goes: capsules (compiled), then the links' convex parts
+#: (compiled), then the meshes (coal).
+LEVELS = ("capsules", "parts", "exact")
 
 
 @dataclass(frozen=True)
@@ -57,6 +61,9 @@ class SelfCollisionModel:
     samples: int = 0
     #: the exact check of the links' own geometry (``exact.ExactChecker``), when coal was there to build it
     exact: ExactChecker | None = None
+    #: convex parts of the links [(link, body, hull vertices (k, 3) at q = 0)] (``capsules.link_parts``), the
+    #: compiled test between the capsules and the exact check; None: straight from capsules to coal
+    parts: list[tuple[str, int, np.ndarray]] | None = None
 
     def __post_init__(self) -> None:
         names: list[str] = []
@@ -88,6 +95,23 @@ class SelfCollisionModel:
             caps[k, 6] = c.radius
         self._caps = caps
         self._frame = np.array([c.body for c in self.capsules], dtype=np.intc)
+        # the parts' hulls in their bodies' frames, with bounding spheres, for ``parts_apart``
+        self._parts: tuple[np.ndarray, ...] | None = None
+        if self.parts and {p[0] for p in self.parts} >= set(names):
+            local, of_part, frame = [], [[] for _ in names], []
+            for k, (link, body, V) in enumerate(p for p in self.parts if p[0] in index):
+                inv = np.linalg.inv(J[body - 1]) if body > 0 else np.eye(4)
+                local.append(V @ inv[:3, :3].T + inv[:3, 3])
+                of_part[index[link]].append(k)
+                frame.append(body)
+            start = np.concatenate([[0], np.cumsum([len(h) for h in local])]).astype(np.intp)
+            link_start = np.concatenate([[0], np.cumsum([len(ks) for ks in of_part])]).astype(np.intp)
+            link_parts = np.array([k for ks in of_part for k in ks], dtype=np.intc)
+            # a ball around each part: its box centre, radius to the farthest point (grown by 1e-9 relative:
+            # the test skips the plane search only where the balls are clearly apart)
+            sphere = np.array([[*c, np.linalg.norm(h - c, axis=1).max() * (1 + 1e-9) + 1e-12]
+                               for h in local for c in [(h.min(axis=0) + h.max(axis=0)) / 2]])
+            self._parts = (np.vstack(local), start, np.array(frame, dtype=np.intc), sphere, link_start, link_parts)
 
     @property
     def links(self) -> list[str]:
@@ -107,7 +131,7 @@ class SelfCollisionModel:
                 if name not in known:
                     raise InputError(f"disable_collisions: link {name!r} has no collision geometry in this "
                                      f"robot (links: {', '.join(sorted(known))})")
-        return SelfCollisionModel(self.robot, self.capsules, list(disabled), self.samples, self.exact)
+        return SelfCollisionModel(self.robot, self.capsules, list(disabled), self.samples, self.exact, self.parts)
 
     def _q(self, q: ArrayLike) -> tuple[np.ndarray, bool]:
         qa = np.asarray(q)
@@ -115,33 +139,55 @@ class SelfCollisionModel:
         qa = np.ascontiguousarray(check_q(qa[None] if single else qa, self.robot.n), dtype=np.float64)
         return qa, single
 
-    def collides(self, q: ArrayLike, *, exact: bool = False, threads: int | None = None) -> bool | np.ndarray:
-        """Whether some checked pair of capsules touches or overlaps: q (n,) -> bool, (N, n) -> (N,) bool.
+    def collides(self, q: ArrayLike, *, level: str = "capsules", threads: int | None = None) -> bool | np.ndarray:
+        """Whether the robot is in self collision: q (n,) -> bool, (N, n) -> (N,) bool.
 
-        ``exact``: the configurations whose capsules meet are checked again with the links' own geometry
-        (coal, ``exact.ExactChecker``), only for the pairs whose capsules meet: the answer is then the
-        meshes' (slower: a Python call per such configuration). Needs the model's ``exact`` checker.
+        ``level`` (see ``LEVELS``):
+
+        - ``'capsules'``: some checked pair of capsules touches or overlaps (compiled, conservative:
+          False means free for the meshes; True may be a near miss);
+        - ``'parts'``: where the capsules meet, the convex hulls of the links' parts (``capsules.
+          link_parts``) are tested for a separating plane (compiled, GJK): still conservative, tighter;
+        - ``'exact'``: what the parts leave is collided with the links' own geometry (coal,
+          ``exact.ExactChecker``, a Python call per configuration): the meshes' answer. Needs coal.
         """
         from ..compiled.collision.capsules import collide
 
+        if level not in LEVELS:
+            raise InputError(f"level: {level!r} is not one of {', '.join(LEVELS)}")
         qa, single = self._q(q)
         t = 0 if threads is None else check_threads(threads)
         hit = collide(self.robot._chain, qa, self._caps, self._frame, self._pairs, t)
         assert hit is not None  # checked, finite, contiguous float64
         out = hit.view(np.bool_)
-        if exact and out.any():
-            out = self._confirm(qa, out.copy(), t)
+        if level != "capsules" and out.any():
+            out = self._refine(qa, out.copy(), t, level == "exact")
         return bool(out[0]) if single else out
 
-    def _confirm(self, qa: np.ndarray, hit: np.ndarray, threads: int) -> np.ndarray:
-        """``hit`` with each flagged configuration checked again exactly (see ``collides``)."""
-        if self.exact is None:
-            raise InputError("exact=True: this model has no exact check (coal was not installed when it was built)")
+    def _refine(self, qa: np.ndarray, hit: np.ndarray, threads: int, exact: bool) -> np.ndarray:
+        """``hit`` with each flagged configuration checked again by the parts, then, with ``exact``, by coal
+        (see ``collides``)."""
+        if exact and self.exact is None:
+            raise InputError("level 'exact': this model has no exact check (coal was not installed when it was "
+                             "built: pip install coal)")
         rows = np.flatnonzero(hit)
         d = self.distances(qa[rows], threads=threads or None)
-        for r, k in enumerate(rows):
-            near = [tuple(self._link_pairs[p]) for p in np.flatnonzero(d[r] <= 0.0)]
-            hit[k] = bool(self.exact.colliding_pairs(qa[k], near, first=True))
+        r_idx, p_idx = np.nonzero(d <= 0.0)
+        queries = np.column_stack([r_idx, self._link_pairs[p_idx]]).astype(np.intc)
+        if self._parts is not None and len(queries):
+            from ..compiled.collision.capsules import parts_apart
+
+            frames = self.robot.frames_at(np.ascontiguousarray(qa[rows]), threads=threads or None)
+            cleared = parts_apart(frames, *self._parts, queries, threads).view(np.bool_)
+            queries = queries[~cleared]
+        hit[rows] = False
+        if not exact:
+            hit[rows[np.unique(queries[:, 0])]] = True
+            return hit
+        assert self.exact is not None
+        for r in np.unique(queries[:, 0]):
+            near = [(int(u), int(v)) for u, v in queries[queries[:, 0] == r, 1:]]
+            hit[rows[r]] = bool(self.exact.colliding_pairs(qa[rows[r]], near, first=True))
         return hit
 
     def distances(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:
