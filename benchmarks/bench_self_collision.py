@@ -128,7 +128,7 @@ def main() -> None:
         res = robot.ik(T, avoid_self_collision=True)
         t_free = time.perf_counter() - t
         print(f"  IK on {len(T)} collision-free targets: plain {100 * plain.success.mean():.1f} % in {t_plain:.3f} s "
-              f"({100 * np.asarray(model.collides(plain.q[plain.success], level="exact")).mean():.1f} % of its answers "
+              f"({100 * np.asarray(model.collides(plain.q[plain.success], level='exact')).mean():.1f} % of its answers "
               f"collide); collision-free {100 * res.success.mean():.1f} % in {t_free:.3f} s "
               f"({t_free / t_plain:.1f}x)")
 

@@ -175,7 +175,7 @@ class SelfCollisionModel:
         r_idx, p_idx = np.nonzero(d <= 0.0)
         queries = np.column_stack([r_idx, self._link_pairs[p_idx]]).astype(np.intc)
         if self._parts is not None and len(queries):
-            from ..compiled.collision.capsules import parts_apart
+            from ..compiled.collision.parts import parts_apart
 
             frames = self.robot.frames_at(np.ascontiguousarray(qa[rows]), threads=threads or None)
             cleared = parts_apart(frames, *self._parts, queries, threads).view(np.bool_)
