@@ -99,6 +99,32 @@ def test_segment_distance_against_dense_sampling():
         assert dense - got <= (np.linalg.norm(q1 - p1) + np.linalg.norm(q2 - p2)) / 400 + 1e-12
 
 
+def test_parts_apart_only_when_a_plane_separates():
+    """The GJK test answers "apart" only for point sets a plane separates, and finds the plane for
+    every pair that a linear program (an independent check) finds strictly separable."""
+    from scipy.optimize import linprog
+
+    from robkin.compiled.collision.parts import parts_apart
+
+    rng = np.random.default_rng(0)
+    frames = np.eye(4)[None, None]                      # one configuration, the base frame only
+    separable = proven = 0
+    for _ in range(400):
+        A = rng.normal(size=(30, 3))
+        B = rng.normal(size=(25, 3)) * rng.uniform(0.3, 1.5) + rng.normal(size=3) * rng.uniform(0, 5)
+        V = np.vstack([A, B])
+        sphere = np.array([[*c, np.linalg.norm(P - c, axis=1).max()] for P in (A, B) for c in [P.mean(axis=0)]])
+        got = parts_apart(frames, V, [0, 30, 55], [0, 0], sphere, [0, 1, 2], [0, 1], [[0, 0, 1]])[0]
+        # separable iff some w, b: A w <= b - 1 and B w >= b + 1
+        lp = linprog(np.zeros(4), A_ub=np.vstack([np.c_[A, -np.ones(30)], np.c_[-B, np.ones(25)]]),
+                     b_ub=-np.ones(55), bounds=[(None, None)] * 4)
+        sep = lp.status == 0
+        assert not (got and not sep)
+        separable += sep
+        proven += bool(got)
+    assert separable > 100 and proven == separable
+
+
 def test_panda_acm_agrees_with_the_maintainers_srdf(panda):
     _, model = panda
     fraction, only_mine, only_theirs = _agreement(model, PANDA_SRDF)
