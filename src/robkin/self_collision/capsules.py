@@ -29,7 +29,7 @@ import numpy as np
 
 from .geometry import LinkGeometry, enclosing_triangles
 
-__all__ = ["Capsule", "fit_capsule", "link_capsules", "link_parts", "point_segment_distance", "MARGIN"]
+__all__ = ["Capsule", "Part", "fit_capsule", "link_capsules", "link_parts", "point_segment_distance", "MARGIN"]
 
 #: Added to each fitted radius, relative to the link's size: 1e-9 is far above float64 rounding of the
 #: distances (1e-16 relative) and far below any clearance that matters (a nanometre on a 1 m link).
@@ -64,6 +64,19 @@ class Capsule:
     @property
     def volume(self) -> float:
         return float(np.pi * self.radius ** 2 * np.linalg.norm(self.b - self.a) + 4 / 3 * np.pi * self.radius ** 3)
+
+
+@dataclass(frozen=True)
+class Part:
+    """A convex part of a link: its hull's vertices (k, 3) and a capsule [a, b], radius around them (base
+    frame at q = 0)."""
+
+    link: str
+    body: int
+    vertices: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    radius: float
 
 
 def point_segment_distance(P: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -234,10 +247,10 @@ def link_capsules(links: list[LinkGeometry], max_per_link: int = MAX_PER_LINK) -
     return out
 
 
-def link_parts(links: list[LinkGeometry], depth: int = PART_DEPTH) -> list[tuple[str, int, np.ndarray]]:
+def link_parts(links: list[LinkGeometry], depth: int = PART_DEPTH) -> list[Part]:
     """Convex parts of each link: its surface triangles halved across their longest principal axis,
     ``depth`` times (up to 2**depth parts), each part the vertices (k, 3) of its convex hull (base frame
-    at q = 0); [(link, body, vertices)], a link's parts consecutive. Together they contain the link (see
+    at q = 0) and a capsule around them; a link's parts consecutive. Together they contain the link (see
     ``_halves``): the finer, tighter test ``SelfCollisionModel.collides(exact=True)`` runs before coal."""
     from ..collision.hull import convex_hull, is_flat, principal_frame
 
@@ -255,5 +268,7 @@ def link_parts(links: list[LinkGeometry], depth: int = PART_DEPTH) -> list[tuple
     out = []
     for g in links:
         T = np.concatenate([enclosing_triangles(s) for s in g.shapes])
-        out += [(g.name, g.body, V) for V in split(T, depth)]
+        for V in split(T, depth):
+            a, b, r = fit_capsule(V)
+            out.append(Part(g.name, g.body, V, a, b, r))
     return out

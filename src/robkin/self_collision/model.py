@@ -25,6 +25,7 @@ from .capsules import Capsule
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
+    from .capsules import Part
     from .exact import ExactChecker
 
 __all__ = ["SelfCollisionModel", "DisabledPair", "LEVELS"]
@@ -61,9 +62,9 @@ class SelfCollisionModel:
     samples: int = 0
     #: the exact check of the links' own geometry (``exact.ExactChecker``), when coal was there to build it
     exact: ExactChecker | None = None
-    #: convex parts of the links [(link, body, hull vertices (k, 3) at q = 0)] (``capsules.link_parts``), the
-    #: compiled test between the capsules and the exact check; None: straight from capsules to coal
-    parts: list[tuple[str, int, np.ndarray]] | None = None
+    #: convex parts of the links (``capsules.link_parts``), the compiled test between the capsules and the
+    #: exact check; None: straight from capsules to coal
+    parts: list[Part] | None = None
 
     def __post_init__(self) -> None:
         names: list[str] = []
@@ -95,23 +96,21 @@ class SelfCollisionModel:
             caps[k, 6] = c.radius
         self._caps = caps
         self._frame = np.array([c.body for c in self.capsules], dtype=np.intc)
-        # the parts' hulls in their bodies' frames, with bounding spheres, for ``parts_apart``
+        # the parts' hulls and capsules in their bodies' frames, for ``parts_apart``
         self._parts: tuple[np.ndarray, ...] | None = None
-        if self.parts and {p[0] for p in self.parts} >= set(names):
-            local, of_part, frame = [], [[] for _ in names], []
-            for k, (link, body, V) in enumerate(p for p in self.parts if p[0] in index):
-                inv = np.linalg.inv(J[body - 1]) if body > 0 else np.eye(4)
-                local.append(V @ inv[:3, :3].T + inv[:3, 3])
-                of_part[index[link]].append(k)
-                frame.append(body)
+        if self.parts and {p.link for p in self.parts} >= set(names):
+            local, of_part, frame, bound = [], [[] for _ in names], [], []
+            for k, part in enumerate(p for p in self.parts if p.link in index):
+                inv = np.linalg.inv(J[part.body - 1]) if part.body > 0 else np.eye(4)
+                local.append(part.vertices @ inv[:3, :3].T + inv[:3, 3])
+                bound.append([*(inv[:3, :3] @ part.a + inv[:3, 3]), *(inv[:3, :3] @ part.b + inv[:3, 3]), part.radius])
+                of_part[index[part.link]].append(k)
+                frame.append(part.body)
             start = np.concatenate([[0], np.cumsum([len(h) for h in local])]).astype(np.intp)
             link_start = np.concatenate([[0], np.cumsum([len(ks) for ks in of_part])]).astype(np.intp)
             link_parts = np.array([k for ks in of_part for k in ks], dtype=np.intc)
-            # a ball around each part: its box centre, radius to the farthest point (grown by 1e-9 relative:
-            # the test skips the plane search only where the balls are clearly apart)
-            sphere = np.array([[*c, np.linalg.norm(h - c, axis=1).max() * (1 + 1e-9) + 1e-12]
-                               for h in local for c in [(h.min(axis=0) + h.max(axis=0)) / 2]])
-            self._parts = (np.vstack(local), start, np.array(frame, dtype=np.intc), sphere, link_start, link_parts)
+            self._parts = (np.vstack(local), start, np.array(frame, dtype=np.intc), np.array(bound), link_start,
+                           link_parts)
 
     @property
     def links(self) -> list[str]:

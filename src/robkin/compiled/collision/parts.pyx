@@ -3,7 +3,7 @@
 
 Between the capsules (``capsules.pyx``) and the exact mesh check: each link is a few convex parts
 (their points, the hull vertices, in their frames at q = 0), and a pair of links is cleared at a
-configuration when every part of one is apart from every part of the other: their bounding balls
+configuration when every part of one is apart from every part of the other: capsules around them
 apart, or a separating plane found by GJK on the Minkowski difference. A plane is proof (the support
 values themselves show it), so the answer "apart" is never wrong; anything the search does not prove
 (touching, overlapping, a degenerate step, too many steps) is "not proven", for the exact check.
@@ -13,6 +13,7 @@ Queries are split over threads (``prange``; ``threads`` 0: automatic, ``robkin.t
 cimport numpy as cnp
 from cython.parallel cimport prange
 from libc.stdlib cimport malloc, free
+from robkin.compiled.collision.segments cimport segment_distance2
 from robkin.compiled.runtime.threads cimport batch_threads
 
 import numpy as np
@@ -60,10 +61,11 @@ cdef double support_gap(const double* A, int na, const double* B, int nb, const 
     return best - low
 
 
-cdef bint apart(const double* A, int na, const double* B, int nb) noexcept nogil:
+cdef bint apart(const double* A, int na, const double* B, int nb, const double* start) noexcept nogil:
     """True only when a plane separates the convex hulls of the points A and B (both (k, 3), one frame):
     a direction d with max over A of d.a < min over B of d.b, found by GJK on A - B. Anything else
-    (touching, overlapping, a degenerate step, too many steps) is False: "not proven apart"."""
+    (touching, overlapping, a degenerate step, too many steps) is False: "not proven apart". ``start``:
+    the first search direction (B's centre to A's: most pairs are proven apart at the first step)."""
     cdef double S[12]      # the simplex, newest point first
     cdef double d[3]
     cdef double w[3]
@@ -78,7 +80,7 @@ cdef bint apart(const double* A, int na, const double* B, int nb) noexcept nogil
     cdef int m = 0, step, i
     cdef double n2
     for i in range(3):
-        d[i] = A[i] - B[i]
+        d[i] = start[i]
     if dot3(d, d) < 1e-300:
         d[0] = 1.0
     for step in range(GJK_STEPS):
@@ -181,35 +183,35 @@ cdef inline void place(const double* T, const double* p, double* out) noexcept n
 
 
 cdef int links_apart(const double* F, int n, const double* verts, const Py_ssize_t* start, const int* frame,
-                     const double* sphere, const Py_ssize_t* link_start, const int* link_parts, int u, int v,
+                     const double* bound, const Py_ssize_t* link_start, const int* link_parts, int u, int v,
                      double* buf) noexcept nogil:
     """1 if every part of link u is apart from every part of link v at the frames F ((n+1) x 16): their
-    bounding spheres apart, or else a separating plane (``apart``)."""
+    capsules apart, or else a separating plane (``apart``)."""
     cdef int pu, pv, k, l, i, na, nb
     cdef bint placed
     cdef const double* Tu
     cdef const double* Tv
     cdef double* A = buf
     cdef double* B
-    cdef double cu[3]
-    cdef double cv[3]
-    cdef double x, y, z, rr
+    cdef double cu[6]
+    cdef double cv[6]
+    cdef double rr
+    cdef double dc[3]
     for pu in range(<int>link_start[u], <int>link_start[u + 1]):
         k = link_parts[pu]
         na = <int>(start[k + 1] - start[k])
         Tu = F + 16 * (frame[k] - 1) if frame[k] > 0 else NULL
-        place(Tu, sphere + 4 * k, cu)
+        place(Tu, bound + 7 * k, cu)
+        place(Tu, bound + 7 * k + 3, cu + 3)
         placed = False
         B = buf + 3 * na
         for pv in range(<int>link_start[v], <int>link_start[v + 1]):
             l = link_parts[pv]
             Tv = F + 16 * (frame[l] - 1) if frame[l] > 0 else NULL
-            place(Tv, sphere + 4 * l, cv)
-            x = cu[0] - cv[0]
-            y = cu[1] - cv[1]
-            z = cu[2] - cv[2]
-            rr = sphere[4 * k + 3] + sphere[4 * l + 3]
-            if x * x + y * y + z * z > rr * rr:
+            place(Tv, bound + 7 * l, cv)
+            place(Tv, bound + 7 * l + 3, cv + 3)
+            rr = bound[7 * k + 6] + bound[7 * l + 6]
+            if segment_distance2(cu, cu + 3, cv, cv + 3) > rr * rr:
                 continue
             if not placed:
                 for i in range(na):
@@ -218,12 +220,14 @@ cdef int links_apart(const double* F, int n, const double* verts, const Py_ssize
             nb = <int>(start[l + 1] - start[l])
             for i in range(nb):
                 place(Tv, verts + 3 * (start[l] + i), B + 3 * i)
-            if not apart(A, na, B, nb):
+            for i in range(3):
+                dc[i] = cu[i] + cu[3 + i] - cv[i] - cv[3 + i]
+            if not apart(A, na, B, nb, dc):
                 return 0
     return 1
 
 
-def parts_apart(frames, verts, start, frame, sphere, link_start, link_parts, queries, int threads=0):
+def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, queries, int threads=0):
     """uint8 (Q,): per query (row, link u, link v) of ``queries`` (Q, 3), 1 when every convex part of link
     u is proven apart from every part of link v (a separating plane each) at the frames ``frames[row]``
     ((M, n+1, 4, 4) as ``Robot.frames_at`` gives them); 0: not proven (touching, overlapping, or the
@@ -236,15 +240,15 @@ def parts_apart(frames, verts, start, frame, sphere, link_start, link_parts, que
     cdef cnp.ndarray Va = np.ascontiguousarray(verts, dtype=np.float64)
     cdef cnp.ndarray Sa = np.ascontiguousarray(start, dtype=np.intp)
     cdef cnp.ndarray Ka = np.ascontiguousarray(frame, dtype=np.intc)
-    cdef cnp.ndarray Ba = np.ascontiguousarray(sphere, dtype=np.float64)
+    cdef cnp.ndarray Ba = np.ascontiguousarray(bound, dtype=np.float64)
     cdef cnp.ndarray La = np.ascontiguousarray(link_start, dtype=np.intp)
     cdef cnp.ndarray Pa = np.ascontiguousarray(link_parts, dtype=np.intc)
     cdef cnp.ndarray Qa = np.ascontiguousarray(queries, dtype=np.intc)
     if Fa.ndim != 4 or Fa.shape[2] != 4 or Fa.shape[3] != 4 or Va.ndim != 2 or Va.shape[1] != 3 \
             or Qa.ndim != 2 or Qa.shape[1] != 3 or Sa.ndim != 1 or Ka.shape[0] != Sa.shape[0] - 1 \
-            or Ba.ndim != 2 or Ba.shape[0] != Ka.shape[0] or Ba.shape[1] != 4:
+            or Ba.ndim != 2 or Ba.shape[0] != Ka.shape[0] or Ba.shape[1] != 7:
         raise ValueError("parts_apart: expected frames (M, n+1, 4, 4), verts (H, 3), start (K+1,), frame (K,), "
-                         "sphere (K, 4), queries (Q, 3)")
+                         "bound (K, 7), queries (Q, 3)")
     cdef int n = <int>Fa.shape[1] - 1, K = <int>Ka.shape[0], L = <int>La.shape[0] - 1
     cdef Py_ssize_t M = Fa.shape[0], Q = Qa.shape[0], j
     if K and (Sa[0] != 0 or Sa[K] != Va.shape[0] or (np.diff(Sa) < 1).any() or Ka.min() < 0 or Ka.max() > n):
