@@ -107,7 +107,7 @@ def main() -> None:
         print(f"  no false free: {int(free.sum())} of {len(Q)} called free, {false_free} touching by coal "
               f"({time.perf_counter() - t:.0f} s)")
         t = time.perf_counter()
-        by_parts = ~np.asarray(model.collides(Q, level="parts")) & ~free    # freed by the parts test alone
+        by_parts = ~np.asarray(model.collides(Q, level="parts", threads=1)) & ~free   # freed by the parts alone
         dt_parts = time.perf_counter() - t
         false_parts = sum(1 for k in np.flatnonzero(by_parts) if model.exact.colliding_pairs(Q[k], pairs, first=True))
         print(f"  level 'parts': {int(by_parts.sum())} more called free ({1e6 * dt_parts / len(Q):.2f} us/configuration "
