@@ -31,7 +31,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("io", ("robkin.io",)),
     ("capabilities", ("robkin.kinematics", "robkin.equivalence", "robkin.dynamics", "robkin.calibration",
                       "robkin.synthesis", "robkin.simulation", "robkin.collision", "robkin.lint",
-                      "robkin.workspace")),
+                      "robkin.workspace", "robkin.self_collision")),
     ("viz", ("robkin.viz",)),
     ("front", ("robkin.commands", "robkin.cli", "robkin")),
 )

@@ -11,6 +11,8 @@ use (``import robkin`` stays light), and it is declared as the hub's facade (CON
   ``robot.CapabilityMethod`` puts it in the class on first use);
 - ``rigid_body()``, ``jacobian()``: the modules behind the dynamics and Jacobian methods;
 - ``compliance()``: ``robkin.calibration.compliance``, behind ``Robot.fk_compliant``;
+- ``self_collision_function()``, ``self_collision_distances_function()``: ``robkin.self_collision.build``'s
+  functions, which *are* ``Robot.self_collision`` and ``Robot.self_collision_distances``;
 - ``servo_plan()``: ``robkin.simulation.servos.servo_plan``, the servos of a simulation model, for the
   writers in io (below the capabilities) that are called without a plan of their caller's.
 """
@@ -19,13 +21,14 @@ from __future__ import annotations
 
 from functools import cache
 from types import ModuleType
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 if TYPE_CHECKING:  # what static type checkers see: the result types of the methods
     from .kinematics.ik import IKResult
     from .simulation.servos import ServoPlan
 
-__all__ = ["ik_function", "jacobian", "rigid_body", "compliance", "servo_plan"]
+__all__ = ["ik_function", "jacobian", "rigid_body", "compliance", "servo_plan", "self_collision_function",
+           "self_collision_distances_function"]
 
 
 @cache
@@ -66,3 +69,19 @@ def servo_plan() -> Callable[..., "ServoPlan"]:
     from .simulation.servos import servo_plan as function
 
     return function
+
+
+@cache
+def self_collision_function() -> Callable[..., Any]:
+    """``robkin.self_collision.build.self_collision``, imported on first use and then kept."""
+    from .self_collision.build import self_collision
+
+    return self_collision
+
+
+@cache
+def self_collision_distances_function() -> Callable[..., Any]:
+    """``robkin.self_collision.build.self_collision_distances``, imported on first use and then kept."""
+    from .self_collision.build import self_collision_distances
+
+    return self_collision_distances

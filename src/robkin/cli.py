@@ -19,8 +19,8 @@ import warnings
 from typing import Sequence
 
 #: command name -> module under robkin.commands; order is the order shown in --help
-COMMANDS = ("convert", "fk", "ik", "check", "calibrate", "info", "lint", "estimate", "workspace", "plot", "gui",
-            "demo")
+COMMANDS = ("convert", "fk", "ik", "check", "calibrate", "info", "lint", "collision", "workspace", "estimate", "plot",
+            "gui", "demo")
 #: options whose value may start with '-' (a negative number): '--q -1,2' is read as '--q=-1,2'
 NUMBER_OPTIONS = ("--q", "--q0", "--pose", "--base", "--mask", "--view")
 

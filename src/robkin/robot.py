@@ -21,7 +21,7 @@ from .checks import EXACT_TOL, PROJECTION_TOL, check_out, check_pose, check_pose
 from .errors import InputError, quote
 from .names import check_name, duplicates
 from .bodies import EMPTY_BODIES, Bodies
-from .capabilities import ik_function
+from .capabilities import ik_function, self_collision_distances_function, self_collision_function
 from .capabilities import compliance as _compliance, jacobian as _jacobian_module, rigid_body as _rigid_body
 from .joints import JOINT_TYPES, Joint, JointType, default_joints, home_configuration
 from .frame_stacks import frame_scales, local_transforms
@@ -269,6 +269,14 @@ class Robot:
     #: arm_angle; it returns an ``IKResult`` with ``.q`` and ``.success``.
     #: (not annotated: a dataclass would take an annotated class attribute for a field)
     ik = CapabilityMethod(ik_function)
+
+    #: Self collision at q (n,) -> bool, (N, n) -> (N,) bool: ``robkin.self_collision.build.self_collision``
+    #: (conservative capsules per link, compiled, every core; ``exact=True`` confirms with the meshes), with the
+    #: model ``robkin.self_collision.self_collision_model(robot, source)`` last built for this robot.
+    self_collision = CapabilityMethod(self_collision_function)
+    #: Capsule distances of the checked link pairs at q: (n,) -> (P,), (N, n) -> (N, P) (negative: overlap):
+    #: ``robkin.self_collision.build.self_collision_distances``; ``model.pairs`` names them.
+    self_collision_distances = CapabilityMethod(self_collision_distances_function)
 
     def jacobian(self, q: ArrayLike, frame: str = "base", *, threads: int | None = None,
                  out: np.ndarray | None = None) -> np.ndarray:

@@ -6,7 +6,8 @@ import argparse
 import sys
 from typing import TYPE_CHECKING
 
-from .support.common import add_degrees, add_input, add_threads, load_input, parse_pose, parse_q, revolute_degrees, seed
+from .support.common import (add_degrees, add_input, add_package_path, add_threads, load_input, package_paths,
+                             parse_pose, parse_q, revolute_degrees, seed)
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
@@ -109,6 +110,13 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="numeric: restarts after the first attempt, spread over the joint limits (default "
                         "200, as Robot.ik; a target stops at its first success)")
     p.add_argument("--seed", type=seed, default=0, help="numeric: random seed (default 0)")
+    p.add_argument("--collision-free", action="store_true",
+                   help="only solutions free of self collision (the robot's collision geometry: capsules, then "
+                        "its meshes with coal; the allowed-collision matrix sampled as 'robkin collision' does, "
+                        "or read from --srdf); see docs/collision.md")
+    p.add_argument("--srdf", metavar="FILE", help="with --collision-free: the link pairs never checked (SRDF "
+                                                  "<disable_collisions>, as 'robkin collision' writes)")
+    add_package_path(p)
     add_threads(p)
     from .support.batches import add_output
 
@@ -144,6 +152,11 @@ def run(args: argparse.Namespace) -> int:
 
         psi = number(args.arm_angle, "--arm-angle")
         solve["arm_angle"] = math.radians(psi) if args.degrees else psi
+    if args.collision_free:
+        _collision_model(robot, args)
+        solve["avoid_self_collision"] = True
+    elif args.srdf:
+        raise InputError("--srdf: goes with --collision-free")
     if args.poses:
         from .support.batches import ik_batch
 
@@ -211,3 +224,13 @@ def _residuals(robot: "Robot", q: "np.ndarray", T: "np.ndarray") -> tuple[float,
     F = robot.fk(q)
     angle = np.linalg.norm(se3.log_rotation(T[:3, :3] @ F[:3, :3].T))
     return float(np.linalg.norm(T[:3, 3] - F[:3, 3])), float(angle)
+
+
+def _collision_model(robot, args: argparse.Namespace) -> None:
+    """The self-collision model ``Robot.ik(avoid_self_collision=True)`` then uses for this robot."""
+    from ..io.srdf import read_srdf
+    from ..self_collision.build import self_collision_model
+    from ..self_collision.model import DisabledPair
+
+    disabled = [DisabledPair(*p) for p in read_srdf(args.srdf)[1]] if args.srdf else None
+    self_collision_model(robot, args.input, package_paths=package_paths(args), disabled=disabled)

@@ -46,7 +46,8 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
        method: str = "auto", all_solutions: bool = False, tol_position: float = DEFAULT_TOL,
        tol_orientation: float = DEFAULT_TOL, max_iterations: int = DEFAULT_MAX_ITERATIONS, restarts: int = DEFAULT_RESTARTS,
        rng: np.random.Generator | int | None = 0, threads: int | None = None,
-       lock: Mapping[str, float] | None = None, arm_angle: ArrayLike | None = None) -> IKResult:
+       lock: Mapping[str, float] | None = None, arm_angle: ArrayLike | None = None,
+       avoid_self_collision: bool = False) -> IKResult:
     """Joint values that put the tool at T.
 
     Parameters
@@ -93,11 +94,21 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
     arm_angle : float or (N,) array, optional
         SRS arms (iiwa, ideal Gen3): the elbow's swivel angle (radians) about the shoulder-wrist line; every
         solution at that angle, q on q0's branch (``kinematics.srs``, docs/ik.md). Not with lock or mask.
+    avoid_self_collision : bool
+        Only solutions free of self collision (``robkin.self_collision.ik``: colliding branches dropped,
+        numeric retries from collision-free starts; the model is ``self_collision_model``'s, docs/collision.md).
 
     Returns
     -------
     IKResult
     """
+    if avoid_self_collision:
+        from ..self_collision.ik import collision_free_ik
+
+        return collision_free_ik(ik, robot, T, q0=q0, mask=mask, method=method, all_solutions=all_solutions,
+                                 tol_position=tol_position, tol_orientation=tol_orientation,
+                                 max_iterations=max_iterations, restarts=restarts, rng=rng, threads=threads,
+                                 lock=lock, arm_angle=arm_angle)
     if arm_angle is not None:
         from .srs import ik_arm_angle
 

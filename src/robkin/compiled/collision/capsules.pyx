@@ -1,0 +1,185 @@
+# cython: language_level=3
+"""Batch self-collision of capsule models: the chain's frames (``fk.pxd``'s walk) and, per configuration,
+the segment-segment distances of the capsule pairs that are checked.
+
+A capsule is the set of points within ``radius`` of a segment [a, b] fixed to one GJD frame: ``caps``
+(C, 7) holds a (3), b (3) in that frame's coordinates at q = 0 and the radius; ``frame`` (C,) the frame
+index k: 0 for the base (never moves), k in 1..n for body k (moves with GJD frame k, index k - 1 of the
+frames along the chain). ``pairs`` (P, 2) lists the capsule pairs to check. Two capsules collide when
+their segments are closer than the sum of the radii (touching counts as a collision).
+
+Configurations are walked in blocks of ``BLOCK`` (the chain's frames of a block are computed together,
+then each configuration's capsules are moved and its pairs checked), blocks split over threads
+(``prange``, ``threads`` 0: automatic, ``robkin.threads``); every configuration gets the same bits
+whatever the thread count. Like ``fk.pyx`` the functions return None unless q is a C-contiguous float64
+array (n,) or (N, n) of finite values; the Python wrapper (``robkin.self_collision.model``) validates.
+"""
+
+cimport numpy as cnp
+from cython.parallel cimport prange
+from libc.stdlib cimport malloc, free
+from libc.math cimport sqrt
+from robkin.compiled.collision.segments cimport segment_distance2
+from robkin.compiled.chain.fk cimport BLOCK, Chain, finite_block, frame_poses, usable_layout
+from robkin.compiled.runtime.threads cimport batch_threads
+
+import numpy as np
+
+cnp.import_array()
+
+cdef enum:
+    # blocks a thread must get before a batch is split (a block of 32 Panda configurations is ~10 us)
+    MIN_BLOCKS_PER_THREAD = 8
+
+
+cdef inline void move_capsules(const double* F, int n, const double* caps, const int* frame, int C,
+                               double* W) noexcept nogil:
+    """W (C x 6) = the capsules' end points at one configuration whose frames are F ((n+1) x 16)."""
+    cdef int i, k, r
+    cdef const double* T
+    cdef const double* p
+    for i in range(C):
+        k = frame[i]
+        for r in range(2):
+            p = caps + 7 * i + 3 * r
+            if k == 0:
+                W[6 * i + 3 * r] = p[0]
+                W[6 * i + 3 * r + 1] = p[1]
+                W[6 * i + 3 * r + 2] = p[2]
+            else:
+                T = F + 16 * (k - 1)
+                W[6 * i + 3 * r] = T[0] * p[0] + T[1] * p[1] + T[2] * p[2] + T[3]
+                W[6 * i + 3 * r + 1] = T[4] * p[0] + T[5] * p[1] + T[6] * p[2] + T[7]
+                W[6 * i + 3 * r + 2] = T[8] * p[0] + T[9] * p[1] + T[10] * p[2] + T[11]
+
+
+cdef int check_block(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t N,
+                     Py_ssize_t j, const double* caps, const int* frame, int C, const int* pairs, int P,
+                     unsigned char* hit, double* dist) noexcept nogil:
+    """Block j of the batch: hit[b] (1: some pair collides) if ``hit``, else dist (N x P) signed distances
+    (segment distance minus both radii). Returns 1 if the block holds a value that is not finite, -1 if
+    memory ran out, else 0."""
+    cdef Py_ssize_t k0 = BLOCK * j
+    cdef int m = <int>(N - k0 if N - k0 < BLOCK else BLOCK), b, p, u, v
+    cdef double* F
+    cdef double* W
+    cdef double* S
+    cdef double rr, d2, x, y, z, s
+    cdef int i
+    if not finite_block(Q, n, N, j):
+        return 1
+    F = <double*>malloc(sizeof(double) * (16 * (n + 1) * m + 6 * C + C))
+    if F == NULL:
+        return -1
+    W = F + 16 * (n + 1) * m
+    S = W + 6 * C
+    for i in range(C):
+        # each capsule's bounding sphere about its segment's midpoint: half the length plus the radius
+        x = caps[7 * i + 3] - caps[7 * i]
+        y = caps[7 * i + 4] - caps[7 * i + 1]
+        z = caps[7 * i + 5] - caps[7 * i + 2]
+        S[i] = 0.5 * sqrt(x * x + y * y + z * z) + caps[7 * i + 6]
+    frame_poses(L, rev, n, Q + n * k0, m, F)
+    for b in range(m):
+        move_capsules(F + 16 * (n + 1) * b, n, caps, frame, C, W)
+        if hit != NULL:
+            hit[k0 + b] = 0
+            for p in range(P):
+                u = pairs[2 * p]
+                v = pairs[2 * p + 1]
+                # bounding spheres apart: the capsules are (no segment distance needed)
+                x = W[6 * u] + W[6 * u + 3] - W[6 * v] - W[6 * v + 3]
+                y = W[6 * u + 1] + W[6 * u + 4] - W[6 * v + 1] - W[6 * v + 4]
+                z = W[6 * u + 2] + W[6 * u + 5] - W[6 * v + 2] - W[6 * v + 5]
+                s = S[u] + S[v]
+                if x * x + y * y + z * z > 4.0 * s * s:
+                    continue
+                rr = caps[7 * u + 6] + caps[7 * v + 6]
+                if segment_distance2(W + 6 * u, W + 6 * u + 3, W + 6 * v, W + 6 * v + 3) <= rr * rr:
+                    hit[k0 + b] = 1
+                    break
+        else:
+            for p in range(P):
+                u = pairs[2 * p]
+                v = pairs[2 * p + 1]
+                d2 = segment_distance2(W + 6 * u, W + 6 * u + 3, W + 6 * v, W + 6 * v + 3)
+                dist[(k0 + b) * P + p] = sqrt(d2) - caps[7 * u + 6] - caps[7 * v + 6]
+    free(F)
+    return 0
+
+
+cdef object run(Chain chain, q, caps, frame, pairs, int threads, bint distances):
+    cdef int n = chain.n
+    cdef cnp.ndarray ca = np.ascontiguousarray(caps, dtype=np.float64)
+    cdef cnp.ndarray fa = np.ascontiguousarray(frame, dtype=np.intc)
+    cdef cnp.ndarray pa = np.ascontiguousarray(pairs, dtype=np.intc)
+    cdef int C, P, nt, status
+    cdef Py_ssize_t N, j, blocks, bad = 0, oom = 0
+    cdef cnp.ndarray out
+    if ca.ndim != 2 or ca.shape[1] != 7 or fa.ndim != 1 or fa.shape[0] != ca.shape[0] or pa.ndim != 2 \
+            or pa.shape[1] != 2:
+        raise ValueError("capsules: expected caps (C, 7), frame (C,), pairs (P, 2)")
+    C = <int>ca.shape[0]
+    P = <int>pa.shape[0]
+    if C and (fa.min() < 0 or fa.max() > n):
+        raise ValueError(f"capsules: frame indices must be in 0..{n}")
+    if P and (pa.min() < 0 or pa.max() >= C):
+        raise ValueError(f"capsules: pair indices must be in 0..{C - 1}")
+    if not usable_layout(q, n):
+        return None
+    N = cnp.PyArray_SIZE(q) // n
+    out = np.empty((N, P), dtype=np.float64) if distances else np.empty(N, dtype=np.uint8)
+    cdef const double* Q = <const double*>cnp.PyArray_DATA(q)
+    cdef const double* Cp = <const double*>cnp.PyArray_DATA(ca)
+    cdef const int* Fp = <const int*>cnp.PyArray_DATA(fa)
+    cdef const int* Pp = <const int*>cnp.PyArray_DATA(pa)
+    cdef unsigned char* H = NULL if distances else <unsigned char*>cnp.PyArray_DATA(out)
+    cdef double* D = <double*>cnp.PyArray_DATA(out) if distances else NULL
+    blocks = (N + BLOCK - 1) // BLOCK
+    with nogil:
+        nt = batch_threads(threads, blocks, MIN_BLOCKS_PER_THREAD) if blocks > 1 else 1
+        if nt > 1:
+            for j in prange(blocks, num_threads=nt, schedule="dynamic", chunksize=2):
+                status = check_block(chain.L, chain.rev, n, Q, N, j, Cp, Fp, C, Pp, P, H, D)
+                if status > 0:
+                    bad += 1
+                elif status < 0:
+                    oom += 1
+        else:
+            for j in range(blocks):
+                status = check_block(chain.L, chain.rev, n, Q, N, j, Cp, Fp, C, Pp, P, H, D)
+                if status > 0:
+                    bad += 1
+                    break
+                elif status < 0:
+                    oom += 1
+                    break
+    if oom:
+        raise MemoryError("capsules: no memory for a block of frames")
+    if bad:
+        return None
+    return out
+
+
+def collide(Chain chain, q, caps, frame, pairs, int threads=0):
+    """uint8 (N,) (1: some checked pair of capsules touches or overlaps) for q (N, n) (or (1,) for q (n,));
+    None if q is not a C-contiguous float64 array of finite values (see the module doc)."""
+    return run(chain, q, caps, frame, pairs, threads, False)
+
+
+def distances(Chain chain, q, caps, frame, pairs, int threads=0):
+    """float64 (N, P): per configuration and checked pair, the distance between the two capsules
+    (segment distance minus both radii; negative: they overlap by that much). None as ``collide``."""
+    return run(chain, q, caps, frame, pairs, threads, True)
+
+
+def segment_distance(p1, q1, p2, q2):
+    """The distance between the segments [p1, q1] and [p2, q2] (each (3,)), as the kernels compute it."""
+    cdef double a[12]
+    cdef int k
+    for k in range(3):
+        a[k] = float(p1[k])
+        a[3 + k] = float(q1[k])
+        a[6 + k] = float(p2[k])
+        a[9 + k] = float(q2[k])
+    return sqrt(segment_distance2(a, a + 3, a + 6, a + 9))

@@ -1,0 +1,162 @@
+"""Collision-aware inverse kinematics: ``Robot.ik(T, avoid_self_collision=True)``.
+
+``collision_free_ik(ik, robot, T, ...)`` wraps ``robkin.kinematics.ik.ik`` (passed in, so that this
+package does not import the kinematics entry point that calls it):
+
+1. IK as asked; its answer (or, with ``all_solutions=True``, each solution) is checked by the
+   self-collision model (``build.model_of(robot)``): capsules, then, where they meet, the links' convex
+   parts (both compiled and conservative: a solution kept is free for the meshes; ``level``). Where the preferred closed-form solution collides, every branch of that target is asked
+   for. Colliding solutions are **dropped**: ``q`` is the collision-free solution nearest to ``q0``
+   (IK's order), and with ``all_solutions=True`` ``solutions`` lists only the collision-free ones.
+2. Targets left without a collision-free solution are retried numerically from other starts: up to
+   ``RETRIES`` rounds, each from collision-free configurations drawn within the limits (seeded by
+   ``rng``), keeping the first collision-free solution.
+
+The guarantees of ``ik`` hold: a success reaches the target to the tolerances with every joint within
+its limits (the solutions are IK's own, checked by its forward kinematics); ``success`` is False, with
+the message "every solution found is in self collision", where no collision-free one was found.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import TYPE_CHECKING, Any, Callable
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..robot import Robot
+    from .model import SelfCollisionModel
+
+__all__ = ["collision_free_ik", "RETRIES"]
+
+#: Numeric rounds from new collision-free starts for targets whose solutions all collide.
+RETRIES = 4
+#: Starts per target and round (run side by side by the numeric IK).
+STARTS = 8
+MESSAGE = "every solution found is in self collision"
+
+
+def _free_starts(robot: Robot, model: SelfCollisionModel, count: int, rng: np.random.Generator) -> np.ndarray:
+    """``count`` configurations within the limits that the capsules call free (a few rejection rounds;
+    any left over are plain random configurations)."""
+    out = robot.random_q(count, rng=rng)
+    for _ in range(8):
+        bad = np.asarray(model.collides(out))
+        if not bad.any():
+            break
+        out[bad] = robot.random_q(int(bad.sum()), rng=rng)
+    return out
+
+
+def _collision_free(model: SelfCollisionModel, sols: list[np.ndarray], level: str) -> list[np.ndarray]:
+    """Each target's solutions without the colliding ones (one batch check of all of them)."""
+    sizes = [len(s) for s in sols]
+    if not sum(sizes):
+        return sols
+    hit = np.asarray(model.collides(np.vstack([s for s in sols if len(s)]), level=level))
+    out, k = [], 0
+    for s, m in zip(sols, sizes):
+        out.append(s[~hit[k:k + m]])
+        k += m
+    return out
+
+
+def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, model: SelfCollisionModel | None = None,
+                      level: str | None = None, q0: ArrayLike | None = None, all_solutions: bool = False,
+                      rng: np.random.Generator | int | None = 0, **options: Any) -> Any:
+    """``ik(robot, T, ...)`` keeping only solutions free of self collision (see the module doc).
+
+    Parameters
+    ----------
+    ik : callable
+        ``robkin.kinematics.ik.ik``.
+    model : SelfCollisionModel, optional
+        Default: ``build.model_of(robot)``.
+    level : {'capsules', 'parts', 'exact'}, optional
+        How a solution is checked (``SelfCollisionModel.collides``); default 'parts' (compiled and
+        conservative: a solution kept is free for the meshes), 'capsules' for a model without parts.
+    q0, all_solutions, rng, options
+        As for ``ik``.
+    """
+    from .build import model_of
+
+    model = model or model_of(robot)
+    if level is None:
+        level = "parts" if model.parts else "capsules"
+    res = ik(robot, T, q0=q0, all_solutions=all_solutions, rng=rng, **options)
+    single = np.ndim(res.success) == 0
+    n = robot.n
+    if all_solutions:
+        sols = [res.solutions] if single else list(res.solutions)
+        sols = [np.asarray(s, dtype=float).reshape(-1, n) for s in sols]
+    else:   # the preferred solution first; the other branches are asked for only where it collides
+        ok = np.atleast_1d(res.success)
+        sols = [q[None] if good else np.empty((0, n)) for q, good in zip(np.array(res.q, dtype=float).reshape(-1, n), ok)]
+    free = _collision_free(model, sols, level)
+    targets = np.asarray(T, dtype=float).reshape(-1, 4, 4)
+    left = [i for i, f in enumerate(free) if not len(f)]
+    if left and not all_solutions and res.method != "numeric":   # closed form: every branch of those targets
+        sub = ik(robot, targets[left] if not single else targets[0], q0=None if q0 is None else
+                 (np.asarray(q0, dtype=float).reshape(-1, n)[left] if np.ndim(q0) == 2 else q0),
+                 all_solutions=True, rng=rng, **options)
+        got = [sub.solutions] if single else list(sub.solutions)
+        got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
+        for i, g in zip(left, got):
+            sols[i] = g
+        for i, g in zip(left, _collision_free(model, got, level)):
+            free[i] = g
+    gen = np.random.default_rng(rng)
+    numeric = {k: v for k, v in options.items() if k not in ("method",)}
+    for _ in range(RETRIES):
+        left = [i for i, f in enumerate(free) if not len(f)]
+        if not left:
+            break
+        starts = _free_starts(robot, model, len(left), gen)
+        sub = ik(robot, targets[left] if not single else targets[0], q0=starts if not single else starts[0],
+                 method="numeric", all_solutions=all_solutions, rng=gen, **numeric)
+        if all_solutions:
+            got = [sub.solutions] if single else list(sub.solutions)
+        else:
+            good = np.atleast_1d(sub.success)
+            got = [q[None] if g else np.empty((0, n)) for q, g in zip(np.array(sub.q, dtype=float).reshape(-1, n), good)]
+        got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
+        for i, g in zip(left, got):
+            sols[i] = g if len(g) else sols[i]
+        for i, g in zip(left, _collision_free(model, got, level)):
+            free[i] = g
+    q = np.array(res.q, dtype=float).reshape(-1, robot.n)
+    success = np.zeros(len(free), dtype=bool)
+    messages = [res.message] if single else list(res.message)
+    for i, f in enumerate(free):
+        if len(f):
+            q[i], success[i] = f[0], True
+            messages[i] = ""
+        elif len(sols[i]) or bool(np.atleast_1d(res.success)[i]):
+            q[i] = np.nan
+            messages[i] = MESSAGE
+    ep, eo = _errors(robot, targets, q)
+    if options.get("mask") not in (None, "pose"):   # errors over the masked components: IK's own, per target
+        ep = np.where(np.isfinite(q).all(axis=1), np.atleast_1d(res.position_error), np.inf)
+        eo = np.where(np.isfinite(q).all(axis=1), np.atleast_1d(res.orientation_error), np.inf)
+    return replace(res, q=q[0] if single else q, success=bool(success[0]) if single else success,
+                   position_error=float(ep[0]) if single else ep, orientation_error=float(eo[0]) if single else eo,
+                   message=messages[0] if single else messages,
+                   solutions=None if not all_solutions else (free[0] if single else free))
+
+
+def _errors(robot: Robot, targets: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Position and orientation errors (full pose; inf where q is NaN) of the chosen solutions."""
+    ep = np.full(len(q), np.inf)
+    eo = np.full(len(q), np.inf)
+    ok = np.isfinite(q).all(axis=1)
+    if ok.any():
+        P = robot.fk(np.ascontiguousarray(q[ok]))
+        Td = targets[ok] if len(targets) > 1 else np.repeat(targets, int(ok.sum()), axis=0)
+        ep[ok] = np.linalg.norm(Td[:, :3, 3] - P[:, :3, 3], axis=1)
+        E = Td[:, :3, :3] @ np.swapaxes(P[:, :3, :3], 1, 2)   # R_d R^T; its angle by atan2 (accurate near 0)
+        c = (np.trace(E, axis1=1, axis2=2) - 1.0) / 2.0
+        w = np.stack([E[:, 2, 1] - E[:, 1, 2], E[:, 0, 2] - E[:, 2, 0], E[:, 1, 0] - E[:, 0, 1]], axis=1)
+        eo[ok] = np.arctan2(np.linalg.norm(w, axis=1) / 2.0, c)
+    return ep, eo

@@ -1,0 +1,287 @@
+"""The self-collision model: conservative capsules, the allowed-collision matrix against the SRDFs the
+Panda's and UR5's maintainers ship (example-robot-data), the compiled batch check against coal's exact
+mesh check, and collision-aware IK.
+
+Sample counts here are the test's (2e4 configurations for the "Never" verification, 2e3 for the
+no-false-free check); benchmarks/bench_self_collision.py runs 1e5 of each.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+
+import numpy as np
+import pytest
+
+import robkin
+from robkin.errors import InputError
+
+from ik_arms import ROBOTS_DIR
+
+coal = pytest.importorskip("coal")
+
+PANDA = os.path.join(ROBOTS_DIR, "panda_description", "urdf", "panda.urdf")
+PANDA_SRDF = os.path.join(ROBOTS_DIR, "panda_description", "srdf", "panda.srdf")
+UR5 = os.path.join(ROBOTS_DIR, "ur_description", "urdf", "ur5_joint_limited_robot.urdf")
+UR5_SRDF = os.path.join(ROBOTS_DIR, "ur_description", "srdf", "ur5_joint_limited_robot.srdf")
+
+pytestmark = pytest.mark.skipif(not os.path.isfile(PANDA), reason="example-robot-data is not installed")
+
+
+def _model(path, tip, samples=20000):
+    from robkin.self_collision import self_collision_model
+
+    robot = robkin.load(path, tip_link=tip)
+    return robot, self_collision_model(robot, path, samples=samples)
+
+
+@pytest.fixture(scope="module")
+def panda():
+    return _model(PANDA, "panda_hand_tcp")
+
+
+@pytest.fixture(scope="module")
+def ur5():
+    return _model(UR5, "tool0")
+
+
+def _srdf_pairs(path):
+    return {frozenset(p) for p in re.findall(r'link1="([^"]+)" link2="([^"]+)"', open(path).read())}
+
+
+def _agreement(model, path):
+    links = model.links
+    every = [frozenset((a, b)) for i, a in enumerate(links) for b in links[i + 1:]]
+    mine = {frozenset((d.link1, d.link2)) for d in model.disabled}
+    theirs = _srdf_pairs(path)
+    return sum((p in mine) == (p in theirs) for p in every) / len(every), mine - theirs, theirs - mine
+
+
+def test_capsules_contain_the_links_surfaces(panda, ur5):
+    """A link's capsules together contain every vertex of its geometry and points spread over its
+    surface triangles (random barycentric points): a cut link's parts leave no gap."""
+    from robkin.self_collision.capsules import point_segment_distance
+    from robkin.self_collision.geometry import enclosing_triangles, link_geometry
+
+    rng = np.random.default_rng(8)
+    for (robot, model), path in ((panda, PANDA), (ur5, UR5)):
+        geo = {g.name: g for g in link_geometry(robot, path)}
+        for link in model.links:
+            T = np.concatenate([enclosing_triangles(s) for s in geo[link].shapes])
+            W = rng.dirichlet(np.ones(3), size=(len(T), 4))
+            X = np.einsum("tkj,tjd->tkd", W, T).reshape(-1, 3)
+            caps = [c for c in model.capsules if c.link == link]
+            for pts in (T.reshape(-1, 3), X):
+                inside = np.zeros(len(pts), dtype=bool)
+                for c in caps:
+                    inside |= point_segment_distance(pts, c.a, c.b) <= c.radius
+                assert inside.all(), link
+    assert len(panda[1].capsules) > len(panda[1].links)    # some links are cut into parts
+    assert len([c for c in ur5[1].capsules if c.link == "base_link"]) > 1   # the flat base: strips
+
+
+def test_segment_distance_against_dense_sampling():
+    from robkin.compiled.collision.capsules import segment_distance
+
+    rng = np.random.default_rng(4)
+    t = np.linspace(0.0, 1.0, 401)
+    for k in range(200):
+        p1, q1, p2, q2 = rng.normal(size=(4, 3))
+        if k % 10 == 0:
+            q2 = p2.copy()          # a point (sphere)
+        A = p1 + t[:, None] * (q1 - p1)
+        B = p2 + t[:, None] * (q2 - p2)
+        dense = np.sqrt(((A[:, None] - B[None]) ** 2).sum(-1)).min()
+        got = segment_distance(p1, q1, p2, q2)
+        # the dense grid's step (1/400 of each segment) bounds how far its minimum sits above the true one
+        assert got <= dense + 1e-12
+        assert dense - got <= (np.linalg.norm(q1 - p1) + np.linalg.norm(q2 - p2)) / 400 + 1e-12
+
+
+def test_parts_apart_only_when_a_plane_separates():
+    """The GJK test answers "apart" only for point sets a plane separates, and finds the plane for
+    every pair that a linear program (an independent check) finds strictly separable."""
+    from scipy.optimize import linprog
+
+    from robkin.compiled.collision.parts import parts_apart
+
+    rng = np.random.default_rng(0)
+    frames = np.eye(4)[None, None]                      # one configuration, the base frame only
+    separable = proven = 0
+    for _ in range(400):
+        A = rng.normal(size=(30, 3))
+        B = rng.normal(size=(25, 3)) * rng.uniform(0.3, 1.5) + rng.normal(size=3) * rng.uniform(0, 5)
+        V = np.vstack([A, B])
+        # each part's bound: a capsule of no length (a ball) around its points
+        ball = np.array([[*c, *c, np.linalg.norm(P - c, axis=1).max()] for P in (A, B) for c in [P.mean(axis=0)]])
+        got = parts_apart(frames, V, [0, 30, 55], [0, 0], ball, [0, 1, 2], [0, 1], [[0, 0, 1]])[0]
+        # separable iff some w, b: A w <= b - 1 and B w >= b + 1
+        lp = linprog(np.zeros(4), A_ub=np.vstack([np.c_[A, -np.ones(30)], np.c_[-B, np.ones(25)]]),
+                     b_ub=-np.ones(55), bounds=[(None, None)] * 4)
+        sep = lp.status == 0
+        assert not (got and not sep)
+        separable += sep
+        proven += bool(got)
+    assert separable > 100 and proven == separable
+
+
+def test_panda_acm_agrees_with_the_maintainers_srdf(panda):
+    _, model = panda
+    fraction, only_mine, only_theirs = _agreement(model, PANDA_SRDF)
+    assert fraction >= 0.95, (only_mine, only_theirs)
+    reasons = {frozenset((d.link1, d.link2)): d.reason for d in model.disabled}
+    assert reasons[frozenset(("panda_link0", "panda_link1"))] == "Adjacent"
+    assert reasons[frozenset(("panda_link7", "panda_hand"))] == "Adjacent"   # across the empty link 8
+    assert reasons[frozenset(("panda_leftfinger", "panda_rightfinger"))] == "Default"
+
+
+def test_ur5_acm_and_the_pairs_its_srdf_disables_that_collide(ur5):
+    """The UR5's SRDF disables three pairs that the shipped collision meshes do make touch (coal finds
+    contacts at a few per cent of random configurations): the matrix keeps them checked, which costs the
+    agreement those three pairs (25 of 28); every other pair agrees."""
+    robot, model = ur5
+    fraction, only_mine, only_theirs = _agreement(model, UR5_SRDF)
+    assert not only_mine
+    assert only_theirs <= {frozenset(p) for p in [("base_link", "upper_arm_link"), ("forearm_link", "wrist_2_link"),
+                                                   ("forearm_link", "wrist_3_link")]}
+    assert fraction >= 25 / 28
+    names = model.links
+    Q = robot.random_q(3000, rng=11)
+    for pair in only_theirs:
+        u, v = (names.index(x) for x in sorted(pair))
+        assert any(model.exact.pair_collides(q, u, v) for q in Q), pair
+
+
+def _verified_never(robot, model, count, seed):
+    """Every 'Never' pair checked exactly at ``count`` new configurations (where its capsules meet: the
+    capsules are conservative, so elsewhere the meshes cannot touch). Returns the pairs found touching."""
+    from robkin.self_collision.model import SelfCollisionModel
+
+    every = SelfCollisionModel(robot, model.capsules, [])
+    index = {frozenset(p): k for k, p in enumerate(every.pairs)}
+    never = [d for d in model.disabled if d.reason == "Never"]
+    cols = [index[frozenset((d.link1, d.link2))] for d in never]
+    Q = robot.random_q(count, rng=seed)
+    meet = every.distances(Q)[:, cols] <= 0.0
+    names = model.links
+    found = []
+    for j, d in enumerate(never):
+        u, v = names.index(d.link1), names.index(d.link2)
+        if any(model.exact.pair_collides(Q[k], u, v) for k in np.flatnonzero(meet[:, j])):
+            found.append((d.link1, d.link2))
+    return found
+
+
+def test_never_pairs_are_collision_free_on_new_samples(panda, ur5):
+    for robot, model in (panda, ur5):
+        assert _verified_never(robot, model, 20000, seed=123) == []
+
+
+def test_no_false_free_verdict_against_the_mesh_check(panda, ur5):
+    """No configuration the capsules call free touches by the meshes. (The UR5's capsules of the base and
+    the upper arm meet at every configuration, so its model calls none free: conservative, and the reason
+    ``collides(level="parts")`` and collision-aware IK refine with the links' convex parts.)"""
+    for robot, model in (panda, ur5):
+        Q = robot.random_q(2000, rng=7)
+        free = ~np.asarray(model.collides(Q))
+        names = model.links
+        pairs = [(names.index(a), names.index(b)) for a, b in model.pairs]
+        false_free = [k for k in np.flatnonzero(free) if model.exact.colliding_pairs(Q[k], pairs, first=True)]
+        assert false_free == []
+        freed = ~np.asarray(model.collides(Q, level="parts")) & ~free     # the parts test's own verdicts
+        assert not [k for k in np.flatnonzero(freed) if model.exact.colliding_pairs(Q[k], pairs, first=True)]
+        assert free.mean() > 0.5 if robot.name == "panda" else True
+
+
+def test_levels_parts_and_exact(ur5, panda):
+    """'parts' is conservative (never free where the meshes touch) and tighter than the capsules; 'exact'
+    is coal's verdict on every checked pair."""
+    for robot, model in (ur5, panda):
+        Q = robot.random_q(400, rng=2)
+        rough = np.asarray(model.collides(Q))
+        parts = np.asarray(model.collides(Q, level="parts"))
+        exact = np.asarray(model.collides(Q, level="exact"))
+        assert (exact <= parts).all() and (parts <= rough).all()
+        names = model.links
+        pairs = [(names.index(a), names.index(b)) for a, b in model.pairs]
+        for k in range(len(Q)):
+            assert exact[k] == bool(model.exact.colliding_pairs(Q[k], pairs, first=True))
+    assert parts.sum() < rough.sum() or not rough.any()
+    robot, model = ur5
+    Q = robot.random_q(400, rng=3)
+    assert np.asarray(model.collides(Q, level="parts")).mean() < 0.5 < np.asarray(model.collides(Q)).mean()
+    with pytest.raises(InputError, match="level"):
+        model.collides(Q, level="meshes")
+
+
+def test_robot_methods_shapes_batches_and_threads(panda):
+    robot, model = panda
+    Q = robot.random_q(500, rng=3)
+    one = robot.self_collision(Q[0])
+    assert isinstance(one, bool)
+    many = robot.self_collision(Q)
+    assert many.dtype == bool and many.shape == (500,)
+    assert [robot.self_collision(q) for q in Q[:50]] == list(many[:50])
+    assert np.array_equal(robot.self_collision(Q, threads=1), robot.self_collision(Q, threads=2))
+    d = robot.self_collision_distances(Q)
+    assert d.shape == (500, len(model.pairs))
+    assert np.array_equal((d <= 0).any(axis=1), many)
+    assert np.array_equal(robot.self_collision_distances(Q[4]), d[4])
+    near = model.closest(Q[4], 3)
+    assert [x[2] for x in near] == sorted(d[4])[:3]
+    with pytest.raises(InputError):
+        robot.self_collision(np.zeros(3))
+    with pytest.raises(InputError):
+        robot.self_collision(np.full(robot.n, np.nan))
+
+
+def test_with_disabled_from_the_shipped_srdf(panda):
+    from robkin.io.srdf import read_srdf
+    from robkin.self_collision.model import DisabledPair
+
+    robot, model = panda
+    _, pairs = read_srdf(PANDA_SRDF)
+    other = model.with_disabled([DisabledPair(*p) for p in pairs])
+    assert len(other.pairs) == 55 - len(pairs)
+    with pytest.raises(InputError, match="no collision geometry"):
+        model.with_disabled([DisabledPair("panda_link1", "nowhere", "Never")])
+
+
+@pytest.fixture(scope="module")
+def iiwa():
+    """rtbdata's KUKA LBR iiwa 14 R820, which has collision meshes (tests/data/iiwa14.urdf has none)."""
+    rtbdata = pytest.importorskip("rtbdata")
+    from pathlib import Path
+
+    from robkin.self_collision import self_collision_model
+
+    folder = Path(rtbdata.__file__).parent / "xacro" / "kuka_description" / "kuka_lbr_iiwa"
+    urdf = folder / "urdf" / "lbr_iiwa_14_r820.urdf"
+    if not urdf.is_file():
+        pytest.skip("rtbdata has no iiwa")
+    robot = robkin.load(urdf)
+    return robot, self_collision_model(robot, urdf, package_paths={"kuka_lbr_iiwa_support": folder}, samples=5000)
+
+
+@pytest.mark.parametrize("which", ["panda", "ur5", "iiwa"])
+def test_collision_free_ik(which, request):
+    robot, model = request.getfixturevalue(which)
+    rng = np.random.default_rng(5)
+    Q = robot.random_q(1500, rng=rng)
+    free = ~np.asarray(model.collides(Q, level="exact"))
+    T = robot.fk(Q[free][:150])
+    plain = robot.ik(T)
+    res = robot.ik(T, avoid_self_collision=True)
+    assert res.success.mean() >= 0.99
+    ok = res.success
+    assert not np.asarray(model.collides(res.q[ok], level="exact")).any()
+    lo, hi = robot.limits.T
+    assert ((res.q[ok] >= lo) & (res.q[ok] <= hi)).all()
+    assert (res.position_error[ok] <= 1e-9).all() and (res.orientation_error[ok] <= 1e-9).all()
+    assert np.allclose(robot.fk(res.q[ok]), T[ok], atol=1e-8)
+    if which == "ur5":   # the closed form's preferred branch collides for some targets: another one is taken
+        moved = np.asarray(model.collides(plain.q[plain.success], level="exact"))
+        assert moved.any()
+    one = robot.ik(T[0], avoid_self_collision=True, all_solutions=True)
+    assert one.success and not np.asarray(model.collides(one.solutions, level="exact")).any()
