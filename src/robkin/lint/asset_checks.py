@@ -29,7 +29,7 @@ def asset_findings(u: RawUrdf, meshes: MeshCache, max_faces: int = MAX_FACES) ->
     f: list[Finding] = []
     span = robot_span(u)
     for ln in u.links:
-        el = f"link '{ln.name}'"
+        el = f"{u.link_word} '{ln.name}'"
         has_collision = any(g.role == "collision" for g in ln.geometries)
         for g in ln.geometries:
             if g.kind != "mesh":

@@ -90,7 +90,8 @@ def _primitive(g: Geometry) -> tuple[float, np.ndarray, np.ndarray, np.ndarray] 
     vol = primitive_measure(g.kind, g.size, False)
     moments = primitive_moments(g.kind, g.size, vol, False)
     s = g.size
-    half = {"box": np.array(s), "cylinder": np.array([s[0], s[0], s[1]]), "sphere": np.full(3, s[0])}[g.kind]
+    half = {"box": np.array(s), "cylinder": np.array([s[0], s[0], s[1]]), "sphere": np.full(3, s[0]),
+            "capsule": np.array([s[0], s[0], s[1] + s[0]])}[g.kind]
     return vol, np.diag(moments), -half, half
 
 
