@@ -17,10 +17,14 @@ several roots, names), joints (reversed or empty limits, missing or zero effort 
 targets, axes), mass properties (moving links without mass, inertias not positive definite or breaking
 the triangle inequality, more inertia than the geometry can hold, density over the collision volume
 outside 20-25000 kg/m^3, centre of mass outside the geometry, placeholders) and meshes (missing,
-unreadable, flat, open, more than --max-faces triangles, millimetres). MJCF, SDF, USD, documents and
-tables get their reader's checks (its refusal an error, its warnings warnings) and the joint limits.
+unreadable, flat, open, more than --max-faces triangles, millimetres). MJCF and SDF get the same checks
+on the tree their reader builds, each at its element's line (MJCF: masses as MuJoCo compiles them, from
+the geoms where a body has no <inertial>; MuJoCo's own verdict; compiler settings with which MuJoCo
+silently changes masses); robot documents and tables the same on the robot they hold (the line naming
+the joint); USD its reader's checks. A reader's refusal is an error finding at the element it names.
 
---fix -o OUT writes the file with what lint can correct changed and nothing else (URDF only): limits
+--fix -o OUT writes the file with what lint can correct changed and nothing else (URDF only; other
+formats: convert to URDF and fix that): limits
 swapped, axes normalised, dangling or cyclic <mimic> removed, invalid inertias replaced (--inertia
 nearest: the nearest valid tensor; geometry: the collision geometry's at the link's mass), a moving
 link without mass given its collision geometry's at --density. One line per change (on stderr with
@@ -69,6 +73,8 @@ def _emit(findings, fmt: str) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
     from ..errors import InputError
     from ..lint import lint_file
 
@@ -76,6 +82,10 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--fix takes one input file and -o OUT (the corrected file)")
     if not args.fix and args.output:
         raise InputError("-o is the file --fix writes: give --fix too")
+    if args.fix and Path(args.input[0]).suffix.lower() not in (".urdf", ".xacro"):
+        raise InputError(f"{args.input[0]}: --fix supports URDF only (.urdf, .xacro); for MJCF, SDF, documents and "
+                         "tables lint names each defect and its fix, or convert to URDF (robkin convert --to urdf) "
+                         "and fix that")
     if args.density <= 0:
         raise InputError(f"--density {args.density:g}: a density in kg/m^3 is positive")
     packages = package_paths(args)
@@ -98,8 +108,6 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _fix(args: argparse.Namespace, findings, packages) -> int:
-    from pathlib import Path
-
     from ..io.files.atomic import write_text_atomic
     from ..lint import lint_urdf
     from ..lint.fix_urdf import fix_urdf
@@ -109,9 +117,6 @@ def _fix(args: argparse.Namespace, findings, packages) -> int:
     path = args.input[0]
     say = sys.stdout if args.format == "text" else sys.stderr
     _emit(findings, args.format)
-    if Path(path).suffix.lower() not in (".urdf", ".xacro"):
-        print(f"robkin lint: --fix fixes URDF only; {path} is not written to {args.output}", file=say)
-        return 1 if any(f.severity == "error" for f in findings) else 0
     raw = read_urdf(path, allow_xacro=args.allow_xacro)
     text, changes = fix_urdf(raw, findings, inertia=args.inertia, density=args.density,
                              meshes=MeshCache(path, packages))

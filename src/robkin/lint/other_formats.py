@@ -197,12 +197,17 @@ def _lint_robot(path: str, robot, package_paths, max_faces) -> list[Finding]:
     unsaid = {(f"{k}-zero", f"joint '{j.name}'") for j in robot.joints for k in ("effort", "velocity")
               if getattr(j, k) is None}
     kinematic = not robot.bodies.inertials
+    # a link is named in the document by the joint that moves it (its mass sits on that joint's row)
+    by_child = {j.child: j.name for j in raw.joints}
     out = []
     for f in lint_urdf(raw, package_paths, max_faces, mesh_base=path):
         if (f.code, f.element) in unsaid or (kinematic and f.code.startswith(("mass-", "inertia-"))):
             continue
         name = f.element.split("'")[1] if "'" in f.element else ""
-        out.append(replace(f, line=_line_of_name(path, name) if name else None))
+        line = _line_of_name(path, name) if name else None
+        if line is None and name in by_child:
+            line = _line_of_name(path, by_child[name])
+        out.append(replace(f, line=line))
     if kinematic:
         out.append(Finding(INFO, "no-mass-properties", path, None, "", "the robot has no mass properties: "
                            "kinematics only (dynamics, simulator export and the mass checks need them)",
