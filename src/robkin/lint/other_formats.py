@@ -131,7 +131,7 @@ def _limits(path: str, robot) -> list[Finding]:
 
 
 def _lint_tree(path: str, fmt: str, package_paths, max_faces) -> list[Finding]:
-    from . import lint_urdf
+    from .checks import lint_urdf
     from .model_source import raw_from_model
     from .xml_lines import mjcf_lines, parse_lines, sdf_lines
 
@@ -185,7 +185,7 @@ def _lint_robot(path: str, robot, package_paths, max_faces) -> list[Finding]:
     from dataclasses import replace
 
     from ..io.urdf.writer import urdf_from_robot
-    from . import lint_urdf
+    from .checks import lint_urdf
     from .urdf_source import parse_urdf_text
 
     with warnings.catch_warnings():
