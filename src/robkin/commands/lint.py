@@ -23,8 +23,8 @@ the geoms where a body has no <inertial>; MuJoCo's own verdict; compiler setting
 silently changes masses); robot documents and tables the same on the robot they hold (the line naming
 the joint); USD its reader's checks. A reader's refusal is an error finding at the element it names.
 
---fix -o OUT writes the file with what lint can correct changed and nothing else (URDF only; other
-formats: convert to URDF and fix that): limits
+--fix -o OUT writes the file with what lint can correct changed and nothing else (URDF and MJCF;
+other formats: convert to URDF and fix that; an MJCF's OUT belongs beside it, where its meshes are): limits
 swapped, axes normalised, dangling or cyclic <mimic> removed, invalid inertias replaced (--inertia
 nearest: the nearest valid tensor; geometry: the collision geometry's at the link's mass), a moving
 link without mass given its collision geometry's at --density. One line per change (on stderr with
@@ -40,6 +40,10 @@ examples:
 """
 
 
+#: the inputs --fix writes a corrected copy of
+FIXES = (".urdf", ".xacro", ".xml", ".mjcf")
+
+
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p = sub.add_parser("lint", help="find what is wrong in a robot file (physics, simulator readiness); --fix",
                        description="Check robot files for defects a simulator refuses or silently changes: structure, "
@@ -50,7 +54,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="URDF (.urdf; .xacro with --allow-xacro), MJCF (.xml/.mjcf), SDF, USD, robot document or table")
     p.add_argument("--format", choices=("text", "json", "sarif"), default="text",
                    help="text (one line per finding; default), json (a list of objects) or sarif (SARIF 2.1.0, for CI)")
-    p.add_argument("--fix", action="store_true", help="write a corrected copy of the (one, URDF) input to -o")
+    p.add_argument("--fix", action="store_true", help="write a corrected copy of the (one, URDF or MJCF) input to -o")
     p.add_argument("-o", "--output", metavar="OUT", help="with --fix: the corrected file")
     p.add_argument("--inertia", choices=("nearest", "geometry"), default="nearest",
                    help="with --fix: an invalid inertia becomes the nearest valid tensor (default) or the collision "
@@ -82,10 +86,10 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--fix takes one input file and -o OUT (the corrected file)")
     if not args.fix and args.output:
         raise InputError("-o is the file --fix writes: give --fix too")
-    if args.fix and Path(args.input[0]).suffix.lower() not in (".urdf", ".xacro"):
-        raise InputError(f"{args.input[0]}: --fix supports URDF only (.urdf, .xacro); for MJCF, SDF, documents and "
-                         "tables lint names each defect and its fix, or convert to URDF (robkin convert --to urdf) "
-                         "and fix that")
+    if args.fix and Path(args.input[0]).suffix.lower() not in FIXES:
+        raise InputError(f"{args.input[0]}: --fix supports URDF (.urdf, .xacro) and MJCF (.xml, .mjcf) only; for "
+                         "SDF, documents and tables lint names each defect and its fix, or convert to URDF "
+                         "(robkin convert --to urdf) and fix that")
     if args.density <= 0:
         raise InputError(f"--density {args.density:g}: a density in kg/m^3 is positive")
     packages = package_paths(args)
@@ -108,6 +112,8 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _fix(args: argparse.Namespace, findings, packages) -> int:
+    from pathlib import Path
+
     from ..io.files.atomic import write_text_atomic
     from ..lint import lint_urdf
     from ..lint.fix_urdf import fix_urdf
@@ -117,14 +123,28 @@ def _fix(args: argparse.Namespace, findings, packages) -> int:
     path = args.input[0]
     say = sys.stdout if args.format == "text" else sys.stderr
     _emit(findings, args.format)
-    raw = read_urdf(path, allow_xacro=args.allow_xacro)
-    text, changes = fix_urdf(raw, findings, inertia=args.inertia, density=args.density,
-                             meshes=MeshCache(path, packages))
-    write_text_atomic(args.output, text)
+    if Path(path).suffix.lower() in (".xml", ".mjcf"):
+        from ..lint import lint_file
+        from ..lint.fix_mjcf import fix_mjcf
+        from ..lint.other_formats import read_tree
+
+        text, changes = fix_mjcf(path, findings, inertia=args.inertia, density=args.density, raw=read_tree(path),
+                                 meshes=MeshCache(path, packages))
+        write_text_atomic(args.output, text)
+        # MuJoCo finds meshes and includes beside the model: the output is checked where it is
+        after = lint_file(args.output, package_paths=packages, max_faces=args.max_faces)
+        if Path(args.output).resolve().parent != Path(path).resolve().parent:
+            after = [f for f in after if not (f.code == "mesh-missing" or f.code.endswith("-refuses") and
+                                              any(w in f.message.lower() for w in ("mesh", "resource", "include")))]
+    else:
+        raw = read_urdf(path, allow_xacro=args.allow_xacro)
+        text, changes = fix_urdf(raw, findings, inertia=args.inertia, density=args.density,
+                                 meshes=MeshCache(path, packages))
+        write_text_atomic(args.output, text)
+        # the output is checked with its meshes found from the input's place (its file names are the input's)
+        after = lint_urdf(read_urdf(args.output), packages, args.max_faces, mesh_base=path)
     for line in changes:
         print(line, file=say)
-    # the output is checked with its meshes found from the input's place (its file names are the input's)
-    after = lint_urdf(read_urdf(args.output), packages, args.max_faces, mesh_base=path)
     errors = sum(f.severity == "error" for f in after)
     print(f"robkin lint: wrote {args.output} ({len([c for c in changes if 'not fixed' not in c])} changes; "
           f"{errors} errors remain)", file=say)

@@ -21,7 +21,7 @@ from typing import Mapping
 from ..errors import InputError
 from .findings import ERROR, INFO, WARNING, Finding
 
-__all__ = ["lint_other", "refusal"]
+__all__ = ["lint_other", "refusal", "read_tree", "TREE_FORMATS"]
 
 #: reader messages that mean "cannot be read at all" (exit 2), not "read, and wrong" (a finding)
 _UNREADABLE = re.compile(r"no such file|not a regular file|larger than|not well-formed|not valid XML|is empty|"
@@ -132,13 +132,8 @@ def _limits(path: str, robot) -> list[Finding]:
 
 def _lint_tree(path: str, fmt: str, package_paths, max_faces) -> list[Finding]:
     from .checks import lint_urdf
-    from .model_source import raw_from_model
     from .xml_lines import mjcf_lines, parse_lines, sdf_lines
 
-    if fmt == "mjcf":
-        from ..io.mjcf.reader import model_from_mjcf as read
-    else:
-        from ..io.sdf.reader import model_from_sdf as read
     root = parse_lines(path)
     lines = (mjcf_lines if fmt == "mjcf" else sdf_lines)(root)
     ready: list[Finding] = []
@@ -147,10 +142,7 @@ def _lint_tree(path: str, fmt: str, package_paths, max_faces) -> list[Finding]:
 
         ready = mjcf_readiness(path, lines)
     try:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            model, _ = read(path)
-            raw, refused = raw_from_model(model, path, fmt, lines)
+        raw, refused, caught = _read_tree(path, fmt, lines)
     except InputError as exc:
         if _UNREADABLE.search(str(exc)):
             raise
@@ -158,6 +150,32 @@ def _lint_tree(path: str, fmt: str, package_paths, max_faces) -> list[Finding]:
     found = _reader_warnings(path, caught, lines) + [refusal(path, m, lines) for m in refused]
     found += lint_urdf(raw, package_paths, max_faces)
     return _merge(found, ready)
+
+
+def _read_tree(path: str, fmt: str, lines):
+    """(RawUrdf, the reader's refusals of the link contents, its warnings) of an MJCF or SDF file."""
+    from .model_source import raw_from_model
+
+    if fmt == "mjcf":
+        from ..io.mjcf.reader import model_from_mjcf as read
+    else:
+        from ..io.sdf.reader import model_from_sdf as read
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        model, _ = read(path)
+        raw, refused = raw_from_model(model, path, fmt, lines)
+    return raw, refused, caught
+
+
+def read_tree(path: str):
+    """The ``RawUrdf`` of an MJCF or SDF file as lint checks it, or None when its reader refuses it."""
+    from .xml_lines import mjcf_lines, parse_lines, sdf_lines
+
+    fmt = TREE_FORMATS[Path(path).suffix.lower()]
+    try:
+        return _read_tree(path, fmt, (mjcf_lines if fmt == "mjcf" else sdf_lines)(parse_lines(path)))[0]
+    except InputError:
+        return None
 
 
 _MJ_ELEMENT = re.compile(r"Element name '([^']+)'")
