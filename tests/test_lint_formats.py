@@ -214,7 +214,7 @@ def test_table_is_linted_through_its_robot(tmp_path):
 
 
 def test_fix_says_which_formats(tmp_path, capsys):
-    path = _write(tmp_path, mjcf_arm(), "a.xml")
-    assert main(["lint", str(path), "--fix", "-o", str(tmp_path / "out.xml")]) == 2
+    path = _write(tmp_path, sdf_arm(), "a.sdf")
+    assert main(["lint", str(path), "--fix", "-o", str(tmp_path / "out.sdf")]) == 2
     err = capsys.readouterr().err
-    assert "--fix" in err and "URDF" in err and not (tmp_path / "out.xml").exists()
+    assert "--fix supports URDF" in err and "MJCF" in err and not (tmp_path / "out.sdf").exists()
