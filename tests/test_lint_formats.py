@@ -218,3 +218,30 @@ def test_fix_says_which_formats(tmp_path, capsys):
     assert main(["lint", str(path), "--fix", "-o", str(tmp_path / "out.sdf")]) == 2
     err = capsys.readouterr().err
     assert "--fix supports URDF" in err and "MJCF" in err and not (tmp_path / "out.sdf").exists()
+
+
+# --- the same robot in each format: the same findings ---------------------------------------------
+@pytest.mark.parametrize("arm_file, tip", [("ur_description/urdf/ur5_robot.urdf", "tool0"),
+                                           ("panda_description/urdf/panda.urdf", "panda_hand_tcp")])
+def test_arm_as_mjcf_has_the_urdfs_findings(tmp_path, arm_file, tip):
+    import glob
+    import os
+    import sys
+
+    robots = (glob.glob(os.path.join(sys.prefix, "lib", "python*", "site-packages", "cmeel.prefix", "share",
+                                     "example-robot-data", "robots")) or [""])[0]
+    if not robots:
+        pytest.skip("example-robot-data is not installed")
+    src = os.path.join(robots, arm_file)
+    out = tmp_path / "arm.xml"
+    assert main(["convert", src, "--tip-link", tip, "--to", "mjcf", "-o", str(out)]) == 0
+    import re
+
+    bodies = set(re.findall(r'<body name="([^"]+)"', out.read_text()))
+    urdf = {(f.code, f.element.split("'")[1]) for f in lint_file(src) if f.severity != "info"}
+    found = lint_file(out)
+    assert [f for f in found if f.severity == "error"] == []
+    mjcf = {(f.code, f.element.split("'")[1]) for f in found if f.severity != "info"}
+    # the bodies of the MJCF carry the same findings as those links of the URDF (the ARMS warnings of
+    # test_lint_robots: inertias the geometry cannot hold), whatever the format
+    assert mjcf == {(c, e) for c, e in urdf if e in bodies} and mjcf
