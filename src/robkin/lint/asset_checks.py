@@ -33,6 +33,13 @@ def asset_findings(u: RawUrdf, meshes: MeshCache, max_faces: int = MAX_FACES) ->
         has_collision = any(g.role == "collision" for g in ln.geometries)
         for g in ln.geometries:
             if g.kind != "mesh":
+                bad = _bad_size(g)
+                if bad:
+                    f.append(Finding(ERROR if g.role == "collision" else WARNING, "geom-size", u.file, g.line, el,
+                                     f"{g.role} {g.kind} {bad}: MuJoCo refuses it ('size 0 must be positive in geom'"
+                                     + ("" if g.role == "collision" else "; its URDF import drops visuals, robkin "
+                                        "convert --to mjcf writes them") + "); pinocchio's collision model gets a "
+                                     "degenerate shape", "give the shape its real size, or remove it"))
                 continue
 
             def add(sev, code, message, fix, g=g):
@@ -99,3 +106,13 @@ def _visual(add, g, r, summary, span: float, max_faces: int) -> None:
         add(WARNING, "mesh-unit", f"visual mesh '{g.filename}' is {diag:.3g} m across, {diag / span:.0f}x the "
             f"robot ({span:.3g} m): it looks written in millimetres", 'add scale="0.001 0.001 0.001" to <mesh> '
             "(or re-export in metres)")
+
+
+def _bad_size(g) -> str:
+    """What is wrong with a primitive's size ("" when nothing): MuJoCo needs every size it reads positive."""
+    if g.size is None:
+        return "has a size that is not numbers"
+    need = {"box": 3, "cylinder": 2, "sphere": 1, "capsule": 1}.get(g.kind, 0)
+    if any(x <= 0 for x in g.size[:need]):
+        return "has a size of zero or less (" + ", ".join(f"{x:g}" for x in g.size[:need]) + ", MJCF half sizes)"
+    return ""
