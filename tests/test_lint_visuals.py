@@ -87,3 +87,14 @@ def test_collada_summary_is_trimeshs(mesh):
     # trimesh's bounds are of the transformed vertices; ours of the transformed boxes: equal for
     # axis-aligned node transforms (these files), to float32 text rounding (1e-6 m)
     assert np.allclose(s.lo, m.bounds[0], atol=1e-6) and np.allclose(s.hi, m.bounds[1], atol=1e-6)
+
+
+def test_zero_size_primitive(tmp_path):
+    # pybullet_data's Laikago has visual spheres of radius 0: MuJoCo refuses them once written as geoms
+    text = arm(l2_geometry='<sphere radius="0"/>')
+    hits = [f for f in lint_file(write(tmp_path, text)) if f.code == "geom-size"]
+    assert hits and hits[0].severity == "error" and hits[0].element == "link 'link2'"
+    assert hits[0].line == line_of(text, 'radius="0"') and "MuJoCo refuses" in hits[0].message
+    visual = _with_visual("x.stl").replace('<mesh filename="x.stl"/>', '<box size="0.1 0 0.1"/>')
+    hits = [f for f in lint_file(write(tmp_path, visual)) if f.code == "geom-size"]
+    assert hits and hits[0].severity == "warning" and hits[0].line == line_of(visual, "<visual>")
