@@ -214,10 +214,12 @@ def test_table_is_linted_through_its_robot(tmp_path):
 
 
 def test_fix_says_which_formats(tmp_path, capsys):
-    path = _write(tmp_path, sdf_arm(), "a.sdf")
-    assert main(["lint", str(path), "--fix", "-o", str(tmp_path / "out.sdf")]) == 2
+    from robkin.examples import EXAMPLES_DIR
+
+    path = _write(tmp_path, (EXAMPLES_DIR / "rrpr.yaml").read_text(), "a.yaml")
+    assert main(["lint", str(path), "--fix", "-o", str(tmp_path / "out.yaml")]) == 2
     err = capsys.readouterr().err
-    assert "--fix supports URDF" in err and "MJCF" in err and not (tmp_path / "out.sdf").exists()
+    assert "--fix supports URDF" in err and "MJCF" in err and "SDF" in err and not (tmp_path / "out.yaml").exists()
 
 
 # --- the same robot in each format: the same findings ---------------------------------------------

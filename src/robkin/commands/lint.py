@@ -23,8 +23,9 @@ the geoms where a body has no <inertial>; MuJoCo's own verdict; compiler setting
 silently changes masses); robot documents and tables the same on the robot they hold (the line naming
 the joint); USD its reader's checks. A reader's refusal is an error finding at the element it names.
 
---fix -o OUT writes the file with what lint can correct changed and nothing else (URDF and MJCF;
-other formats: convert to URDF and fix that; an MJCF's OUT belongs beside it, where its meshes are): limits
+--fix -o OUT writes the file with what lint can correct changed and nothing else (URDF, MJCF, SDF;
+documents and tables: convert to URDF and fix that; an MJCF's or SDF's OUT belongs beside it, where its
+meshes are): limits
 swapped, axes normalised, dangling or cyclic <mimic> removed, invalid inertias replaced (--inertia
 nearest: the nearest valid tensor; geometry: the collision geometry's at the link's mass), a moving
 link without mass given its collision geometry's at --density. One line per change (on stderr with
@@ -41,7 +42,7 @@ examples:
 
 
 #: the inputs --fix writes a corrected copy of
-FIXES = (".urdf", ".xacro", ".xml", ".mjcf")
+FIXES = (".urdf", ".xacro", ".xml", ".mjcf", ".sdf")
 
 
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -54,7 +55,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="URDF (.urdf; .xacro with --allow-xacro), MJCF (.xml/.mjcf), SDF, USD, robot document or table")
     p.add_argument("--format", choices=("text", "json", "sarif"), default="text",
                    help="text (one line per finding; default), json (a list of objects) or sarif (SARIF 2.1.0, for CI)")
-    p.add_argument("--fix", action="store_true", help="write a corrected copy of the (one, URDF or MJCF) input to -o")
+    p.add_argument("--fix", action="store_true", help="write a corrected copy of the (one, URDF, MJCF or SDF) input to -o")
     p.add_argument("-o", "--output", metavar="OUT", help="with --fix: the corrected file")
     p.add_argument("--inertia", choices=("nearest", "geometry"), default="nearest",
                    help="with --fix: an invalid inertia becomes the nearest valid tensor (default) or the collision "
@@ -87,8 +88,8 @@ def run(args: argparse.Namespace) -> int:
     if not args.fix and args.output:
         raise InputError("-o is the file --fix writes: give --fix too")
     if args.fix and Path(args.input[0]).suffix.lower() not in FIXES:
-        raise InputError(f"{args.input[0]}: --fix supports URDF (.urdf, .xacro) and MJCF (.xml, .mjcf) only; for "
-                         "SDF, documents and tables lint names each defect and its fix, or convert to URDF "
+        raise InputError(f"{args.input[0]}: --fix supports URDF (.urdf, .xacro), MJCF (.xml, .mjcf) and SDF (.sdf) "
+                         "only; for documents and tables lint names each defect and its fix, or convert to URDF "
                          "(robkin convert --to urdf) and fix that")
     if args.density <= 0:
         raise InputError(f"--density {args.density:g}: a density in kg/m^3 is positive")
@@ -123,15 +124,17 @@ def _fix(args: argparse.Namespace, findings, packages) -> int:
     path = args.input[0]
     say = sys.stdout if args.format == "text" else sys.stderr
     _emit(findings, args.format)
-    if Path(path).suffix.lower() in (".xml", ".mjcf"):
+    if Path(path).suffix.lower() in (".xml", ".mjcf", ".sdf"):
         from ..lint import lint_file
         from ..lint.fix_mjcf import fix_mjcf
+        from ..lint.fix_sdf import fix_sdf
         from ..lint.other_formats import read_tree
 
-        text, changes = fix_mjcf(path, findings, inertia=args.inertia, density=args.density, raw=read_tree(path),
-                                 meshes=MeshCache(path, packages))
+        fix = fix_sdf if Path(path).suffix.lower() == ".sdf" else fix_mjcf
+        text, changes = fix(path, findings, inertia=args.inertia, density=args.density, raw=read_tree(path),
+                            meshes=MeshCache(path, packages))
         write_text_atomic(args.output, text)
-        # MuJoCo finds meshes and includes beside the model: the output is checked where it is
+        # MuJoCo (and an SDF's relative mesh URIs) find files beside the model: the output is checked where it is
         after = lint_file(args.output, package_paths=packages, max_faces=args.max_faces)
         if Path(args.output).resolve().parent != Path(path).resolve().parent:
             after = [f for f in after if not (f.code == "mesh-missing" or f.code.endswith("-refuses") and

@@ -24,7 +24,7 @@ from .geometry import MeshCache, link_solid
 from .mass_checks import principal
 from .urdf_source import RawUrdf
 
-__all__ = ["fix_mjcf"]
+__all__ = ["fix_mjcf", "parse_keeping_comments"]
 
 
 def _num(x: float) -> str:
@@ -78,17 +78,11 @@ def fix_mjcf(path: str, findings: Sequence[Finding], *, inertia: str = "nearest"
     -------
     (str, list of str)
     """
-    from lxml import etree  # type: ignore[import-untyped, unused-ignore]
-
-    from ..io.files.input_files import read_text_file
     from .xml_lines import mjcf_lines
 
     if inertia not in ("nearest", "geometry"):
         raise ValueError(f"inertia={inertia!r}: nearest or geometry")
-    text = read_text_file(path, 64 * 1024 * 1024, "an MJCF model")
-    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False,
-                             remove_comments=False, remove_pis=False, encoding="utf-8")
-    root = etree.fromstring(text.encode("utf-8", "surrogatepass"), parser)
+    text, root = parse_keeping_comments(path)
     lines = mjcf_lines(root)
     links = {ln.name: ln for ln in raw.links} if raw is not None else {}
     meshes = meshes or MeshCache(path)
@@ -115,20 +109,42 @@ def fix_mjcf(path: str, findings: Sequence[Finding], *, inertia: str = "nearest"
         elif f.severity == "error" or f.code in ("limits-zero-range", "effort-zero", "velocity-zero"):
             why = "in an included file" if f.element and joint is None and body is None else f.fix
             changes.append(f"{where}: not fixed ({f.code}): {why}")
+    return written(text, root), changes
+
+
+def parse_keeping_comments(path: str) -> tuple[str, Any]:
+    """(text, lxml root) of an XML file, comments kept (``--fix`` writes the tree back)."""
+    from lxml import etree  # type: ignore[import-untyped, unused-ignore]
+
+    from ..io.files.input_files import read_text_file
+
+    text = read_text_file(path, 64 * 1024 * 1024, "a robot file")
+    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False,
+                             remove_comments=False, remove_pis=False, encoding="utf-8")
+    return text, etree.fromstring(text.encode("utf-8", "surrogatepass"), parser)
+
+
+def written(text: str, root: Any) -> str:
+    """The tree as text, with the input's own XML declaration."""
+    from lxml import etree  # type: ignore[import-untyped, unused-ignore]
+
     head = text.lstrip("\ufeff")
     declaration = head[:head.index("?>") + 2] if head.startswith("<?xml") and "?>" in head[:200] else ""
     out = etree.tostring(root.getroottree(), encoding="unicode")
-    return (declaration + "\n" if declaration else "") + out + "\n", changes
+    return (declaration + "\n" if declaration else "") + out + "\n"
 
 
-def _fix_mass(f: Finding, where: str, ln: Any, body: Any, inertia: str, density: float, meshes: MeshCache) -> str:
-    """Correct one body's mass properties in place; the line saying what was done."""
-    if f.code == "mass-zero-moving":
+def _fix_mass(f: Finding, where: str, ln: Any, body: Any, inertia: str, density: float, meshes: MeshCache,
+              write=None) -> str:
+    """Correct one body's mass properties in place (``write(body, mass, com, I)``: an MJCF ``<inertial>`` by
+    default); the line saying what was done."""
+    write = write or _write_inertial
+    if f.code in ("mass-zero-moving", "mass-default"):
         solid = link_solid(ln, meshes)
         if solid is None or solid.volume <= 0:
             return f"{where}: not fixed (no mass): the body has no usable geometry to derive it from"
         m = density * solid.volume
-        _write_inertial(body, m, solid.centre, density * solid.inertia)
+        write(body, m, solid.centre, density * solid.inertia)
         return f"{where}: <inertial> mass {m:.6g} kg, centre and inertia from its geometry at {density:g} kg/m^3"
     if ln.inertia is None or not ln.mass:
         return f"{where}: not fixed ({f.code}): the body has no mass to give an inertia"
@@ -143,6 +159,6 @@ def _fix_mass(f: Finding, where: str, ln: Any, body: Any, inertia: str, density:
         return f"{where}: not fixed ({f.code}): the inertia is valid; --inertia geometry replaces it"
     else:
         new, how = nearest_inertia(ln.inertia, ln.mass), "the nearest valid tensor"
-    _write_inertial(body, ln.mass, ln.com, new)
+    write(body, ln.mass, ln.com, new)
     return (f"{where}: inertia replaced by {how} (principal moments "
             + ", ".join(f"{x:.4g}" for x in principal(new)[0]) + " kg m^2)")
