@@ -56,7 +56,9 @@ def raw_from_model(model: Any, file: str, fmt: str, lines: XmlLines) -> tuple[Ra
         el = lines.links.get(name)
         ln = RawLink(name, XmlLines.line(el) or 0, el)
         ln.synthetic = el is None or el.get("name") != name.split("::")[-1]
-        ln.frame_only = (el is None and "@" in name) or (el is not None and el.tag == "joint")
+        # MJCF BODY/JOINT (a joint's element, or an unnamed body's "bodyI/JOINT"), SDF CHILD@JOINT
+        ln.frame_only = (el is not None and el.tag == "joint") or (el is None and ("@" in name if fmt == "sdf"
+                                                                                   else "/" in name))
         c = content.get(name)
         if c is not None and c.inertial is not None:
             m = c.inertial
