@@ -79,3 +79,13 @@ def test_two_chains_measured_in_every_format(zoo, tmp_path):
     text = zoo.page(rows, 1.0, False, 2, "pytest")
     assert "## Summary" in text and text.count("\n| 1 | ") == 1 and "| 2 | " in text
     assert "Do not edit" in text
+
+
+def test_a_warning_only_hold_failure_is_said_with_its_warning(zoo):
+    row = zoo.Row("x", "arm", "pybullet:x.urdf", None, "t")
+    row.mjcf.update(hold=False, drift=3.2e-19, drift_joint="j4", hold_line=(
+        "does NOT hold home for 5 s: max drift 3.2e-19 (j4), final |qvel| 2.4e-33; home inside the limits; "
+        "MuJoCo warnings: obj_decoder: invalid or missing face texture coordinate in 'link5.obj'; 0.01 ms per step"))
+    row.chain_joints = ("j4",)
+    (f,) = zoo.failures(row)
+    assert f.startswith("texture: ") and "obj_decoder" in f and "texture" in zoo.REASONS
