@@ -221,6 +221,7 @@ def lint_available() -> bool:
 
 
 _LINTED: dict[str, str] = {}
+_CODES: dict[str, set] = {}   # file -> the codes of lint's findings
 
 
 def lint_status(path: str) -> str:
@@ -235,6 +236,7 @@ def lint_status(path: str) -> str:
         else:
             start = text.find("[")
             found = json.loads(text[start:text.rindex("]") + 1]) if start >= 0 else []
+            _CODES[path] = {f.get("code") for f in found}
             errors = [f for f in found if f.get("severity") == "error"]
             warns = [f for f in found if f.get("severity") == "warning"]
             if errors:
@@ -510,6 +512,11 @@ def measure(row: Row, path: str, tmp: Path, draws: int, lint: bool) -> Row:
             row.mjcf["scene_joint"] = scene.drift_joint
             row.mjcf["floor"] = scene.floor
         guard(row, "MuJoCo", mujoco_parity, row, out, robot, ref, qs, W, size)
+        if lint and (lint_status(path) and "inertia-without-mass" in _CODES.get(path, ())):
+            row.info.append("MJCF M: the source has links of mass 0 with a nonzero inertia (`robkin lint`: "
+                            "inertia-without-mass), which pinocchio keeps and MuJoCo's model of the export does not: "
+                            "that is the M difference (physically, no mass has an inertia)")
+            row.mjcf["unphysical_source"] = True
         if row.mjcf["hold"] is False and lint and "error" in lint_status(path):
             got = guard(row, "lint --fix, then MJCF", fixed_hold, path, tmp / "fixed", ends)
             if got is not None:
@@ -827,7 +834,8 @@ def page(rows: list[Row], seconds: float, lint: bool, draws: int, command: str, 
 
 def clean(row: Row) -> bool:
     """The MJCF carries the source's masses as they are (no inertia clipped, no placeholder mass)."""
-    return not any(k in line for line in row.warned.get("MJCF", []) for k in ("inertia not physical", "without mass"))
+    return not row.mjcf.get("unphysical_source") and \
+        not any(k in line for line in row.warned.get("MJCF", []) for k in ("inertia not physical", "without mass"))
 
 
 def summary(rows: list[Row]) -> list[str]:
@@ -916,6 +924,11 @@ def main() -> int:
     seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
     command = "make zoo" if os.environ.get("ROBKIN_ZOO_MAKE") else "python benchmarks/zoo.py " + " ".join(sys.argv[1:])
     text = page(rows, seconds, lint, args.draws, command.strip(), cpu)
+    # the page names files by their package, not by where this machine keeps them
+    text = text.replace(root + "/", "example-robot-data/robots/")
+    if pybullet_dir():
+        text = text.replace(pybullet_dir() + "/", "pybullet_data/")
+    text = re.sub(r"(?:/private)?/tmp/tmp[\w]+/r\d+/", "OUT/", text)
     if args.out == "-":
         sys.stdout.write(text)
     else:

@@ -98,3 +98,13 @@ def test_zero_size_primitive(tmp_path):
     visual = _with_visual("x.stl").replace('<mesh filename="x.stl"/>', '<box size="0.1 0 0.1"/>')
     hits = [f for f in lint_file(write(tmp_path, visual)) if f.code == "geom-size"]
     assert hits and hits[0].severity == "warning" and hits[0].line == line_of(visual, "<visual>")
+
+
+def test_inertia_without_mass(tmp_path):
+    # pybullet_data's Panda: panda_link8 and panda_grasptarget have mass 0 and inertia 0.1 * identity
+    text = arm(extra='<link name="ghost"><inertial><mass value="0"/><inertia ixx="0.1" iyy="0.1" izz="0.1" '
+                     'ixy="0" ixz="0" iyz="0"/></inertial></link>\n'
+                     '<joint name="g" type="fixed"><parent link="tool"/><child link="ghost"/></joint>')
+    hits = [f for f in lint_file(write(tmp_path, text)) if f.code == "inertia-without-mass"]
+    assert hits and hits[0].severity == "warning" and hits[0].element == "link 'ghost'"
+    assert hits[0].line == line_of(text, '<link name="ghost">')

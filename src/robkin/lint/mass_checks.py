@@ -99,6 +99,12 @@ def mass_findings(u: RawUrdf, meshes: MeshCache) -> list[Finding]:
                 f"massless body (a singular mass matrix where nothing below carries mass)", "give the link its mass "
                 "and inertia (--fix derives them from the collision geometry at --density)")
             continue
+        if ln.has_inertial and ln.mass == 0 and ln.inertia is not None and np.any(ln.inertia != 0):
+            add(WARNING, "inertia-without-mass", f"mass 0 with a nonzero inertia (principal moments "
+                f"{_g(principal(ln.inertia)[0])} kg m^2): no mass distribution has it; pinocchio keeps the rotational "
+                "inertia, MuJoCo's M(q) of robkin's MJCF export lacks it (observed: pybullet's Panda, 0.1 on "
+                "each revolute joint's diagonal entry)",
+                "give the link its mass, or write its inertia as 0")
         if not ln.has_inertial or not ln.mass:
             continue
         if ln.inertia is None:
