@@ -5,8 +5,8 @@
 #   make docs   build the documentation site into site/ (strict)
 #   make dist   the release: sdist and wheel in dist/, carrying the GUI's three.js (the wheel needs
 #               neither npm nor a C compiler to install)
-#   make zoo    the robot zoo: 70 chains of example-robot-data in every format robkin writes, read back by
-#               robkin, pinocchio, MuJoCo and pxr; regenerates docs/zoo.md (about 5 min on one core)
+#   make zoo    the robot zoo: 86 chains of example-robot-data and pybullet_data in every format robkin writes,
+#               read back by robkin, pinocchio, MuJoCo and pxr; regenerates docs/zoo.md (about 5 min on one core)
 #   make sanitize  the compiled core rebuilt with bounds checks and ASan+UBSan, its tests run on it
 PYTHON ?= python3
 VENV   ?= .venv

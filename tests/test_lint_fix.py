@@ -120,8 +120,9 @@ def test_fix_other_formats_says_urdf_only(tmp_path, capsys):
     from robkin.examples import EXAMPLES_DIR
 
     out = tmp_path / "o.yaml"
-    assert main(["lint", str(EXAMPLES_DIR / "rrpr.yaml"), "--fix", "-o", str(out)]) == 0
-    assert "--fix fixes URDF only" in capsys.readouterr().out and not out.exists()
+    assert main(["lint", str(EXAMPLES_DIR / "rrpr.yaml"), "--fix", "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "--fix supports URDF" in err and "rrpr.yaml" in err and not out.exists()
 
 
 def test_fix_needs_one_input_and_output(tmp_path):

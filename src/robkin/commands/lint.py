@@ -17,10 +17,15 @@ several roots, names), joints (reversed or empty limits, missing or zero effort 
 targets, axes), mass properties (moving links without mass, inertias not positive definite or breaking
 the triangle inequality, more inertia than the geometry can hold, density over the collision volume
 outside 20-25000 kg/m^3, centre of mass outside the geometry, placeholders) and meshes (missing,
-unreadable, flat, open, more than --max-faces triangles, millimetres). MJCF, SDF, USD, documents and
-tables get their reader's checks (its refusal an error, its warnings warnings) and the joint limits.
+unreadable, flat, open, more than --max-faces triangles, millimetres). MJCF and SDF get the same checks
+on the tree their reader builds, each at its element's line (MJCF: masses as MuJoCo compiles them, from
+the geoms where a body has no <inertial>; MuJoCo's own verdict; compiler settings with which MuJoCo
+silently changes masses); robot documents and tables the same on the robot they hold (the line naming
+the joint); USD its reader's checks. A reader's refusal is an error finding at the element it names.
 
---fix -o OUT writes the file with what lint can correct changed and nothing else (URDF only): limits
+--fix -o OUT writes the file with what lint can correct changed and nothing else (URDF, MJCF, SDF;
+documents and tables: convert to URDF and fix that; an MJCF's or SDF's OUT belongs beside it, where its
+meshes are): limits
 swapped, axes normalised, dangling or cyclic <mimic> removed, invalid inertias replaced (--inertia
 nearest: the nearest valid tensor; geometry: the collision geometry's at the link's mass), a moving
 link without mass given its collision geometry's at --density. One line per change (on stderr with
@@ -36,6 +41,10 @@ examples:
 """
 
 
+#: the inputs --fix writes a corrected copy of
+FIXES = (".urdf", ".xacro", ".xml", ".mjcf", ".sdf")
+
+
 def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p = sub.add_parser("lint", help="find what is wrong in a robot file (physics, simulator readiness); --fix",
                        description="Check robot files for defects a simulator refuses or silently changes: structure, "
@@ -46,7 +55,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help="URDF (.urdf; .xacro with --allow-xacro), MJCF (.xml/.mjcf), SDF, USD, robot document or table")
     p.add_argument("--format", choices=("text", "json", "sarif"), default="text",
                    help="text (one line per finding; default), json (a list of objects) or sarif (SARIF 2.1.0, for CI)")
-    p.add_argument("--fix", action="store_true", help="write a corrected copy of the (one, URDF) input to -o")
+    p.add_argument("--fix", action="store_true", help="write a corrected copy of the (one, URDF, MJCF or SDF) input to -o")
     p.add_argument("-o", "--output", metavar="OUT", help="with --fix: the corrected file")
     p.add_argument("--inertia", choices=("nearest", "geometry"), default="nearest",
                    help="with --fix: an invalid inertia becomes the nearest valid tensor (default) or the collision "
@@ -69,6 +78,8 @@ def _emit(findings, fmt: str) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
     from ..errors import InputError
     from ..lint import lint_file
 
@@ -76,6 +87,10 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--fix takes one input file and -o OUT (the corrected file)")
     if not args.fix and args.output:
         raise InputError("-o is the file --fix writes: give --fix too")
+    if args.fix and Path(args.input[0]).suffix.lower() not in FIXES:
+        raise InputError(f"{args.input[0]}: --fix supports URDF (.urdf, .xacro), MJCF (.xml, .mjcf) and SDF (.sdf) "
+                         "only; for documents and tables lint names each defect and its fix, or convert to URDF "
+                         "(robkin convert --to urdf) and fix that")
     if args.density <= 0:
         raise InputError(f"--density {args.density:g}: a density in kg/m^3 is positive")
     packages = package_paths(args)
@@ -109,17 +124,30 @@ def _fix(args: argparse.Namespace, findings, packages) -> int:
     path = args.input[0]
     say = sys.stdout if args.format == "text" else sys.stderr
     _emit(findings, args.format)
-    if Path(path).suffix.lower() not in (".urdf", ".xacro"):
-        print(f"robkin lint: --fix fixes URDF only; {path} is not written to {args.output}", file=say)
-        return 1 if any(f.severity == "error" for f in findings) else 0
-    raw = read_urdf(path, allow_xacro=args.allow_xacro)
-    text, changes = fix_urdf(raw, findings, inertia=args.inertia, density=args.density,
-                             meshes=MeshCache(path, packages))
-    write_text_atomic(args.output, text)
+    if Path(path).suffix.lower() in (".xml", ".mjcf", ".sdf"):
+        from ..lint import lint_file
+        from ..lint.fix_mjcf import fix_mjcf
+        from ..lint.fix_sdf import fix_sdf
+        from ..lint.other_formats import read_tree
+
+        fix = fix_sdf if Path(path).suffix.lower() == ".sdf" else fix_mjcf
+        text, changes = fix(path, findings, inertia=args.inertia, density=args.density, raw=read_tree(path),
+                            meshes=MeshCache(path, packages))
+        write_text_atomic(args.output, text)
+        # MuJoCo (and an SDF's relative mesh URIs) find files beside the model: the output is checked where it is
+        after = lint_file(args.output, package_paths=packages, max_faces=args.max_faces)
+        if Path(args.output).resolve().parent != Path(path).resolve().parent:
+            after = [f for f in after if not (f.code == "mesh-missing" or f.code.endswith("-refuses") and
+                                              any(w in f.message.lower() for w in ("mesh", "resource", "include")))]
+    else:
+        raw = read_urdf(path, allow_xacro=args.allow_xacro)
+        text, changes = fix_urdf(raw, findings, inertia=args.inertia, density=args.density,
+                                 meshes=MeshCache(path, packages))
+        write_text_atomic(args.output, text)
+        # the output is checked with its meshes found from the input's place (its file names are the input's)
+        after = lint_urdf(read_urdf(args.output), packages, args.max_faces, mesh_base=path)
     for line in changes:
         print(line, file=say)
-    # the output is checked with its meshes found from the input's place (its file names are the input's)
-    after = lint_urdf(read_urdf(args.output), packages, args.max_faces, mesh_base=path)
     errors = sum(f.severity == "error" for f in after)
     print(f"robkin lint: wrote {args.output} ({len([c for c in changes if 'not fixed' not in c])} changes; "
           f"{errors} errors remain)", file=say)

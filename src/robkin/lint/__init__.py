@@ -8,7 +8,9 @@ URDF checks read the file tolerantly (``urdf_source``) and report every defect w
 - ``mass_checks``: moving links without mass, inertias not positive definite or breaking the triangle
   inequality, the centre of mass, mass and inertia against the collision volume (``geometry``), placeholders;
 - ``asset_checks``: meshes missing, unreadable, flat, open, too fine, in the wrong unit;
-- ``other_formats``: MJCF, SDF, USD, documents and tables through their readers (what they refuse);
+- ``other_formats``: MJCF and SDF (``model_source``: their readers' trees, ``xml_lines``: element lines),
+  robot documents and tables (the URDF robkin writes of them), USD (its reader): the same checks, and
+  each reader's refusals as findings; ``mjcf_readiness``: MuJoCo's own verdict and silent compiler settings;
 - ``report``: text, JSON and SARIF 2.1.0; ``fix_urdf``: the corrected URDF and one line per change.
 
 What MuJoCo, pinocchio and drake refuse or silently change is said per tool in each finding's message.
@@ -21,26 +23,10 @@ import os
 from pathlib import Path
 from typing import Mapping
 
+from .checks import lint_urdf
 from .findings import ERROR, INFO, SEVERITIES, WARNING, Finding
 
 __all__ = ["lint_file", "lint_urdf", "Finding", "SEVERITIES", "ERROR", "WARNING", "INFO"]
-
-
-def lint_urdf(raw, package_paths: Mapping[str, Path] | None = None, max_faces: int | None = None,
-              mesh_base: str | None = None) -> list[Finding]:
-    """Findings of a tolerantly read URDF (``urdf_source.RawUrdf``); its meshes are found from ``mesh_base``
-    (default: the file itself; ``--fix`` checks its output with the input's)."""
-    from .asset_checks import MAX_FACES, asset_findings
-    from .geometry import MeshCache
-    from .joint_checks import joint_findings
-    from .mass_checks import mass_findings
-    from .structure import structure_findings
-
-    meshes = MeshCache(mesh_base or (raw.file if os.path.exists(raw.file) else "."), package_paths)
-    found = structure_findings(raw) + joint_findings(raw) + asset_findings(raw, meshes, max_faces or MAX_FACES)
-    found += mass_findings(raw, meshes)
-    order = {s: k for k, s in enumerate(SEVERITIES)}
-    return sorted(found, key=lambda x: (x.line or 0, order[x.severity]))
 
 
 def lint_file(path: str | os.PathLike, *, package_paths: Mapping[str, Path] | None = None,
@@ -50,8 +36,9 @@ def lint_file(path: str | os.PathLike, *, package_paths: Mapping[str, Path] | No
     Parameters
     ----------
     path : str or PathLike
-        A URDF (``.urdf``; ``.xacro`` with ``allow_xacro``) gets every check, each with its line; MJCF,
-        SDF, USD, robot documents and tables get their reader's checks and the joint limits.
+        A URDF (``.urdf``; ``.xacro`` with ``allow_xacro``), MJCF (``.xml``, ``.mjcf``), SDF, robot
+        document (``.json``, ``.yaml``) or table gets every check, each with its line (a document's: the
+        line naming the element); USD its reader's checks and the joint limits.
     package_paths : mapping of str to Path, optional
         Where ``package://NAME`` mesh files are (NAME -> folder), tried first.
     allow_xacro : bool
@@ -77,4 +64,4 @@ def lint_file(path: str | os.PathLike, *, package_paths: Mapping[str, Path] | No
         return lint_urdf(read_urdf(p, allow_xacro=allow_xacro), package_paths, max_faces)
     from .other_formats import lint_other
 
-    return lint_other(p, allow_xacro=allow_xacro)
+    return lint_other(p, allow_xacro=allow_xacro, package_paths=package_paths, max_faces=max_faces)

@@ -42,6 +42,7 @@ class MeshCache:
     def __init__(self, source_file: str, package_paths: Mapping[str, Path] | None = None):
         self.source_file, self.package_paths = source_file, dict(package_paths or {})
         self._cache: dict[str, MeshRead] = {}
+        self._summaries: dict[str, tuple] = {}
 
     def found(self, filename: str) -> MeshRead:
         """Where the mesh is (or why not), without reading it (a read one's triangles are kept)."""
@@ -51,6 +52,27 @@ class MeshCache:
 
         found = resolve_mesh_file(filename, self.source_file, self.package_paths)
         return MeshRead(found.path, found.reason)
+
+    def summary(self, filename: str):
+        """(where the mesh is or why not, its ``mesh_summary.MeshSummary`` or None): a COLLADA file summed up
+        from its XML, any other read whole (``get``)."""
+        if filename in self._summaries:
+            return self._summaries[filename]
+        from .mesh_summary import MeshSummary, dae_summary
+
+        r = self._cache.get(filename) or self.found(filename)
+        got = None
+        if r.path is not None and r.V is None and r.path.suffix.lower() == ".dae" and filename not in self._cache:
+            try:
+                got = dae_summary(r.path)
+            except (ValueError, OSError) as exc:
+                r = MeshRead(r.path, f"unreadable ({exc})")
+        elif r.path is not None:
+            r = self.get(filename)
+            if r.V is not None and r.F is not None:
+                got = MeshSummary(len(r.F), r.V.min(axis=0), r.V.max(axis=0))
+        self._summaries[filename] = (r, got)
+        return r, got
 
     def get(self, filename: str) -> MeshRead:
         if filename not in self._cache:
@@ -90,7 +112,8 @@ def _primitive(g: Geometry) -> tuple[float, np.ndarray, np.ndarray, np.ndarray] 
     vol = primitive_measure(g.kind, g.size, False)
     moments = primitive_moments(g.kind, g.size, vol, False)
     s = g.size
-    half = {"box": np.array(s), "cylinder": np.array([s[0], s[0], s[1]]), "sphere": np.full(3, s[0])}[g.kind]
+    half = {"box": np.array(s), "cylinder": np.array([s[0], s[0], s[1]]), "sphere": np.full(3, s[0]),
+            "capsule": np.array([s[0], s[0], s[1] + s[0]])}[g.kind]
     return vol, np.diag(moments), -half, half
 
 

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-
-
 import numpy as np
 
 from .findings import ERROR, WARNING, Finding
@@ -33,12 +31,13 @@ def joint_findings(u: RawUrdf) -> list[Finding]:
                 "use one of " + ", ".join(JOINT_TYPES))
             continue
         bounded = j.type in ("revolute", "prismatic")
-        lim = j.limit
-        if bounded and lim is None:
+        lim = j.limit_text
+        urdf = u.fmt == "urdf"  # urdfdom's own rules: a revolute or prismatic joint's <limit effort velocity>
+        if bounded and lim is None and urdf:
             add(ERROR, "limit-missing", j.line, f"a {j.type} joint without <limit> (urdfdom and pinocchio refuse it)",
                 '<limit lower="..." upper="..." effort="..." velocity="..."/>')
         if lim is not None:
-            lline = lim.sourceline
+            lline = j.limit_line or j.line
             lo, hi = numbers(lim.get("lower"), 1), numbers(lim.get("upper"), 1)
             if bounded and lo and hi:
                 if lo[0] > hi[0]:
@@ -52,7 +51,7 @@ def joint_findings(u: RawUrdf) -> list[Finding]:
             for key in ("effort", "velocity"):
                 text = lim.get(key)
                 v = numbers(text, 1)
-                if text is None and bounded:
+                if text is None and bounded and urdf:
                     add(ERROR, f"{key}-missing", lline, f"<limit> has no {key} (urdfdom refuses the file)",
                         f'add {key}="..." from the datasheet')
                 elif text is not None and v is None:
@@ -61,9 +60,9 @@ def joint_findings(u: RawUrdf) -> list[Finding]:
                     add(WARNING, f"{key}-zero", lline,
                         f"{key} = {v[0]:g}: a simulator that enforces this limit cannot move the joint "
                         f"(pinocchio's {key}Limit is then 0)", f"set {key} from the datasheet")
-        if j.mimic is not None:
-            target = j.mimic.get("joint")
-            mline = j.mimic.sourceline
+        if j.mimic_target is not None:
+            target = j.mimic_target
+            mline = j.mimic_line or j.line
             if not target or target not in names:
                 add(WARNING, "mimic-missing", mline, f"mimics joint '{target}', which is not in the file: MuJoCo "
                     f"ignores the <mimic> (with a warning) and pinocchio silently, so the joint moves on its own",
@@ -75,19 +74,20 @@ def joint_findings(u: RawUrdf) -> list[Finding]:
                 mimic_of[j.name] = target
         if j.type in ("revolute", "continuous", "prismatic", "planar"):
             axis = numbers(j.axis_text, 3) if j.axis_text is not None else (1.0, 0.0, 0.0)
-            aline = j.el.find("axis").sourceline if j.el.find("axis") is not None else j.line
+            aline = j.axis_line or j.line
             if axis is None:
-                add(ERROR, "axis-malformed", aline, f"axis xyz='{j.axis_text}' is not three numbers", 'write xyz="x y z"')
+                add(ERROR, "axis-malformed", aline, f"axis '{j.axis_text}' is not three numbers",
+                    "write " + _axis_text(u.fmt, "x y z"))
             else:
                 n = float(np.linalg.norm(axis))
                 if n < AXIS_ZERO:
                     add(ERROR, "axis-zero", aline, "axis has zero length: the joint has no direction (MuJoCo refuses "
-                        "it; pinocchio divides by zero)", "give the axis its direction, e.g. xyz=\"0 0 1\"")
+                        "it; pinocchio divides by zero)", "give the axis its direction, e.g. " + _axis_text(u.fmt, "0 0 1"))
                 elif abs(n - 1) > AXIS_TOL:
                     u_ = np.asarray(axis) / n
                     add(WARNING, "axis-not-unit", aline,
                         f"axis has length {n:.6g}, not 1 (MuJoCo and pinocchio normalise it silently)",
-                        "xyz=\"" + " ".join(f"{x:.9g}" for x in u_) + "\"")
+                        _axis_text(u.fmt, " ".join(f"{x:.9g}" for x in u_)))
     # mimic chains that come back to themselves
     done: set[str] = set()
     for start in mimic_of:
@@ -99,9 +99,14 @@ def joint_findings(u: RawUrdf) -> list[Finding]:
             cyc = path[path.index(name):]
             done |= set(cyc)
             j = next(x for x in u.joints if x.name == cyc[0])
-            f.append(Finding(ERROR, "mimic-cycle", u.file, j.mimic.sourceline, f"joint '{j.name}'",
+            f.append(Finding(ERROR, "mimic-cycle", u.file, j.mimic_line or j.line, f"joint '{j.name}'",
                              "mimic joints form a cycle: " + " -> ".join(cyc + [cyc[0]]),
                              "make one joint of the cycle independent (remove its <mimic>)"))
     return f
 
 
+
+
+def _axis_text(fmt: str, xyz: str) -> str:
+    """An axis as the format writes it."""
+    return {"mjcf": f'axis="{xyz}"', "sdf": f"<xyz>{xyz}</xyz>"}.get(fmt, f'xyz="{xyz}"')

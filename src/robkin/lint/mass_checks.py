@@ -56,8 +56,15 @@ def mass_findings(u: RawUrdf, meshes: MeshCache) -> list[Finding]:
         if ln.mass and ln.mass > 0:
             head = groups.get(ln.name, ln.name)
             group_mass[head] = group_mass.get(head, 0.0) + ln.mass
+    # the link that speaks for a rigid group: its head, or (a head robkin's reader made: MJCF BODY/JOINT,
+    # SDF CHILD@JOINT) the first link of the group written in the file; none for a group of made links only
+    speaker: dict[str, str] = {}
     for ln in u.links:
-        el = f"link '{ln.name}'"
+        head = groups.get(ln.name, ln.name)
+        if not ln.frame_only and (ln.name == head or head not in speaker):
+            speaker[head] = ln.name
+    for ln in u.links:
+        el = f"{u.link_word} '{ln.name}'"
         line = ln.inertial_line or ln.line
 
         def add(sev, code, message, fix, at=line):
@@ -69,10 +76,19 @@ def mass_findings(u: RawUrdf, meshes: MeshCache) -> list[Finding]:
         if ln.mass is not None and ln.mass < 0:
             add(ERROR, "mass-negative", f"mass {ln.mass:g} kg is negative", "give the link its mass (kg, > 0)")
             continue
-        is_head = ln.name in moving and groups.get(ln.name) == ln.name
-        if is_head and group_mass.get(ln.name, 0.0) <= MIN_VALUE:
+        head = groups.get(ln.name, ln.name)
+        is_head = ln.name in moving and speaker.get(head) == ln.name
+        if is_head and group_mass.get(head, 0.0) <= MIN_VALUE and u.fmt == "sdf" and not ln.has_inertial:
+            add(WARNING, "mass-default", "a moving link with no <inertial> (nor any link fixed to it): SDFormat's "
+                "default of 1 kg and a unit inertia (1 kg m^2 about each axis) applies in Gazebo and drake: a "
+                "placeholder, not the link's", "write the link's <inertial> (mass, pose, inertia) from CAD")
+            continue
+        if is_head and group_mass.get(head, 0.0) <= MIN_VALUE:
             has_geoms = any(g.role == "collision" for g in ln.geometries)
-            if not ln.has_inertial and has_geoms:
+            if u.fmt == "mjcf":  # the reader has done what MuJoCo does: the geoms' mass is in ln.mass already
+                mujoco_says = ("MuJoCo refuses it ('mass and inertia of moving bodies must be larger than "
+                               "mjMINVAL'; its geoms, at their density, give it none)")
+            elif not ln.has_inertial and has_geoms:
                 mujoco_says = ("MuJoCo silently gives it the mass of its collision shapes at 1000 kg/m^3 "
                                "(inertiafromgeom auto)")
             else:
@@ -83,6 +99,12 @@ def mass_findings(u: RawUrdf, meshes: MeshCache) -> list[Finding]:
                 f"massless body (a singular mass matrix where nothing below carries mass)", "give the link its mass "
                 "and inertia (--fix derives them from the collision geometry at --density)")
             continue
+        if ln.has_inertial and ln.mass == 0 and ln.inertia is not None and np.any(ln.inertia != 0):
+            add(WARNING, "inertia-without-mass", f"mass 0 with a nonzero inertia (principal moments "
+                f"{_g(principal(ln.inertia)[0])} kg m^2): no mass distribution has it; pinocchio keeps the rotational "
+                "inertia, MuJoCo's M(q) of robkin's MJCF export lacks it (observed: pybullet's Panda, 0.1 on "
+                "each revolute joint's diagonal entry)",
+                "give the link its mass, or write its inertia as 0")
         if not ln.has_inertial or not ln.mass:
             continue
         if ln.inertia is None:
@@ -103,7 +125,7 @@ def mass_findings(u: RawUrdf, meshes: MeshCache) -> list[Finding]:
                 f"A + B >= C (no mass distribution has them): MuJoCo refuses it ('use balanceinertia to fix'), "
                 f"drake warns and substitutes a plausible inertia, pinocchio loads it as it is", _FIX_I)
             continue
-        gw = principal(group_inertia[ln.name])[0] if ln.name in group_inertia else None
+        gw = principal(group_inertia[head])[0] if head in group_inertia and is_head else None
         if is_head and gw is not None and gw[0] <= MIN_VALUE:
             add(ERROR, "inertia-singular", f"inertia is rank-deficient (principal moments {_g(gw)} kg m^2, with the "
                 "links fixed to it): MuJoCo refuses it ('mass and inertia of moving bodies must be larger than "

@@ -6,7 +6,7 @@ import re
 
 import numpy as np
 
-from .findings import ERROR, INFO, Finding
+from .findings import ERROR, INFO, WARNING, Finding
 from .urdf_source import RawUrdf
 
 __all__ = ["structure_findings", "moving_links", "rigid_groups", "poses_in_group"]
@@ -39,11 +39,12 @@ def structure_findings(u: RawUrdf) -> list[Finding]:
                     f"MuJoCo refuse the file", f"rename or remove one of the two {kind}s")
             else:
                 seen[it.name] = it.line
-            if not _PLAIN_NAME.fullmatch(it.name):
+            own = it.name.rsplit("::", 1)[-1] if u.fmt == "sdf" else it.name   # SDF scopes nested names
+            if not it.synthetic and not _PLAIN_NAME.fullmatch(own):
                 add(INFO, "name-characters", it.line, f"{kind} '{it.name}'",
                     f"{kind} name has characters other than letters, digits and _ - . / (ROS names, SDF and USD "
                     f"prim names reject some of them)", "rename it with letters, digits and underscores")
-    if not u.name:
+    if not u.name and u.fmt == "urdf":
         add(ERROR, "robot-name", u.root.sourceline, "robot", "<robot> has no name attribute (urdfdom, so pinocchio, "
             "refuses it)",
             'add name="..." to <robot>')
@@ -69,10 +70,12 @@ def structure_findings(u: RawUrdf) -> list[Finding]:
     by_joint = {j.name: j for j in u.joints}
     roots = [ln for ln in u.links if ln.name and ln.name not in parent_of]
     if len(roots) > 1:
+        # an SDF model may hold several trees (each a free body in Gazebo and drake): a warning there
+        sev, why = (WARNING, "each is a free body in Gazebo and drake") if u.fmt == "sdf" else (ERROR, "a URDF is one tree")
         for r in roots[1:]:
-            add(ERROR, "several-roots", r.line, f"link '{r.name}'",
+            add(sev, "several-roots", r.line, f"{u.link_word} '{r.name}'",
                 f"link '{r.name}' has no parent joint, nor has '{roots[0].name}': the file has {len(roots)} roots "
-                f"(a URDF is one tree)", f"connect '{r.name}' to the tree with a joint, or remove it")
+                f"({why})", f"connect '{r.name}' to the tree with a joint, or remove it")
     # cycles: following parents from a link comes back to it
     reported: set[str] = set()
     for start in parent_of:

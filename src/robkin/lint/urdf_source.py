@@ -72,6 +72,12 @@ class RawLink:
     inertial_line: int | None = None
     has_inertial: bool = False
     geometries: list[Geometry] = field(default_factory=list)
+    #: a name robkin's reader made (MJCF's bodyI, BODY/JOINT, site:NAME; SDF's CHILD@JOINT): no name checks
+    synthetic: bool = False
+    #: a frame between a body's joints (MJCF BODY/JOINT, SDF CHILD@JOINT), not a body: no mass expected
+    frame_only: bool = False
+    #: where the mass comes from when not an <inertial> ("geoms": MJCF's inertiafromgeom)
+    mass_from: str = ""
 
 
 @dataclass
@@ -86,6 +92,15 @@ class RawJoint:
     axis_text: str | None
     limit: Any
     mimic: Any
+    # the same, format-neutral (every format's reader fills these; the checks read only them):
+    #: <limit> attributes as written (lower, upper, effort, velocity; absent keys missing), None: no limit
+    limit_text: dict[str, str] | None = None
+    limit_line: int | None = None
+    axis_line: int | None = None
+    #: the joint a mimic (MJCF: a joint equality) follows ("" when the element names none); None: no mimic
+    mimic_target: str | None = None
+    mimic_line: int | None = None
+    synthetic: bool = False    # a weld or frame joint robkin's reader made (MJCF NAME:fixed, SDF NAME:child)
 
 
 @dataclass
@@ -96,6 +111,14 @@ class RawUrdf:
     links: list[RawLink]
     joints: list[RawJoint]
     declaration: str = ""    # the file's own <?xml ...?> line, written back by --fix
+    #: the format read ("urdf", "mjcf", "sdf", "document"): checks of one format's own rules (urdfdom's
+    #: required <limit effort velocity>) and the words of what each simulator does depend on it
+    fmt: str = "urdf"
+
+    @property
+    def link_word(self) -> str:
+        """What the format calls a link, for the findings' ``element``."""
+        return "body" if self.fmt == "mjcf" else "link"
 
 
 def _geometry(role: str, el: Any) -> Geometry | None:
@@ -151,10 +174,15 @@ def _link(el: Any) -> RawLink:
 
 def _joint(el: Any) -> RawJoint:
     p, c = el.find("parent"), el.find("child")
-    axis = el.find("axis")
-    return RawJoint(el.get("name") or "", el.sourceline or 0, el, el.get("type") or "",
+    axis, limit, mimic = el.find("axis"), el.find("limit"), el.find("mimic")
+    line = el.sourceline or 0
+    return RawJoint(el.get("name") or "", line, el, el.get("type") or "",
                     p.get("link") if p is not None else None, c.get("link") if c is not None else None,
-                    _pose(el), axis.get("xyz") if axis is not None else None, el.find("limit"), el.find("mimic"))
+                    _pose(el), axis.get("xyz") if axis is not None else None, limit, mimic,
+                    dict(limit.attrib) if limit is not None else None, limit.sourceline if limit is not None else None,
+                    axis.sourceline if axis is not None else line,
+                    (mimic.get("joint") or "") if mimic is not None else None,
+                    mimic.sourceline if mimic is not None else None)
 
 
 def parse_urdf_text(text: str, source: str) -> RawUrdf:

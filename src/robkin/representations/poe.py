@@ -187,6 +187,11 @@ class PoE:
         return robot_from_poe(self, name=name)
 
 
+#: a GJD frame farther than this many robot sizes along its axis from the previous origin is slid back
+#: (``robot_from_poe``): real links are within a few sizes; the far ones come of nearly parallel axes
+FAR = 10.0
+
+
 def robot_from_poe(poe: "PoE | ArrayLike", name: str | None = None, *, M: ArrayLike | None = None,
                    joints: Any = None, frame: Frame = "space") -> Robot:
     """GJD from a PoE: DH-style frames on the screw axes (prismatic axes through the previous axis point).
@@ -219,7 +224,17 @@ def robot_from_poe(poe: "PoE | ArrayLike", name: str | None = None, *, M: ArrayL
             # ~offset / sin away, and a next axis nearly parallel to this one would put the following
             # frame ~offset / sin^2 away, where FK loses eps times that (seen: 1e-4 of the robot size).
             u = v
-        prev = common_normal_frame(prev[:3, 3], prev[:3, 2], p, u, on="b", prev=prev, scale=scale)
+        frame = common_normal_frame(prev[:3, 3], prev[:3, 2], p, u, on="b", prev=prev, scale=scale)
+        # Nearly parallel axes (not parallel within robkin.lines' tolerance) meet their common normal
+        # ~offset / sin away: SO-100's base z and joint-1 axis are 6.3e-6 rad apart and put J_1 7.1 km out,
+        # where FK through the frames loses eps x 7 km = 6e-12 of the robot's size. Such a frame slides back
+        # along its axis to the point nearest the previous origin (z, x kept: still a frame on the axis whose x
+        # is the common normal's direction); FAR x the robot's size is far beyond any real link offset.
+        o, z = frame[:3, 3], frame[:3, 2]
+        foot = o + float(np.dot(prev[:3, 3] - o, z)) * z
+        if np.linalg.norm(foot - o) > FAR * scale:
+            frame[:3, 3] = foot
+        prev = frame
         frames[i] = prev
     frames[-1] = poe.M
     return Robot(frames, poe.joints, name=name, bodies=table_bodies(poe.masses, poe.link_frames()))
