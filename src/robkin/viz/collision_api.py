@@ -59,7 +59,10 @@ class _Build:
         from ..self_collision import self_collision_model
 
         try:
-            self.model = self_collision_model(robot, source, package_paths=package_paths)
+            model = self_collision_model(robot, source, package_paths=package_paths)
+            for pair in model.pairs:  # a few ms each: here, not in the middle of a drag
+                self.pair_model(model, pair)
+            self.model = model
         except InputError as exc:
             self.error = str(exc)
         except Exception as exc:  # noqa: BLE001 - a bug: say so in the page rather than hang on "building"
@@ -67,15 +70,14 @@ class _Build:
         finally:
             self.done.set()
 
-    def pair_model(self, pair: tuple[str, str]) -> SelfCollisionModel:
+    def pair_model(self, model: SelfCollisionModel, pair: tuple[str, str]) -> SelfCollisionModel:
         """The model checking only ``pair`` (the others disabled), to name the colliding pairs at the
         parts level, which ``collides`` answers per configuration only."""
         from ..self_collision import DisabledPair
 
-        assert self.model is not None
         if pair not in self.pair_models:
-            others = [DisabledPair(a, b, "Never") for a, b in self.model.pairs if (a, b) != pair]
-            self.pair_models[pair] = self.model.with_disabled([*self.model.disabled, *others])
+            others = [DisabledPair(a, b, "Never") for a, b in model.pairs if (a, b) != pair]
+            self.pair_models[pair] = model.with_disabled([*model.disabled, *others])
         return self.pair_models[pair]
 
 
@@ -144,7 +146,7 @@ def collision_answer(robot: Robot, key: tuple, text: str, q: np.ndarray, wait: f
     model = build.model
     d = model.distances(q)
     touching = [pair for pair, dist in zip(model.pairs, d) if dist <= 0.0]  # capsules meet: ask the parts
-    pairs = [list(p) for p in touching if build.pair_model(p).collides(q, level=LEVEL)]
+    pairs = [list(p) for p in touching if build.pair_model(model, p).collides(q, level=LEVEL)]
     links = sorted({name for p in pairs for name in p}, key=model.links.index)
     body = {c.link: c.body for c in model.capsules}
     return {"state": "ready", "level": LEVEL, "collides": bool(pairs), "pairs": pairs, "links": links,

@@ -354,7 +354,7 @@ function showWorkspace() {
     if (!res.ok) { $("workspace-status").textContent = ""; showError(res.error); return; }
     document.body.dataset.workspace = String(workspace.group.children.reduce(
       (k, c) => k + c.geometry.getAttribute("position").count, 0));  // points drawn
-    $("workspace-status").textContent = "workspace: " + res.points.length + " voxels of " + num(res.voxel) +
+    $("workspace-status").textContent = "workspace: " + res.points.length + " voxels of " + res.voxel.toPrecision(2) +
       " reached (" + res.samples + " samples; colour: approach directions reached, of " + res.orientations + ")";
   }).catch((err) => showError("connection to the robkin server failed: " + err));
 }
