@@ -209,3 +209,19 @@ def test_browser_workspace_overlay_draws_and_hides(panda_page, tmp_path):
     pg.wait_for_function("() => document.body.dataset.workspace == '0'", timeout=30000)
     assert pg.inner_text("#workspace-status") == ""
     assert np.count_nonzero(np.any(pixels() != before, axis=2)) == 0
+
+
+def test_only_the_robot_asked_for_last_is_built():
+    """Typing asks for a model per edit: builds run one at a time, and one whose robot is no longer the
+    latest asked for is skipped (built anew if asked again), not answered as unavailable."""
+    texts = [RRPR_TEXT, RRPR_TEXT.replace("name: rrpr", "name: rrpr-b")]  # two robots (other texts)
+    assert texts[0] != texts[1]
+    robots = [gui_api._robot(t, "auto")[0] for t in texts]
+    keys = [(t, "auto", None, None, False) for t in texts]
+    with collision_api._building:  # a build in progress: both requests wait behind it
+        first = [collision_api.collision_answer(r, k, t, r.home()) for r, k, t in zip(robots, keys, texts)]
+        assert [a["state"] for a in first] == ["building", "building"]
+        stale = collision_api._BUILDS[keys[0]]
+    assert stale.done.wait(60) and stale.superseded and stale.model is None and stale.error is None
+    again = collision_api.collision_answer(robots[0], keys[0], texts[0], robots[0].home(), wait=60.0)
+    assert again["state"] == "none" and "collision geometry" in again["message"]  # built anew, answered

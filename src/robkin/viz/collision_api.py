@@ -42,20 +42,37 @@ _KEEP = 4
 #: robot text -> (its file, package folders): the command-line robot, whose meshes may be read
 _SOURCES: dict[str, tuple[Path, Mapping[str, Path] | None]] = {}
 _lock = threading.Lock()
+#: one model built at a time: typing in a robot with collision shapes asks for one per edit
+_building = threading.Lock()
 
 
 class _Build:
     """One model being built (in a daemon thread) or built: ``model``, or ``error`` (one line)."""
 
-    def __init__(self, robot: Robot, source: Path | None, package_paths: Mapping[str, Path] | None) -> None:
+    def __init__(self, key: tuple, robot: Robot, source: Path | None, package_paths: Mapping[str, Path] | None
+                 ) -> None:
+        self.key = key
         self.done = threading.Event()
         self.model: SelfCollisionModel | None = None
         self.error: str | None = None
+        self.superseded = False  # not built: another robot was asked for first (asked again, built anew)
         self.pair_models: dict[tuple[str, str], SelfCollisionModel] = {}
         threading.Thread(target=self._run, args=(robot, source, package_paths), name="robkin-gui-collision",
                          daemon=True).start()
 
     def _run(self, robot: Robot, source: Path | None, package_paths: Mapping[str, Path] | None) -> None:
+        with _building:
+            with _lock:  # a robot asked for since then goes first: this one is built when asked again
+                stale = next(reversed(_BUILDS), None) != self.key
+                if stale:
+                    _BUILDS.pop(self.key, None)
+            if stale:
+                self.superseded = True
+                self.done.set()
+                return
+            self._build(robot, source, package_paths)
+
+    def _build(self, robot: Robot, source: Path | None, package_paths: Mapping[str, Path] | None) -> None:
         from ..self_collision import self_collision_model
 
         try:
@@ -95,7 +112,7 @@ def _build(key: tuple, robot: Robot, text: str) -> _Build:
         build = _BUILDS.get(key)
         if build is None:
             source, packages = _SOURCES.get(text, (None, None))
-            build = _BUILDS[key] = _Build(robot, source, packages)
+            build = _BUILDS[key] = _Build(key, robot, source, packages)
             while len(_BUILDS) > _KEEP:
                 _BUILDS.popitem(last=False)
         _BUILDS.move_to_end(key)
@@ -139,6 +156,9 @@ def collision_answer(robot: Robot, key: tuple, text: str, q: np.ndarray, wait: f
     """
     build = _build(key, robot, text)
     ready = build.done.wait(wait) if wait > 0 else build.done.is_set()
+    if ready and build.superseded:
+        build = _build(key, robot, text)
+        ready = build.done.wait(wait) if wait > 0 else build.done.is_set()
     if not ready:
         return {"state": "building", "level": LEVEL}
     if build.model is None:
