@@ -214,7 +214,7 @@ def test_browser_workspace_overlay_draws_and_hides(panda_page, tmp_path):
 def test_only_the_robot_asked_for_last_is_built():
     """Typing asks for a model per edit: builds run one at a time, and one whose robot is no longer the
     latest asked for is skipped (built anew if asked again), not answered as unavailable."""
-    texts = [RRPR_TEXT, RRPR_TEXT.replace("name: rrpr", "name: rrpr-b")]  # two robots (other texts)
+    texts = [RRPR_TEXT.replace("name: rrpr", f"name: rrpr-{k}") for k in "cd"]  # two robots not asked before
     assert texts[0] != texts[1]
     robots = [gui_api._robot(t, "auto")[0] for t in texts]
     keys = [(t, "auto", None, None, False) for t in texts]
