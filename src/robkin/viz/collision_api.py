@@ -36,6 +36,8 @@ __all__ = ["LEVEL", "register_source", "collision_answer", "stick_segments"]
 
 #: The level of ``SelfCollisionModel.collides`` the GUI answers with (see the module doc).
 LEVEL = "parts"
+#: What identifies a robot of the page: its request fields (text, format, base link, tip link, tool row).
+Key = tuple[str, str, str | None, str | None, bool]
 #: Models kept (one per robot text and chain): a few robots switched between.
 _KEEP = 4
 
@@ -49,7 +51,7 @@ _building = threading.Lock()
 class _Build:
     """One model being built (in a daemon thread) or built: ``model``, or ``error`` (one line)."""
 
-    def __init__(self, key: tuple, robot: Robot, source: Path | None, package_paths: Mapping[str, Path] | None
+    def __init__(self, key: Key, robot: Robot, source: Path | None, package_paths: Mapping[str, Path] | None
                  ) -> None:
         self.key = key
         self.done = threading.Event()
@@ -98,7 +100,7 @@ class _Build:
         return self.pair_models[pair]
 
 
-_BUILDS: "OrderedDict[tuple, _Build]" = OrderedDict()
+_BUILDS: "OrderedDict[Key, _Build]" = OrderedDict()
 
 
 def register_source(text: str, source: str | Path, package_paths: Mapping[str, Path] | None = None) -> None:
@@ -107,7 +109,7 @@ def register_source(text: str, source: str | Path, package_paths: Mapping[str, P
     _SOURCES[text] = (Path(source), package_paths)
 
 
-def _build(key: tuple, robot: Robot, text: str) -> _Build:
+def _build(key: Key, robot: Robot, text: str) -> _Build:
     with _lock:
         build = _BUILDS.get(key)
         if build is None:
@@ -131,7 +133,7 @@ def stick_segments(robot: Robot, bodies: set[int]) -> list[int]:
     return [i for i, b in enumerate(owner) if b in bodies]
 
 
-def collision_answer(robot: Robot, key: tuple, text: str, q: np.ndarray, wait: float = 0.0) -> dict[str, Any]:
+def collision_answer(robot: Robot, key: Key, text: str, q: np.ndarray, wait: float = 0.0) -> dict[str, Any]:
     """Which links collide at ``q``, for the page.
 
     Parameters

@@ -15,7 +15,7 @@ export function showCollision(c, again) {
   s.className = state;
   if (!c) { s.textContent = ""; return; }
   if (c.state === "building") {
-    s.textContent = "self collision: building this robot's model (capsules, convex parts, allowed pairs)…";
+    s.textContent = "self collision: building this robot's model…";
     if (!retry) retry = setTimeout(() => { retry = null; again(); }, 500);
   } else if (c.state === "none") {
     s.textContent = "self collision: not checked — " + c.message;
