@@ -13,12 +13,18 @@ every representation, downloads, the check against a second robot), the three.js
     download buttons (see ``representations_api.py``).
 ``GET /api/mesh/<id>``
     A mesh file of the command-line robot, by the id ``/api/start`` gave it (see ``meshes.py``).
-``POST /api/describe`` ``{text, fmt, q, strict_q, overlay, base_link, tip_link, tool_row, other}``
+``POST /api/describe`` ``{text, fmt, q, strict_q, overlay, base_link, tip_link, tool_row, other, collision}``
     ``{"ok": true, ...describe()}`` or ``{"ok": false, "error": "one line"}``.
-``POST /api/ik`` ``{text, fmt, base_link, tip_link, tool_row, target, q0[, arm_angle]}``
+``POST /api/ik`` ``{text, fmt, base_link, tip_link, tool_row, target, q0[, arm_angle, collision]}``
     ``{"ok": true, ...solve_ik()}`` or ``{"ok": false, "error"}``.
 ``POST /api/export`` ``{text, fmt, to, base_link, tip_link, tool_row}``
     ``{"ok": true, "filename", "mime", "content"}`` or ``{"ok": false, "error"}``.
+``POST /api/workspace`` ``{text, fmt, base_link, tip_link, tool_row[, voxel, samples]}``
+    ``{"ok": true, ...workspace_overlay()}``: the reachable voxels to draw (``workspace_api.py``).
+
+``describe`` and ``ik`` with ``"collision": true`` also answer which links collide with each other at
+the q shown (``collision_api.py``; the model of the command-line robot is built from its file's
+collision meshes, registered here).
 
 Bad input is answered with ``ok: false`` and a message the page shows; an unexpected exception is
 logged and answered the same way, so no request can stop the server. The server binds loopback
@@ -58,7 +64,7 @@ _STATIC_TYPES = {".html": "text/html; charset=utf-8", ".js": "text/javascript; c
                  ".css": "text/css; charset=utf-8", ".svg": "image/svg+xml", ".png": "image/png"}
 #: Request fields that must be strings (or absent / null) when given.
 _STRING_FIELDS = ("text", "fmt", "to", "base_link", "tip_link")
-_API = ("/api/describe", "/api/ik", "/api/export")
+_API = ("/api/describe", "/api/ik", "/api/export", "/api/workspace")
 
 
 def _inline_script_hashes() -> str:
@@ -143,6 +149,9 @@ def make_server(host: str = "127.0.0.1", port: int = 8765, text: str = "", fmt: 
     examples = {p.stem: p.read_text(encoding="utf-8") for p in sorted(EXAMPLES_DIR.glob("*.yaml"))}
     meshes = MeshRegistry()
     if text and source:
+        from .collision_api import register_source
+
+        register_source(text, source, package_paths)
         meshes = MeshRegistry.of(parse_robot(text, fmt, base_link, tip_link, source=source)[0], Path(source),
                                  package_paths)
     start = {"text": text, "fmt": fmt, "base_link": base_link or "", "tip_link": tip_link or "",
@@ -278,10 +287,16 @@ class _Handler(BaseHTTPRequestHandler):
         try:
             if path == "/api/describe":
                 return {"ok": True, **gui_api.describe(q=req.get("q"), strict_q=req.get("strict_q") is not False,
-                                                       overlay=req.get("overlay"), other=req.get("other"), **args)}
+                                                       overlay=req.get("overlay"), other=req.get("other"),
+                                                       collision=req.get("collision") is True, **args)}
             if path == "/api/ik":
                 return {"ok": True, **gui_api.solve_ik(target=req.get("target"), q0=req.get("q0"),
-                                                       arm_angle=req.get("arm_angle"), **args)}
+                                                       arm_angle=req.get("arm_angle"),
+                                                       collision=req.get("collision") is True, **args)}
+            if path == "/api/workspace":
+                from .workspace_api import workspace_overlay
+
+                return {"ok": True, **workspace_overlay(voxel=req.get("voxel"), samples=req.get("samples"), **args)}
             filename, mime, content = gui_api.export(to=str(req.get("to", "")), **args)
             return {"ok": True, "filename": filename, "mime": mime, "content": content}
         except InputError as exc:

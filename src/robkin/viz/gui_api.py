@@ -173,7 +173,7 @@ def _finite(x: float | None) -> float | None:
 
 def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None = None,
              tip_link: str | None = None, strict_q: bool = True, overlay: Any = None, tool_row: bool = False,
-             other: Any = None) -> dict[str, Any]:
+             other: Any = None, collision: bool = False) -> dict[str, Any]:
     """Everything the page shows for a robot at q: joints, all representations, URDF, pose, geometry.
 
     Returns a JSON-ready dict: ``name``, ``n``, ``joints`` (name, type, lower, upper, flip), ``scale``,
@@ -190,7 +190,8 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
     description to compare with: ``check`` holds its scene at the same q (its differences from the
     robot multiplied by ``exaggerate``, see ``robkin.viz.difference``), the difference ``arrows``
     (true distances), and ``robkin check``'s diagnosis of the whole robot, kinematics and mass
-    properties (``robkin.viz.check_view.check_other``).
+    properties (``robkin.viz.check_view.check_other``). ``collision`` true: ``collision`` says which
+    links collide with each other at q (``robkin.viz.collision_api.collision_answer``), else it is null.
     """
     from .. import se3
     from ..io.documents.reader import document_from_robot
@@ -227,6 +228,7 @@ def describe(text: str, fmt: str = "auto", q: Any = None, base_link: str | None 
         "motions": _motions(robot, Q),
         **_arm_angle(robot, Q),
         "check": None if other is None else check_other(robot, Q, other, _robot),
+        "collision": _collision(robot, Q, collision, text, fmt, base_link, tip_link, tool_row),
         "warnings": notes,
     }
 
@@ -242,7 +244,8 @@ def _motions(robot: Robot, Q: np.ndarray) -> list | None:
 
 
 def solve_ik(text: str, fmt: str, target: Any, q0: Any, base_link: str | None = None,
-             tip_link: str | None = None, tool_row: bool = False, arm_angle: Any = None) -> dict[str, Any]:
+             tip_link: str | None = None, tool_row: bool = False, arm_angle: Any = None,
+             collision: bool = False) -> dict[str, Any]:
     """Joint values putting the tool at ``target`` (4x4), started from ``q0`` (the configuration shown).
 
     One IK attempt (no random restarts: dragging asks 30+ times a second and each answer seeds the
@@ -252,7 +255,8 @@ def solve_ik(text: str, fmt: str, target: Any, q0: Any, base_link: str | None = 
     ``at_limit`` (indices of joints on a limit), ``solutions`` (all branches found), and at ``q``
     the tool pose ``T``, its ``rpy_xyz`` and the ``scene`` to draw. ``arm_angle`` (radians, SRS arms
     only): solve at that arm angle, on q0's branch (``kinematics.srs``); the answer's ``srs`` and
-    ``arm_angle`` say whether the arm is SRS and the arm angle of ``q``.
+    ``arm_angle`` say whether the arm is SRS and the arm angle of ``q``. ``collision`` true: the
+    answer's ``collision`` says which links collide at ``q`` (as ``describe``'s).
 
     ``text``, ``fmt``: the robot, as the page holds it (a robot file's text and its format, 'auto' to guess);
     ``base_link``, ``tip_link``: its chain; ``tool_row``: a table's last row is the tool, not a joint.
@@ -286,7 +290,19 @@ def solve_ik(text: str, fmt: str, target: Any, q0: Any, base_link: str | None = 
             "message": res.message or "", "method": res.method, "at_limit": at_limit.tolist(),
             "solutions": sols, "T": T_q.tolist(),
             "rpy_xyz": np.concatenate([se3.rpy_from_matrix(T_q[:3, :3]), T_q[:3, 3]]).tolist(),
-            "scene": build_scene(robot, q).to_json(), "motions": _motions(robot, q), **_arm_angle(robot, q)}
+            "scene": build_scene(robot, q).to_json(), "motions": _motions(robot, q), **_arm_angle(robot, q),
+            "collision": _collision(robot, q, collision, text, fmt, base_link, tip_link, tool_row)}
+
+
+def _collision(robot: Robot, q: np.ndarray, wanted: bool, text: str, fmt: str, base_link: str | None,
+               tip_link: str | None, tool_row: bool) -> dict[str, Any] | None:
+    """The self-collision answer at q when ``wanted`` (``collision_api``), keyed as ``_robot`` memoises."""
+    if wanted is not True:
+        return None
+    from .collision_api import collision_answer
+
+    key = (text, fmt or "auto", base_link or None, tip_link or None, tool_row is True)
+    return collision_answer(robot, key, text, q)
 
 
 def _arm_angle(robot: Robot, q: np.ndarray) -> dict[str, Any]:

@@ -38,7 +38,7 @@ class MeshRegistry:
     """Mesh files the page may fetch (by id) and the visuals to draw, for one robot file.
 
     ``visuals`` is JSON-ready: one dict per visual shape with ``body`` (0 = base, i = moves with
-    joint i), ``pose`` (4x4, at home in the base frame), ``kind`` (mesh/box/cylinder/sphere),
+    joint i), ``link`` (its link's name), ``pose`` (4x4, at home in the base frame), ``kind`` (mesh/box/cylinder/sphere),
     ``size``, ``rgba`` (or None) and, for meshes, ``mesh`` (the id) and ``format`` (stl/dae/obj).
     Meshes that cannot be found are listed in ``missing`` (the page says so) and not drawn.
     """
@@ -62,7 +62,7 @@ class MeshRegistry:
         ids: dict[Path, str] = {}
         for s in shapes:
             g = s.geometry
-            item: dict[str, Any] = {"body": s.body, "pose": s.pose.tolist(), "kind": g.kind,
+            item: dict[str, Any] = {"body": s.body, "link": s.link, "pose": s.pose.tolist(), "kind": g.kind,
                                     "size": list(g.size), "rgba": list(s.material.rgba) if s.material and
                                     s.material.rgba else None}
             if g.kind == "mesh":

@@ -7,6 +7,8 @@ import { loadVisuals } from "./meshes.js";
 import { $, el, num, cell, display } from "./dom.js";
 import { representationSections } from "./tables.js";
 import { checkContents } from "./check.js";
+import { showCollision } from "./collision.js";
+import { WorkspaceOverlay } from "./workspace_overlay.js";
 
 const state = {
   robot: null,          // last good answer of /api/describe
@@ -18,7 +20,7 @@ const state = {
   reps: null,           // /api/representations: the tables, overlays and downloads to offer
   meshKey: null,        // whether the visuals are shown (only for the command-line robot, unedited)
 };
-let viewer = null;
+let viewer = null, workspace = null;
 
 // ------------------------------------------------------------------ talking to the server
 async function post(path, body) {
@@ -59,7 +61,7 @@ function currentQ() {
 // (strict_q false) instead of with an error.
 function refresh() {
   const body = { ...inputs(), q: state.robot ? currentQ() : null, strict_q: false, overlay: overlayList(),
-                 other: otherInputs() };
+                 other: otherInputs(), collision: $("check-collision").checked };
   if (state.inflight) { state.pending = body; return; }
   send(body);
 }
@@ -82,7 +84,7 @@ function send(body) {
 function dragged(T) {
   if (!state.robot) return;
   $("view").dataset.target = JSON.stringify(T);
-  const body = { ...inputs(), target: T, q0: currentQ() };
+  const body = { ...inputs(), target: T, q0: currentQ(), collision: $("check-collision").checked };
   if (!$("arm-angle").hidden && $("arm-angle-hold").checked) body.arm_angle = armAngle();
   if (state.ik.inflight) { state.ik.pending = body; return; }
   sendIK(body);
@@ -102,7 +104,8 @@ function sendIK(body) {
       showArmAngle(res);
       const scene = res.scene;
       state.robot = { ...state.robot, q: res.q, T: res.T, rpy_xyz: res.rpy_xyz, scene, motions: res.motions,
-                      overlays: [], check: null };
+                      overlays: [], check: null, collision: res.collision };
+      showCollision(res.collision, askAgain);
       viewer.show(state.robot, { keepTarget: true });
       showPose(state.robot);
       document.body.dataset.ikUpdates = String(Number(document.body.dataset.ikUpdates || 0) + 1);
@@ -128,7 +131,8 @@ function showArmAngle(res) {
 
 function swivel() {
   if (!state.robot) return;
-  const body = { ...inputs(), target: state.robot.T, q0: currentQ(), arm_angle: armAngle() };
+  const body = { ...inputs(), target: state.robot.T, q0: currentQ(), arm_angle: armAngle(),
+                 collision: $("check-collision").checked };
   if (state.ik.inflight) { state.ik.pending = body; return; }
   sendIK(body);
 }
@@ -203,10 +207,12 @@ function apply(res, body) {
   showArmAngle(res);
   showAgreement(res);
   showCheck(res);
+  showCollision(res.collision, askAgain);
   const tkey = [body.text, body.fmt, body.base_link, body.tip_link, body.tool_row, $("units").value].join("\u0000");
   if (state.tablesKey !== tkey) {
     state.tablesKey = tkey;
     showTables(res);
+    if ($("show-workspace").checked) showWorkspace();  // the map of the robot now shown
   }
   showMeshes(body);
   document.body.dataset.state = "ready";
@@ -335,6 +341,24 @@ function showPose(res) {
               el("td", { text: display.deg ? "°" : "rad" })));
 }
 
+// The self-collision model was still being built: ask again for the q shown (after a drag's last answer).
+function askAgain() { if (!viewer.dragging && !state.ik.inflight) refresh(); }
+
+// ------------------------------------------------------------------ workspace overlay
+// The robot's reachable voxels as points (workspace_overlay.js, POST /api/workspace); data-workspace
+// counts the points drawn (for tests).
+function showWorkspace() {
+  $("workspace-status").textContent = "workspace: sampling…";
+  workspace.show(inputs(), post).then((res) => {
+    if (!$("show-workspace").checked) { workspace.hide(); return; }  // unchecked meanwhile
+    if (!res.ok) { $("workspace-status").textContent = ""; showError(res.error); return; }
+    document.body.dataset.workspace = String(workspace.group.children.reduce(
+      (k, c) => k + c.geometry.getAttribute("position").count, 0));  // points drawn
+    $("workspace-status").textContent = "workspace: " + res.points.length + " voxels of " + res.voxel.toPrecision(2) +
+      " reached (" + res.samples + " samples; colour: approach directions reached, of " + res.orientations + ")";
+  }).catch((err) => showError("connection to the robkin server failed: " + err));
+}
+
 // ------------------------------------------------------------------ meshes
 // Only the robot given on the command line, unedited and with its chain, has visuals the server serves.
 function showMeshes(body) {
@@ -384,6 +408,14 @@ function showFields() {
 
 async function start() {
   viewer = new Viewer($("view"), { onDrag: dragged, onDragEnd: dragEnded });
+  workspace = new WorkspaceOverlay(viewer);
+  $("show-workspace").addEventListener("change", (e) => {
+    if (e.target.checked) { showWorkspace(); return; }
+    workspace.hide();
+    $("workspace-status").textContent = "";
+    document.body.dataset.workspace = "0";
+  });
+  $("check-collision").addEventListener("change", () => refresh());
   let timer = null;
   const edited = () => { showFields(); showExample(); clearTimeout(timer); timer = setTimeout(() => refresh(), 250); };
   $("robot-text").addEventListener("input", edited);

@@ -45,13 +45,13 @@ function primitive(v) {
   return new THREE.Mesh(geometry, material(v.rgba));
 }
 
-// visuals: the server's list (robkin.viz.meshes.MeshRegistry.visuals) -> [{body, pose, object}].
+// visuals: the server's list (robkin.viz.meshes.MeshRegistry.visuals) -> [{body, link, pose, object}].
 export async function loadVisuals(visuals, urlOf = serverUrl) {
   return Promise.all(visuals.map(async (v) => {
     const inner = v.kind === "mesh" ? await meshObject(v, urlOf) : primitive(v);
     if (v.kind === "mesh") inner.scale.multiply(new THREE.Vector3(...v.size));
     const object = new THREE.Group();
     object.add(inner);
-    return { body: v.body, pose: v.pose, object };
+    return { body: v.body, link: v.link, pose: v.pose, object };
   }));
 }

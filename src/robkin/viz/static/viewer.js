@@ -9,7 +9,9 @@ import { OrbitControls } from "three/addons/controls/OrbitControls.js";
 import { TransformControls } from "three/addons/controls/TransformControls.js";
 
 export const COLORS = { link: 0x3a3a3a, axis: 0x1f4fe0, tool: 0xff3fa4, base: 0x000000, differs: 0xe02020,
-                        other: 0xf28e2b };
+                        other: 0xf28e2b, colliding: 0xe02020 };
+// Links in self collision (the answer's collision.links): their meshes and stick segments drawn in this.
+const COLLIDING = new THREE.MeshStandardMaterial({ color: COLORS.colliding, roughness: 0.5 });
 // Link colours of overlaid representations (as in the matplotlib pictures).
 export const OVERLAY_COLORS = [0xf28e2b, 0x2ca02c, 0x9467bd, 0x8c564b];
 // Lengths relative to the robot's size (same fractions as the matplotlib pictures).
@@ -104,7 +106,8 @@ export class Viewer {
   }
 
   // ------------------------------------------------------------------ what is drawn
-  // res: {scene, overlays, check?: {scene, first_joint}, scale}; keepTarget: leave the gizmo where it is.
+  // res: {scene, overlays, check?: {scene, first_joint}, scale, collision?: {links, segments}} (the links
+  // in self collision, robkin.viz.collision_api); keepTarget: leave the gizmo where it is.
   show(res, { keepTarget = false } = {}) {
     const first = !this.res, rescaled = (res.scale || 1) !== this.scale;
     const wasInView = !first && this.inView();  // a view the user zoomed into stays as it is
@@ -116,7 +119,8 @@ export class Viewer {
     (res.overlays || []).forEach((o, k) => this.stick(o, OVERLAY_COLORS[k % OVERLAY_COLORS.length], true));
     const check = res.check;
     if (check) this.stick(check.scene, COLORS.other, true, check.first_joint);
-    this.stick(res.scene, COLORS.link, false, check ? check.first_joint : null);
+    const hit = res.collision && res.collision.state === "ready" ? res.collision : null;
+    this.stick(res.scene, COLORS.link, false, check ? check.first_joint : null, new Set(hit ? hit.segments : []));
     this.triad(res.scene.tool, COLORS.tool, 1, this.robot);
     if (res.show_frames) for (const F of res.scene.frames) this.rgbTriad(F);
     for (const a of (check ? check.arrows : res.arrows) || []) this.differenceArrow(a);
@@ -124,6 +128,7 @@ export class Viewer {
     if (first || rescaled) this.buildWorld();  // grid and base frame sized to the robot
     if (first) this.view("iso");
     this.posesMeshes(res);
+    this.paintColliding(hit ? hit.links : []);
     if (wasInView && this.follow && !this.dragging && !this.inView()) this.followRobot();
     this.render();
   }
@@ -170,7 +175,8 @@ export class Viewer {
     this.render();
   }
 
-  stick(sc, color, dashed, highlight = null) {
+  // A stick figure: the links' polyline (segments in `red` drawn in the colliding colour), joint axes.
+  stick(sc, color, dashed, highlight = null, red = new Set()) {
     const L = this.scale, g = this.robot;
     const pts = sc.links.map(v3);
     if (dashed) {
@@ -180,7 +186,9 @@ export class Viewer {
       g.add(line);
     } else {
       const mat = new THREE.MeshStandardMaterial({ color, roughness: 0.6 });
-      for (let i = 1; i < pts.length; i++) g.add(this.rod(pts[i - 1], pts[i], LINK_RADIUS * L, mat));
+      for (let i = 1; i < pts.length; i++) {
+        g.add(this.rod(pts[i - 1], pts[i], (red.has(i - 1) ? 1.4 : 1) * LINK_RADIUS * L, red.has(i - 1) ? COLLIDING : mat));
+      }
       const ball = new THREE.SphereGeometry(LINK_RADIUS * L * 1.6, 16, 12);
       for (const p of pts) { const m = new THREE.Mesh(ball, mat); m.position.copy(p); g.add(m); }
     }
@@ -265,10 +273,31 @@ export class Viewer {
     this.clear(this.meshes);
     this.visuals = visuals;
     for (const v of visuals) this.meshes.add(v.object);
-    if (this.res) this.posesMeshes(this.res);
+    if (this.res) {
+      this.posesMeshes(this.res);
+      const c = this.res.collision;
+      this.paintColliding(c && c.state === "ready" ? c.links : []);
+    }
     // meshes arrive after the first picture: frame them too, unless the user has moved the camera since
     if (visuals.length && this.res && !this.userMoved) this.view("fit");
     this.render();
+  }
+
+  // The visuals of the links in `links` drawn in the colliding colour, the others in their own.
+  paintColliding(links) {
+    const on = new Set(links);
+    let painted = 0;
+    for (const v of this.visuals || []) {
+      const red = on.has(v.link);
+      painted += red ? 1 : 0;
+      v.object.traverse((o) => {
+        if (!o.isMesh) return;
+        if (!o.userData.own) o.userData.own = o.material;
+        o.material = red ? COLLIDING : o.userData.own;
+      });
+    }
+    this.container.dataset.colliding = links.join(",");           // for tests
+    this.container.dataset.collidingMeshes = String(painted);
   }
 
   posesMeshes(res) {
