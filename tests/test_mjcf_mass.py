@@ -17,7 +17,7 @@ import warnings
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from robkin.io.mjcf.reader import robot_from_mjcf
@@ -26,9 +26,10 @@ mujoco = pytest.importorskip("mujoco")
 
 #: The promise (relative to the largest entry of M, g or the torques).
 REL_TOL = 1e-9
-#: Observed on the random models of this file without meshes (this machine, 2026-11-28): 6e-15; 1e-13
-#: leaves room for other CPUs while a modelling error still fails.
-ROUNDING = 1e-13
+#: Observed on the random models of this file without meshes (this machine): 6e-15 on CI's draws
+#: (2026-11-28), 1.1e-13 on a random draw with a 0.28 m shell ellipsoid beside 20 mm geoms (2026-11-29);
+#: 1e-12 leaves room for such draws and other CPUs while a modelling error (>= 1e-9) still fails.
+ROUNDING = 1e-12
 #: Meshes: mass and centre of mass agree to ~1e-16, so g(q) keeps the promise; M(q) and the torques
 #: differ by what MuJoCo 4.0 leaves in a mesh's principal axes (its compiler finds them by Jacobi rotations
 #: that stop early, up to ~1e-6 rad off the exact axes whatever the mesh's size; robkin uses the exact
@@ -191,9 +192,22 @@ def test_primitives_fromto_mass_density_and_shells(bodies):
        st.sampled_from(["legacy", "convex", "exact", "shell"]), st.booleans(), st.integers(0, 10 ** 6))
 def test_meshes_in_every_inertia_mode_and_fitted_primitives(bodies, mode, fitaabb, seed):
     xml = chain_model(bodies, mode=mode, seed=seed, compiler=f'fitaabb="{str(fitaabb).lower()}"')
+    # a capsule or cylinder fitted to a flat hull's box can get a half length of 0, which MuJoCo refuses
+    # ("size 1 must be positive in geom"): not a model to compare, draw another
+    assume(_fitted_size_positive(xml))
     # a primitive fitted to a mesh's bounding box sits at the box's centre in the mesh's principal frame:
     # MuJoCo's frame moves that centre too
     compare(xml, tip="tip", tol=AABB_TOL if fitaabb else MESH_TOL, g_tol=AABB_TOL if fitaabb else REL_TOL)
+
+
+def _fitted_size_positive(xml: str) -> bool:
+    try:
+        mujoco.MjModel.from_xml_string(xml)
+    except ValueError as exc:
+        if "must be positive in geom" in str(exc):
+            return False
+        raise
+    return True
 
 
 GEOMS = ['<geom type="capsule" fromto="0 0 0 0.3 0.1 0.2" size="0.05"/>',

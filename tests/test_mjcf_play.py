@@ -284,3 +284,18 @@ def test_a_robot_without_masses_is_said_to_have_nothing_to_hold(tmp_path):
 
     status, err = _convert(["convert", str(EXAMPLES_DIR / "rrpr.yaml"), "--to", "mjcf", "-o", str(tmp_path / "r.xml")])
     assert status == 0 and "the source gave no masses): nothing to hold" in err, err
+
+
+def test_a_texture_warning_is_listed_but_does_not_fail_the_hold():
+    """MuJoCo discarding an OBJ mesh's texture coordinates changes nothing simulated (pybullet's Panda,
+    found by the zoo); any other compiler warning still fails the hold."""
+    from robkin.simulation.mujoco_check import HoldReport
+
+    def report(warning: str) -> HoldReport:
+        return HoldReport(5.0, 2500, 1e-12, "j1", 1e-15, [], [], 0, 0.0, 7, 0.1, 0.01,
+                          compile_warnings=[warning], mass=10.0)
+
+    texture = report("obj_decoder: invalid or missing face texture coordinate in 'meshes/link5.obj'; "
+                     "discarding texture coordinates")
+    assert texture.holds and "texture coordinate" in texture.line()
+    assert not report("Warning: Nan, Inf or huge value in QACC at DOF 0").holds

@@ -408,3 +408,22 @@ def test_collada_visual_is_drawn_in_its_own_colours(tmp_path):
     one = model([str(tmp_path / "one" / single)])
     split = model([str(tmp_path / "parts" / f) for f, _ in parts])
     assert split.mesh_facenum.sum() == one.mesh_facenum.sum()
+
+
+def test_a_primitive_of_size_zero_is_left_out_with_a_warning():
+    """pybullet's Laikago has visual spheres of radius 0: MuJoCo refuses the whole model for one
+    ("size 0 must be positive in geom"), so the writer leaves such shapes out and says which."""
+    urdf = """<robot name="r">
+      <link name="base"><visual><geometry><sphere radius="0"/></geometry></visual>
+        <inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+      <link name="arm"><visual><geometry><box size="0.1 0.1 0.4"/></geometry></visual>
+        <collision><geometry><cylinder radius="0.0" length="0.3"/></geometry></collision>
+        <inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+      <joint name="j" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
+        <limit lower="-1" upper="1" effort="10" velocity="1"/></joint>
+    </robot>"""
+    robot = robot_from_urdf(urdf)
+    with pytest.warns(UserWarning, match=r"2 shape\(s\) of size zero left out of the MJCF .*base: visual sphere"):
+        xml = mjcf_from_robot(robot)
+    model = mujoco.MjModel.from_xml_string(xml)   # loads: the zero-size shapes are gone
+    assert model.ngeom == 1 and model.geom_type[0] == mujoco.mjtGeom.mjGEOM_BOX

@@ -224,17 +224,17 @@ def robot_from_poe(poe: "PoE | ArrayLike", name: str | None = None, *, M: ArrayL
             # ~offset / sin away, and a next axis nearly parallel to this one would put the following
             # frame ~offset / sin^2 away, where FK loses eps times that (seen: 1e-4 of the robot size).
             u = v
-        frame = common_normal_frame(prev[:3, 3], prev[:3, 2], p, u, on="b", prev=prev, scale=scale)
+        joint_frame = common_normal_frame(prev[:3, 3], prev[:3, 2], p, u, on="b", prev=prev, scale=scale)
         # Nearly parallel axes (not parallel within robkin.lines' tolerance) meet their common normal
         # ~offset / sin away: SO-100's base z and joint-1 axis are 6.3e-6 rad apart and put J_1 7.1 km out,
         # where FK through the frames loses eps x 7 km = 6e-12 of the robot's size. Such a frame slides back
         # along its axis to the point nearest the previous origin (z, x kept: still a frame on the axis whose x
         # is the common normal's direction); FAR x the robot's size is far beyond any real link offset.
-        o, z = frame[:3, 3], frame[:3, 2]
+        o, z = joint_frame[:3, 3], joint_frame[:3, 2]
         foot = o + float(np.dot(prev[:3, 3] - o, z)) * z
         if np.linalg.norm(foot - o) > FAR * scale:
-            frame[:3, 3] = foot
-        prev = frame
+            joint_frame[:3, 3] = foot
+        prev = joint_frame
         frames[i] = prev
     frames[-1] = poe.M
     return Robot(frames, poe.joints, name=name, bodies=table_bodies(poe.masses, poe.link_frames()))

@@ -12,7 +12,9 @@ an ``<asset><material>`` of that name, an unnamed colour the geom's ``rgba``; te
 
 Mesh files: ``mesh_files`` maps a shape's file name as the source wrote it to the ``file`` to write
 (relative to the output file's folder, where ``robkin convert`` copies the meshes). A mesh shape whose
-file is not in it is left out; the writer warns once with how many and which.
+file is not in it is left out; the writer warns once with how many and which. So is a primitive of
+size zero or less (a sphere of radius 0, as pybullet's Laikago has), which MuJoCo refuses ("size 0 must
+be positive in geom"), failing the whole model.
 
 Mesh inertia: no geom adds mass, but MuJoCo computes every mesh's volume when it compiles and refuses a
 mesh whose volume is (nearly) zero, such as a flat decal of a visual mesh. A mesh only visual geoms use
@@ -66,6 +68,8 @@ class GeomAssets:
         self.colliding: set[str] = set()  # mesh assets a collision geom uses
         self.materials: dict[str, Material] = {}
         self.missing: list[str] = []
+        #: "link: kind" of the primitives left out because a size is zero or less (or not finite)
+        self.degenerate: list[str] = []
         self._names: set[str] = set()
         self._geom_names: set[str] = set()
 
@@ -134,6 +138,9 @@ class GeomAssets:
             what = f'type="mesh" mesh={quoteattr(mesh)}'
             if s.role == "collision":
                 self.colliding.add(mesh)
+        elif not all(np.isfinite(v) and v > 0 for v in g.size):
+            self.degenerate.append(f"{s.link}: {s.role} {g.kind} of size {' '.join(_num(v) for v in g.size)}")
+            return None
         elif g.kind == "box":
             what = f'type="box" size="{_nums(np.asarray(g.size) / 2)}"'
         elif g.kind == "sphere":

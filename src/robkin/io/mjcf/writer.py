@@ -293,6 +293,11 @@ def mjcf_text(robot: Robot, *, mesh_files: Mapping[str, str] | None = None, actu
         warnings.warn(f"body(ies) {', '.join(repaired[:6])}{', ...' if len(repaired) > 6 else ''}: inertia not "
                       f"physical (a negative principal moment, or one above the sum of the other two): clipped to "
                       f"the nearest valid moments", UserWarning, stacklevel=3)
+    if geoms.degenerate:
+        shown = "; ".join(geoms.degenerate[:3]) + (f"; ... ({len(geoms.degenerate) - 3} more)"
+                                                    if len(geoms.degenerate) > 3 else "")
+        warnings.warn(f"{len(geoms.degenerate)} shape(s) of size zero left out of the MJCF (MuJoCo refuses them): "
+                      f"{shown}", UserWarning, stacklevel=3)
     if geoms.missing and mesh_files is None:  # with a mapping, its maker said what it could not find
         shown = ", ".join(geoms.missing[:4]) + (f", ... ({len(geoms.missing) - 4} more)" if len(geoms.missing) > 4 else "")
         warnings.warn(f"{len(geoms.missing)} mesh file(s) not available to the MJCF ({shown}): their shapes are "
