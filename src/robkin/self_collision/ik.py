@@ -72,6 +72,10 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     ----------
     ik : callable
         ``robkin.kinematics.ik.ik``.
+    robot : Robot
+        The robot.
+    T : array (4, 4) or (N, 4, 4)
+        Target pose(s) of the tool in the base frame (length units).
     model : SelfCollisionModel, optional
         Default: ``build.model_of(robot)``.
     level : {'capsules', 'parts', 'exact'}, optional

@@ -97,9 +97,12 @@ class SelfCollisionModel:
         self._caps = caps
         self._frame = np.array([c.body for c in self.capsules], dtype=np.intc)
         # the parts' hulls and capsules in their bodies' frames, for ``parts_apart``
-        self._parts: tuple[np.ndarray, ...] | None = None
+        self._parts: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
         if self.parts and {p.link for p in self.parts} >= set(names):
-            local, of_part, frame, bound = [], [[] for _ in names], [], []
+            local: list[np.ndarray] = []
+            of_part: list[list[int]] = [[] for _ in names]
+            frame: list[int] = []
+            bound: list[list[float]] = []
             for k, part in enumerate(p for p in self.parts if p.link in index):
                 inv = np.linalg.inv(J[part.body - 1]) if part.body > 0 else np.eye(4)
                 local.append(part.vertices @ inv[:3, :3].T + inv[:3, 3])
@@ -123,7 +126,14 @@ class SelfCollisionModel:
         return [(self._names[i], self._names[j]) for i, j in self._link_pairs]
 
     def with_disabled(self, disabled: Sequence[DisabledPair]) -> SelfCollisionModel:
-        """The same capsules with another allowed-collision matrix (an SRDF read back, say)."""
+        """The same capsules with another allowed-collision matrix (an SRDF read back, say).
+
+        Parameters
+        ----------
+        disabled : sequence of DisabledPair
+            The pairs never checked; both links of each must have collision geometry in this model
+            (``links``), else InputError naming the link.
+        """
         known = set(self._index)
         for d in disabled:
             for name in (d.link1, d.link2):
@@ -149,6 +159,15 @@ class SelfCollisionModel:
           link_parts``) are tested for a separating plane (compiled, GJK): still conservative, tighter;
         - ``'exact'``: what the parts leave is collided with the links' own geometry (coal,
           ``exact.ExactChecker``, a Python call per configuration): the meshes' answer. Needs coal.
+
+        Parameters
+        ----------
+        q : array (n,) or (N, n)
+            Joint values (rad for revolute joints, length units for prismatic ones).
+        level : {'capsules', 'parts', 'exact'}
+            How far the check goes (above).
+        threads : int, optional
+            Threads of the compiled kernels (None or 0: automatic, ``robkin.threads``; 1: this thread only).
         """
         from ..compiled.collision.capsules import collide
 
@@ -191,7 +210,15 @@ class SelfCollisionModel:
 
     def distances(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:
         """Distance between the capsules of each checked pair (length units; negative: they overlap by
-        that much): q (n,) -> (P,), (N, n) -> (N, P), in the order of ``pairs``."""
+        that much): q (n,) -> (P,), (N, n) -> (N, P), in the order of ``pairs``.
+
+        Parameters
+        ----------
+        q : array (n,) or (N, n)
+            Joint values (rad / length units).
+        threads : int, optional
+            Threads of the compiled kernel (None or 0: automatic, ``robkin.threads``).
+        """
         from ..compiled.collision.capsules import distances
 
         qa, single = self._q(q)
