@@ -63,6 +63,24 @@ def _collision_free(model: SelfCollisionModel, sols: list[np.ndarray], level: st
     return out
 
 
+def _first_free(model: SelfCollisionModel, sols: list[np.ndarray], level: str) -> list[np.ndarray]:
+    """Each target's first collision-free solution (1, n), or none (0, n): the solutions checked in
+    rounds, IK's preferred one first, a target leaving the rounds at its first free one (most targets
+    need one or two of their up to 8 closed-form branches checked, not all)."""
+    n = sols[0].shape[1] if sols else 0
+    out = [np.empty((0, n)) for _ in sols]
+    left = [i for i, s in enumerate(sols) if len(s)]
+    r = 0
+    while left:
+        hit = np.asarray(model.collides(np.vstack([sols[i][r] for i in left]), level=level))
+        for i, h in zip(left, hit):
+            if not h:
+                out[i] = sols[i][r:r + 1]
+        r += 1
+        left = [i for i, h in zip(left, hit) if h and len(sols[i]) > r]
+    return out
+
+
 def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, model: SelfCollisionModel | None = None,
                       level: str | None = None, q0: ArrayLike | None = None, all_solutions: bool = False,
                       rng: np.random.Generator | int | None = 0, **options: Any) -> Any:
@@ -92,15 +110,22 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     res = ik(robot, T, q0=q0, all_solutions=all_solutions, rng=rng, **options)
     single = np.ndim(res.success) == 0
     n = robot.n
+    ok = np.atleast_1d(res.success).astype(bool)
+    # sols, free: per target left to settle, every solution found and the collision-free ones
     if all_solutions:
-        sols = [res.solutions] if single else list(res.solutions)
-        sols = [np.asarray(s, dtype=float).reshape(-1, n) for s in sols]
-    else:   # the preferred solution first; the other branches are asked for only where it collides
-        ok = np.atleast_1d(res.success)
-        sols = [q[None] if good else np.empty((0, n)) for q, good in zip(np.array(res.q, dtype=float).reshape(-1, n), ok)]
-    free = _collision_free(model, sols, level)
+        listed = [res.solutions] if single else list(res.solutions)
+        sols = dict(enumerate(np.asarray(s, dtype=float).reshape(-1, n) for s in listed))
+        free = dict(enumerate(_collision_free(model, list(sols.values()), level)))
+        kept = np.zeros(len(ok), dtype=bool)
+    else:   # the preferred solutions, checked in one batch; the other branches only where one collides
+        qs = np.array(res.q, dtype=float).reshape(-1, n)
+        kept = ok.copy()
+        if ok.any():
+            kept[ok] = ~np.asarray(model.collides(qs[ok], level=level), dtype=bool)
+        sols = {int(i): qs[i:i + 1] if ok[i] else np.empty((0, n)) for i in np.flatnonzero(~kept)}
+        free = {i: np.empty((0, n)) for i in sols}
     targets = np.asarray(T, dtype=float).reshape(-1, 4, 4)
-    left = [i for i, f in enumerate(free) if not len(f)]
+    left = [i for i, f in free.items() if not len(f)]
     if left and not all_solutions and res.method != "numeric":   # closed form: every branch of those targets
         sub = ik(robot, targets[left] if not single else targets[0], q0=None if q0 is None else
                  (np.asarray(q0, dtype=float).reshape(-1, n)[left] if np.ndim(q0) == 2 else q0),
@@ -109,12 +134,12 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
         for i, g in zip(left, got):
             sols[i] = g
-        for i, g in zip(left, _collision_free(model, got, level)):
+        for i, g in zip(left, _first_free(model, got, level)):
             free[i] = g
     gen = np.random.default_rng(rng)
     numeric = {k: v for k, v in options.items() if k not in ("method",)}
     for _ in range(RETRIES):
-        left = [i for i, f in enumerate(free) if not len(f)]
+        left = [i for i, f in free.items() if not len(f)]
         if not left:
             break
         starts = _free_starts(robot, model, len(left), gen)
@@ -131,9 +156,11 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         for i, g in zip(left, _collision_free(model, got, level)):
             free[i] = g
     q = np.array(res.q, dtype=float).reshape(-1, robot.n)
-    success = np.zeros(len(free), dtype=bool)
+    success = kept.copy()
     messages = [res.message] if single else list(res.message)
-    for i, f in enumerate(free):
+    for i in np.flatnonzero(kept):
+        messages[i] = ""
+    for i, f in free.items():
         if len(f):
             q[i], success[i] = f[0], True
             messages[i] = ""
@@ -147,7 +174,7 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     return replace(res, q=q[0] if single else q, success=bool(success[0]) if single else success,
                    position_error=float(ep[0]) if single else ep, orientation_error=float(eo[0]) if single else eo,
                    message=messages[0] if single else messages,
-                   solutions=None if not all_solutions else (free[0] if single else free))
+                   solutions=None if not all_solutions else (free[0] if single else [free[i] for i in range(len(free))]))
 
 
 def _errors(robot: Robot, targets: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

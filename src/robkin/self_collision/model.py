@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike
 
 from ..checks import check_q, check_threads
 from ..errors import InputError
-from .capsules import Capsule
+from .capsules import Capsule, fit_capsule
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
@@ -97,7 +97,7 @@ class SelfCollisionModel:
         self._caps = caps
         self._frame = np.array([c.body for c in self.capsules], dtype=np.intc)
         # the parts' hulls and capsules in their bodies' frames, for ``parts_apart``
-        self._parts: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
+        self._parts: tuple[np.ndarray, ...] | None = None
         if self.parts and {p.link for p in self.parts} >= set(names):
             local: list[np.ndarray] = []
             of_part: list[list[int]] = [[] for _ in names]
@@ -112,8 +112,13 @@ class SelfCollisionModel:
             start = np.concatenate([[0], np.cumsum([len(h) for h in local])]).astype(np.intp)
             link_start = np.concatenate([[0], np.cumsum([len(ks) for ks in of_part])]).astype(np.intp)
             link_parts = np.array([k for ks in of_part for k in ks], dtype=np.intc)
+            # each link's hull (its parts' points together): one plane between two hulls clears the pair
+            # before its parts are tried
+            hulls = [_hull(np.vstack([local[k] for k in ks])) for ks in of_part]
+            hull_start = np.concatenate([[0], np.cumsum([len(h) for h in hulls])]).astype(np.intp)
+            hull_bound = np.array([[*a, *b, r] for a, b, r in (fit_capsule(h) for h in hulls)])
             self._parts = (np.vstack(local), start, np.array(frame, dtype=np.intc), np.array(bound), link_start,
-                           link_parts)
+                           link_parts, np.vstack(hulls), hull_start, hull_bound)
 
     @property
     def links(self) -> list[str]:
@@ -191,12 +196,16 @@ class SelfCollisionModel:
         rows = np.flatnonzero(hit)
         d = self.distances(qa[rows], threads=threads or None)
         r_idx, p_idx = np.nonzero(d <= 0.0)
+        # per configuration, the deepest capsule overlap first: the likeliest contact ends its row soonest
+        by = np.lexsort((d[r_idx, p_idx], r_idx))
+        r_idx, p_idx = r_idx[by], p_idx[by]
         queries = np.column_stack([r_idx, self._link_pairs[p_idx]]).astype(np.intc)
         if self._parts is not None and len(queries):
             from ..compiled.collision.parts import parts_apart
 
             frames = self.robot.frames_at(np.ascontiguousarray(qa[rows]), threads=threads or None)
-            cleared = parts_apart(frames, *self._parts, queries, threads).view(np.bool_)
+            V, S, K, B, LS, LP, H, HS, HB = self._parts
+            cleared = parts_apart(frames, V, S, K, B, LS, LP, H, HS, HB, queries, threads).view(np.bool_)
             queries = queries[~cleared]
         hit[rows] = False
         if not exact:
@@ -236,3 +245,11 @@ class SelfCollisionModel:
             raise InputError("closest: one configuration q (n,)")
         names = self.pairs
         return [(names[i][0], names[i][1], float(d[i])) for i in np.argsort(d, kind="stable")[:max(int(k), 0)]]
+
+
+def _hull(P: np.ndarray) -> np.ndarray:
+    """The vertices of the convex hull of the points P (k, 3) (P itself when flat: a plane between point
+    sets is one between their hulls either way)."""
+    from ..collision.hull import convex_hull, is_flat
+
+    return P if is_flat(P) or len(P) < 5 else convex_hull(P)[0]
