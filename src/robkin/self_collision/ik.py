@@ -117,12 +117,14 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         sols = dict(enumerate(np.asarray(s, dtype=float).reshape(-1, n) for s in listed))
         free = dict(enumerate(_collision_free(model, list(sols.values()), level)))
         kept = np.zeros(len(ok), dtype=bool)
+        sols_0: dict[int, np.ndarray] = {}
     else:   # the preferred solutions, checked in one batch; the other branches only where one collides
         qs = np.array(res.q, dtype=float).reshape(-1, n)
         kept = ok.copy()
         if ok.any():
             kept[ok] = ~np.asarray(model.collides(qs[ok], level=level), dtype=bool)
         sols = {int(i): qs[i:i + 1] if ok[i] else np.empty((0, n)) for i in np.flatnonzero(~kept)}
+        sols_0 = {i: s[0] for i, s in sols.items() if len(s)}
         free = {i: np.empty((0, n)) for i in sols}
     targets = np.asarray(T, dtype=float).reshape(-1, 4, 4)
     left = [i for i, f in free.items() if not len(f)]
@@ -134,7 +136,9 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
         for i, g in zip(left, got):
             sols[i] = g
-        for i, g in zip(left, _first_free(model, got, level)):
+        # the preferred solution was checked already: the other branches only
+        others = [g[~np.all(np.abs(g - sols_0[i]) <= 0.0, axis=1)] if i in sols_0 else g for i, g in zip(left, got)]
+        for i, g in zip(left, _first_free(model, others, level)):
             free[i] = g
     gen = np.random.default_rng(rng)
     numeric = {k: v for k, v in options.items() if k not in ("method",)}

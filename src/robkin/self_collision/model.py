@@ -27,6 +27,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
     from .capsules import Part
     from .exact import ExactChecker
+    from .pairmaps import PairMap
 
 __all__ = ["SelfCollisionModel", "DisabledPair", "LEVELS"]
 
@@ -98,6 +99,7 @@ class SelfCollisionModel:
         self._frame = np.array([c.body for c in self.capsules], dtype=np.intc)
         # the parts' hulls and capsules in their bodies' frames, for ``parts_apart``
         self._parts: tuple[np.ndarray, ...] | None = None
+        self._maps: list[PairMap] | None = None     # ``pairmaps.pair_maps``, built at the first use
         if self.parts and {p.link for p in self.parts} >= set(names):
             local: list[np.ndarray] = []
             of_part: list[list[int]] = [[] for _ in names]
@@ -146,6 +148,15 @@ class SelfCollisionModel:
                     raise InputError(f"disable_collisions: link {name!r} has no collision geometry in this "
                                      f"robot (links: {', '.join(sorted(known))})")
         return SelfCollisionModel(self.robot, self.capsules, list(disabled), self.samples, self.exact, self.parts)
+
+    def pair_maps(self) -> list[PairMap]:
+        """The tabulated pairs of the 'parts' level (``pairmaps``: pairs one or two revolute joints move
+        against each other, cells proven apart), built at the first call (a second or so for a UR5)."""
+        if self._maps is None:
+            from .pairmaps import pair_maps
+
+            self._maps = pair_maps(self)
+        return self._maps
 
     def _q(self, q: ArrayLike) -> tuple[np.ndarray, bool]:
         qa = np.asarray(q)
@@ -201,6 +212,11 @@ class SelfCollisionModel:
         r_idx, p_idx = r_idx[by], p_idx[by]
         queries = np.column_stack([r_idx, self._link_pairs[p_idx]]).astype(np.intc)
         if self._parts is not None and len(queries):
+            from .pairmaps import cleared as map_cleared
+
+            maps = self.pair_maps()
+            if maps:    # pairs moved by one or two joints: their tabulated cells first
+                queries = queries[~map_cleared(maps, qa[rows], r_idx, p_idx)]
             from ..compiled.collision.parts import parts_apart
 
             frames = self.robot.frames_at(np.ascontiguousarray(qa[rows]), threads=threads or None)

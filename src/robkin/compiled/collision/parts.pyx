@@ -11,6 +11,7 @@ Queries are split over threads (``prange``; ``threads`` 0: automatic, ``robkin.t
 """
 
 cimport numpy as cnp
+from libc.math cimport sqrt
 from cython.parallel cimport prange, threadid
 from robkin.compiled.collision.segments cimport segment_distance2
 from robkin.compiled.runtime.threads cimport batch_threads
@@ -93,7 +94,7 @@ cdef double support_gap(const double* A, int na, const double* TA, const double*
 
 
 cdef bint apart(const double* A, int na, const double* TA, const double* B, int nb, const double* TB,
-               const double* start, double* hint, const double* TH, int steps) noexcept nogil:
+               const double* start, double* hint, const double* TH, int steps, double margin) noexcept nogil:
     """True only when a plane separates the convex hulls of the points A and B ((k, 3) each, in their own
     frames, placed by the poses TA and TB):
     a direction d with max over A of d.a < min over B of d.b, found by GJK on A - B. Anything else
@@ -102,7 +103,9 @@ cdef bint apart(const double* A, int na, const double* TA, const double* B, int 
     ``hint`` (3, in the frame TH; zero: none): a direction that separated this pair before, tried first,
     replaced by the separating direction found. TH is the frame of the body before B's (B's joint axis
     is fixed in it): a plane along that axis stays a separating plane whatever the joint's angle, so the
-    hint often holds across the configurations of a batch. ``steps``: GJK steps before giving up."""
+    hint often holds across the configurations of a batch. ``steps``: GJK steps before giving up.
+    ``margin`` >= 0: the plane must leave at least that gap (length units), which proves the hulls at
+    least ``margin`` apart."""
     cdef double S[12]      # the simplex, newest point first
     cdef double d[3]
     cdef double w[3]
@@ -119,14 +122,14 @@ cdef bint apart(const double* A, int na, const double* TA, const double* B, int 
     if hint[0] != 0.0 or hint[1] != 0.0 or hint[2] != 0.0:
         for i in range(3):
             d[i] = hint[i] if TH == NULL else TH[4 * i] * hint[0] + TH[4 * i + 1] * hint[1] + TH[4 * i + 2] * hint[2]
-        if support_gap(A, na, TA, B, nb, TB, d, w) < 0.0:
+        if support_gap(A, na, TA, B, nb, TB, d, w) < -margin * sqrt(dot3(d, d)):
             return True                    # the remembered plane still separates them
     for i in range(3):
         d[i] = start[i]
     if dot3(d, d) < 1e-300:
         d[0] = 1.0
     for step in range(steps):
-        if support_gap(A, na, TA, B, nb, TB, d, w) < 0.0:
+        if support_gap(A, na, TA, B, nb, TB, d, w) < -margin * sqrt(dot3(d, d)):
             for i in range(3):             # A's farthest along d is short of B's nearest: apart
                 hint[i] = d[i] if TH == NULL else TH[i] * d[0] + TH[4 + i] * d[1] + TH[8 + i] * d[2]
             return True
@@ -222,11 +225,11 @@ cdef bint apart(const double* A, int na, const double* TA, const double* B, int 
 cdef int links_apart(const double* F, int n, const double* verts, const Py_ssize_t* start, const int* frame,
                      const double* bound, const Py_ssize_t* link_start, const int* link_parts,
                      const double* hulls, const Py_ssize_t* hull_start, const double* hull_bound,
-                     int u, int v, int L, int K, double* hints) noexcept nogil:
+                     int u, int v, int L, int K, double* hints, double margin) noexcept nogil:
     """1 if link u is apart from link v at the frames F ((n+1) x 16): their whole hulls apart (one plane,
     ``hulls``), else every part of one apart from every part of the other (their capsules apart, or a
     separating plane, ``apart``). ``hints``: the thread's remembered directions, 3 per ordered link pair
-    (L x L), then 3 per ordered part pair (K x K)."""
+    (L x L), then 3 per ordered part pair (K x K). ``margin``: each gap at least that (``apart``)."""
     cdef int pu, pv, k, l, i, na, nb
     cdef const double* Tu
     cdef const double* Tv
@@ -251,7 +254,7 @@ cdef int links_apart(const double* F, int n, const double* verts, const Py_ssize
         dc[i] = cu[i] + cu[3 + i] - cv[i] - cv[3 + i]
     if apart(hulls + 3 * hull_start[u], <int>(hull_start[u + 1] - hull_start[u]), Tu,
              hulls + 3 * hull_start[v], <int>(hull_start[v + 1] - hull_start[v]), Tv, dc, hints + 3 * (u * L + v),
-             Th, HULL_STEPS):
+             Th, HULL_STEPS, margin):
         return 1
     # else every part pair: capsules apart, or a plane between them
     for pv in range(<int>link_start[v], <int>link_start[v + 1]):
@@ -264,25 +267,26 @@ cdef int links_apart(const double* F, int n, const double* verts, const Py_ssize
             na = <int>(start[k + 1] - start[k])
             place(Tu, bound + 7 * k, cu)
             place(Tu, bound + 7 * k + 3, cu + 3)
-            rr = bound[7 * k + 6] + bound[7 * l + 6]
+            rr = bound[7 * k + 6] + bound[7 * l + 6] + margin
             if segment_distance2(cu, cu + 3, cv, cv + 3) > rr * rr:
                 continue
             for i in range(3):
                 dc[i] = cu[i] + cu[3 + i] - cv[i] - cv[3 + i]
             if not apart(verts + 3 * start[k], na, Tu, verts + 3 * start[l], nb, Tv, dc,
-                         hints + 3 * (L * L + k * K + l), Th, GJK_STEPS):
+                         hints + 3 * (L * L + k * K + l), Th, GJK_STEPS, margin):
                 return 0
     return 1
 
 
 def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, hulls, hull_start, hull_bound, queries,
-                int threads=0):
+                int threads=0, double margin=0.0):
     """uint8 (Q,): per query (row, link u, link v) of ``queries`` (Q, 3), 1 when every convex part of link
     u is proven apart from every part of link v (a separating plane each) at the frames ``frames[row]``
     ((M, n+1, 4, 4) as ``Robot.frames_at`` gives them); 0: not proven (touching, overlapping, or the
     search gave up), for an exact check to decide. The queries of one row (one configuration) are tried
     in their order until one is not proven: the row's later queries are left 0, untried (the
-    configuration is not cleared either way; put the likeliest contact first).
+    configuration is not cleared either way; put the likeliest contact first). ``margin`` >= 0 (length
+    units): 1 then proves the two links at least that far apart (every plane leaves that gap).
 
     Parts: ``verts`` (H, 3) the parts' points in their frames' coordinates at q = 0, part k's rows
     ``start[k]:start[k+1]``, ``frame[k]`` its frame index (0: the base); link l's parts are
@@ -320,6 +324,8 @@ def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, hull
         raise ValueError("parts_apart: a link's parts must share one frame")
     if Q and (Qa[:, 0].min() < 0 or Qa[:, 0].max() >= M or Qa[:, 1:].min() < 0 or Qa[:, 1:].max() >= L):
         raise ValueError("parts_apart: queries out of range")
+    if not margin >= 0.0:
+        raise ValueError("parts_apart: margin must be >= 0")
     cdef cnp.ndarray out = np.zeros(Q, dtype=np.uint8)
     cdef const double* F = <const double*>cnp.PyArray_DATA(Fa)
     cdef const double* V = <const double*>cnp.PyArray_DATA(Va)
@@ -352,7 +358,7 @@ def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, hull
             for j in range(rw[g], rw[g + 1]):
                 O[od[j]] = <unsigned char>links_apart(F + 16 * (n + 1) * Qp[3 * od[j]], n, V, S, Kf, Bs, Ls, Lp,
                                                       H, HS, HB, Qp[3 * od[j] + 1], Qp[3 * od[j] + 2], L, K,
-                                                      HT + per * threadid())
+                                                      HT + per * threadid(), margin)
                 if O[od[j]] == 0:
                     break
     return out
