@@ -162,8 +162,8 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     q = np.array(res.q, dtype=float).reshape(-1, robot.n)
     success = kept.copy()
     messages = [res.message] if single else list(res.message)
-    for i in np.flatnonzero(kept):
-        messages[i] = ""
+    for j in np.flatnonzero(kept):
+        messages[j] = ""
     for i, f in free.items():
         if len(f):
             q[i], success[i] = f[0], True

@@ -14,7 +14,7 @@ free is free for the meshes too (for the checked pairs); one it calls colliding 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -27,7 +27,6 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
     from .capsules import Part
     from .exact import ExactChecker
-    from .pairmaps import PairMap
 
 __all__ = ["SelfCollisionModel", "DisabledPair", "LEVELS"]
 
@@ -99,7 +98,7 @@ class SelfCollisionModel:
         self._frame = np.array([c.body for c in self.capsules], dtype=np.intc)
         # the parts' hulls and capsules in their bodies' frames, for ``parts_apart``
         self._parts: tuple[np.ndarray, ...] | None = None
-        self._maps: list[PairMap] | None = None     # ``pairmaps.pair_maps``, built at the first use
+        self._maps: list[Any] | None = None     # ``pairmaps.pair_maps``, built at the first use
         if self.parts and {p.link for p in self.parts} >= set(names):
             local: list[np.ndarray] = []
             of_part: list[list[int]] = [[] for _ in names]
@@ -149,7 +148,7 @@ class SelfCollisionModel:
                                      f"robot (links: {', '.join(sorted(known))})")
         return SelfCollisionModel(self.robot, self.capsules, list(disabled), self.samples, self.exact, self.parts)
 
-    def pair_maps(self) -> list[PairMap]:
+    def pair_maps(self) -> list[Any]:
         """The tabulated pairs of the 'parts' level (``pairmaps``: pairs one or two revolute joints move
         against each other, cells proven apart), built at the first call (a second or so for a UR5)."""
         if self._maps is None:

@@ -19,12 +19,12 @@ proven, down to ``CELLS`` per joint (``MAX_TESTS`` cell tests at most per pair).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .model import SelfCollisionModel
+#: ``model.SelfCollisionModel`` (not imported: the model imports this module)
+SelfCollisionModel = Any
 
 __all__ = ["PairMap", "pair_maps", "cleared", "CELLS", "FIRST", "SHARE"]
 
@@ -97,7 +97,8 @@ def _build(model: SelfCollisionModel, pair: int, u: int, v: int, joints: tuple[i
         Q[:, list(joints)] = lower + (cand + 0.5) * width
         F = robot.frames_at(Q)
         queries = np.column_stack([np.arange(len(cand)), np.full(len(cand), u), np.full(len(cand), v)]).astype(np.intc)
-        ok = parts_apart(F, *model._parts, queries, 0, margin).view(np.bool_)
+        V, S, K, B, LS, LP, H, HS, HB = model._parts
+        ok = parts_apart(F, V, S, K, B, LS, LP, H, HS, HB, queries, 0, margin).view(np.bool_)
         tests += len(cand)
         level = np.zeros((n,) * k, dtype=bool)
         level[tuple(cand[ok].T)] = True
