@@ -86,6 +86,11 @@ class SelfCollisionModel:
         self._link_pairs = np.array(links, dtype=np.intc).reshape(-1, 2)
         self._pairs = np.array(caps_pairs, dtype=np.intc).reshape(-1, 2)
         self._starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.intp) if sizes else np.zeros(0, np.intp)
+        # each link pair's capsule-pair columns, padded with its first (a link pair's distance: their minimum;
+        # one fancy index and a min, much faster than np.minimum.reduceat along rows)
+        width = max(sizes, default=1)
+        self._groups = np.array([[s + min(k, z - 1) for k in range(width)] for s, z in zip(self._starts, sizes)],
+                                dtype=np.intp).reshape(len(sizes), width)
         # each capsule's end points in its body's GJD frame at q = 0 (body 0: the base frame)
         J = self.robot.frames
         caps = np.empty((len(self.capsules), 7))
@@ -250,7 +255,7 @@ class SelfCollisionModel:
         d = distances(self.robot._chain, qa, self._caps, self._frame, self._pairs, t)
         assert d is not None
         if len(self._pairs) != len(self._link_pairs):   # a link pair's distance: its nearest capsule pair's
-            d = np.minimum.reduceat(d, self._starts, axis=1) if len(self._starts) else d[:, :0]
+            d = d[:, self._groups].min(axis=2) if len(self._starts) else d[:, :0]
         return d[0] if single else d
 
     def closest(self, q: ArrayLike, k: int = 3) -> list[tuple[str, str, float]]:
