@@ -71,7 +71,6 @@ def self_collision_model(robot: Robot, source: str | Path | None = None, *,
     else:
         model = SelfCollisionModel(robot, model.capsules, allowed_collisions(model, checker, int(samples), rng),
                                    int(samples), checker, model.parts)
-    model.pair_maps()    # the 'parts' level's tables, built now rather than in the first check
     _MODELS[robot] = model
     return model
 
