@@ -36,26 +36,38 @@ RETRIES = 4
 #: Starts per target and round (run side by side by the numeric IK).
 STARTS = 8
 MESSAGE = "every solution found is in self collision"
+#: Batches of fewer configurations are checked on one thread (unless ``threads=`` is given): the
+#: OpenMP start and spin-wait of more threads cost more CPU than they save there (UR5, 1000 targets
+#: on a loaded 2-core machine: 14 us of CPU a target with two threads, 10 with one).
+SERIAL_BELOW = 4096
 
 
-def _free_starts(robot: Robot, model: SelfCollisionModel, count: int, rng: np.random.Generator) -> np.ndarray:
+def _collides(model: SelfCollisionModel, q: np.ndarray, level: str, threads: int | None) -> np.ndarray:
+    """``model.collides(q, level=level)`` (q (N, n) -> (N,) bool), on one thread for small batches."""
+    t = threads if threads is not None else (1 if len(q) < SERIAL_BELOW else None)
+    return np.asarray(model.collides(q, level=level, threads=t), dtype=bool)
+
+
+def _free_starts(robot: Robot, model: SelfCollisionModel, count: int, rng: np.random.Generator,
+                 threads: int | None = None) -> np.ndarray:
     """``count`` configurations within the limits that the capsules call free (a few rejection rounds;
     any left over are plain random configurations)."""
     out = robot.random_q(count, rng=rng)
     for _ in range(8):
-        bad = np.asarray(model.collides(out))
+        bad = _collides(model, out, "capsules", threads)
         if not bad.any():
             break
         out[bad] = robot.random_q(int(bad.sum()), rng=rng)
     return out
 
 
-def _collision_free(model: SelfCollisionModel, sols: list[np.ndarray], level: str) -> list[np.ndarray]:
+def _collision_free(model: SelfCollisionModel, sols: list[np.ndarray], level: str,
+                    threads: int | None = None) -> list[np.ndarray]:
     """Each target's solutions without the colliding ones (one batch check of all of them)."""
     sizes = [len(s) for s in sols]
     if not sum(sizes):
         return sols
-    hit = np.asarray(model.collides(np.vstack([s for s in sols if len(s)]), level=level))
+    hit = _collides(model, np.vstack([s for s in sols if len(s)]), level, threads)
     out, k = [], 0
     for s, m in zip(sols, sizes):
         out.append(s[~hit[k:k + m]])
@@ -63,7 +75,8 @@ def _collision_free(model: SelfCollisionModel, sols: list[np.ndarray], level: st
     return out
 
 
-def _first_free(model: SelfCollisionModel, sols: list[np.ndarray], level: str) -> list[np.ndarray]:
+def _first_free(model: SelfCollisionModel, sols: list[np.ndarray], level: str,
+                threads: int | None = None) -> list[np.ndarray]:
     """Each target's first collision-free solution (1, n), or none (0, n): the solutions checked in
     rounds, IK's preferred one first, a target leaving the rounds at its first free one (most targets
     need one or two of their up to 8 closed-form branches checked, not all)."""
@@ -72,7 +85,7 @@ def _first_free(model: SelfCollisionModel, sols: list[np.ndarray], level: str) -
     left = [i for i, s in enumerate(sols) if len(s)]
     r = 0
     while left:
-        hit = np.asarray(model.collides(np.vstack([sols[i][r] for i in left]), level=level))
+        hit = _collides(model, np.vstack([sols[i][r] for i in left]), level, threads)
         for i, h in zip(left, hit):
             if not h:
                 out[i] = sols[i][r:r + 1]
@@ -108,6 +121,7 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     if level is None:
         level = "parts" if model.parts else "capsules"
     res = ik(robot, T, q0=q0, all_solutions=all_solutions, rng=rng, **options)
+    threads = options.get("threads")
     single = np.ndim(res.success) == 0
     n = robot.n
     ok = np.atleast_1d(res.success).astype(bool)
@@ -115,14 +129,14 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     if all_solutions:
         listed = [res.solutions] if single else list(res.solutions)
         sols = dict(enumerate(np.asarray(s, dtype=float).reshape(-1, n) for s in listed))
-        free = dict(enumerate(_collision_free(model, list(sols.values()), level)))
+        free = dict(enumerate(_collision_free(model, list(sols.values()), level, threads)))
         kept = np.zeros(len(ok), dtype=bool)
         sols_0: dict[int, np.ndarray] = {}
     else:   # the preferred solutions, checked in one batch; the other branches only where one collides
         qs = np.array(res.q, dtype=float).reshape(-1, n)
         kept = ok.copy()
         if ok.any():
-            kept[ok] = ~np.asarray(model.collides(qs[ok], level=level), dtype=bool)
+            kept[ok] = ~_collides(model, qs[ok], level, threads)
         sols = {int(i): qs[i:i + 1] if ok[i] else np.empty((0, n)) for i in np.flatnonzero(~kept)}
         sols_0 = {i: s[0] for i, s in sols.items() if len(s)}
         free = {i: np.empty((0, n)) for i in sols}
@@ -138,7 +152,7 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
             sols[i] = g
         # the preferred solution was checked already: the other branches only
         others = [g[~np.all(np.abs(g - sols_0[i]) <= 0.0, axis=1)] if i in sols_0 else g for i, g in zip(left, got)]
-        for i, g in zip(left, _first_free(model, others, level)):
+        for i, g in zip(left, _first_free(model, others, level, threads)):
             free[i] = g
     gen = np.random.default_rng(rng)
     numeric = {k: v for k, v in options.items() if k not in ("method",)}
@@ -146,7 +160,7 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         left = [i for i, f in free.items() if not len(f)]
         if not left:
             break
-        starts = _free_starts(robot, model, len(left), gen)
+        starts = _free_starts(robot, model, len(left), gen, threads)
         sub = ik(robot, targets[left] if not single else targets[0], q0=starts if not single else starts[0],
                  method="numeric", all_solutions=all_solutions, rng=gen, **numeric)
         if all_solutions:
@@ -157,7 +171,7 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
         for i, g in zip(left, got):
             sols[i] = g if len(g) else sols[i]
-        for i, g in zip(left, _collision_free(model, got, level)):
+        for i, g in zip(left, _collision_free(model, got, level, threads)):
             free[i] = g
     q = np.array(res.q, dtype=float).reshape(-1, robot.n)
     success = kept.copy()
