@@ -115,7 +115,8 @@ def test_parts_apart_only_when_a_plane_separates():
         V = np.vstack([A, B])
         # each part's bound: a capsule of no length (a ball) around its points
         ball = np.array([[*c, *c, np.linalg.norm(P - c, axis=1).max()] for P in (A, B) for c in [P.mean(axis=0)]])
-        got = parts_apart(frames, V, [0, 30, 55], [0, 0], ball, [0, 1, 2], [0, 1], [[0, 0, 1]])[0]
+        # each link one part; its hull the same points (the whole-hull shortcut, then the parts)
+        got = parts_apart(frames, V, [0, 30, 55], [0, 0], ball, [0, 1, 2], [0, 1], V, [0, 30, 55], ball, [[0, 0, 1]])[0]
         # separable iff some w, b: A w <= b - 1 and B w >= b + 1
         lp = linprog(np.zeros(4), A_ub=np.vstack([np.c_[A, -np.ones(30)], np.c_[-B, np.ones(25)]]),
                      b_ub=-np.ones(55), bounds=[(None, None)] * 4)
@@ -285,3 +286,24 @@ def test_collision_free_ik(which, request):
         assert moved.any()
     one = robot.ik(T[0], avoid_self_collision=True, all_solutions=True)
     assert one.success and not np.asarray(model.collides(one.solutions, level="exact")).any()
+
+
+def test_ur5_pair_maps_never_call_a_touching_configuration_free(ur5):
+    """The 'parts' level's tables (pairs one or two joints move against each other): the UR5's upper arm
+    over its base and forearm beside its second wrist link are mapped, most of their joint box is proven
+    apart, and no configuration in a proven cell touches by coal's exact check (an independent peer)."""
+    from robkin.self_collision.pairmaps import cleared
+
+    robot, model = ur5
+    maps = {model.pairs[m.pair]: m for m in model.pair_maps()}
+    assert ("base_link", "upper_arm_link") in maps and ("forearm_link", "wrist_2_link") in maps
+    links = model.links
+    Q = robot.random_q(3000, rng=11)
+    for (a, b), m in maps.items():
+        assert m.free.mean() > 0.5, (a, b)
+        proven = cleared([m], Q, np.arange(len(Q)), np.full(len(Q), m.pair))
+        # where the capsules meet (elsewhere they already prove the pair apart)
+        near = np.flatnonzero(proven & (model.distances(Q)[:, m.pair] <= 0.0))[:300]
+        assert len(near) > 10 or (a, b) not in (("base_link", "upper_arm_link"), ("forearm_link", "wrist_2_link"))
+        touching = [k for k in near if model.exact.pair_collides(Q[k], links.index(a), links.index(b))]
+        assert not touching, (a, b, Q[touching[:3]])

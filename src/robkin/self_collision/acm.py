@@ -62,7 +62,24 @@ def adjacent_pairs(robot: Robot, names: list[str]) -> set[frozenset[str]]:
 def allowed_collisions(model: SelfCollisionModel, exact: ExactChecker | None, samples: int = 20000,
                        rng: np.random.Generator | int | None = 0) -> list[DisabledPair]:
     """The allowed-collision matrix of the capsule model ``model`` (its own ``disabled`` ignored), judged
-    exactly by ``exact`` where given (see the module doc). Pairs in the order of ``model.links``."""
+    exactly by ``exact`` where given (see the module doc). Pairs in the order of ``model.links``.
+
+    Parameters
+    ----------
+    model : SelfCollisionModel
+        The capsules (its own ``disabled`` is ignored: every pair is judged).
+    exact : ExactChecker or None
+        The meshes' check (coal) for pairs whose capsules meet; None: the capsules decide alone.
+    samples : int
+        Configurations drawn uniformly within the joint limits (``Robot.random_q``).
+    rng : Generator, int seed or None
+        The samples' source (seed 0: reproducible).
+
+    Returns
+    -------
+    list of DisabledPair
+        The pairs never checked, each with its reason.
+    """
     robot = model.robot
     names = model.links
     every = SelfCollisionModel(robot, model.capsules, [])   # all pairs checked
@@ -90,8 +107,8 @@ def allowed_collisions(model: SelfCollisionModel, exact: ExactChecker | None, sa
         cols = np.array(rest)
         for k in range(0, len(Q), CHUNK):
             overlap[k:k + CHUNK] = sub.distances(Q[k:k + CHUNK])[:, cols] <= 0.0
-    met = overlap.any(axis=0)
-    seen_free = ~overlap.all(axis=0)
+    met = np.asarray(overlap.any(axis=0), dtype=bool)
+    seen_free = np.asarray(~overlap.all(axis=0), dtype=bool)
     seen_hit = met.copy() if exact is None else np.zeros(len(rest), dtype=bool)
     if exact is not None:
         undecided = set(np.flatnonzero(met).tolist())

@@ -93,7 +93,19 @@ def self_collision(robot: Robot, q: ArrayLike, *, level: str = "capsules", model
     means free for the links' collision geometry, True may be a near miss. ``'parts'``: what the capsules
     flag is tested again with the links' convex parts (compiled; still conservative, tighter).
     ``'exact'``: then with the meshes (coal), so True is a real contact (``SelfCollisionModel.collides``).
-    ``model``: default ``model_of(robot)``.
+
+    Parameters
+    ----------
+    robot : Robot
+        The robot (its model: ``model``, else the last one built for it, ``model_of``).
+    q : array (n,) or (N, n)
+        Joint values (rad / length units).
+    level : {'capsules', 'parts', 'exact'}
+        How far the check goes (above).
+    model : SelfCollisionModel, optional
+        Default ``model_of(robot)``.
+    threads : int, optional
+        Threads of the compiled kernels (None or 0: automatic, ``robkin.threads``).
     """
     return (model or model_of(robot)).collides(q, level=level, threads=threads)
 
@@ -102,5 +114,17 @@ def self_collision_distances(robot: Robot, q: ArrayLike, *, model: SelfCollision
                              threads: int | None = None) -> np.ndarray:
     """Distance between the capsules of each checked link pair (length units, negative: overlap): q (n,)
     -> (P,), (N, n) -> (N, P), pairs in the order of ``model.pairs`` (``SelfCollisionModel.closest`` names
-    the nearest ones)."""
+    the nearest ones).
+
+    Parameters
+    ----------
+    robot : Robot
+        The robot.
+    q : array (n,) or (N, n)
+        Joint values (rad / length units).
+    model : SelfCollisionModel, optional
+        Default ``model_of(robot)``.
+    threads : int, optional
+        Threads of the compiled kernel (None or 0: automatic, ``robkin.threads``).
+    """
     return (model or model_of(robot)).distances(q, threads=threads)

@@ -11,7 +11,7 @@ surface does not count.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Iterable
+from typing import TYPE_CHECKING, Any, Iterable
 
 import numpy as np
 
@@ -33,7 +33,7 @@ def exact_available() -> bool:
     return True
 
 
-def _coal_geometry(shape) -> object:
+def _coal_geometry(shape: Any) -> object:
     import coal
 
     if shape.kind == "mesh":

@@ -118,7 +118,7 @@ def link_geometry(robot: Robot, source: str | Path | None = None,
                 reasons[name] = m.reason or ""
     order = [ln.name for ln in robot.bodies.links]
     out: dict[str, LinkGeometry] = {}
-    cache: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+    cache: dict[tuple[object, ...], tuple[np.ndarray, np.ndarray]] = {}
     for s in shapes:
         g = s.geometry
         geo = out.setdefault(s.link, LinkGeometry(s.link, s.body))

@@ -36,30 +36,61 @@ RETRIES = 4
 #: Starts per target and round (run side by side by the numeric IK).
 STARTS = 8
 MESSAGE = "every solution found is in self collision"
+#: Batches of fewer configurations are checked on one thread (unless ``threads=`` is given): the
+#: OpenMP start and spin-wait of more threads cost more CPU than they save there (UR5, 1000 targets
+#: on a loaded 2-core machine: 14 us of CPU a target with two threads, 10 with one).
+SERIAL_BELOW = 4096
 
 
-def _free_starts(robot: Robot, model: SelfCollisionModel, count: int, rng: np.random.Generator) -> np.ndarray:
+def _collides(model: SelfCollisionModel, q: np.ndarray, level: str, threads: int | None) -> np.ndarray:
+    """``model.collides(q, level=level)`` (q (N, n) -> (N,) bool), on one thread for small batches."""
+    t = threads if threads is not None else (1 if len(q) < SERIAL_BELOW else None)
+    return np.asarray(model.collides(q, level=level, threads=t), dtype=bool)
+
+
+def _free_starts(robot: Robot, model: SelfCollisionModel, count: int, rng: np.random.Generator,
+                 threads: int | None = None) -> np.ndarray:
     """``count`` configurations within the limits that the capsules call free (a few rejection rounds;
     any left over are plain random configurations)."""
     out = robot.random_q(count, rng=rng)
     for _ in range(8):
-        bad = np.asarray(model.collides(out))
+        bad = _collides(model, out, "capsules", threads)
         if not bad.any():
             break
         out[bad] = robot.random_q(int(bad.sum()), rng=rng)
     return out
 
 
-def _collision_free(model: SelfCollisionModel, sols: list[np.ndarray], level: str) -> list[np.ndarray]:
+def _collision_free(model: SelfCollisionModel, sols: list[np.ndarray], level: str,
+                    threads: int | None = None) -> list[np.ndarray]:
     """Each target's solutions without the colliding ones (one batch check of all of them)."""
     sizes = [len(s) for s in sols]
     if not sum(sizes):
         return sols
-    hit = np.asarray(model.collides(np.vstack([s for s in sols if len(s)]), level=level))
+    hit = _collides(model, np.vstack([s for s in sols if len(s)]), level, threads)
     out, k = [], 0
     for s, m in zip(sols, sizes):
         out.append(s[~hit[k:k + m]])
         k += m
+    return out
+
+
+def _first_free(model: SelfCollisionModel, sols: list[np.ndarray], level: str,
+                threads: int | None = None) -> list[np.ndarray]:
+    """Each target's first collision-free solution (1, n), or none (0, n): the solutions checked in
+    rounds, IK's preferred one first, a target leaving the rounds at its first free one (most targets
+    need one or two of their up to 8 closed-form branches checked, not all)."""
+    n = sols[0].shape[1] if sols else 0
+    out = [np.empty((0, n)) for _ in sols]
+    left = [i for i, s in enumerate(sols) if len(s)]
+    r = 0
+    while left:
+        hit = _collides(model, np.vstack([sols[i][r] for i in left]), level, threads)
+        for i, h in zip(left, hit):
+            if not h:
+                out[i] = sols[i][r:r + 1]
+        r += 1
+        left = [i for i, h in zip(left, hit) if h and len(sols[i]) > r]
     return out
 
 
@@ -72,6 +103,10 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     ----------
     ik : callable
         ``robkin.kinematics.ik.ik``.
+    robot : Robot
+        The robot.
+    T : array (4, 4) or (N, 4, 4)
+        Target pose(s) of the tool in the base frame (length units).
     model : SelfCollisionModel, optional
         Default: ``build.model_of(robot)``.
     level : {'capsules', 'parts', 'exact'}, optional
@@ -86,17 +121,27 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     if level is None:
         level = "parts" if model.parts else "capsules"
     res = ik(robot, T, q0=q0, all_solutions=all_solutions, rng=rng, **options)
+    threads = options.get("threads")
     single = np.ndim(res.success) == 0
     n = robot.n
+    ok = np.atleast_1d(res.success).astype(bool)
+    # sols, free: per target left to settle, every solution found and the collision-free ones
     if all_solutions:
-        sols = [res.solutions] if single else list(res.solutions)
-        sols = [np.asarray(s, dtype=float).reshape(-1, n) for s in sols]
-    else:   # the preferred solution first; the other branches are asked for only where it collides
-        ok = np.atleast_1d(res.success)
-        sols = [q[None] if good else np.empty((0, n)) for q, good in zip(np.array(res.q, dtype=float).reshape(-1, n), ok)]
-    free = _collision_free(model, sols, level)
+        listed = [res.solutions] if single else list(res.solutions)
+        sols = dict(enumerate(np.asarray(s, dtype=float).reshape(-1, n) for s in listed))
+        free = dict(enumerate(_collision_free(model, list(sols.values()), level, threads)))
+        kept = np.zeros(len(ok), dtype=bool)
+        sols_0: dict[int, np.ndarray] = {}
+    else:   # the preferred solutions, checked in one batch; the other branches only where one collides
+        qs = np.array(res.q, dtype=float).reshape(-1, n)
+        kept = ok.copy()
+        if ok.any():
+            kept[ok] = ~_collides(model, qs[ok], level, threads)
+        sols = {int(i): qs[i:i + 1] if ok[i] else np.empty((0, n)) for i in np.flatnonzero(~kept)}
+        sols_0 = {i: s[0] for i, s in sols.items() if len(s)}
+        free = {i: np.empty((0, n)) for i in sols}
     targets = np.asarray(T, dtype=float).reshape(-1, 4, 4)
-    left = [i for i, f in enumerate(free) if not len(f)]
+    left = [i for i, f in free.items() if not len(f)]
     if left and not all_solutions and res.method != "numeric":   # closed form: every branch of those targets
         sub = ik(robot, targets[left] if not single else targets[0], q0=None if q0 is None else
                  (np.asarray(q0, dtype=float).reshape(-1, n)[left] if np.ndim(q0) == 2 else q0),
@@ -105,15 +150,17 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
         for i, g in zip(left, got):
             sols[i] = g
-        for i, g in zip(left, _collision_free(model, got, level)):
+        # the preferred solution was checked already: the other branches only
+        others = [g[~np.all(np.abs(g - sols_0[i]) <= 0.0, axis=1)] if i in sols_0 else g for i, g in zip(left, got)]
+        for i, g in zip(left, _first_free(model, others, level, threads)):
             free[i] = g
     gen = np.random.default_rng(rng)
     numeric = {k: v for k, v in options.items() if k not in ("method",)}
     for _ in range(RETRIES):
-        left = [i for i, f in enumerate(free) if not len(f)]
+        left = [i for i, f in free.items() if not len(f)]
         if not left:
             break
-        starts = _free_starts(robot, model, len(left), gen)
+        starts = _free_starts(robot, model, len(left), gen, threads)
         sub = ik(robot, targets[left] if not single else targets[0], q0=starts if not single else starts[0],
                  method="numeric", all_solutions=all_solutions, rng=gen, **numeric)
         if all_solutions:
@@ -124,12 +171,14 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
         for i, g in zip(left, got):
             sols[i] = g if len(g) else sols[i]
-        for i, g in zip(left, _collision_free(model, got, level)):
+        for i, g in zip(left, _collision_free(model, got, level, threads)):
             free[i] = g
     q = np.array(res.q, dtype=float).reshape(-1, robot.n)
-    success = np.zeros(len(free), dtype=bool)
+    success = kept.copy()
     messages = [res.message] if single else list(res.message)
-    for i, f in enumerate(free):
+    for j in np.flatnonzero(kept):
+        messages[j] = ""
+    for i, f in free.items():
         if len(f):
             q[i], success[i] = f[0], True
             messages[i] = ""
@@ -143,7 +192,7 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     return replace(res, q=q[0] if single else q, success=bool(success[0]) if single else success,
                    position_error=float(ep[0]) if single else ep, orientation_error=float(eo[0]) if single else eo,
                    message=messages[0] if single else messages,
-                   solutions=None if not all_solutions else (free[0] if single else free))
+                   solutions=None if not all_solutions else (free[0] if single else [free[i] for i in range(len(free))]))
 
 
 def _errors(robot: Robot, targets: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -14,14 +14,14 @@ free is free for the meshes too (for the checked pairs); one it calls colliding 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ..checks import check_q, check_threads
 from ..errors import InputError
-from .capsules import Capsule
+from .capsules import Capsule, fit_capsule
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
@@ -86,6 +86,11 @@ class SelfCollisionModel:
         self._link_pairs = np.array(links, dtype=np.intc).reshape(-1, 2)
         self._pairs = np.array(caps_pairs, dtype=np.intc).reshape(-1, 2)
         self._starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.intp) if sizes else np.zeros(0, np.intp)
+        # each link pair's capsule-pair columns, padded with its first (a link pair's distance: their minimum;
+        # one fancy index and a min, much faster than np.minimum.reduceat along rows)
+        width = max(sizes, default=1)
+        self._groups = np.array([[s + min(k, z - 1) for k in range(width)] for s, z in zip(self._starts, sizes)],
+                                dtype=np.intp).reshape(len(sizes), width)
         # each capsule's end points in its body's GJD frame at q = 0 (body 0: the base frame)
         J = self.robot.frames
         caps = np.empty((len(self.capsules), 7))
@@ -98,8 +103,12 @@ class SelfCollisionModel:
         self._frame = np.array([c.body for c in self.capsules], dtype=np.intc)
         # the parts' hulls and capsules in their bodies' frames, for ``parts_apart``
         self._parts: tuple[np.ndarray, ...] | None = None
+        self._maps: list[Any] | None = None     # ``pairmaps.pair_maps``, built at the first use
         if self.parts and {p.link for p in self.parts} >= set(names):
-            local, of_part, frame, bound = [], [[] for _ in names], [], []
+            local: list[np.ndarray] = []
+            of_part: list[list[int]] = [[] for _ in names]
+            frame: list[int] = []
+            bound: list[list[float]] = []
             for k, part in enumerate(p for p in self.parts if p.link in index):
                 inv = np.linalg.inv(J[part.body - 1]) if part.body > 0 else np.eye(4)
                 local.append(part.vertices @ inv[:3, :3].T + inv[:3, 3])
@@ -109,8 +118,13 @@ class SelfCollisionModel:
             start = np.concatenate([[0], np.cumsum([len(h) for h in local])]).astype(np.intp)
             link_start = np.concatenate([[0], np.cumsum([len(ks) for ks in of_part])]).astype(np.intp)
             link_parts = np.array([k for ks in of_part for k in ks], dtype=np.intc)
+            # each link's hull (its parts' points together): one plane between two hulls clears the pair
+            # before its parts are tried
+            hulls = [_hull(np.vstack([local[k] for k in ks])) for ks in of_part]
+            hull_start = np.concatenate([[0], np.cumsum([len(h) for h in hulls])]).astype(np.intp)
+            hull_bound = np.array([[*a, *b, r] for a, b, r in (fit_capsule(h) for h in hulls)])
             self._parts = (np.vstack(local), start, np.array(frame, dtype=np.intc), np.array(bound), link_start,
-                           link_parts)
+                           link_parts, np.vstack(hulls), hull_start, hull_bound)
 
     @property
     def links(self) -> list[str]:
@@ -123,7 +137,14 @@ class SelfCollisionModel:
         return [(self._names[i], self._names[j]) for i, j in self._link_pairs]
 
     def with_disabled(self, disabled: Sequence[DisabledPair]) -> SelfCollisionModel:
-        """The same capsules with another allowed-collision matrix (an SRDF read back, say)."""
+        """The same capsules with another allowed-collision matrix (an SRDF read back, say).
+
+        Parameters
+        ----------
+        disabled : sequence of DisabledPair
+            The pairs never checked; both links of each must have collision geometry in this model
+            (``links``), else InputError naming the link.
+        """
         known = set(self._index)
         for d in disabled:
             for name in (d.link1, d.link2):
@@ -131,6 +152,15 @@ class SelfCollisionModel:
                     raise InputError(f"disable_collisions: link {name!r} has no collision geometry in this "
                                      f"robot (links: {', '.join(sorted(known))})")
         return SelfCollisionModel(self.robot, self.capsules, list(disabled), self.samples, self.exact, self.parts)
+
+    def pair_maps(self) -> list[Any]:
+        """The tabulated pairs of the 'parts' level (``pairmaps``: pairs one or two revolute joints move
+        against each other, cells proven apart), built at the first call (a second or so for a UR5)."""
+        if self._maps is None:
+            from .pairmaps import pair_maps
+
+            self._maps = pair_maps(self)
+        return self._maps
 
     def _q(self, q: ArrayLike) -> tuple[np.ndarray, bool]:
         qa = np.asarray(q)
@@ -149,6 +179,15 @@ class SelfCollisionModel:
           link_parts``) are tested for a separating plane (compiled, GJK): still conservative, tighter;
         - ``'exact'``: what the parts leave is collided with the links' own geometry (coal,
           ``exact.ExactChecker``, a Python call per configuration): the meshes' answer. Needs coal.
+
+        Parameters
+        ----------
+        q : array (n,) or (N, n)
+            Joint values (rad for revolute joints, length units for prismatic ones).
+        level : {'capsules', 'parts', 'exact'}
+            How far the check goes (above).
+        threads : int, optional
+            Threads of the compiled kernels (None or 0: automatic, ``robkin.threads``; 1: this thread only).
         """
         from ..compiled.collision.capsules import collide
 
@@ -172,12 +211,21 @@ class SelfCollisionModel:
         rows = np.flatnonzero(hit)
         d = self.distances(qa[rows], threads=threads or None)
         r_idx, p_idx = np.nonzero(d <= 0.0)
+        # per configuration, the deepest capsule overlap first: the likeliest contact ends its row soonest
+        by = np.lexsort((d[r_idx, p_idx], r_idx))
+        r_idx, p_idx = r_idx[by], p_idx[by]
         queries = np.column_stack([r_idx, self._link_pairs[p_idx]]).astype(np.intc)
         if self._parts is not None and len(queries):
+            from .pairmaps import cleared as map_cleared
+
+            maps = self.pair_maps()
+            if maps:    # pairs moved by one or two joints: their tabulated cells first
+                queries = queries[~map_cleared(maps, qa[rows], r_idx, p_idx)]
             from ..compiled.collision.parts import parts_apart
 
             frames = self.robot.frames_at(np.ascontiguousarray(qa[rows]), threads=threads or None)
-            cleared = parts_apart(frames, *self._parts, queries, threads).view(np.bool_)
+            V, S, K, B, LS, LP, H, HS, HB = self._parts
+            cleared = parts_apart(frames, V, S, K, B, LS, LP, H, HS, HB, queries, threads).view(np.bool_)
             queries = queries[~cleared]
         hit[rows] = False
         if not exact:
@@ -191,7 +239,15 @@ class SelfCollisionModel:
 
     def distances(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:
         """Distance between the capsules of each checked pair (length units; negative: they overlap by
-        that much): q (n,) -> (P,), (N, n) -> (N, P), in the order of ``pairs``."""
+        that much): q (n,) -> (P,), (N, n) -> (N, P), in the order of ``pairs``.
+
+        Parameters
+        ----------
+        q : array (n,) or (N, n)
+            Joint values (rad / length units).
+        threads : int, optional
+            Threads of the compiled kernel (None or 0: automatic, ``robkin.threads``).
+        """
         from ..compiled.collision.capsules import distances
 
         qa, single = self._q(q)
@@ -199,7 +255,7 @@ class SelfCollisionModel:
         d = distances(self.robot._chain, qa, self._caps, self._frame, self._pairs, t)
         assert d is not None
         if len(self._pairs) != len(self._link_pairs):   # a link pair's distance: its nearest capsule pair's
-            d = np.minimum.reduceat(d, self._starts, axis=1) if len(self._starts) else d[:, :0]
+            d = d[:, self._groups].min(axis=2) if len(self._starts) else d[:, :0]
         return d[0] if single else d
 
     def closest(self, q: ArrayLike, k: int = 3) -> list[tuple[str, str, float]]:
@@ -209,3 +265,11 @@ class SelfCollisionModel:
             raise InputError("closest: one configuration q (n,)")
         names = self.pairs
         return [(names[i][0], names[i][1], float(d[i])) for i in np.argsort(d, kind="stable")[:max(int(k), 0)]]
+
+
+def _hull(P: np.ndarray) -> np.ndarray:
+    """The vertices of the convex hull of the points P (k, 3) (P itself when flat: a plane between point
+    sets is one between their hulls either way)."""
+    from ..collision.hull import convex_hull, is_flat
+
+    return P if is_flat(P) or len(P) < 5 else convex_hull(P)[0]

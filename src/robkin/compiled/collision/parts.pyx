@@ -11,8 +11,8 @@ Queries are split over threads (``prange``; ``threads`` 0: automatic, ``robkin.t
 """
 
 cimport numpy as cnp
-from cython.parallel cimport prange
-from libc.stdlib cimport malloc, free
+from libc.math cimport sqrt
+from cython.parallel cimport prange, threadid
 from robkin.compiled.collision.segments cimport segment_distance2
 from robkin.compiled.runtime.threads cimport batch_threads
 
@@ -23,6 +23,10 @@ cnp.import_array()
 cdef enum:
     # GJK steps before giving up (and answering "not proven apart", which the caller checks exactly)
     GJK_STEPS = 64
+    # GJK steps of the shortcut (the two links' whole hulls): its remembered plane and one step from the
+    # centres' direction, else the parts decide (more steps cost more where the hulls overlap, an arm
+    # hanging beside a flat base, than they save where they do not: UR5, 2026-11-29)
+    HULL_STEPS = 1
 
 
 cdef inline double dot3(const double* a, const double* b) noexcept nogil:
@@ -42,30 +46,66 @@ cdef inline void triple(const double* a, const double* b, const double* c, doubl
     cross3(t, c, out)
 
 
-cdef double support_gap(const double* A, int na, const double* B, int nb, const double* d, double* w) noexcept nogil:
-    """w = the point of A - B farthest along d (A's farthest minus B's nearest); returns d . w."""
-    cdef int i, ia = 0, ib = 0
-    cdef double best = -1e300, low = 1e300, x
-    for i in range(na):
-        x = dot3(A + 3 * i, d)
+cdef inline void place(const double* T, const double* p, double* out) noexcept nogil:
+    """out = T p (T: a 4x4 row-major pose, NULL: the identity)."""
+    cdef int r
+    for r in range(3):
+        out[r] = p[r] if T == NULL else T[4 * r] * p[0] + T[4 * r + 1] * p[1] + T[4 * r + 2] * p[2] + T[4 * r + 3]
+
+
+cdef inline double support_one(const double* V, int nv, const double* T, const double* d, double* w) noexcept nogil:
+    """w = the point of T V (V: nv local points, T: a 4x4 row-major pose, NULL: the identity) farthest along
+    the direction d (world); returns d . w. The direction is turned into V's frame (R^T d) instead of
+    moving every point: one 3-term dot product a point."""
+    cdef double dl[3]
+    cdef int i, best_i = 0, r
+    cdef double best = -1e300, x
+    if T == NULL:
+        dl[0] = d[0]
+        dl[1] = d[1]
+        dl[2] = d[2]
+    else:
+        for r in range(3):
+            dl[r] = T[r] * d[0] + T[4 + r] * d[1] + T[8 + r] * d[2]
+    for i in range(nv):
+        x = V[3 * i] * dl[0] + V[3 * i + 1] * dl[1] + V[3 * i + 2] * dl[2]
         if x > best:
             best = x
-            ia = i
-    for i in range(nb):
-        x = dot3(B + 3 * i, d)
-        if x < low:
-            low = x
-            ib = i
+            best_i = i
+    place(T, V + 3 * best_i, w)
+    return dot3(w, d)
+
+
+cdef double support_gap(const double* A, int na, const double* TA, const double* B, int nb, const double* TB,
+                        const double* d, double* w) noexcept nogil:
+    """w = the point of A - B farthest along d (A's farthest minus B's nearest; A and B local points placed
+    by the poses TA, TB); returns d . w."""
+    cdef double wa[3]
+    cdef double wb[3]
+    cdef double nd[3]
+    cdef int i
     for i in range(3):
-        w[i] = A[3 * ia + i] - B[3 * ib + i]
-    return best - low
+        nd[i] = -d[i]
+    support_one(A, na, TA, d, wa)
+    support_one(B, nb, TB, nd, wb)
+    for i in range(3):
+        w[i] = wa[i] - wb[i]
+    return dot3(w, d)
 
 
-cdef bint apart(const double* A, int na, const double* B, int nb, const double* start) noexcept nogil:
-    """True only when a plane separates the convex hulls of the points A and B (both (k, 3), one frame):
+cdef bint apart(const double* A, int na, const double* TA, const double* B, int nb, const double* TB,
+               const double* start, double* hint, const double* TH, int steps, double margin) noexcept nogil:
+    """True only when a plane separates the convex hulls of the points A and B ((k, 3) each, in their own
+    frames, placed by the poses TA and TB):
     a direction d with max over A of d.a < min over B of d.b, found by GJK on A - B. Anything else
     (touching, overlapping, a degenerate step, too many steps) is False: "not proven apart". ``start``:
-    the first search direction (B's centre to A's: most pairs are proven apart at the first step)."""
+    the first search direction (B's centre to A's: most pairs are proven apart at the first step).
+    ``hint`` (3, in the frame TH; zero: none): a direction that separated this pair before, tried first,
+    replaced by the separating direction found. TH is the frame of the body before B's (B's joint axis
+    is fixed in it): a plane along that axis stays a separating plane whatever the joint's angle, so the
+    hint often holds across the configurations of a batch. ``steps``: GJK steps before giving up.
+    ``margin`` >= 0: the plane must leave at least that gap (length units), which proves the hulls at
+    least ``margin`` apart."""
     cdef double S[12]      # the simplex, newest point first
     cdef double d[3]
     cdef double w[3]
@@ -79,13 +119,20 @@ cdef bint apart(const double* A, int na, const double* B, int nb, const double* 
     cdef double t[3]
     cdef int m = 0, step, i
     cdef double n2
+    if hint[0] != 0.0 or hint[1] != 0.0 or hint[2] != 0.0:
+        for i in range(3):
+            d[i] = hint[i] if TH == NULL else TH[4 * i] * hint[0] + TH[4 * i + 1] * hint[1] + TH[4 * i + 2] * hint[2]
+        if support_gap(A, na, TA, B, nb, TB, d, w) < -margin * sqrt(dot3(d, d)):
+            return True                    # the remembered plane still separates them
     for i in range(3):
         d[i] = start[i]
     if dot3(d, d) < 1e-300:
         d[0] = 1.0
-    for step in range(GJK_STEPS):
-        if support_gap(A, na, B, nb, d, w) < 0.0:
-            return True                    # A's farthest along d is short of B's nearest: apart
+    for step in range(steps):
+        if support_gap(A, na, TA, B, nb, TB, d, w) < -margin * sqrt(dot3(d, d)):
+            for i in range(3):             # A's farthest along d is short of B's nearest: apart
+                hint[i] = d[i] if TH == NULL else TH[i] * d[0] + TH[4 + i] * d[1] + TH[8 + i] * d[2]
+            return True
         # the new point first
         for i in range(3 * m - 1, -1, -1):
             S[i + 3] = S[i]
@@ -175,67 +222,78 @@ cdef bint apart(const double* A, int na, const double* B, int nb, const double* 
     return False
 
 
-cdef inline void place(const double* T, const double* p, double* out) noexcept nogil:
-    """out = T p (T: a 4x4 row-major pose, NULL: the identity)."""
-    cdef int r
-    for r in range(3):
-        out[r] = p[r] if T == NULL else T[4 * r] * p[0] + T[4 * r + 1] * p[1] + T[4 * r + 2] * p[2] + T[4 * r + 3]
-
-
 cdef int links_apart(const double* F, int n, const double* verts, const Py_ssize_t* start, const int* frame,
-                     const double* bound, const Py_ssize_t* link_start, const int* link_parts, int u, int v,
-                     double* buf) noexcept nogil:
-    """1 if every part of link u is apart from every part of link v at the frames F ((n+1) x 16): their
-    capsules apart, or else a separating plane (``apart``)."""
+                     const double* bound, const Py_ssize_t* link_start, const int* link_parts,
+                     const double* hulls, const Py_ssize_t* hull_start, const double* hull_bound,
+                     int u, int v, int L, int K, double* hints, double margin) noexcept nogil:
+    """1 if link u is apart from link v at the frames F ((n+1) x 16): their whole hulls apart (one plane,
+    ``hulls``), else every part of one apart from every part of the other (their capsules apart, or a
+    separating plane, ``apart``). ``hints``: the thread's remembered directions, 3 per ordered link pair
+    (L x L), then 3 per ordered part pair (K x K). ``margin``: each gap at least that (``apart``)."""
     cdef int pu, pv, k, l, i, na, nb
-    cdef bint placed
     cdef const double* Tu
     cdef const double* Tv
-    cdef double* A = buf
-    cdef double* B
     cdef double cu[6]
     cdef double cv[6]
     cdef double rr
     cdef double dc[3]
-    for pu in range(<int>link_start[u], <int>link_start[u + 1]):
-        k = link_parts[pu]
-        na = <int>(start[k + 1] - start[k])
-        Tu = F + 16 * (frame[k] - 1) if frame[k] > 0 else NULL
-        place(Tu, bound + 7 * k, cu)
-        place(Tu, bound + 7 * k + 3, cu + 3)
-        placed = False
-        B = buf + 3 * na
-        for pv in range(<int>link_start[v], <int>link_start[v + 1]):
-            l = link_parts[pv]
-            Tv = F + 16 * (frame[l] - 1) if frame[l] > 0 else NULL
-            place(Tv, bound + 7 * l, cv)
-            place(Tv, bound + 7 * l + 3, cv + 3)
-            rr = bound[7 * k + 6] + bound[7 * l + 6]
+    # the links' frames: all parts of a link are on its body (the first part's frame)
+    k = link_parts[link_start[u]]
+    l = link_parts[link_start[v]]
+    Tu = F + 16 * (frame[k] - 1) if frame[k] > 0 else NULL
+    Tv = F + 16 * (frame[l] - 1) if frame[l] > 0 else NULL
+    # the frame the hints are kept in: the body before v's (see ``apart``)
+    cdef const double* Th = F + 16 * (frame[l] - 2) if frame[l] > 1 else NULL
+    # the whole links first: one plane between their hulls settles the pair (most pairs the capsules flag
+    # in ordinary poses, such as a flat base under an arm's housing)
+    place(Tu, hull_bound + 7 * u, cu)
+    place(Tu, hull_bound + 7 * u + 3, cu + 3)
+    place(Tv, hull_bound + 7 * v, cv)
+    place(Tv, hull_bound + 7 * v + 3, cv + 3)
+    for i in range(3):
+        dc[i] = cu[i] + cu[3 + i] - cv[i] - cv[3 + i]
+    if apart(hulls + 3 * hull_start[u], <int>(hull_start[u + 1] - hull_start[u]), Tu,
+             hulls + 3 * hull_start[v], <int>(hull_start[v + 1] - hull_start[v]), Tv, dc, hints + 3 * (u * L + v),
+             Th, HULL_STEPS, margin):
+        return 1
+    # else every part pair: capsules apart, or a plane between them
+    for pv in range(<int>link_start[v], <int>link_start[v + 1]):
+        l = link_parts[pv]
+        nb = <int>(start[l + 1] - start[l])
+        place(Tv, bound + 7 * l, cv)
+        place(Tv, bound + 7 * l + 3, cv + 3)
+        for pu in range(<int>link_start[u], <int>link_start[u + 1]):
+            k = link_parts[pu]
+            na = <int>(start[k + 1] - start[k])
+            place(Tu, bound + 7 * k, cu)
+            place(Tu, bound + 7 * k + 3, cu + 3)
+            rr = bound[7 * k + 6] + bound[7 * l + 6] + margin
             if segment_distance2(cu, cu + 3, cv, cv + 3) > rr * rr:
                 continue
-            if not placed:
-                for i in range(na):
-                    place(Tu, verts + 3 * (start[k] + i), A + 3 * i)
-                placed = True
-            nb = <int>(start[l + 1] - start[l])
-            for i in range(nb):
-                place(Tv, verts + 3 * (start[l] + i), B + 3 * i)
             for i in range(3):
                 dc[i] = cu[i] + cu[3 + i] - cv[i] - cv[3 + i]
-            if not apart(A, na, B, nb, dc):
+            if not apart(verts + 3 * start[k], na, Tu, verts + 3 * start[l], nb, Tv, dc,
+                         hints + 3 * (L * L + k * K + l), Th, GJK_STEPS, margin):
                 return 0
     return 1
 
 
-def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, queries, int threads=0):
+def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, hulls, hull_start, hull_bound, queries,
+                int threads=0, double margin=0.0):
     """uint8 (Q,): per query (row, link u, link v) of ``queries`` (Q, 3), 1 when every convex part of link
     u is proven apart from every part of link v (a separating plane each) at the frames ``frames[row]``
     ((M, n+1, 4, 4) as ``Robot.frames_at`` gives them); 0: not proven (touching, overlapping, or the
-    search gave up), for an exact check to decide.
+    search gave up), for an exact check to decide. The queries of one row (one configuration) are tried
+    in their order until one is not proven: the row's later queries are left 0, untried (the
+    configuration is not cleared either way; put the likeliest contact first). ``margin`` >= 0 (length
+    units): 1 then proves the two links at least that far apart (every plane leaves that gap).
 
     Parts: ``verts`` (H, 3) the parts' points in their frames' coordinates at q = 0, part k's rows
     ``start[k]:start[k+1]``, ``frame[k]`` its frame index (0: the base); link l's parts are
-    ``link_parts[link_start[l]:link_start[l+1]]``."""
+    ``link_parts[link_start[l]:link_start[l+1]]`` (all on one frame, the link's body). Whole links, tried
+    first: ``hulls`` (G, 3) the points of each link's hull (link l's rows ``hull_start[l]:hull_start[l+1]``,
+    in its frame's coordinates at q = 0) and ``hull_bound`` (L, 7) a segment [a, b] and radius around them
+    (the segment's middle starts the search)."""
     cdef cnp.ndarray Fa = np.ascontiguousarray(frames, dtype=np.float64)
     cdef cnp.ndarray Va = np.ascontiguousarray(verts, dtype=np.float64)
     cdef cnp.ndarray Sa = np.ascontiguousarray(start, dtype=np.intp)
@@ -244,21 +302,31 @@ def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, quer
     cdef cnp.ndarray La = np.ascontiguousarray(link_start, dtype=np.intp)
     cdef cnp.ndarray Pa = np.ascontiguousarray(link_parts, dtype=np.intc)
     cdef cnp.ndarray Qa = np.ascontiguousarray(queries, dtype=np.intc)
+    cdef cnp.ndarray Ha = np.ascontiguousarray(hulls, dtype=np.float64)
+    cdef cnp.ndarray Hs = np.ascontiguousarray(hull_start, dtype=np.intp)
+    cdef cnp.ndarray Hb = np.ascontiguousarray(hull_bound, dtype=np.float64)
     if Fa.ndim != 4 or Fa.shape[2] != 4 or Fa.shape[3] != 4 or Va.ndim != 2 or Va.shape[1] != 3 \
             or Qa.ndim != 2 or Qa.shape[1] != 3 or Sa.ndim != 1 or Ka.shape[0] != Sa.shape[0] - 1 \
             or Ba.ndim != 2 or Ba.shape[0] != Ka.shape[0] or Ba.shape[1] != 7:
         raise ValueError("parts_apart: expected frames (M, n+1, 4, 4), verts (H, 3), start (K+1,), frame (K,), "
                          "bound (K, 7), queries (Q, 3)")
     cdef int n = <int>Fa.shape[1] - 1, K = <int>Ka.shape[0], L = <int>La.shape[0] - 1
-    cdef Py_ssize_t M = Fa.shape[0], Q = Qa.shape[0], j
+    cdef Py_ssize_t M = Fa.shape[0], Q = Qa.shape[0], j, g, R
     if K and (Sa[0] != 0 or Sa[K] != Va.shape[0] or (np.diff(Sa) < 1).any() or Ka.min() < 0 or Ka.max() > n):
         raise ValueError("parts_apart: part rows or frames out of range")
     if L < 0 or La[0] != 0 or La[L] != Pa.shape[0] or (np.diff(La) < 0).any() or (Pa.shape[0] and (Pa.min() < 0 or Pa.max() >= K)):
         raise ValueError("parts_apart: link parts out of range")
+    if L and ((np.diff(La) < 1).any() or Ha.ndim != 2 or Ha.shape[1] != 3 or Hs.ndim != 1 or Hs.shape[0] != L + 1
+              or Hs[0] != 0 or Hs[L] != Ha.shape[0] or (np.diff(Hs) < 1).any() or Hb.ndim != 2
+              or Hb.shape[0] != L or Hb.shape[1] != 7):
+        raise ValueError("parts_apart: every link needs parts, hull points (hull_start (L+1,)) and a hull bound (L, 7)")
+    if L and any(len(set(Ka[Pa[La[l]:La[l + 1]]].tolist())) != 1 for l in range(L)):
+        raise ValueError("parts_apart: a link's parts must share one frame")
     if Q and (Qa[:, 0].min() < 0 or Qa[:, 0].max() >= M or Qa[:, 1:].min() < 0 or Qa[:, 1:].max() >= L):
         raise ValueError("parts_apart: queries out of range")
+    if not margin >= 0.0:
+        raise ValueError("parts_apart: margin must be >= 0")
     cdef cnp.ndarray out = np.zeros(Q, dtype=np.uint8)
-    cdef Py_ssize_t most = int(np.diff(Sa).max()) if K else 0
     cdef const double* F = <const double*>cnp.PyArray_DATA(Fa)
     cdef const double* V = <const double*>cnp.PyArray_DATA(Va)
     cdef const Py_ssize_t* S = <const Py_ssize_t*>cnp.PyArray_DATA(Sa)
@@ -268,14 +336,29 @@ def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, quer
     cdef const int* Lp = <const int*>cnp.PyArray_DATA(Pa)
     cdef const int* Qp = <const int*>cnp.PyArray_DATA(Qa)
     cdef unsigned char* O = <unsigned char*>cnp.PyArray_DATA(out)
-    cdef double* buf
+    cdef const double* H = <const double*>cnp.PyArray_DATA(Ha)
+    cdef const Py_ssize_t* HS = <const Py_ssize_t*>cnp.PyArray_DATA(Hs)
+    cdef const double* HB = <const double*>cnp.PyArray_DATA(Hb)
     cdef int nt
     with nogil:
         nt = batch_threads(threads, Q, 64) if Q > 64 else 1
-        for j in prange(Q, num_threads=nt, schedule="dynamic", chunksize=16):
-            buf = <double*>malloc(sizeof(double) * 6 * (most + 1))
-            if buf != NULL:
-                O[j] = <unsigned char>links_apart(F + 16 * (n + 1) * Qp[3 * j], n, V, S, Kf, Bs, Ls, Lp,
-                                                  Qp[3 * j + 1], Qp[3 * j + 2], buf)
-                free(buf)
+    # each thread's remembered separating directions (see ``apart``): its own rows, no sharing
+    cdef Py_ssize_t per = 3 * (L * L + K * K)
+    cdef cnp.ndarray hint_a = np.zeros(max(nt, 1) * per, dtype=np.float64)
+    cdef double* HT = <double*>cnp.PyArray_DATA(hint_a)
+    # the queries row by row (their order within a row kept): a row stops at its first pair not proven
+    cdef cnp.ndarray order_a = np.argsort(Qa[:, 0], kind="stable").astype(np.intp)
+    cdef cnp.ndarray rows_a = np.flatnonzero(np.r_[True, np.diff(Qa[order_a, 0]) != 0, True]).astype(np.intp) \
+        if Q else np.zeros(1, dtype=np.intp)
+    R = rows_a.shape[0] - 1
+    cdef const Py_ssize_t* od = <const Py_ssize_t*>cnp.PyArray_DATA(order_a)
+    cdef const Py_ssize_t* rw = <const Py_ssize_t*>cnp.PyArray_DATA(rows_a)
+    with nogil:
+        for g in prange(R, num_threads=nt, schedule="dynamic", chunksize=4):
+            for j in range(rw[g], rw[g + 1]):
+                O[od[j]] = <unsigned char>links_apart(F + 16 * (n + 1) * Qp[3 * od[j]], n, V, S, Kf, Bs, Ls, Lp,
+                                                      H, HS, HB, Qp[3 * od[j] + 1], Qp[3 * od[j] + 2], L, K,
+                                                      HT + per * threadid(), margin)
+                if O[od[j]] == 0:
+                    break
     return out

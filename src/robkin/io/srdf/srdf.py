@@ -32,7 +32,17 @@ class SrdfPair(NamedTuple):
 
 
 def srdf_text(robot_name: str | None, disabled: Iterable[tuple[str, str, str]], comment: str | None = None) -> str:
-    """SRDF text: ``<robot name=...>`` with one ``<disable_collisions>`` per (link1, link2, reason)."""
+    """SRDF text: ``<robot name=...>`` with one ``<disable_collisions>`` per (link1, link2, reason).
+
+    Parameters
+    ----------
+    robot_name : str or None
+        The ``<robot name=...>`` (None: "robot").
+    disabled : iterable of (link1, link2, reason)
+        The pairs, written in this order (names quoted).
+    comment : str, optional
+        An XML comment written before ``<robot>`` (``--`` broken up).
+    """
     lines = ['<?xml version="1.0" encoding="UTF-8"?>']
     if comment:
         lines.append("<!-- " + comment.replace("--", "- -") + " -->")
@@ -60,7 +70,7 @@ def parse_srdf(text: str, source: str = "<srdf>") -> tuple[str | None, list[Srdf
     return root.get("name"), out
 
 
-def read_srdf(path: str | os.PathLike) -> tuple[str | None, list[SrdfPair]]:
+def read_srdf(path: str | os.PathLike[str]) -> tuple[str | None, list[SrdfPair]]:
     """(robot name, disabled pairs) of the SRDF file ``path`` (see the module doc)."""
     from ..files.input_files import read_text_file
 
