@@ -307,3 +307,18 @@ def test_ur5_pair_maps_never_call_a_touching_configuration_free(ur5):
         assert len(near) > 10 or (a, b) not in (("base_link", "upper_arm_link"), ("forearm_link", "wrist_2_link"))
         touching = [k for k in near if model.exact.pair_collides(Q[k], links.index(a), links.index(b))]
         assert not touching, (a, b, Q[touching[:3]])
+
+
+def test_the_model_kept_for_a_robot_goes_with_it():
+    """The model ``Robot.self_collision`` uses is kept on the robot object, so a robot no longer used is
+    freed with its model (a WeakKeyDictionary keyed by the robot never freed them: the model refers to
+    its robot)."""
+    import gc
+    import weakref
+
+    robot, model = _model(UR5, "tool0", samples=50)
+    assert robot.self_collision(np.zeros(robot.n)) == model.collides(np.zeros(robot.n))
+    gone = weakref.ref(robot)
+    del robot, model
+    gc.collect()
+    assert gone() is None

@@ -3,7 +3,6 @@ call, and the model ``Robot.self_collision`` uses (the last one built for that r
 
 from __future__ import annotations
 
-import weakref
 from pathlib import Path
 from typing import TYPE_CHECKING, Mapping
 
@@ -22,7 +21,9 @@ __all__ = ["self_collision_model", "model_of", "self_collision", "self_collision
 #: twice that leaves fewer rarely colliding pairs taken for "Never").
 DEFAULT_SAMPLES = 20000
 
-_MODELS: "weakref.WeakKeyDictionary[Robot, SelfCollisionModel]" = weakref.WeakKeyDictionary()
+#: the attribute of a Robot object that keeps the model last built for it: on the robot itself, so the
+#: model goes with it (a WeakKeyDictionary would never free it: the model refers to its robot)
+_KEPT = "_self_collision_model"
 
 
 def self_collision_model(robot: Robot, source: str | Path | None = None, *,
@@ -71,7 +72,7 @@ def self_collision_model(robot: Robot, source: str | Path | None = None, *,
     else:
         model = SelfCollisionModel(robot, model.capsules, allowed_collisions(model, checker, int(samples), rng),
                                    int(samples), checker, model.parts)
-    _MODELS[robot] = model
+    robot.__dict__[_KEPT] = model
     return model
 
 
@@ -79,7 +80,7 @@ def model_of(robot: Robot) -> SelfCollisionModel:
     """The model last built for this robot object, else one built now from its collision shapes (which
     needs them to be primitives or meshes found without the robot file: else build it with
     ``self_collision_model(robot, source)``)."""
-    model = _MODELS.get(robot)
+    model = robot.__dict__.get(_KEPT)
     if model is None:
         model = self_collision_model(robot)
     return model
