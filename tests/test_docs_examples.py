@@ -19,16 +19,18 @@ from __future__ import annotations
 
 import os
 import re
+import shutil
 import subprocess
 import sys
-import shutil
-import time
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from test_examples import BASH, ROBOTS_DIR, ROOT, _env, kit, run_example, workdir  # noqa: F401 - the fixtures, shared
+from test_examples import BASH, ROBOTS_DIR, ROOT, _argv, _env, kit, run_example, workdir  # noqa: F401 - fixtures
+
+import robkin
+from robkin.cli import main
 
 DOCS = ROOT / "docs"
 PAGES = sorted(str(p.relative_to(DOCS)) for p in DOCS.rglob("*.md"))
@@ -130,16 +132,19 @@ def shell_commands(kind: str, text: str) -> list[str]:
     return out
 
 
-def _listed(table: dict, page: str, text: str, used: set):
+def _listed(table: dict, page: str, text: str, used: set | None = None):
+    """The entry of ``table`` for a command or block of ``page`` (None if none), noted in ``used``."""
     for (p, start), value in table.items():
         if p == page and text.lstrip().startswith(start):
-            used.add((p, start))
+            if used is not None:
+                used.add((p, start))
             return value
     return None
 
 
-def _in_bash(command: str, env: dict[str, str], bin_dir: Path) -> int:
-    """Run ``command`` in bash (the robkin under test on its PATH); keep its variables and folder."""
+def _in_bash(command: str, env: dict[str, str], bin_dir: Path) -> tuple[int, str]:
+    """Run ``command`` in bash (the robkin under test on its PATH); keep its variables and folder.
+    Returns the exit status and what it wrote to stderr."""
     dump = bin_dir / "env.out"
     script = f"set -a\n{command}\nstatus=$?\nenv -0 > {dump}\nexit $status"
     run_env = _env(env)
@@ -152,9 +157,7 @@ def _in_bash(command: str, env: dict[str, str], bin_dir: Path) -> int:
                 env[name] = value
         os.chdir(after.get("PWD", os.getcwd()))   # the workdir fixture's monkeypatch restores the folder
         dump.unlink()
-    if done.returncode:
-        print(done.stdout, done.stderr, file=sys.stderr)
-    return done.returncode
+    return done.returncode, done.stderr
 
 
 def _simple_robkin(command: str) -> bool:
@@ -172,8 +175,6 @@ def _robkin_shim(folder: Path) -> Path:
     return bin_dir
 
 
-_USED: set = set()
-_TIMES = open(os.environ["DOCS_TIMES"], "a") if os.environ.get("DOCS_TIMES") else open(os.devnull, "w")  # noqa: SIM115
 
 
 @pytest.fixture
@@ -186,8 +187,6 @@ def page_dir(workdir, monkeypatch):
     talos = Path(ROBOTS_DIR) / "talos_data" / "robots" / "talos_reduced.urdf"
     if talos.is_file():
         shutil.copy(talos, "talos.urdf")
-    import robkin
-
     ur5 = robkin.load("ur5.urdf", tip_link="tool0")
     np.save("targets.npy", ur5.fk(ur5.random_q(5, rng=0)))   # (N, 4, 4) tool poses
     return workdir
@@ -203,57 +202,47 @@ def test_page_examples_run_as_printed(page, page_dir, capsys):
     namespace: dict[str, object] = {"__name__": "__docs__"}
     failures = []
     for kind, line, text in blocks:
-        start = time.process_time()
         if kind == "python":
-            if _listed(NOT_RUN, page, text, _USED) is not None:
-                continue
-            try:
-                exec(compile(text, f"{page}:{line}", "exec"), namespace)   # noqa: S102 - the page's example
-            except BaseException as exc:   # noqa: BLE001 - report every block, not the first
-                failures.append(f"{page}:{line} [python] {type(exc).__name__}: {exc}")
-            print(f"{page}:{line} python {time.process_time() - start:.2f}s", file=_TIMES)
+            if _listed(NOT_RUN, page, text) is None:
+                try:
+                    exec(compile(text, f"{page}:{line}", "exec"), namespace)   # noqa: S102 - the page's example
+                except Exception as exc:   # noqa: BLE001 - report every block, not only the first
+                    failures.append(f"{page}:{line} [python] {type(exc).__name__}: {exc}")
             continue
         for command in shell_commands(kind, text):
-            if _listed(NOT_RUN, page, command, _USED) is not None:
+            if _listed(NOT_RUN, page, command) is not None:
                 continue
-            expected = _listed(EXIT_STATUS, page, command, _USED) or 0
-            t0 = time.process_time()
+            expected = _listed(EXIT_STATUS, page, command) or 0
+            capsys.readouterr()
             try:
-                if _simple_robkin(command):
-                    if expected:
-                        from robkin.cli import main
-                        status = main(_words(command, env)[1:])
-                    else:
-                        run_example(command, env)
-                        status = 0
+                if not _simple_robkin(command):
+                    status, err = _in_bash(command, env, bin_dir)
+                elif expected == 0:
+                    run_example(command, env)          # 'robkin gui' parsed and its input loaded only
+                    status, err = 0, ""
                 else:
-                    status = _in_bash(command, env, bin_dir)
-            except BaseException as exc:   # noqa: BLE001
-                failures.append(f"{page}:{line} {command[:120]!r}: {type(exc).__name__}: {str(exc)[:300]}")
-                continue
-            finally:
-                print(f"{page}:{line} {command[:60]!r} {time.process_time() - t0:.2f}s", file=_TIMES)
+                    status, err = main(_argv(command.split(" | ")[0], env)[1:]), capsys.readouterr().err
+            except SystemExit as exc:                # argparse's refusal
+                status, err = exc.code, capsys.readouterr().err
+            except Exception as exc:   # noqa: BLE001 - report every command
+                status, err = None, f"{type(exc).__name__}: {exc}\n{capsys.readouterr().err}"
             if status != expected:
-                failures.append(f"{page}:{line} {command[:120]!r}: exit {status}, expected {expected}")
+                failures.append(f"{page}:{line} {command[:120]!r}: exit {status}, expected {expected}\n"
+                                f"    {err.strip()[-400:]}")
     capsys.readouterr()
     assert not failures, "examples that do not run as printed:\n" + "\n".join(failures)
 
 
-def _words(command: str, env: dict[str, str]) -> list[str]:
-    from test_examples import _argv
-    return _argv(command.split(" | ")[0], env)
-
-
 def test_every_not_run_entry_names_a_block():
-    """The lists name blocks that exist (run after the pages: a stale entry fails here)."""
-    wanted = set(NOT_RUN) | set(EXIT_STATUS)
+    """Every entry of NOT_RUN and EXIT_STATUS names a command or block its page has (none goes stale)."""
+    wanted, used = set(NOT_RUN) | set(EXIT_STATUS), set()
     for page in {p for p, _ in wanted}:
         for kind, _, text in _blocks(page):
             items = [text] if kind == "python" else shell_commands(kind, text)
             for item in items:
-                _listed(NOT_RUN, page, item, _USED)
-                _listed(EXIT_STATUS, page, item, _USED)
-    assert wanted <= _USED, f"entries that match no block: {sorted(wanted - _USED)}"
+                _listed(NOT_RUN, page, item, used)
+                _listed(EXIT_STATUS, page, item, used)
+    assert wanted <= used, f"entries that match no block: {sorted(wanted - used)}"
 
 
 def test_blocks_are_read_as_a_shell_reads_them():
@@ -263,7 +252,8 @@ def test_blocks_are_read_as_a_shell_reads_them():
     sh = ("# a comment\nX=1\npython - <<'EOF'\nprint('a \\\\')\nEOF\nfor i in 1 2; do\n  echo $i\ndone\n"
           "robkin convert a.yaml \\\n    --to dh   # 'quoted; comment'\n")
     assert shell_commands("sh", sh) == ["X=1", "python - <<'EOF'\nprint('a \\\\')\nEOF",
-                                        "for i in 1 2; do\n  echo $i\ndone", "robkin convert a.yaml --to dh   # 'quoted; comment'"]
+                                        "for i in 1 2; do\n  echo $i\ndone",
+                                        "robkin convert a.yaml --to dh   # 'quoted; comment'"]
     blocks = [b for page in PAGES for b in _blocks(page)]
     commands = [c for kind, _, text in blocks if kind != "python" for c in shell_commands(kind, text)]
     # the pages' examples are found (a fence the pattern missed would silently run nothing)
