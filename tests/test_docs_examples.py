@@ -58,22 +58,6 @@ NOT_RUN: dict[tuple[str, str], str] = {
     ("synthesis.md", "robkin estimate --pose P1 --pose P2 --pose P3"): "P1-P3 stand for the reader's poses",
     ("synthesis.md", "from robkin.synthesis.sweep import"):
         "800 optimiser runs (minutes of CPU) and a Dask cluster at the reader's address (the network)",
-    # pages other helpers are editing (issue 32): what fails there today, for the lead; remove an entry
-    # when its page is fixed (an entry that no longer matches its block fails test_every_listed_block_exists)
-    ("collision.md", "import robkin\nfrom robkin.self_collision import"):
-        "FAILS: the Panda's meshes are not found without a package path (no package_paths= on the page)",
-    ("collision.md", "res = robot.ik(T, avoid_self_collision=True)"): "FAILS: T is not defined on the page",
-    ("gui.md", "robkin plot --metrics pose1_A.yaml pose1_B.yaml pose2_A.yaml"):
-        "FAILS: pose2_*.yaml are made only by the loop further down the page",
-    ("gui.md", "robkin plot --metrics pose*_?.yaml -o docs/"):
-        "FAILS: writes into docs/ (a maintainer's command, run from the repository's root)",
-    ("gui.md", "robkin gui a.yaml b.urdf"): "FAILS: b.urdf is not made anywhere on the page",
-    ("workspace.md", "robkin workspace panda.urdf --tip-link panda_hand_tcp -o panda_map.npz"):
-        "slow: a 5 cm map of 4e7 configurations (~20 s CPU)",
-    ("workspace.md", "robkin workspace panda.urdf --tip-link panda_hand_tcp --map panda_map.npz"):
-        "FAILS: needs the map above and a poses.csv the page does not make",
-    ("workspace.md", "import robkin\nfrom robkin.workspace import"): "slow: the same map in Python (~20 s CPU)",
-    ("workspace.md", "import numpy as np\nfrom robkin.workspace.placement"): "uses the map the block above makes",
 }
 
 #: (page, text a command starts with) -> the exit status the page says it has

@@ -164,8 +164,9 @@ def _env(extra: dict[str, str]) -> dict[str, str]:
 
 
 def _argv(line: str, env: dict[str, str]) -> list[str]:
-    """The words bash makes of a command line (variables expanded, comments dropped, no globbing)."""
-    script = f'set -f\nwords=(\n{line}\n)\nprintf "%s\\0" "${{words[@]}}"'
+    """The words bash makes of a command line in the current folder (variables expanded, comments
+    dropped, file patterns such as ``pose*_?.yaml`` expanded as a reader's shell does)."""
+    script = f'words=(\n{line}\n)\nprintf "%s\\0" "${{words[@]}}"'
     out = subprocess.run([BASH, "-c", script], env=_env(env), capture_output=True, text=True, check=True).stdout
     return out.split("\0")[:-1]
 
