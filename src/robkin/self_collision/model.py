@@ -220,7 +220,9 @@ class SelfCollisionModel:
             from ..compiled.collision.parts import parts_apart
 
             r = queries[:, 0]
-            first = np.r_[True, r[1:] != r[:-1]]        # rows come in order: each configuration's first query
+            first = np.empty(len(r), dtype=bool)      # rows come in order: each configuration's first query
+            first[0] = True
+            np.not_equal(r[1:], r[:-1], out=first[1:])
             rows = r[first]
             local = queries.copy()
             local[:, 0] = np.cumsum(first) - 1

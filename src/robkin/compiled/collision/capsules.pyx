@@ -268,6 +268,34 @@ cdef int overlap_block(const double* L, const unsigned char* rev, int n, const d
     return 0
 
 
+cdef int check_overlap_args(const int* frame, int C, int n, const int* pairs, const int* link_of, int P, int LP,
+                            const int* map_of, const int* mj, const double* ml, const double* mw,
+                            const Py_ssize_t* ms, int M, int cells, Py_ssize_t nf) noexcept nogil:
+    """0 when ``overlaps``' index arrays are consistent, else the number of its first problem (1: frames,
+    2: pairs, 3: a link pair's map, 4: a map's joints, cells, widths or rows)."""
+    cdef int k
+    cdef Py_ssize_t size
+    for k in range(C):
+        if frame[k] < 0 or frame[k] > n:
+            return 1
+    for k in range(P):
+        if pairs[2 * k] < 0 or pairs[2 * k] >= C or pairs[2 * k + 1] < 0 or pairs[2 * k + 1] >= C \
+                or link_of[k] < 0 or link_of[k] >= LP:
+            return 2
+    for k in range(LP):
+        if map_of[k] < -1 or map_of[k] >= M:
+            return 3
+    if M and cells < 1:
+        return 4
+    for k in range(M):
+        size = <Py_ssize_t>cells * cells if mj[2 * k + 1] >= 0 else cells
+        if mj[2 * k] < 0 or mj[2 * k] >= n or mj[2 * k + 1] < -1 or mj[2 * k + 1] >= n or ms[k] < 0 \
+                or ms[k] + size > nf or not mw[2 * k] > 0.0 or not mw[2 * k + 1] > 0.0 \
+                or not (ml[2 * k] - ml[2 * k] == 0.0) or not (ml[2 * k + 1] - ml[2 * k + 1] == 0.0):
+            return 4
+    return 0
+
+
 def overlaps(Chain chain, q, caps, frame, pairs, link_of, link_pairs, map_of, map_joints, map_lower, map_width,
              int cells, map_start, map_free, int threads=0):
     """int32 (Q, 3): the queries (row, link u, link v) a convex-parts test must still decide, for q (N, n):
@@ -303,16 +331,18 @@ def overlaps(Chain chain, q, caps, frame, pairs, link_of, link_pairs, map_of, ma
     P = <int>pa.shape[0]
     LP = <int>lp.shape[0]
     M = <int>mj.shape[0]
-    if C and (fa.min() < 0 or fa.max() > n):
-        raise ValueError(f"overlaps: frame indices must be in 0..{n}")
-    if P and (pa.min() < 0 or pa.max() >= C or lo.min() < 0 or lo.max() >= LP):
-        raise ValueError("overlaps: pair indices out of range")
-    if ml.shape[0] != M or mw.shape[0] != M or ms.shape[0] != M or (LP and (mo.min() < -1 or mo.max() >= M)):
+    if ml.shape[0] != M or mw.shape[0] != M or ms.shape[0] != M:
         raise ValueError("overlaps: map arrays disagree in length")
-    if M and (cells < 1 or mj[:, 0].min() < 0 or mj.max() >= n or mj[:, 1].min() < -1 or ms.min() < 0
-              or (ms + np.where(mj[:, 1] >= 0, cells * cells, cells)).max() > mf.shape[0]
-              or not (mw > 0.0).all() or not np.isfinite(ml).all()):
-        raise ValueError("overlaps: map joints, cells or rows out of range")
+    # the index checks as C loops (numpy's reductions would cost ~15 us a call: most of a small batch's time)
+    cdef int problem = check_overlap_args(<const int*>cnp.PyArray_DATA(fa), C, n, <const int*>cnp.PyArray_DATA(pa),
+                                          <const int*>cnp.PyArray_DATA(lo), P, LP, <const int*>cnp.PyArray_DATA(mo),
+                                          <const int*>cnp.PyArray_DATA(mj), <const double*>cnp.PyArray_DATA(ml),
+                                          <const double*>cnp.PyArray_DATA(mw),
+                                          <const Py_ssize_t*>cnp.PyArray_DATA(ms), M, cells, mf.shape[0])
+    if problem:
+        raise ValueError((f"overlaps: frame indices must be in 0..{n}", "overlaps: pair indices out of range",
+                          "overlaps: map arrays disagree in length",
+                          "overlaps: map joints, cells or rows out of range")[problem - 1])
     if not usable_layout(q, n):
         return None
     N = cnp.PyArray_SIZE(q) // n
