@@ -213,7 +213,9 @@ class SelfCollisionModel:
         first); the parts' GJK test takes those, and with ``exact`` coal what it leaves."""
         from ..compiled.collision.capsules import overlaps
 
-        queries = overlaps(self.robot._chain, qa, self._caps, self._frame, self._pairs, *self._map_arrays(), threads)
+        link_of, link_pairs, map_of, joints, lower, width, cells, start, free = self._map_arrays()
+        queries = overlaps(self.robot._chain, qa, self._caps, self._frame, self._pairs, link_of, link_pairs, map_of,
+                           joints, lower, width, cells, start, free, threads)
         assert queries is not None  # checked, finite, contiguous float64
         hit = np.zeros(len(qa), dtype=bool)
         if self._parts is not None and len(queries):

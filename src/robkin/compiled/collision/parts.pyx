@@ -27,6 +27,8 @@ cdef enum:
     # centres' direction, else the parts decide (more steps cost more where the hulls overlap, an arm
     # hanging beside a flat base, than they save where they do not: UR5, 2026-11-29)
     HULL_STEPS = 1
+    # parts of a link placed once per link pair (``links_apart``; the model makes up to 8)
+    MAX_PARTS = 32
 
 
 cdef inline double dot3(const double* a, const double* b) noexcept nogil:
@@ -256,17 +258,46 @@ cdef int links_apart(const double* F, int n, const double* verts, const Py_ssize
              hulls + 3 * hull_start[v], <int>(hull_start[v + 1] - hull_start[v]), Tv, dc, hints + 3 * (u * L + v),
              Th, HULL_STEPS, margin):
         return 1
-    # else every part pair: capsules apart, or a plane between them
+    # else every part pair: capsules apart (bounding spheres first), or a plane between them. Link u's
+    # part capsules are placed once (up to MAX_PARTS; a link with more places them pair by pair)
+    cdef double PU[MAX_PARTS * 7]
+    cdef int nu = <int>(link_start[u + 1] - link_start[u]), j
+    cdef bint cached = nu <= MAX_PARTS
+    cdef double x, y, z, s
+    if cached:
+        for j in range(nu):
+            k = link_parts[link_start[u] + j]
+            place(Tu, bound + 7 * k, PU + 7 * j)
+            place(Tu, bound + 7 * k + 3, PU + 7 * j + 3)
+            x = bound[7 * k + 3] - bound[7 * k]
+            y = bound[7 * k + 4] - bound[7 * k + 1]
+            z = bound[7 * k + 5] - bound[7 * k + 2]
+            PU[7 * j + 6] = 0.5 * sqrt(x * x + y * y + z * z) + bound[7 * k + 6]     # bounding sphere's radius
     for pv in range(<int>link_start[v], <int>link_start[v + 1]):
         l = link_parts[pv]
         nb = <int>(start[l + 1] - start[l])
         place(Tv, bound + 7 * l, cv)
         place(Tv, bound + 7 * l + 3, cv + 3)
+        x = bound[7 * l + 3] - bound[7 * l]
+        y = bound[7 * l + 4] - bound[7 * l + 1]
+        z = bound[7 * l + 5] - bound[7 * l + 2]
+        s = 0.5 * sqrt(x * x + y * y + z * z) + bound[7 * l + 6] + margin
         for pu in range(<int>link_start[u], <int>link_start[u + 1]):
             k = link_parts[pu]
             na = <int>(start[k + 1] - start[k])
-            place(Tu, bound + 7 * k, cu)
-            place(Tu, bound + 7 * k + 3, cu + 3)
+            if cached:
+                j = pu - <int>link_start[u]
+                for i in range(6):
+                    cu[i] = PU[7 * j + i]
+                # the parts' bounding spheres apart: so are their capsules (no segment distance needed)
+                x = cu[0] + cu[3] - cv[0] - cv[3]
+                y = cu[1] + cu[4] - cv[1] - cv[4]
+                z = cu[2] + cu[5] - cv[2] - cv[5]
+                if x * x + y * y + z * z > 4.0 * (s + PU[7 * j + 6]) * (s + PU[7 * j + 6]):
+                    continue
+            else:
+                place(Tu, bound + 7 * k, cu)
+                place(Tu, bound + 7 * k + 3, cu + 3)
             rr = bound[7 * k + 6] + bound[7 * l + 6] + margin
             if segment_distance2(cu, cu + 3, cv, cv + 3) > rr * rr:
                 continue
