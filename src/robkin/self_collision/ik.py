@@ -158,10 +158,14 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         # the preferred solution was checked already: the other branches only
         G = np.vstack(got) if got else np.empty((0, n))
         owner = np.repeat(np.arange(len(left)), [len(g) for g in got])
-        ref = np.array([sols_0.get(i, np.full(n, np.nan)) for i in left]).reshape(-1, n)
-        keep = ~np.all(G == ref[owner], axis=1)     # NaN (no preferred solution) equals nothing
-        cuts = np.cumsum([len(g) for g in got])[:-1]
-        others = np.split(G[keep], np.searchsorted(np.flatnonzero(keep), cuts)) if len(left) else []
+        ref = np.full((len(left), n), np.nan)       # NaN (no preferred solution) equals nothing
+        for k, i in enumerate(left):
+            if i in sols_0:
+                ref[k] = sols_0[i]
+        keep = ~np.all(G == ref[owner], axis=1)
+        ends = np.cumsum(np.bincount(owner[keep], minlength=len(left)))
+        G = G[keep]
+        others = [G[e - c:e] for e, c in zip(ends, np.diff(np.r_[0, ends]))]
         for i, g in zip(left, _first_free(model, others, level, threads)):
             free[i] = g
     gen = np.random.default_rng(rng)
