@@ -217,9 +217,26 @@ cdef int overlap_block(const double* L, const unsigned char* rev, int n, const d
     frame_poses(L, rev, n, Q + n * k0, m, F)
     for b in range(m):
         move_capsules(F + 16 * (n + 1) * b, n, caps, frame, C, W)
+        q = Q + n * (k0 + b)
         for l in range(LP):
             D[l] = 1.0      # > 0: no overlap (yet)
+            mp = map_of[l]
+            if mp >= 0:     # the pair's map: the cell of its joints' values proven apart, or not
+                x = (q[map_joints[2 * mp]] - map_lower[2 * mp]) / map_width[2 * mp]
+                inside = x >= 0.0 and x < cells
+                i0 = <int>x if inside else 0
+                jj = map_joints[2 * mp + 1]
+                if jj >= 0 and inside:
+                    y = (q[jj] - map_lower[2 * mp + 1]) / map_width[2 * mp + 1]
+                    inside = y >= 0.0 and y < cells
+                    i1 = <int>y if inside else 0
+                    i0 = i0 * cells + i1
+                if inside and map_free[map_start[mp] + i0]:
+                    D[l] = 2.0      # cleared by its map: its capsules are not checked
         for p in range(P):
+            l = link_of[p]
+            if D[l] > 1.5:
+                continue
             u = pairs[2 * p]
             v = pairs[2 * p + 1]
             x = W[6 * u] + W[6 * u + 3] - W[6 * v] - W[6 * v + 3]
@@ -234,28 +251,12 @@ cdef int overlap_block(const double* L, const unsigned char* rev, int n, const d
                 d = sqrt(d2) - rr
                 if d > 0.0:     # touching to rounding (sqrt(d2) a hair above rr): an overlap of 0
                     d = 0.0
-                l = link_of[p]
                 if d < D[l]:
                     D[l] = d
-        q = Q + n * (k0 + b)
         c = 0
         for l in range(LP):
             if D[l] > 0.0:
                 continue
-            mp = map_of[l]
-            if mp >= 0:     # the pair's map: the cell of its joints' values, proven apart or not
-                x = (q[map_joints[2 * mp]] - map_lower[2 * mp]) / map_width[2 * mp]
-                inside = x >= 0.0 and x < cells
-                i0 = <int>x if inside else 0
-                i1 = 0
-                jj = map_joints[2 * mp + 1]
-                if jj >= 0 and inside:
-                    y = (q[jj] - map_lower[2 * mp + 1]) / map_width[2 * mp + 1]
-                    inside = y >= 0.0 and y < cells
-                    i1 = <int>y if inside else 0
-                    i0 = i0 * cells + i1
-                if inside and map_free[map_start[mp] + i0]:
-                    continue
             # insert l, deepest (most negative D) first
             i = c
             while i > 0 and D[found[(k0 + b) * LP + i - 1]] > D[l]:
