@@ -34,7 +34,8 @@ __all__ = ["collision_free_ik", "RETRIES"]
 #: Numeric starts (collision-free, one batch) per target whose solutions all collide.
 RETRIES = 4
 MESSAGE = "every solution found is in self collision"
-#: Batches of fewer configurations are checked on one thread (unless ``threads=`` is given): the
+#: Batches of fewer configurations are checked (and follow-up IK batches of fewer targets solved) on
+#: one thread (unless ``threads=`` is given): the
 #: OpenMP start and spin-wait of more threads cost more CPU than they save there (UR5, 1000 targets
 #: on a loaded 2-core machine: 14 us of CPU a target with two threads, 10 with one).
 SERIAL_BELOW = 4096
@@ -46,6 +47,14 @@ def _collides(model: SelfCollisionModel, q: np.ndarray, level: str, threads: int
     """``model.collides(q, level=level)`` (q (N, n) -> (N,) bool), on one thread for small batches."""
     t = threads if threads is not None else (1 if len(q) < SERIAL_BELOW else None)
     return np.asarray(model.collides(q, level=level, threads=t), dtype=bool)
+
+
+def _serial(options: dict[str, Any], count: int) -> dict[str, Any]:
+    """IK's options for a follow-up batch of ``count`` targets: on one thread when it is small and no
+    ``threads`` was given (as ``_collides``: OpenMP's spin-wait costs more CPU than a few targets take)."""
+    if options.get("threads") is None and count < SERIAL_BELOW:
+        return {**options, "threads": 1}
+    return options
 
 
 def _free_starts(robot: Robot, model: SelfCollisionModel, count: int, rng: np.random.Generator,
@@ -150,7 +159,7 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     if left and not all_solutions and res.method != "numeric":   # closed form: every branch of those targets
         sub = ik(robot, targets[left] if not single else targets[0], q0=None if q0 is None else
                  (np.asarray(q0, dtype=float).reshape(-1, n)[left] if np.ndim(q0) == 2 else q0),
-                 all_solutions=True, rng=rng, **options)
+                 all_solutions=True, rng=rng, **_serial(options, len(left)))
         got = [sub.solutions] if single else list(sub.solutions)
         got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
         for i, g in zip(left, got):
@@ -168,13 +177,14 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         others = [G[e - c:e] for e, c in zip(ends, np.diff(np.r_[0, ends]))]
         for i, g in zip(left, _first_free(model, others, level, threads)):
             free[i] = g
-    gen = np.random.default_rng(rng)
-    numeric = {k: v for k, v in options.items() if k not in ("method",)}
     left = [i for i, f in free.items() if not len(f)]
     if left:    # RETRIES collision-free starts per target left, all in one numeric batch
+        gen = np.random.default_rng(rng)
+        numeric = {k: v for k, v in options.items() if k not in ("method",)}
         idx = np.repeat(left, RETRIES)
         starts = _free_starts(robot, model, len(idx), gen, level, threads)
-        sub = ik(robot, targets[idx], q0=starts, method="numeric", all_solutions=all_solutions, rng=gen, **numeric)
+        sub = ik(robot, targets[idx], q0=starts, method="numeric", all_solutions=all_solutions, rng=gen,
+                 **_serial(numeric, len(idx)))
         if all_solutions:
             got = list(sub.solutions)
         else:
@@ -191,7 +201,7 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     q = np.array(res.q, dtype=float).reshape(-1, robot.n)
     success = kept.copy()
     messages = [res.message] if single else list(res.message)
-    for j in np.flatnonzero(kept):
+    for j in np.flatnonzero(kept).tolist():
         messages[j] = ""
     for i, f in free.items():
         if len(f):
