@@ -8,6 +8,9 @@ index k: 0 for the base (never moves), k in 1..n for body k (moves with GJD fram
 frames along the chain). ``pairs`` (P, 2) lists the capsule pairs to check. Two capsules collide when
 their segments are closer than the sum of the radii (touching counts as a collision).
 
+``overlaps`` is the first pass of the 'parts' level: per configuration, the link pairs whose capsules
+overlap and that no pair map proves apart (a table lookup before the pair's capsules), deepest first.
+
 Configurations are walked in blocks of ``BLOCK`` (the chain's frames of a block are computed together,
 then each configuration's capsules are moved and its pairs checked), blocks split over threads
 (``prange``, ``threads`` 0: automatic, ``robkin.threads``); every configuration gets the same bits
