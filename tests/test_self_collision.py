@@ -126,6 +126,58 @@ def test_parts_apart_only_when_a_plane_separates():
         proven += bool(got)
     assert separable > 100 and proven == separable
 
+    # bad index arrays: one clear error, never a read out of bounds
+    args = (frames, V, [0, 30, 55], [0, 0], ball, [0, 1, 2], [0, 1], V, [0, 30, 55], ball)
+    with pytest.raises(ValueError, match="queries out of range"):
+        parts_apart(*args, [[1, 0, 1]])
+    with pytest.raises(ValueError, match="queries out of range"):
+        parts_apart(*args, [[0, 0, 2]])
+    with pytest.raises(ValueError, match="link parts"):
+        parts_apart(frames, V, [0, 30, 55], [0, 0], ball, [0, 2, 1], [0, 1], V, [0, 30, 55], ball, [[0, 0, 1]])
+    with pytest.raises(ValueError, match="part rows"):
+        parts_apart(frames, V, [0, 30, 56], [0, 0], ball, [0, 1, 2], [0, 1], V, [0, 30, 55], ball, [[0, 0, 1]])
+    with pytest.raises(ValueError, match="share one frame"):
+        parts_apart(np.repeat(frames, 2, axis=1), V, [0, 30, 55], [0, 1], ball, [0, 2], [0, 1], V[:30], [0, 30],
+                    ball[:1], [[0, 0, 0]])
+
+
+def test_overlaps_kernel_agrees_with_capsule_distances_and_the_maps(ur5, panda):
+    """``capsules.overlaps`` (the 'parts' level's first pass) gives, per configuration, exactly the link
+    pairs whose capsules overlap by ``distances`` (deepest first) less those ``pairmaps.cleared``
+    proves apart: the slower path it replaced, on random configurations."""
+    from robkin.compiled.collision.capsules import overlaps
+    from robkin.self_collision.pairmaps import cleared
+
+    for robot, model in (ur5, panda):
+        Q = robot.random_q(3000, rng=21)
+        d = model.distances(Q)
+        args = list(model._map_arrays())
+        maps = model.pair_maps()
+        for with_maps in (True, False):
+            if not with_maps:
+                args[2] = np.full(len(model.pairs), -1, dtype=np.intc)
+            got = overlaps(robot._chain, Q, model._caps, model._frame, model._pairs, *args, 1)
+            rows, cols = np.nonzero(d <= 0.0)
+            if with_maps and maps:
+                keep = ~cleared(maps, Q, rows, cols)
+                rows, cols = rows[keep], cols[keep]
+            want = {(int(r), *map(int, model._link_pairs[c])) for r, c in zip(rows, cols)}
+            assert {tuple(map(int, g)) for g in got} == want
+            assert len(got) == len(want)
+            assert (np.diff(got[:, 0]) >= 0).all()
+            index = {tuple(map(int, p)): k for k, p in enumerate(model._link_pairs)}
+            depth = d[got[:, 0], [index[(int(u), int(v))] for u, v in got[:, 1:]]]
+            same = np.flatnonzero(np.diff(got[:, 0]) == 0)
+            assert (depth[same] <= depth[same + 1]).all()     # deepest overlap first within a configuration
+        assert len(want) > 100
+    robot, model = ur5
+    with pytest.raises(ValueError, match="map joints"):
+        bad = list(model._map_arrays())
+        bad[3] = np.full_like(bad[3], robot.n)
+        overlaps(robot._chain, robot.random_q(1, rng=0), model._caps, model._frame, model._pairs, *bad, 1)
+    assert overlaps(robot._chain, np.full((1, robot.n), np.nan), model._caps, model._frame, model._pairs,
+                    *model._map_arrays(), 1) is None
+
 
 def test_panda_acm_agrees_with_the_maintainers_srdf(panda):
     _, model = panda

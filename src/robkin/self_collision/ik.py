@@ -8,9 +8,9 @@ package does not import the kinematics entry point that calls it):
    parts (both compiled and conservative: a solution kept is free for the meshes; ``level``). Where the preferred closed-form solution collides, every branch of that target is asked
    for. Colliding solutions are **dropped**: ``q`` is the collision-free solution nearest to ``q0``
    (IK's order), and with ``all_solutions=True`` ``solutions`` lists only the collision-free ones.
-2. Targets left without a collision-free solution are retried numerically from other starts: up to
-   ``RETRIES`` rounds, each from collision-free configurations drawn within the limits (seeded by
-   ``rng``), keeping the first collision-free solution.
+2. Targets left without a collision-free solution are retried numerically from ``RETRIES`` other
+   starts each (one batch), configurations drawn within the limits that ``level`` calls free (seeded
+   by ``rng``), keeping the first collision-free solution (with ``all_solutions``, every one).
 
 The guarantees of ``ik`` hold: a success reaches the target to the tolerances with every joint within
 its limits (the solutions are IK's own, checked by its forward kinematics); ``success`` is False, with
@@ -31,15 +31,16 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["collision_free_ik", "RETRIES"]
 
-#: Numeric rounds from new collision-free starts for targets whose solutions all collide.
+#: Numeric starts (collision-free, one batch) per target whose solutions all collide.
 RETRIES = 4
-#: Starts per target and round (run side by side by the numeric IK).
-STARTS = 8
 MESSAGE = "every solution found is in self collision"
-#: Batches of fewer configurations are checked on one thread (unless ``threads=`` is given): the
+#: Batches of fewer configurations are checked (and follow-up IK batches of fewer targets solved) on
+#: one thread (unless ``threads=`` is given): the
 #: OpenMP start and spin-wait of more threads cost more CPU than they save there (UR5, 1000 targets
 #: on a loaded 2-core machine: 14 us of CPU a target with two threads, 10 with one).
 SERIAL_BELOW = 4096
+#: Candidates drawn per start needed (``_free_starts``).
+OVERSAMPLE = 8
 
 
 def _collides(model: SelfCollisionModel, q: np.ndarray, level: str, threads: int | None) -> np.ndarray:
@@ -48,16 +49,29 @@ def _collides(model: SelfCollisionModel, q: np.ndarray, level: str, threads: int
     return np.asarray(model.collides(q, level=level, threads=t), dtype=bool)
 
 
+def _serial(options: dict[str, Any], count: int) -> dict[str, Any]:
+    """IK's options for a follow-up batch of ``count`` targets: on one thread when it is small and no
+    ``threads`` was given (as ``_collides``: OpenMP's spin-wait costs more CPU than a few targets take)."""
+    if options.get("threads") is None and count < SERIAL_BELOW:
+        return {**options, "threads": 1}
+    return options
+
+
 def _free_starts(robot: Robot, model: SelfCollisionModel, count: int, rng: np.random.Generator,
-                 threads: int | None = None) -> np.ndarray:
-    """``count`` configurations within the limits that the capsules call free (a few rejection rounds;
-    any left over are plain random configurations)."""
+                 level: str = "capsules", threads: int | None = None) -> np.ndarray:
+    """``count`` configurations within the limits that ``level`` calls free: candidates drawn in a few
+    rounds of one batch each (``OVERSAMPLE`` a start still needed), any left over plain random ones
+    (the UR5's capsules flag ~97 % of random configurations, its 'parts' level ~26 %)."""
     out = robot.random_q(count, rng=rng)
-    for _ in range(8):
-        bad = _collides(model, out, "capsules", threads)
-        if not bad.any():
+    need = np.ones(count, dtype=bool)
+    for _ in range(3):
+        cand = robot.random_q(OVERSAMPLE * int(need.sum()), rng=rng)
+        free = cand[~_collides(model, cand, level, threads)]
+        idx = np.flatnonzero(need)[:len(free)]
+        out[idx] = free[:len(idx)]
+        need[idx] = False
+        if not need.any():
             break
-        out[bad] = robot.random_q(int(bad.sum()), rng=rng)
     return out
 
 
@@ -145,38 +159,49 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     if left and not all_solutions and res.method != "numeric":   # closed form: every branch of those targets
         sub = ik(robot, targets[left] if not single else targets[0], q0=None if q0 is None else
                  (np.asarray(q0, dtype=float).reshape(-1, n)[left] if np.ndim(q0) == 2 else q0),
-                 all_solutions=True, rng=rng, **options)
+                 all_solutions=True, rng=rng, **_serial(options, len(left)))
         got = [sub.solutions] if single else list(sub.solutions)
         got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
         for i, g in zip(left, got):
             sols[i] = g
         # the preferred solution was checked already: the other branches only
-        others = [g[~np.all(np.abs(g - sols_0[i]) <= 0.0, axis=1)] if i in sols_0 else g for i, g in zip(left, got)]
+        G = np.vstack(got) if got else np.empty((0, n))
+        owner = np.repeat(np.arange(len(left)), [len(g) for g in got])
+        ref = np.full((len(left), n), np.nan)       # NaN (no preferred solution) equals nothing
+        for k, i in enumerate(left):
+            if i in sols_0:
+                ref[k] = sols_0[i]
+        keep = ~np.all(G == ref[owner], axis=1)
+        ends = np.cumsum(np.bincount(owner[keep], minlength=len(left)))
+        G = G[keep]
+        others = [G[e - c:e] for e, c in zip(ends, np.diff(np.r_[0, ends]))]
         for i, g in zip(left, _first_free(model, others, level, threads)):
             free[i] = g
-    gen = np.random.default_rng(rng)
-    numeric = {k: v for k, v in options.items() if k not in ("method",)}
-    for _ in range(RETRIES):
-        left = [i for i, f in free.items() if not len(f)]
-        if not left:
-            break
-        starts = _free_starts(robot, model, len(left), gen, threads)
-        sub = ik(robot, targets[left] if not single else targets[0], q0=starts if not single else starts[0],
-                 method="numeric", all_solutions=all_solutions, rng=gen, **numeric)
+    left = [i for i, f in free.items() if not len(f)]
+    if left:    # RETRIES collision-free starts per target left, all in one numeric batch
+        gen = np.random.default_rng(rng)
+        numeric = {k: v for k, v in options.items() if k not in ("method",)}
+        idx = np.repeat(left, RETRIES)
+        starts = _free_starts(robot, model, len(idx), gen, level, threads)
+        sub = ik(robot, targets[idx], q0=starts, method="numeric", all_solutions=all_solutions, rng=gen,
+                 **_serial(numeric, len(idx)))
         if all_solutions:
-            got = [sub.solutions] if single else list(sub.solutions)
+            got = list(sub.solutions)
         else:
             good = np.atleast_1d(sub.success)
             got = [q[None] if g else np.empty((0, n)) for q, g in zip(np.array(sub.q, dtype=float).reshape(-1, n), good)]
         got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
-        for i, g in zip(left, got):
-            sols[i] = g if len(g) else sols[i]
-        for i, g in zip(left, _collision_free(model, got, level, threads)):
-            free[i] = g
+        ok_got = _collision_free(model, got, level, threads)
+        for k, i in enumerate(left):
+            mine = got[k * RETRIES:(k + 1) * RETRIES]
+            found = np.vstack(mine)
+            sols[i] = found if len(found) else sols[i]
+            kept_free = np.vstack(ok_got[k * RETRIES:(k + 1) * RETRIES])
+            free[i] = kept_free if all_solutions else kept_free[:1]
     q = np.array(res.q, dtype=float).reshape(-1, robot.n)
     success = kept.copy()
     messages = [res.message] if single else list(res.message)
-    for j in np.flatnonzero(kept):
+    for j in np.flatnonzero(kept).tolist():
         messages[j] = ""
     for i, f in free.items():
         if len(f):
@@ -185,7 +210,12 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         elif len(sols[i]) or bool(np.atleast_1d(res.success)[i]):
             q[i] = np.nan
             messages[i] = MESSAGE
-    ep, eo = _errors(robot, targets, q)
+    # errors: IK's own where its answer was kept (the same q), recomputed where another one replaced it
+    ep = np.where(kept, np.atleast_1d(res.position_error), np.inf).astype(float)
+    eo = np.where(kept, np.atleast_1d(res.orientation_error), np.inf).astype(float)
+    changed = np.flatnonzero(~kept)
+    if len(changed):
+        ep[changed], eo[changed] = _errors(robot, targets[changed] if len(targets) > 1 else targets, q[changed])
     if options.get("mask") not in (None, "pose"):   # errors over the masked components: IK's own, per target
         ep = np.where(np.isfinite(q).all(axis=1), np.atleast_1d(res.position_error), np.inf)
         eo = np.where(np.isfinite(q).all(axis=1), np.atleast_1d(res.orientation_error), np.inf)

@@ -104,6 +104,7 @@ class SelfCollisionModel:
         # the parts' hulls and capsules in their bodies' frames, for ``parts_apart``
         self._parts: tuple[np.ndarray, ...] | None = None
         self._maps: list[Any] | None = None     # ``pairmaps.pair_maps``, built at the first use
+        self._map_args: tuple[Any, ...] | None = None   # ``_map_arrays``, built with the maps
         if self.parts and {p.link for p in self.parts} >= set(names):
             local: list[np.ndarray] = []
             of_part: list[list[int]] = [[] for _ in names]
@@ -189,53 +190,86 @@ class SelfCollisionModel:
         threads : int, optional
             Threads of the compiled kernels (None or 0: automatic, ``robkin.threads``; 1: this thread only).
         """
-        from ..compiled.collision.capsules import collide
-
         if level not in LEVELS:
             raise InputError(f"level: {level!r} is not one of {', '.join(LEVELS)}")
-        qa, single = self._q(q)
-        t = 0 if threads is None else check_threads(threads)
-        hit = collide(self.robot._chain, qa, self._caps, self._frame, self._pairs, t)
-        assert hit is not None  # checked, finite, contiguous float64
-        out = hit.view(np.bool_)
-        if level != "capsules" and out.any():
-            out = self._refine(qa, out.copy(), t, level == "exact")
-        return bool(out[0]) if single else out
-
-    def _refine(self, qa: np.ndarray, hit: np.ndarray, threads: int, exact: bool) -> np.ndarray:
-        """``hit`` with each flagged configuration checked again by the parts, then, with ``exact``, by coal
-        (see ``collides``)."""
-        if exact and self.exact is None:
+        if level == "exact" and self.exact is None:
             raise InputError("level 'exact': this model has no exact check (coal was not installed when it was "
                              "built: pip install coal)")
-        rows = np.flatnonzero(hit)
-        d = self.distances(qa[rows], threads=threads or None)
-        r_idx, p_idx = np.nonzero(d <= 0.0)
-        # per configuration, the deepest capsule overlap first: the likeliest contact ends its row soonest
-        by = np.lexsort((d[r_idx, p_idx], r_idx))
-        r_idx, p_idx = r_idx[by], p_idx[by]
-        queries = np.column_stack([r_idx, self._link_pairs[p_idx]]).astype(np.intc)
-        if self._parts is not None and len(queries):
-            from .pairmaps import cleared as map_cleared
+        qa, single = self._q(q)
+        t = 0 if threads is None else check_threads(threads)
+        if level == "capsules":
+            from ..compiled.collision.capsules import collide
 
-            maps = self.pair_maps()
-            if maps:    # pairs moved by one or two joints: their tabulated cells first
-                queries = queries[~map_cleared(maps, qa[rows], r_idx, p_idx)]
+            hit = collide(self.robot._chain, qa, self._caps, self._frame, self._pairs, t)
+            assert hit is not None  # checked, finite, contiguous float64
+            out = hit.view(np.bool_)
+        else:
+            out = self._refine(qa, t, level == "exact")
+        return bool(out[0]) if single else out
+
+    def _refine(self, qa: np.ndarray, threads: int, exact: bool) -> np.ndarray:
+        """Levels 'parts' and 'exact' (see ``collides``): one compiled pass gives, per configuration, the
+        link pairs whose capsules overlap and that no pair map clears (``capsules.overlaps``, deepest
+        first); the parts' GJK test takes those, and with ``exact`` coal what it leaves."""
+        from ..compiled.collision.capsules import overlaps
+
+        link_of, link_pairs, map_of, joints, lower, width, cells, start, free = self._map_arrays()
+        queries = overlaps(self.robot._chain, qa, self._caps, self._frame, self._pairs, link_of, link_pairs, map_of,
+                           joints, lower, width, cells, start, free, threads)
+        assert queries is not None  # checked, finite, contiguous float64
+        hit = np.zeros(len(qa), dtype=bool)
+        if self._parts is not None and len(queries):
             from ..compiled.collision.parts import parts_apart
 
+            r = queries[:, 0]
+            first = np.empty(len(r), dtype=bool)      # rows come in order: each configuration's first query
+            first[0] = True
+            np.not_equal(r[1:], r[:-1], out=first[1:])
+            rows = r[first]
+            local = queries.copy()
+            local[:, 0] = np.cumsum(first) - 1
             frames = self.robot.frames_at(np.ascontiguousarray(qa[rows]), threads=threads or None)
             V, S, K, B, LS, LP, H, HS, HB = self._parts
-            cleared = parts_apart(frames, V, S, K, B, LS, LP, H, HS, HB, queries, threads).view(np.bool_)
+            cleared = parts_apart(frames, V, S, K, B, LS, LP, H, HS, HB, local, threads).view(np.bool_)
             queries = queries[~cleared]
-        hit[rows] = False
         if not exact:
-            hit[rows[np.unique(queries[:, 0])]] = True
+            hit[queries[:, 0]] = True
             return hit
         assert self.exact is not None
         for r in np.unique(queries[:, 0]):
             near = [(int(u), int(v)) for u, v in queries[queries[:, 0] == r, 1:]]
-            hit[rows[r]] = bool(self.exact.colliding_pairs(qa[rows[r]], near, first=True))
+            hit[r] = bool(self.exact.colliding_pairs(qa[r], near, first=True))
         return hit
+
+    def _map_arrays(self) -> tuple[Any, ...]:
+        """The arguments of ``capsules.overlaps`` after ``pairs``: each capsule pair's link pair, the link
+        pairs, and the pair maps (``pair_maps``) flattened: map of each link pair (-1: none), joints,
+        lower limits, cell widths, cells per joint, each map's first cell and the cells (1: proven apart)."""
+        if self._map_args is None:
+            from .pairmaps import CELLS
+
+            link_of = np.repeat(np.arange(len(self._link_pairs), dtype=np.intc),
+                                np.diff(np.r_[self._starts, len(self._pairs)]).astype(np.intp)) \
+                if len(self._link_pairs) else np.zeros(0, np.intc)
+            maps = self.pair_maps() if self._parts is not None else []
+            map_of = np.full(len(self._link_pairs), -1, dtype=np.intc)
+            joints = np.full((len(maps), 2), -1, dtype=np.intc)
+            lower = np.zeros((len(maps), 2))
+            width = np.ones((len(maps), 2))
+            start = np.zeros(len(maps), dtype=np.intp)
+            cells: list[np.ndarray] = []
+            at = 0
+            for k, m in enumerate(maps):
+                map_of[m.pair] = k
+                joints[k, :len(m.joints)] = m.joints
+                lower[k, :len(m.joints)] = m.lower
+                width[k, :len(m.joints)] = m.width
+                start[k] = at
+                cells.append(m.free.reshape(-1).astype(np.uint8))
+                at += cells[-1].size
+            free = np.concatenate(cells) if cells else np.zeros(0, np.uint8)
+            self._map_args = (link_of, self._link_pairs, map_of, joints, lower, width, CELLS, start, free)
+        return self._map_args
 
     def distances(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:
         """Distance between the capsules of each checked pair (length units; negative: they overlap by

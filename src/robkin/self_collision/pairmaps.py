@@ -3,8 +3,9 @@
 The relative pose of two links on bodies ``a < b`` of the chain depends only on the joints ``a+1 .. b``.
 Where those are one or two revolute joints with finite limits, the pair's answer is a function on a
 line or a rectangle of joint values, tabulated once: cells of that box proven apart at every joint
-value in them (``PairMap.free``). ``cleared`` then answers most of the pair's queries with one array
-lookup, before the convex parts' GJK test (``compiled.collision.parts``); the UR5's upper arm over its
+value in them (``PairMap.free``). The 'parts' level looks each query's cell up in its compiled first
+pass (``compiled.collision.capsules.overlaps``; ``cleared`` is the same lookup in numpy), before the
+convex parts' GJK test (``compiled.collision.parts``); the UR5's upper arm over its
 flat base (capsules meet in ~90 % of configurations) and its forearm beside the second wrist link are
 such pairs.
 

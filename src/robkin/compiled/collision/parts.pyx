@@ -27,6 +27,8 @@ cdef enum:
     # centres' direction, else the parts decide (more steps cost more where the hulls overlap, an arm
     # hanging beside a flat base, than they save where they do not: UR5, 2026-11-29)
     HULL_STEPS = 1
+    # parts of a link placed once per link pair (``links_apart``; the model makes up to 8)
+    MAX_PARTS = 32
 
 
 cdef inline double dot3(const double* a, const double* b) noexcept nogil:
@@ -256,17 +258,46 @@ cdef int links_apart(const double* F, int n, const double* verts, const Py_ssize
              hulls + 3 * hull_start[v], <int>(hull_start[v + 1] - hull_start[v]), Tv, dc, hints + 3 * (u * L + v),
              Th, HULL_STEPS, margin):
         return 1
-    # else every part pair: capsules apart, or a plane between them
+    # else every part pair: capsules apart (bounding spheres first), or a plane between them. Link u's
+    # part capsules are placed once (up to MAX_PARTS; a link with more places them pair by pair)
+    cdef double PU[MAX_PARTS * 7]
+    cdef int nu = <int>(link_start[u + 1] - link_start[u]), j
+    cdef bint cached = nu <= MAX_PARTS
+    cdef double x, y, z, s
+    if cached:
+        for j in range(nu):
+            k = link_parts[link_start[u] + j]
+            place(Tu, bound + 7 * k, PU + 7 * j)
+            place(Tu, bound + 7 * k + 3, PU + 7 * j + 3)
+            x = bound[7 * k + 3] - bound[7 * k]
+            y = bound[7 * k + 4] - bound[7 * k + 1]
+            z = bound[7 * k + 5] - bound[7 * k + 2]
+            PU[7 * j + 6] = 0.5 * sqrt(x * x + y * y + z * z) + bound[7 * k + 6]     # bounding sphere's radius
     for pv in range(<int>link_start[v], <int>link_start[v + 1]):
         l = link_parts[pv]
         nb = <int>(start[l + 1] - start[l])
         place(Tv, bound + 7 * l, cv)
         place(Tv, bound + 7 * l + 3, cv + 3)
+        x = bound[7 * l + 3] - bound[7 * l]
+        y = bound[7 * l + 4] - bound[7 * l + 1]
+        z = bound[7 * l + 5] - bound[7 * l + 2]
+        s = 0.5 * sqrt(x * x + y * y + z * z) + bound[7 * l + 6] + margin
         for pu in range(<int>link_start[u], <int>link_start[u + 1]):
             k = link_parts[pu]
             na = <int>(start[k + 1] - start[k])
-            place(Tu, bound + 7 * k, cu)
-            place(Tu, bound + 7 * k + 3, cu + 3)
+            if cached:
+                j = pu - <int>link_start[u]
+                for i in range(6):
+                    cu[i] = PU[7 * j + i]
+                # the parts' bounding spheres apart: so are their capsules (no segment distance needed)
+                x = cu[0] + cu[3] - cv[0] - cv[3]
+                y = cu[1] + cu[4] - cv[1] - cv[4]
+                z = cu[2] + cu[5] - cv[2] - cv[5]
+                if x * x + y * y + z * z > 4.0 * (s + PU[7 * j + 6]) * (s + PU[7 * j + 6]):
+                    continue
+            else:
+                place(Tu, bound + 7 * k, cu)
+                place(Tu, bound + 7 * k + 3, cu + 3)
             rr = bound[7 * k + 6] + bound[7 * l + 6] + margin
             if segment_distance2(cu, cu + 3, cv, cv + 3) > rr * rr:
                 continue
@@ -276,6 +307,63 @@ cdef int links_apart(const double* F, int n, const double* verts, const Py_ssize
                          hints + 3 * (L * L + k * K + l), Th, GJK_STEPS, margin):
                 return 0
     return 1
+
+
+cdef int check_layout(const Py_ssize_t* S, int K, Py_ssize_t nv, const int* Kf, int n, const Py_ssize_t* Ls, int L,
+                      const int* Lp, Py_ssize_t np_, const Py_ssize_t* Hs, Py_ssize_t nh, const int* Qp, Py_ssize_t Q,
+                      Py_ssize_t M) noexcept nogil:
+    """0 when ``parts_apart``'s index arrays are consistent, else the number of the first problem (1: part
+    rows or frames, 2: link parts, 3: hulls, 4: a link's parts on two frames, 5: queries)."""
+    cdef Py_ssize_t k, j
+    if K and (S[0] != 0 or S[K] != nv):
+        return 1
+    for k in range(K):
+        if S[k + 1] - S[k] < 1 or Kf[k] < 0 or Kf[k] > n:
+            return 1
+    if L < 0 or Ls[0] != 0 or Ls[L] != np_:
+        return 2
+    for k in range(np_):
+        if Lp[k] < 0 or Lp[k] >= K:
+            return 2
+    for k in range(L):
+        if Ls[k + 1] < Ls[k]:
+            return 2
+    for k in range(L):
+        if Ls[k + 1] == Ls[k]:
+            return 3
+    for k in range(L):
+        for j in range(Ls[k] + 1, Ls[k + 1]):
+            if Kf[Lp[j]] != Kf[Lp[Ls[k]]]:
+                return 4
+    if L and (Hs[0] != 0 or Hs[L] != nh):
+        return 3
+    for k in range(L):
+        if Hs[k + 1] - Hs[k] < 1:
+            return 3
+    for k in range(Q):
+        if Qp[3 * k] < 0 or Qp[3 * k] >= M or Qp[3 * k + 1] < 0 or Qp[3 * k + 1] >= L or Qp[3 * k + 2] < 0 \
+                or Qp[3 * k + 2] >= L:
+            return 5
+    return 0
+
+
+cdef bint rows_sorted(const int* Qp, Py_ssize_t Q) noexcept nogil:
+    cdef Py_ssize_t k
+    for k in range(1, Q):
+        if Qp[3 * k] < Qp[3 * k - 3]:
+            return False
+    return True
+
+
+cdef Py_ssize_t row_starts(const int* Qp, const Py_ssize_t* order, Py_ssize_t Q, Py_ssize_t* rows) noexcept nogil:
+    """rows[g] = where row group g begins in ``order`` (rows[R] = Q); returns R, the number of groups."""
+    cdef Py_ssize_t k, R = 0
+    for k in range(Q):
+        if k == 0 or Qp[3 * order[k]] != Qp[3 * order[k - 1]]:
+            rows[R] = k
+            R += 1
+    rows[R] = Q
+    return R
 
 
 def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, hulls, hull_start, hull_bound, queries,
@@ -312,20 +400,25 @@ def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, hull
                          "bound (K, 7), queries (Q, 3)")
     cdef int n = <int>Fa.shape[1] - 1, K = <int>Ka.shape[0], L = <int>La.shape[0] - 1
     cdef Py_ssize_t M = Fa.shape[0], Q = Qa.shape[0], j, g, R
-    if K and (Sa[0] != 0 or Sa[K] != Va.shape[0] or (np.diff(Sa) < 1).any() or Ka.min() < 0 or Ka.max() > n):
-        raise ValueError("parts_apart: part rows or frames out of range")
-    if L < 0 or La[0] != 0 or La[L] != Pa.shape[0] or (np.diff(La) < 0).any() or (Pa.shape[0] and (Pa.min() < 0 or Pa.max() >= K)):
-        raise ValueError("parts_apart: link parts out of range")
-    if L and ((np.diff(La) < 1).any() or Ha.ndim != 2 or Ha.shape[1] != 3 or Hs.ndim != 1 or Hs.shape[0] != L + 1
-              or Hs[0] != 0 or Hs[L] != Ha.shape[0] or (np.diff(Hs) < 1).any() or Hb.ndim != 2
-              or Hb.shape[0] != L or Hb.shape[1] != 7):
-        raise ValueError("parts_apart: every link needs parts, hull points (hull_start (L+1,)) and a hull bound (L, 7)")
-    if L and any(len(set(Ka[Pa[La[l]:La[l + 1]]].tolist())) != 1 for l in range(L)):
-        raise ValueError("parts_apart: a link's parts must share one frame")
-    if Q and (Qa[:, 0].min() < 0 or Qa[:, 0].max() >= M or Qa[:, 1:].min() < 0 or Qa[:, 1:].max() >= L):
-        raise ValueError("parts_apart: queries out of range")
+    if Sa.shape[0] != K + 1 or La.ndim != 1 or La.shape[0] < 1 or Pa.ndim != 1:
+        raise ValueError("parts_apart: start (K+1,), link_start (L+1,), link_parts (P,)")
     if not margin >= 0.0:
         raise ValueError("parts_apart: margin must be >= 0")
+    if L and (Ha.ndim != 2 or Ha.shape[1] != 3 or Hs.ndim != 1 or Hs.shape[0] != L + 1 or Hb.ndim != 2
+              or Hb.shape[0] != L or Hb.shape[1] != 7):
+        raise ValueError("parts_apart: every link needs parts, hull points (hull_start (L+1,)) and a hull bound (L, 7)")
+    # the index checks as C loops (a few us; numpy's would cost ~50 us a call, most of a small batch's time)
+    cdef int problem = check_layout(<const Py_ssize_t*>cnp.PyArray_DATA(Sa), K, Va.shape[0],
+                                    <const int*>cnp.PyArray_DATA(Ka), n,
+                                    <const Py_ssize_t*>cnp.PyArray_DATA(La), L,
+                                    <const int*>cnp.PyArray_DATA(Pa), Pa.shape[0],
+                                    <const Py_ssize_t*>cnp.PyArray_DATA(Hs), Ha.shape[0] if L else 0,
+                                    <const int*>cnp.PyArray_DATA(Qa), Q, M)
+    if problem:
+        raise ValueError(("parts_apart: part rows or frames out of range", "parts_apart: link parts out of range",
+                          "parts_apart: every link needs parts, hull points (hull_start (L+1,)) and a hull bound (L, 7)",
+                          "parts_apart: a link's parts must share one frame",
+                          "parts_apart: queries out of range")[problem - 1])
     cdef cnp.ndarray out = np.zeros(Q, dtype=np.uint8)
     cdef const double* F = <const double*>cnp.PyArray_DATA(Fa)
     cdef const double* V = <const double*>cnp.PyArray_DATA(Va)
@@ -347,10 +440,11 @@ def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, hull
     cdef cnp.ndarray hint_a = np.zeros(max(nt, 1) * per, dtype=np.float64)
     cdef double* HT = <double*>cnp.PyArray_DATA(hint_a)
     # the queries row by row (their order within a row kept): a row stops at its first pair not proven
-    cdef cnp.ndarray order_a = np.argsort(Qa[:, 0], kind="stable").astype(np.intp)
-    cdef cnp.ndarray rows_a = np.flatnonzero(np.r_[True, np.diff(Qa[order_a, 0]) != 0, True]).astype(np.intp) \
-        if Q else np.zeros(1, dtype=np.intp)
-    R = rows_a.shape[0] - 1
+    cdef cnp.ndarray order_a = np.argsort(Qa[:, 0], kind="stable").astype(np.intp) if not rows_sorted(
+        <const int*>cnp.PyArray_DATA(Qa), Q) else np.arange(Q, dtype=np.intp)
+    cdef cnp.ndarray rows_a = np.empty(Q + 1, dtype=np.intp)
+    R = row_starts(<const int*>cnp.PyArray_DATA(Qa), <const Py_ssize_t*>cnp.PyArray_DATA(order_a), Q,
+                   <Py_ssize_t*>cnp.PyArray_DATA(rows_a))
     cdef const Py_ssize_t* od = <const Py_ssize_t*>cnp.PyArray_DATA(order_a)
     cdef const Py_ssize_t* rw = <const Py_ssize_t*>cnp.PyArray_DATA(rows_a)
     with nogil:
