@@ -186,3 +186,40 @@ def test_bad_payload_column_is_one_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "line 5, column 'payload'" in err and "Traceback" not in err
     assert not (tmp_path / "c.yaml").exists()
+
+
+def _offset_payload_campaign(case, seed, poses=120, com=(0.2, 0.0, 0.1)):
+    """The experiment that loads every wrist joint: a 6-D tracker (positions and orientations, 10 um and
+    0.005 deg), 10 kg whose centre of mass sits ``com`` (m) off the flange in its frame (a gripper holding
+    a part: 0.2 m off the last axis, 0.1 m along it), on every other one of ``poses`` random poses."""
+    from robkin import se3
+    from robkin.calibration.simulation import _rotations
+
+    robot = _load(case)
+    k = np.exp(np.random.default_rng(seed).uniform(np.log(1e4), np.log(1e5), robot.n))
+    payload = np.where(np.arange(poses) % 2 == 0, 10.0, 0.0)
+    sim = simulate(robot, poses, seed=seed, stiffness=k, payload=payload, noise=10e-6)
+    # the truth's tool is the marker: the same centre of mass expressed in the marker frame
+    com_marker = (se3.inv(sim.marker) @ np.r_[com, 1.0])[:3]
+    T = sim.truth.world @ sim.truth.fk_compliant(sim.q, payload, com_marker)
+    rng = np.random.default_rng(seed + 1000)
+    pos = T[:, :3, 3] + rng.normal(0.0, 10e-6, (poses, 3))
+    rot = T[:, :3, :3] @ _rotations(rng.normal(0.0, np.radians(0.005), (poses, 3)))
+    return robot, k, sim.q, pos, rot, payload, np.asarray(com)
+
+
+@pytest.mark.parametrize("case", [UR5, XARM7, PANDA], ids=["ur5", "xarm7", "panda"])
+@pytest.mark.parametrize("seed", [1, 3])
+def test_offset_payload_and_orientations_identify_every_wrist_stiffness(case, seed):
+    """Issue 34's "stiffnesses within 10 %" for every joint gravity can load: with the payload at the
+    marker (the test above) the wrist joints carry too little torque (errors 2-25 %, the last one often not
+    determined); with its centre of mass 0.2 m off the last axis and orientations measured, every joint
+    but the vertical first one is found within 10 %."""
+    robot, k, q, pos, rot, payload, com = _offset_payload_campaign(case, seed)
+    res = calibrate(robot, q, pos, rot, compliance=True, payload=payload, payload_com=com)
+    assert res.stiffness[robot.joints[0].name]["observable"] is False   # vertical axis: no gravity torque
+    for i, j in enumerate(robot.joints[1:], start=1):
+        s = res.stiffness[j.name]
+        assert s["stiffness"] is not None, j.name
+        # observed over seeds 1-5 on the three arms: shoulder/elbow <= 1.8 %, wrist <= 6.7 %, last joint <= 8.4 %
+        assert abs(s["stiffness"] / k[i] - 1) < 0.10, (j.name, s["stiffness"] / k[i] - 1)
