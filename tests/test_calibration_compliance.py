@@ -221,5 +221,10 @@ def test_offset_payload_and_orientations_identify_every_wrist_stiffness(case, se
     for i, j in enumerate(robot.joints[1:], start=1):
         s = res.stiffness[j.name]
         assert s["stiffness"] is not None, j.name
-        # observed over seeds 1-5 on the three arms: shoulder/elbow <= 1.8 %, wrist <= 6.7 %, last joint <= 8.4 %
-        assert abs(s["stiffness"] / k[i] - 1) < 0.10, (j.name, s["stiffness"] / k[i] - 1)
+        err, rel_std = s["stiffness"] / k[i] - 1, s["std"] / s["compliance"]
+        # observed over seeds 1-5 on the three arms: shoulder/elbow <= 2.1 %, wrist <= 6.0 %, last joint
+        # <= 7.4 %. It is the noise limit, not a guarantee: over seeds 1-20, 6 of 60 runs had one wrist joint
+        # 10-22 % off, each reported with a standard deviation above 4 %; no joint reported to better than
+        # 3 % was off by more than 6.9 %
+        assert abs(err) < 0.10, (j.name, err, rel_std)
+        assert rel_std < 0.03 or abs(err) < 4 * rel_std, (j.name, err, rel_std)
