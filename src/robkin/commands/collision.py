@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .support.common import add_input, add_package_path, add_threads, load_input, package_paths, seed
+from .support.common import add_input, add_package_path, add_threads, load_input, package_paths, positive_int, seed
 
 EPILOG = """\
 Fits a conservative capsule around each link's collision geometry, samples configurations within the
@@ -31,7 +31,7 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     add_input(p)
     add_package_path(p)
     p.add_argument("-o", "--output", metavar="OUT.srdf", help="write the SRDF here (default: stdout)")
-    p.add_argument("--samples", type=_positive, default=None, metavar="N",
+    p.add_argument("--samples", type=positive_int, default=None, metavar="N",
                    help="configurations sampled within the joint limits (default 20000)")
     p.add_argument("--seed", type=seed, default=0, help="random seed of the samples (default 0)")
     p.add_argument("--no-exact", action="store_true",
@@ -40,16 +40,6 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print the summary as JSON (links, capsules, pairs)")
     add_threads(p)
     return p
-
-
-def _positive(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text[:40]}' is not a whole number") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{value}: must be at least 1")
-    return value
 
 
 def run(args: argparse.Namespace) -> int:

@@ -14,7 +14,7 @@ fixed: ..."). The ``<compiler>`` settings are left: the fixed file needs no ``ba
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from typing import Any, Iterator, Sequence
 
 import numpy as np
 
@@ -54,6 +54,18 @@ def _write_inertial(body: Any, mass: float, com: np.ndarray, I: np.ndarray) -> N
         body.insert(0, new) if not kids else kids[0].addprevious(new)
 
 
+def fixable(findings: Sequence[Finding]) -> Iterator[tuple[Finding, str, str]]:
+    """The findings a fix acts on, each (code, element) once and no info: (finding, the element's name,
+    'file:line: element' for the change's line). MJCF's and SDF's fixes share it."""
+    done: set[tuple[str, str]] = set()
+    for f in findings:
+        name = f.element.split("'")[1] if "'" in f.element else ""
+        if (f.code, name) in done or f.severity == "info":
+            continue
+        done.add((f.code, name))
+        yield f, name, (f"{f.file}:{f.line}: {f.element}" if f.element else f"{f.file}:{f.line}")
+
+
 def fix_mjcf(path: str, findings: Sequence[Finding], *, inertia: str = "nearest", density: float = 1000.0,
              raw: RawUrdf | None = None, meshes: MeshCache | None = None) -> tuple[str, list[str]]:
     """The corrected MJCF text for the ``findings`` lint gave on ``path``, and one line per change.
@@ -87,13 +99,7 @@ def fix_mjcf(path: str, findings: Sequence[Finding], *, inertia: str = "nearest"
     links = {ln.name: ln for ln in raw.links} if raw is not None else {}
     meshes = meshes or MeshCache(path)
     changes: list[str] = []
-    done: set[tuple[str, str]] = set()
-    for f in findings:
-        name = f.element.split("'")[1] if "'" in f.element else ""
-        if (f.code, name) in done or f.severity == "info":
-            continue
-        done.add((f.code, name))
-        where = f"{f.file}:{f.line}: {f.element}" if f.element else f"{f.file}:{f.line}"
+    for f, name, where in fixable(findings):
         joint = lines.joints.get(name) if f.element.startswith("joint") else None
         body = lines.links.get(name) if f.element.startswith("body") else None
         if f.code == "limits-reversed" and joint is not None and joint.get("range"):

@@ -21,7 +21,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from .findings import Finding
-from .fix_mjcf import _fix_mass, _num, parse_keeping_comments, written
+from .fix_mjcf import _fix_mass, _num, fixable, parse_keeping_comments, written
 from .fix_urdf import _GEOMETRY_ONLY, _INERTIA_CODES
 from .geometry import MeshCache
 from .urdf_source import RawUrdf
@@ -78,13 +78,7 @@ def fix_sdf(path: str, findings: Sequence[Finding], *, inertia: str = "nearest",
     links = {ln.name: ln for ln in raw.links} if raw is not None else {}
     meshes = meshes or MeshCache(path)
     changes: list[str] = []
-    done: set[tuple[str, str]] = set()
-    for f in findings:
-        name = f.element.split("'")[1] if "'" in f.element else ""
-        if (f.code, name) in done or f.severity == "info":
-            continue
-        done.add((f.code, name))
-        where = f"{f.file}:{f.line}: {f.element}" if f.element else f"{f.file}:{f.line}"
+    for f, name, where in fixable(findings):
         joint = lines.joints.get(name) if f.element.startswith("joint") else None
         link = lines.links.get(name) if f.element.startswith("link") else None
         limit = joint.find("axis/limit") if joint is not None else None

@@ -10,6 +10,8 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ..support.common import positive_int
+
 PLAN_HELP = """\
 --plan N writes N joint configurations to measure (POSES.csv: a header line with one column per joint,
 named as the model's joints, radians or metres, then one configuration per line) instead of
@@ -24,17 +26,6 @@ position error from noise alone, for --noise, and the same for as many random ca
 #: Options that mean something only with --plan (dest, flag).
 PLAN_ONLY = (("candidates", "--candidates"), ("box", "--box"), ("cone", "--cone"), ("noise", "--noise"),
              ("random_candidates", "--random-candidates"))
-
-
-def positive_int(text: str) -> int:
-    """argparse type of a count: a whole number >= 1."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text[:40]}' is not a whole number") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{value} is not a positive number")
-    return value
 
 
 def add_plan_options(p: argparse.ArgumentParser) -> None:

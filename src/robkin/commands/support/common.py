@@ -101,14 +101,14 @@ def seed(text: str) -> int:
 
 def add_threads(p: argparse.ArgumentParser) -> None:
     """--threads N: how many threads this command's batch kernels may use (robkin.set_threads)."""
-    p.add_argument("--threads", type=thread_count, metavar="N",
+    p.add_argument("--threads", type=positive_int, metavar="N",
                    help="threads for the batch kernels (default: ROBKIN_NUM_THREADS, else OMP_NUM_THREADS, else "
                         "every core this process may use); the results are the same bits on any number of "
                         "threads")
 
 
-def thread_count(text: str) -> int:
-    """argparse type of --threads: a whole number >= 1."""
+def positive_int(text: str) -> int:
+    """argparse type of a count (--threads, --samples, --plan, ...): a whole number >= 1."""
     try:
         value = int(text)
     except ValueError:
