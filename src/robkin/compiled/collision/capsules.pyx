@@ -56,6 +56,17 @@ cdef inline void move_capsules(const double* F, int n, const double* caps, const
                 W[6 * i + 3 * r + 2] = T[8] * p[0] + T[9] * p[1] + T[10] * p[2] + T[11]
 
 
+cdef inline void bounding_radii(const double* caps, int C, double* S) noexcept nogil:
+    """Each capsule's bounding sphere about its segment's midpoint: half the length plus the radius."""
+    cdef int i
+    cdef double x, y, z
+    for i in range(C):
+        x = caps[7 * i + 3] - caps[7 * i]
+        y = caps[7 * i + 4] - caps[7 * i + 1]
+        z = caps[7 * i + 5] - caps[7 * i + 2]
+        S[i] = 0.5 * sqrt(x * x + y * y + z * z) + caps[7 * i + 6]
+
+
 cdef int check_block(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t N,
                      Py_ssize_t j, const double* caps, const int* frame, int C, const int* pairs, int P,
                      unsigned char* hit, double* dist) noexcept nogil:
@@ -76,12 +87,7 @@ cdef int check_block(const double* L, const unsigned char* rev, int n, const dou
         return -1
     W = F + 16 * (n + 1) * m
     S = W + 6 * C
-    for i in range(C):
-        # each capsule's bounding sphere about its segment's midpoint: half the length plus the radius
-        x = caps[7 * i + 3] - caps[7 * i]
-        y = caps[7 * i + 4] - caps[7 * i + 1]
-        z = caps[7 * i + 5] - caps[7 * i + 2]
-        S[i] = 0.5 * sqrt(x * x + y * y + z * z) + caps[7 * i + 6]
+    bounding_radii(caps, C, S)
     frame_poses(L, rev, n, Q + n * k0, m, F)
     for b in range(m):
         move_capsules(F + 16 * (n + 1) * b, n, caps, frame, C, W)
@@ -212,11 +218,7 @@ cdef int overlap_block(const double* L, const unsigned char* rev, int n, const d
     W = F + 16 * (n + 1) * m
     S = W + 6 * C
     D = S + C
-    for i in range(C):
-        x = caps[7 * i + 3] - caps[7 * i]
-        y = caps[7 * i + 4] - caps[7 * i + 1]
-        z = caps[7 * i + 5] - caps[7 * i + 2]
-        S[i] = 0.5 * sqrt(x * x + y * y + z * z) + caps[7 * i + 6]
+    bounding_radii(caps, C, S)
     frame_poses(L, rev, n, Q + n * k0, m, F)
     for b in range(m):
         move_capsules(F + 16 * (n + 1) * b, n, caps, frame, C, W)
