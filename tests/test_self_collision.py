@@ -115,8 +115,8 @@ def test_parts_apart_only_when_a_plane_separates():
         V = np.vstack([A, B])
         # each part's bound: a capsule of no length (a ball) around its points
         ball = np.array([[*c, *c, np.linalg.norm(P - c, axis=1).max()] for P in (A, B) for c in [P.mean(axis=0)]])
-        # each link one part; its hull the same points (the whole-hull shortcut, then the parts)
-        got = parts_apart(frames, V, [0, 30, 55], [0, 0], ball, [0, 1, 2], [0, 1], V, [0, 30, 55], ball, [[0, 0, 1]])[0]
+        # each link one part
+        got = parts_apart(frames, V, [0, 30, 55], [0, 0], ball, [0, 1, 2], [0, 1], [[0, 0, 1]])[0]
         # separable iff some w, b: A w <= b - 1 and B w >= b + 1
         lp = linprog(np.zeros(4), A_ub=np.vstack([np.c_[A, -np.ones(30)], np.c_[-B, np.ones(25)]]),
                      b_ub=-np.ones(55), bounds=[(None, None)] * 4)
@@ -127,18 +127,19 @@ def test_parts_apart_only_when_a_plane_separates():
     assert separable > 100 and proven == separable
 
     # bad index arrays: one clear error, never a read out of bounds
-    args = (frames, V, [0, 30, 55], [0, 0], ball, [0, 1, 2], [0, 1], V, [0, 30, 55], ball)
+    args = (frames, V, [0, 30, 55], [0, 0], ball, [0, 1, 2], [0, 1])
     with pytest.raises(ValueError, match="queries out of range"):
         parts_apart(*args, [[1, 0, 1]])
     with pytest.raises(ValueError, match="queries out of range"):
         parts_apart(*args, [[0, 0, 2]])
     with pytest.raises(ValueError, match="link parts"):
-        parts_apart(frames, V, [0, 30, 55], [0, 0], ball, [0, 2, 1], [0, 1], V, [0, 30, 55], ball, [[0, 0, 1]])
+        parts_apart(frames, V, [0, 30, 55], [0, 0], ball, [0, 2, 1], [0, 1], [[0, 0, 1]])
     with pytest.raises(ValueError, match="part rows"):
-        parts_apart(frames, V, [0, 30, 56], [0, 0], ball, [0, 1, 2], [0, 1], V, [0, 30, 55], ball, [[0, 0, 1]])
+        parts_apart(frames, V, [0, 30, 56], [0, 0], ball, [0, 1, 2], [0, 1], [[0, 0, 1]])
+    with pytest.raises(ValueError, match="every link needs parts"):
+        parts_apart(frames, V, [0, 30, 55], [0, 0], ball, [0, 2, 2], [0, 1], [[0, 0, 1]])
     with pytest.raises(ValueError, match="share one frame"):
-        parts_apart(np.repeat(frames, 2, axis=1), V, [0, 30, 55], [0, 1], ball, [0, 2], [0, 1], V[:30], [0, 30],
-                    ball[:1], [[0, 0, 0]])
+        parts_apart(np.repeat(frames, 2, axis=1), V, [0, 30, 55], [0, 1], ball, [0, 2], [0, 1], [[0, 0, 0]])
 
 
 def test_overlaps_kernel_agrees_with_capsule_distances_and_the_maps(ur5, panda):

@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike
 
 from ..checks import check_q, check_threads
 from ..errors import InputError
-from .capsules import Capsule, fit_capsule
+from .capsules import Capsule
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
@@ -101,7 +101,7 @@ class SelfCollisionModel:
             caps[k, 6] = c.radius
         self._caps = caps
         self._frame = np.array([c.body for c in self.capsules], dtype=np.intc)
-        # the parts' hulls and capsules in their bodies' frames, for ``parts_apart``
+        # the parts' points and capsules in their bodies' frames, for ``parts_apart``
         self._parts: tuple[np.ndarray, ...] | None = None
         self._maps: list[Any] | None = None     # ``pairmaps.pair_maps``, built at the first use
         self._map_args: tuple[Any, ...] | None = None   # ``_map_arrays``, built with the maps
@@ -119,13 +119,8 @@ class SelfCollisionModel:
             start = np.concatenate([[0], np.cumsum([len(h) for h in local])]).astype(np.intp)
             link_start = np.concatenate([[0], np.cumsum([len(ks) for ks in of_part])]).astype(np.intp)
             link_parts = np.array([k for ks in of_part for k in ks], dtype=np.intc)
-            # each link's hull (its parts' points together): one plane between two hulls clears the pair
-            # before its parts are tried
-            hulls = [_hull(np.vstack([local[k] for k in ks])) for ks in of_part]
-            hull_start = np.concatenate([[0], np.cumsum([len(h) for h in hulls])]).astype(np.intp)
-            hull_bound = np.array([[*a, *b, r] for a, b, r in (fit_capsule(h) for h in hulls)])
             self._parts = (np.vstack(local), start, np.array(frame, dtype=np.intc), np.array(bound), link_start,
-                           link_parts, np.vstack(hulls), hull_start, hull_bound)
+                           link_parts)
 
     @property
     def links(self) -> list[str]:
@@ -229,8 +224,7 @@ class SelfCollisionModel:
             local = queries.copy()
             local[:, 0] = np.cumsum(first) - 1
             frames = self.robot.frames_at(np.ascontiguousarray(qa[rows]), threads=threads or None)
-            V, S, K, B, LS, LP, H, HS, HB = self._parts
-            cleared = parts_apart(frames, V, S, K, B, LS, LP, H, HS, HB, local, threads).view(np.bool_)
+            cleared = parts_apart(frames, *self._parts, local, threads).view(np.bool_)
             queries = queries[~cleared]
         if not exact:
             hit[queries[:, 0]] = True
@@ -300,10 +294,3 @@ class SelfCollisionModel:
         names = self.pairs
         return [(names[i][0], names[i][1], float(d[i])) for i in np.argsort(d, kind="stable")[:max(int(k), 0)]]
 
-
-def _hull(P: np.ndarray) -> np.ndarray:
-    """The vertices of the convex hull of the points P (k, 3) (P itself when flat: a plane between point
-    sets is one between their hulls either way)."""
-    from ..collision.hull import convex_hull, is_flat
-
-    return P if is_flat(P) or len(P) < 5 else convex_hull(P)[0]

@@ -64,8 +64,8 @@ def _reach(model: SelfCollisionModel, link: int, body: int, joints: tuple[int, .
     """rho (k,): bounds on the distance of the link's points from each joint's axis, any configuration."""
     robot = model.robot
     assert model._parts is not None
-    hulls, hull_start = model._parts[6], model._parts[7]
-    pts = hulls[hull_start[link]:hull_start[link + 1]]
+    V, S, _, _, LS, LP = model._parts
+    pts = np.vstack([V[S[k]:S[k + 1]] for k in LP[LS[link]:LS[link + 1]]])
     own = float(np.linalg.norm(pts, axis=1).max())    # from joint ``body``'s origin, on its axis
     J = robot.frames
     rho = []
@@ -98,8 +98,7 @@ def _build(model: SelfCollisionModel, pair: int, u: int, v: int, joints: tuple[i
         Q[:, list(joints)] = lower + (cand + 0.5) * width
         F = robot.frames_at(Q)
         queries = np.column_stack([np.arange(len(cand)), np.full(len(cand), u), np.full(len(cand), v)]).astype(np.intc)
-        V, S, K, B, LS, LP, H, HS, HB = model._parts
-        ok = parts_apart(F, V, S, K, B, LS, LP, H, HS, HB, queries, 0, margin).view(np.bool_)
+        ok = parts_apart(F, *model._parts, queries, 0, margin).view(np.bool_)
         tests += len(cand)
         level = np.zeros((n,) * k, dtype=bool)
         level[tuple(cand[ok].T)] = True

@@ -23,10 +23,6 @@ cnp.import_array()
 cdef enum:
     # GJK steps before giving up (and answering "not proven apart", which the caller checks exactly)
     GJK_STEPS = 64
-    # GJK steps of the shortcut (the two links' whole hulls): its remembered plane and one step from the
-    # centres' direction, else the parts decide (more steps cost more where the hulls overlap, an arm
-    # hanging beside a flat base, than they save where they do not: UR5, 2026-11-29)
-    HULL_STEPS = 1
     # parts of a link placed once per link pair (``links_apart``; the model makes up to 8)
     MAX_PARTS = 32
 
@@ -226,12 +222,12 @@ cdef bint apart(const double* A, int na, const double* TA, const double* B, int 
 
 cdef int links_apart(const double* F, int n, const double* verts, const Py_ssize_t* start, const int* frame,
                      const double* bound, const Py_ssize_t* link_start, const int* link_parts,
-                     const double* hulls, const Py_ssize_t* hull_start, const double* hull_bound,
-                     int u, int v, int L, int K, double* hints, double margin) noexcept nogil:
-    """1 if link u is apart from link v at the frames F ((n+1) x 16): their whole hulls apart (one plane,
-    ``hulls``), else every part of one apart from every part of the other (their capsules apart, or a
-    separating plane, ``apart``). ``hints``: the thread's remembered directions, 3 per ordered link pair
-    (L x L), then 3 per ordered part pair (K x K). ``margin``: each gap at least that (``apart``)."""
+                     int u, int v, int K, double* hints, double margin) noexcept nogil:
+    """1 if link u is apart from link v at the frames F ((n+1) x 16): every part of one apart from every
+    part of the other (their capsules apart, or a separating plane, ``apart``). ``hints``: the thread's
+    remembered directions, 3 per ordered part pair (K x K). ``margin``: each gap at least that (``apart``).
+    (No test of the two links' whole hulls first: where the capsules meet and no pair map clears the
+    pair, such a plane was never found on the Panda, UR5 or iiwa, 2026-11-29, and cost a tenth.)"""
     cdef int pu, pv, k, l, i, na, nb
     cdef const double* Tu
     cdef const double* Tv
@@ -246,19 +242,7 @@ cdef int links_apart(const double* F, int n, const double* verts, const Py_ssize
     Tv = F + 16 * (frame[l] - 1) if frame[l] > 0 else NULL
     # the frame the hints are kept in: the body before v's (see ``apart``)
     cdef const double* Th = F + 16 * (frame[l] - 2) if frame[l] > 1 else NULL
-    # the whole links first: one plane between their hulls settles the pair (most pairs the capsules flag
-    # in ordinary poses, such as a flat base under an arm's housing)
-    place(Tu, hull_bound + 7 * u, cu)
-    place(Tu, hull_bound + 7 * u + 3, cu + 3)
-    place(Tv, hull_bound + 7 * v, cv)
-    place(Tv, hull_bound + 7 * v + 3, cv + 3)
-    for i in range(3):
-        dc[i] = cu[i] + cu[3 + i] - cv[i] - cv[3 + i]
-    if apart(hulls + 3 * hull_start[u], <int>(hull_start[u + 1] - hull_start[u]), Tu,
-             hulls + 3 * hull_start[v], <int>(hull_start[v + 1] - hull_start[v]), Tv, dc, hints + 3 * (u * L + v),
-             Th, HULL_STEPS, margin):
-        return 1
-    # else every part pair: capsules apart (bounding spheres first), or a plane between them. Link u's
+    # every part pair: capsules apart (bounding spheres first), or a plane between them. Link u's
     # part capsules are placed once (up to MAX_PARTS; a link with more places them pair by pair)
     cdef double PU[MAX_PARTS * 7]
     cdef int nu = <int>(link_start[u + 1] - link_start[u]), j
@@ -304,16 +288,15 @@ cdef int links_apart(const double* F, int n, const double* verts, const Py_ssize
             for i in range(3):
                 dc[i] = cu[i] + cu[3 + i] - cv[i] - cv[3 + i]
             if not apart(verts + 3 * start[k], na, Tu, verts + 3 * start[l], nb, Tv, dc,
-                         hints + 3 * (L * L + k * K + l), Th, GJK_STEPS, margin):
+                         hints + 3 * (k * K + l), Th, GJK_STEPS, margin):
                 return 0
     return 1
 
 
 cdef int check_layout(const Py_ssize_t* S, int K, Py_ssize_t nv, const int* Kf, int n, const Py_ssize_t* Ls, int L,
-                      const int* Lp, Py_ssize_t np_, const Py_ssize_t* Hs, Py_ssize_t nh, const int* Qp, Py_ssize_t Q,
-                      Py_ssize_t M) noexcept nogil:
+                      const int* Lp, Py_ssize_t np_, const int* Qp, Py_ssize_t Q, Py_ssize_t M) noexcept nogil:
     """0 when ``parts_apart``'s index arrays are consistent, else the number of the first problem (1: part
-    rows or frames, 2: link parts, 3: hulls, 4: a link's parts on two frames, 5: queries)."""
+    rows or frames, 2: link parts, 3: a link without parts, 4: a link's parts on two frames, 5: queries)."""
     cdef Py_ssize_t k, j
     if K and (S[0] != 0 or S[K] != nv):
         return 1
@@ -335,11 +318,6 @@ cdef int check_layout(const Py_ssize_t* S, int K, Py_ssize_t nv, const int* Kf, 
         for j in range(Ls[k] + 1, Ls[k + 1]):
             if Kf[Lp[j]] != Kf[Lp[Ls[k]]]:
                 return 4
-    if L and (Hs[0] != 0 or Hs[L] != nh):
-        return 3
-    for k in range(L):
-        if Hs[k + 1] - Hs[k] < 1:
-            return 3
     for k in range(Q):
         if Qp[3 * k] < 0 or Qp[3 * k] >= M or Qp[3 * k + 1] < 0 or Qp[3 * k + 1] >= L or Qp[3 * k + 2] < 0 \
                 or Qp[3 * k + 2] >= L:
@@ -366,7 +344,7 @@ cdef Py_ssize_t row_starts(const int* Qp, const Py_ssize_t* order, Py_ssize_t Q,
     return R
 
 
-def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, hulls, hull_start, hull_bound, queries,
+def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, queries,
                 int threads=0, double margin=0.0):
     """uint8 (Q,): per query (row, link u, link v) of ``queries`` (Q, 3), 1 when every convex part of link
     u is proven apart from every part of link v (a separating plane each) at the frames ``frames[row]``
@@ -378,10 +356,9 @@ def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, hull
 
     Parts: ``verts`` (H, 3) the parts' points in their frames' coordinates at q = 0, part k's rows
     ``start[k]:start[k+1]``, ``frame[k]`` its frame index (0: the base); link l's parts are
-    ``link_parts[link_start[l]:link_start[l+1]]`` (all on one frame, the link's body). Whole links, tried
-    first: ``hulls`` (G, 3) the points of each link's hull (link l's rows ``hull_start[l]:hull_start[l+1]``,
-    in its frame's coordinates at q = 0) and ``hull_bound`` (L, 7) a segment [a, b] and radius around them
-    (the segment's middle starts the search)."""
+    ``link_parts[link_start[l]:link_start[l+1]]`` (all on one frame, the link's body, at least one each);
+    ``bound`` (K, 7) a segment [a, b] and radius around each part's points (the capsule tested first; the
+    segments' middles start the search)."""
     cdef cnp.ndarray Fa = np.ascontiguousarray(frames, dtype=np.float64)
     cdef cnp.ndarray Va = np.ascontiguousarray(verts, dtype=np.float64)
     cdef cnp.ndarray Sa = np.ascontiguousarray(start, dtype=np.intp)
@@ -390,9 +367,6 @@ def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, hull
     cdef cnp.ndarray La = np.ascontiguousarray(link_start, dtype=np.intp)
     cdef cnp.ndarray Pa = np.ascontiguousarray(link_parts, dtype=np.intc)
     cdef cnp.ndarray Qa = np.ascontiguousarray(queries, dtype=np.intc)
-    cdef cnp.ndarray Ha = np.ascontiguousarray(hulls, dtype=np.float64)
-    cdef cnp.ndarray Hs = np.ascontiguousarray(hull_start, dtype=np.intp)
-    cdef cnp.ndarray Hb = np.ascontiguousarray(hull_bound, dtype=np.float64)
     if Fa.ndim != 4 or Fa.shape[2] != 4 or Fa.shape[3] != 4 or Va.ndim != 2 or Va.shape[1] != 3 \
             or Qa.ndim != 2 or Qa.shape[1] != 3 or Sa.ndim != 1 or Ka.shape[0] != Sa.shape[0] - 1 \
             or Ba.ndim != 2 or Ba.shape[0] != Ka.shape[0] or Ba.shape[1] != 7:
@@ -404,19 +378,15 @@ def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, hull
         raise ValueError("parts_apart: start (K+1,), link_start (L+1,), link_parts (P,)")
     if not margin >= 0.0:
         raise ValueError("parts_apart: margin must be >= 0")
-    if L and (Ha.ndim != 2 or Ha.shape[1] != 3 or Hs.ndim != 1 or Hs.shape[0] != L + 1 or Hb.ndim != 2
-              or Hb.shape[0] != L or Hb.shape[1] != 7):
-        raise ValueError("parts_apart: every link needs parts, hull points (hull_start (L+1,)) and a hull bound (L, 7)")
     # the index checks as C loops (a few us; numpy's would cost ~50 us a call, most of a small batch's time)
     cdef int problem = check_layout(<const Py_ssize_t*>cnp.PyArray_DATA(Sa), K, Va.shape[0],
                                     <const int*>cnp.PyArray_DATA(Ka), n,
                                     <const Py_ssize_t*>cnp.PyArray_DATA(La), L,
                                     <const int*>cnp.PyArray_DATA(Pa), Pa.shape[0],
-                                    <const Py_ssize_t*>cnp.PyArray_DATA(Hs), Ha.shape[0] if L else 0,
                                     <const int*>cnp.PyArray_DATA(Qa), Q, M)
     if problem:
         raise ValueError(("parts_apart: part rows or frames out of range", "parts_apart: link parts out of range",
-                          "parts_apart: every link needs parts, hull points (hull_start (L+1,)) and a hull bound (L, 7)",
+                          "parts_apart: every link needs parts",
                           "parts_apart: a link's parts must share one frame",
                           "parts_apart: queries out of range")[problem - 1])
     cdef cnp.ndarray out = np.zeros(Q, dtype=np.uint8)
@@ -429,14 +399,11 @@ def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, hull
     cdef const int* Lp = <const int*>cnp.PyArray_DATA(Pa)
     cdef const int* Qp = <const int*>cnp.PyArray_DATA(Qa)
     cdef unsigned char* O = <unsigned char*>cnp.PyArray_DATA(out)
-    cdef const double* H = <const double*>cnp.PyArray_DATA(Ha)
-    cdef const Py_ssize_t* HS = <const Py_ssize_t*>cnp.PyArray_DATA(Hs)
-    cdef const double* HB = <const double*>cnp.PyArray_DATA(Hb)
     cdef int nt
     with nogil:
         nt = batch_threads(threads, Q, 64) if Q > 64 else 1
     # each thread's remembered separating directions (see ``apart``): its own rows, no sharing
-    cdef Py_ssize_t per = 3 * (L * L + K * K)
+    cdef Py_ssize_t per = 3 * K * K
     cdef cnp.ndarray hint_a = np.zeros(max(nt, 1) * per, dtype=np.float64)
     cdef double* HT = <double*>cnp.PyArray_DATA(hint_a)
     # the queries row by row (their order within a row kept): a row stops at its first pair not proven
@@ -451,7 +418,7 @@ def parts_apart(frames, verts, start, frame, bound, link_start, link_parts, hull
         for g in prange(R, num_threads=nt, schedule="dynamic", chunksize=4):
             for j in range(rw[g], rw[g + 1]):
                 O[od[j]] = <unsigned char>links_apart(F + 16 * (n + 1) * Qp[3 * od[j]], n, V, S, Kf, Bs, Ls, Lp,
-                                                      H, HS, HB, Qp[3 * od[j] + 1], Qp[3 * od[j] + 2], L, K,
+                                                      Qp[3 * od[j] + 1], Qp[3 * od[j] + 2], K,
                                                       HT + per * threadid(), margin)
                 if O[od[j]] == 0:
                     break
