@@ -4,13 +4,16 @@
 package does not import the kinematics entry point that calls it):
 
 1. IK as asked; its answer (or, with ``all_solutions=True``, each solution) is checked by the
-   self-collision model (``build.model_of(robot)``): capsules, then, where they meet, the links' convex
-   parts (both compiled and conservative: a solution kept is free for the meshes; ``level``). Where the preferred closed-form solution collides, every branch of that target is asked
-   for. Colliding solutions are **dropped**: ``q`` is the collision-free solution nearest to ``q0``
-   (IK's order), and with ``all_solutions=True`` ``solutions`` lists only the collision-free ones.
-2. Targets left without a collision-free solution are retried numerically from ``RETRIES`` other
-   starts each (one batch), configurations drawn within the limits that ``level`` calls free (seeded
-   by ``rng``), keeping the first collision-free solution (with ``all_solutions``, every one).
+   self-collision model (``build.model_of(robot)``): capsules, then, where they meet, the pair maps and
+   the links' convex parts (compiled and conservative: a solution kept is free for the meshes;
+   ``level``). Where the preferred closed-form solution collides, every branch of that target is asked
+   for and checked in rounds, the nearest to ``q0`` first (IK's order). Colliding solutions are
+   **dropped**: ``q`` is the collision-free solution nearest to ``q0``, and with ``all_solutions=True``
+   ``solutions`` lists only the collision-free ones.
+2. Targets left without a collision-free solution are retried numerically from ``RETRIES`` starts each
+   (one batch), drawn from configurations that ``level`` calls free (``POOL`` of them per model, found
+   once; the draw seeded by ``rng``), keeping the first collision-free solution (with
+   ``all_solutions``, every one).
 
 The guarantees of ``ik`` hold: a success reaches the target to the tolerances with every joint within
 its limits (the solutions are IK's own, checked by its forward kinematics); ``success`` is False, with
@@ -19,6 +22,7 @@ the message "every solution found is in self collision", where no collision-free
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any, Callable
 
@@ -29,18 +33,26 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
     from .model import SelfCollisionModel
 
-__all__ = ["collision_free_ik", "RETRIES"]
+__all__ = ["collision_free_ik", "RETRIES", "POOL"]
 
 #: Numeric starts (collision-free, one batch) per target whose solutions all collide.
 RETRIES = 4
+#: Collision-free configurations kept per model and level for the numeric retries' starts (found at the
+#: first retry: enough that four starts of a target are almost never alike).
+POOL = 256
+#: Candidates drawn per pool configuration still needed, in each of up to ``POOL_ROUNDS`` rounds (the
+#: UR5's capsules flag ~97 % of random configurations, its 'parts' level ~26 %).
+OVERSAMPLE = 8
+POOL_ROUNDS = 3
 MESSAGE = "every solution found is in self collision"
 #: Batches of fewer configurations are checked (and follow-up IK batches of fewer targets solved) on
 #: one thread (unless ``threads=`` is given): the
 #: OpenMP start and spin-wait of more threads cost more CPU than they save there (UR5, 1000 targets
 #: on a loaded 2-core machine: 14 us of CPU a target with two threads, 10 with one).
 SERIAL_BELOW = 4096
-#: Candidates drawn per start needed (``_free_starts``).
-OVERSAMPLE = 8
+
+#: per model: level -> its pool of collision-free configurations (``_pool``)
+_POOLS: weakref.WeakKeyDictionary[SelfCollisionModel, dict[str, np.ndarray]] = weakref.WeakKeyDictionary()
 
 
 def _collides(model: SelfCollisionModel, q: np.ndarray, level: str, threads: int | None) -> np.ndarray:
@@ -57,55 +69,67 @@ def _serial(options: dict[str, Any], count: int) -> dict[str, Any]:
     return options
 
 
-def _free_starts(robot: Robot, model: SelfCollisionModel, count: int, rng: np.random.Generator,
-                 level: str = "capsules", threads: int | None = None) -> np.ndarray:
-    """``count`` configurations within the limits that ``level`` calls free: candidates drawn in a few
-    rounds of one batch each (``OVERSAMPLE`` a start still needed), any left over plain random ones
-    (the UR5's capsules flag ~97 % of random configurations, its 'parts' level ~26 %)."""
-    out = robot.random_q(count, rng=rng)
-    need = np.ones(count, dtype=bool)
-    for _ in range(3):
-        cand = robot.random_q(OVERSAMPLE * int(need.sum()), rng=rng)
-        free = cand[~_collides(model, cand, level, threads)]
-        idx = np.flatnonzero(need)[:len(free)]
-        out[idx] = free[:len(idx)]
-        need[idx] = False
-        if not need.any():
-            break
-    return out
+def _pool(model: SelfCollisionModel, level: str, threads: int | None) -> np.ndarray:
+    """Up to ``POOL`` configurations (P, n) within the limits that ``level`` calls free, found once per
+    model and level (fixed seed: the same pool every run); random ones where none is found."""
+    pools = _POOLS.setdefault(model, {})
+    if level not in pools:
+        robot = model.robot
+        rng = np.random.default_rng(0)
+        found: list[np.ndarray] = []
+        for _ in range(POOL_ROUNDS):
+            cand = robot.random_q(OVERSAMPLE * (POOL - sum(len(f) for f in found)), rng=rng)
+            found.append(cand[~_collides(model, cand, level, threads)])
+            if sum(len(f) for f in found) >= POOL:
+                break
+        pool = np.vstack(found)[:POOL]
+        pools[level] = pool if len(pool) else robot.random_q(POOL, rng=rng)
+    return pools[level]
 
 
-def _collision_free(model: SelfCollisionModel, sols: list[np.ndarray], level: str,
-                    threads: int | None = None) -> list[np.ndarray]:
-    """Each target's solutions without the colliding ones (one batch check of all of them)."""
-    sizes = [len(s) for s in sols]
-    if not sum(sizes):
-        return sols
-    hit = _collides(model, np.vstack([s for s in sols if len(s)]), level, threads)
-    out, k = [], 0
-    for s, m in zip(sols, sizes):
-        out.append(s[~hit[k:k + m]])
-        k += m
-    return out
-
-
-def _first_free(model: SelfCollisionModel, sols: list[np.ndarray], level: str,
-                threads: int | None = None) -> list[np.ndarray]:
-    """Each target's first collision-free solution (1, n), or none (0, n): the solutions checked in
-    rounds, IK's preferred one first, a target leaving the rounds at its first free one (most targets
-    need one or two of their up to 8 closed-form branches checked, not all)."""
-    n = sols[0].shape[1] if sols else 0
-    out = [np.empty((0, n)) for _ in sols]
-    left = [i for i, s in enumerate(sols) if len(s)]
+def _first_free(model: SelfCollisionModel, G: np.ndarray, counts: np.ndarray, level: str,
+                threads: int | None) -> np.ndarray:
+    """Per group (``counts[k]`` consecutive rows of G (M, n)), the row of its first collision-free
+    configuration, -1 for none: checked in rounds (every group's r-th row in one batch), a group leaving
+    at its first free row (most need one or two of their up to 8 closed-form branches checked)."""
+    first = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.intp)
+    out = np.full(len(counts), -1, dtype=np.intp)
+    active = np.flatnonzero(counts > 0)
     r = 0
-    while left:
-        hit = _collides(model, np.vstack([sols[i][r] for i in left]), level, threads)
-        for i, h in zip(left, hit):
-            if not h:
-                out[i] = sols[i][r:r + 1]
+    while len(active):
+        rows = first[active] + r
+        hit = _collides(model, G[rows], level, threads)
+        out[active[~hit]] = rows[~hit]
         r += 1
-        left = [i for i, h in zip(left, hit) if h and len(sols[i]) > r]
+        active = active[hit & (counts[active] > r)]
     return out
+
+
+def _retry(ik: Callable[..., Any], robot: Robot, model: SelfCollisionModel, targets: np.ndarray, level: str,
+           all_solutions: bool, gen: np.random.Generator, options: dict[str, Any]
+           ) -> tuple[list[np.ndarray], np.ndarray]:
+    """Numeric IK of targets (k, 4, 4) from ``RETRIES`` collision-free starts each (``_pool``), one batch:
+    per target, its collision-free solutions (S, n) (the first only, without ``all_solutions``), and
+    whether any solution was found (k,) bool."""
+    n = robot.n
+    pool = _pool(model, level, options.get("threads"))
+    starts = pool[gen.integers(0, len(pool), size=len(targets) * RETRIES)]
+    numeric = {k: v for k, v in options.items() if k != "method"}
+    sub = ik(robot, np.repeat(targets, RETRIES, axis=0), q0=starts, method="numeric", all_solutions=all_solutions,
+             rng=gen, **_serial(numeric, len(starts)))
+    if all_solutions:
+        sols = [np.asarray(s, dtype=float).reshape(-1, n) for s in sub.solutions]
+    else:
+        good = np.asarray(sub.success, dtype=bool)
+        qs = np.asarray(sub.q, dtype=float).reshape(-1, n)
+        sols = [qs[i:i + 1] if good[i] else qs[:0] for i in range(len(qs))]
+    sizes = np.array([len(s) for s in sols])
+    G = np.vstack(sols) if sizes.sum() else np.empty((0, n))
+    free = ~_collides(model, G, level, options.get("threads")) if len(G) else np.zeros(0, dtype=bool)
+    per = sizes.reshape(len(targets), RETRIES).sum(axis=1)
+    owner = np.repeat(np.arange(len(targets)), per)
+    out = [G[(owner == k) & free] for k in range(len(targets))]
+    return (out if all_solutions else [o[:1] for o in out]), per > 0
 
 
 def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, model: SelfCollisionModel | None = None,
@@ -138,91 +162,80 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     threads = options.get("threads")
     single = np.ndim(res.success) == 0
     n = robot.n
+    targets = np.asarray(T, dtype=float).reshape(-1, 4, 4)
     ok = np.atleast_1d(res.success).astype(bool)
-    # sols, free: per target left to settle, every solution found and the collision-free ones
+    q = np.array(res.q, dtype=float).reshape(-1, n)
+    # free[i]: target i's collision-free solutions (the chosen one first), for each target not kept as IK
+    # answered it; found[i]: some solution was found for it (a failure then says they all collide)
+    free: dict[int, np.ndarray] = {}
     if all_solutions:
         listed = [res.solutions] if single else list(res.solutions)
-        sols = dict(enumerate(np.asarray(s, dtype=float).reshape(-1, n) for s in listed))
-        free = dict(enumerate(_collision_free(model, list(sols.values()), level, threads)))
+        sols = [np.asarray(s, dtype=float).reshape(-1, n) for s in listed]
+        sizes = np.array([len(s) for s in sols])
+        G = np.vstack(sols) if sizes.sum() else np.empty((0, n))
+        hit = _collides(model, G, level, threads) if len(G) else np.zeros(0, dtype=bool)
+        ends = np.cumsum(sizes)
+        free = {i: s[~hit[e - len(s):e]] for i, (s, e) in enumerate(zip(sols, ends))}
         kept = np.zeros(len(ok), dtype=bool)
-        sols_0: dict[int, np.ndarray] = {}
+        found = sizes > 0
     else:   # the preferred solutions, checked in one batch; the other branches only where one collides
-        qs = np.array(res.q, dtype=float).reshape(-1, n)
         kept = ok.copy()
-        if ok.any():
-            kept[ok] = ~_collides(model, qs[ok], level, threads)
-        sols = {int(i): qs[i:i + 1] if ok[i] else np.empty((0, n)) for i in np.flatnonzero(~kept)}
-        sols_0 = {i: s[0] for i, s in sols.items() if len(s)}
-        free = {i: np.empty((0, n)) for i in sols}
-    targets = np.asarray(T, dtype=float).reshape(-1, 4, 4)
-    left = [i for i, f in free.items() if not len(f)]
-    if left and not all_solutions and res.method != "numeric":   # closed form: every branch of those targets
-        sub = ik(robot, targets[left] if not single else targets[0], q0=None if q0 is None else
-                 (np.asarray(q0, dtype=float).reshape(-1, n)[left] if np.ndim(q0) == 2 else q0),
-                 all_solutions=True, rng=rng, **_serial(options, len(left)))
-        got = [sub.solutions] if single else list(sub.solutions)
-        got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
-        for i, g in zip(left, got):
-            sols[i] = g
-        # the preferred solution was checked already: the other branches only
-        G = np.vstack(got) if got else np.empty((0, n))
-        owner = np.repeat(np.arange(len(left)), [len(g) for g in got])
-        ref = np.full((len(left), n), np.nan)       # NaN (no preferred solution) equals nothing
-        for k, i in enumerate(left):
-            if i in sols_0:
-                ref[k] = sols_0[i]
-        keep = ~np.all(G == ref[owner], axis=1)
-        ends = np.cumsum(np.bincount(owner[keep], minlength=len(left)))
-        G = G[keep]
-        others = [G[e - c:e] for e, c in zip(ends, np.diff(np.r_[0, ends]))]
-        for i, g in zip(left, _first_free(model, others, level, threads)):
-            free[i] = g
-    left = [i for i, f in free.items() if not len(f)]
-    if left:    # RETRIES collision-free starts per target left, all in one numeric batch
-        gen = np.random.default_rng(rng)
-        numeric = {k: v for k, v in options.items() if k not in ("method",)}
-        idx = np.repeat(left, RETRIES)
-        starts = _free_starts(robot, model, len(idx), gen, level, threads)
-        sub = ik(robot, targets[idx], q0=starts, method="numeric", all_solutions=all_solutions, rng=gen,
-                 **_serial(numeric, len(idx)))
-        if all_solutions:
-            got = list(sub.solutions)
-        else:
-            good = np.atleast_1d(sub.success)
-            got = [q[None] if g else np.empty((0, n)) for q, g in zip(np.array(sub.q, dtype=float).reshape(-1, n), good)]
-        got = [np.asarray(g, dtype=float).reshape(-1, n) for g in got]
-        ok_got = _collision_free(model, got, level, threads)
-        for k, i in enumerate(left):
-            mine = got[k * RETRIES:(k + 1) * RETRIES]
-            found = np.vstack(mine)
-            sols[i] = found if len(found) else sols[i]
-            kept_free = np.vstack(ok_got[k * RETRIES:(k + 1) * RETRIES])
-            free[i] = kept_free if all_solutions else kept_free[:1]
-    q = np.array(res.q, dtype=float).reshape(-1, robot.n)
+        at = np.flatnonzero(ok)
+        if len(at):
+            kept[at] = ~_collides(model, q[at], level, threads)
+        found = ok.copy()
+        left = np.flatnonzero(~kept)
+        if len(left) and res.method != "numeric":   # closed form: every branch of those targets
+            q0s = None if q0 is None else (np.asarray(q0, dtype=float).reshape(-1, n)[left] if np.ndim(q0) == 2 else q0)
+            sub = ik(robot, targets[left], q0=q0s, all_solutions=True, rng=rng, **_serial(options, len(left)))
+            got = [np.asarray(g, dtype=float).reshape(-1, n) for g in sub.solutions]
+            counts = np.array([len(g) for g in got])
+            found[left] |= counts > 0
+            G = np.vstack(got) if counts.sum() else np.empty((0, n))
+            owner = np.repeat(np.arange(len(left)), counts)
+            # the preferred solution was checked already: the other branches only (NaN: none, equals nothing)
+            ref = np.where(ok[left][:, None], q[left], np.nan)
+            other = ~np.all(G == ref[owner], axis=1)
+            G, counts = G[other], np.bincount(owner[other], minlength=len(left))
+            row = _first_free(model, G, counts, level, threads)
+            for i, r in zip(left[row >= 0].tolist(), row[row >= 0].tolist()):
+                free[i] = G[r:r + 1]
+    settled = kept.copy()
+    settled[[i for i, f in free.items() if len(f)]] = True
+    left = np.flatnonzero(~settled)
+    if len(left):    # RETRIES collision-free starts per target left, all in one numeric batch
+        got, any_found = _retry(ik, robot, model, targets[left], level, all_solutions, np.random.default_rng(rng),
+                                options)
+        found[left] |= any_found
+        for i, f in zip(left.tolist(), got):
+            free[i] = f
     success = kept.copy()
-    messages = [res.message] if single else list(res.message)
-    for j in np.flatnonzero(kept).tolist():
-        messages[j] = ""
-    for i, f in free.items():
+    messages = [res.message] if single else list(res.message)    # IK's: "" where it succeeded
+    changed = []
+    for i in np.flatnonzero(~kept).tolist():
+        f = free.get(i, ())
         if len(f):
-            q[i], success[i] = f[0], True
-            messages[i] = ""
-        elif len(sols[i]) or bool(np.atleast_1d(res.success)[i]):
-            q[i] = np.nan
-            messages[i] = MESSAGE
-    # errors: IK's own where its answer was kept (the same q), recomputed where another one replaced it
-    ep = np.where(kept, np.atleast_1d(res.position_error), np.inf).astype(float)
-    eo = np.where(kept, np.atleast_1d(res.orientation_error), np.inf).astype(float)
-    changed = np.flatnonzero(~kept)
-    if len(changed):
-        ep[changed], eo[changed] = _errors(robot, targets[changed] if len(targets) > 1 else targets, q[changed])
-    if options.get("mask") not in (None, "pose"):   # errors over the masked components: IK's own, per target
-        ep = np.where(np.isfinite(q).all(axis=1), np.atleast_1d(res.position_error), np.inf)
-        eo = np.where(np.isfinite(q).all(axis=1), np.atleast_1d(res.orientation_error), np.inf)
+            q[i], success[i], messages[i] = f[0], True, ""
+            changed.append(i)
+        elif found[i] or ok[i]:
+            q[i], messages[i] = np.nan, MESSAGE
+            changed.append(i)
+    # errors: IK's own where its answer stands (kept, or a failure left as IK gave it), recomputed where
+    # another answer replaced it
+    ep = np.array(np.atleast_1d(res.position_error), dtype=float)
+    eo = np.array(np.atleast_1d(res.orientation_error), dtype=float)
+    if changed:
+        if options.get("mask") in (None, "pose"):
+            ep[changed], eo[changed] = _errors(robot, targets[changed], q[changed])
+        else:   # errors over the masked components: IK's own, per target (inf where no q)
+            gone = np.isnan(q[changed]).any(axis=1)
+            ep[np.array(changed)[gone]] = np.inf
+            eo[np.array(changed)[gone]] = np.inf
     return replace(res, q=q[0] if single else q, success=bool(success[0]) if single else success,
                    position_error=float(ep[0]) if single else ep, orientation_error=float(eo[0]) if single else eo,
                    message=messages[0] if single else messages,
-                   solutions=None if not all_solutions else (free[0] if single else [free[i] for i in range(len(free))]))
+                   solutions=None if not all_solutions else (free.get(0, np.empty((0, n))) if single else
+                                                             [free.get(i, np.empty((0, n))) for i in range(len(ok))]))
 
 
 def _errors(robot: Robot, targets: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -231,10 +244,10 @@ def _errors(robot: Robot, targets: np.ndarray, q: np.ndarray) -> tuple[np.ndarra
     eo = np.full(len(q), np.inf)
     ok = np.isfinite(q).all(axis=1)
     if ok.any():
-        P = robot.fk(np.ascontiguousarray(q[ok]))
-        Td = targets[ok] if len(targets) > 1 else np.repeat(targets, int(ok.sum()), axis=0)
+        P = robot.fk(np.ascontiguousarray(q[ok]), threads=1)
+        Td = targets[ok]
         ep[ok] = np.linalg.norm(Td[:, :3, 3] - P[:, :3, 3], axis=1)
-        E = Td[:, :3, :3] @ np.swapaxes(P[:, :3, :3], 1, 2)   # R_d R^T; its angle by atan2 (accurate near 0)
+        E = np.einsum("kij,klj->kil", Td[:, :3, :3], P[:, :3, :3])   # R_d R^T; its angle by atan2 (accurate near 0)
         c = (np.trace(E, axis1=1, axis2=2) - 1.0) / 2.0
         w = np.stack([E[:, 2, 1] - E[:, 1, 2], E[:, 0, 2] - E[:, 2, 0], E[:, 1, 0] - E[:, 0, 1]], axis=1)
         eo[ok] = np.arctan2(np.linalg.norm(w, axis=1) / 2.0, c)

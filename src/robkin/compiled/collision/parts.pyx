@@ -25,6 +25,9 @@ cdef enum:
     GJK_STEPS = 64
     # parts of a link placed once per link pair (``links_apart``; the model makes up to 8)
     MAX_PARTS = 32
+    # part pairs whose capsules meet, kept per link pair to be tried deepest overlap first (more are tried
+    # as found)
+    MAX_CANDIDATES = 128
 
 
 cdef inline double dot3(const double* a, const double* b) noexcept nogil:
@@ -243,7 +246,16 @@ cdef int links_apart(const double* F, int n, const double* verts, const Py_ssize
     # the frame the hints are kept in: the body before v's (see ``apart``)
     cdef const double* Th = F + 16 * (frame[l] - 2) if frame[l] > 1 else NULL
     # every part pair: capsules apart (bounding spheres first), or a plane between them. Link u's
-    # part capsules are placed once (up to MAX_PARTS; a link with more places them pair by pair)
+    # part capsules are placed once (up to MAX_PARTS; a link with more places them pair by pair). The
+    # pairs whose capsules meet are tried deepest overlap first: where the links do touch, the first
+    # GJK search is then most often the one that fails, and ends the pair's test (a configuration in
+    # collision cost ~2.5x a free one's test when they were tried in the parts' order, UR5 IK answers)
+    cdef int ck[MAX_CANDIDATES]
+    cdef int cl[MAX_CANDIDATES]
+    cdef double cdepth[MAX_CANDIDATES]
+    cdef double cdir[3 * MAX_CANDIDATES]
+    cdef int nc = 0, a, b
+    cdef double t
     cdef double PU[MAX_PARTS * 7]
     cdef int nu = <int>(link_start[u + 1] - link_start[u]), j
     cdef bint cached = nu <= MAX_PARTS
@@ -283,13 +295,37 @@ cdef int links_apart(const double* F, int n, const double* verts, const Py_ssize
                 place(Tu, bound + 7 * k, cu)
                 place(Tu, bound + 7 * k + 3, cu + 3)
             rr = bound[7 * k + 6] + bound[7 * l + 6] + margin
-            if segment_distance2(cu, cu + 3, cv, cv + 3) > rr * rr:
+            t = segment_distance2(cu, cu + 3, cv, cv + 3)
+            if t > rr * rr:
                 continue
             for i in range(3):
                 dc[i] = cu[i] + cu[3 + i] - cv[i] - cv[3 + i]
-            if not apart(verts + 3 * start[k], na, Tu, verts + 3 * start[l], nb, Tv, dc,
-                         hints + 3 * (k * K + l), Th, GJK_STEPS, margin):
+            if nc < MAX_CANDIDATES:           # kept, and inserted by depth (deepest first)
+                t = rr - sqrt(t)
+                a = nc
+                while a > 0 and cdepth[a - 1] < t:
+                    ck[a] = ck[a - 1]
+                    cl[a] = cl[a - 1]
+                    cdepth[a] = cdepth[a - 1]
+                    for i in range(3):
+                        cdir[3 * a + i] = cdir[3 * a - 3 + i]
+                    a -= 1
+                ck[a] = k
+                cl[a] = l
+                cdepth[a] = t
+                for i in range(3):
+                    cdir[3 * a + i] = dc[i]
+                nc += 1
+            elif not apart(verts + 3 * start[k], na, Tu, verts + 3 * start[l], nb, Tv, dc,
+                           hints + 3 * (k * K + l), Th, GJK_STEPS, margin):
                 return 0
+    for b in range(nc):
+        k = ck[b]
+        l = cl[b]
+        if not apart(verts + 3 * start[k], <int>(start[k + 1] - start[k]), Tu, verts + 3 * start[l],
+                     <int>(start[l + 1] - start[l]), Tv, cdir + 3 * b, hints + 3 * (k * K + l), Th, GJK_STEPS,
+                     margin):
+            return 0
     return 1
 
 
