@@ -13,11 +13,14 @@ import re
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 import robkin
 from robkin.errors import InputError
 
 from ik_arms import ROBOTS_DIR
+from test_properties import SCALE as PROPERTY_SCALE
 
 coal = pytest.importorskip("coal")
 
@@ -342,14 +345,17 @@ def test_collision_free_ik(which, request):
 
 
 def test_ur5_pair_maps_never_call_a_touching_configuration_free(ur5):
-    """The 'parts' level's tables (pairs one or two joints move against each other): the UR5's upper arm
-    over its base and forearm beside its second wrist link are mapped, most of their joint box is proven
-    apart, and no configuration in a proven cell touches by coal's exact check (an independent peer)."""
+    """The 'parts' level's tables (pairs one or two joints move against each other, once a link turned about
+    a joint's axis takes that joint out): the UR5's upper arm over its base, forearm beside its second
+    wrist link and flange are mapped, most of their joint box is proven apart, and no configuration in a
+    proven cell touches by coal's exact check (an independent peer)."""
     from robkin.self_collision.pairmaps import cleared
 
     robot, model = ur5
     maps = {model.pairs[m.pair]: m for m in model.pair_maps()}
     assert ("base_link", "upper_arm_link") in maps and ("forearm_link", "wrist_2_link") in maps
+    # three joints apart, mapped over two with the flange turned about its own joint's axis
+    assert [model.links[k] for k in maps[("forearm_link", "wrist_3_link")].revolved] == ["wrist_3_link"]
     links = model.links
     Q = robot.random_q(3000, rng=11)
     for (a, b), m in maps.items():
@@ -375,3 +381,49 @@ def test_the_model_kept_for_a_robot_goes_with_it():
     del robot, model
     gc.collect()
     assert gone() is None
+
+
+@settings(max_examples=max(20, 40 * PROPERTY_SCALE), deadline=None)
+@given(st.integers(0, 2**32 - 1), st.floats(-np.pi, np.pi), st.integers(3, 40))
+def test_revolved_polytope_contains_every_turned_copy(seed, angle, k):
+    """``revolve.revolved`` contains the points turned by any angle about z (each point's circle inside
+    its polygon, the hull of the polygons around them all), and turning by ``axis`` reaches a joint's
+    axis in a body's frame: the turned points of a link about joint 1 of the UR5 stay inside."""
+    from scipy.spatial import ConvexHull
+
+    from robkin.self_collision.revolve import revolved
+
+    rng = np.random.default_rng(seed)
+    P = rng.normal(size=(k, 3)) * rng.uniform(0.01, 2.0, size=3) + rng.normal(size=3)
+    assume(np.linalg.matrix_rank(P - P.mean(axis=0), tol=1e-6) == 3)
+    R = revolved(P)
+    c, s = np.cos(angle), np.sin(angle)
+    turned = P @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+    hull = ConvexHull(R)
+    # every facet's inequality n . x + d <= 0 holds (to rounding of the coordinates' size)
+    slack = hull.equations[:, :3] @ turned.T + hull.equations[:, 3:]
+    assert slack.max() <= 1e-9 * (1.0 + np.abs(P).max())
+
+
+def test_axis_frame_is_the_next_joints_axis_in_the_bodys_frame(ur5):
+    """``revolve.axis_frame``: joint b+1's frame in body b's coordinates; turning joint b+1 by any angle
+    moves body b+1 exactly as a rotation about that frame's z axis (checked with the robot's own
+    frames at random configurations)."""
+    from robkin.self_collision.revolve import axis_frame
+
+    robot, _ = ur5
+    rng = np.random.default_rng(3)
+    for body in range(robot.n):
+        A = axis_frame(robot.frames, body, body + 1)
+        q = robot.random_q(1, rng=rng)[0]
+        q2 = q.copy()
+        q2[body] += 0.7
+        F1, F2 = robot.frames_at(q), robot.frames_at(q2)
+        base = np.eye(4) if body == 0 else F1[body - 1]
+        assert np.allclose(base, np.eye(4) if body == 0 else F2[body - 1], atol=1e-12)
+        # body b+1's frame, seen from body b, turned about A's z axis by 0.7
+        c, s = np.cos(0.7), np.sin(0.7)
+        Rz = np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
+        rel1 = np.linalg.solve(base, F1[body])
+        rel2 = np.linalg.solve(base, F2[body])
+        assert np.allclose(rel2, A @ Rz @ np.linalg.solve(A, rel1), atol=1e-9)

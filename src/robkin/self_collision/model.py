@@ -240,8 +240,6 @@ class SelfCollisionModel:
         pairs, and the pair maps (``pair_maps``) flattened: map of each link pair (-1: none), joints,
         lower limits, cell widths, cells per joint, each map's first cell and the cells (1: proven apart)."""
         if self._map_args is None:
-            from .pairmaps import CELLS
-
             link_of = np.repeat(np.arange(len(self._link_pairs), dtype=np.intc),
                                 np.diff(np.r_[self._starts, len(self._pairs)]).astype(np.intp)) \
                 if len(self._link_pairs) else np.zeros(0, np.intc)
@@ -251,6 +249,7 @@ class SelfCollisionModel:
             lower = np.zeros((len(maps), 2))
             width = np.ones((len(maps), 2))
             start = np.zeros(len(maps), dtype=np.intp)
+            cells_of = np.array([m.cells for m in maps], dtype=np.intc)
             cells: list[np.ndarray] = []
             at = 0
             for k, m in enumerate(maps):
@@ -262,7 +261,7 @@ class SelfCollisionModel:
                 cells.append(m.free.reshape(-1).astype(np.uint8))
                 at += cells[-1].size
             free = np.concatenate(cells) if cells else np.zeros(0, np.uint8)
-            self._map_args = (link_of, self._link_pairs, map_of, joints, lower, width, CELLS, start, free)
+            self._map_args = (link_of, self._link_pairs, map_of, joints, lower, width, cells_of, start, free)
         return self._map_args
 
     def distances(self, q: ArrayLike, *, threads: int | None = None) -> np.ndarray:

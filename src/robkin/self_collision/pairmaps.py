@@ -3,22 +3,21 @@
 The relative pose of two links on bodies ``a < b`` of the chain depends only on the joints ``a+1 .. b``.
 Where those are one or two revolute joints with finite limits, the pair's answer is a function on a
 line or a rectangle of joint values, tabulated once: cells of that box proven apart at every joint
-value in them (``PairMap.free``). Where they are three, the last one body b's own: the far link turned
-about that joint's axis sweeps a solid of revolution, which a polytope contains (``revolved``); tested
-in its place, the pair depends on the first two joints only and is mapped over them
-(``PairMap.revolved``), when the solid is not much larger than the link (``GROWTH``: a wrist flange
-round its own axis, not an arm swung about its elbow). The 'parts' level looks each query's cell up in its compiled first
-pass (``compiled.collision.capsules.overlaps``; ``cleared`` is the same lookup in numpy), before the
-convex parts' GJK test (``compiled.collision.parts``); the UR5's upper arm over its
-flat base (capsules meet in ~90 % of configurations) and its forearm beside the second wrist link are
-such pairs.
+value in them (``PairMap.free``). A joint can also be taken out (``revolve``): the far link turned about
+its own joint's axis, or the near link about the first joint's after it, sweeps a solid of revolution
+that a polytope contains; with that polytope in the link's place the pair no longer depends on the
+joint. Such a map covers three joints with two (the UR5's flange beside its forearm), or a pair with
+one joint where it had two (its upper arm over the round base: q2 alone, at a far finer cell). Of
+the ways to map a pair, the one proving most of its joint box apart is kept. The 'parts' level looks
+each query's cell up in its compiled first pass (``compiled.collision.capsules.overlaps``; ``cleared``
+is the same lookup in numpy), before the convex parts' GJK test (``compiled.collision.parts``).
 
 A cell is proven by the parts' test at its centre with a margin (every plane leaves at least that gap):
 moving each joint j by at most half a cell width ``h_j`` moves any point of the farther link, relative
 to the nearer one, by at most ``sum_j h_j * rho_j``, ``rho_j`` bounding the points' distance from joint
 j's axis (a chord is no longer than its arc); with the margin that large, the links are apart in the
 whole cell (never a false "free"). The cells are refined from ``FIRST`` per joint, halving those not
-proven, down to ``CELLS`` per joint (``MAX_TESTS`` cell tests at most per pair).
+proven, down to ``CELLS[k]`` per joint for a map over k joints (``MAX_TESTS`` cell tests at most per map).
 """
 
 from __future__ import annotations
@@ -31,11 +30,13 @@ import numpy as np
 #: ``model.SelfCollisionModel`` (not imported: the model imports this module)
 SelfCollisionModel = Any
 
-__all__ = ["PairMap", "pair_maps", "cleared", "revolved", "CELLS", "FIRST", "SHARE", "GROWTH"]
+__all__ = ["PairMap", "pair_maps", "cleared", "CELLS", "FIRST", "SHARE"]
 
-#: Cells per joint at the finest level (UR5, limits +-pi: 512 cells, half-width 6 mrad, so the upper arm
-#: against its base moves at most ~7 mm within a cell: below its ~16 mm clearance over the base).
-CELLS = 512
+#: Cells per joint at the finest level, for maps over one and over two joints (UR5, limits +-pi: 512
+#: cells, half-width 6 mrad, so its forearm against the second wrist link moves at most ~3 mm within a
+#: cell; over one joint 65536, 48 urad: the upper arm over the round base ~0.03 mm, below its 16 mm
+#: clearance).
+CELLS = {1: 65536, 2: 512}
 #: Cells per joint at the coarsest level.
 FIRST = 16
 #: A pair is mapped when its capsules meet in at least this share of random configurations (below it
@@ -45,13 +46,6 @@ SHARE = 0.05
 SAMPLES = 2000
 #: Cell tests per pair at most (build time, ~1-5 us each).
 MAX_TESTS = 400_000
-#: A three-joint pair is mapped when the far link's solid of revolution (its ``revolved`` polytope) has at
-#: most this times the volume of the link's own hull: larger, the solid meets the near link in most
-#: cells, and the map costs its build for little (UR5: the flange 1.0x, the forearm about its elbow ~20x).
-GROWTH = 2.0
-#: Sides of the polygon that replaces each point's circle about the axis in ``revolved``: the polygon's
-#: corners lie 1/cos(pi/SIDES) - 1 = 2 % farther out than the circle (a 4 cm flange: 0.8 mm).
-SIDES = 16
 #: Relative slack on the margin: a joint value rounded into a neighbouring cell by floating point is
 #: still covered (the rounding is ~1e-16 of the span).
 SLACK = 1e-9
@@ -67,22 +61,23 @@ class PairMap:
     #: each joint's lower limit and cell width (rad), (k,)
     lower: np.ndarray
     width: np.ndarray
-    #: True: apart at every joint value in the cell, (CELLS,) or (CELLS, CELLS)
+    #: True: apart at every joint value in the cell, (cells,) or (cells, cells)
     free: np.ndarray
-    #: the far link was tested as its solid of revolution about the next joint's axis (``revolved``): the
-    #: cells hold at every value of that joint too
-    revolved: bool = False
+    #: the links (model indices) tested as their solids of revolution (``revolve``): the cells hold at
+    #: every value of the joint that turns them
+    revolved: tuple[int, ...] = ()
 
-
-def _points(parts: tuple[np.ndarray, ...], link: int) -> np.ndarray:
-    """The points (k, 3) of a link's parts, in its body's frame (``SelfCollisionModel._parts``)."""
-    V, S, _, _, LS, LP = parts
-    return np.vstack([V[S[k]:S[k + 1]] for k in LP[LS[link]:LS[link + 1]]])
+    @property
+    def cells(self) -> int:
+        """Cells per joint."""
+        return int(self.free.shape[0])
 
 
 def _reach(model: SelfCollisionModel, parts: tuple[np.ndarray, ...], link: int, body: int,
            joints: tuple[int, ...]) -> np.ndarray:
     """rho (k,): bounds on the distance of the link's points from each joint's axis, any configuration."""
+    from .revolve import _points
+
     own = float(np.linalg.norm(_points(parts, link), axis=1).max())    # from joint ``body``'s origin, on its axis
     J = model.robot.frames                            # q index i: joint i+1, its frame J[i]; the body's J[body-1]
     # |p - o_j| <= |p - o_body| + the steps between consecutive joints' origins from joint j+1 on: each
@@ -91,53 +86,16 @@ def _reach(model: SelfCollisionModel, parts: tuple[np.ndarray, ...], link: int, 
                      for j in joints])
 
 
-def revolved(P: np.ndarray, sides: int = SIDES) -> np.ndarray:
-    """The vertices (m, 3) of a polytope containing the solid that the points P (k, 3) sweep turning about
-    the z axis: each point's circle (radius r about the axis, at its height) replaced by the regular
-    polygon around it (corners at r / cos(pi / sides): the polygon's sides touch the circle), and the
-    convex hull of them all (it contains the hull of the circles, which contains every turned copy of
-    the points' hull)."""
-    from ..collision.hull import convex_hull
-
-    r = np.hypot(P[:, 0], P[:, 1]) / np.cos(np.pi / sides)
-    t = 2 * np.pi * np.arange(sides) / sides
-    ring = np.column_stack([(r[:, None] * np.cos(t)).ravel(), (r[:, None] * np.sin(t)).ravel(),
-                            np.repeat(P[:, 2], sides)])
-    return convex_hull(ring)[0]
-
-
-def _revolved_parts(parts: tuple[np.ndarray, ...], link: int) -> tuple[np.ndarray, ...] | None:
-    """``parts`` with the link's parts replaced by one: the polytope around their solid of revolution about
-    its body's joint axis (``revolved``; the z axis of the body's frame); None when the link is flat or
-    that polytope is more than ``GROWTH`` times the volume of the link's own hull."""
-    from ..collision.hull import convex_hull, hull_volume, is_flat
-    from .capsules import fit_capsule
-
-    P = _points(parts, link)
-    if is_flat(P):
-        return None
-    R = revolved(P)
-    if hull_volume(*convex_hull(R)) > GROWTH * hull_volume(*convex_hull(P)):
-        return None
-    V, S, K, B, LS, LP = parts
-    a, b, radius = fit_capsule(R)
-    lists = [list(LP[LS[m]:LS[m + 1]]) for m in range(len(LS) - 1)]
-    lists[link] = [len(K)]                            # the new part, after the others
-    return (np.vstack([V, R]), np.append(S, S[-1] + len(R)).astype(np.intp),
-            np.append(K, K[LP[LS[link]]]).astype(np.intc), np.vstack([B, [*a, *b, radius]]),
-            np.concatenate([[0], np.cumsum([len(x) for x in lists])]).astype(np.intp),
-            np.array([k for x in lists for k in x], dtype=np.intc))
-
-
 def _build(model: SelfCollisionModel, parts: tuple[np.ndarray, ...], pair: int, u: int, v: int,
-           joints: tuple[int, ...], rho: np.ndarray, revolved: bool) -> PairMap:
+           joints: tuple[int, ...], rho: np.ndarray, revolved: tuple[int, ...]) -> PairMap:
     from ..compiled.collision.parts import parts_apart
 
     robot = model.robot
     k = len(joints)
     lim = robot.limits[list(joints)]
     lower, span = lim[:, 0].copy(), lim[:, 1] - lim[:, 0]
-    free = np.zeros((CELLS,) * k, dtype=bool)
+    cells = CELLS[k]
+    free = np.zeros((cells,) * k, dtype=bool)
     n = FIRST
     cand = np.stack(np.meshgrid(*[np.arange(n)] * k, indexing="ij"), axis=-1).reshape(-1, k)
     offsets = np.stack(np.meshgrid(*[np.arange(2)] * k, indexing="ij"), axis=-1).reshape(-1, k)
@@ -154,21 +112,49 @@ def _build(model: SelfCollisionModel, parts: tuple[np.ndarray, ...], pair: int, 
         tests += len(cand)
         level = np.zeros((n,) * k, dtype=bool)
         level[tuple(cand[ok].T)] = True
-        f = CELLS // n
+        f = cells // n
         for axis in range(k):
             level = np.repeat(level, f, axis=axis)
         free |= level
-        if n >= CELLS:
+        if n >= cells:
             break
         cand = (cand[~ok][:, None, :] * 2 + offsets[None]).reshape(-1, k)
         n *= 2
-    return PairMap(pair, joints, lower, span / CELLS, free, revolved)
+    return PairMap(pair, joints, lower, span / cells, free, revolved)
+
+
+def _ways(model: SelfCollisionModel, near: int, far: int, lo: int, hi: int
+          ) -> list[tuple[tuple[np.ndarray, ...], tuple[int, ...], tuple[int, ...]]]:
+    """The ways to map the pair of links ``near`` (on body lo) and ``far`` (on body hi > lo): (parts, the
+    joints mapped (q indices), the links turned), the joints lo+1 .. hi less those a turned link takes out
+    (``revolve``), one or two left, all revolute with finite limits."""
+    from .revolve import axis_frame, revolved_parts
+
+    robot = model.robot
+    joints = tuple(range(lo, hi))                     # joints lo+1 .. hi, as q indices
+    if not robot.revolute[list(joints)].all():
+        return []
+    out = []
+    for turn_near in (False, True):
+        for turn_far in (False, True):
+            left = joints[int(turn_near):len(joints) - int(turn_far)]
+            if not 1 <= len(left) <= 2 or not np.isfinite(robot.limits[list(left)]).all():
+                continue
+            parts: tuple[np.ndarray, ...] | None = model._parts
+            if turn_far and parts is not None:
+                parts = revolved_parts(parts, far, np.eye(4))
+            if turn_near and parts is not None:
+                parts = revolved_parts(parts, near, axis_frame(robot.frames, lo, lo + 1))
+            if parts is not None:
+                out.append((parts, left, (near,) * turn_near + (far,) * turn_far))
+    return out
 
 
 def pair_maps(model: SelfCollisionModel, rng: int = 0) -> list[PairMap]:
-    """The maps of ``model``'s checked pairs that one or two revolute joints with finite limits move
-    against each other, or three whose last turns a far link near round about its axis (``GROWTH``), and
-    whose capsules meet in at least ``SHARE`` of random configurations (none without convex parts)."""
+    """The maps of ``model``'s checked pairs whose capsules meet in at least ``SHARE`` of random
+    configurations and that one or two revolute joints with finite limits move against each other, once
+    links near round about a joint's axis are turned (``_ways``; of several ways, the one proving the
+    most): none without convex parts."""
     if model._parts is None or not len(model._link_pairs):
         return []
     robot = model.robot
@@ -177,19 +163,15 @@ def pair_maps(model: SelfCollisionModel, rng: int = 0) -> list[PairMap]:
     share = (model.distances(robot.random_q(SAMPLES, rng=rng)) <= 0.0).mean(axis=0)
     out = []
     for p, (u, v) in enumerate(model._link_pairs):
+        if share[p] < SHARE:
+            continue
         lo, hi = sorted((body[names[u]], body[names[v]]))
-        joints = tuple(range(lo, hi))                 # joints lo+1 .. hi, as q indices
-        if not 1 <= len(joints) <= 3 or share[p] < SHARE or not robot.revolute[list(joints)].all():
-            continue
         far = int(u if body[names[u]] == hi else v)
-        parts: tuple[np.ndarray, ...] | None = model._parts
-        if len(joints) == 3:                          # the far link turned about its own joint: two joints left
-            parts = _revolved_parts(model._parts, far)
-            joints = joints[:2]
-        if parts is None or not np.isfinite(robot.limits[list(joints)]).all():
-            continue
-        out.append(_build(model, parts, p, int(u), int(v), joints, _reach(model, parts, far, hi, joints),
-                          parts is not model._parts))
+        near = int(v if far == u else u)
+        built = [_build(model, parts, p, int(u), int(v), joints, _reach(model, parts, far, hi, joints), turned)
+                 for parts, joints, turned in _ways(model, near, far, lo, hi)]
+        if built:
+            out.append(max(built, key=lambda m: float(m.free.mean())))
     return out
 
 
@@ -202,7 +184,7 @@ def cleared(maps: list[PairMap], q: np.ndarray, rows: np.ndarray, pairs: np.ndar
         if not len(sel):
             continue
         x = (q[rows[sel]][:, list(m.joints)] - m.lower) / m.width
-        inside = ((x >= 0.0) & (x < CELLS)).all(axis=1)
-        idx = np.clip(np.floor(x), 0, CELLS - 1).astype(np.intp)
+        inside = ((x >= 0.0) & (x < m.cells)).all(axis=1)
+        idx = np.clip(np.floor(x), 0, m.cells - 1).astype(np.intp)
         out[sel] = inside & m.free[tuple(idx.T)]
     return out

@@ -197,12 +197,13 @@ def segment_distance(p1, q1, p2, q2):
 cdef int overlap_block(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t N,
                        Py_ssize_t j, const double* caps, const int* frame, int C, const int* pairs,
                        const int* link_of, int P, int LP, const int* map_of, const int* map_joints,
-                       const double* map_lower, const double* map_width, int cells, const Py_ssize_t* map_start,
+                       const double* map_lower, const double* map_width, const int* map_cells,
+                       const Py_ssize_t* map_start,
                        const unsigned char* map_free, int* found, int* count) noexcept nogil:
     """Block j of ``overlaps``: per configuration k, count[k] link pairs whose capsules overlap and that no
     map clears, in found[k * LP ...], deepest overlap first. Returns as ``check_block``."""
     cdef Py_ssize_t k0 = BLOCK * j
-    cdef int m = <int>(N - k0 if N - k0 < BLOCK else BLOCK), b, p, u, v, l, i, c, mp, i0, i1, jj
+    cdef int m = <int>(N - k0 if N - k0 < BLOCK else BLOCK), b, p, u, v, l, i, c, mp, i0, i1, jj, cells
     cdef double* F
     cdef double* W
     cdef double* S
@@ -227,6 +228,7 @@ cdef int overlap_block(const double* L, const unsigned char* rev, int n, const d
             D[l] = 1.0      # > 0: no overlap (yet)
             mp = map_of[l]
             if mp >= 0:     # the pair's map: the cell of its joints' values proven apart, or not
+                cells = map_cells[mp]
                 x = (q[map_joints[2 * mp]] - map_lower[2 * mp]) / map_width[2 * mp]
                 inside = x >= 0.0 and x < cells
                 i0 = <int>x if inside else 0
@@ -276,7 +278,7 @@ cdef int overlap_block(const double* L, const unsigned char* rev, int n, const d
 
 cdef int check_overlap_args(const int* frame, int C, int n, const int* pairs, const int* link_of, int P, int LP,
                             const int* map_of, const int* mj, const double* ml, const double* mw,
-                            const Py_ssize_t* ms, int M, int cells, Py_ssize_t nf) noexcept nogil:
+                            const Py_ssize_t* ms, int M, const int* cells, Py_ssize_t nf) noexcept nogil:
     """0 when ``overlaps``' index arrays are consistent, else the number of its first problem (1: frames,
     2: pairs, 3: a link pair's map, 4: a map's joints, cells, widths or rows)."""
     cdef int k
@@ -291,10 +293,10 @@ cdef int check_overlap_args(const int* frame, int C, int n, const int* pairs, co
     for k in range(LP):
         if map_of[k] < -1 or map_of[k] >= M:
             return 3
-    if M and cells < 1:
-        return 4
     for k in range(M):
-        size = <Py_ssize_t>cells * cells if mj[2 * k + 1] >= 0 else cells
+        if cells[k] < 1:
+            return 4
+        size = <Py_ssize_t>cells[k] * cells[k] if mj[2 * k + 1] >= 0 else cells[k]
         if mj[2 * k] < 0 or mj[2 * k] >= n or mj[2 * k + 1] < -1 or mj[2 * k + 1] >= n or ms[k] < 0 \
                 or ms[k] + size > nf or not mw[2 * k] > 0.0 or not mw[2 * k + 1] > 0.0 \
                 or not (ml[2 * k] - ml[2 * k] == 0.0) or not (ml[2 * k + 1] - ml[2 * k + 1] == 0.0):
@@ -303,7 +305,7 @@ cdef int check_overlap_args(const int* frame, int C, int n, const int* pairs, co
 
 
 def overlaps(Chain chain, q, caps, frame, pairs, link_of, link_pairs, map_of, map_joints, map_lower, map_width,
-             int cells, map_start, map_free, int threads=0):
+             map_cells, map_start, map_free, int threads=0):
     """int32 (Q, 3): the queries (row, link u, link v) a convex-parts test must still decide, for q (N, n):
     per configuration (rows in order) its link pairs whose capsules touch or overlap and that no pair map
     clears, deepest overlap first; a configuration without a row is free. None as ``collide``.
@@ -311,9 +313,9 @@ def overlaps(Chain chain, q, caps, frame, pairs, link_of, link_pairs, map_of, ma
     Capsule pair p (``pairs`` (P, 2)) belongs to link pair ``link_of[p]`` of ``link_pairs`` (LP, 2).
     Maps: ``map_of`` (LP,) the map of each link pair (-1: none); map m tabulates joints ``map_joints[m]``
     (q indices, the second -1 for a map over one joint), cell x = (q_j - ``map_lower[m, i]``) /
-    ``map_width[m, i]``, ``cells`` per joint, and cell (i0, i1) is proven apart when
-    ``map_free[map_start[m] + i0 * cells + i1]`` (one joint: ``+ i0``) is nonzero; a value outside
-    [0, cells) cells is not cleared."""
+    ``map_width[m, i]``, ``map_cells[m]`` per joint, and cell (i0, i1) is proven apart when
+    ``map_free[map_start[m] + i0 * map_cells[m] + i1]`` (one joint: ``+ i0``) is nonzero; a value outside
+    [0, map_cells[m]) cells is not cleared."""
     cdef int n = chain.n
     cdef cnp.ndarray ca = np.ascontiguousarray(caps, dtype=np.float64)
     cdef cnp.ndarray fa = np.ascontiguousarray(frame, dtype=np.intc)
@@ -325,6 +327,7 @@ def overlaps(Chain chain, q, caps, frame, pairs, link_of, link_pairs, map_of, ma
     cdef cnp.ndarray ml = np.ascontiguousarray(map_lower, dtype=np.float64).reshape(-1, 2)
     cdef cnp.ndarray mw = np.ascontiguousarray(map_width, dtype=np.float64).reshape(-1, 2)
     cdef cnp.ndarray ms = np.ascontiguousarray(map_start, dtype=np.intp)
+    cdef cnp.ndarray mc = np.ascontiguousarray(map_cells, dtype=np.intc).reshape(-1)
     cdef cnp.ndarray mf = np.ascontiguousarray(map_free, dtype=np.uint8).reshape(-1)
     cdef int C, P, LP, M, nt, status
     cdef Py_ssize_t N, j, blocks, bad = 0, oom = 0, total, k, t, r
@@ -337,14 +340,15 @@ def overlaps(Chain chain, q, caps, frame, pairs, link_of, link_pairs, map_of, ma
     P = <int>pa.shape[0]
     LP = <int>lp.shape[0]
     M = <int>mj.shape[0]
-    if ml.shape[0] != M or mw.shape[0] != M or ms.shape[0] != M:
+    if ml.shape[0] != M or mw.shape[0] != M or ms.shape[0] != M or mc.shape[0] != M:
         raise ValueError("overlaps: map arrays disagree in length")
     # the index checks as C loops (numpy's reductions would cost ~15 us a call: most of a small batch's time)
     cdef int problem = check_overlap_args(<const int*>cnp.PyArray_DATA(fa), C, n, <const int*>cnp.PyArray_DATA(pa),
                                           <const int*>cnp.PyArray_DATA(lo), P, LP, <const int*>cnp.PyArray_DATA(mo),
                                           <const int*>cnp.PyArray_DATA(mj), <const double*>cnp.PyArray_DATA(ml),
                                           <const double*>cnp.PyArray_DATA(mw),
-                                          <const Py_ssize_t*>cnp.PyArray_DATA(ms), M, cells, mf.shape[0])
+                                          <const Py_ssize_t*>cnp.PyArray_DATA(ms), M,
+                                          <const int*>cnp.PyArray_DATA(mc), mf.shape[0])
     if problem:
         raise ValueError((f"overlaps: frame indices must be in 0..{n}", "overlaps: pair indices out of range",
                           "overlaps: map arrays disagree in length",
@@ -365,6 +369,7 @@ def overlaps(Chain chain, q, caps, frame, pairs, link_of, link_pairs, map_of, ma
     cdef const double* Ml = <const double*>cnp.PyArray_DATA(ml)
     cdef const double* Mw = <const double*>cnp.PyArray_DATA(mw)
     cdef const Py_ssize_t* Ms = <const Py_ssize_t*>cnp.PyArray_DATA(ms)
+    cdef const int* Mc = <const int*>cnp.PyArray_DATA(mc)
     cdef const unsigned char* Mf = <const unsigned char*>cnp.PyArray_DATA(mf)
     cdef int* Fd = <int*>cnp.PyArray_DATA(found_a)
     cdef int* Ct = <int*>cnp.PyArray_DATA(count_a)
@@ -374,7 +379,7 @@ def overlaps(Chain chain, q, caps, frame, pairs, link_of, link_pairs, map_of, ma
         if nt > 1:
             for j in prange(blocks, num_threads=nt, schedule="dynamic", chunksize=2):
                 status = overlap_block(chain.L, chain.rev, n, Q, N, j, Cp, Fp, C, Pp, Lo, P, LP, Mo, Mj, Ml, Mw,
-                                       cells, Ms, Mf, Fd, Ct)
+                                       Mc, Ms, Mf, Fd, Ct)
                 if status > 0:
                     bad += 1
                 elif status < 0:
@@ -382,7 +387,7 @@ def overlaps(Chain chain, q, caps, frame, pairs, link_of, link_pairs, map_of, ma
         else:
             for j in range(blocks):
                 status = overlap_block(chain.L, chain.rev, n, Q, N, j, Cp, Fp, C, Pp, Lo, P, LP, Mo, Mj, Ml, Mw,
-                                       cells, Ms, Mf, Fd, Ct)
+                                       Mc, Ms, Mf, Fd, Ct)
                 if status > 0:
                     bad += 1
                     break
