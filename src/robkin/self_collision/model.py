@@ -238,7 +238,8 @@ class SelfCollisionModel:
     def _map_arrays(self) -> tuple[Any, ...]:
         """The arguments of ``capsules.overlaps`` after ``pairs``: each capsule pair's link pair, the link
         pairs, and the pair maps (``pair_maps``) flattened: map of each link pair (-1: none), joints,
-        lower limits, cell widths, cells per joint, each map's first cell and the cells (1: proven apart)."""
+        lower limits, cell widths, cells per joint, each map's first cell and the cells, one bit each (1:
+        proven apart)."""
         if self._map_args is None:
             link_of = np.repeat(np.arange(len(self._link_pairs), dtype=np.intc),
                                 np.diff(np.r_[self._starts, len(self._pairs)]).astype(np.intp)) \
@@ -250,7 +251,6 @@ class SelfCollisionModel:
             width = np.ones((len(maps), 2))
             start = np.zeros(len(maps), dtype=np.intp)
             cells_of = np.array([m.cells for m in maps], dtype=np.intc)
-            cells: list[np.ndarray] = []
             at = 0
             for k, m in enumerate(maps):
                 map_of[m.pair] = k
@@ -258,9 +258,10 @@ class SelfCollisionModel:
                 lower[k, :len(m.joints)] = m.lower
                 width[k, :len(m.joints)] = m.width
                 start[k] = at
-                cells.append(m.free.reshape(-1).astype(np.uint8))
-                at += cells[-1].size
-            free = np.concatenate(cells) if cells else np.zeros(0, np.uint8)
+                at += m.cells ** len(m.joints)
+            # every map's cells one after the other, one bit each (``capsules.overlaps``)
+            free = np.packbits(np.concatenate([m.free.reshape(-1) for m in maps]), bitorder="little") if maps \
+                else np.zeros(0, np.uint8)
             self._map_args = (link_of, self._link_pairs, map_of, joints, lower, width, cells_of, start, free)
         return self._map_args
 

@@ -3,7 +3,7 @@
 The relative pose of two links on bodies ``a < b`` of the chain depends only on the joints ``a+1 .. b``.
 Where those are one or two revolute joints with finite limits, the pair's answer is a function on a
 line or a rectangle of joint values, tabulated once: cells of that box proven apart at every joint
-value in them (``PairMap.free``). A joint can also be taken out (``revolve``): the far link turned about
+value in them (``PairMap.bits``, one bit a cell). A joint can also be taken out (``revolve``): the far link turned about
 its own joint's axis, or the near link about the first joint's after it, sweeps a solid of revolution
 that a polytope contains; with that polytope in the link's place the pair no longer depends on the
 joint. Such a map covers three joints with two (the UR5's flange beside its forearm), or a pair with
@@ -36,9 +36,12 @@ __all__ = ["PairMap", "pair_maps", "cleared", "CELLS", "FIRST", "SHARE"]
 #: cells, half-width 6 mrad, so its forearm against the second wrist link moves at most ~3 mm within a
 #: cell; over one joint 65536, 48 urad: the upper arm over the round base ~0.03 mm, below its 16 mm
 #: clearance).
-CELLS = {1: 65536, 2: 512}
+CELLS = {1: 65536, 2: 1024}
 #: Cells per joint at the coarsest level.
 FIRST = 16
+#: From this many cells per joint on, only the unproven cells next to a proven one are refined (the
+#: boundary of the proven region, where finer cells prove more; its far side is in collision).
+FULL = 128
 #: A pair is mapped when its capsules meet in at least this share of random configurations (below it
 #: the parts' test is rarely reached for the pair).
 SHARE = 0.05
@@ -61,16 +64,25 @@ class PairMap:
     #: each joint's lower limit and cell width (rad), (k,)
     lower: np.ndarray
     width: np.ndarray
-    #: True: apart at every joint value in the cell, (cells,) or (cells, cells)
-    free: np.ndarray
+    #: the cells, one bit each (``np.packbits``, little bit order; cell (i0, i1) is bit i0 * cells + i1):
+    #: 1, apart at every joint value in the cell
+    bits: np.ndarray
+    #: cells per joint
+    cells: int
     #: the links (model indices) tested as their solids of revolution (``revolve``): the cells hold at
     #: every value of the joint that turns them
     revolved: tuple[int, ...] = ()
 
     @property
-    def cells(self) -> int:
-        """Cells per joint."""
-        return int(self.free.shape[0])
+    def free(self) -> np.ndarray:
+        """bool (cells,) or (cells, cells): True where the cell is proven apart (unpacked from ``bits``)."""
+        k = len(self.joints)
+        return np.unpackbits(self.bits, count=self.cells ** k, bitorder="little").view(bool).reshape((self.cells,) * k)
+
+    @property
+    def proven(self) -> float:
+        """The share of the joint box proven apart."""
+        return float(np.unpackbits(self.bits, bitorder="little").sum()) / self.cells ** len(self.joints)
 
 
 def _reach(model: SelfCollisionModel, parts: tuple[np.ndarray, ...], link: int, body: int,
@@ -118,9 +130,20 @@ def _build(model: SelfCollisionModel, parts: tuple[np.ndarray, ...], pair: int, 
         free |= level
         if n >= cells:
             break
-        cand = (cand[~ok][:, None, :] * 2 + offsets[None]).reshape(-1, k)
+        left = cand[~ok]
+        if n >= FULL and len(left):
+            # refined: cells whose centre is free (apart with no margin), and cells next to a proven one;
+            # a cell in collision at its centre with no proven neighbour is deep in the colliding region
+            grid = free[(slice(None, None, cells // n),) * k]
+            near = grid.copy()
+            for shift in np.stack(np.meshgrid(*[[-1, 0, 1]] * k, indexing="ij"), axis=-1).reshape(-1, k):
+                near |= np.roll(grid, tuple(shift), axis=tuple(range(k)))
+            centre = parts_apart(F, *parts, queries[~ok], 0, 0.0).view(np.bool_)
+            tests += len(left)
+            left = left[centre | near[tuple(left.T)]]
+        cand = (left[:, None, :] * 2 + offsets[None]).reshape(-1, k)
         n *= 2
-    return PairMap(pair, joints, lower, span / cells, free, revolved)
+    return PairMap(pair, joints, lower, span / cells, np.packbits(free.reshape(-1), bitorder="little"), cells, revolved)
 
 
 def _ways(model: SelfCollisionModel, near: int, far: int, lo: int, hi: int
@@ -171,7 +194,7 @@ def pair_maps(model: SelfCollisionModel, rng: int = 0) -> list[PairMap]:
         built = [_build(model, parts, p, int(u), int(v), joints, _reach(model, parts, far, hi, joints), turned)
                  for parts, joints, turned in _ways(model, near, far, lo, hi)]
         if built:
-            out.append(max(built, key=lambda m: float(m.free.mean())))
+            out.append(max(built, key=lambda m: m.proven))
     return out
 
 
@@ -186,5 +209,6 @@ def cleared(maps: list[PairMap], q: np.ndarray, rows: np.ndarray, pairs: np.ndar
         x = (q[rows[sel]][:, list(m.joints)] - m.lower) / m.width
         inside = ((x >= 0.0) & (x < m.cells)).all(axis=1)
         idx = np.clip(np.floor(x), 0, m.cells - 1).astype(np.intp)
-        out[sel] = inside & m.free[tuple(idx.T)]
+        cell = idx[:, 0] * m.cells + idx[:, 1] if idx.shape[1] == 2 else idx[:, 0]
+        out[sel] = inside & ((m.bits[cell >> 3] >> (cell & 7)) & 1).astype(bool)
     return out

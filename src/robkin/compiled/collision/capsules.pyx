@@ -238,7 +238,7 @@ cdef int overlap_block(const double* L, const unsigned char* rev, int n, const d
                     inside = y >= 0.0 and y < cells
                     i1 = <int>y if inside else 0
                     i0 = i0 * cells + i1
-                if inside and map_free[map_start[mp] + i0]:
+                if inside and (map_free[(map_start[mp] + i0) >> 3] >> ((map_start[mp] + i0) & 7)) & 1:
                     D[l] = 2.0      # cleared by its map: its capsules are not checked
         for p in range(P):
             l = link_of[p]
@@ -298,7 +298,7 @@ cdef int check_overlap_args(const int* frame, int C, int n, const int* pairs, co
             return 4
         size = <Py_ssize_t>cells[k] * cells[k] if mj[2 * k + 1] >= 0 else cells[k]
         if mj[2 * k] < 0 or mj[2 * k] >= n or mj[2 * k + 1] < -1 or mj[2 * k + 1] >= n or ms[k] < 0 \
-                or ms[k] + size > nf or not mw[2 * k] > 0.0 or not mw[2 * k + 1] > 0.0 \
+                or ms[k] + size > 8 * nf or not mw[2 * k] > 0.0 or not mw[2 * k + 1] > 0.0 \
                 or not (ml[2 * k] - ml[2 * k] == 0.0) or not (ml[2 * k + 1] - ml[2 * k + 1] == 0.0):
             return 4
     return 0
@@ -313,8 +313,9 @@ def overlaps(Chain chain, q, caps, frame, pairs, link_of, link_pairs, map_of, ma
     Capsule pair p (``pairs`` (P, 2)) belongs to link pair ``link_of[p]`` of ``link_pairs`` (LP, 2).
     Maps: ``map_of`` (LP,) the map of each link pair (-1: none); map m tabulates joints ``map_joints[m]``
     (q indices, the second -1 for a map over one joint), cell x = (q_j - ``map_lower[m, i]``) /
-    ``map_width[m, i]``, ``map_cells[m]`` per joint, and cell (i0, i1) is proven apart when
-    ``map_free[map_start[m] + i0 * map_cells[m] + i1]`` (one joint: ``+ i0``) is nonzero; a value outside
+    ``map_width[m, i]``, ``map_cells[m]`` per joint, and cell (i0, i1) is proven apart when bit
+    ``map_start[m] + i0 * map_cells[m] + i1`` (one joint: ``+ i0``) of ``map_free`` (uint8, bit b of byte
+    b >> 3 at place b & 7: ``np.packbits(..., bitorder="little")``) is set; a value outside
     [0, map_cells[m]) cells is not cleared."""
     cdef int n = chain.n
     cdef cnp.ndarray ca = np.ascontiguousarray(caps, dtype=np.float64)
