@@ -153,6 +153,8 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     q0, all_solutions, rng, options
         As for ``ik``.
     """
+    from ..compiled.ik.lm import pose_errors
+    from ..kinematics.pose_error import check_mask
     from .build import model_of
 
     model = model or model_of(robot)
@@ -188,10 +190,9 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         if len(left) and res.method != "numeric":   # closed form: every branch of those targets
             q0s = None if q0 is None else (np.asarray(q0, dtype=float).reshape(-1, n)[left] if np.ndim(q0) == 2 else q0)
             sub = ik(robot, targets[left], q0=q0s, all_solutions=True, rng=rng, **_serial(options, len(left)))
-            got = [np.asarray(g, dtype=float).reshape(-1, n) for g in sub.solutions]
-            counts = np.array([len(g) for g in got])
+            counts = np.fromiter(map(len, sub.solutions), dtype=np.intp, count=len(left))
             found[left] |= counts > 0
-            G = np.vstack(got) if counts.sum() else np.empty((0, n))
+            G = np.concatenate(sub.solutions).reshape(-1, n) if counts.sum() else np.empty((0, n))
             owner = np.repeat(np.arange(len(left)), counts)
             # the preferred solution was checked already: the other branches only (NaN: none, equals nothing)
             ref = np.where(ok[left][:, None], q[left], np.nan)
@@ -220,35 +221,16 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         elif found[i] or ok[i]:
             q[i], messages[i] = np.nan, MESSAGE
             changed.append(i)
-    # errors: IK's own where its answer stands (kept, or a failure left as IK gave it), recomputed where
-    # another answer replaced it
+    # errors: IK's own where its answer stands (kept, or a failure left as IK gave it), recomputed over
+    # the masked components where another answer replaced it (inf where none is left)
     ep = np.array(np.atleast_1d(res.position_error), dtype=float)
     eo = np.array(np.atleast_1d(res.orientation_error), dtype=float)
     if changed:
-        if options.get("mask") in (None, "pose"):
-            ep[changed], eo[changed] = _errors(robot, targets[changed], q[changed])
-        else:   # errors over the masked components: IK's own, per target (inf where no q)
-            gone = np.isnan(q[changed]).any(axis=1)
-            ep[np.array(changed)[gone]] = np.inf
-            eo[np.array(changed)[gone]] = np.inf
+        ep[changed], eo[changed] = pose_errors(robot._chain, q[changed], targets[changed],
+                                               check_mask(options.get("mask")))
     return replace(res, q=q[0] if single else q, success=bool(success[0]) if single else success,
                    position_error=float(ep[0]) if single else ep, orientation_error=float(eo[0]) if single else eo,
                    message=messages[0] if single else messages,
                    solutions=None if not all_solutions else (free.get(0, np.empty((0, n))) if single else
                                                              [free.get(i, np.empty((0, n))) for i in range(len(ok))]))
 
-
-def _errors(robot: Robot, targets: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Position and orientation errors (full pose; inf where q is NaN) of the chosen solutions."""
-    ep = np.full(len(q), np.inf)
-    eo = np.full(len(q), np.inf)
-    ok = np.isfinite(q).all(axis=1)
-    if ok.any():
-        P = robot.fk(np.ascontiguousarray(q[ok]), threads=1)
-        Td = targets[ok]
-        ep[ok] = np.linalg.norm(Td[:, :3, 3] - P[:, :3, 3], axis=1)
-        E = np.einsum("kij,klj->kil", Td[:, :3, :3], P[:, :3, :3])   # R_d R^T; its angle by atan2 (accurate near 0)
-        c = (np.trace(E, axis1=1, axis2=2) - 1.0) / 2.0
-        w = np.stack([E[:, 2, 1] - E[:, 1, 2], E[:, 0, 2] - E[:, 2, 0], E[:, 1, 0] - E[:, 0, 1]], axis=1)
-        eo[ok] = np.arctan2(np.linalg.norm(w, axis=1) / 2.0, c)
-    return ep, eo
