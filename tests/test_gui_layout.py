@@ -182,12 +182,6 @@ def test_browser_ik_branch_clicked_is_highlighted(browser, tmp_path):  # noqa: F
     srv.serve_in_thread()
     try:
         for pg in _open(browser, srv.url):
-            # the UR5's self-collision model builds in the background first (seconds on a loaded machine),
-            # and while it does the page asks again every 0.5 s: those answers would count as the updates
-            # waited for below, letting the drag's last IK answer land after the click (CI, 2026-11-29)
-            pg.wait_for_function("() => !['building', undefined].includes(document.body.dataset.collision)",
-                                 timeout=120000)
-            _settled(pg)
             before = _updates(pg)
             pg.evaluate("""(q) => q.forEach((v, i) => { const s = document.getElementById('q' + i);
                                                         s.value = String(v); s.dispatchEvent(new Event('input')); })""",

@@ -17,6 +17,9 @@ every representation, downloads, the check against a second robot), the three.js
     ``{"ok": true, ...describe()}`` or ``{"ok": false, "error": "one line"}``.
 ``POST /api/ik`` ``{text, fmt, base_link, tip_link, tool_row, target, q0[, arm_angle, collision]}``
     ``{"ok": true, ...solve_ik()}`` or ``{"ok": false, "error"}``.
+``POST /api/collision`` ``{text, fmt, base_link, tip_link, tool_row, q}``
+    ``{"ok": true, "q", "collision"}``: only the self-collision answer at q (``gui_api.collision_at``),
+    which the page asks again for the q it shows while the robot's model is being built.
 ``POST /api/export`` ``{text, fmt, to, base_link, tip_link, tool_row}``
     ``{"ok": true, "filename", "mime", "content"}`` or ``{"ok": false, "error"}``.
 ``POST /api/workspace`` ``{text, fmt, base_link, tip_link, tool_row[, voxel, samples]}``
@@ -64,7 +67,7 @@ _STATIC_TYPES = {".html": "text/html; charset=utf-8", ".js": "text/javascript; c
                  ".css": "text/css; charset=utf-8", ".svg": "image/svg+xml", ".png": "image/png"}
 #: Request fields that must be strings (or absent / null) when given.
 _STRING_FIELDS = ("text", "fmt", "to", "base_link", "tip_link")
-_API = ("/api/describe", "/api/ik", "/api/export", "/api/workspace")
+_API = ("/api/describe", "/api/ik", "/api/collision", "/api/export", "/api/workspace")
 
 
 def _inline_script_hashes() -> str:
@@ -293,6 +296,8 @@ class _Handler(BaseHTTPRequestHandler):
                 return {"ok": True, **gui_api.solve_ik(target=req.get("target"), q0=req.get("q0"),
                                                        arm_angle=req.get("arm_angle"),
                                                        collision=req.get("collision") is True, **args)}
+            if path == "/api/collision":
+                return {"ok": True, **gui_api.collision_at(q=req.get("q"), **args)}
             if path == "/api/workspace":
                 from .workspace_api import workspace_overlay
 

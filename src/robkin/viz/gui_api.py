@@ -20,7 +20,7 @@ from ..errors import InputError, quote
 from ..representations.registry import LiveMapping
 from ..robot import Robot
 
-__all__ = ["INPUT_FORMATS", "EXPORTS", "parse_robot", "describe", "solve_ik", "export", "MAX_TEXT"]
+__all__ = ["INPUT_FORMATS", "EXPORTS", "parse_robot", "describe", "solve_ik", "collision_at", "export", "MAX_TEXT"]
 
 INPUT_FORMATS = ("auto", "yaml", "json", "urdf", "mjcf", "sdf", "dh-rows", "mdh-rows", "poe-rows", "rpy-rows")
 #: XML robot formats: root element -> format (anything else starting with '<' is taken as URDF).
@@ -292,6 +292,19 @@ def solve_ik(text: str, fmt: str, target: Any, q0: Any, base_link: str | None = 
             "rpy_xyz": np.concatenate([se3.rpy_from_matrix(T_q[:3, :3]), T_q[:3, 3]]).tolist(),
             "scene": build_scene(robot, q).to_json(), "motions": _motions(robot, q), **_arm_angle(robot, q),
             "collision": _collision(robot, q, collision, text, fmt, base_link, tip_link, tool_row)}
+
+
+def collision_at(text: str, fmt: str, q: Any, base_link: str | None = None, tip_link: str | None = None,
+                 tool_row: bool = False) -> dict[str, Any]:
+    """Only the self-collision answer at ``q``: what the page asks again, for the q it shows, while the
+    robot's model is being built (nothing else of the page changes).
+
+    Returns ``q`` (the (n,) configuration asked about, rad and length units; exactly n numbers are
+    required) and ``collision``, as ``describe``'s with ``collision`` true.
+    """
+    robot, _, _ = _robot(text, fmt, base_link, tip_link, tool_row)
+    Q = _q_of(robot, q)
+    return {"q": Q.tolist(), "collision": _collision(robot, Q, True, text, fmt, base_link, tip_link, tool_row)}
 
 
 def _collision(robot: Robot, q: np.ndarray, wanted: bool, text: str, fmt: str, base_link: str | None,

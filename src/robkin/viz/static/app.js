@@ -4,23 +4,25 @@
 // tool-frame gizmo driving IK, and the visual check against a second robot.
 import { Viewer, overlayLegend } from "./viewer.js";
 import { loadVisuals } from "./meshes.js";
-import { $, el, num, cell, display } from "./dom.js";
-import { representationSections } from "./tables.js";
-import { checkContents } from "./check.js";
-import { showCollision } from "./collision.js";
+import { $, el, num, display, count } from "./dom.js";
+import { representationSections, showPose } from "./tables.js";
+import { checkContents, zoomToFirstDifference } from "./check.js";
+import { CollisionPoll } from "./collision.js";
 import { WorkspaceOverlay } from "./workspace_overlay.js";
 
 const state = {
   robot: null,          // last good answer of /api/describe
   jointKey: "",         // joints' names/types/limits: sliders are rebuilt when it changes
   tablesKey: null,      // input (and angle unit) the tables were drawn for
+  asked: null,          // the request of the robot shown (its text, fmt, chain, tool row)
   inflight: false, pending: null,
+  qSeq: 0,              // user actions that set q (sliders, branch buttons, home, edits): IK answers asked before are stale
   ik: { inflight: false, pending: null, count: 0, since: 0 },
   start: null,          // /api/start: the command-line robot and its visuals
   reps: null,           // /api/representations: the tables, overlays and downloads to offer
   meshKey: null,        // whether the visuals are shown (only for the command-line robot, unedited)
 };
-let viewer = null, workspace = null;
+let viewer = null, workspace = null, poll = null;
 
 // ------------------------------------------------------------------ talking to the server
 async function post(path, body) {
@@ -93,8 +95,10 @@ function dragged(T) {
 function sendIK(body) {
   state.ik.inflight = true;
   if (!state.ik.since) state.ik.since = performance.now();
+  const seq = state.qSeq;
   post("/api/ik", { ...body, q0: currentQ() })
     .then((res) => {
+      if (seq !== state.qSeq) { count("ikStale"); return; }  // the user set q since: that q stays (data-ik-stale)
       if (!res.ok) { showError(res.error); return; }
       state.ik.count += 1;
       const secs = (performance.now() - state.ik.since) / 1000;
@@ -105,10 +109,11 @@ function sendIK(body) {
       const scene = res.scene;
       state.robot = { ...state.robot, q: res.q, T: res.T, rpy_xyz: res.rpy_xyz, scene, motions: res.motions,
                       overlays: [], check: null, collision: res.collision };
-      showCollision(res.collision, askAgain);
+      state.asked = body;
+      poll.show(res.collision);
       viewer.show(state.robot, { keepTarget: true });
       showPose(state.robot);
-      document.body.dataset.ikUpdates = String(Number(document.body.dataset.ikUpdates || 0) + 1);
+      count("ikUpdates");
     })
     .catch((err) => showError("connection to the robkin server failed: " + err))
     .finally(() => {
@@ -173,6 +178,7 @@ function showBranches(solutions) {
     b.addEventListener("click", () => {  // the robot moves there, and so does the highlight
       buttons.forEach((o) => o.classList.toggle("current", o === b));
       setQ(sol);
+      qSet();
       refresh();
     });
     return b;
@@ -198,6 +204,7 @@ function apply(res, body) {
     if (currentQ().some((v, i) => v !== res.q[i])) { refresh(); return; }
   }
   state.robot = res;
+  state.asked = body;
   display.scale = res.scale;
   $("robot-name").textContent = (res.name || "robot") + " — " + res.n + " joints";
   viewer.show(res);
@@ -207,7 +214,7 @@ function apply(res, body) {
   showArmAngle(res);
   showAgreement(res);
   showCheck(res);
-  showCollision(res.collision, askAgain);
+  poll.show(res.collision);
   const tkey = [body.text, body.fmt, body.base_link, body.tip_link, body.tool_row, $("units").value].join("\u0000");
   if (state.tablesKey !== tkey) {
     state.tablesKey = tkey;
@@ -216,7 +223,14 @@ function apply(res, body) {
   }
   showMeshes(body);
   document.body.dataset.state = "ready";
-  document.body.dataset.updates = String(Number(document.body.dataset.updates) + 1);
+  count("updates");
+}
+
+// The user set q (a slider, a branch button, home) or edited the robot: IK answers asked for before
+// are stale (one landing late would undo it), and a drag's waiting target is dropped.
+function qSet() {
+  state.qSeq += 1;
+  state.ik.pending = null;
 }
 
 function showError(message) {
@@ -263,7 +277,7 @@ function buildSliders(res) {
       s.title = "locked: its lower limit equals its upper limit";
     }
     const out = el("output", { for: "q" + i, id: "qv" + i });
-    s.addEventListener("input", () => { showSliderValue(i); refresh(); });
+    s.addEventListener("input", () => { showSliderValue(i); qSet(); refresh(); });
     box.append(el("div", { class: "slider" }, el("span", { class: "jname", title: j.type,
       text: (i + 1) + " " + j.name + (prismatic ? " (P)" : " (R)") }), s, out));
   });
@@ -308,41 +322,27 @@ function showCheck(res) {
   const box = $("check"), c = res.check;
   box.hidden = !c;
   document.body.classList.toggle("comparing", !!c);
-  box.replaceChildren(...(c ? checkContents(res, zoomToFirstDifference) : []));
+  box.replaceChildren(...(c ? checkContents(res, (r) => zoomToFirstDifference(viewer, r)) : []));
 }
 
-// The camera on the first joint that differs (its difference arrow, else its axis on robot A), close
-// enough to see the difference as drawn.
-function zoomToFirstDifference(res) {
-  const c = res.check, L = res.scale || 1;
-  const label = c.first_joint === null ? null : "J" + (c.first_joint + 1);
-  const arrow = c.arrows.find((a) => a.label === label) || (label === null ? c.arrows[0] : null);
-  if (arrow) {
-    const mid = arrow.start.map((v, k) => (v + arrow.end[k]) / 2);
-    const len = Math.hypot(...arrow.end.map((v, k) => v - arrow.start[k]));
-    viewer.zoomTo(mid, Math.max(1.5 * len, 0.08 * L));
-  } else if (label !== null) {
-    viewer.zoomTo(res.scene.axis_points[c.first_joint], 0.15 * L);
-  }
+
+
+// ------------------------------------------------------------------ self collision (collision.js)
+// What the poll asks about: the robot and q shown, unless another answer (which carries the collision
+// state) is on its way or the tool frame is being dragged; still() is false once the q shown changed.
+function shownForPoll() {
+  const robot = state.robot, seq = state.qSeq, ik = state.ik;
+  if (!robot || !state.asked || state.inflight || state.pending || ik.inflight || ik.pending || viewer.dragging) return null;
+  const still = () => state.robot === robot && state.qSeq === seq && !viewer.dragging && $("check-collision").checked;
+  const { text, fmt, base_link, tip_link, tool_row } = state.asked;
+  return still() ? { body: { text, fmt, base_link, tip_link, tool_row, q: robot.q }, still } : null;
 }
 
-function showPose(res) {
-  const t = $("pose-table");
-  t.replaceChildren();
-  const T = res.T;
-  const heads = ["", "x axis", "y axis", "z axis", "position"];
-  t.append(el("tr", {}, ...heads.map((h) => el("th", { text: h }))));
-  ["x", "y", "z"].forEach((name, r) => {
-    t.append(el("tr", {}, el("th", { text: name }), ...[0, 1, 2, 3].map((c) =>
-      el("td", { text: num(T[r][c]), title: String(T[r][c]), "data-rc": r + "," + c }))));
-  });
-  const p = res.rpy_xyz;
-  t.append(el("tr", {}, el("th", { text: "rpy" }), ...[0, 1, 2].map((k) => cell(p[k], true)),
-              el("td", { text: display.deg ? "°" : "rad" })));
+// A poll's answer: only the red links and the status line change (the gizmo stays where it is).
+function pollAnswered(c) {
+  state.robot.collision = c;
+  viewer.show(state.robot, { keepTarget: true });
 }
-
-// The self-collision model was still being built: ask again for the q shown (after a drag's last answer).
-function askAgain() { if (!viewer.dragging && !state.ik.inflight) refresh(); }
 
 // ------------------------------------------------------------------ workspace overlay
 // The robot's reachable voxels as points (workspace_overlay.js, POST /api/workspace); data-workspace
@@ -409,6 +409,7 @@ function showFields() {
 async function start() {
   viewer = new Viewer($("view"), { onDrag: dragged, onDragEnd: dragEnded });
   workspace = new WorkspaceOverlay(viewer);
+  poll = new CollisionPoll({ post, current: shownForPoll, apply: pollAnswered, error: showError });
   $("show-workspace").addEventListener("change", (e) => {
     if (e.target.checked) { showWorkspace(); return; }
     workspace.hide();
@@ -417,7 +418,7 @@ async function start() {
   });
   $("check-collision").addEventListener("change", () => refresh());
   let timer = null;
-  const edited = () => { showFields(); showExample(); clearTimeout(timer); timer = setTimeout(() => refresh(), 250); };
+  const edited = () => { showFields(); showExample(); qSet(); clearTimeout(timer); timer = setTimeout(() => refresh(), 250); };
   $("robot-text").addEventListener("input", edited);
   $("other-text").addEventListener("input", edited);
   for (const id of ["format", "base-link", "tip-link", "last-row", "other-format"]) $(id).addEventListener("change", edited);
@@ -439,7 +440,7 @@ async function start() {
   // home: the hub's (Robot.home: q = 0 clipped into the limits), the MJCF keyframe 'home' too
   $("home").addEventListener("click", () => {
     const home = state.robot && state.robot.home;
-    setQ(home && home.length === currentQ().length ? home : currentQ().map(() => 0)); refresh(); });
+    setQ(home && home.length === currentQ().length ? home : currentQ().map(() => 0)); qSet(); refresh(); });
   document.querySelectorAll("[data-view]").forEach((b) => b.addEventListener("click", () => viewer.view(b.dataset.view)));
   $("gizmo-mode").addEventListener("change", () => viewer.setGizmoMode($("gizmo-mode").value));
   const [init, reps] = await Promise.all([fetch("/api/start").then((r) => r.json()),

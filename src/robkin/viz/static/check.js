@@ -62,3 +62,18 @@ function massTable(c) {
   }
   return el("div", { class: "wide" }, t);
 }
+
+// The camera on the first joint that differs (its difference arrow, else its axis on robot A), close
+// enough to see the difference as drawn.
+export function zoomToFirstDifference(viewer, res) {
+  const c = res.check, L = res.scale || 1;
+  const label = c.first_joint === null ? null : "J" + (c.first_joint + 1);
+  const arrow = c.arrows.find((a) => a.label === label) || (label === null ? c.arrows[0] : null);
+  if (arrow) {
+    const mid = arrow.start.map((v, k) => (v + arrow.end[k]) / 2);
+    const len = Math.hypot(...arrow.end.map((v, k) => v - arrow.start[k]));
+    viewer.zoomTo(mid, Math.max(1.5 * len, 0.08 * L));
+  } else if (label !== null) {
+    viewer.zoomTo(res.scene.axis_points[c.first_joint], 0.15 * L);
+  }
+}

@@ -28,3 +28,6 @@ export function num(x, angle = false, digits = 10) {
 
 // A table cell: the number rounded for display, the full value as its title.
 export function cell(v, angle = false, digits = 10) { return el("td", { text: num(v, angle, digits), title: String(v) }); }
+
+// A counter in the body's dataset (data-updates, data-ik-updates, ...): what tests wait for.
+export function count(name) { document.body.dataset[name] = String(Number(document.body.dataset[name] || 0) + 1); }

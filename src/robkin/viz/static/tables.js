@@ -1,7 +1,7 @@
 // The Representations panel: a table per registered representation (GET /api/representations), rounded
 // for display (full precision on hover and in copies), each link's mass properties, base/tool matrices.
 // Every table fits its panel at 1400 px wide: wide content is split into narrower tables, not cut.
-import { el, num, cell, display } from "./dom.js";
+import { $, el, num, cell, display } from "./dom.js";
 
 // A copy button: the table's numbers as tab-separated text at full precision (shortest round trip).
 export function copyButton(rows) {
@@ -102,3 +102,18 @@ export function representationSections(res, reps) {
   return parts;
 }
 
+// The tool pose at q: its 4x4 matrix and roll, pitch, yaw (the #pose-table under the sliders).
+export function showPose(res) {
+  const t = $("pose-table");
+  t.replaceChildren();
+  const T = res.T;
+  const heads = ["", "x axis", "y axis", "z axis", "position"];
+  t.append(el("tr", {}, ...heads.map((h) => el("th", { text: h }))));
+  ["x", "y", "z"].forEach((name, r) => {
+    t.append(el("tr", {}, el("th", { text: name }), ...[0, 1, 2, 3].map((c) =>
+      el("td", { text: num(T[r][c]), title: String(T[r][c]), "data-rc": r + "," + c }))));
+  });
+  const p = res.rpy_xyz;
+  t.append(el("tr", {}, el("th", { text: "rpy" }), ...[0, 1, 2].map((k) => cell(p[k], true)),
+              el("td", { text: display.deg ? "°" : "rad" })));
+}
