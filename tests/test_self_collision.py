@@ -427,3 +427,32 @@ def test_axis_frame_is_the_next_joints_axis_in_the_bodys_frame(ur5):
         rel1 = np.linalg.solve(base, F1[body])
         rel2 = np.linalg.solve(base, F2[body])
         assert np.allclose(rel2, A @ Rz @ np.linalg.solve(A, rel1), atol=1e-9)
+
+
+def test_numeric_retry_only_where_the_closed_form_may_not_list_every_solution(ur5):
+    """The UR5's closed form (three-parallel-6r) lists every solution of a regular target: a target with
+    the elbow folded back (every branch colliding) fails at once, "every solution found is in self
+    collision", with no numeric retry; the same target with the wrist straight (q5 = 0, a continuum of
+    wrist solutions) is retried numerically."""
+    from robkin.kinematics.ik import ik
+    from robkin.self_collision.ik import MESSAGE, collision_free_ik
+
+    robot, model = ur5
+    calls: list[str | None] = []
+
+    def counting(*args, **kwargs):
+        calls.append(kwargs.get("method"))
+        return ik(*args, **kwargs)
+
+    folded = np.array([-0.575, -2.857, -2.835, 3.136, 0.957, -1.668])
+    every = robot.ik(robot.fk(folded), all_solutions=True).solutions
+    assert len(every) == 8 and np.asarray(model.collides(every, level="parts")).all()
+    res = collision_free_ik(counting, robot, robot.fk(folded), model=model)
+    assert not res.success and res.message == MESSAGE and np.isnan(res.q).all()
+    assert "numeric" not in calls and res.method == "three-parallel-6r"
+    calls.clear()
+    straight = folded.copy()
+    straight[4] = 0.0
+    assert np.asarray(model.collides(robot.ik(robot.fk(straight), all_solutions=True).solutions, level="parts")).all()
+    collision_free_ik(counting, robot, robot.fk(straight), model=model)
+    assert "numeric" in calls
