@@ -181,12 +181,12 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     q = np.array(res.q, dtype=float).reshape(-1, n)
     # free[i]: target i's collision-free solutions (the chosen one first), for each target not kept as IK
     # answered it; found[i]: some solution was found for it (a failure then says they all collide);
-    # known[i]: every solution found for it (without all_solutions: IK's answer and the rows of G
-    # ``branches[i]`` holds, its other branches)
+    # known[i]: every solution found for it (without all_solutions: IK's answer and its other branches,
+    # the rows of G from ``ends[k] - counts[k]`` to ``ends[k]`` for target ``asked[k]``)
     free: dict[int, np.ndarray] = {}
     known: dict[int, np.ndarray] = {}
-    branches: dict[int, tuple[int, int]] = {}
     G = q[:0]
+    asked = counts = ends = np.zeros(0, dtype=np.intp)
     if all_solutions:
         listed = [res.solutions] if single else list(res.solutions)
         sols = [np.asarray(s, dtype=float).reshape(-1, n) for s in listed]
@@ -219,16 +219,15 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
             row = _first_free(model, G, counts, level, threads)
             for i, r in zip(left[row >= 0].tolist(), row[row >= 0].tolist()):
                 free[i] = G[r:r + 1]
-            ends = np.cumsum(counts)
-            branches = {i: (e - c, e) for i, c, e in zip(left.tolist(), counts.tolist(), ends.tolist())}
+            asked, ends = left, np.cumsum(counts)
     settled = kept.copy()
     settled[[i for i, f in free.items() if len(f)]] = True
     left = np.flatnonzero(~settled)
     if len(left) and res.method in COMPLETE:   # every solution is known: retried only near a singularity
-        for i in left.tolist():
-            if i in branches:
-                a, b = branches[i]
-                known[i] = np.vstack([q[i:i + 1], G[a:b]]) if ok[i] else G[a:b]
+        for i, k in zip(left.tolist(), np.searchsorted(asked, left).tolist()):
+            if k < len(asked) and asked[k] == i:
+                g = G[ends[k] - counts[k]:ends[k]]
+                known[i] = np.vstack([q[i:i + 1], g]) if ok[i] else g
         left = left[_near_singular(robot, [known.get(i, q[:0]) for i in left.tolist()])]
     if len(left):    # RETRIES collision-free starts per target left, all in one numeric batch
         got, any_found = _retry(ik, robot, model, targets[left], level, all_solutions, np.random.default_rng(rng),
