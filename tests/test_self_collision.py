@@ -456,3 +456,22 @@ def test_numeric_retry_only_where_the_closed_form_may_not_list_every_solution(ur
     assert np.asarray(model.collides(robot.ik(robot.fk(straight), all_solutions=True).solutions, level="parts")).all()
     collision_free_ik(counting, robot, robot.fk(straight), model=model)
     assert "numeric" in calls
+
+
+def test_first_free_is_each_groups_first_collision_free_row(ur5):
+    """``self_collision.ik._first_free`` (rounds, then the few rows left at once) gives each group's first
+    row that the model calls free, or -1: the same as checking every row, on groups of random sizes."""
+    from robkin.self_collision.ik import _first_free
+
+    robot, model = ur5
+    rng = np.random.default_rng(8)
+    for _ in range(20):
+        counts = rng.integers(0, 9, size=rng.integers(1, 40))
+        G = robot.random_q(int(counts.sum()), rng=rng)
+        hit = np.asarray(model.collides(G, level="parts"), dtype=bool) if len(G) else np.zeros(0, bool)
+        want, at = [], 0
+        for c in counts:
+            free = np.flatnonzero(~hit[at:at + c])
+            want.append(at + free[0] if len(free) else -1)
+            at += c
+        assert _first_free(model, G, counts, "parts", None).tolist() == want

@@ -62,6 +62,8 @@ SINGULAR = 1e-3
 #: OpenMP start and spin-wait of more threads cost more CPU than they save there (UR5, 1000 targets
 #: on a loaded 2-core machine: 14 us of CPU a target with two threads, 10 with one).
 SERIAL_BELOW = 4096
+#: ``_first_free`` checks the branches left in one batch once they are at most this many.
+FEW = 16
 
 #: per model: level -> its pool of collision-free configurations (``_pool``)
 _POOLS: weakref.WeakKeyDictionary[SelfCollisionModel, dict[str, np.ndarray]] = weakref.WeakKeyDictionary()
@@ -103,12 +105,21 @@ def _first_free(model: SelfCollisionModel, G: np.ndarray, counts: np.ndarray, le
                 threads: int | None) -> np.ndarray:
     """Per group (``counts[k]`` consecutive rows of G (M, n)), the row of its first collision-free
     configuration, -1 for none: checked in rounds (every group's r-th row in one batch), a group leaving
-    at its first free row (most need one or two of their up to 8 closed-form branches checked)."""
+    at its first free row (most need one or two of their up to 8 closed-form branches checked). Once
+    the rows left are few (``FEW``), they are checked in one last batch: a round's fixed cost (~20 us)
+    is then more than checking a few rows that a later round might not have needed."""
     first = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.intp)
     out = np.full(len(counts), -1, dtype=np.intp)
     active = np.flatnonzero(counts > 0)
     r = 0
     while len(active):
+        if int((counts[active] - r).sum()) <= FEW:     # the rest at once, each group's first free row kept
+            rows = np.concatenate([np.arange(first[k] + r, first[k] + counts[k]) for k in active])
+            owner = np.repeat(active, counts[active] - r)
+            free = ~_collides(model, G[rows], level, threads)
+            for k, row in zip(owner[free][::-1].tolist(), rows[free][::-1].tolist()):
+                out[k] = row                            # backwards: the first free row of a group stays
+            break
         rows = first[active] + r
         hit = _collides(model, G[rows], level, threads)
         out[active[~hit]] = rows[~hit]
