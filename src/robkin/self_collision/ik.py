@@ -58,10 +58,12 @@ COMPLETE = frozenset({"scara", "spherical-wrist-6r", "three-parallel-6r"})
 #: 0.09).
 SINGULAR = 1e-3
 #: Batches of fewer configurations are checked (and follow-up IK batches of fewer targets solved) on
-#: one thread (unless ``threads=`` is given): the
-#: OpenMP start and spin-wait of more threads cost more CPU than they save there (UR5, 1000 targets
-#: on a loaded 2-core machine: 14 us of CPU a target with two threads, 10 with one).
-SERIAL_BELOW = 4096
+#: one thread (unless ``threads=`` is given): there the OpenMP start and spin-wait of more threads cost
+#: more than they save. Larger ones, the IK answers of a batch among them, take the default threads, so
+#: that the workers plain IK left spinning work instead (UR5, 1000 targets, default threads on 2 cores,
+#: 2026-11-29: with every batch below 4096 on one thread, 5.6x plain IK's CPU time and 3.4x its wall
+#: time; below 64 or 256, 2.7-2.9x and 2.5x; always the default threads, 3.2x and 2.5x).
+SERIAL_BELOW = 128
 #: ``_first_free`` checks the branches left in one batch once they are at most this many.
 FEW = 16
 
