@@ -3,7 +3,11 @@
 - ``geometry``: each link's collision shapes (meshes read, primitives kept), base frame at q = 0;
 - ``capsules``: one least-volume capsule per link enclosing every vertex (conservative);
 - ``model``: ``SelfCollisionModel``: the capsules, the pairs checked, the compiled batch check
-  (``robkin.compiled.collision.capsules``) and distances;
+  (``robkin.compiled.collision.capsules``) and distances, the convex parts' level
+  (``robkin.compiled.collision.parts``);
+- ``pairmaps``: pairs one or two joints move against each other, tabulated (cells proven apart);
+  ``revolve``: a link turned about a joint's axis, the polytope around its solid of revolution (a map
+  over fewer joints);
 - ``acm``: the allowed-collision matrix (Adjacent, Default, Always, Never) from sampled configurations;
 - ``exact``: the exact check of the links' own geometry (coal), the capsules' reference;
 - ``build``: ``self_collision_model(robot, source)``, and what ``Robot.self_collision`` and

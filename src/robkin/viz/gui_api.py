@@ -299,8 +299,9 @@ def collision_at(text: str, fmt: str, q: Any, base_link: str | None = None, tip_
     """Only the self-collision answer at ``q``: what the page asks again, for the q it shows, while the
     robot's model is being built (nothing else of the page changes).
 
-    Returns ``q`` (the (n,) configuration asked about, rad and length units; exactly n numbers are
-    required) and ``collision``, as ``describe``'s with ``collision`` true.
+    The robot is the one ``describe`` reads from text, fmt, base_link, tip_link and tool_row (the same
+    memoised robot and model). Returns ``q`` (the (n,) configuration asked about, rad and length units;
+    exactly n numbers are required) and ``collision``, as ``describe``'s with ``collision`` true.
     """
     robot, _, _ = _robot(text, fmt, base_link, tip_link, tool_row)
     Q = _q_of(robot, q)
