@@ -475,3 +475,42 @@ def test_first_free_is_each_groups_first_collision_free_row(ur5):
             want.append(at + free[0] if len(free) else -1)
             at += c
         assert _first_free(model, G, counts, "parts", None).tolist() == want
+
+
+def test_branch_source_lists_the_solutions_all_solutions_lists(ur5):
+    """``kinematics.ik.solve_with_branches`` answers as ``ik`` and keeps the closed-form branches: its
+    ``solutions(rows)`` are, for those targets, exactly the rows ``ik(..., all_solutions=True)`` lists (no
+    second solve); collision-free IK through it (a batch: the folded target of the test above among
+    free ones) makes no numeric retry either, and the same answers as without it."""
+    from robkin.kinematics.ik import ik, solve_with_branches
+    from robkin.self_collision.ik import MESSAGE, collision_free_ik
+
+    robot, model = ur5
+    T = robot.fk(robot.random_q(40, rng=4))
+    res, source = solve_with_branches(robot, T)
+    plain = ik(robot, T)
+    assert np.array_equal(res.q, plain.q) and source is not None
+    rows = np.array([3, 7, 21])
+    every = ik(robot, T, all_solutions=True).solutions
+    for got, want in zip(source.solutions(rows), [every[i] for i in rows]):
+        assert np.array_equal(got, want)
+    folded = np.array([-0.575, -2.857, -2.835, 3.136, 0.957, -1.668])
+    batch = np.concatenate([T[:5], robot.fk(folded)[None]])
+    calls: list[str] = []
+
+    def counting_solve(*args, **kwargs):
+        calls.append("solve")
+        return solve_with_branches(*args, **kwargs)
+
+    def counting_ik(*args, **kwargs):
+        calls.append(f"ik {kwargs.get('method')} all={kwargs.get('all_solutions')}")
+        return ik(*args, **kwargs)
+
+    with_source = collision_free_ik(counting_ik, robot, batch, model=model, solve=counting_solve)
+    assert calls == ["solve"]       # no second solve for the other branches, no numeric retry
+    calls.clear()
+    without = collision_free_ik(counting_ik, robot, batch, model=model)
+    assert calls[0] == "ik None all=False" and "ik numeric all=False" not in calls
+    assert with_source.message[5] == MESSAGE and not with_source.success[5]
+    assert np.array_equal(with_source.success, without.success)
+    assert np.array_equal(with_source.q[with_source.success], without.q[without.success])

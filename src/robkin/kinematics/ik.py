@@ -35,7 +35,8 @@ from ..checks import check_threads
 from ..errors import InputError
 from ..robot import Robot
 from .closed_form import closed_form_solver
-from .ik_methods import SAME_SOLUTION_TOL, closed_form_batch, numeric_batch, preferred_starts, single_closed_form
+from .ik_methods import (SAME_SOLUTION_TOL, BranchSource, closed_form_batch, numeric_batch, preferred_starts,
+                         single_closed_form)
 from .ik_result import (DEFAULT_MAX_ITERATIONS, DEFAULT_RESTARTS, DEFAULT_SETTINGS, DEFAULT_TOL, METHODS, IKResult,
                         settings as checked_settings)
 from .pose_error import FULL_POSE, check_mask, check_targets
@@ -108,23 +109,44 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         return collision_free_ik(ik, robot, T, q0=q0, mask=mask, method=method, all_solutions=all_solutions,
                                  tol_position=tol_position, tol_orientation=tol_orientation,
                                  max_iterations=max_iterations, restarts=restarts, rng=rng, threads=threads,
-                                 lock=lock, arm_angle=arm_angle)
+                                 lock=lock, arm_angle=arm_angle, solve=solve_with_branches)
+    if q0 is None and arm_angle is None and not lock:   # one target, the closed form: its one compiled call
+        one = single_closed_form(robot, T, mask, method, all_solutions, tol_position, tol_orientation,
+                                 max_iterations, restarts)
+        if one is not None:
+            return one
+    return solve_with_branches(robot, T, q0=q0, mask=mask, method=method, all_solutions=all_solutions,
+                               tol_position=tol_position, tol_orientation=tol_orientation,
+                               max_iterations=max_iterations, restarts=restarts, rng=rng, threads=threads, lock=lock,
+                               arm_angle=arm_angle)[0]
+
+
+def solve_with_branches(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | ArrayLike | None = None,
+                        method: str = "auto", all_solutions: bool = False, tol_position: float = DEFAULT_TOL,
+                        tol_orientation: float = DEFAULT_TOL, max_iterations: int = DEFAULT_MAX_ITERATIONS,
+                        restarts: int = DEFAULT_RESTARTS, rng: np.random.Generator | int | None = 0,
+                        threads: int | None = None, lock: Mapping[str, float] | None = None,
+                        arm_angle: ArrayLike | None = None) -> tuple[IKResult, BranchSource | None]:
+    """``ik`` (without ``avoid_self_collision``; the same parameters), and the closed-form branches a batch
+    was solved from (``ik_methods.BranchSource``: every solution of some of its targets again without a
+    second solve, for ``self_collision.ik``), or None where the answer came another way (one target, a
+    lock, an arm angle, the numeric method)."""
     if arm_angle is not None:
         from .srs import ik_arm_angle
 
         return ik_arm_angle(robot, T, arm_angle, q0, all_solutions, tol_position, tol_orientation, mask=mask,
-                            method=method, lock=lock)
+                            method=method, lock=lock), None
     if lock:
         from .lock import ik_locked
 
         return ik_locked(ik, robot, T, lock, q0, mask=mask, method=method, all_solutions=all_solutions,
                          tol_position=tol_position, tol_orientation=tol_orientation,
-                         max_iterations=max_iterations, restarts=restarts, rng=rng, threads=threads)
+                         max_iterations=max_iterations, restarts=restarts, rng=rng, threads=threads), None
     if q0 is None:
         one = single_closed_form(robot, T, mask, method, all_solutions, tol_position, tol_orientation,
                                  max_iterations, restarts)
         if one is not None:
-            return one
+            return one, None
     targets, single = check_targets(T)
     N = len(targets)
     m = check_mask(mask)
@@ -158,7 +180,7 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         one = solver.nearest(targets[0], q_ref[0], settings.tol_position, settings.tol_orientation,
                              all_solutions, SAME_SOLUTION_TOL, IKResult, solver.name)
         if one is not None:
-            return one
+            return one, None
 
     if solver is not None:
         out = closed_form_batch(robot, solver, targets, q_ref, settings, all_solutions)
@@ -180,7 +202,7 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
     # inf where q is NaN (no closed-form solution)
     ep, eo = out.errors
     sols, iters, attempts = out.solutions, out.iterations, out.attempts
-    return IKResult._build(
+    result = IKResult._build(
         q=out.q[0] if single else out.q,
         success=bool(out.success[0]) if single else out.success,
         iterations=int(iters[0]) if single else iters,
@@ -191,3 +213,4 @@ def ik(robot: Robot, T: ArrayLike, *, q0: ArrayLike | None = None, mask: str | A
         message=out.reasons[0] if single else out.reasons,
         solutions=None if sols is None else (sols[0] if single else sols),
     )
+    return result, out.source

@@ -22,11 +22,12 @@ from ..errors import InputError
 from ..robot import Robot, check_q
 from .closed_form import closed_form_solver
 from .ik_result import DEFAULT_MAX_ITERATIONS, DEFAULT_RESTARTS, IKResult
-from .kernel_solver import ClosedFormSolver
+from .kernel_solver import Branches, ClosedFormSolver
 from .limits import LIMIT_TOL, default_preference
 from .lm import LMSettings, solve_lm
 
-__all__ = ["SAME_SOLUTION_TOL", "REDUNDANT_SPACING", "REDUNDANT_SPACING_LENGTH", "closed_form_batch", "numeric_batch", "preferred_starts", "single_closed_form"]
+__all__ = ["SAME_SOLUTION_TOL", "REDUNDANT_SPACING", "REDUNDANT_SPACING_LENGTH", "BranchSource", "closed_form_batch",
+           "numeric_batch", "preferred_starts", "single_closed_form"]
 
 #: Two solutions of one target are the same when no joint differs by more than this (radians, or
 #: lengths relative to the robot's size): far above the ~1e-12 spread of one solution reached
@@ -55,6 +56,32 @@ class _Found:
     solutions: list[np.ndarray] | None  # per target (S_i, n), with all_solutions
     retry: np.ndarray | None            # (N,) bool: closed-form trouble, worth a numeric try (None: none)
     errors: tuple[np.ndarray, np.ndarray]       # (N,) position, orientation errors of q (inf where NaN)
+    source: BranchSource | None = None  # the closed-form branches the batch was solved from
+
+
+@dataclass(frozen=True)
+class BranchSource:
+    """The closed-form branches a batch of targets was solved from (``closed_form_batch``): every verified
+    solution of some of its targets again, without solving them a second time (``solutions``)."""
+
+    robot: Robot
+    branches: Branches
+    targets: np.ndarray      # (N, 4, 4)
+    q_ref: np.ndarray        # (N, n), the preferences
+    settings: LMSettings
+    #: (N,) bool: the targets whose branches failed the check and were retried numerically (their closed-form
+    #: list may lack the answer)
+    retried: np.ndarray
+
+    def solutions(self, rows: np.ndarray) -> list[np.ndarray]:
+        """Every distinct verified solution (S_i, n) of the targets ``rows`` (indices into the batch), nearest
+        the preference first: as ``ik(..., all_solutions=True)`` lists a closed form's, from the same
+        branches (``compiled.ik.solutions.nearest_verified``)."""
+        s, b = self.settings, self.branches
+        sols = nearest_verified(self.robot._chain, b.q[rows], b.valid[rows], self.targets[rows], self.q_ref[rows],
+                                self.robot.limits, self.robot.scale, s.tol_position, s.tol_orientation, LIMIT_TOL,
+                                True, SAME_SOLUTION_TOL, s.threads)[2]
+        return list(sols)
 
 
 def _generator(rng: np.random.Generator | int | None) -> np.random.Generator:
@@ -133,7 +160,9 @@ def closed_form_batch(robot: Robot, solver: ClosedFormSolver, targets: np.ndarra
         if not retry.any():
             retry = None
     iterations = np.zeros(N, int)     # no iterations, one attempt (np.ones costs 4x np.zeros + 1)
-    return _Found(q, success, reasons, iterations, iterations + 1, sols, retry, (ep, eo))
+    source = BranchSource(robot, branches, targets, q_ref, settings,
+                          np.zeros(N, dtype=bool) if retry is None else retry)
+    return _Found(q, success, reasons, iterations, iterations + 1, sols, retry, (ep, eo), source)
 
 
 def numeric_batch(robot: Robot, targets: np.ndarray, q_ref: np.ndarray, mask: np.ndarray,

@@ -159,7 +159,8 @@ def _retry(ik: Callable[..., Any], robot: Robot, model: SelfCollisionModel, targ
 
 def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, model: SelfCollisionModel | None = None,
                       level: str | None = None, q0: ArrayLike | None = None, all_solutions: bool = False,
-                      rng: np.random.Generator | int | None = 0, **options: Any) -> Any:
+                      rng: np.random.Generator | int | None = 0, solve: Callable[..., Any] | None = None,
+                      **options: Any) -> Any:
     """``ik(robot, T, ...)`` keeping only solutions free of self collision (see the module doc).
 
     Parameters
@@ -177,6 +178,10 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         conservative: a solution kept is free for the meshes), 'capsules' for a model without parts.
     q0, all_solutions, rng, options
         As for ``ik``.
+    solve : callable, optional
+        ``robkin.kinematics.ik.solve_with_branches``: the first IK call through it also gives the
+        closed-form branches its batch was solved from, so that a target whose answer collides has its
+        other branches without a second solve; without it, they are asked of ``ik``.
     """
     from ..compiled.ik.lm import pose_errors
     from ..kinematics.pose_error import check_mask
@@ -185,7 +190,10 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     model = model or model_of(robot)
     if level is None:
         level = "parts" if model.parts else "capsules"
-    res = ik(robot, T, q0=q0, all_solutions=all_solutions, rng=rng, **options)
+    if solve is not None:
+        res, source = solve(robot, T, q0=q0, all_solutions=all_solutions, rng=rng, **options)
+    else:
+        res, source = ik(robot, T, q0=q0, all_solutions=all_solutions, rng=rng, **options), None
     threads = options.get("threads")
     single = np.ndim(res.success) == 0
     n = robot.n
@@ -219,11 +227,16 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
         found = ok.copy()
         left = np.flatnonzero(~kept)
         if len(left) and res.method != "numeric":   # closed form: every branch of those targets
-            q0s = None if q0 is None else (np.asarray(q0, dtype=float).reshape(-1, n)[left] if np.ndim(q0) == 2 else q0)
-            sub = ik(robot, targets[left], q0=q0s, all_solutions=True, rng=rng, **_serial(options, len(left)))
-            counts = np.fromiter(map(len, sub.solutions), dtype=np.intp, count=len(left))
+            if source is not None:      # the branches the batch was solved from
+                listed = source.solutions(left)
+            else:
+                q0s = None if q0 is None else (np.asarray(q0, dtype=float).reshape(-1, n)[left] if np.ndim(q0) == 2
+                                               else q0)
+                listed = ik(robot, targets[left], q0=q0s, all_solutions=True, rng=rng,
+                            **_serial(options, len(left))).solutions
+            counts = np.fromiter(map(len, listed), dtype=np.intp, count=len(left))
             found[left] |= counts > 0
-            G = np.concatenate(sub.solutions).reshape(-1, n) if counts.sum() else np.empty((0, n))
+            G = np.concatenate(listed).reshape(-1, n) if counts.sum() else np.empty((0, n))
             owner = np.repeat(np.arange(len(left)), counts)
             # the preferred solution was checked already: the other branches only (NaN: none, equals nothing)
             ref = np.where(ok[left][:, None], q[left], np.nan)
@@ -237,11 +250,14 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     settled[[i for i, f in free.items() if len(f)]] = True
     left = np.flatnonzero(~settled)
     if len(left) and res.method in COMPLETE:   # every solution is known: retried only near a singularity
-        for i, k in zip(left.tolist(), np.searchsorted(asked, left).tolist()):
+        # (always where the closed form's check failed and IK answered numerically: its list may lack one)
+        retried = source.retried[left] if source is not None else np.zeros(len(left), dtype=bool)
+        left, kept_left = left[retried], left[~retried]
+        for i, k in zip(kept_left.tolist(), np.searchsorted(asked, kept_left).tolist()):
             if k < len(asked) and asked[k] == i:
                 g = G[ends[k] - counts[k]:ends[k]]
                 known[i] = np.vstack([q[i:i + 1], g]) if ok[i] else g
-        left = left[_near_singular(robot, [known.get(i, q[:0]) for i in left.tolist()])]
+        left = np.union1d(left, kept_left[_near_singular(robot, [known.get(i, q[:0]) for i in kept_left.tolist()])])
     if len(left):    # RETRIES collision-free starts per target left, all in one numeric batch
         got, any_found = _retry(ik, robot, model, targets[left], level, all_solutions, np.random.default_rng(rng),
                                 options)
