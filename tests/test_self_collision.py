@@ -514,3 +514,33 @@ def test_branch_source_lists_the_solutions_all_solutions_lists(ur5):
     assert with_source.message[5] == MESSAGE and not with_source.success[5]
     assert np.array_equal(with_source.success, without.success)
     assert np.array_equal(with_source.q[with_source.success], without.q[without.success])
+
+
+def test_cli_ik_collision_free(ur5, tmp_path, capsys):
+    """``robkin ik --collision-free``: a target whose every solution collides (the folded UR5) is answered
+    with no solution and that reason (exit 0, as any target without a solution), a free one is answered with a solution the meshes call free, --srdf reads the
+    matrix (the maintainers' SRDF), and --srdf alone is refused (exit 2, one line)."""
+    import json
+
+    from robkin.cli import main
+
+    robot, model = ur5
+    path = os.path.join(ROBOTS_DIR, "ur_description/urdf/ur5_joint_limited_robot.urdf")
+    srdf = os.path.join(ROBOTS_DIR, "ur_description/srdf/ur5_joint_limited_robot.srdf")
+
+    def pose(q):
+        return ",".join(repr(float(v)) for v in robot.fk(np.asarray(q, dtype=float)).ravel())
+
+    folded = pose([-0.575, -2.857, -2.835, 3.136, 0.957, -1.668])
+    assert main(["ik", path, "--tip-link", "tool0", "--pose", folded, "--collision-free", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert not out["success"] and "self collision" in out["reason"]
+    free = pose([0.3, -1.2, 1.4, -1.8, -1.5, 0.2])
+    assert main(["ik", path, "--tip-link", "tool0", "--pose", free, "--collision-free", "--srdf", srdf,
+                 "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    q = np.array(out["solutions"][0]["q"])
+    assert out["success"] and not model.collides(q, level="exact")
+    assert main(["ik", path, "--tip-link", "tool0", "--pose", free, "--srdf", srdf]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == "robkin: error: --srdf: goes with --collision-free"

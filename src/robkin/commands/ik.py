@@ -112,8 +112,9 @@ def register(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--seed", type=seed, default=0, help="numeric: random seed (default 0)")
     p.add_argument("--collision-free", action="store_true",
                    help="only solutions free of self collision (the robot's collision geometry: capsules, then "
-                        "its meshes with coal; the allowed-collision matrix sampled as 'robkin collision' does, "
-                        "or read from --srdf); see docs/collision.md")
+                        "the links' convex parts, conservative: a solution kept is free for the meshes; the "
+                        "allowed-collision matrix sampled as 'robkin collision' does, or read from --srdf); see "
+                        "docs/collision.md")
     p.add_argument("--srdf", metavar="FILE", help="with --collision-free: the link pairs never checked (SRDF "
                                                   "<disable_collisions>, as 'robkin collision' writes)")
     add_package_path(p)
