@@ -268,7 +268,7 @@ def collision_free_ik(ik: Callable[..., Any], robot: Robot, T: ArrayLike, *, mod
     messages = [res.message] if single else list(res.message)    # IK's: "" where it succeeded
     changed = []
     for i in np.flatnonzero(~kept).tolist():
-        f = free.get(i, ())
+        f = free.get(i, q[:0])
         if len(f):
             q[i], success[i], messages[i] = f[0], True, ""
             changed.append(i)

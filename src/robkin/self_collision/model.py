@@ -22,6 +22,7 @@ from numpy.typing import ArrayLike
 from ..checks import check_q, check_threads
 from ..errors import InputError
 from .capsules import Capsule
+from .revolve import PartArrays
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..robot import Robot
@@ -102,7 +103,7 @@ class SelfCollisionModel:
         self._caps = caps
         self._frame = np.array([c.body for c in self.capsules], dtype=np.intc)
         # the parts' points and capsules in their bodies' frames, for ``parts_apart``
-        self._parts: tuple[np.ndarray, ...] | None = None
+        self._parts: PartArrays | None = None
         self._maps: list[Any] | None = None     # ``pairmaps.pair_maps``, built at the first use
         self._map_args: tuple[Any, ...] | None = None   # ``_map_arrays``, built with the maps
         if self.parts and {p.link for p in self.parts} >= set(names):

@@ -27,6 +27,8 @@ from typing import Any
 
 import numpy as np
 
+from .revolve import PartArrays
+
 #: ``model.SelfCollisionModel`` (not imported: the model imports this module)
 SelfCollisionModel = Any
 
@@ -85,7 +87,7 @@ class PairMap:
         return float(np.unpackbits(self.bits, bitorder="little").sum()) / self.cells ** len(self.joints)
 
 
-def _reach(model: SelfCollisionModel, parts: tuple[np.ndarray, ...], link: int, body: int,
+def _reach(model: SelfCollisionModel, parts: PartArrays, link: int, body: int,
            joints: tuple[int, ...]) -> np.ndarray:
     """rho (k,): bounds on the distance of the link's points from each joint's axis, any configuration."""
     from .revolve import _points
@@ -98,7 +100,7 @@ def _reach(model: SelfCollisionModel, parts: tuple[np.ndarray, ...], link: int, 
                      for j in joints])
 
 
-def _build(model: SelfCollisionModel, parts: tuple[np.ndarray, ...], pair: int, u: int, v: int,
+def _build(model: SelfCollisionModel, parts: PartArrays, pair: int, u: int, v: int,
            joints: tuple[int, ...], rho: np.ndarray, revolved: tuple[int, ...]) -> PairMap:
     from ..compiled.collision.parts import parts_apart
 
@@ -147,7 +149,7 @@ def _build(model: SelfCollisionModel, parts: tuple[np.ndarray, ...], pair: int, 
 
 
 def _ways(model: SelfCollisionModel, near: int, far: int, lo: int, hi: int
-          ) -> list[tuple[tuple[np.ndarray, ...], tuple[int, ...], tuple[int, ...]]]:
+          ) -> list[tuple[PartArrays, tuple[int, ...], tuple[int, ...]]]:
     """The ways to map the pair of links ``near`` (on body lo) and ``far`` (on body hi > lo): (parts, the
     joints mapped (q indices), the links turned), the joints lo+1 .. hi less those a turned link takes out
     (``revolve``), one or two left, all revolute with finite limits."""
@@ -163,7 +165,7 @@ def _ways(model: SelfCollisionModel, near: int, far: int, lo: int, hi: int
             left = joints[int(turn_near):len(joints) - int(turn_far)]
             if not 1 <= len(left) <= 2 or not np.isfinite(robot.limits[list(left)]).all():
                 continue
-            parts: tuple[np.ndarray, ...] | None = model._parts
+            parts: PartArrays | None = model._parts
             if turn_far and parts is not None:
                 parts = revolved_parts(parts, far, np.eye(4))
             if turn_near and parts is not None:

@@ -11,7 +11,11 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["revolved", "revolved_parts", "axis_frame", "GROWTH", "SIDES"]
+__all__ = ["revolved", "revolved_parts", "axis_frame", "PartArrays", "GROWTH", "SIDES"]
+
+#: A model's convex parts as ``parts_apart`` takes them (``SelfCollisionModel._parts``): the points, each
+#: part's first row, frame and bounding capsule, each link's first part and the parts of the links in turn.
+PartArrays = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 
 #: A link is turned in a map's test only when its ``revolved`` polytope has at most this times the
 #: volume of the link's own hull: larger, the solid meets the other link in most cells, and the map
@@ -46,13 +50,13 @@ def axis_frame(frames: list[np.ndarray], body: int, joint: int) -> np.ndarray:
     return np.linalg.solve(own, frames[joint - 1])
 
 
-def _points(parts: tuple[np.ndarray, ...], link: int) -> np.ndarray:
+def _points(parts: PartArrays, link: int) -> np.ndarray:
     """The points (k, 3) of a link's parts, in its body's frame (``SelfCollisionModel._parts``)."""
     V, S, _, _, LS, LP = parts
     return np.vstack([V[S[k]:S[k + 1]] for k in LP[LS[link]:LS[link + 1]]])
 
 
-def revolved_parts(parts: tuple[np.ndarray, ...], link: int, axis: np.ndarray) -> tuple[np.ndarray, ...] | None:
+def revolved_parts(parts: PartArrays, link: int, axis: np.ndarray) -> PartArrays | None:
     """``parts`` (``SelfCollisionModel._parts``) with the link's parts replaced by one: the polytope
     around their solid of revolution about the z axis of ``axis`` (4, 4; in the link's body frame,
     ``axis_frame``); None when the link is flat or that polytope has more than ``GROWTH`` times the
