@@ -304,6 +304,18 @@ def server():
     srv.server_close()
 
 
+def ur5_server():
+    """A started GUI server on example-robot-data's UR5 (its meshes found by package path); skips the test
+    without example-robot-data. The caller shuts it down."""
+    ur5 = ERD / "ur_description" / "urdf" / "ur5_robot.urdf"
+    if not ur5.is_file():
+        pytest.skip("example-robot-data (test extra) is not installed")
+    srv = make_server(port=0, text=ur5.read_text(), fmt="urdf", tip_link="tool0", source=str(ur5),
+                      package_paths={"example-robot-data": ERD.parent})
+    srv.serve_in_thread()
+    return srv
+
+
 def _post(url, payload, headers=None):
     req = urllib.request.Request(url, data=json.dumps(payload).encode(), method="POST",
                                  headers={"Content-Type": "application/json", **(headers or {})})

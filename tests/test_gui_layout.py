@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from robkin.viz.gui import make_server
-from test_gui import (ERD, PANDA, RRPR_TEXT, _open, _settled, _shot, _updates, _wait_update,  # noqa: F401
+from test_gui import (ERD, PANDA, RRPR_TEXT, _open, _settled, _shot, _updates, _wait_update, ur5_server,  # noqa: F401
                       browser, page, server)
 from test_gui_check import heavy  # noqa: F401  (the Panda with a heavier link 4)
 
@@ -174,12 +174,7 @@ def test_browser_example_list_names_the_example_shown(page):
 def test_browser_ik_branch_clicked_is_highlighted(browser, tmp_path):  # noqa: F811
     """UR5 (closed form, 8 branches): after a drag lists them, clicking a branch moves the robot to that
     solution and the highlight with it."""
-    ur5 = ERD / "ur_description" / "urdf" / "ur5_robot.urdf"
-    if not ur5.is_file():
-        pytest.skip("example-robot-data (test extra) is not installed")
-    srv = make_server(port=0, text=ur5.read_text(), fmt="urdf", tip_link="tool0", source=str(ur5),
-                      package_paths={"example-robot-data": ERD.parent})
-    srv.serve_in_thread()
+    srv = ur5_server()
     try:
         for pg in _open(browser, srv.url):
             before = _updates(pg)

@@ -24,7 +24,7 @@ import pytest
 from robkin.errors import InputError
 from robkin.viz import collision_api, gui_api
 from robkin.viz.gui import make_server
-from test_gui import ERD, _open, _post, _settled, _updates, _wait_update, browser  # noqa: F401
+from test_gui import ERD, _open, _post, _settled, _updates, _wait_update, browser, ur5_server  # noqa: F401
 
 _BOX = '<collision><origin xyz="0.25 0 0"/><geometry><box size="0.5 0.08 0.08"/></geometry></collision>'
 _LIMIT = '<limit lower="-3" upper="3" effort="1" velocity="1"/>'
@@ -166,12 +166,7 @@ def _drag(pg) -> None:
 def test_browser_late_ik_answer_does_not_undo_a_branch_click(browser):  # noqa: F811
     """UR5 (closed form, 8 branches): a drag's IK answer held until after a branch click, then let
     through, leaves the robot on the branch clicked."""
-    ur5 = ERD / "ur_description" / "urdf" / "ur5_robot.urdf"
-    if not ur5.is_file():
-        pytest.skip("example-robot-data (test extra) is not installed")
-    srv = make_server(port=0, text=ur5.read_text(), fmt="urdf", tip_link="tool0", source=str(ur5),
-                      package_paths={"example-robot-data": ERD.parent})
-    srv.serve_in_thread()
+    srv = ur5_server()
     try:
         for pg in _open(browser, srv.url):
             _set_q(pg, [0.3, -1.2, 1.4, -0.8, 1.1, 0.5])

@@ -516,10 +516,11 @@ def test_branch_source_lists_the_solutions_all_solutions_lists(ur5):
     assert np.array_equal(with_source.q[with_source.success], without.q[without.success])
 
 
-def test_cli_ik_collision_free(ur5, tmp_path, capsys):
+def test_cli_ik_collision_free(ur5, capsys):
     """``robkin ik --collision-free``: a target whose every solution collides (the folded UR5) is answered
-    with no solution and that reason (exit 0, as any target without a solution), a free one is answered with a solution the meshes call free, --srdf reads the
-    matrix (the maintainers' SRDF), and --srdf alone is refused (exit 2, one line)."""
+    with no solution and that reason (exit 0, as any target without a solution), a free one with a
+    solution the meshes call free; --srdf reads the matrix (the maintainers' SRDF), and --srdf alone is
+    refused (exit 2, one line)."""
     import json
 
     from robkin.cli import main
