@@ -212,3 +212,42 @@ def test_browser_late_ik_answer_does_not_undo_a_branch_click(browser):  # noqa: 
     finally:
         srv.shutdown()
         srv.server_close()
+
+
+def test_browser_late_describe_answer_does_not_undo_a_drag(browser):  # noqa: F811
+    """UR5: a robot description asked for (a slider moved) and held until a drag's IK answer is shown is
+    dropped when it arrives (it would draw the robot at the q before the drag), with no update counted;
+    the drag's end asks again for the q IK left, and that answer is the one update."""
+    import json
+
+    srv = ur5_server()
+    try:
+        for pg in _open(browser, srv.url):
+            _set_q(pg, [0.3, -1.2, 1.4, -0.8, 1.1, 0.5])
+            held = []  # the first description asked for is held, the others go through
+
+            def hold_first(route) -> None:
+                held.append(route)
+                if len(held) > 1:
+                    route.continue_()
+
+            pg.route("**/api/describe", hold_first)
+            pg.evaluate("""() => { const s = document.getElementById('q0'); s.value = String(Number(s.value) + 0.05);
+                                   s.dispatchEvent(new Event('input')); }""")
+            _until(pg, lambda: held, "the slider's description request")
+            ik_updates = _data(pg, "ik-updates")
+            _drag(pg)
+            _until(pg, lambda: _data(pg, "ik-updates") > ik_updates, "the drag's IK answer")
+            before = _updates(pg)
+            held[0].continue_()  # the late description: the q from before the drag
+            _until(pg, lambda: len(held) > 1, "the drag's end to ask again")  # queued behind the held one
+            _settled(pg)
+            assert _data(pg, "describe-stale") == 1 and _updates(pg) == before + 1
+            asked = json.loads(held[1].request.post_data)["q"]
+            q = [float(pg.input_value(f"#q{i}")) for i in range(6)]
+            np.testing.assert_allclose(q, asked, atol=1e-12)
+            assert abs(asked[0] - json.loads(held[0].request.post_data)["q"][0]) > 1e-6  # IK moved joint 1
+            pg.unroute("**/api/describe")
+    finally:
+        srv.shutdown()
+        srv.server_close()

@@ -17,7 +17,7 @@ const state = {
   asked: null,          // the request of the robot shown (its text, fmt, chain, tool row)
   inflight: false, pending: null,
   qSeq: 0,              // user actions that set q (sliders, branch buttons, home, edits): IK answers asked before are stale
-  ik: { inflight: false, pending: null, count: 0, since: 0 },
+  ik: { inflight: false, pending: null, count: 0, since: 0, applied: 0 },  // applied: IK answers shown
   start: null,          // /api/start: the command-line robot and its visuals
   reps: null,           // /api/representations: the tables, overlays and downloads to offer
   meshKey: null,        // whether the visuals are shown (only for the command-line robot, unedited)
@@ -71,8 +71,10 @@ function refresh() {
 function send(body) {
   state.inflight = true;
   document.body.dataset.state = "busy";
+  const ik = state.ik.applied;
   post("/api/describe", body)
-    .then((res) => apply(res, body))
+    // an IK answer shown since this was asked (a drag began): its q is older; the drag's end asks again
+    .then((res) => { if (ik !== state.ik.applied) count("describeStale"); else apply(res, body); })
     .catch((err) => showError("connection to the robkin server failed: " + err))
     .finally(() => {
       state.inflight = false;
@@ -101,6 +103,7 @@ function sendIK(body) {
       if (seq !== state.qSeq) { count("ikStale"); return; }  // the user set q since: that q stays (data-ik-stale)
       if (!res.ok) { showError(res.error); return; }
       state.ik.count += 1;
+      state.ik.applied += 1;
       const secs = (performance.now() - state.ik.since) / 1000;
       if (secs > 0) document.body.dataset.ikRate = (state.ik.count / secs).toFixed(1);
       setQ(res.q);
