@@ -39,7 +39,8 @@ def run_on_dask(plan: Plan, scheduler: Any, tasks: int | None = None) -> Partial
     if own and not isinstance(scheduler, str):
         raise InputError(f"dask: expected a scheduler address or a dask.distributed.Client, got {scheduler!r}")
     try:
-        client = Client(scheduler, timeout="10s") if own else scheduler
+        # (dask.distributed's Client has no type hints)
+        client = Client(scheduler, timeout="10s") if own else scheduler  # type: ignore[no-untyped-call]
     except (OSError, TimeoutError, ValueError) as exc:
         raise InputError(f"dask: cannot connect to the Dask scheduler {scheduler!r} ({exc})") from None
     try:
