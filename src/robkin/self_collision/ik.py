@@ -6,8 +6,9 @@ package does not import the kinematics entry point that calls it):
 1. IK as asked; its answer (or, with ``all_solutions=True``, each solution) is checked by the
    self-collision model (``build.model_of(robot)``): capsules, then, where they meet, the pair maps and
    the links' convex parts (compiled and conservative: a solution kept is free for the meshes;
-   ``level``). Where the preferred closed-form solution collides, every branch of that target is asked
-   for and checked in rounds, the nearest to ``q0`` first (IK's order). Colliding solutions are
+   ``level``). Where the preferred closed-form solution collides, every branch of that target (from the
+   branches the batch was solved from, ``solve``; else asked of ``ik``) is checked in rounds, the nearest
+   to ``q0`` first (IK's order). Colliding solutions are
    **dropped**: ``q`` is the collision-free solution nearest to ``q0``, and with ``all_solutions=True``
    ``solutions`` lists only the collision-free ones.
 2. Targets left without a collision-free solution are retried numerically from ``RETRIES`` starts each
