@@ -545,3 +545,20 @@ def test_cli_ik_collision_free(ur5, capsys):
     assert main(["ik", path, "--tip-link", "tool0", "--pose", free, "--srdf", srdf]) == 2
     err = capsys.readouterr().err.strip()
     assert err == "robkin: error: --srdf: goes with --collision-free"
+
+
+def test_near_singular_sees_a_redundant_arm_and_a_straight_wrist(ur5):
+    """``self_collision.ik._near_singular`` (which keeps the numeric retry): the bundled 5-joint SCARA,
+    whose two joints along its axis share the travel (a continuum of solutions at every target), is
+    near singular everywhere; the UR5 with its wrist straight (q5 = 0) is, and at a generic
+    configuration it is not; a target with no solution found is not."""
+    from robkin.examples import EXAMPLES_DIR
+    from robkin.self_collision.ik import _near_singular
+
+    scara = robkin.load(os.path.join(EXAMPLES_DIR, "scara.yaml"))
+    assert _near_singular(scara, [q[None] for q in scara.random_q(20, rng=1)]).all()
+    robot, _ = ur5
+    generic = np.array([0.3, -1.2, 1.4, -0.8, 1.1, 0.5])
+    straight = generic.copy()
+    straight[4] = 0.0
+    assert _near_singular(robot, [generic[None], straight[None], np.empty((0, 6))]).tolist() == [False, True, False]

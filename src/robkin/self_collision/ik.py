@@ -53,9 +53,10 @@ MESSAGE = "every solution found is in self collision"
 #: polished 'near-' classes may lose a root: their targets are retried).
 COMPLETE = frozenset({"scara", "spherical-wrist-6r", "three-parallel-6r"})
 #: A target is still retried where one of its solutions has a Jacobian whose least singular value (rows
-#: of length in units of the robot's size) is below this: at a singular configuration a joint may be
-#: free (a continuum of solutions, of which the closed form gives one), and near one its branches are
-#: the least certain. A generous bound: 1.5 % of the UR5's random configurations are below it (median
+#: of length in units of the robot's size; as many values as joints, up to 6) is below this: at a
+#: singular configuration, or on a redundant arm (a SCARA with two joints along its axis: always 0), a
+#: joint may be free (a continuum of solutions, of which the closed form gives one), and near one its
+#: branches are the least certain. A generous bound: 1.5 % of the UR5's random configurations are below it (median
 #: 0.09).
 SINGULAR = 1e-3
 #: Batches of fewer configurations are checked (and follow-up IK batches of fewer targets solved) on
