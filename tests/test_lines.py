@@ -182,3 +182,16 @@ def test_cross_and_norm_match_numpy():
         np.testing.assert_array_equal(cross(a, b), np.cross(a, b))
         assert norm(a) == pytest.approx(float(np.linalg.norm(a)), rel=1e-15)
     np.testing.assert_array_equal(cross([1, 0, 0], [0, 1, 0]), [0.0, 0.0, 1.0])
+
+
+def test_frame_with_z_is_a_rotation_along_the_direction():
+    """``lines.frame_with_z``: a proper rotation whose z column is the direction normalised, the identity
+    for +z, and still one for directions along or near the base x axis (where its x comes from y)."""
+    from robkin.lines import frame_with_z
+
+    assert np.array_equal(frame_with_z(np.array([0.0, 0.0, 2.0])), np.eye(3))
+    rng = np.random.default_rng(3)
+    for z in [np.array([1.0, 0.0, 0.0]), np.array([-3.0, 0.1, 0.0]), *rng.normal(size=(50, 3))]:
+        R = frame_with_z(z)
+        assert np.allclose(R.T @ R, np.eye(3), atol=1e-15) and np.isclose(np.linalg.det(R), 1.0, atol=1e-15)
+        assert np.allclose(R[:, 2], z / np.linalg.norm(z), atol=1e-16)

@@ -16,7 +16,8 @@ import numpy as np
 
 __all__ = [
     "ANGLE_TOL", "LENGTH_TOL", "AxisRelation", "CommonNormal",
-    "closest_points", "common_normal", "classify", "point_line_foot", "perpendicular", "cross", "norm",
+    "closest_points", "common_normal", "classify", "point_line_foot", "perpendicular", "frame_with_z", "cross",
+    "norm",
 ]
 
 #: sin of the angle below which two axes are treated as parallel. Exactly parallel axes computed
@@ -77,6 +78,16 @@ def perpendicular(u: np.ndarray) -> np.ndarray:
     e[k] = 1.0
     x = e - np.dot(e, u) * u
     return x / norm(x)
+
+
+def frame_with_z(z: np.ndarray) -> np.ndarray:
+    """A rotation (3, 3) whose z column is the direction z (3,) normalised, its x column the base x axis
+    made normal to it (the base y axis where z is within ~26 deg of x): the identity for z along +z."""
+    z = z / np.linalg.norm(z)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = helper - (helper @ z) * z
+    x /= np.linalg.norm(x)
+    return np.column_stack([x, np.cross(z, x), z])
 
 
 def point_line_foot(point: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:

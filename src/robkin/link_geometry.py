@@ -46,13 +46,12 @@ _JOINT_RGBA = (0.16, 0.33, 0.85, 1.0)
 
 
 def _frame_along(p: np.ndarray, direction: np.ndarray) -> np.ndarray:
-    """A frame at ``p`` whose z axis is the unit vector ``direction``."""
-    z = direction / np.linalg.norm(direction)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    x = helper - (helper @ z) * z  # the helper axis made normal to z: identity for a z-directed segment
-    x /= np.linalg.norm(x)
+    """A frame at ``p`` whose z axis is the unit vector ``direction`` (``lines.frame_with_z``: the
+    identity rotation for a z-directed segment)."""
+    from .lines import frame_with_z
+
     T = np.eye(4)
-    T[:3, 0], T[:3, 1], T[:3, 2], T[:3, 3] = x, np.cross(z, x), z, p
+    T[:3, :3], T[:3, 3] = frame_with_z(direction), p
     return T
 
 

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..lines import frame_with_z
 from .hull import convex_hull, hull_volume, is_flat, principal_frame
 from .tessellate import convex_distance, primitive_mesh, surface_samples
 
@@ -89,19 +90,11 @@ def _enclosing_center(P: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, flo
     return c, radius(c)
 
 
-def _axis_frame(z: np.ndarray) -> np.ndarray:
-    z = z / np.linalg.norm(z)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    x = helper - (helper @ z) * z
-    x /= np.linalg.norm(x)
-    return np.column_stack([x, np.cross(z, x), z])
-
-
 def _round_candidates(P: np.ndarray, axes: list[np.ndarray]) -> list[Primitive]:
     out = []
     floor = THIN * float(np.ptp(P, axis=0).max())
     for a in axes:
-        R = _axis_frame(a)
+        R = frame_with_z(a)
         local = P @ R
         t = local[:, 2]
         box_c = (local[:, :2].min(axis=0) + local[:, :2].max(axis=0)) / 2

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..lines import frame_with_z
 from .geometry import LinkGeometry, enclosing_triangles
 
 __all__ = ["Capsule", "Part", "fit_capsule", "link_capsules", "link_parts", "point_segment_distance", "MARGIN"]
@@ -102,14 +103,6 @@ def _circle(P2: np.ndarray) -> tuple[np.ndarray, float]:
     return best[1], best[0]
 
 
-def _frame(z: np.ndarray) -> np.ndarray:
-    z = z / np.linalg.norm(z)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    x = helper - (helper @ z) * z
-    x /= np.linalg.norm(x)
-    return np.column_stack([x, np.cross(z, x), z])
-
-
 def fit_capsule(P: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
     """(a, b, radius): a least-volume capsule enclosing the points P (k, 3) (see the module doc)."""
     P = np.asarray(P, dtype=float)
@@ -121,7 +114,7 @@ def fit_capsule(P: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
     size = max(float(ext.max()), 1e-12)
     best: tuple[float, np.ndarray, np.ndarray, float] | None = None
     for axis in [R[:, k] for k in range(3)] + list(np.eye(3)):
-        F = _frame(axis)
+        F = frame_with_z(axis)
         local = P @ F
         c2, rho_max = _circle(local[:, :2])
         rho = np.sqrt(((local[:, :2] - c2) ** 2).sum(axis=1))
