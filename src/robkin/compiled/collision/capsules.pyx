@@ -67,6 +67,16 @@ cdef inline void bounding_radii(const double* caps, int C, double* S) noexcept n
         S[i] = 0.5 * sqrt(x * x + y * y + z * z) + caps[7 * i + 6]
 
 
+cdef inline bint spheres_apart(const double* W, const double* S, int u, int v) noexcept nogil:
+    """Capsules u and v (ends in W, C x 6) are apart by their bounding spheres (radii S, about the segments'
+    midpoints): then so are the capsules, with no segment distance needed."""
+    cdef double x = W[6 * u] + W[6 * u + 3] - W[6 * v] - W[6 * v + 3]
+    cdef double y = W[6 * u + 1] + W[6 * u + 4] - W[6 * v + 1] - W[6 * v + 4]
+    cdef double z = W[6 * u + 2] + W[6 * u + 5] - W[6 * v + 2] - W[6 * v + 5]
+    cdef double s = S[u] + S[v]
+    return x * x + y * y + z * z > 4.0 * s * s
+
+
 cdef int check_block(const double* L, const unsigned char* rev, int n, const double* Q, Py_ssize_t N,
                      Py_ssize_t j, const double* caps, const int* frame, int C, const int* pairs, int P,
                      unsigned char* hit, double* dist) noexcept nogil:
@@ -78,7 +88,7 @@ cdef int check_block(const double* L, const unsigned char* rev, int n, const dou
     cdef double* F
     cdef double* W
     cdef double* S
-    cdef double rr, d2, x, y, z, s
+    cdef double rr, d2
     cdef int i
     if not finite_block(Q, n, N, j):
         return 1
@@ -96,12 +106,7 @@ cdef int check_block(const double* L, const unsigned char* rev, int n, const dou
             for p in range(P):
                 u = pairs[2 * p]
                 v = pairs[2 * p + 1]
-                # bounding spheres apart: the capsules are (no segment distance needed)
-                x = W[6 * u] + W[6 * u + 3] - W[6 * v] - W[6 * v + 3]
-                y = W[6 * u + 1] + W[6 * u + 4] - W[6 * v + 1] - W[6 * v + 4]
-                z = W[6 * u + 2] + W[6 * u + 5] - W[6 * v + 2] - W[6 * v + 5]
-                s = S[u] + S[v]
-                if x * x + y * y + z * z > 4.0 * s * s:
+                if spheres_apart(W, S, u, v):
                     continue
                 rr = caps[7 * u + 6] + caps[7 * v + 6]
                 if segment_distance2(W + 6 * u, W + 6 * u + 3, W + 6 * v, W + 6 * v + 3) <= rr * rr:
@@ -208,7 +213,7 @@ cdef int overlap_block(const double* L, const unsigned char* rev, int n, const d
     cdef double* W
     cdef double* S
     cdef double* D
-    cdef double rr, d2, x, y, z, s, d
+    cdef double rr, d2, x, y, d
     cdef const double* q
     cdef bint inside
     if not finite_block(Q, n, N, j):
@@ -246,12 +251,8 @@ cdef int overlap_block(const double* L, const unsigned char* rev, int n, const d
                 continue
             u = pairs[2 * p]
             v = pairs[2 * p + 1]
-            x = W[6 * u] + W[6 * u + 3] - W[6 * v] - W[6 * v + 3]
-            y = W[6 * u + 1] + W[6 * u + 4] - W[6 * v + 1] - W[6 * v + 4]
-            z = W[6 * u + 2] + W[6 * u + 5] - W[6 * v + 2] - W[6 * v + 5]
-            s = S[u] + S[v]
-            if x * x + y * y + z * z > 4.0 * s * s:
-                continue    # bounding spheres apart: so are the capsules
+            if spheres_apart(W, S, u, v):
+                continue
             rr = caps[7 * u + 6] + caps[7 * v + 6]
             d2 = segment_distance2(W + 6 * u, W + 6 * u + 3, W + 6 * v, W + 6 * v + 3)
             if d2 <= rr * rr:
