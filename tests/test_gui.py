@@ -571,6 +571,16 @@ def browser():
         ctx.close()
 
 
+def _serving(browser, srv):
+    """Start the GUI server ``srv``, yield a page on it (``_open``), then shut the server down."""
+    srv.serve_in_thread()
+    try:
+        yield from _open(browser, srv.url)
+    finally:
+        srv.shutdown()
+        srv.server_close()
+
+
 def _open(browser, url: str):
     """A page at ``url``, ready; after the test, no JavaScript or console errors may have happened."""
     pg = browser.new_page()
@@ -816,12 +826,7 @@ def panda_page(browser):
         pytest.skip("example-robot-data (test extra) is not installed")
     srv = make_server(port=0, text=PANDA.read_text(), fmt="urdf", base_link="panda_link0", tip_link="panda_link8",
                       source=str(PANDA))
-    srv.serve_in_thread()
-    try:
-        yield from _open(browser, srv.url)
-    finally:
-        srv.shutdown()
-        srv.server_close()
+    yield from _serving(browser, srv)
 
 
 def _shot(pg, tmp_path, name: str) -> None:

@@ -16,7 +16,7 @@ import pytest
 from robkin.cli import main
 from robkin.viz import gui_api
 from robkin.viz.gui import make_server
-from test_gui import PANDA, _open, _settled, browser  # noqa: F401  (browser: the module's Chromium fixture)
+from test_gui import PANDA, _serving, _settled, browser  # noqa: F401  (browser: the module's Chromium fixture)
 
 CHAIN = ["--base-link", "panda_link0", "--tip-link", "panda_link8"]
 LINK4_MASS = '<mass value="3.587895"/>'  # panda_link4 in example-robot-data's panda.urdf
@@ -78,12 +78,7 @@ def heavy_page(browser, heavy):  # noqa: F811 - the imported fixture, used by na
     srv = make_server(port=0, text=PANDA.read_text(), fmt="urdf", base_link="panda_link0", tip_link="panda_link8",
                       source=str(PANDA), other={"text": heavy.read_text(), "fmt": "urdf", "source": str(heavy),
                                                 "base_link": "panda_link0", "tip_link": "panda_link8"})
-    srv.serve_in_thread()
-    try:
-        yield from _open(browser, srv.url)
-    finally:
-        srv.shutdown()
-        srv.server_close()
+    yield from _serving(browser, srv)
 
 
 def test_browser_check_of_masses_is_robkin_checks(heavy_page, heavy, capsys):

@@ -20,7 +20,7 @@ import pytest
 import robkin
 from robkin.viz import collision_api, gui_api
 from robkin.viz.gui import make_server
-from test_gui import PANDA, RRPR_TEXT, _open, _settled, _shot, _updates, _wait_update, browser  # noqa: F401
+from test_gui import PANDA, RRPR_TEXT, _open, _serving, _settled, _shot, _updates, _wait_update, browser  # noqa: F401
 
 CHAIN = {"base_link": "panda_link0", "tip_link": "panda_link8"}
 READY = [0, -math.pi / 4, 0, -3 * math.pi / 4, 0, math.pi / 2, math.pi / 4]  # Franka's "ready" pose: free
@@ -113,12 +113,7 @@ def _set_q(pg, q) -> None:
 @pytest.fixture()
 def panda_page(browser, panda):  # noqa: F811 - the imported fixture, used by name
     srv = make_server(port=0, text=panda[0], fmt="urdf", source=str(PANDA), **CHAIN)
-    srv.serve_in_thread()
-    try:
-        yield from _open(browser, srv.url)
-    finally:
-        srv.shutdown()
-        srv.server_close()
+    yield from _serving(browser, srv)
 
 
 def test_browser_colliding_links_turn_red(panda_page, panda, tmp_path):
